@@ -1,0 +1,116 @@
+/*
+ * Fixed-point types and saturating helpers.
+ *
+ * The core never uses floating point. Quantities carry their format in
+ * their names: `_q15` is Q1.15 (int16, [-1, 1)), `disp_q4` is disparity in
+ * 1/16 pixel (int16), `_mm` is integer millimetres. docs/FIXED_POINT.md
+ * lists every format used by the library.
+ */
+#ifndef NEGOBS_FIXED_H
+#define NEGOBS_FIXED_H
+
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef int16_t negobs_q15_t; /**< Q1.15, value = raw / 32768           */
+typedef int32_t negobs_q31_t; /**< Q1.31, value = raw / 2^31            */
+typedef int16_t negobs_disp_q4_t; /**< disparity, value = raw / 16 px   */
+
+#define NEGOBS_Q15_MAX INT16_MAX
+#define NEGOBS_Q15_MIN INT16_MIN
+
+/** Fractional bits of a disparity in 1/16 px. */
+#define NEGOBS_DISP_FRAC_BITS 4
+/** One pixel of disparity in disp_q4 units. */
+#define NEGOBS_DISP_ONE 16
+/** Marker for "no disparity here" in disp_q4 images. */
+#define NEGOBS_DISP_INVALID INT16_MIN
+
+/** @brief Clamp a 32-bit value into [lo, hi]. */
+static inline int32_t negobs_clamp_s32(int32_t x, int32_t lo, int32_t hi)
+{
+    return (x < lo) ? lo : ((x > hi) ? hi : x);
+}
+
+/** @brief Saturate an int32 to int16 (also the Q31->Q15 clip after >> 16). */
+static inline int16_t negobs_sat_s32_to_s16(int32_t x)
+{
+    return (int16_t)negobs_clamp_s32(x, INT16_MIN, INT16_MAX);
+}
+
+/**
+ * @brief Arithmetic right shift by n (1..31) with round-half-up.
+ *
+ * Scaling and overflow: adds 2^(n-1) first, so x must be at most
+ * INT32_MAX - 2^(n-1). Negative values round towards +infinity on ties
+ * (-1.5 -> -1), which keeps the result the same on every compiler because
+ * the shift of a negative value is done on the biased magnitude.
+ */
+static inline int32_t negobs_rshift_round_s32(int32_t x, int n)
+{
+    int32_t half = (int32_t)1 << (n - 1);
+    int32_t y = x + half;
+    /* C99 leaves >> of negatives implementation-defined: use division. */
+    if (y >= 0) {
+        return y >> n;
+    }
+    return -(int32_t)(((uint32_t)(-(y + 1)) >> n) + 1u);
+}
+
+/**
+ * @brief Integer square root: largest r with r * r <= x.
+ *
+ * Bit-by-bit method: 16 iterations, no division, same result everywhere.
+ */
+static inline uint32_t negobs_isqrt_u32(uint32_t x)
+{
+    uint32_t r = 0;
+    uint32_t bit = (uint32_t)1 << 30;
+    while (bit > x) {
+        bit >>= 2;
+    }
+    while (bit != 0) {
+        if (x >= r + bit) {
+            x -= r + bit;
+            r = (r >> 1) + bit;
+        } else {
+            r >>= 1;
+        }
+        bit >>= 2;
+    }
+    return r;
+}
+
+/** @brief |x| for int32 without the INT32_MIN trap (saturates to MAX). */
+static inline int32_t negobs_abs_s32(int32_t x)
+{
+    if (x == INT32_MIN) {
+        return INT32_MAX;
+    }
+    return (x < 0) ? -x : x;
+}
+
+/**
+ * @brief Signed division rounded to nearest (ties away from zero).
+ * @param den must be non-zero; the caller guarantees it.
+ */
+static inline int64_t negobs_div_round_s64(int64_t num, int64_t den)
+{
+    if (den < 0) {
+        num = -num;
+        den = -den;
+    }
+    if (num >= 0) {
+        return (num + den / 2) / den;
+    }
+    return -((-num + den / 2) / den);
+}
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* NEGOBS_FIXED_H */

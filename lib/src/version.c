@@ -1,0 +1,6 @@
+#include "negobs/version.h"
+
+const char *negobs_version(void)
+{
+    return NEGOBS_VERSION_STRING;
+}
