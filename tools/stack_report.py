@@ -1,0 +1,98 @@
+#!/usr/bin/env python3
+"""Worst-case stack depth of lib/ from GCC's -fcallgraph-info=su files.
+
+usage: stack_report.py [--max BYTES] DIR_OR_CI_FILES...
+
+For every function defined in the .ci files, the worst depth is its own
+frame plus the deepest callee. Calls to functions without a frame record
+(libc's memset/memcpy, compiler builtins) count as 0 bytes. Recursion,
+dynamic frames (VLA/alloca) and calls through pointers that the graph
+cannot follow make the bound unknowable: each is reported and fails.
+Exit 1 when the deepest chain exceeds --max.
+"""
+import os
+import re
+import sys
+
+NODE = re.compile(r'node: \{ title: "([^"]+)" label: "([^"]*)"')
+EDGE = re.compile(r'edge: \{ sourcename: "([^"]+)" targetname: "([^"]+)"')
+FRAME = re.compile(r'\\n(\d+) bytes \(([a-z,]+)\)')
+
+
+def load(paths):
+    frames, kinds, calls = {}, {}, {}
+    files = []
+    for p in paths:
+        if os.path.isdir(p):
+            for root, _, names in os.walk(p):
+                files += [os.path.join(root, n) for n in names if n.endswith('.ci')]
+        else:
+            files.append(p)
+    for f in sorted(files):
+        text = open(f, encoding='utf-8', errors='replace').read()
+        for title, label in NODE.findall(text):
+            m = FRAME.search(label)
+            if m:
+                frames[title] = int(m.group(1))
+                kinds[title] = m.group(2)
+        for src, dst in EDGE.findall(text):
+            calls.setdefault(src, set()).add(dst)
+    return files, frames, kinds, calls
+
+
+def main(argv):
+    limit = None
+    args = argv[1:]
+    if len(args) >= 2 and args[0] == '--max':
+        limit = int(args[1])
+        args = args[2:]
+    if not args:
+        print(__doc__)
+        return 2
+    files, frames, kinds, calls = load(args)
+    if not frames:
+        print('stack_report: no frame records found (build with -fcallgraph-info=su)')
+        return 2
+    problems = []
+    for fn, kind in kinds.items():
+        if kind != 'static':
+            problems.append(f'{fn}: frame is {kind}')
+    memo = {}
+
+    def depth(fn, path):
+        if fn in path:
+            problems.append('recursion: ' + ' -> '.join(path + [fn]))
+            return 0, [fn]
+        if fn in memo:
+            return memo[fn]
+        best, chain = 0, []
+        for callee in sorted(calls.get(fn, ())):
+            if callee == '__indirect_call':
+                problems.append(f'{fn}: indirect call')
+                continue
+            d, c = depth(callee, path + [fn])
+            if d > best:
+                best, chain = d, c
+        result = (frames.get(fn, 0) + best, [fn] + chain)
+        memo[fn] = result
+        return result
+
+    results = sorted(((depth(fn, [])[0], fn) for fn in frames), reverse=True)
+    print(f'{len(files)} call-graph files, {len(frames)} functions')
+    print('deepest entry points (bytes, chain):')
+    for d, fn in results[:6]:
+        chain = memo[fn][1]
+        print(f'  {d:6d}  ' + ' -> '.join(f'{c}({frames.get(c, 0)})' for c in chain))
+    worst = results[0][0]
+    for p in sorted(set(problems)):
+        print('  problem:', p)
+    if limit is not None:
+        verdict = 'within' if worst <= limit else 'OVER'
+        print(f'worst case {worst} bytes, {verdict} the {limit}-byte bound')
+        if worst > limit:
+            return 1
+    return 1 if problems else 0
+
+
+if __name__ == '__main__':
+    sys.exit(main(sys.argv))
