@@ -33,7 +33,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     img.stride = fuzz_range(&in, -2, 2 * MAXW);
     r = fuzz_range(&in, -1, 8);
     img.data = (fuzz_u8(&in) == 0xffu) ? NULL : pix;
-    fuzz_fill(&in, pix, sizeof pix);
+    if (img.height > 0 && img.stride > 0) {
+        size_t n = (size_t)img.height * (size_t)img.stride;
+        fuzz_fill(&in, pix, n < sizeof pix ? n : sizeof pix);
+    }
 
     /* Descriptors that pass the check must fit the backing buffer. */
     st = negobs_image_u8_check(&img);
