@@ -1,0 +1,1019 @@
+// negobs_eval: accuracy and speed of negobs against OpenCV StereoBM and
+// StereoSGBM on every ground-truth pair of $NEGOBS_DATA/manifest.tsv and on
+// Debian opencv-doc's aloe pair, in one single-threaded run.
+//
+// See --help for the options, the metrics and the exit codes; the matcher
+// parameters are documented next to make_bm() / make_sgbm() and in
+// docs/EVALUATION.md.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <sys/stat.h>
+#include <vector>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "stereo_common.hpp"
+
+#ifndef NEGOBS_SOURCE_ROOT
+#define NEGOBS_SOURCE_ROOT "."
+#endif
+#ifndef NEGOBS_BUILD_TYPE
+#define NEGOBS_BUILD_TYPE "unknown"
+#endif
+
+namespace {
+
+using negobs_tools::Range;
+
+enum Exit {
+    EXIT_OK = 0,
+    EXIT_USAGE = 1,
+    EXIT_DATA = 2,    // manifest or a listed file unreadable, set unknown
+    EXIT_CHECK = 3,   // --check thresholds not met
+    EXIT_LIBRARY = 4, // negobs or OpenCV failed on a pair
+    EXIT_SKIP = 77,   // --check: nothing to check here (data or engine absent)
+};
+
+const char *const kAloeSet = "aloe-opencv-doc";
+
+const char *const kHelp =
+    "usage: negobs_eval [options]\n"
+    "\n"
+    "Runs negobs, OpenCV StereoBM and OpenCV StereoSGBM on every pair with\n"
+    "ground truth (GT) listed in DATA/manifest.tsv and on Debian opencv-doc's\n"
+    "aloe pair (set name 'aloe-opencv-doc'), single-threaded, in one process,\n"
+    "and prints per set and matcher:\n"
+    "  density  % of evaluated pixels that got a disparity\n"
+    "  bad1     % of evaluated pixels WITH a value whose |error| > 1 px\n"
+    "  bad1all  % of evaluated pixels that are wrong by > 1 px OR have no value\n"
+    "  bad2     % of evaluated pixels with a value whose |error| > 2 px\n"
+    "  rms      RMS error (px) over evaluated pixels with a value\n"
+    "  ms       best-of-N wall time of the matching call alone (no I/O, no\n"
+    "           grey conversion, no allocation of the matcher)\n"
+    "  negobs/BM, negobs/SGBM  time ratios (< 1: negobs is faster)\n"
+    "Evaluated pixels: inside the set's non-occlusion mask where it has one,\n"
+    "else every pixel with known GT. All three matchers search the same range\n"
+    "0..max_disp (manifest column; OpenCV's numDisparities rounded up to 16).\n"
+    "\n"
+    "Options:\n"
+    "  --data DIR        data folder (default $NEGOBS_DATA, else\n"
+    "                    <repo>/../shared/data); absent -> its sets are skipped\n"
+    "  --opencv-doc DIR  folder with aloeL.jpg, aloeR.jpg, aloeGT.png\n"
+    "                    (default /usr/share/doc/opencv-doc/examples/data)\n"
+    "  --set NAME        evaluate this set only (repeatable; exact name)\n"
+    "  --list            list the available sets and exit\n"
+    "  --matchers LIST   comma list of negobs,bm,sgbm (default all three;\n"
+    "                    negobs only with --check)\n"
+    "  --repeat N        timing runs per matcher, best kept (default 3;\n"
+    "                    1 with --check)\n"
+    "  --markdown FILE   write the table as Markdown\n"
+    "  --plots DIR       write DIR/eval_bad1all.png and DIR/eval_time.png\n"
+    "  --pictures DIR    write DIR/<set>.png: negobs | BM | SGBM | GT colour\n"
+    "                    maps (TURBO over 0..max_disp, black = no value)\n"
+    "  --check MAXBAD1 MINDENSITY\n"
+    "                    regression guard: fail unless, on every selected\n"
+    "                    set, negobs bad1 <= MAXBAD1 and density >=\n"
+    "                    MINDENSITY (both in %)\n"
+    "  -h, --help        this text\n"
+    "\n"
+    "Exit codes:\n"
+    "  0   success (and --check passed)\n"
+    "  1   bad command line\n"
+    "  2   data error: manifest or a listed image unreadable, size\n"
+    "      mismatch, unknown --set\n"
+    "  3   --check failed\n"
+    "  4   a matcher (negobs library or OpenCV) failed\n"
+    "  77  --check could not run: data absent or negobs engine not built\n"
+    "      (Meson counts it as skipped)\n";
+
+bool is_dir(const std::string &p)
+{
+    struct stat st;
+    return ::stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+bool is_file(const std::string &p)
+{
+    struct stat st;
+    return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+
+bool parse_double(const char *s, double &out)
+{
+    if (!s || !*s)
+        return false;
+    char *end = nullptr;
+    out = std::strtod(s, &end);
+    return *end == '\0' && std::isfinite(out);
+}
+
+struct SetSpec {
+    std::string name;
+    std::string left, right, gt, mask; // absolute paths; mask may be empty
+    double gt_scale = 1.0;
+    int max_disp = 0; // 0: derive from the GT
+    std::string origin;
+};
+
+std::vector<std::string> split(const std::string &s, char sep)
+{
+    std::vector<std::string> out;
+    std::string cur;
+    std::istringstream in(s);
+    while (std::getline(in, cur, sep))
+        out.push_back(cur);
+    if (!s.empty() && s.back() == sep)
+        out.push_back(std::string());
+    return out;
+}
+
+// Reads the GT rows of DATA/manifest.tsv. Returns false (err set) when the
+// file exists but is malformed.
+bool read_manifest(const std::string &dir, std::vector<SetSpec> &sets,
+                   int &no_gt, std::string &err)
+{
+    const std::string path = dir + "/manifest.tsv";
+    std::ifstream in(path);
+    if (!in) {
+        err = "cannot read " + path;
+        return false;
+    }
+    std::string line;
+    int lineno = 0;
+    no_gt = 0;
+    while (std::getline(in, line)) {
+        ++lineno;
+        if (!line.empty() && line.back() == '\r')
+            line.pop_back();
+        if (line.empty() || line[0] == '#')
+            continue;
+        const std::vector<std::string> f = split(line, '\t');
+        if (lineno == 1 && !f.empty() && f[0] == "set")
+            continue; // header
+        if (f.size() < 7) {
+            err = path + ":" + std::to_string(lineno) +
+                  ": expected at least 7 tab-separated columns";
+            return false;
+        }
+        if (f[3] == "-" || f[3].empty()) {
+            ++no_gt;
+            continue;
+        }
+        SetSpec s;
+        s.name = f[0];
+        s.left = dir + "/" + f[1];
+        s.right = dir + "/" + f[2];
+        s.gt = dir + "/" + f[3];
+        s.mask = (f[5] == "-" || f[5].empty()) ? std::string() : dir + "/" + f[5];
+        double scale = 0.0, md = 0.0;
+        if (!parse_double(f[4].c_str(), scale) || scale <= 0.0 ||
+            !parse_double(f[6].c_str(), md) || md < 1.0) {
+            err = path + ":" + std::to_string(lineno) +
+                  ": bad gt_scale or max_disp";
+            return false;
+        }
+        s.gt_scale = scale;
+        s.max_disp = static_cast<int>(std::ceil(md));
+        s.origin = "manifest";
+        sets.push_back(s);
+    }
+    return true;
+}
+
+// ---------------------------------------------------------------- matchers
+
+// StereoBM: the parameters of OpenCV's samples/cpp/stereo_match.cpp
+// (block 9, prefilter cap 31, texture threshold 10, uniqueness 15,
+// speckle window 100 / range 32, disp12MaxDiff 1).
+cv::Ptr<cv::StereoBM> make_bm(const Range &r)
+{
+    cv::Ptr<cv::StereoBM> bm =
+        cv::StereoBM::create(negobs_tools::opencv_num_disparities(r), 9);
+    bm->setMinDisparity(r.min_disp);
+    bm->setPreFilterCap(31);
+    bm->setTextureThreshold(10);
+    bm->setUniquenessRatio(15);
+    bm->setSpeckleWindowSize(100);
+    bm->setSpeckleRange(32);
+    bm->setDisp12MaxDiff(1);
+    return bm;
+}
+
+// StereoSGBM: block 5, P1 = 8*5*5, P2 = 32*5*5 (grey, one channel), mode
+// MODE_SGBM (5 paths), uniqueness 10, prefilter cap 63, speckle window 100 /
+// range 32, disp12MaxDiff 1: OpenCV's stereo_match.cpp sample with a 5x5
+// block.
+cv::Ptr<cv::StereoSGBM> make_sgbm(const Range &r)
+{
+    const int bs = 5;
+    return cv::StereoSGBM::create(r.min_disp,
+                                  negobs_tools::opencv_num_disparities(r), bs,
+                                  8 * bs * bs, 32 * bs * bs, 1, 63, 10, 100,
+                                  32, cv::StereoSGBM::MODE_SGBM);
+}
+
+enum MatcherId { M_NEGOBS = 0, M_BM = 1, M_SGBM = 2, M_COUNT = 3 };
+const char *const kMatcherName[M_COUNT] = {"negobs", "BM", "SGBM"};
+
+struct Metrics {
+    bool ran = false;
+    std::string note; // why it did not run
+    double density = 0, bad1 = 0, bad1all = 0, bad2 = 0, rms = 0;
+    double ms = 0;
+    cv::Mat disp, valid; // float px + mask, for pictures
+};
+
+struct SetResult {
+    SetSpec spec;
+    int width = 0, height = 0;
+    Range range;
+    long evaluated = 0;
+    bool skipped = false;
+    std::string skip_reason;
+    Metrics m[M_COUNT];
+    cv::Mat gt, gt_valid;
+};
+
+void score(const cv::Mat &disp, const cv::Mat &valid, const cv::Mat &gt,
+           const cv::Mat &eval_mask, Metrics &m)
+{
+    long n = 0, with = 0, b1 = 0, b2 = 0;
+    double se = 0.0;
+    for (int y = 0; y < gt.rows; ++y) {
+        const float *d = disp.ptr<float>(y);
+        const uint8_t *v = valid.ptr<uint8_t>(y);
+        const float *g = gt.ptr<float>(y);
+        const uint8_t *e = eval_mask.ptr<uint8_t>(y);
+        for (int x = 0; x < gt.cols; ++x) {
+            if (!e[x])
+                continue;
+            ++n;
+            if (!v[x])
+                continue;
+            ++with;
+            const double err = std::fabs(double(d[x]) - double(g[x]));
+            b1 += err > 1.0;
+            b2 += err > 2.0;
+            se += err * err;
+        }
+    }
+    m.density = n ? 100.0 * double(with) / double(n) : 0.0;
+    m.bad1 = with ? 100.0 * double(b1) / double(with) : 100.0;
+    m.bad2 = with ? 100.0 * double(b2) / double(with) : 100.0;
+    m.bad1all = n ? 100.0 * double(b1 + (n - with)) / double(n) : 100.0;
+    m.rms = with ? std::sqrt(se / double(with)) : 0.0;
+}
+
+template <typename F> double best_of(int repeat, F &&f, bool &ok)
+{
+    double best = std::numeric_limits<double>::infinity();
+    ok = true;
+    for (int i = 0; i < repeat && ok; ++i) {
+        const auto t0 = std::chrono::steady_clock::now();
+        ok = f();
+        const auto t1 = std::chrono::steady_clock::now();
+        best = std::min(
+            best, std::chrono::duration<double, std::milli>(t1 - t0).count());
+    }
+    return best;
+}
+
+struct Options {
+    std::string data;
+    std::string opencv_doc = "/usr/share/doc/opencv-doc/examples/data";
+    std::vector<std::string> sets;
+    bool list = false;
+    bool use[M_COUNT] = {true, true, true};
+    bool matchers_given = false;
+    int repeat = 3;
+    bool repeat_given = false;
+    std::string markdown, plots, pictures;
+    bool check = false;
+    double check_bad1 = 0, check_density = 0;
+    std::string command_line;
+};
+
+bool load_gt(const SetSpec &s, cv::Mat &gt, cv::Mat &known, std::string &err)
+{
+    cv::Mat raw = cv::imread(s.gt, cv::IMREAD_UNCHANGED);
+    if (raw.empty()) {
+        err = "cannot read GT '" + s.gt + "'";
+        return false;
+    }
+    if (raw.channels() == 3)
+        cv::cvtColor(raw, raw, cv::COLOR_BGR2GRAY);
+    else if (raw.channels() == 4)
+        cv::cvtColor(raw, raw, cv::COLOR_BGRA2GRAY);
+    if (raw.channels() != 1 || (raw.depth() != CV_8U && raw.depth() != CV_16U)) {
+        err = "GT '" + s.gt + "': unsupported pixel type";
+        return false;
+    }
+    raw.convertTo(gt, CV_32F, 1.0 / s.gt_scale);
+    known = raw > 0;
+    return true;
+}
+
+// Evaluates one set; returns an exit code (EXIT_OK unless fatal).
+int evaluate(const Options &opt, const SetSpec &spec, SetResult &res)
+{
+    res.spec = spec;
+    std::string err;
+    cv::Mat left, right;
+    if (!negobs_tools::load_grey(spec.left, left, err) ||
+        !negobs_tools::load_grey(spec.right, right, err)) {
+        std::fprintf(stderr, "negobs_eval: %s: %s\n", spec.name.c_str(),
+                     err.c_str());
+        return EXIT_DATA;
+    }
+    cv::Mat known;
+    if (!load_gt(spec, res.gt, known, err)) {
+        std::fprintf(stderr, "negobs_eval: %s: %s\n", spec.name.c_str(),
+                     err.c_str());
+        return EXIT_DATA;
+    }
+    if (left.size() != right.size() || left.size() != res.gt.size()) {
+        std::fprintf(stderr,
+                     "negobs_eval: %s: size mismatch: left %dx%d, right "
+                     "%dx%d, GT %dx%d\n",
+                     spec.name.c_str(), left.cols, left.rows, right.cols,
+                     right.rows, res.gt.cols, res.gt.rows);
+        return EXIT_DATA;
+    }
+    cv::Mat eval_mask = known.clone();
+    if (!spec.mask.empty()) {
+        cv::Mat mask = cv::imread(spec.mask, cv::IMREAD_GRAYSCALE);
+        if (mask.empty() || mask.size() != left.size()) {
+            std::fprintf(stderr, "negobs_eval: %s: cannot read mask '%s' or "
+                                 "its size differs\n",
+                         spec.name.c_str(), spec.mask.c_str());
+            return EXIT_DATA;
+        }
+        eval_mask &= (mask == 255);
+    }
+    res.gt_valid = known;
+    res.width = left.cols;
+    res.height = left.rows;
+    res.evaluated = cv::countNonZero(eval_mask);
+    int md = spec.max_disp;
+    if (md <= 0) {
+        double mx = 0;
+        cv::minMaxLoc(res.gt, nullptr, &mx);
+        md = static_cast<int>(std::ceil(mx));
+    }
+    res.range.min_disp = 0;
+    res.range.max_disp = md;
+    err = negobs_tools::check_range(res.range, left.cols);
+    if (!err.empty()) {
+        std::fprintf(stderr, "negobs_eval: %s: %s\n", spec.name.c_str(),
+                     err.c_str());
+        return EXIT_DATA;
+    }
+
+    // negobs
+    Metrics &mn = res.m[M_NEGOBS];
+    if (opt.use[M_NEGOBS]) {
+#ifdef NEGOBS_TOOLS_HAVE_ENGINE
+        negobs_tools::NegobsMatcher nm;
+        if (!nm.init(left.cols, left.rows, res.range, err)) {
+            std::fprintf(stderr, "negobs_eval: %s: %s\n", spec.name.c_str(),
+                         err.c_str());
+            return EXIT_LIBRARY;
+        }
+        cv::Mat q4, conf;
+        bool ok = true;
+        mn.ms = best_of(opt.repeat,
+                        [&] { return nm.process(left, right, q4, conf, err); },
+                        ok);
+        if (!ok) {
+            std::fprintf(stderr, "negobs_eval: %s: %s\n", spec.name.c_str(),
+                         err.c_str());
+            return EXIT_LIBRARY;
+        }
+        negobs_tools::negobs_q4_to_float(q4, mn.disp, mn.valid);
+        score(mn.disp, mn.valid, res.gt, eval_mask, mn);
+        mn.ran = true;
+        std::printf("  [%s] negobs: %s\n", spec.name.c_str(),
+                    nm.last_stats().c_str());
+#else
+        mn.note = "engine not built";
+#endif
+    } else {
+        mn.note = "not selected";
+    }
+
+    // OpenCV
+    for (int id : {int(M_BM), int(M_SGBM)}) {
+        Metrics &m = res.m[id];
+        if (!opt.use[id]) {
+            m.note = "not selected";
+            continue;
+        }
+        cv::Ptr<cv::StereoMatcher> sm;
+        if (id == M_BM)
+            sm = make_bm(res.range);
+        else
+            sm = make_sgbm(res.range);
+        cv::Mat d16;
+        bool ok = true;
+        try {
+            m.ms = best_of(opt.repeat,
+                           [&] {
+                               sm->compute(left, right, d16);
+                               return true;
+                           },
+                           ok);
+        } catch (const cv::Exception &e) {
+            std::fprintf(stderr, "negobs_eval: %s: %s failed: %s\n",
+                         spec.name.c_str(), kMatcherName[id], e.what());
+            return EXIT_LIBRARY;
+        }
+        negobs_tools::opencv_q4_to_float(d16, res.range.min_disp, m.disp,
+                                         m.valid);
+        score(m.disp, m.valid, res.gt, eval_mask, m);
+        m.ran = true;
+    }
+    return EXIT_OK;
+}
+
+// ------------------------------------------------------------------ output
+
+std::string fmt(const char *f, double v)
+{
+    char b[64];
+    std::snprintf(b, sizeof b, f, v);
+    return b;
+}
+
+std::string ratio(const SetResult &r, int other)
+{
+    if (!r.m[M_NEGOBS].ran || !r.m[other].ran || r.m[other].ms <= 0)
+        return "-";
+    return fmt("%.2f", r.m[M_NEGOBS].ms / r.m[other].ms);
+}
+
+void print_table(const std::vector<SetResult> &res)
+{
+    std::printf("\n%-32s %-7s %8s %7s %8s %7s %7s %9s %9s %9s\n", "set",
+                "matcher", "density", "bad1", "bad1all", "bad2", "rms", "ms",
+                "neg/BM", "neg/SGBM");
+    for (const SetResult &r : res) {
+        for (int id = 0; id < M_COUNT; ++id) {
+            const Metrics &m = r.m[id];
+            if (!m.ran) {
+                std::printf("%-32s %-7s %s\n", r.spec.name.c_str(),
+                            kMatcherName[id], m.note.c_str());
+                continue;
+            }
+            std::printf("%-32s %-7s %7.1f%% %6.1f%% %7.1f%% %6.1f%% %7.2f "
+                        "%9.1f %9s %9s\n",
+                        r.spec.name.c_str(), kMatcherName[id], m.density,
+                        m.bad1, m.bad1all, m.bad2, m.rms, m.ms,
+                        id == M_NEGOBS ? ratio(r, M_BM).c_str() : "",
+                        id == M_NEGOBS ? ratio(r, M_SGBM).c_str() : "");
+        }
+    }
+}
+
+// Mean over the sets where the matcher ran.
+struct Mean {
+    int n = 0;
+    double density = 0, bad1 = 0, bad1all = 0, bad2 = 0, rms = 0, ms = 0;
+};
+
+Mean mean_of(const std::vector<SetResult> &res, int id)
+{
+    Mean a;
+    for (const SetResult &r : res) {
+        const Metrics &m = r.m[id];
+        if (!m.ran)
+            continue;
+        ++a.n;
+        a.density += m.density;
+        a.bad1 += m.bad1;
+        a.bad1all += m.bad1all;
+        a.bad2 += m.bad2;
+        a.rms += m.rms;
+        a.ms += m.ms;
+    }
+    if (a.n) {
+        a.density /= a.n;
+        a.bad1 /= a.n;
+        a.bad1all /= a.n;
+        a.bad2 /= a.n;
+        a.rms /= a.n;
+    }
+    return a;
+}
+
+bool write_markdown(const std::string &path, const Options &opt,
+                    const std::vector<SetResult> &res)
+{
+    std::ofstream o(path);
+    if (!o)
+        return false;
+    o << "<!-- generated by negobs_eval; do not edit by hand -->\n\n";
+    o << "Command: `" << opt.command_line << "`\n\n";
+    o << "OpenCV " << CV_VERSION << ", cv::setNumThreads(0) (sequential), "
+      << "best of " << opt.repeat << " runs, negobs build type `"
+      << NEGOBS_BUILD_TYPE << "`.\n\n";
+    o << "| set | size | range (px) | eval px | matcher | density % | bad1 % "
+         "| bad1all % | bad2 % | RMS px | time ms | negobs/BM | negobs/SGBM "
+         "|\n";
+    o << "|---|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const SetResult &r : res) {
+        for (int id = 0; id < M_COUNT; ++id) {
+            const Metrics &m = r.m[id];
+            o << "| " << (id == 0 ? r.spec.name : std::string()) << " | "
+              << (id == 0 ? std::to_string(r.width) + "x" +
+                                std::to_string(r.height)
+                          : std::string())
+              << " | "
+              << (id == 0 ? std::to_string(r.range.min_disp) + "-" +
+                                std::to_string(r.range.max_disp)
+                          : std::string())
+              << " | " << (id == 0 ? std::to_string(r.evaluated) : std::string())
+              << " | " << kMatcherName[id] << " | ";
+            if (!m.ran) {
+                o << "*" << m.note << "* | | | | | | | |\n";
+                continue;
+            }
+            o << fmt("%.1f", m.density) << " | " << fmt("%.1f", m.bad1)
+              << " | " << fmt("%.1f", m.bad1all) << " | "
+              << fmt("%.1f", m.bad2) << " | " << fmt("%.2f", m.rms) << " | "
+              << fmt("%.1f", m.ms) << " | "
+              << (id == M_NEGOBS ? ratio(r, M_BM) : std::string()) << " | "
+              << (id == M_NEGOBS ? ratio(r, M_SGBM) : std::string()) << " |\n";
+        }
+    }
+    o << "\nMean over sets (time: sum):\n\n";
+    o << "| matcher | sets | density % | bad1 % | bad1all % | bad2 % | RMS px "
+         "| total time ms |\n";
+    o << "|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (int id = 0; id < M_COUNT; ++id) {
+        const Mean a = mean_of(res, id);
+        o << "| " << kMatcherName[id] << " | " << a.n << " | ";
+        if (!a.n) {
+            o << "*" << (res.empty() ? "no set" : res[0].m[id].note)
+              << "* | | | | | |\n";
+            continue;
+        }
+        o << fmt("%.1f", a.density) << " | " << fmt("%.1f", a.bad1) << " | "
+          << fmt("%.1f", a.bad1all) << " | " << fmt("%.1f", a.bad2) << " | "
+          << fmt("%.2f", a.rms) << " | " << fmt("%.1f", a.ms) << " |\n";
+    }
+    return bool(o);
+}
+
+std::string short_name(const std::string &n)
+{
+    std::string s = n;
+    const size_t u = s.find('_');
+    if (s.rfind("middlebury", 0) == 0 && u != std::string::npos)
+        s = s.substr(u + 1);
+    const std::string half = "_half";
+    if (s.size() > half.size() &&
+        s.compare(s.size() - half.size(), half.size(), half) == 0)
+        s.resize(s.size() - half.size());
+    return s;
+}
+
+const cv::Scalar kBarColour[M_COUNT] = {cv::Scalar(40, 140, 230),  // orange
+                                        cv::Scalar(200, 120, 40),  // blue
+                                        cv::Scalar(90, 170, 60)}; // green
+
+// Grouped bar plot: one group per set, one bar per matcher. log_scale: y is
+// log10 (values must be > 0).
+cv::Mat bar_plot(const std::vector<SetResult> &res, const std::string &title,
+                 const std::string &unit,
+                 const std::function<double(const Metrics &)> &value,
+                 bool log_scale)
+{
+    const int group_w = 108, left_m = 70, right_m = 20, top_m = 64,
+              bottom_m = 44, plot_h = 300;
+    const int n = static_cast<int>(res.size());
+    const int w = left_m + right_m + std::max(1, n) * group_w;
+    const int h = top_m + plot_h + bottom_m;
+    cv::Mat img(h, std::max(w, 520), CV_8UC3, cv::Scalar::all(255));
+    const int font = cv::FONT_HERSHEY_SIMPLEX;
+    const cv::Scalar black(0, 0, 0), grid(220, 220, 220);
+
+    double vmax = 0, vmin = std::numeric_limits<double>::infinity();
+    for (const SetResult &r : res)
+        for (int id = 0; id < M_COUNT; ++id)
+            if (r.m[id].ran) {
+                vmax = std::max(vmax, value(r.m[id]));
+                if (value(r.m[id]) > 0)
+                    vmin = std::min(vmin, value(r.m[id]));
+            }
+    double lo = 0, hi = 1, step = 1;
+    if (log_scale) {
+        lo = std::floor(std::log10(std::isfinite(vmin) ? vmin : 1.0));
+        hi = std::ceil(std::log10(std::max(vmax, 1e-3) * 1.0001));
+        if (hi <= lo)
+            hi = lo + 1;
+    } else {
+        step = vmax > 50 ? 20 : vmax > 20 ? 10 : vmax > 10 ? 5 : 2;
+        hi = std::max(step, std::ceil(vmax * 1.08 / step) * step);
+    }
+    auto ypix = [&](double v) {
+        double t = log_scale ? (std::log10(std::max(v, 1e-9)) - lo) / (hi - lo)
+                             : (v - lo) / (hi - lo);
+        t = std::min(1.0, std::max(0.0, t));
+        return top_m + plot_h - static_cast<int>(std::lround(t * plot_h));
+    };
+
+    // grid + y labels
+    std::vector<double> ticks;
+    if (log_scale) {
+        for (double e = lo; e <= hi + 1e-9; e += 1)
+            ticks.push_back(std::pow(10.0, e));
+    } else {
+        for (double t = 0; t <= hi + 1e-9; t += step)
+            ticks.push_back(t);
+    }
+    for (double t : ticks) {
+        const int y = ypix(t);
+        cv::line(img, cv::Point(left_m, y), cv::Point(img.cols - right_m, y),
+                 grid, 1);
+        const std::string s = t >= 1 || t == 0 ? fmt("%.0f", t) : fmt("%g", t);
+        cv::putText(img, s, cv::Point(8, y + 5), font, 0.45, black, 1,
+                    cv::LINE_AA);
+    }
+    cv::line(img, cv::Point(left_m, top_m), cv::Point(left_m, top_m + plot_h),
+             black, 1);
+    cv::line(img, cv::Point(left_m, top_m + plot_h),
+             cv::Point(img.cols - right_m, top_m + plot_h), black, 1);
+    cv::putText(img, title + " (" + unit + ")", cv::Point(left_m, 22), font,
+                0.6, black, 1, cv::LINE_AA);
+
+    // legend
+    int lx = left_m;
+    for (int id = 0; id < M_COUNT; ++id) {
+        bool any = false;
+        for (const SetResult &r : res)
+            any = any || r.m[id].ran;
+        cv::rectangle(img, cv::Rect(lx, 34, 14, 14), kBarColour[id],
+                      cv::FILLED);
+        std::string label = kMatcherName[id];
+        if (!any)
+            label += " (" + (res.empty() ? std::string("n/a")
+                                         : res[0].m[id].note) + ")";
+        cv::putText(img, label, cv::Point(lx + 18, 46), font, 0.45, black, 1,
+                    cv::LINE_AA);
+        int base = 0;
+        lx += 30 + cv::getTextSize(label, font, 0.45, 1, &base).width;
+    }
+
+    // bars
+    const int bar_w = 26;
+    for (int i = 0; i < n; ++i) {
+        const SetResult &r = res[static_cast<size_t>(i)];
+        const int gx = left_m + i * group_w + (group_w - 3 * bar_w) / 2;
+        for (int id = 0; id < M_COUNT; ++id) {
+            if (!r.m[id].ran)
+                continue;
+            const double v = value(r.m[id]);
+            const int x0 = gx + id * bar_w;
+            const int y0 = ypix(v);
+            cv::rectangle(img, cv::Point(x0, y0),
+                          cv::Point(x0 + bar_w - 3, top_m + plot_h),
+                          kBarColour[id], cv::FILLED);
+            const std::string s = v >= 100 ? fmt("%.0f", v) : fmt("%.1f", v);
+            cv::putText(img, s, cv::Point(x0 - 2, y0 - 4), font, 0.32, black,
+                        1, cv::LINE_AA);
+        }
+        std::string label = short_name(r.spec.name);
+        int base = 0;
+        double scale = 0.45;
+        while (scale > 0.3 &&
+               cv::getTextSize(label, font, scale, 1, &base).width > group_w - 4)
+            scale -= 0.03;
+        const int tw = cv::getTextSize(label, font, scale, 1, &base).width;
+        cv::putText(img, label,
+                    cv::Point(left_m + i * group_w + (group_w - tw) / 2,
+                              top_m + plot_h + 22),
+                    font, scale, black, 1, cv::LINE_AA);
+    }
+    return img;
+}
+
+cv::Mat labelled(const cv::Mat &img, const std::string &label)
+{
+    cv::Mat out = img.clone();
+    int base = 0;
+    const int tw =
+        cv::getTextSize(label, cv::FONT_HERSHEY_SIMPLEX, 0.6, 1, &base).width;
+    cv::rectangle(out, cv::Rect(0, 0, std::min(out.cols, tw + 10), 26),
+                  cv::Scalar::all(255), cv::FILLED);
+    cv::putText(out, label, cv::Point(5, 19), cv::FONT_HERSHEY_SIMPLEX, 0.6,
+                cv::Scalar::all(0), 1, cv::LINE_AA);
+    return out;
+}
+
+bool write_picture(const std::string &dir, const SetResult &r)
+{
+    const double hi = r.range.max_disp, lo = r.range.min_disp;
+    std::vector<cv::Mat> panels;
+    for (int id = 0; id < M_COUNT; ++id) {
+        cv::Mat p;
+        if (r.m[id].ran) {
+            p = negobs_tools::colourise(r.m[id].disp, r.m[id].valid, lo, hi);
+        } else {
+            p = cv::Mat(r.height, r.width, CV_8UC3, cv::Scalar::all(128));
+        }
+        panels.push_back(labelled(p, kMatcherName[id]));
+    }
+    panels.push_back(
+        labelled(negobs_tools::colourise(r.gt, r.gt_valid, lo, hi), "GT"));
+    cv::Mat row;
+    cv::hconcat(panels, row);
+    const int max_w = 1600;
+    if (row.cols > max_w)
+        cv::resize(row, row,
+                   cv::Size(max_w, row.rows * max_w / row.cols), 0, 0,
+                   cv::INTER_AREA);
+    try {
+        return cv::imwrite(dir + "/" + r.spec.name + ".png", row);
+    } catch (const cv::Exception &) {
+        return false;
+    }
+}
+
+bool write_png(const std::string &path, const cv::Mat &img)
+{
+    try {
+        return cv::imwrite(path, img, {cv::IMWRITE_PNG_COMPRESSION, 9});
+    } catch (const cv::Exception &) {
+        return false;
+    }
+}
+
+bool parse_matchers(const std::string &s, Options &opt)
+{
+    for (int id = 0; id < M_COUNT; ++id)
+        opt.use[id] = false;
+    for (const std::string &t : split(s, ',')) {
+        if (t == "negobs")
+            opt.use[M_NEGOBS] = true;
+        else if (t == "bm" || t == "BM")
+            opt.use[M_BM] = true;
+        else if (t == "sgbm" || t == "SGBM")
+            opt.use[M_SGBM] = true;
+        else
+            return false;
+    }
+    return true;
+}
+
+int run(int argc, char **argv)
+{
+    Options opt;
+    {
+        std::string cl = "negobs_eval";
+        for (int i = 1; i < argc; ++i)
+            cl += std::string(" ") + argv[i];
+        opt.command_line = cl;
+    }
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto need = [&](int k) {
+            if (i + k >= argc) {
+                std::fprintf(stderr, "negobs_eval: %s needs %d argument(s)\n",
+                             a.c_str(), k);
+                return false;
+            }
+            return true;
+        };
+        if (a == "-h" || a == "--help") {
+            std::fputs(kHelp, stdout);
+            return EXIT_OK;
+        } else if (a == "--list") {
+            opt.list = true;
+        } else if (a == "--data" || a == "--opencv-doc" || a == "--set" ||
+                   a == "--markdown" || a == "--plots" || a == "--pictures" ||
+                   a == "--matchers" || a == "--repeat") {
+            if (!need(1))
+                return EXIT_USAGE;
+            const std::string v = argv[++i];
+            if (a == "--data")
+                opt.data = v;
+            else if (a == "--opencv-doc")
+                opt.opencv_doc = v;
+            else if (a == "--set")
+                opt.sets.push_back(v);
+            else if (a == "--markdown")
+                opt.markdown = v;
+            else if (a == "--plots")
+                opt.plots = v;
+            else if (a == "--pictures")
+                opt.pictures = v;
+            else if (a == "--matchers") {
+                if (!parse_matchers(v, opt)) {
+                    std::fprintf(stderr, "negobs_eval: --matchers takes a "
+                                         "comma list of negobs,bm,sgbm\n");
+                    return EXIT_USAGE;
+                }
+                opt.matchers_given = true;
+            } else {
+                double r = 0;
+                if (!parse_double(v.c_str(), r) || r < 1 || r > 1000 ||
+                    r != std::floor(r)) {
+                    std::fprintf(stderr, "negobs_eval: --repeat takes an "
+                                         "integer 1..1000\n");
+                    return EXIT_USAGE;
+                }
+                opt.repeat = static_cast<int>(r);
+                opt.repeat_given = true;
+            }
+        } else if (a == "--check") {
+            if (!need(2))
+                return EXIT_USAGE;
+            if (!parse_double(argv[i + 1], opt.check_bad1) ||
+                !parse_double(argv[i + 2], opt.check_density)) {
+                std::fprintf(stderr, "negobs_eval: --check takes two numbers "
+                                     "(MAXBAD1 MINDENSITY, in %%)\n");
+                return EXIT_USAGE;
+            }
+            opt.check = true;
+            i += 2;
+        } else {
+            std::fprintf(stderr,
+                         "negobs_eval: unknown argument '%s' (see --help)\n",
+                         a.c_str());
+            return EXIT_USAGE;
+        }
+    }
+    if (opt.check) {
+        if (!opt.matchers_given) {
+            opt.use[M_NEGOBS] = true;
+            opt.use[M_BM] = opt.use[M_SGBM] = false;
+        }
+        if (!opt.repeat_given)
+            opt.repeat = 1;
+    }
+
+    cv::setNumThreads(0); // sequential: same footing as the C library
+
+    // Collect the sets.
+    if (opt.data.empty()) {
+        const char *env = std::getenv("NEGOBS_DATA");
+        opt.data = env && *env ? env
+                               : std::string(NEGOBS_SOURCE_ROOT) +
+                                     "/../shared/data";
+    }
+    std::vector<SetSpec> all;
+    if (is_dir(opt.data)) {
+        std::string err;
+        int no_gt = 0;
+        if (!read_manifest(opt.data, all, no_gt, err)) {
+            std::fprintf(stderr, "negobs_eval: %s\n", err.c_str());
+            return EXIT_DATA;
+        }
+        std::printf("negobs_eval: %s: %zu pairs with GT (%d pairs without GT "
+                    "not evaluated)\n",
+                    opt.data.c_str(), all.size(), no_gt);
+    } else {
+        std::printf("negobs_eval: data folder '%s' absent: skipping the "
+                    "manifest sets (set NEGOBS_DATA or --data)\n",
+                    opt.data.c_str());
+    }
+    {
+        SetSpec aloe;
+        aloe.name = kAloeSet;
+        aloe.left = opt.opencv_doc + "/aloeL.jpg";
+        aloe.right = opt.opencv_doc + "/aloeR.jpg";
+        aloe.gt = opt.opencv_doc + "/aloeGT.png";
+        aloe.gt_scale = 1.0; // full-size Middlebury Aloe: value = disparity
+        aloe.max_disp = 0;   // from the GT (211 px)
+        aloe.origin = "opencv-doc";
+        if (is_file(aloe.left) && is_file(aloe.right) && is_file(aloe.gt))
+            all.push_back(aloe);
+        else
+            std::printf("negobs_eval: opencv-doc aloe pair absent from '%s': "
+                        "skipping it (apt install opencv-doc)\n",
+                        opt.opencv_doc.c_str());
+    }
+    if (opt.list) {
+        for (const SetSpec &s : all)
+            std::printf("%s\t%s\n", s.name.c_str(), s.left.c_str());
+        return EXIT_OK;
+    }
+    std::vector<SetSpec> chosen;
+    if (opt.sets.empty()) {
+        chosen = all;
+    } else {
+        for (const std::string &n : opt.sets) {
+            auto it = std::find_if(all.begin(), all.end(),
+                                   [&](const SetSpec &s) { return s.name == n; });
+            if (it == all.end()) {
+                const bool skip = opt.check;
+                std::fprintf(skip ? stdout : stderr,
+                             "negobs_eval: set '%s' %s (see --list)\n",
+                             n.c_str(),
+                             skip ? "not available here: skipped"
+                                  : "unknown or its files are absent");
+                return skip ? EXIT_SKIP : EXIT_DATA;
+            }
+            chosen.push_back(*it);
+        }
+    }
+#ifndef NEGOBS_TOOLS_HAVE_ENGINE
+    std::printf("negobs_eval: the negobs engine is not built into this "
+                "binary (lib/src/stereo absent): negobs figures pending\n");
+    if (opt.check && opt.use[M_NEGOBS]) {
+        std::printf("negobs_eval: --check skipped: nothing to check\n");
+        return EXIT_SKIP;
+    }
+#endif
+    if (chosen.empty()) {
+        std::printf("negobs_eval: no set to evaluate\n");
+        return opt.check ? EXIT_SKIP : EXIT_OK;
+    }
+
+    std::vector<SetResult> results;
+    for (const SetSpec &s : chosen) {
+        std::printf("negobs_eval: %s ...\n", s.name.c_str());
+        std::fflush(stdout);
+        SetResult r;
+        const int rc = evaluate(opt, s, r);
+        if (rc != EXIT_OK)
+            return rc;
+        results.push_back(r);
+    }
+    print_table(results);
+
+    int rc = EXIT_OK;
+    if (!opt.markdown.empty() && !write_markdown(opt.markdown, opt, results)) {
+        std::fprintf(stderr, "negobs_eval: cannot write '%s'\n",
+                     opt.markdown.c_str());
+        rc = EXIT_DATA;
+    }
+    if (!opt.plots.empty()) {
+        const cv::Mat p1 = bar_plot(
+            results, "bad1all: wrong by > 1 px or no value", "% of evaluated px",
+            [](const Metrics &m) { return m.bad1all; }, false);
+        const cv::Mat p2 = bar_plot(
+            results, "time per pair, 1 thread, best of " +
+                         std::to_string(opt.repeat),
+            "ms, log scale", [](const Metrics &m) { return m.ms; }, true);
+        if (!write_png(opt.plots + "/eval_bad1all.png", p1) ||
+            !write_png(opt.plots + "/eval_time.png", p2)) {
+            std::fprintf(stderr, "negobs_eval: cannot write plots into '%s'\n",
+                         opt.plots.c_str());
+            rc = EXIT_DATA;
+        }
+    }
+    if (!opt.pictures.empty()) {
+        for (const SetResult &r : results)
+            if (!write_picture(opt.pictures, r)) {
+                std::fprintf(stderr, "negobs_eval: cannot write pictures into "
+                                     "'%s'\n",
+                             opt.pictures.c_str());
+                rc = EXIT_DATA;
+                break;
+            }
+    }
+
+    if (opt.check) {
+        bool pass = true;
+        for (const SetResult &r : results) {
+            const Metrics &m = r.m[M_NEGOBS];
+            const bool ok = m.ran && m.bad1 <= opt.check_bad1 &&
+                            m.density >= opt.check_density;
+            std::printf("check %s: negobs bad1 %.2f%% (max %.2f), density "
+                        "%.2f%% (min %.2f): %s\n",
+                        r.spec.name.c_str(), m.bad1, opt.check_bad1, m.density,
+                        opt.check_density, ok ? "PASS" : "FAIL");
+            pass = pass && ok;
+        }
+        if (!pass)
+            return EXIT_CHECK;
+    }
+    return rc;
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+    try {
+        return run(argc, argv);
+    } catch (const std::exception &e) {
+        std::fprintf(stderr, "negobs_eval: internal error: %s\n", e.what());
+        return EXIT_LIBRARY;
+    }
+}

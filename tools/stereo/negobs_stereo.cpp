@@ -1,0 +1,216 @@
+// negobs_stereo: run the negobs disparity engine on one rectified pair.
+//
+//   negobs_stereo LEFT RIGHT OUT.png [--max-disp N] [--min-disp N]
+//                 [--color PICTURE.png]
+//
+// This command-line interface is stable: scripts rely on it.
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "stereo_common.hpp"
+
+namespace {
+
+enum Exit {
+    EXIT_OK = 0,
+    EXIT_USAGE = 1,   // bad command line or disparity range
+    EXIT_INPUT = 2,   // an input image cannot be read
+    EXIT_SIZE = 3,    // left/right sizes differ or are out of bounds
+    EXIT_LIBRARY = 4, // the negobs library reported an error
+    EXIT_OUTPUT = 5,  // an output file cannot be written
+};
+
+const char *const kHelp =
+    "usage: negobs_stereo LEFT RIGHT OUT.png [--max-disp N] [--min-disp N]\n"
+    "                     [--color PICTURE.png]\n"
+    "\n"
+    "Computes the disparity of the rectified pair LEFT (reference) / RIGHT\n"
+    "with the negobs fixed-point engine and writes OUT.png.\n"
+    "\n"
+    "Inputs: any image OpenCV reads (PNG, PPM/PGM, BMP, JPEG, TIFF, ...);\n"
+    "colour is converted to grey, 16-bit to 8-bit. Both must have the same\n"
+    "size (at most 4096 x 4096).\n"
+    "\n"
+    "Output OUT.png: 16-bit grey PNG, OpenCV's fixed-point convention:\n"
+    "value = disparity * 16 (1/16 px steps), 0 = no value. A point at column\n"
+    "x in LEFT is at column x - disparity in RIGHT. A disparity of exactly\n"
+    "0 px (or below) cannot be represented and is written as 0 = no value;\n"
+    "use --min-disp >= 1 if that matters.\n"
+    "\n"
+    "Options:\n"
+    "  --max-disp N   largest disparity searched, pixels (default 64);\n"
+    "                 must be < image width and <= 2047\n"
+    "  --min-disp N   smallest disparity searched, pixels (default 0);\n"
+    "                 0 <= N < max-disp\n"
+    "  --color FILE   also write a colour picture (TURBO map over\n"
+    "                 [min-disp, max-disp], black = no value)\n"
+    "  --stats        print the engine statistics and timing to stderr\n"
+    "  -h, --help     this text\n"
+    "\n"
+    "Exit codes:\n"
+    "  0  success\n"
+    "  1  bad command line or disparity range\n"
+    "  2  an input image cannot be read or decoded\n"
+    "  3  left and right sizes differ, or the size is not supported\n"
+    "  4  the negobs library reported an error\n"
+    "  5  an output file cannot be written\n";
+
+bool parse_int(const char *s, int &out)
+{
+    if (!s || !*s)
+        return false;
+    char *end = nullptr;
+    const long v = std::strtol(s, &end, 10);
+    if (*end != '\0' || v < -100000 || v > 100000)
+        return false;
+    out = static_cast<int>(v);
+    return true;
+}
+
+bool write_png(const std::string &path, const cv::Mat &img)
+{
+    try {
+        return cv::imwrite(path, img);
+    } catch (const cv::Exception &e) {
+        std::fprintf(stderr, "negobs_stereo: cannot write '%s': %s\n",
+                     path.c_str(), e.what());
+        return false;
+    }
+}
+
+int run(int argc, char **argv)
+{
+    std::vector<std::string> pos;
+    negobs_tools::Range range;
+    std::string colour_path;
+    bool stats = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "-h" || a == "--help") {
+            std::fputs(kHelp, stdout);
+            return EXIT_OK;
+        } else if (a == "--max-disp" || a == "--min-disp") {
+            int v = 0;
+            if (i + 1 >= argc || !parse_int(argv[i + 1], v)) {
+                std::fprintf(stderr,
+                             "negobs_stereo: %s needs an integer argument\n",
+                             a.c_str());
+                return EXIT_USAGE;
+            }
+            (a == "--max-disp" ? range.max_disp : range.min_disp) = v;
+            ++i;
+        } else if (a == "--color" || a == "--colour") {
+            if (i + 1 >= argc) {
+                std::fprintf(stderr, "negobs_stereo: %s needs a file name\n",
+                             a.c_str());
+                return EXIT_USAGE;
+            }
+            colour_path = argv[++i];
+        } else if (a == "--stats") {
+            stats = true;
+        } else if (a.size() > 1 && a[0] == '-') {
+            std::fprintf(stderr, "negobs_stereo: unknown option '%s' (see "
+                                 "--help)\n",
+                         a.c_str());
+            return EXIT_USAGE;
+        } else {
+            pos.push_back(a);
+        }
+    }
+    if (pos.size() != 3) {
+        std::fprintf(stderr, "negobs_stereo: need LEFT RIGHT OUT.png (got %zu "
+                             "file names); see --help\n",
+                     pos.size());
+        return EXIT_USAGE;
+    }
+    std::string err = negobs_tools::check_range(range, 0);
+    if (!err.empty()) {
+        std::fprintf(stderr, "negobs_stereo: %s\n", err.c_str());
+        return EXIT_USAGE;
+    }
+
+    cv::Mat left, right;
+    if (!negobs_tools::load_grey(pos[0], left, err) ||
+        !negobs_tools::load_grey(pos[1], right, err)) {
+        std::fprintf(stderr, "negobs_stereo: %s\n", err.c_str());
+        return EXIT_INPUT;
+    }
+    if (left.size() != right.size()) {
+        std::fprintf(stderr,
+                     "negobs_stereo: size mismatch: left %dx%d, right %dx%d\n",
+                     left.cols, left.rows, right.cols, right.rows);
+        return EXIT_SIZE;
+    }
+    if (left.cols > 4096 || left.rows > 4096) {
+        std::fprintf(stderr, "negobs_stereo: %dx%d is larger than 4096x4096\n",
+                     left.cols, left.rows);
+        return EXIT_SIZE;
+    }
+    err = negobs_tools::check_range(range, left.cols);
+    if (!err.empty()) {
+        std::fprintf(stderr, "negobs_stereo: %s\n", err.c_str());
+        return EXIT_USAGE;
+    }
+
+    negobs_tools::NegobsMatcher m;
+    if (!m.init(left.cols, left.rows, range, err)) {
+        std::fprintf(stderr, "negobs_stereo: %s (size %dx%d, range %d..%d)\n",
+                     err.c_str(), left.cols, left.rows, range.min_disp,
+                     range.max_disp);
+        return EXIT_LIBRARY;
+    }
+    cv::Mat disp_q4, conf;
+    const int64 t0 = cv::getTickCount();
+    if (!m.process(left, right, disp_q4, conf, err)) {
+        std::fprintf(stderr, "negobs_stereo: %s\n", err.c_str());
+        return EXIT_LIBRARY;
+    }
+    const double ms =
+        1000.0 * double(cv::getTickCount() - t0) / cv::getTickFrequency();
+    if (stats) {
+        std::fprintf(stderr,
+                     "negobs_stereo: %dx%d range %d..%d: %.1f ms, "
+                     "workspace %zu bytes, %s\n",
+                     left.cols, left.rows, range.min_disp, range.max_disp, ms,
+                     m.workspace_bytes(), m.last_stats().c_str());
+    }
+
+    if (!write_png(pos[2], negobs_tools::negobs_q4_to_png16(disp_q4))) {
+        std::fprintf(stderr, "negobs_stereo: cannot write '%s' (bad folder or "
+                             "extension? use .png)\n",
+                     pos[2].c_str());
+        return EXIT_OUTPUT;
+    }
+    if (!colour_path.empty()) {
+        cv::Mat d, v;
+        negobs_tools::negobs_q4_to_float(disp_q4, d, v);
+        if (!write_png(colour_path,
+                       negobs_tools::colourise(d, v, range.min_disp,
+                                               range.max_disp))) {
+            std::fprintf(stderr, "negobs_stereo: cannot write '%s'\n",
+                         colour_path.c_str());
+            return EXIT_OUTPUT;
+        }
+    }
+    return EXIT_OK;
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+    try {
+        return run(argc, argv);
+    } catch (const std::exception &e) {
+        std::fprintf(stderr, "negobs_stereo: internal error: %s\n", e.what());
+        return EXIT_LIBRARY;
+    }
+}

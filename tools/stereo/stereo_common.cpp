@@ -1,0 +1,248 @@
+#include "stereo_common.hpp"
+
+#include <cstring>
+#include <vector>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#ifdef NEGOBS_TOOLS_HAVE_ENGINE
+extern "C" {
+#include "negobs/negobs.h"
+#include "negobs/stereo.h"
+}
+#endif
+
+namespace negobs_tools {
+
+bool load_grey(const std::string &path, cv::Mat &grey, std::string &err)
+{
+    cv::Mat img;
+    try {
+        img = cv::imread(path, cv::IMREAD_UNCHANGED);
+    } catch (const cv::Exception &e) {
+        err = "cannot decode '" + path + "': " + e.what();
+        return false;
+    }
+    if (img.empty()) {
+        err = "cannot read '" + path + "' (missing, unreadable or not an "
+              "image format OpenCV decodes)";
+        return false;
+    }
+    if (img.depth() == CV_16U) {
+        img.convertTo(img, CV_8U, 1.0 / 257.0);
+    } else if (img.depth() != CV_8U) {
+        err = "'" + path + "': unsupported pixel type (need 8 or 16 bit)";
+        return false;
+    }
+    switch (img.channels()) {
+    case 1:
+        grey = img;
+        break;
+    case 3:
+        cv::cvtColor(img, grey, cv::COLOR_BGR2GRAY);
+        break;
+    case 4:
+        cv::cvtColor(img, grey, cv::COLOR_BGRA2GRAY);
+        break;
+    default:
+        err = "'" + path + "': unsupported channel count";
+        return false;
+    }
+    if (!grey.isContinuous())
+        grey = grey.clone();
+    return true;
+}
+
+std::string check_range(const Range &r, int width)
+{
+    if (r.min_disp < 0)
+        return "--min-disp must be >= 0 (got " + std::to_string(r.min_disp) +
+               ")";
+    if (r.max_disp <= r.min_disp)
+        return "--max-disp (" + std::to_string(r.max_disp) +
+               ") must be larger than --min-disp (" +
+               std::to_string(r.min_disp) + ")";
+    if (r.max_disp > kMaxDispLimit)
+        return "--max-disp must be <= " + std::to_string(kMaxDispLimit) +
+               " (disparity * 16 is stored in 16 bits)";
+    if (width > 0 && r.max_disp >= width)
+        return "--max-disp (" + std::to_string(r.max_disp) +
+               ") must be smaller than the image width (" +
+               std::to_string(width) + ")";
+    return std::string();
+}
+
+int opencv_num_disparities(const Range &r)
+{
+    const int n = r.max_disp - r.min_disp + 1;
+    return (n + 15) / 16 * 16;
+}
+
+#ifdef NEGOBS_TOOLS_HAVE_ENGINE
+struct NegobsMatcher::Impl {
+    negobs_stereo_t ctx;
+    std::vector<unsigned char> raw; // over-allocated, aligned inside
+    void *ws = nullptr;
+    int width = 0;
+    int height = 0;
+};
+
+NegobsMatcher::NegobsMatcher() = default;
+NegobsMatcher::~NegobsMatcher() = default;
+
+static std::string status_text(const char *what, negobs_status_t st)
+{
+    const char *s = negobs_status_str(st);
+    return std::string(what) + " failed: status " + std::to_string(int(st)) +
+           (s && *s ? std::string(" (") + s + ")" : std::string());
+}
+
+bool NegobsMatcher::init(int width, int height, const Range &r,
+                         std::string &err)
+{
+    impl_.reset(new Impl());
+    std::memset(&impl_->ctx, 0, sizeof impl_->ctx);
+    negobs_stereo_config_t cfg;
+    std::memset(&cfg, 0, sizeof cfg);
+    negobs_stereo_config_default(&cfg, width, height);
+    cfg.min_disp = r.min_disp;
+    cfg.max_disp = r.max_disp;
+    size_t bytes = 0;
+    negobs_status_t st = negobs_stereo_workspace_size(&cfg, &bytes);
+    if (st != NEGOBS_OK) {
+        err = status_text("negobs_stereo_workspace_size", st);
+        impl_.reset();
+        return false;
+    }
+    impl_->raw.assign(bytes + 16, 0);
+    void *p = impl_->raw.data();
+    size_t space = impl_->raw.size();
+    impl_->ws = std::align(16, bytes, p, space);
+    st = negobs_stereo_init(&impl_->ctx, &cfg, impl_->ws, bytes);
+    if (st != NEGOBS_OK) {
+        err = status_text("negobs_stereo_init", st);
+        impl_.reset();
+        return false;
+    }
+    impl_->width = width;
+    impl_->height = height;
+    bytes_ = bytes;
+    return true;
+}
+
+bool NegobsMatcher::process(const cv::Mat &left, const cv::Mat &right,
+                            cv::Mat &disp_q4, cv::Mat &confidence,
+                            std::string &err)
+{
+    if (!impl_) {
+        err = "negobs matcher not initialised";
+        return false;
+    }
+    if (left.type() != CV_8UC1 || right.type() != CV_8UC1 ||
+        left.cols != impl_->width || left.rows != impl_->height ||
+        right.size() != left.size()) {
+        err = "negobs matcher: inputs must be 8-bit grey of the configured "
+              "size";
+        return false;
+    }
+    disp_q4.create(left.size(), CV_16SC1);
+    confidence.create(left.size(), CV_8UC1);
+    negobs_image_u8_t l, rr, c;
+    l.data = const_cast<uint8_t *>(left.ptr<uint8_t>(0));
+    l.width = left.cols;
+    l.height = left.rows;
+    l.stride = static_cast<int32_t>(left.step1());
+    rr.data = const_cast<uint8_t *>(right.ptr<uint8_t>(0));
+    rr.width = right.cols;
+    rr.height = right.rows;
+    rr.stride = static_cast<int32_t>(right.step1());
+    c.data = confidence.ptr<uint8_t>(0);
+    c.width = confidence.cols;
+    c.height = confidence.rows;
+    c.stride = static_cast<int32_t>(confidence.step1());
+    negobs_image_s16_t d;
+    d.data = disp_q4.ptr<int16_t>(0);
+    d.width = disp_q4.cols;
+    d.height = disp_q4.rows;
+    d.stride = static_cast<int32_t>(disp_q4.step1());
+    negobs_stereo_stats_t stats;
+    std::memset(&stats, 0, sizeof stats);
+    negobs_status_t st =
+        negobs_stereo_process(&impl_->ctx, &l, &rr, &d, &c, &stats);
+    if (st != NEGOBS_OK) {
+        err = status_text("negobs_stereo_process", st);
+        return false;
+    }
+    stats_text_ = "seeds " + std::to_string(stats.seeds) + ", queue peak " +
+                  std::to_string(stats.queue_peak) + ", queue overflows " +
+                  std::to_string(stats.queue_overflows) + ", visited cells " +
+                  std::to_string(stats.visited_cells) + ", band " +
+                  std::to_string(stats.band);
+    return true;
+}
+#endif
+
+cv::Mat negobs_q4_to_png16(const cv::Mat &disp_q4)
+{
+    CV_Assert(disp_q4.type() == CV_16SC1);
+    cv::Mat out(disp_q4.size(), CV_16UC1);
+    for (int y = 0; y < disp_q4.rows; ++y) {
+        const int16_t *s = disp_q4.ptr<int16_t>(y);
+        uint16_t *o = out.ptr<uint16_t>(y);
+        for (int x = 0; x < disp_q4.cols; ++x)
+            o[x] = s[x] > 0 ? static_cast<uint16_t>(s[x]) : uint16_t(0);
+    }
+    return out;
+}
+
+void negobs_q4_to_float(const cv::Mat &disp_q4, cv::Mat &disp, cv::Mat &valid)
+{
+    CV_Assert(disp_q4.type() == CV_16SC1);
+    disp.create(disp_q4.size(), CV_32FC1);
+    valid.create(disp_q4.size(), CV_8UC1);
+    for (int y = 0; y < disp_q4.rows; ++y) {
+        const int16_t *s = disp_q4.ptr<int16_t>(y);
+        float *d = disp.ptr<float>(y);
+        uint8_t *v = valid.ptr<uint8_t>(y);
+        for (int x = 0; x < disp_q4.cols; ++x) {
+            const bool ok = s[x] != INT16_MIN;
+            d[x] = ok ? static_cast<float>(s[x]) / 16.0f : 0.0f;
+            v[x] = ok ? 255 : 0;
+        }
+    }
+}
+
+void opencv_q4_to_float(const cv::Mat &disp16, int min_disp, cv::Mat &disp,
+                        cv::Mat &valid)
+{
+    CV_Assert(disp16.type() == CV_16SC1);
+    disp.create(disp16.size(), CV_32FC1);
+    valid.create(disp16.size(), CV_8UC1);
+    const int lo = min_disp * 16;
+    for (int y = 0; y < disp16.rows; ++y) {
+        const int16_t *s = disp16.ptr<int16_t>(y);
+        float *d = disp.ptr<float>(y);
+        uint8_t *v = valid.ptr<uint8_t>(y);
+        for (int x = 0; x < disp16.cols; ++x) {
+            const bool ok = s[x] >= lo;
+            d[x] = ok ? static_cast<float>(s[x]) / 16.0f : 0.0f;
+            v[x] = ok ? 255 : 0;
+        }
+    }
+}
+
+cv::Mat colourise(const cv::Mat &disp, const cv::Mat &valid, double lo,
+                  double hi)
+{
+    CV_Assert(disp.type() == CV_32FC1 && valid.type() == CV_8UC1);
+    const double span = hi > lo ? hi - lo : 1.0;
+    cv::Mat grey;
+    disp.convertTo(grey, CV_8U, 255.0 / span, -lo * 255.0 / span);
+    cv::Mat colour;
+    cv::applyColorMap(grey, colour, cv::COLORMAP_TURBO);
+    colour.setTo(cv::Scalar::all(0), valid == 0);
+    return colour;
+}
+
+} // namespace negobs_tools
