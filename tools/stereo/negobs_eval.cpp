@@ -23,6 +23,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/core/utility.hpp>
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -1011,6 +1012,8 @@ int run(int argc, char **argv)
 int main(int argc, char **argv)
 {
     try {
+        cv::utils::logging::setLogLevel(
+            cv::utils::logging::LOG_LEVEL_ERROR);
         return run(argc, argv);
     } catch (const std::exception &e) {
         std::fprintf(stderr, "negobs_eval: internal error: %s\n", e.what());

@@ -4,6 +4,7 @@
 //                 [--color PICTURE.png]
 //
 // This command-line interface is stable: scripts rely on it.
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -13,6 +14,7 @@
 
 #include <opencv2/core.hpp>
 #include <opencv2/core/utility.hpp>
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "stereo_common.hpp"
@@ -131,6 +133,23 @@ int run(int argc, char **argv)
                      pos.size());
         return EXIT_USAGE;
     }
+    const std::string &out = pos[2];
+    auto has_ext = [](const std::string &p, const std::string &e) {
+        if (p.size() <= e.size())
+            return false;
+        std::string t = p.substr(p.size() - e.size());
+        for (char &ch : t)
+            ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+        return t == e;
+    };
+    if (!has_ext(out, ".png") ||
+        (!colour_path.empty() && !has_ext(colour_path, ".png") &&
+         !has_ext(colour_path, ".jpg") && !has_ext(colour_path, ".ppm") &&
+         !has_ext(colour_path, ".bmp"))) {
+        std::fprintf(stderr, "negobs_stereo: OUT must end in .png (16-bit "
+                             "output); --color in .png/.jpg/.ppm/.bmp\n");
+        return EXIT_USAGE;
+    }
     std::string err = negobs_tools::check_range(range, 0);
     if (!err.empty()) {
         std::fprintf(stderr, "negobs_stereo: %s\n", err.c_str());
@@ -183,10 +202,9 @@ int run(int argc, char **argv)
                      m.workspace_bytes(), m.last_stats().c_str());
     }
 
-    if (!write_png(pos[2], negobs_tools::negobs_q4_to_png16(disp_q4))) {
-        std::fprintf(stderr, "negobs_stereo: cannot write '%s' (bad folder or "
-                             "extension? use .png)\n",
-                     pos[2].c_str());
+    if (!write_png(out, negobs_tools::negobs_q4_to_png16(disp_q4))) {
+        std::fprintf(stderr, "negobs_stereo: cannot write '%s'\n",
+                     out.c_str());
         return EXIT_OUTPUT;
     }
     if (!colour_path.empty()) {
@@ -208,6 +226,8 @@ int run(int argc, char **argv)
 int main(int argc, char **argv)
 {
     try {
+        cv::utils::logging::setLogLevel(
+            cv::utils::logging::LOG_LEVEL_ERROR);
         return run(argc, argv);
     } catch (const std::exception &e) {
         std::fprintf(stderr, "negobs_stereo: internal error: %s\n", e.what());
