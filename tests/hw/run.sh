@@ -302,7 +302,7 @@ mkdir -p "$IR"/{bin,sbin,proc,sys,dev,tmp,tests,payload,usr/bin,lib/modules/"$KV
 cp "$BB/bin/busybox" "$IR/bin/busybox"
 cp "$HW/guest/init.sh" "$IR/init" && chmod 755 "$IR/init"
 sed -i '1s|.*|#!/bin/busybox sh|' "$IR/init"
-cp "$HW/guest/"{vivid,gpio,pwm,payload}.sh "$IR/tests/"
+cp "$HW/guest/"{lib,vivid,gpio,pwm,payload}.sh "$IR/tests/"
 cp "$GB/"* "$IR/bin/"
 MODS=(vivid configfs)
 [[ $KMOD_OK = 1 ]] && MODS+=(pwm-sim)

@@ -23,6 +23,12 @@
  *       files (-L left.raw -R right.raw: concatenated frames of the chosen
  *       format, cycled).  This is the injector for running the real firmware
  *       (negobs_run CAP0 CAP1) against known frames.
+ *   v4l2_loop capture [opts] [-x] [-O DIR] CAP0 CAP1
+ *       Stands in for the program under test while `inject` runs: only
+ *       S_FMT + mmap streaming on CAP0/CAP1, as negobs_run would do.  Checks
+ *       the captured frames against the generated ones (-x: no check, for
+ *       frames injected from files) and saves the first -n of each eye as
+ *       DIR/left_NNN.raw, DIR/right_NNN.raw with -O.
  *
  * Options: -W width (640) -H height (480) -f GREY|YUYV (GREY)
  *          -n frames to check per capture node (8) -b buffers (4, >= 3)
@@ -352,19 +358,43 @@ static double now_s(void)
 static void usage(void)
 {
 	fprintf(stderr,
-		"usage: v4l2_loop check|inject [-W w] [-H h] [-f GREY|YUYV] "
-		"[-n frames] [-b bufs] [-T ms] [-t s] [-L left.raw] "
-		"[-R right.raw] [-q] CAP0 CAP1 OUT0 OUT1\n");
+		"usage: v4l2_loop check  [opts] CAP0 CAP1 OUT0 OUT1\n"
+		"       v4l2_loop inject [opts] [-t s] [-L left.raw -R right.raw] "
+		"CAP0 CAP1 OUT0 OUT1\n"
+		"       v4l2_loop capture [opts] [-x] [-O dir] CAP0 CAP1\n"
+		"opts: -W w -H h -f GREY|YUYV -n frames -b bufs -T poll_ms -q\n");
 	exit(2);
+}
+
+/* Keeps the output queues fed: dequeue every finished output buffer, refill
+ * it with the next frame, queue it again. */
+static void feed(struct node *out, struct source *src, unsigned e)
+{
+	struct v4l2_buffer b;
+	while (dqbuf(out, &b) == 0) {
+		fill_out(src, e, out->b[b.index].p);
+		qbuf(out, b.index);
+	}
+}
+
+static void save_frame(const char *dir, unsigned e, unsigned k,
+		       const uint8_t *p)
+{
+	char fn[512];
+	FILE *f;
+	snprintf(fn, sizeof fn, "%s/%s_%03u.raw", dir, e ? "right" : "left", k);
+	f = fopen(fn, "wb");
+	if (!f || fwrite(p, 1, g_size, f) != g_size || fclose(f) != 0)
+		DIE("writing %s: %s", fn, strerror(errno));
 }
 
 int main(int argc, char **argv)
 {
 	struct node cap[2], out[2];
 	struct source src;
-	const char *mode, *lf = NULL, *rf = NULL;
+	const char *mode, *lf = NULL, *rf = NULL, *savedir = NULL;
 	double seconds = 0, t0;
-	int opt, inject;
+	int opt, inject = 0, capture_only = 0, verify = 1;
 	unsigned i, e;
 	uint8_t *expect;
 	unsigned got[2] = {0, 0}, bad = 0, distinct[2] = {0, 0};
@@ -373,14 +403,14 @@ int main(int argc, char **argv)
 	if (argc < 2)
 		usage();
 	mode = argv[1];
-	if (strcmp(mode, "check") == 0)
-		inject = 0;
-	else if (strcmp(mode, "inject") == 0)
+	if (strcmp(mode, "inject") == 0)
 		inject = 1;
-	else
+	else if (strcmp(mode, "capture") == 0)
+		capture_only = 1;
+	else if (strcmp(mode, "check") != 0)
 		usage();
 	optind = 2;
-	while ((opt = getopt(argc, argv, "W:H:f:n:b:T:t:L:R:q")) != -1) {
+	while ((opt = getopt(argc, argv, "W:H:f:n:b:T:t:L:R:O:xq")) != -1) {
 		switch (opt) {
 		case 'W': g_w = (unsigned)atoi(optarg); break;
 		case 'H': g_h = (unsigned)atoi(optarg); break;
@@ -398,12 +428,14 @@ int main(int argc, char **argv)
 		case 't': seconds = atof(optarg); break;
 		case 'L': lf = optarg; break;
 		case 'R': rf = optarg; break;
+		case 'O': savedir = optarg; break;
+		case 'x': verify = 0; break;
 		case 'q': g_quiet = 1; break;
 		default: usage();
 		}
 	}
-	if (argc - optind != 4 || g_w < 64 || g_h < 16 || g_nbufs < 3 ||
-	    g_nbufs > MAX_BUFS)
+	if (argc - optind != (capture_only ? 2 : 4) || g_w < 64 || g_h < 16 ||
+	    g_nbufs < 3 || g_nbufs > MAX_BUFS || g_nframes < 1)
 		usage();
 	g_size = (size_t)g_w * g_h * bpp();
 	setvbuf(stdout, NULL, _IOLBF, 0);
@@ -429,6 +461,11 @@ int main(int argc, char **argv)
 
 	for (e = 0; e < 2; e++) {
 		open_node(&cap[e], argv[optind + e], 0);
+		if (capture_only) {
+			/* what the program under test does: just the format */
+			set_fmt(&cap[e]);
+			continue;
+		}
 		open_node(&out[e], argv[optind + 2 + e], 1);
 		/* capture side: HDMI input, loop on, no OSD text */
 		select_hdmi(&cap[e]);
@@ -441,7 +478,7 @@ int main(int argc, char **argv)
 
 	/* output side: fill every buffer, queue, STREAMON (the loop is decided
 	 * when the capture side starts, and needs frames waiting) */
-	for (e = 0; e < 2; e++) {
+	for (e = 0; e < 2 && !capture_only; e++) {
 		setup_bufs(&out[e]);
 		for (i = 0; i < out[e].nbufs; i++) {
 			fill_out(&src, e, out[e].b[i].p);
@@ -473,15 +510,9 @@ int main(int argc, char **argv)
 			if (r == 0)
 				DIE("inject: no output buffer came back in %d ms",
 				    g_timeout_ms);
-			for (e = 0; e < 2; e++) {
-				struct v4l2_buffer b;
-				if (!(pf[e].revents & POLLOUT))
-					continue;
-				while (dqbuf(&out[e], &b) == 0) {
-					fill_out(&src, e, out[e].b[b.index].p);
-					qbuf(&out[e], b.index);
-				}
-			}
+			for (e = 0; e < 2; e++)
+				if (pf[e].revents & POLLOUT)
+					feed(&out[e], &src, e);
 			if (seconds > 0 && now_s() - t0 >= seconds)
 				break;
 		}
@@ -502,15 +533,19 @@ int main(int argc, char **argv)
 	t0 = now_s();
 	while (got[0] < g_nframes || got[1] < g_nframes) {
 		struct pollfd pf[4];
+		unsigned nfd = capture_only ? 2 : 4;
 		int r;
 		for (e = 0; e < 2; e++) {
 			pf[e].fd = cap[e].fd;
 			pf[e].events = POLLIN;
-			pf[2 + e].fd = out[e].fd;
-			pf[2 + e].events = POLLOUT;
-			pf[e].revents = pf[2 + e].revents = 0;
+			pf[e].revents = 0;
+			if (!capture_only) {
+				pf[2 + e].fd = out[e].fd;
+				pf[2 + e].events = POLLOUT;
+				pf[2 + e].revents = 0;
+			}
 		}
-		r = poll(pf, 4, g_timeout_ms);
+		r = poll(pf, nfd, g_timeout_ms);
 		if (r < 0 && errno != EINTR)
 			DIE("poll: %s", strerror(errno));
 		if (r == 0) {
@@ -521,12 +556,8 @@ int main(int argc, char **argv)
 		}
 		for (e = 0; e < 2; e++) {
 			struct v4l2_buffer b;
-			if (pf[2 + e].revents & POLLOUT) {
-				while (dqbuf(&out[e], &b) == 0) {
-					fill_out(&src, e, out[e].b[b.index].p);
-					qbuf(&out[e], b.index);
-				}
-			}
+			if (!capture_only && (pf[2 + e].revents & POLLOUT))
+				feed(&out[e], &src, e);
 			if (!(pf[e].revents & POLLIN))
 				continue;
 			while (dqbuf(&cap[e], &b) == 0) {
@@ -538,6 +569,8 @@ int main(int argc, char **argv)
 					why = "V4L2_BUF_FLAG_ERROR";
 				else if (b.bytesused != g_size)
 					why = "short frame";
+				else if (!verify)
+					;
 				else if (parse_hdr(p, &n, &eye) < 0)
 					why = "no frame header (test pattern, "
 					      "loop not active?)";
@@ -554,10 +587,12 @@ int main(int argc, char **argv)
 					       "eye %u: %s\n",
 					       cap[e].path, b.sequence,
 					       b.bytesused, n, eye,
-					       why ? why : "identical");
+					       why ? why : "ok");
+				if (savedir && got[e] < g_nframes)
+					save_frame(savedir, e, got[e], p);
 				if (why)
 					bad++;
-				else if (n != last[e]) {
+				else if (verify && n != last[e]) {
 					distinct[e]++;
 					last[e] = n;
 				}
@@ -568,13 +603,14 @@ int main(int argc, char **argv)
 	}
 	for (e = 0; e < 2; e++) {
 		stream(&cap[e], 0);
-		stream(&out[e], 0);
+		if (!capture_only)
+			stream(&out[e], 0);
 	}
 	printf("v4l2_loop: %u+%u frames captured in %.2f s, %u bad, "
 	       "%u+%u distinct frames, %u buffers per node, %zu bytes/frame\n",
 	       got[0], got[1], now_s() - t0, bad, distinct[0], distinct[1],
 	       cap[0].nbufs, g_size);
-	if (bad || distinct[0] < 2 || distinct[1] < 2) {
+	if (bad || (verify && (distinct[0] < 2 || distinct[1] < 2))) {
 		printf("v4l2_loop: FAIL\n");
 		return 1;
 	}
