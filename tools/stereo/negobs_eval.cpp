@@ -328,6 +328,54 @@ bool load_gt(const SetSpec &s, cv::Mat &gt, cv::Mat &known, std::string &err)
     return true;
 }
 
+// Runs and scores negobs on one pair (res.m[M_NEGOBS]); returns an exit
+// code.
+int run_negobs(const Options &opt, const SetSpec &spec, const cv::Mat &left,
+               const cv::Mat &right, const cv::Mat &eval_mask, SetResult &res)
+{
+    Metrics &mn = res.m[M_NEGOBS];
+#ifdef NEGOBS_TOOLS_HAVE_ENGINE
+    const std::string limit =
+        negobs_tools::check_engine_limits(res.range, left.cols, left.rows);
+    if (!limit.empty()) {
+        std::printf("  [%s] negobs skipped: %s\n", spec.name.c_str(),
+                    limit.c_str());
+        mn.note = "skipped: " + limit;
+        return EXIT_OK;
+    }
+    std::string err;
+    negobs_tools::NegobsMatcher nm;
+    if (!nm.init(left.cols, left.rows, res.range, err)) {
+        std::fprintf(stderr, "negobs_eval: %s: %s\n", spec.name.c_str(),
+                     err.c_str());
+        return EXIT_LIBRARY;
+    }
+    cv::Mat q4, conf;
+    bool ok = true;
+    mn.ms = best_of(
+        opt.repeat, [&] { return nm.process(left, right, q4, conf, err); },
+        ok);
+    if (!ok) {
+        std::fprintf(stderr, "negobs_eval: %s: %s\n", spec.name.c_str(),
+                     err.c_str());
+        return EXIT_LIBRARY;
+    }
+    negobs_tools::negobs_q4_to_float(q4, mn.disp, mn.valid);
+    score(mn.disp, mn.valid, res.gt, eval_mask, mn);
+    mn.ran = true;
+    std::printf("  [%s] negobs: %s\n", spec.name.c_str(),
+                nm.last_stats().c_str());
+#else
+    (void)opt;
+    (void)spec;
+    (void)left;
+    (void)right;
+    (void)eval_mask;
+    mn.note = "engine not built";
+#endif
+    return EXIT_OK;
+}
+
 // Evaluates one set; returns an exit code (EXIT_OK unless fatal).
 int evaluate(const Options &opt, const SetSpec &spec, SetResult &res)
 {
@@ -387,31 +435,9 @@ int evaluate(const Options &opt, const SetSpec &spec, SetResult &res)
     // negobs
     Metrics &mn = res.m[M_NEGOBS];
     if (opt.use[M_NEGOBS]) {
-#ifdef NEGOBS_TOOLS_HAVE_ENGINE
-        negobs_tools::NegobsMatcher nm;
-        if (!nm.init(left.cols, left.rows, res.range, err)) {
-            std::fprintf(stderr, "negobs_eval: %s: %s\n", spec.name.c_str(),
-                         err.c_str());
-            return EXIT_LIBRARY;
-        }
-        cv::Mat q4, conf;
-        bool ok = true;
-        mn.ms = best_of(opt.repeat,
-                        [&] { return nm.process(left, right, q4, conf, err); },
-                        ok);
-        if (!ok) {
-            std::fprintf(stderr, "negobs_eval: %s: %s\n", spec.name.c_str(),
-                         err.c_str());
-            return EXIT_LIBRARY;
-        }
-        negobs_tools::negobs_q4_to_float(q4, mn.disp, mn.valid);
-        score(mn.disp, mn.valid, res.gt, eval_mask, mn);
-        mn.ran = true;
-        std::printf("  [%s] negobs: %s\n", spec.name.c_str(),
-                    nm.last_stats().c_str());
-#else
-        mn.note = "engine not built";
-#endif
+        const int rc = run_negobs(opt, spec, left, right, eval_mask, res);
+        if (rc != EXIT_OK)
+            return rc;
     } else {
         mn.note = "not selected";
     }

@@ -39,7 +39,7 @@ const char *const kHelp =
     "\n"
     "Inputs: any image OpenCV reads (PNG, PPM/PGM, BMP, JPEG, TIFF, ...);\n"
     "colour is converted to grey, 16-bit to 8-bit. Both must have the same\n"
-    "size (at most 4096 x 4096).\n"
+    "size (at most 4096 x 4096, at least the engine's minimum).\n"
     "\n"
     "Output OUT.png: 16-bit grey PNG, OpenCV's fixed-point convention:\n"
     "value = disparity * 16 (1/16 px steps), 0 = no value. A point at column\n"
@@ -49,7 +49,9 @@ const char *const kHelp =
     "\n"
     "Options:\n"
     "  --max-disp N   largest disparity searched, pixels (default 64);\n"
-    "                 must be < image width and <= 2047\n"
+    "                 must be < image width and <= 2047, and the range\n"
+    "                 max-disp - min-disp + 1 at most the engine's limit\n"
+    "                 (NEGOBS_STEREO_MAX_RANGE, 256)\n"
     "  --min-disp N   smallest disparity searched, pixels (default 0);\n"
     "                 0 <= N < max-disp\n"
     "  --color FILE   also write a colour picture (TURBO map over\n"
@@ -168,15 +170,16 @@ int run(int argc, char **argv)
                      left.cols, left.rows, right.cols, right.rows);
         return EXIT_SIZE;
     }
-    if (left.cols > 4096 || left.rows > 4096) {
-        std::fprintf(stderr, "negobs_stereo: %dx%d is larger than 4096x4096\n",
-                     left.cols, left.rows);
-        return EXIT_SIZE;
-    }
     err = negobs_tools::check_range(range, left.cols);
     if (!err.empty()) {
         std::fprintf(stderr, "negobs_stereo: %s\n", err.c_str());
         return EXIT_USAGE;
+    }
+    err = negobs_tools::check_engine_limits(range, left.cols, left.rows);
+    if (!err.empty()) {
+        std::fprintf(stderr, "negobs_stereo: %s\n", err.c_str());
+        const bool size_problem = err.find("range") == std::string::npos;
+        return size_problem ? EXIT_SIZE : EXIT_USAGE;
     }
 
     negobs_tools::NegobsMatcher m;

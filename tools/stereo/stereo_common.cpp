@@ -6,12 +6,10 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#ifdef NEGOBS_TOOLS_HAVE_ENGINE
 extern "C" {
 #include "negobs/negobs.h"
 #include "negobs/stereo.h"
 }
-#endif
 
 namespace negobs_tools {
 
@@ -70,6 +68,34 @@ std::string check_range(const Range &r, int width)
         return "--max-disp (" + std::to_string(r.max_disp) +
                ") must be smaller than the image width (" +
                std::to_string(width) + ")";
+    return std::string();
+}
+
+std::string check_engine_limits(const Range &r, int width, int height)
+{
+#ifdef NEGOBS_STEREO_MAX_RANGE
+    if (r.max_disp - r.min_disp + 1 > NEGOBS_STEREO_MAX_RANGE)
+        return "the range " + std::to_string(r.min_disp) + ".." +
+               std::to_string(r.max_disp) + " spans more than " +
+               std::to_string(NEGOBS_STEREO_MAX_RANGE) +
+               " disparities (engine limit)";
+#else
+    (void)r;
+#endif
+#if defined(NEGOBS_STEREO_MIN_WIDTH) && defined(NEGOBS_STEREO_MIN_HEIGHT)
+    if (width < NEGOBS_STEREO_MIN_WIDTH || height < NEGOBS_STEREO_MIN_HEIGHT)
+        return std::to_string(width) + "x" + std::to_string(height) +
+               " is smaller than the engine's minimum " +
+               std::to_string(NEGOBS_STEREO_MIN_WIDTH) + "x" +
+               std::to_string(NEGOBS_STEREO_MIN_HEIGHT);
+#else
+    (void)width;
+    (void)height;
+#endif
+    if (width > NEGOBS_MAX_DIM || height > NEGOBS_MAX_DIM)
+        return std::to_string(width) + "x" + std::to_string(height) +
+               " is larger than " + std::to_string(NEGOBS_MAX_DIM) + "x" +
+               std::to_string(NEGOBS_MAX_DIM);
     return std::string();
 }
 
@@ -179,6 +205,14 @@ bool NegobsMatcher::process(const cv::Mat &left, const cv::Mat &right,
                   std::to_string(stats.queue_overflows) + ", visited cells " +
                   std::to_string(stats.visited_cells) + ", band " +
                   std::to_string(stats.band);
+#ifdef NEGOBS_STEREO_MAX_RANGE // header generation with the extended stats
+    stats_text_ += ", edges " + std::to_string(stats.edges) + ", grown " +
+                   std::to_string(stats.grown) + ", valid " +
+                   std::to_string(stats.valid) + ", range used " +
+                   std::to_string(stats.range_min) + ".." +
+                   std::to_string(stats.range_max) + ", vertical offset " +
+                   std::to_string(stats.vertical_offset);
+#endif
     return true;
 }
 #endif

@@ -31,6 +31,10 @@ constexpr int kMaxDispLimit = 2047;
 // usable, else a sentence saying what is wrong.
 std::string check_range(const Range &r, int width);
 
+// Checks the engine's own limits (largest range, smallest frame) where the
+// stereo header publishes them; empty string when fine.
+std::string check_engine_limits(const Range &r, int width, int height);
+
 // Number of disparities OpenCV searches for a range: the range length
 // rounded up to a multiple of 16 (OpenCV requires it).
 int opencv_num_disparities(const Range &r);
