@@ -1,0 +1,148 @@
+/*
+ * GPIO alert backend on the Linux GPIO character device, uAPI v2.
+ *
+ * Raw ioctls, no libgpiod: the board image needs no extra library and the
+ * same code builds for every target whose kernel headers are >= 5.10.
+ * The line is requested as an output with initial value 0 (motor off)
+ * and held until close; the kernel drops the request, and the line keeps
+ * its last value, if the process dies, so close/off paths set 0 first.
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include <errno.h>
+#include <fcntl.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+#include <linux/gpio.h>
+
+#include "negobs_port/alert.h"
+
+static void gpio_error(negobs_alert_gpio_t *st, int err, const char *fmt, ...)
+{
+    va_list ap;
+    int n;
+    st->last_errno = err;
+    va_start(ap, fmt);
+    n = vsnprintf(st->errmsg, sizeof st->errmsg, fmt, ap);
+    va_end(ap);
+    if (n >= 0 && err != 0 && (size_t)n < sizeof st->errmsg) {
+        (void)snprintf(st->errmsg + n, sizeof st->errmsg - (size_t)n, ": %s",
+                       strerror(err));
+    }
+}
+
+static int set_line(int fd, int on)
+{
+    struct gpio_v2_line_values v;
+    int rc;
+    memset(&v, 0, sizeof v);
+    v.mask = 1;
+    v.bits = on ? 1u : 0u;
+    do {
+        rc = ioctl(fd, GPIO_V2_LINE_SET_VALUES_IOCTL, &v);
+    } while (rc < 0 && errno == EINTR);
+    return rc;
+}
+
+static negobs_status_t gpio_set(void *ctx, uint16_t permille)
+{
+    negobs_alert_gpio_t *st = ctx;
+    int on = permille > 0;
+    if (permille > NEGOBS_MOTOR_FULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (st->line_fd < 0) {
+        return NEGOBS_ERR_STATE;
+    }
+    if (set_line(st->line_fd, on) != 0) {
+        gpio_error(st, errno, "set line %u", (unsigned)st->line);
+        return errno == ENODEV ? NEGOBS_ERR_NODEV : NEGOBS_ERR_IO;
+    }
+    st->value = on;
+    return NEGOBS_OK;
+}
+
+static void gpio_off_async(void *ctx)
+{
+    negobs_alert_gpio_t *st = ctx;
+    if (st->line_fd >= 0) {
+        (void)set_line(st->line_fd, 0);
+    }
+}
+
+static void gpio_close(void *ctx)
+{
+    negobs_alert_gpio_t *st = ctx;
+    if (st->line_fd >= 0) {
+        (void)set_line(st->line_fd, 0);
+        (void)close(st->line_fd);
+        st->line_fd = -1;
+    }
+    if (st->chip_fd >= 0) {
+        (void)close(st->chip_fd);
+        st->chip_fd = -1;
+    }
+}
+
+static const negobs_alert_ops_t gpio_ops = {
+    "gpio", gpio_set, gpio_off_async, gpio_close,
+};
+
+negobs_status_t negobs_alert_gpio_open(negobs_alert_gpio_t *st,
+                                       const char *chip, uint32_t line,
+                                       bool active_low,
+                                       negobs_alert_t *alert)
+{
+    char path[128];
+    struct gpio_v2_line_request req;
+    int n;
+    if (st == NULL || chip == NULL || alert == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    memset(st, 0, sizeof *st);
+    st->chip_fd = -1;
+    st->line_fd = -1;
+    st->line = line;
+    if (chip[0] == '/') {
+        n = snprintf(path, sizeof path, "%s", chip);
+    } else if (chip[0] >= '0' && chip[0] <= '9') {
+        n = snprintf(path, sizeof path, "/dev/gpiochip%s", chip);
+    } else {
+        n = snprintf(path, sizeof path, "/dev/%s", chip);
+    }
+    if (n < 0 || (size_t)n >= sizeof path) {
+        return NEGOBS_ERR_INVAL;
+    }
+    st->chip_fd = open(path, O_RDWR | O_CLOEXEC);
+    if (st->chip_fd < 0) {
+        gpio_error(st, errno, "open %s", path);
+        return NEGOBS_ERR_NODEV;
+    }
+    memset(&req, 0, sizeof req);
+    req.offsets[0] = line;
+    req.num_lines = 1;
+    (void)snprintf(req.consumer, sizeof req.consumer, "negobs-motor");
+    req.config.flags = GPIO_V2_LINE_FLAG_OUTPUT;
+    if (active_low) {
+        req.config.flags |= GPIO_V2_LINE_FLAG_ACTIVE_LOW;
+    }
+    req.config.num_attrs = 1;
+    req.config.attrs[0].attr.id = GPIO_V2_LINE_ATTR_ID_OUTPUT_VALUES;
+    req.config.attrs[0].attr.values = 0; /* start with the motor off */
+    req.config.attrs[0].mask = 1;
+    if (ioctl(st->chip_fd, GPIO_V2_GET_LINE_IOCTL, &req) < 0) {
+        int e = errno;
+        gpio_error(st, e, "request line %u on %s", (unsigned)line, path);
+        (void)close(st->chip_fd);
+        st->chip_fd = -1;
+        return e == EINVAL ? NEGOBS_ERR_INVAL : NEGOBS_ERR_IO;
+    }
+    st->line_fd = req.fd;
+    alert->ops = &gpio_ops;
+    alert->ctx = st;
+    return NEGOBS_OK;
+}

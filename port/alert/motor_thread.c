@@ -1,0 +1,147 @@
+/*
+ * Motor thread: plays schedules with real timing and acts as watchdog.
+ *
+ * The main loop may block in a camera wait for hundreds of milliseconds,
+ * far longer than an 80 ms pulse, so the executor runs in its own thread
+ * that sleeps on a condition variable until the next segment boundary, a
+ * new schedule, or the watchdog deadline, whichever comes first. The
+ * condition variable uses CLOCK_MONOTONIC so wall-clock steps cannot
+ * stretch or cut a pulse.
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include <errno.h>
+#include <signal.h>
+#include <string.h>
+#include <time.h>
+
+#include "negobs_port/alert.h"
+#include "negobs_port/clock.h"
+
+static void abs_deadline(struct timespec *ts, uint64_t deadline_ms)
+{
+    ts->tv_sec = (time_t)(deadline_ms / 1000u);
+    ts->tv_nsec = (long)((deadline_ms % 1000u) * 1000000u);
+}
+
+static void *motor_main(void *arg)
+{
+    negobs_motor_thread_t *t = arg;
+    (void)pthread_mutex_lock(&t->lock);
+    while (t->running) {
+        uint64_t now = negobs_clock_now_ms();
+        uint64_t wake_at;
+        int64_t next;
+        struct timespec ts;
+
+        if (t->have_pending) {
+            t->have_pending = false;
+            t->stale_playing = false;
+            if (!t->exec.active ||
+                !negobs_motor_schedule_equal(&t->pending, &t->exec.sched)) {
+                (void)negobs_motor_exec_start(&t->exec, &t->pending, now);
+            }
+        }
+        if (t->watchdog_ms > 0 && !t->stale_playing &&
+            now - t->last_post_ms >= t->watchdog_ms) {
+            /* No fresh verdict: whatever played is no longer backed by
+             * data, so say "no information" instead. */
+            t->stale_playing = true;
+            t->watchdog_fires++;
+            (void)negobs_motor_exec_start(&t->exec, &t->stale, now);
+        }
+        next = negobs_motor_exec_tick(&t->exec, now);
+        wake_at = now + 1000u;
+        if (next >= 0 && now + (uint64_t)next < wake_at) {
+            wake_at = now + (uint64_t)next;
+        }
+        if (t->watchdog_ms > 0 && !t->stale_playing &&
+            t->last_post_ms + t->watchdog_ms < wake_at) {
+            wake_at = t->last_post_ms + t->watchdog_ms;
+        }
+        abs_deadline(&ts, wake_at);
+        (void)pthread_cond_timedwait(&t->wake, &t->lock, &ts);
+    }
+    negobs_motor_exec_stop(&t->exec);
+    (void)pthread_mutex_unlock(&t->lock);
+    return NULL;
+}
+
+negobs_status_t negobs_motor_thread_start(negobs_motor_thread_t *t,
+                                          negobs_alert_t *out,
+                                          const negobs_motor_schedule_t *stale,
+                                          uint32_t watchdog_ms)
+{
+    pthread_condattr_t ca;
+    sigset_t all;
+    sigset_t old;
+    int rc;
+    if (t == NULL || out == NULL || stale == NULL ||
+        negobs_motor_schedule_check(stale) != NEGOBS_OK) {
+        return NEGOBS_ERR_INVAL;
+    }
+    memset(t, 0, sizeof *t);
+    negobs_motor_exec_init(&t->exec, out);
+    t->stale = *stale;
+    t->watchdog_ms = watchdog_ms;
+    t->last_post_ms = negobs_clock_now_ms();
+    t->running = true;
+    if (pthread_mutex_init(&t->lock, NULL) != 0) {
+        return NEGOBS_ERR_IO;
+    }
+    (void)pthread_condattr_init(&ca);
+    (void)pthread_condattr_setclock(&ca, CLOCK_MONOTONIC);
+    rc = pthread_cond_init(&t->wake, &ca);
+    (void)pthread_condattr_destroy(&ca);
+    if (rc != 0) {
+        (void)pthread_mutex_destroy(&t->lock);
+        return NEGOBS_ERR_IO;
+    }
+    /* The thread inherits this mask: signals go to the main thread. */
+    (void)sigfillset(&all);
+    (void)pthread_sigmask(SIG_BLOCK, &all, &old);
+    rc = pthread_create(&t->thread, NULL, motor_main, t);
+    (void)pthread_sigmask(SIG_SETMASK, &old, NULL);
+    if (rc != 0) {
+        (void)pthread_cond_destroy(&t->wake);
+        (void)pthread_mutex_destroy(&t->lock);
+        t->running = false;
+        return NEGOBS_ERR_IO;
+    }
+    return NEGOBS_OK;
+}
+
+void negobs_motor_thread_post(negobs_motor_thread_t *t,
+                              const negobs_motor_schedule_t *s)
+{
+    (void)pthread_mutex_lock(&t->lock);
+    t->pending = *s;
+    t->have_pending = true;
+    t->last_post_ms = negobs_clock_now_ms();
+    (void)pthread_cond_signal(&t->wake);
+    (void)pthread_mutex_unlock(&t->lock);
+}
+
+uint32_t negobs_motor_thread_watchdog_fires(negobs_motor_thread_t *t)
+{
+    uint32_t n;
+    (void)pthread_mutex_lock(&t->lock);
+    n = t->watchdog_fires;
+    (void)pthread_mutex_unlock(&t->lock);
+    return n;
+}
+
+void negobs_motor_thread_stop(negobs_motor_thread_t *t)
+{
+    bool was_running;
+    (void)pthread_mutex_lock(&t->lock);
+    was_running = t->running;
+    t->running = false;
+    (void)pthread_cond_signal(&t->wake);
+    (void)pthread_mutex_unlock(&t->lock);
+    if (was_running) {
+        (void)pthread_join(t->thread, NULL);
+        (void)pthread_cond_destroy(&t->wake);
+        (void)pthread_mutex_destroy(&t->lock);
+    }
+}

@@ -1,0 +1,29 @@
+/* "none" alert backend: accepts every level and does nothing. */
+#include <stddef.h>
+
+#include "negobs_port/alert.h"
+
+static negobs_status_t none_set(void *ctx, uint16_t duty)
+{
+    (void)ctx;
+    return duty > NEGOBS_MOTOR_FULL ? NEGOBS_ERR_INVAL : NEGOBS_OK;
+}
+
+static void none_close(void *ctx)
+{
+    (void)ctx;
+}
+
+static const negobs_alert_ops_t none_ops = {
+    "none", none_set, NULL, none_close,
+};
+
+negobs_status_t negobs_alert_none_open(negobs_alert_t *alert)
+{
+    if (alert == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    alert->ops = &none_ops;
+    alert->ctx = NULL;
+    return NEGOBS_OK;
+}

@@ -1,0 +1,270 @@
+/*
+ * Vibration output: motor schedules, output backends and the executor.
+ *
+ * A motor schedule is a short list of segments, each a drive level in
+ * per-mille (0 = off, 1000 = full) held for a number of milliseconds. It is
+ * played once from the first segment; when `loop_start` names a segment,
+ * playback then repeats [loop_start, count) until another schedule replaces
+ * it. The core library's alert state machine decides *which* schedule to
+ * play; this layer only plays it with correct timing on a backend.
+ *
+ * Backends (one instance each, state in a caller-owned struct, no heap):
+ *   console  - prints every level change to a FILE (developer aid)
+ *   pwm      - Linux sysfs PWM; duty_cycle = period * level / 1000
+ *   gpio     - Linux GPIO character device (uAPI v2 ioctls); on if level>0
+ *   none     - discards everything
+ */
+#ifndef NEGOBS_PORT_ALERT_H
+#define NEGOBS_PORT_ALERT_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include <pthread.h>
+
+#include "negobs/status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Largest number of segments in one schedule. */
+#define NEGOBS_MOTOR_MAX_SEGMENTS 16
+/** `loop_start` value for a schedule that is played once and then stops. */
+#define NEGOBS_MOTOR_NO_LOOP 0xFFu
+/** Highest drive level (per-mille). */
+#define NEGOBS_MOTOR_FULL 1000u
+
+/** One segment: hold `duty_permille` for `duration_ms`. */
+typedef struct negobs_motor_segment {
+    uint16_t duty_permille; /**< 0 (off) .. 1000 (full drive)       */
+    uint16_t duration_ms;   /**< 1 .. 65535 ms; 0-length is skipped */
+} negobs_motor_segment_t;
+
+/** A whole pattern, passed by value (it is small). */
+typedef struct negobs_motor_schedule {
+    negobs_motor_segment_t seg[NEGOBS_MOTOR_MAX_SEGMENTS];
+    uint8_t count;      /**< segments used, 0..NEGOBS_MOTOR_MAX_SEGMENTS  */
+    uint8_t loop_start; /**< first repeated segment, or NEGOBS_MOTOR_NO_LOOP */
+} negobs_motor_schedule_t;
+
+/**
+ * @brief Check a schedule: count in range, durations > 0 for at least one
+ *        looped segment, levels <= 1000, loop_start < count or NO_LOOP.
+ * @return NEGOBS_OK or NEGOBS_ERR_INVAL.
+ */
+negobs_status_t negobs_motor_schedule_check(const negobs_motor_schedule_t *s);
+
+/** @brief True when two schedules are the same pattern. */
+bool negobs_motor_schedule_equal(const negobs_motor_schedule_t *a,
+                                 const negobs_motor_schedule_t *b);
+
+/* ------------------------------------------------------------------ */
+/* Output backends                                                     */
+
+/** Operations of one output backend; `ctx` is the backend's state. */
+typedef struct negobs_alert_ops {
+    const char *name;
+    /** Drive the motor at `duty_permille` (0..1000). */
+    negobs_status_t (*set)(void *ctx, uint16_t duty_permille);
+    /**
+     * Turn the motor off using only async-signal-safe calls (write, ioctl
+     * on descriptors opened earlier); may be NULL. Used from a signal
+     * handler as the last resort.
+     */
+    void (*off_async)(void *ctx);
+    /** Motor off, release the device. Safe to call twice. */
+    void (*close)(void *ctx);
+} negobs_alert_ops_t;
+
+/** A handle: ops plus backend state. */
+typedef struct negobs_alert {
+    const negobs_alert_ops_t *ops;
+    void *ctx;
+} negobs_alert_t;
+
+/** Size of the per-handle diagnostic message. */
+#define NEGOBS_PORT_ERRMSG_LEN 160
+
+/** Console backend state. */
+typedef struct negobs_alert_console {
+    FILE *out;         /**< where level changes are printed */
+    uint16_t last;     /**< last level printed               */
+    bool started;
+    uint64_t t0_ms;    /**< time base for printed stamps     */
+} negobs_alert_console_t;
+
+/** @brief Console backend writing lines "motor <t> ms: 1000 permille". */
+negobs_status_t negobs_alert_console_open(negobs_alert_console_t *st,
+                                          FILE *out, negobs_alert_t *alert);
+
+/** @brief Backend that accepts and discards everything. */
+negobs_status_t negobs_alert_none_open(negobs_alert_t *alert);
+
+/** Sysfs PWM backend state (caller-owned; fields private). */
+typedef struct negobs_alert_pwm {
+    char root[128];     /**< class root, default "/sys/class/pwm"   */
+    uint32_t chip;
+    uint32_t channel;
+    uint32_t period_ns;
+    int duty_fd;        /**< open duty_cycle file, -1 when closed   */
+    bool exported_here; /**< we exported it, so we unexport it      */
+    uint16_t last;
+    int last_errno;
+    char errmsg[NEGOBS_PORT_ERRMSG_LEN];
+} negobs_alert_pwm_t;
+
+/**
+ * @brief Open a sysfs PWM channel as motor output.
+ *
+ * Writes `CHANNEL` to ROOT/pwmchipCHIP/export unless pwmCHANNEL/ exists,
+ * waits up to 1 s for pwmCHANNEL/ to appear (export is asynchronous on
+ * real kernels, udev may still be fixing permissions), then writes
+ * duty_cycle 0, period, duty_cycle 0 again and enable 1.
+ * @param root       sysfs class root; NULL means "/sys/class/pwm"
+ * @param period_ns  PWM period (e.g. 1000000 for 1 kHz); > 0
+ * @return NEGOBS_OK; NEGOBS_ERR_NODEV (no chip or channel),
+ *         NEGOBS_ERR_IO (a write failed, see st->errmsg),
+ *         NEGOBS_ERR_INVAL (bad arguments).
+ */
+negobs_status_t negobs_alert_pwm_open(negobs_alert_pwm_t *st,
+                                      const char *root, uint32_t chip,
+                                      uint32_t channel, uint32_t period_ns,
+                                      negobs_alert_t *alert);
+
+/** GPIO character-device backend state (fields private). */
+typedef struct negobs_alert_gpio {
+    int chip_fd;
+    int line_fd;
+    uint32_t line;
+    int value;
+    int last_errno;
+    char errmsg[NEGOBS_PORT_ERRMSG_LEN];
+} negobs_alert_gpio_t;
+
+/**
+ * @brief Request one output line through the GPIO chardev (uAPI v2).
+ * @param chip  "/dev/gpiochip0", "gpiochip0" or "0"
+ * @param line  line offset on that chip
+ * @param active_low  drive the line low for "motor on"
+ * @return NEGOBS_OK, NEGOBS_ERR_NODEV (no chip), NEGOBS_ERR_IO (request
+ *         refused, e.g. line busy; see st->errmsg), NEGOBS_ERR_INVAL.
+ */
+negobs_status_t negobs_alert_gpio_open(negobs_alert_gpio_t *st,
+                                       const char *chip, uint32_t line,
+                                       bool active_low,
+                                       negobs_alert_t *alert);
+
+/** @brief Convenience wrappers around alert->ops. */
+static inline negobs_status_t negobs_alert_set(negobs_alert_t *a,
+                                               uint16_t duty_permille)
+{
+    return a->ops->set(a->ctx, duty_permille);
+}
+static inline void negobs_alert_close(negobs_alert_t *a)
+{
+    if (a->ops != NULL) {
+        a->ops->close(a->ctx);
+    }
+}
+
+/* ------------------------------------------------------------------ */
+/* Schedule executor                                                   */
+
+/**
+ * Plays schedules on an output. It is driven by negobs_motor_exec_tick()
+ * with the current time, so it has no thread and no clock of its own:
+ * tests give it fake times, the motor thread below gives it real ones.
+ * Segment boundaries are anchored to the schedule start (no drift when a
+ * tick comes late; late ticks skip whole segments as needed).
+ */
+typedef struct negobs_motor_exec {
+    negobs_alert_t *out;
+    negobs_motor_schedule_t sched;
+    bool active;          /**< a schedule is playing                    */
+    uint8_t seg;          /**< current segment index                    */
+    uint64_t seg_end_ms;  /**< when the current segment ends            */
+    int32_t level;        /**< level last written, -1 = unknown         */
+    uint32_t set_errors;  /**< output writes that failed                */
+    negobs_status_t last_status;
+} negobs_motor_exec_t;
+
+/** @brief Bind an executor to an output; nothing plays yet. */
+void negobs_motor_exec_init(negobs_motor_exec_t *ex, negobs_alert_t *out);
+
+/**
+ * @brief Start `s` from its first segment at time `now_ms` (replaces any
+ *        schedule playing) and apply its first level.
+ * @return NEGOBS_OK or NEGOBS_ERR_INVAL (schedule fails the check).
+ */
+negobs_status_t negobs_motor_exec_start(negobs_motor_exec_t *ex,
+                                        const negobs_motor_schedule_t *s,
+                                        uint64_t now_ms);
+
+/**
+ * @brief Advance to `now_ms`, writing the output when the level changes.
+ * @return Milliseconds until the next change (>= 1), or -1 when idle
+ *         (schedule finished, motor off).
+ */
+int64_t negobs_motor_exec_tick(negobs_motor_exec_t *ex, uint64_t now_ms);
+
+/** @brief Stop playing and switch the motor off. */
+void negobs_motor_exec_stop(negobs_motor_exec_t *ex);
+
+/* ------------------------------------------------------------------ */
+/* Motor thread with watchdog                                          */
+
+/**
+ * A POSIX thread that runs an executor against the monotonic clock and
+ * doubles as the watchdog: when negobs_motor_thread_post() has not been
+ * called for `watchdog_ms`, it plays `stale` (the no-information pattern)
+ * on its own, whatever the main loop is stuck in.
+ * The struct is caller-owned; its fields are private.
+ */
+typedef struct negobs_motor_thread {
+    negobs_motor_exec_t exec;
+    negobs_motor_schedule_t pending;
+    negobs_motor_schedule_t stale;
+    uint32_t watchdog_ms;
+    uint64_t last_post_ms;
+    bool have_pending;
+    bool stale_playing;
+    bool running;
+    uint32_t watchdog_fires;
+    pthread_mutex_t lock;
+    pthread_cond_t wake;
+    pthread_t thread;
+} negobs_motor_thread_t;
+
+/**
+ * @brief Start the thread. `stale` is played when posts stop for
+ *        `watchdog_ms` (0 disables the watchdog). Signals are blocked in
+ *        the thread so the main thread receives SIGINT/SIGTERM.
+ * @return NEGOBS_OK, NEGOBS_ERR_INVAL, NEGOBS_ERR_IO (thread not created).
+ */
+negobs_status_t negobs_motor_thread_start(negobs_motor_thread_t *t,
+                                          negobs_alert_t *out,
+                                          const negobs_motor_schedule_t *stale,
+                                          uint32_t watchdog_ms);
+
+/**
+ * @brief Feed the watchdog and ask for schedule `s`. A schedule equal to
+ *        the one playing keeps playing (not restarted), so the main loop
+ *        may post its verdict every frame.
+ */
+void negobs_motor_thread_post(negobs_motor_thread_t *t,
+                              const negobs_motor_schedule_t *s);
+
+/** @brief Number of times the watchdog took over. */
+uint32_t negobs_motor_thread_watchdog_fires(negobs_motor_thread_t *t);
+
+/** @brief Stop and join the thread; the motor is off afterwards. */
+void negobs_motor_thread_stop(negobs_motor_thread_t *t);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* NEGOBS_PORT_ALERT_H */

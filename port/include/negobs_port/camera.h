@@ -1,0 +1,164 @@
+/*
+ * Stereo camera sources.
+ *
+ * A source delivers synchronised left/right pairs of 8-bit grey (luma)
+ * images. The images are described (data, width, height, stride), never
+ * assumed: a V4L2 source hands out the driver's buffers with stride =
+ * bytesperline, without copying, and the pair stays valid until
+ * negobs_camera_release() (or the next get_pair, which releases it).
+ *
+ * Sources are ops tables, so one program can hold several (a live pair and
+ * a replay folder, say). State lives in caller-owned structs declared in
+ * camera_v4l2.h / camera_replay.h; nothing is allocated on the heap.
+ *
+ * Call order: open -> start -> { get_pair -> release }* -> stop -> close.
+ */
+#ifndef NEGOBS_PORT_CAMERA_H
+#define NEGOBS_PORT_CAMERA_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "negobs/image.h"
+#include "negobs/status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** get_pair() return value for "no more frames" (end of a replay). */
+#define NEGOBS_CAMERA_END 1
+
+/** Default largest timestamp difference of a pair (ms). */
+#define NEGOBS_CAMERA_PAIR_TOL_MS_DEFAULT 10
+
+/** Request passed to open(); zero fields mean "backend default". */
+typedef struct negobs_camera_config {
+    const char *left;      /**< device or path of the left camera     */
+    const char *right;     /**< device or path of the right camera    */
+    int32_t width;         /**< requested width (default 640)         */
+    int32_t height;        /**< requested height (default 480)        */
+    int32_t fps;           /**< requested rate (default 30); replay:
+                                pacing rate, 0 = as fast as possible   */
+    int32_t pair_tol_ms;   /**< max |t_left - t_right| (default 10)   */
+    int32_t exposure;      /**< manual exposure (driver units), -1 auto */
+    int32_t gain;          /**< manual gain (driver units), -1 = leave */
+    bool loop;             /**< replay: start over at the end          */
+} negobs_camera_config_t;
+
+/** @brief Fill a config with the defaults (exposure/gain -1). */
+void negobs_camera_config_default(negobs_camera_config_t *cfg);
+
+/** One frame: luma plane and its capture time. */
+typedef struct negobs_frame {
+    negobs_image_u8_t y;  /**< luma plane, stride = bytesperline      */
+    uint64_t ts_ns;       /**< capture time, CLOCK_MONOTONIC ns       */
+    uint32_t sequence;    /**< driver or file sequence number         */
+} negobs_frame_t;
+
+/** A synchronised pair. */
+typedef struct negobs_frame_pair {
+    negobs_frame_t left;
+    negobs_frame_t right;
+    uint32_t index;       /**< pairs delivered before this one         */
+} negobs_frame_pair_t;
+
+/** Counters kept by every source. */
+typedef struct negobs_camera_stats {
+    uint32_t pairs;         /**< pairs delivered                        */
+    uint32_t dropped_pairs; /**< frames dropped because no partner was
+                                 within pair_tol_ms                     */
+    uint32_t stale_frames;  /**< older queued frames skipped for fresher */
+    uint32_t short_frames;  /**< buffers with too few bytes or errors   */
+    uint32_t timeouts;      /**< get_pair calls that timed out          */
+    uint32_t reopens;       /**< successful device reopens              */
+    uint32_t device_losses; /**< times a device was found gone          */
+} negobs_camera_stats_t;
+
+/** Operations of one source; `ctx` is its state struct. */
+typedef struct negobs_camera_ops {
+    const char *name;
+    negobs_status_t (*open)(void *ctx, const negobs_camera_config_t *cfg);
+    negobs_status_t (*start)(void *ctx);
+    /**
+     * Wait up to timeout_ms for the next pair.
+     * @return NEGOBS_OK, NEGOBS_CAMERA_END, NEGOBS_ERR_TIMEOUT,
+     *         NEGOBS_ERR_NODEV (device lost; later calls try to reopen it
+     *         with back-off), NEGOBS_ERR_AGAIN (interrupted by a signal),
+     *         NEGOBS_ERR_CORRUPT (bad replay file), NEGOBS_ERR_IO.
+     */
+    int (*get_pair)(void *ctx, negobs_frame_pair_t *pair, int32_t timeout_ms);
+    void (*release)(void *ctx, negobs_frame_pair_t *pair);
+    void (*stop)(void *ctx);
+    void (*close)(void *ctx);
+    void (*stats)(void *ctx, negobs_camera_stats_t *out);
+    const char *(*errmsg)(void *ctx); /**< last diagnostic text */
+} negobs_camera_ops_t;
+
+/** A source handle. */
+typedef struct negobs_camera {
+    const negobs_camera_ops_t *ops;
+    void *ctx;
+} negobs_camera_t;
+
+static inline negobs_status_t negobs_camera_open(
+    negobs_camera_t *c, const negobs_camera_config_t *cfg)
+{
+    return c->ops->open(c->ctx, cfg);
+}
+static inline negobs_status_t negobs_camera_start(negobs_camera_t *c)
+{
+    return c->ops->start(c->ctx);
+}
+static inline int negobs_camera_get_pair(negobs_camera_t *c,
+                                         negobs_frame_pair_t *pair,
+                                         int32_t timeout_ms)
+{
+    return c->ops->get_pair(c->ctx, pair, timeout_ms);
+}
+static inline void negobs_camera_release(negobs_camera_t *c,
+                                         negobs_frame_pair_t *pair)
+{
+    c->ops->release(c->ctx, pair);
+}
+static inline void negobs_camera_stop(negobs_camera_t *c)
+{
+    c->ops->stop(c->ctx);
+}
+static inline void negobs_camera_close(negobs_camera_t *c)
+{
+    c->ops->close(c->ctx);
+}
+static inline void negobs_camera_get_stats(negobs_camera_t *c,
+                                           negobs_camera_stats_t *out)
+{
+    c->ops->stats(c->ctx, out);
+}
+static inline const char *negobs_camera_errmsg(negobs_camera_t *c)
+{
+    return c->ops->errmsg(c->ctx);
+}
+
+/* ------------------------------------------------------------------ */
+/* Timestamp pairing (pure; used by the V4L2 backend, tested alone)    */
+
+/** What to do with the two oldest unpaired frames. */
+typedef enum negobs_pair_action {
+    NEGOBS_PAIR_MATCH = 0,      /**< |dt| <= tolerance: deliver the pair */
+    NEGOBS_PAIR_DROP_LEFT = 1,  /**< left is older by more: drop it      */
+    NEGOBS_PAIR_DROP_RIGHT = 2  /**< right is older by more: drop it     */
+} negobs_pair_action_t;
+
+/**
+ * @brief Decide on two pending frames: match when the timestamps differ by
+ *        at most tol_ns, else drop the older one (its partner may still
+ *        come; the newer one may pair with the other side's next frame).
+ */
+negobs_pair_action_t negobs_pair_decide(uint64_t left_ns, uint64_t right_ns,
+                                        uint64_t tol_ns);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* NEGOBS_PORT_CAMERA_H */
