@@ -7,8 +7,13 @@
 #   pwm    PWM sysfs ABI on pwm-sim.ko (tests/hw/kmod/pwm-sim.c)
 #   payload  /payload/run.sh from --payload DIR (drop-in for negobs_run)
 #
-# usage: bash tests/hw/run.sh [--sections vivid,gpio,pwm] [--payload DIR]
-#                             [--no-gpio-sim] [--timeout S] [--clean]
+# usage: bash tests/hw/run.sh [--sections vivid,gpio,pwm[,payload]]
+#          [--payload DIR] [--payload-file FILE]... [--no-gpio-sim]
+#          [--timeout S] [--clean]
+# --payload DIR / --payload-file FILE (repeatable) copy into the guest's
+# /payload and add the "payload" section, which runs /payload/run.sh
+# (tests/hw/payload/run.sh unless DIR has one): e.g.
+#   bash tests/hw/run.sh --payload-file build/aarch64-static/firmware_app/negobs_run
 #
 # Work files (downloaded .debs, unpacked kernel and headers, built modules,
 # guest binaries, initramfs, serial log) go to build/hw (or $NEGOBS_HW_WORK)
@@ -28,6 +33,7 @@ HW=$ROOT/tests/hw
 WORK=${NEGOBS_HW_WORK:-$ROOT/build/hw}
 SECTIONS="vivid gpio pwm"
 PAYLOAD=""
+PAYLOAD_FILES=()
 GPIO_SIM=1
 QEMU_TIMEOUT=240
 T0=$(date +%s.%N)
@@ -36,14 +42,16 @@ while [[ $# -gt 0 ]]; do
   case "$1" in
     --sections) SECTIONS=${2//,/ }; shift 2 ;;
     --payload) PAYLOAD=$(cd "$2" && pwd) || exit 2; shift 2 ;;
+    --payload-file) [[ -f $2 ]] || { echo "no such file: $2" >&2; exit 2; }
+                    PAYLOAD_FILES+=("$(cd "$(dirname "$2")" && pwd)/$(basename "$2")"); shift 2 ;;
     --no-gpio-sim) GPIO_SIM=0; shift ;;
     --timeout) QEMU_TIMEOUT=$2; shift 2 ;;
     --clean) rm -rf "$WORK"; shift ;;
-    -h|--help) sed -n '2,25p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    -h|--help) sed -n '2,/^set -u/p' "${BASH_SOURCE[0]}" | sed '$d'; exit 0 ;;
     *) echo "unknown argument: $1" >&2; exit 2 ;;
   esac
 done
-if [[ -n $PAYLOAD ]] && [[ " $SECTIONS " != *" payload "* ]]; then
+if [[ -n $PAYLOAD || ${#PAYLOAD_FILES[@]} -gt 0 ]] && [[ " $SECTIONS " != *" payload "* ]]; then
   SECTIONS="$SECTIONS payload"
 fi
 
@@ -140,7 +148,11 @@ apt_arm64_setup() {
   # refresh the lists at most every 6 hours
   if [[ -z $(find "$APTD/lists" -maxdepth 1 -name '*_Packages*' -mmin -360 2>/dev/null | head -n 1) ]]; then
     step "apt-get update (arm64, private lists)"
-    apt_retry apt-get "${APTO[@]}" update -qq || return 1
+    if ! apt_retry apt-get "${APTO[@]}" update -qq; then
+      # older lists still name packages that may be cached in debs/
+      compgen -G "$APTD/lists/*_Packages*" > /dev/null || return 1
+      step "apt-get update failed; going on with the lists from an earlier run"
+    fi
   fi
 }
 # dl DEST PKG[=VER]...: apt-get download into DEST unless a matching .deb is there
@@ -316,9 +328,20 @@ done | sort -u | while read -r ko; do
 done
 cp "$MODROOT"/modules.{order,builtin,builtin.modinfo} "$IR/lib/modules/$KVER/" 2>/dev/null
 depmod -b "$IR" "$KVER" || skip_all "depmod on the initramfs failed"
-if [[ -n $PAYLOAD ]]; then
-  cp -a "$PAYLOAD/." "$IR/payload/"
-fi
+# payload: the --payload directory, the --payload-file files, and the
+# default tests/hw/payload/run.sh unless the directory brings its own
+[[ -n $PAYLOAD ]] && cp -a "$PAYLOAD/." "$IR/payload/"
+for f in "${PAYLOAD_FILES[@]}"; do cp -a "$f" "$IR/payload/"; done
+[[ -f $IR/payload/run.sh ]] || cp "$HW/payload/run.sh" "$IR/payload/run.sh"
+for f in "$IR"/payload/*; do
+  [[ -f $f && -x $f ]] || continue
+  if aarch64-linux-gnu-readelf -h "$f" > /dev/null 2>&1; then
+    aarch64-linux-gnu-readelf -h "$f" | grep -q 'Machine:.*AArch64' ||
+      step "warning: payload $(basename "$f") is not an AArch64 binary"
+    aarch64-linux-gnu-readelf -l "$f" 2>/dev/null | grep -q 'Requesting program interpreter' &&
+      step "warning: payload $(basename "$f") is dynamically linked; the guest has no libc (build it -static)"
+  fi
+done
 (cd "$IR" && find . | cpio -o -H newc --quiet | gzip -1) > "$WORK/initramfs.cpio.gz" ||
   skip_all "cpio of the initramfs failed"
 step "initramfs $(du -k "$WORK/initramfs.cpio.gz" | cut -f1) KiB ($(find "$IR/lib/modules" -name '*.ko' | wc -l) modules)"
