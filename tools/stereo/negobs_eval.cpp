@@ -113,6 +113,20 @@ bool is_file(const std::string &p)
     return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
 }
 
+// mkdir -p; true when the folder exists afterwards.
+bool make_dirs(const std::string &p)
+{
+    for (size_t i = 1; i <= p.size(); ++i) {
+        if (i == p.size() || p[i] == '/') {
+            const std::string part = p.substr(0, i);
+            if (!is_dir(part) && ::mkdir(part.c_str(), 0755) != 0 &&
+                !is_dir(part))
+                return false;
+        }
+    }
+    return is_dir(p);
+}
+
 bool parse_double(const char *s, double &out)
 {
     if (!s || !*s)
@@ -984,6 +998,12 @@ int run(int argc, char **argv)
     print_table(results);
 
     int rc = EXIT_OK;
+    for (const std::string *d : {&opt.plots, &opt.pictures})
+        if (!d->empty() && !make_dirs(*d)) {
+            std::fprintf(stderr, "negobs_eval: cannot create folder '%s'\n",
+                         d->c_str());
+            rc = EXIT_DATA;
+        }
     if (!opt.markdown.empty() && !write_markdown(opt.markdown, opt, results)) {
         std::fprintf(stderr, "negobs_eval: cannot write '%s'\n",
                      opt.markdown.c_str());
