@@ -85,6 +85,8 @@ const char *const kHelp =
     "  --plots DIR       write DIR/eval_bad1all.png and DIR/eval_time.png\n"
     "  --pictures DIR    write DIR/<set>.png: negobs | BM | SGBM | GT colour\n"
     "                    maps (TURBO over 0..max_disp, black = no value)\n"
+    "  --pictures-format png|jpg   (default png)\n"
+    "  --pictures-width N          shrink wider pictures to N px (1600)\n"
     "  --check MAXBAD1 MINDENSITY\n"
     "                    regression guard: fail unless, on every selected\n"
     "                    set, negobs bad1 <= MAXBAD1 and density >=\n"
@@ -317,6 +319,8 @@ struct Options {
     int repeat = 3;
     bool repeat_given = false;
     std::string markdown, plots, pictures;
+    std::string pictures_ext = "png";
+    int pictures_width = 1600;
     bool check = false;
     double check_bad1 = 0, check_density = 0;
     std::string command_line;
@@ -765,7 +769,7 @@ cv::Mat labelled(const cv::Mat &img, const std::string &label)
     return out;
 }
 
-bool write_picture(const std::string &dir, const SetResult &r)
+bool write_picture(const Options &opt, const SetResult &r)
 {
     const double hi = r.range.max_disp, lo = r.range.min_disp;
     std::vector<cv::Mat> panels;
@@ -782,13 +786,16 @@ bool write_picture(const std::string &dir, const SetResult &r)
         labelled(negobs_tools::colourise(r.gt, r.gt_valid, lo, hi), "GT"));
     cv::Mat row;
     cv::hconcat(panels, row);
-    const int max_w = 1600;
+    const int max_w = opt.pictures_width;
     if (row.cols > max_w)
         cv::resize(row, row,
                    cv::Size(max_w, row.rows * max_w / row.cols), 0, 0,
                    cv::INTER_AREA);
     try {
-        return cv::imwrite(dir + "/" + r.spec.name + ".png", row);
+        return cv::imwrite(opt.pictures + "/" + r.spec.name + "." +
+                               opt.pictures_ext,
+                           row, {cv::IMWRITE_JPEG_QUALITY, 85,
+                                 cv::IMWRITE_PNG_COMPRESSION, 9});
     } catch (const cv::Exception &) {
         return false;
     }
@@ -846,7 +853,8 @@ int run(int argc, char **argv)
             opt.list = true;
         } else if (a == "--data" || a == "--opencv-doc" || a == "--set" ||
                    a == "--markdown" || a == "--plots" || a == "--pictures" ||
-                   a == "--matchers" || a == "--repeat") {
+                   a == "--matchers" || a == "--repeat" ||
+                   a == "--pictures-format" || a == "--pictures-width") {
             if (!need(1))
                 return EXIT_USAGE;
             const std::string v = argv[++i];
@@ -862,6 +870,22 @@ int run(int argc, char **argv)
                 opt.plots = v;
             else if (a == "--pictures")
                 opt.pictures = v;
+            else if (a == "--pictures-format") {
+                if (v != "png" && v != "jpg") {
+                    std::fprintf(stderr, "negobs_eval: --pictures-format "
+                                         "takes png or jpg\n");
+                    return EXIT_USAGE;
+                }
+                opt.pictures_ext = v;
+            } else if (a == "--pictures-width") {
+                double wv = 0;
+                if (!parse_double(v.c_str(), wv) || wv < 64 || wv > 20000) {
+                    std::fprintf(stderr, "negobs_eval: --pictures-width "
+                                         "takes 64..20000\n");
+                    return EXIT_USAGE;
+                }
+                opt.pictures_width = static_cast<int>(wv);
+            }
             else if (a == "--matchers") {
                 if (!parse_matchers(v, opt)) {
                     std::fprintf(stderr, "negobs_eval: --matchers takes a "
@@ -1026,7 +1050,7 @@ int run(int argc, char **argv)
     }
     if (!opt.pictures.empty()) {
         for (const SetResult &r : results)
-            if (!write_picture(opt.pictures, r)) {
+            if (!write_picture(opt, r)) {
                 std::fprintf(stderr, "negobs_eval: cannot write pictures into "
                                      "'%s'\n",
                              opt.pictures.c_str());
