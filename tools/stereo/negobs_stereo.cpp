@@ -170,16 +170,19 @@ int run(int argc, char **argv)
                      left.cols, left.rows, right.cols, right.rows);
         return EXIT_SIZE;
     }
+    // Size first (with a trivial range), then the range against the size.
+    err = negobs_tools::check_engine_limits(negobs_tools::Range{0, 1},
+                                            left.cols, left.rows);
+    if (!err.empty()) {
+        std::fprintf(stderr, "negobs_stereo: %s\n", err.c_str());
+        return EXIT_SIZE;
+    }
     err = negobs_tools::check_range(range, left.cols);
+    if (err.empty())
+        err = negobs_tools::check_engine_limits(range, left.cols, left.rows);
     if (!err.empty()) {
         std::fprintf(stderr, "negobs_stereo: %s\n", err.c_str());
         return EXIT_USAGE;
-    }
-    err = negobs_tools::check_engine_limits(range, left.cols, left.rows);
-    if (!err.empty()) {
-        std::fprintf(stderr, "negobs_stereo: %s\n", err.c_str());
-        const bool size_problem = err.find("range") == std::string::npos;
-        return size_problem ? EXIT_SIZE : EXIT_USAGE;
     }
 
     negobs_tools::NegobsMatcher m;
