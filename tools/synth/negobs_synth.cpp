@@ -1,0 +1,570 @@
+// negobs_synth: renders rectified stereo pairs and approach sequences with
+// exact ground truth for the negative-obstacle detector.  See docs/SYNTH.md.
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstdarg>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+extern "C" {
+#include "negobs/version.h"
+}
+
+#include "synth.hpp"
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Options {
+    synth::SceneParams scene;
+    synth::Rig rig;
+    synth::RenderOptions render;
+    synth::SensorOptions sensor;
+    double height_mm = 1200.0;
+    double pitch_deg = 20.0;
+    double roll_deg = 0.0;
+    double yaw_deg = 0.0;
+    bool cx_set = false, cy_set = false;
+    int frames = 1;
+    bool single = false;
+    double speed = 1.2;      // m/s
+    double fps = 10.0;
+    double bob_mm = 25.0;    // vertical amplitude
+    double bob_hz = 1.8;     // step frequency
+    double sway_deg = 1.0;   // pitch sway amplitude
+    double roll_sway_deg = 0.5;
+    uint64_t seed = 1;
+    bool texture_seed_set = false;
+    uint64_t texture_seed = 1;
+    std::string texture_file;
+    std::string texture_kind = "asphalt";
+    double texture_mm = 2.0;
+    bool gt_disparity = false;
+    bool quiet = false;
+    std::string out;
+};
+
+void usage(FILE *fp, const char *argv0)
+{
+    std::fprintf(fp,
+"usage: %s --out DIR [options]\n"
+"Renders rectified 8-bit grey stereo pairs (left_NNNN.png, right_NNNN.png)\n"
+"and ground truth (gt.json) by exact per-pixel ray casting.\n"
+"\n"
+"Scene:\n"
+"  --scene S            curb|stairs|hole|upstep|wall|flat (default curb)\n"
+"  --edge-mm D          horizontal distance from the start position to the\n"
+"                       hazard's near edge (default 4000)\n"
+"  --drop-mm H          curb/hole depth, up-step height (default 150)\n"
+"  --steps N            stairs: number of steps (default 3)\n"
+"  --rise-mm R          stairs: riser height (default 170)\n"
+"  --run-mm R           stairs: tread depth (default 300)\n"
+"  --hole-width-mm W    hole: lateral size (default 1000)\n"
+"  --hole-length-mm L   hole: size along the walking direction (default 800)\n"
+"  --hole-offset-mm X   hole: lateral centre, + = right (default 0)\n"
+"  --wall-height-mm H   wall height (default 2500)\n"
+"  --lower-shade K      brightness of surfaces below the near ground (0.9)\n"
+"  --texture-kind K     asphalt|paving procedural texture (default asphalt)\n"
+"  --texture FILE       tile a grey photo on all surfaces instead\n"
+"  --texture-mm S       photo: millimetres per photo pixel (default 2)\n"
+"  --texture-seed N     seed of the procedural texture (default: --seed)\n"
+"Camera (left = reference; right shifted by the baseline to the right):\n"
+"  --width W --height H image size (default 320 240)\n"
+"  --f F                focal length in px (default 250)\n"
+"  --cx X --cy Y        principal point (default (W-1)/2, (H-1)/2)\n"
+"  --baseline-mm B      stereo baseline (default 120)\n"
+"  --height-mm H        camera height above the near ground (default 1200)\n"
+"  --pitch-deg P        downward pitch (default 20)\n"
+"  --roll-deg R         roll, + = right side down (default 0)\n"
+"  --yaw-deg Y          heading relative to the edge normal (default 0)\n"
+"Sequence:\n"
+"  --single             one pair, no motion (same as --frames 1 without\n"
+"                       bobbing or sway)\n"
+"  --frames N           number of frames (default 1)\n"
+"  --speed V            walking speed m/s (default 1.2)\n"
+"  --fps F              frame rate (default 10)\n"
+"  --bob-mm A           vertical bobbing amplitude (default 25)\n"
+"  --bob-hz F           bobbing (step) frequency (default 1.8)\n"
+"  --sway-deg A         pitch sway amplitude (default 1.0)\n"
+"  --roll-sway-deg A    roll sway amplitude, half step frequency (0.5)\n"
+"  --seed N             seed for motion phases, texture and noise (default 1)\n"
+"Sensor:\n"
+"  --noise S            Gaussian noise sigma in grey levels (default 0)\n"
+"  --gain-right G       right exposure/gain factor (default 1)\n"
+"  --offset-right O     right offset in grey levels (default 0)\n"
+"  --brightness K       gain of both cameras (default 1)\n"
+"  --vshift-right R     vertical misalignment: right image content moved\n"
+"                       down by R rows, sub-pixel allowed (default 0)\n"
+"  --ss N               NxN supersampling per pixel, 1..4 (default 2)\n"
+"Output:\n"
+"  --out DIR            output folder (created)\n"
+"  --gt-disparity       also write disp_NNNN.png (16-bit, disparity*16,\n"
+"                       0 = no surface) of the left image\n"
+"  --quiet              no progress/timing line\n"
+"  --help               this text\n"
+"Example:\n"
+"  %s --scene curb --drop-mm 150 --edge-mm 4000 --frames 60 --speed 1.2 \\\n"
+"     --fps 10 --noise 2 --seed 7 --out /tmp/curb\n",
+                 argv0, argv0);
+}
+
+bool parse_double(const char *s, double &out)
+{
+    if (!s || !*s)
+        return false;
+    char *end = nullptr;
+    errno = 0;
+    const double v = std::strtod(s, &end);
+    if (errno != 0 || *end != '\0' || !std::isfinite(v))
+        return false;
+    out = v;
+    return true;
+}
+
+bool parse_u64(const char *s, uint64_t &out)
+{
+    if (!s || !*s || *s == '-')
+        return false;
+    char *end = nullptr;
+    errno = 0;
+    const unsigned long long v = std::strtoull(s, &end, 10);
+    if (errno != 0 || *end != '\0')
+        return false;
+    out = v;
+    return true;
+}
+
+bool parse_int(const char *s, int &out)
+{
+    double d;
+    if (!parse_double(s, d) || d != std::floor(d) || std::fabs(d) > 1e9)
+        return false;
+    out = static_cast<int>(d);
+    return true;
+}
+
+int fail(const char *argv0, const std::string &msg)
+{
+    std::fprintf(stderr, "%s: error: %s\n(try --help)\n", argv0, msg.c_str());
+    return 2;
+}
+
+// Returns 0 on success, -1 for --help, otherwise an exit code.
+int parse(int argc, char **argv, Options &o)
+{
+    const char *a0 = argv[0];
+    bool edge_set = false;
+    for (int i = 1; i < argc; ++i) {
+        std::string arg = argv[i];
+        std::string val;
+        bool has_val = false;
+        const size_t eq = arg.find('=');
+        if (arg.rfind("--", 0) == 0 && eq != std::string::npos) {
+            val = arg.substr(eq + 1);
+            arg = arg.substr(0, eq);
+            has_val = true;
+        }
+        auto flag = [&](const char *name) {
+            if (arg != name)
+                return false;
+            return true;
+        };
+        if (flag("--help") || flag("-h")) {
+            usage(stdout, a0);
+            return -1;
+        }
+        bool is_flag = false;
+        if (flag("--single")) { o.single = true; is_flag = true; }
+        else if (flag("--gt-disparity")) { o.gt_disparity = true; is_flag = true; }
+        else if (flag("--quiet")) { o.quiet = true; is_flag = true; }
+        if (is_flag) {
+            if (has_val)
+                return fail(a0, "option " + arg + " takes no value");
+            continue;
+        }
+        if (arg.rfind("--", 0) != 0)
+            return fail(a0, "unexpected argument '" + arg + "'");
+        if (!has_val) {
+            if (i + 1 >= argc)
+                return fail(a0, "option " + arg + " needs a value");
+            val = argv[++i];
+        }
+        const char *v = val.c_str();
+        double d = 0.0;
+        int n = 0;
+        auto num = [&](double &dst, double lo, double hi) {
+            if (!parse_double(v, d))
+                return fail(a0, "option " + arg + ": '" + val + "' is not a number");
+            if (d < lo || d > hi) {
+                char buf[160];
+                std::snprintf(buf, sizeof buf, "option %s: %g is outside [%g, %g]",
+                              arg.c_str(), d, lo, hi);
+                return fail(a0, buf);
+            }
+            dst = d;
+            return 0;
+        };
+        auto integer = [&](int &dst, int lo, int hi) {
+            if (!parse_int(v, n))
+                return fail(a0, "option " + arg + ": '" + val + "' is not an integer");
+            if (n < lo || n > hi) {
+                char buf[160];
+                std::snprintf(buf, sizeof buf, "option %s: %d is outside [%d, %d]",
+                              arg.c_str(), n, lo, hi);
+                return fail(a0, buf);
+            }
+            dst = n;
+            return 0;
+        };
+        int rc = 0;
+        double mm = 0.0;
+        if (arg == "--scene") {
+            if (!synth::hazard_from_name(val, o.scene.hazard))
+                return fail(a0, "unknown scene '" + val +
+                                    "' (curb|stairs|hole|upstep|wall|flat)");
+        } else if (arg == "--edge-mm") {
+            rc = num(mm, -1e6, 1e6);
+            o.scene.edge_z = mm * 1e-3;
+            edge_set = true;
+        } else if (arg == "--drop-mm") {
+            rc = num(mm, 1.0, 1e5);
+            o.scene.drop = mm * 1e-3;
+        } else if (arg == "--steps") {
+            rc = integer(o.scene.steps, 1, 100);
+        } else if (arg == "--rise-mm") {
+            rc = num(mm, 1.0, 1e4);
+            o.scene.rise = mm * 1e-3;
+        } else if (arg == "--run-mm") {
+            rc = num(mm, 10.0, 1e5);
+            o.scene.run = mm * 1e-3;
+        } else if (arg == "--hole-width-mm") {
+            rc = num(mm, 10.0, 1e6);
+            o.scene.hole_width = mm * 1e-3;
+        } else if (arg == "--hole-length-mm") {
+            rc = num(mm, 10.0, 1e6);
+            o.scene.hole_length = mm * 1e-3;
+        } else if (arg == "--hole-offset-mm") {
+            rc = num(mm, -1e6, 1e6);
+            o.scene.hole_offset = mm * 1e-3;
+        } else if (arg == "--wall-height-mm") {
+            rc = num(mm, 1.0, 1e6);
+            o.scene.wall_height = mm * 1e-3;
+        } else if (arg == "--lower-shade") {
+            rc = num(o.scene.lower_shade, 0.0, 2.0);
+        } else if (arg == "--texture-kind") {
+            o.texture_kind = val;
+            if (val != "asphalt" && val != "paving")
+                return fail(a0, "unknown texture kind '" + val + "' (asphalt|paving)");
+        } else if (arg == "--texture") {
+            o.texture_file = val;
+        } else if (arg == "--texture-mm") {
+            rc = num(o.texture_mm, 0.01, 1000.0);
+        } else if (arg == "--texture-seed") {
+            if (!parse_u64(v, o.texture_seed))
+                return fail(a0, "option --texture-seed: '" + val + "' is not a non-negative integer");
+            o.texture_seed_set = true;
+        } else if (arg == "--width") {
+            rc = integer(o.rig.width, 16, 8192);
+        } else if (arg == "--height") {
+            rc = integer(o.rig.height, 16, 8192);
+        } else if (arg == "--f") {
+            rc = num(o.rig.f, 10.0, 1e5);
+        } else if (arg == "--cx") {
+            rc = num(o.rig.cx, -1e5, 1e5);
+            o.cx_set = true;
+        } else if (arg == "--cy") {
+            rc = num(o.rig.cy, -1e5, 1e5);
+            o.cy_set = true;
+        } else if (arg == "--baseline-mm") {
+            rc = num(mm, 1.0, 1e4);
+            o.rig.baseline = mm * 1e-3;
+        } else if (arg == "--height-mm") {
+            rc = num(o.height_mm, 50.0, 1e5);
+        } else if (arg == "--pitch-deg") {
+            rc = num(o.pitch_deg, -80.0, 89.0);
+        } else if (arg == "--roll-deg") {
+            rc = num(o.roll_deg, -90.0, 90.0);
+        } else if (arg == "--yaw-deg") {
+            rc = num(o.yaw_deg, -80.0, 80.0);
+        } else if (arg == "--frames") {
+            rc = integer(o.frames, 1, 100000);
+        } else if (arg == "--speed") {
+            rc = num(o.speed, 0.0, 20.0);
+        } else if (arg == "--fps") {
+            rc = num(o.fps, 0.1, 1000.0);
+        } else if (arg == "--bob-mm") {
+            rc = num(o.bob_mm, 0.0, 500.0);
+        } else if (arg == "--bob-hz") {
+            rc = num(o.bob_hz, 0.0, 20.0);
+        } else if (arg == "--sway-deg") {
+            rc = num(o.sway_deg, 0.0, 30.0);
+        } else if (arg == "--roll-sway-deg") {
+            rc = num(o.roll_sway_deg, 0.0, 30.0);
+        } else if (arg == "--seed") {
+            if (!parse_u64(v, o.seed))
+                return fail(a0, "option --seed: '" + val + "' is not a non-negative integer");
+        } else if (arg == "--noise") {
+            rc = num(o.sensor.noise_sigma, 0.0, 100.0);
+        } else if (arg == "--gain-right") {
+            rc = num(o.sensor.gain_right, 0.05, 20.0);
+        } else if (arg == "--offset-right") {
+            rc = num(o.sensor.offset_right, -255.0, 255.0);
+        } else if (arg == "--brightness") {
+            rc = num(o.sensor.brightness, 0.01, 20.0);
+        } else if (arg == "--vshift-right") {
+            rc = num(o.rig.right_row_shift, -100.0, 100.0);
+        } else if (arg == "--ss") {
+            rc = integer(o.render.supersample, 1, 4);
+        } else if (arg == "--out") {
+            o.out = val;
+        } else {
+            return fail(a0, "unknown option '" + arg + "'");
+        }
+        if (rc)
+            return rc;
+    }
+    (void)edge_set;
+    if (o.out.empty())
+        return fail(a0, "--out DIR is required");
+    if (!o.cx_set)
+        o.rig.cx = (o.rig.width - 1) * 0.5;
+    if (!o.cy_set)
+        o.rig.cy = (o.rig.height - 1) * 0.5;
+    if (!o.texture_seed_set)
+        o.texture_seed = o.seed;
+    if (o.single) {
+        if (o.frames != 1)
+            return fail(a0, "--single and --frames N > 1 contradict each other");
+        o.bob_mm = 0.0;
+        o.sway_deg = 0.0;
+        o.roll_sway_deg = 0.0;
+    }
+    if (o.height_mm * 1e-3 <= 0.0)
+        return fail(a0, "--height-mm must be positive");
+    if (o.scene.hazard == synth::Hazard::Stairs && o.scene.steps < 1)
+        return fail(a0, "--steps must be >= 1");
+    return 0;
+}
+
+std::string fmt(const char *f, ...) __attribute__((format(printf, 1, 2)));
+std::string fmt(const char *f, ...)
+{
+    char buf[512];
+    va_list ap;
+    va_start(ap, f);
+    std::vsnprintf(buf, sizeof buf, f, ap);
+    va_end(ap);
+    return buf;
+}
+
+std::string json_escape(const std::string &s)
+{
+    std::string o;
+    for (char c : s) {
+        if (c == '"' || c == '\\') {
+            o += '\\';
+            o += c;
+        } else if (static_cast<unsigned char>(c) < 0x20) {
+            o += fmt("\\u%04x", c);
+        } else {
+            o += c;
+        }
+    }
+    return o;
+}
+
+bool write_png(const std::string &path, const cv::Mat &m)
+{
+    const std::vector<int> params = {cv::IMWRITE_PNG_COMPRESSION, 3};
+    try {
+        return cv::imwrite(path, m, params);
+    } catch (const cv::Exception &) {
+        return false;
+    }
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+    Options o;
+    const int prc = parse(argc, argv, o);
+    if (prc == -1)
+        return 0;
+    if (prc != 0)
+        return prc;
+
+    const char *a0 = argv[0];
+    std::error_code ec;
+    std::filesystem::create_directories(o.out, ec);
+    if (ec || !std::filesystem::is_directory(o.out))
+        return fail(a0, "cannot create output folder '" + o.out + "'");
+
+    synth::Texture tex;
+    std::string err;
+    const bool tex_ok = o.texture_file.empty()
+                            ? tex.make_procedural(o.texture_seed, o.texture_kind, err)
+                            : tex.load_photo(o.texture_file, o.texture_mm, err);
+    if (!tex_ok)
+        return fail(a0, err);
+
+    const synth::Scene scene(o.scene);
+    const bool sequence = !o.single;
+    // Motion phases from the seed, so every sequence bobs differently.
+    synth::Rng mrng(o.seed * 0x9E3779B97F4A7C15ull + 17);
+    const double ph_bob = 2.0 * kPi * mrng.uniform();
+    const double ph_pitch = 2.0 * kPi * mrng.uniform();
+    const double ph_roll = 2.0 * kPi * mrng.uniform();
+    const double yaw = o.yaw_deg * kPi / 180.0;
+
+    const std::string gt_path = o.out + "/gt.json";
+    FILE *gt = std::fopen(gt_path.c_str(), "w");
+    if (!gt)
+        return fail(a0, "cannot write '" + gt_path + "'");
+    const synth::SceneParams &sp = o.scene;
+    std::fprintf(gt, "{\n\"generator\": \"negobs_synth %s\",\n", negobs_version());
+    std::fprintf(gt,
+                 "\"camera\": {\"f\": %.6g, \"B_mm\": %.6g, \"cx\": %.6g, \"cy\": %.6g, "
+                 "\"H_mm\": %.6g, \"pitch\": %.6g, \"roll\": %.6g, \"yaw\": %.6g, "
+                 "\"width\": %d, \"height\": %d, \"right_row_shift\": %.6g},\n",
+                 o.rig.f, o.rig.baseline * 1e3, o.rig.cx, o.rig.cy, o.height_mm,
+                 o.pitch_deg, o.roll_deg, o.yaw_deg, o.rig.width, o.rig.height,
+                 o.rig.right_row_shift);
+    std::fprintf(gt,
+                 "\"scene\": {\"hazard\": \"%s\", \"negative\": %s, \"edge_mm\": %.6g, "
+                 "\"drop_mm\": %.6g, \"steps\": %d, \"rise_mm\": %.6g, \"run_mm\": %.6g, "
+                 "\"hole_width_mm\": %.6g, \"hole_length_mm\": %.6g, "
+                 "\"hole_offset_mm\": %.6g, \"wall_height_mm\": %.6g, "
+                 "\"texture\": \"%s\", \"texture_seed\": %llu},\n",
+                 synth::hazard_name(sp.hazard),
+                 (sp.hazard == synth::Hazard::Curb || sp.hazard == synth::Hazard::Stairs ||
+                  sp.hazard == synth::Hazard::Hole) ? "true" : "false",
+                 sp.edge_z * 1e3, sp.drop * 1e3, sp.steps, sp.rise * 1e3, sp.run * 1e3,
+                 sp.hole_width * 1e3, sp.hole_length * 1e3, sp.hole_offset * 1e3,
+                 sp.wall_height * 1e3,
+                 json_escape(o.texture_file.empty() ? o.texture_kind : o.texture_file).c_str(),
+                 static_cast<unsigned long long>(o.texture_seed));
+    std::fprintf(gt,
+                 "\"render\": {\"supersample\": %d, \"noise\": %.6g, \"gain_right\": %.6g, "
+                 "\"offset_right\": %.6g, \"brightness\": %.6g, \"seed\": %llu, "
+                 "\"speed_mps\": %.6g, \"fps\": %.6g, \"bob_mm\": %.6g, \"bob_hz\": %.6g, "
+                 "\"sway_deg\": %.6g, \"roll_sway_deg\": %.6g, \"gt_disparity\": %s},\n",
+                 o.render.supersample, o.sensor.noise_sigma, o.sensor.gain_right,
+                 o.sensor.offset_right, o.sensor.brightness,
+                 static_cast<unsigned long long>(o.seed), sequence ? o.speed : 0.0, o.fps,
+                 o.bob_mm, o.bob_hz, o.sway_deg, o.roll_sway_deg,
+                 o.gt_disparity ? "true" : "false");
+    std::fprintf(gt, "\"frames\": [\n");
+
+    double render_ms = 0.0;
+    const auto t_start = std::chrono::steady_clock::now();
+    for (int i = 0; i < o.frames; ++i) {
+        const double t = sequence ? i / o.fps : 0.0;
+        const double dist = sequence ? o.speed * t : 0.0;
+        const double w = 2.0 * kPi * o.bob_hz * t;
+        synth::Pose pose;
+        pose.x = dist * std::sin(yaw);
+        pose.z = dist * std::cos(yaw);
+        pose.y = o.height_mm * 1e-3 + o.bob_mm * 1e-3 * std::sin(w + ph_bob);
+        pose.pitch = o.pitch_deg + o.sway_deg * std::sin(w + ph_pitch);
+        pose.roll = o.roll_deg + o.roll_sway_deg * std::sin(0.5 * w + ph_roll);
+        pose.yaw = o.yaw_deg;
+
+        const auto t0 = std::chrono::steady_clock::now();
+        cv::Mat lf, rf, disp;
+        synth::render_view(scene, tex, o.rig, pose, 0, o.render, lf,
+                           o.gt_disparity ? &disp : nullptr);
+        synth::render_view(scene, tex, o.rig, pose, 1, o.render, rf, nullptr);
+        const uint64_t fseed = o.seed * 0xD1B54A32D192ED03ull + static_cast<uint64_t>(i) * 7919u + 1;
+        cv::Mat l8, r8;
+        synth::apply_sensor(lf, 0, o.sensor, fseed, l8);
+        synth::apply_sensor(rf, 1, o.sensor, fseed, r8);
+        const synth::EdgeGT eg = synth::edge_ground_truth(scene, o.rig, pose);
+        render_ms += std::chrono::duration<double, std::milli>(
+                         std::chrono::steady_clock::now() - t0).count();
+
+        const std::string ln = fmt("left_%04d.png", i), rn = fmt("right_%04d.png", i);
+        const std::string dn = fmt("disp_%04d.png", i);
+        if (!write_png(o.out + "/" + ln, l8) || !write_png(o.out + "/" + rn, r8)) {
+            std::fclose(gt);
+            return fail(a0, "cannot write images into '" + o.out + "'");
+        }
+        if (o.gt_disparity) {
+            cv::Mat d16(disp.rows, disp.cols, CV_16U);
+            for (int y = 0; y < disp.rows; ++y) {
+                const float *s = disp.ptr<float>(y);
+                uint16_t *q = d16.ptr<uint16_t>(y);
+                for (int x = 0; x < disp.cols; ++x) {
+                    if (s[x] <= 0.0f) {
+                        q[x] = 0;
+                    } else {
+                        const long v = std::lround(static_cast<double>(s[x]) * 16.0);
+                        q[x] = static_cast<uint16_t>(std::clamp(v, 1L, 65535L));
+                    }
+                }
+            }
+            if (!write_png(o.out + "/" + dn, d16)) {
+                std::fclose(gt);
+                return fail(a0, "cannot write disparity into '" + o.out + "'");
+            }
+        }
+
+        // Horizontal distance from the camera to the edge line, measured
+        // perpendicular to it (negative once the edge is passed).
+        const bool has_edge = sp.hazard != synth::Hazard::Flat;
+        std::string edge = "null", rows = "null", box = "null", rowc = "null";
+        if (has_edge)
+            edge = fmt("%.1f", (sp.edge_z - pose.z) * 1e3);
+        if (eg.visible) {
+            rows = fmt("[%.2f, %.2f]", eg.v_min, eg.v_max);
+            box = fmt("[%.0f, %.2f, %.0f, %.2f]", eg.u_min, eg.v_min, eg.u_max, eg.v_max);
+        }
+        if (eg.has_row_at_cx)
+            rowc = fmt("%.2f", eg.row_at_cx);
+        double drop = 0.0;
+        switch (sp.hazard) {
+        case synth::Hazard::Curb:
+        case synth::Hazard::Hole: drop = sp.drop; break;
+        case synth::Hazard::Stairs: drop = sp.rise; break;
+        case synth::Hazard::Upstep: drop = -sp.drop; break;
+        default: drop = 0.0; break;
+        }
+        std::fprintf(gt,
+                     "{\"i\": %d, \"t_s\": %.4f, \"left\": \"%s\", \"right\": \"%s\", "
+                     "\"disparity\": %s, \"hazard\": \"%s\", \"edge_range_mm\": %s, "
+                     "\"drop_mm\": %.1f, \"total_drop_mm\": %.1f, \"edge_visible\": %s, "
+                     "\"edge_cols\": %d, \"edge_rows\": %s, \"edge_box\": %s, "
+                     "\"edge_row_at_cx\": %s, \"H_mm\": %.2f, \"pitch\": %.4f, "
+                     "\"roll\": %.4f, \"yaw\": %.4f, \"cam_x_mm\": %.1f, \"cam_z_mm\": %.1f}%s\n",
+                     i, t, ln.c_str(), rn.c_str(),
+                     o.gt_disparity ? ("\"" + dn + "\"").c_str() : "null",
+                     synth::hazard_name(sp.hazard), edge.c_str(), drop * 1e3,
+                     (sp.hazard == synth::Hazard::Stairs ? sp.rise * sp.steps : drop) * 1e3,
+                     eg.visible ? "true" : "false", eg.cols_visible, rows.c_str(), box.c_str(),
+                     rowc.c_str(), pose.y * 1e3, pose.pitch, pose.roll, pose.yaw,
+                     pose.x * 1e3, pose.z * 1e3, i + 1 < o.frames ? "," : "");
+    }
+    std::fprintf(gt, "]\n}\n");
+    if (std::fclose(gt) != 0)
+        return fail(a0, "cannot write '" + gt_path + "'");
+    if (!o.quiet) {
+        const double total = std::chrono::duration<double, std::milli>(
+                                 std::chrono::steady_clock::now() - t_start).count();
+        std::fprintf(stderr,
+                     "negobs_synth: %d frame(s) %dx%d ss=%d into %s: render %.1f ms/frame, "
+                     "total %.1f ms/frame\n",
+                     o.frames, o.rig.width, o.rig.height, o.render.supersample,
+                     o.out.c_str(), render_ms / o.frames, total / o.frames);
+    }
+    return 0;
+}

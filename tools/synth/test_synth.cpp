@@ -1,0 +1,405 @@
+// Checks of negobs_synth (Meson suite 'tools'):
+//   flat_gt      GT disparity of flat ground equals the analytic v-disparity
+//                line (B/H)(f sin(theta) + cos(theta)(v - cy)); the CLI's
+//                16-bit disparity PNG and edge row agree with it.
+//   warp         warping the right image onto the left with the GT
+//                disparity reproduces the left image (visible pixels).
+//   determinism  same seed -> identical bytes; another seed -> different.
+//   bad_options  malformed command lines exit non-zero with a message.
+// usage: test_synth MODE PATH_TO_negobs_synth
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "synth.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+int failures = 0;
+
+void check(bool ok, const std::string &what)
+{
+    if (!ok) {
+        std::fprintf(stderr, "FAIL: %s\n", what.c_str());
+        ++failures;
+    }
+}
+
+std::string g_exe;
+
+fs::path scratch(const std::string &name)
+{
+    fs::path p = fs::temp_directory_path() /
+                 ("negobs_synth_test_" + std::to_string(getpid()) + "_" + name);
+    fs::remove_all(p);
+    return p;
+}
+
+int run(const std::string &args, std::string *err_out = nullptr)
+{
+    const fs::path err = scratch("stderr.txt");
+    const std::string cmd = "'" + g_exe + "' " + args + " >/dev/null 2>'" + err.string() + "'";
+    const int st = std::system(cmd.c_str());
+    if (err_out) {
+        std::ifstream f(err);
+        std::stringstream ss;
+        ss << f.rdbuf();
+        *err_out = ss.str();
+    }
+    fs::remove(err);
+    if (st == -1 || !WIFEXITED(st))
+        return -1;
+    return WEXITSTATUS(st);
+}
+
+std::string slurp(const fs::path &p)
+{
+    std::ifstream f(p, std::ios::binary);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+bool json_number(const std::string &doc, const std::string &key, double &v)
+{
+    const size_t k = doc.find("\"" + key + "\": ");
+    if (k == std::string::npos)
+        return false;
+    const char *p = doc.c_str() + k + key.size() + 4;
+    char *end = nullptr;
+    v = std::strtod(p, &end);
+    return end != p;
+}
+
+// ------------------------------------------------------------------ flat_gt
+
+int test_flat_gt()
+{
+    synth::SceneParams sp;
+    sp.hazard = synth::Hazard::Flat;
+    const synth::Scene scene(sp);
+    synth::Texture tex;
+    std::string err;
+    check(tex.make_procedural(3, "asphalt", err), "texture: " + err);
+    for (double pitch : {15.0, 20.0, 25.0}) {
+        synth::Rig rig;
+        synth::Pose pose;
+        pose.pitch = pitch;
+        pose.y = 1.2;
+        cv::Mat img, disp;
+        synth::render_view(scene, tex, rig, pose, 0, synth::RenderOptions{}, img, &disp);
+        const double th = pitch * kPi / 180.0;
+        const double horizon = rig.cy - rig.f * std::tan(th);
+        int checked = 0;
+        double worst = 0.0;
+        for (int v : {30, 60, 90, 120, 150, 180, 210, 239}) {
+            if (v < horizon + 1.0)
+                continue;
+            const double expect =
+                rig.baseline / pose.y * (rig.f * std::sin(th) + std::cos(th) * (v - rig.cy));
+            for (int u : {0, 57, 160, 251, 319}) {
+                const double got = disp.at<float>(v, u);
+                worst = std::max(worst, std::fabs(got - expect));
+                ++checked;
+            }
+        }
+        check(checked >= 20, "flat_gt: enough rows below the horizon");
+        check(worst < 1e-3, "flat_gt: GT disparity off by " + std::to_string(worst) +
+                                " px at pitch " + std::to_string(pitch));
+        // Above the horizon there is no surface.
+        const int vs = static_cast<int>(std::floor(horizon)) - 2;
+        if (vs >= 0)
+            check(disp.at<float>(vs, 160) == 0.0f, "flat_gt: sky has disparity 0");
+    }
+
+    // Same through the CLI: 16-bit PNG (disparity*16) and the edge row.
+    const fs::path out = scratch("flat_gt");
+    const int rc = run("--single --scene curb --edge-mm 4000 --pitch-deg 20 --height-mm 1200 "
+                       "--gt-disparity --quiet --out '" + out.string() + "'");
+    check(rc == 0, "flat_gt: CLI single curb run");
+    if (rc == 0) {
+        const cv::Mat d16 = cv::imread((out / "disp_0000.png").string(), cv::IMREAD_UNCHANGED);
+        check(!d16.empty() && d16.type() == CV_16U, "flat_gt: disparity PNG is 16-bit");
+        if (!d16.empty()) {
+            const double th = 20.0 * kPi / 180.0;
+            double worst = 0.0;
+            for (int v : {150, 180, 210, 239}) { // near ground, before the edge
+                const double expect = 0.12 / 1.2 * (250.0 * std::sin(th) +
+                                                    std::cos(th) * (v - 119.5));
+                worst = std::max(worst, std::fabs(d16.at<uint16_t>(v, 100) / 16.0 - expect));
+            }
+            check(worst <= 1.0 / 32.0 + 1e-9, "flat_gt: PNG disparity quantised to 1/16");
+        }
+        const std::string gt = slurp(out / "gt.json");
+        double row = 0.0;
+        check(json_number(gt, "edge_row_at_cx", row), "flat_gt: gt.json has edge_row_at_cx");
+        const double expect = 119.5 - 250.0 * std::tan((20.0 * kPi / 180.0) - std::atan(1.2 / 4.0));
+        check(std::fabs(row - expect) < 0.01, "flat_gt: edge row " + std::to_string(row) +
+                                                  " vs " + std::to_string(expect));
+        double range = 0.0;
+        check(json_number(gt, "edge_range_mm", range) && std::fabs(range - 4000.0) < 0.05,
+              "flat_gt: edge range 4000 mm");
+    }
+    fs::remove_all(out);
+    return failures;
+}
+
+// ------------------------------------------------------------------ warp
+
+// Catmull-Rom bicubic interpolation (keeps most of the texture's high
+// frequencies, unlike bilinear at half-pixel offsets).
+float bicubic(const cv::Mat &m, double x, double y)
+{
+    const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+    const double ax = x - x0, ay = y - y0;
+    auto weights = [](double t, double w[4]) {
+        const double t2 = t * t, t3 = t2 * t;
+        w[0] = 0.5 * (-t3 + 2 * t2 - t);
+        w[1] = 0.5 * (3 * t3 - 5 * t2 + 2);
+        w[2] = 0.5 * (-3 * t3 + 4 * t2 + t);
+        w[3] = 0.5 * (t3 - t2);
+    };
+    double wx[4], wy[4];
+    weights(ax, wx);
+    weights(ay, wy);
+    double acc = 0.0;
+    for (int j = 0; j < 4; ++j) {
+        const int yy = std::clamp(y0 - 1 + j, 0, m.rows - 1);
+        double r = 0.0;
+        for (int i = 0; i < 4; ++i) {
+            const int xx = std::clamp(x0 - 1 + i, 0, m.cols - 1);
+            r += wx[i] * m.at<float>(yy, xx);
+        }
+        acc += wy[j] * r;
+    }
+    return static_cast<float>(acc);
+}
+
+struct WarpCase {
+    synth::Hazard hazard;
+    double edge, drop;
+    double pitch, roll, yaw, vshift;
+    int ss;
+    bool expect_occlusion;
+    double blur; // lens PSF; sub-pixel row shifts need a band-limited image
+};
+
+int test_warp()
+{
+    synth::Texture tex;
+    std::string err;
+    check(tex.make_procedural(11, "asphalt", err), "texture: " + err);
+    const WarpCase cases[] = {
+        {synth::Hazard::Curb, 3.0, 0.2, 20.0, 0.0, 0.0, 0.0, 2, false, 0.0},
+        {synth::Hazard::Stairs, 3.0, 0.2, 22.0, 3.0, 0.0, 0.5, 2, false, 0.7},
+        // A deep pit close by, to the left: its right-hand rim hides more of
+        // the floor from the right camera (occlusion detected and skipped).
+        {synth::Hazard::Hole, 2.5, 0.5, 18.0, -2.0, -10.0, -1.0, 3, true, 0.0},
+        {synth::Hazard::Upstep, 3.0, 0.2, 20.0, 0.0, 0.0, 0.25, 2, false, 0.7},
+        {synth::Hazard::Wall, 3.0, 0.2, 15.0, 1.0, -5.0, 0.0, 1, false, 0.0},
+        {synth::Hazard::Flat, 3.0, 0.2, 25.0, 0.0, 0.0, 0.0, 2, false, 0.0},
+    };
+    for (const WarpCase &wc : cases) {
+        synth::SceneParams sp;
+        sp.hazard = wc.hazard;
+        sp.edge_z = wc.edge;
+        sp.drop = wc.drop;
+        sp.hole_offset = -1.2;
+        sp.hole_length = 2.0;
+        const synth::Scene scene(sp);
+        synth::Rig rig;
+        rig.right_row_shift = wc.vshift;
+        synth::Pose pose;
+        pose.pitch = wc.pitch;
+        pose.roll = wc.roll;
+        pose.yaw = wc.yaw;
+        synth::RenderOptions ro;
+        ro.supersample = wc.ss;
+        cv::Mat L, R, D;
+        synth::render_view(scene, tex, rig, pose, 0, ro, L, &D);
+        synth::render_view(scene, tex, rig, pose, 1, ro, R, nullptr);
+        synth::apply_blur(L, wc.blur);
+        synth::apply_blur(R, wc.blur);
+        double point_sum = 0.0;
+        long point_n = 0;
+        const synth::CameraFrame cl = synth::camera_frame(rig, pose, 0);
+        const synth::CameraFrame cr = synth::camera_frame(rig, pose, 1);
+        double sum = 0.0;
+        long n = 0, occluded = 0, disp_err = 0;
+        std::vector<double> row_err(static_cast<size_t>(rig.height)),
+            row_n(static_cast<size_t>(rig.height));
+        for (int y = 2; y < rig.height - 2; ++y) {
+            for (int x = 2; x < rig.width - 2; ++x) {
+                const float d = D.at<float>(y, x);
+                if (d <= 0.0f)
+                    continue;
+                // Skip depth edges (mixed pixels) and the
+                // far field where a pixel spans metres of ground.
+                float lo = d, hi = d;
+                for (int j = -1; j <= 1; ++j)
+                    for (int i = -1; i <= 1; ++i) {
+                        lo = std::min(lo, D.at<float>(y + j, x + i));
+                        hi = std::max(hi, D.at<float>(y + j, x + i));
+                    }
+                if (hi - lo > 0.5f || lo <= 0.0f || d < 2.0f)
+                    continue;
+                const synth::Vec3 ray = synth::pixel_ray(rig, cl, 0, x, y);
+                const double depth = rig.f * rig.baseline / d;
+                const synth::Vec3 p{cl.c.x + ray.x * depth, cl.c.y + ray.y * depth,
+                                    cl.c.z + ray.z * depth};
+                double ur, vr, dr;
+                if (!synth::project(rig, cr, 1, p, ur, vr, dr))
+                    continue;
+                if (ur < 0 || vr < 0 || ur > rig.width - 2 || vr > rig.height - 2)
+                    continue;
+                // Visible from the right camera?
+                const synth::Vec3 rd{(p.x - cr.c.x) / dr, (p.y - cr.c.y) / dr,
+                                     (p.z - cr.c.z) / dr};
+                double t;
+                const int ri = scene.intersect(cr.c, rd, t);
+                if (ri >= 0 && t < dr * (1.0 - 1e-4)) {
+                    ++occluded;
+                    continue;
+                }
+                // With zero roll and yaw the correspondence is (x - d, y + shift).
+                if (wc.roll == 0.0 && wc.yaw == 0.0 &&
+                    (std::fabs(ur - (x - d)) > 1e-3 || std::fabs(vr - (y + wc.vshift)) > 1e-6))
+                    ++disp_err;
+                const double e = std::fabs(bicubic(R, ur, vr) - L.at<float>(y, x));
+                sum += e;
+                row_err[static_cast<size_t>(y)] += e;
+                row_n[static_cast<size_t>(y)] += 1;
+                ++n;
+                // Exact check without image interpolation: shade the right
+                // camera's ray through (ur, vr) directly.
+                if ((x + 7 * y) % 5 == 0) {
+                    point_sum += std::fabs(synth::render_point(scene, tex, rig, pose, 1, ur,
+                                                               vr, ro.sky) -
+                                           synth::render_point(scene, tex, rig, pose, 0, x, y,
+                                                               ro.sky));
+                    ++point_n;
+                }
+            }
+        }
+        const double mae = n ? sum / static_cast<double>(n) : 1e9;
+        if (std::getenv("SYNTH_DEBUG_ROWS"))
+            for (size_t y = 0; y < row_err.size(); ++y)
+                if (row_n[y] > 0)
+                    std::printf("  row %zu: %.0f px, mae %.2f\n", y, row_n[y],
+                                row_err[y] / row_n[y]);
+        const double point_mae = point_n ? point_sum / static_cast<double>(point_n) : 1e9;
+        std::printf("warp %-6s pitch %4.1f roll %4.1f yaw %5.1f vshift %5.2f ss %d blur %.1f: "
+                    "%ld px compared, %ld occluded, mean abs err %.3f grey "
+                    "(point samples %.3f)\n",
+                    synth::hazard_name(wc.hazard), wc.pitch, wc.roll, wc.yaw, wc.vshift, wc.ss,
+                    wc.blur, n, occluded, mae, point_mae);
+        check(point_mae < 0.5, std::string("warp: point samples agree for ") +
+                                   synth::hazard_name(wc.hazard));
+        check(n > 20000, std::string("warp: enough pixels for ") + synth::hazard_name(wc.hazard));
+        check(mae < 3.0, std::string("warp: mean abs error < 3 for ") +
+                             synth::hazard_name(wc.hazard));
+        check(disp_err == 0, "warp: right position is (x - d, y + shift)");
+        if (wc.expect_occlusion)
+            check(occluded > 10, "warp: pit wall occludes floor in the right view");
+    }
+    return failures;
+}
+
+// ------------------------------------------------------------------ determinism
+
+int test_determinism()
+{
+    const std::string common = "--scene stairs --frames 3 --noise 2 --gain-right 1.05 "
+                               "--vshift-right 0.3 --gt-disparity --quiet ";
+    const fs::path a = scratch("det_a"), b = scratch("det_b"), c = scratch("det_c");
+    check(run(common + "--seed 7 --out '" + a.string() + "'") == 0, "determinism: run a");
+    check(run(common + "--seed 7 --out '" + b.string() + "'") == 0, "determinism: run b");
+    check(run(common + "--seed 8 --out '" + c.string() + "'") == 0, "determinism: run c");
+    int files = 0;
+    for (const auto &e : fs::directory_iterator(a)) {
+        const std::string name = e.path().filename().string();
+        const std::string ba = slurp(e.path()), bb = slurp(b / name);
+        check(!ba.empty() && ba == bb, "determinism: " + name + " identical for the same seed");
+        ++files;
+    }
+    check(files == 10, "determinism: 3 x (left, right, disp) + gt.json written");
+    check(slurp(a / "left_0002.png") != slurp(c / "left_0002.png"),
+          "determinism: another seed gives another image");
+    check(slurp(a / "gt.json") != slurp(c / "gt.json"),
+          "determinism: another seed gives another camera motion");
+    fs::remove_all(a);
+    fs::remove_all(b);
+    fs::remove_all(c);
+    return failures;
+}
+
+// ------------------------------------------------------------------ bad_options
+
+int test_bad_options()
+{
+    const fs::path out = scratch("bad");
+    const std::string o = " --out '" + out.string() + "'";
+    const char *bad[] = {
+        "--scene nope",  "--f abc",          "--frames 0",       "--bogus 1",
+        "--width",       "--single --frames 3", "--noise -1",    "--ss 9",
+        "--seed -3",     "--pitch-deg 95",   "--texture /nonexistent/x.png",
+        "--texture-kind marble", "--single=1", "stray",         "--drop-mm 1e400",
+    };
+    for (const char *args : bad) {
+        std::string err;
+        const int rc = run(std::string(args) + o, &err);
+        check(rc != 0 && rc != -1, std::string("bad_options: '") + args + "' exits non-zero");
+        check(err.find("error") != std::string::npos,
+              std::string("bad_options: '") + args + "' prints an error message");
+    }
+    std::string err;
+    check(run("--single", &err) != 0 && err.find("--out") != std::string::npos,
+          "bad_options: missing --out is reported");
+    check(run("--help") == 0, "bad_options: --help exits 0");
+    fs::remove_all(out);
+    return failures;
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+    if (argc < 3) {
+        std::fprintf(stderr, "usage: %s flat_gt|warp|determinism|bad_options NEGOBS_SYNTH\n",
+                     argv[0]);
+        return 2;
+    }
+    const std::string mode = argv[1];
+    g_exe = argv[2];
+    if (mode == "flat_gt")
+        test_flat_gt();
+    else if (mode == "warp")
+        test_warp();
+    else if (mode == "determinism")
+        test_determinism();
+    else if (mode == "bad_options")
+        test_bad_options();
+    else {
+        std::fprintf(stderr, "unknown mode %s\n", mode.c_str());
+        return 2;
+    }
+    if (failures)
+        std::fprintf(stderr, "%d check(s) failed\n", failures);
+    else
+        std::printf("%s: all checks passed\n", mode.c_str());
+    return failures ? 1 : 0;
+}
