@@ -14,6 +14,7 @@
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 extern "C" {
 #include "negobs/version.h"
@@ -50,6 +51,7 @@ struct Options {
     std::string texture_kind = "asphalt";
     double texture_mm = 2.0;
     bool gt_disparity = false;
+    bool preview = false;
     bool quiet = false;
     std::string out;
 };
@@ -103,6 +105,7 @@ void usage(FILE *fp, const char *argv0)
 "  --gain-right G       right exposure/gain factor (default 1)\n"
 "  --offset-right O     right offset in grey levels (default 0)\n"
 "  --brightness K       gain of both cameras (default 1)\n"
+"  --blur S             lens blur, Gaussian PSF sigma in px (default 0)\n"
 "  --vshift-right R     vertical misalignment: right image content moved\n"
 "                       down by R rows, sub-pixel allowed (default 0)\n"
 "  --ss N               NxN supersampling per pixel, 1..4 (default 2)\n"
@@ -110,6 +113,8 @@ void usage(FILE *fp, const char *argv0)
 "  --out DIR            output folder (created)\n"
 "  --gt-disparity       also write disp_NNNN.png (16-bit, disparity*16,\n"
 "                       0 = no surface) of the left image\n"
+"  --preview            also write preview_NNNN.png: left image with the GT\n"
+"                       edge line, next to the GT disparity (brighter = nearer)\n"
 "  --quiet              no progress/timing line\n"
 "  --help               this text\n"
 "Example:\n"
@@ -187,6 +192,7 @@ int parse(int argc, char **argv, Options &o)
         if (flag("--single")) { o.single = true; is_flag = true; }
         else if (flag("--gt-disparity")) { o.gt_disparity = true; is_flag = true; }
         else if (flag("--quiet")) { o.quiet = true; is_flag = true; }
+        else if (flag("--preview")) { o.preview = true; is_flag = true; }
         if (is_flag) {
             if (has_val)
                 return fail(a0, "option " + arg + " takes no value");
@@ -319,6 +325,8 @@ int parse(int argc, char **argv, Options &o)
             rc = num(o.sensor.gain_right, 0.05, 20.0);
         } else if (arg == "--offset-right") {
             rc = num(o.sensor.offset_right, -255.0, 255.0);
+        } else if (arg == "--blur") {
+            rc = num(o.sensor.blur, 0.0, 20.0);
         } else if (arg == "--brightness") {
             rc = num(o.sensor.brightness, 0.01, 20.0);
         } else if (arg == "--vshift-right") {
@@ -456,11 +464,11 @@ int main(int argc, char **argv)
                  static_cast<unsigned long long>(o.texture_seed));
     std::fprintf(gt,
                  "\"render\": {\"supersample\": %d, \"noise\": %.6g, \"gain_right\": %.6g, "
-                 "\"offset_right\": %.6g, \"brightness\": %.6g, \"seed\": %llu, "
+                 "\"offset_right\": %.6g, \"brightness\": %.6g, \"blur\": %.6g, \"seed\": %llu, "
                  "\"speed_mps\": %.6g, \"fps\": %.6g, \"bob_mm\": %.6g, \"bob_hz\": %.6g, "
                  "\"sway_deg\": %.6g, \"roll_sway_deg\": %.6g, \"gt_disparity\": %s},\n",
                  o.render.supersample, o.sensor.noise_sigma, o.sensor.gain_right,
-                 o.sensor.offset_right, o.sensor.brightness,
+                 o.sensor.offset_right, o.sensor.brightness, o.sensor.blur,
                  static_cast<unsigned long long>(o.seed), sequence ? o.speed : 0.0, o.fps,
                  o.bob_mm, o.bob_hz, o.sway_deg, o.roll_sway_deg,
                  o.gt_disparity ? "true" : "false");
@@ -483,8 +491,10 @@ int main(int argc, char **argv)
         const auto t0 = std::chrono::steady_clock::now();
         cv::Mat lf, rf, disp;
         synth::render_view(scene, tex, o.rig, pose, 0, o.render, lf,
-                           o.gt_disparity ? &disp : nullptr);
+                           (o.gt_disparity || o.preview) ? &disp : nullptr);
         synth::render_view(scene, tex, o.rig, pose, 1, o.render, rf, nullptr);
+        synth::apply_blur(lf, o.sensor.blur);
+        synth::apply_blur(rf, o.sensor.blur);
         const uint64_t fseed = o.seed * 0xD1B54A32D192ED03ull + static_cast<uint64_t>(i) * 7919u + 1;
         cv::Mat l8, r8;
         synth::apply_sensor(lf, 0, o.sensor, fseed, l8);
@@ -516,6 +526,23 @@ int main(int argc, char **argv)
             if (!write_png(o.out + "/" + dn, d16)) {
                 std::fclose(gt);
                 return fail(a0, "cannot write disparity into '" + o.out + "'");
+            }
+        }
+
+        if (o.preview) {
+            // Left image with the GT edge line | GT disparity (0..max -> 0..255).
+            cv::Mat l = l8.clone(), d8;
+            if (eg.visible)
+                cv::line(l, cv::Point2d(eg.u_min, eg.v_at_u_min), cv::Point2d(eg.u_max, eg.v_at_u_max),
+                         cv::Scalar(255), 1, cv::LINE_8);
+            double dmax = 0.0;
+            cv::minMaxLoc(disp, nullptr, &dmax);
+            disp.convertTo(d8, CV_8U, dmax > 0.0 ? 255.0 / dmax : 0.0);
+            cv::Mat both;
+            cv::hconcat(l, d8, both);
+            if (!write_png(o.out + "/" + fmt("preview_%04d.png", i), both)) {
+                std::fclose(gt);
+                return fail(a0, "cannot write preview into '" + o.out + "'");
             }
         }
 

@@ -752,7 +752,9 @@ EdgeGT edge_ground_truth(const Scene &scene, const Rig &rig, const Pose &pose)
         if (g.cols_visible == 0) {
             g.u_min = g.u_max = u;
             g.v_min = g.v_max = pv;
+            g.v_at_u_min = pv;
         }
+        g.v_at_u_max = pv;
         g.u_min = std::min(g.u_min, static_cast<double>(u));
         g.u_max = std::max(g.u_max, static_cast<double>(u));
         g.v_min = std::min(g.v_min, pv);

@@ -152,6 +152,7 @@ struct EdgeGT {
     bool visible = false;
     int cols_visible = 0;
     double u_min = 0, u_max = 0, v_min = 0, v_max = 0;
+    double v_at_u_min = 0, v_at_u_max = 0; // ends of the visible edge line
     bool has_row_at_cx = false;
     double row_at_cx = 0;
 };
