@@ -1,0 +1,273 @@
+/*
+ * Negative-obstacle detection (paper steps 7, 9, 10 and beyond).
+ *
+ * Per frame: validity gating -> ground model (v-disparity Hough, plane
+ * refinement, tracking, noise estimate) -> per-strip signed-residual scan
+ * from near to far inside the walking corridor -> hazards (type, range,
+ * bearing, drop height, box, confidence) -> temporal confirmation, clearing
+ * and hold. A runtime calls
+ *
+ *     negobs_stereo_process() -> negobs_detect_process() -> negobs_alert_update()
+ *
+ * All arithmetic is integer; see docs/DETECTION.md for formulas, formats and
+ * every parameter.
+ */
+#ifndef NEGOBS_DETECT_H
+#define NEGOBS_DETECT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "negobs/depth.h"
+#include "negobs/fixed.h"
+#include "negobs/ground.h"
+#include "negobs/image.h"
+#include "negobs/status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Hazards reported per frame (bounded; nearest are kept). */
+#ifndef NEGOBS_DETECT_MAX_HAZARDS
+#define NEGOBS_DETECT_MAX_HAZARDS 8
+#endif
+/** Hazard tracks kept by the temporal logic. */
+#ifndef NEGOBS_DETECT_MAX_TRACKS
+#define NEGOBS_DETECT_MAX_TRACKS 8
+#endif
+
+/** Why the detector cannot vouch for "no hazard" (bitmask). */
+typedef enum negobs_degraded_reason {
+    NEGOBS_DEGRADED_TOO_DARK = 1u << 0,     /**< mean/dark share       */
+    NEGOBS_DEGRADED_SATURATED = 1u << 1,    /**< blown-out share       */
+    NEGOBS_DEGRADED_LOW_TEXTURE = 1u << 2,  /**< mean gradient too low */
+    NEGOBS_DEGRADED_FEW_GROUND = 1u << 3,   /**< valid ground pixels   */
+    NEGOBS_DEGRADED_GROUND_REJECTED = 1u << 4, /**< fit failed/out of tol */
+    NEGOBS_DEGRADED_STALE = 1u << 5,        /**< frame too old / gap   */
+    NEGOBS_DEGRADED_UNSYNCED = 1u << 6,     /**< L/R timestamps apart  */
+    NEGOBS_DEGRADED_NOISY = 1u << 7,        /**< sigma_d too high for h_min */
+    NEGOBS_DEGRADED_BAD_INPUT = 1u << 8     /**< missing/unusable frame */
+} negobs_degraded_reason_t;
+
+typedef enum negobs_hazard_type {
+    NEGOBS_HAZARD_UNKNOWN = 0, /**< missing ground only               */
+    NEGOBS_HAZARD_DROP = 1,    /**< curb / drop-off: one deficit       */
+    NEGOBS_HAZARD_STAIRS = 2,  /**< >= 2 successive deficits           */
+    NEGOBS_HAZARD_HOLE = 3     /**< deficit, then ground/far wall again */
+} negobs_hazard_type_t;
+
+typedef enum negobs_alert_level {
+    NEGOBS_LEVEL_NONE = 0,
+    NEGOBS_LEVEL_CAUTION = 1,
+    NEGOBS_LEVEL_IMMINENT = 2
+} negobs_alert_level_t;
+
+typedef enum negobs_detect_state {
+    NEGOBS_DETECT_CLEAR = 0,  /**< checked and clear                 */
+    NEGOBS_DETECT_HAZARD = 1, /**< at least one confirmed/held hazard */
+    NEGOBS_DETECT_NO_INFO = 2 /**< degraded: see reasons             */
+} negobs_detect_state_t;
+
+typedef enum negobs_missing_policy {
+    NEGOBS_MISSING_IGNORE = 0,
+    NEGOBS_MISSING_CAUTION = 1, /**< default: may raise CAUTION only  */
+    NEGOBS_MISSING_DANGER = 2   /**< treated like a drop              */
+} negobs_missing_policy_t;
+
+typedef enum negobs_sensitivity {
+    NEGOBS_SENS_SENSITIVE = 0,
+    NEGOBS_SENS_BALANCED = 1,
+    NEGOBS_SENS_CONSERVATIVE = 2
+} negobs_sensitivity_t;
+
+/** Hazard flags. */
+#define NEGOBS_HAZARD_F_CONFIRMED 1u /**< passed k-of-n confirmation      */
+#define NEGOBS_HAZARD_F_HELD 2u      /**< below the image: dead-reckoned  */
+#define NEGOBS_HAZARD_F_H_LOWER 4u   /**< drop_mm is a lower bound        */
+#define NEGOBS_HAZARD_F_CANNY 8u     /**< disparity edges support it      */
+
+/** One hazard (a candidate of this frame or a temporal track). */
+typedef struct negobs_hazard {
+    negobs_hazard_type_t type;
+    negobs_alert_level_t level; /**< urgency (tracks only)            */
+    uint32_t flags;             /**< NEGOBS_HAZARD_F_*                */
+    uint32_t track_id;          /**< 0 for raw candidates             */
+    int32_t range_mm;      /**< forward floor distance to the edge (mm) */
+    int32_t lateral_mm;    /**< floor offset, right > 0 (mm)          */
+    int32_t bearing_mdeg;  /**< atan2(lateral, range), right > 0      */
+    int32_t depth_mm;      /**< camera depth Z of the edge point (mm) */
+    int32_t drop_mm;       /**< H*(d_ground/d_far - 1) (mm)           */
+    int16_t u0, v0, u1, v1; /**< image box, inclusive (pixels)        */
+    int16_t conf_q15;      /**< confidence 0..32767                   */
+    int16_t strips;        /**< column strips that agreed             */
+} negobs_hazard_t;
+
+/** Photometric statistics of one image (from negobs_detect_photo_stats). */
+typedef struct negobs_photo_stats {
+    int32_t mean;               /**< mean grey level 0..255            */
+    int32_t dark_permille;      /**< share of pixels <= 8              */
+    int32_t saturated_permille; /**< share of pixels >= 250            */
+    int32_t texture_q4;         /**< mean |horizontal gradient|, 1/16  */
+} negobs_photo_stats_t;
+
+/** Configuration. Zero it, call negobs_detect_config_default(). */
+typedef struct negobs_detect_config {
+    negobs_camera_t cam;       /**< intrinsics (see negobs_camera_t)   */
+    int32_t cam_height_mm;     /**< nominal height (default 1200 mm)   */
+    int32_t cam_height_tol_mm; /**< accepted deviation (default 300)   */
+    int32_t cam_pitch_mdeg;    /**< nominal pitch (default 20000 mdeg) */
+    int32_t cam_pitch_tol_mdeg;/**< accepted deviation (default 15000) */
+    int32_t cam_roll_tol_mdeg; /**< accepted |roll| (default 12000)    */
+    int32_t max_disp_q4;       /**< largest disparity (default 64*16)  */
+    int32_t min_confidence;    /**< confidence below: invalid (def. 1) */
+
+    /* Ground model. */
+    int32_t fit_rows_pct;      /**< bottom rows used for the fit (25 %) */
+    int32_t fit_step_px;       /**< fit subsampling (default 2 px)      */
+    int32_t ground_min_valid_pct; /**< valid share in fit ROI (25 %)   */
+    int32_t ground_min_inlier_pct;/**< inliers among valid (30 %)      */
+    int32_t track_gain_q15;    /**< plane smoothing gain (16384 = 0.5) */
+    int32_t track_gate_q4;     /**< plane jump gate at ref rows (24)   */
+    int32_t sigma_min_q4;      /**< noise floor (default 2 = 1/8 px)   */
+    int32_t sigma_max_q4;      /**< above: DEGRADED_NOISY (default 24) */
+
+    /* Detection rule. */
+    int32_t range_max_mm;      /**< scan limit (default 5000 mm)       */
+    int32_t range_warn_mm;     /**< CAUTION inside (default 4000 mm)   */
+    int32_t range_imminent_mm; /**< IMMINENT inside (default 1500 mm)  */
+    int32_t ttc_imminent_ms;   /**< IMMINENT if time to edge < (1200)  */
+    int32_t corridor_half_width_mm; /**< lateral scan (default 600 mm) */
+    int32_t strip_px;          /**< column strip width (default 16 px) */
+    int32_t h_min_far_mm;      /**< smallest drop beyond near (100 mm) */
+    int32_t h_min_near_mm;     /**< smallest drop within near (50 mm)  */
+    int32_t h_near_range_mm;   /**< near zone limit (default 2000 mm)  */
+    int32_t h_thresh_pct;      /**< geometric threshold as % of h_min
+                                    (default 70)                        */
+    int32_t k_sigma_q4;        /**< noise multiplier (default 48 = 3.0) */
+    int32_t min_edge_rows;     /**< deficit rows in a run (default 3)  */
+    int32_t min_support_mm;    /**< ground before the edge (400 mm)    */
+    int32_t min_gap_mm;        /**< missing-ground band (default 400)  */
+    int32_t max_hole_mm;       /**< hole: ground again within (1000)   */
+    int32_t merge_range_mm;    /**< strips merge within (default 300)  */
+    int32_t min_strips;        /**< strips per hazard (default 2)      */
+    int32_t missing_policy;    /**< negobs_missing_policy_t (CAUTION)  */
+    int32_t canny_thresh_permille; /**< Canny high threshold, share of
+                                    the largest gradient (default 70)   */
+
+    /* Temporal logic. */
+    int32_t confirm_k;         /**< confirm when seen k ... (default 3) */
+    int32_t confirm_n;         /**< ... of the last n frames (5, <= 31) */
+    int32_t clear_m;           /**< clean frames to clear (default 5)  */
+    int32_t hold_ms;           /**< latch after leaving image (3000)   */
+    int32_t hold_speed_mm_s;   /**< dead-reckoning speed (1400 mm/s)   */
+    int32_t max_speed_mm_s;    /**< association speed (2000 mm/s)      */
+    int32_t assoc_range_mm;    /**< association tolerance (400 mm)     */
+    int32_t assoc_lateral_mm;  /**< association tolerance (600 mm)     */
+    int32_t hold_bottom_rows;  /**< edge this close to the bottom row
+                                    is held when lost (default 24 rows) */
+
+    /* Gating. */
+    int32_t sync_tol_ms;       /**< L/R timestamp skew (default 5 ms)  */
+    int32_t max_frame_age_ms;  /**< capture-to-now (default 150 ms)    */
+    int32_t dark_mean_min;     /**< mean below: too dark (default 20)  */
+    int32_t dark_max_permille; /**< dark share above (default 700)     */
+    int32_t saturated_max_permille; /**< saturated share (default 250) */
+    int32_t texture_min_q4;    /**< mean gradient below (default 24)   */
+} negobs_detect_config_t;
+
+/** One frame's input. Images must match cfg->cam width and height. */
+typedef struct negobs_detect_frame {
+    const negobs_image_s16_t *disp_q4;   /**< required                    */
+    const negobs_image_u8_t *confidence; /**< may be NULL                 */
+    const negobs_image_u8_t *left;       /**< may be NULL                 */
+    const negobs_photo_stats_t *left_stats;  /**< may be NULL: from left  */
+    const negobs_photo_stats_t *right_stats; /**< may be NULL             */
+    uint32_t t_left_ms;  /**< capture time of the left image (ms)     */
+    uint32_t t_right_ms; /**< capture time of the right image (ms)    */
+    uint32_t now_ms;     /**< time of this call (ms, same clock)      */
+} negobs_detect_frame_t;
+
+/** Frame result. */
+typedef struct negobs_detect_result {
+    negobs_detect_state_t state;
+    uint32_t reasons;              /**< NEGOBS_DEGRADED_* bitmask       */
+    negobs_alert_level_t level;    /**< most urgent confirmed hazard    */
+    int32_t nearest_range_mm;      /**< of that hazard, -1 if none      */
+    uint32_t n_hazards;            /**< confirmed or held tracks        */
+    negobs_hazard_t hazards[NEGOBS_DETECT_MAX_HAZARDS];
+    uint32_t n_candidates;         /**< raw detections of this frame    */
+    negobs_hazard_t candidates[NEGOBS_DETECT_MAX_HAZARDS];
+    uint32_t candidates_dropped;   /**< beyond the bound (farthest)     */
+    int32_t ground_valid;          /**< 1 if a ground model was used    */
+    negobs_ground_plane_t plane;   /**< ground model used               */
+    negobs_ground_pose_t pose;     /**< its camera pose                 */
+    int32_t sigma_q4;              /**< disparity noise estimate        */
+    int32_t ground_valid_permille; /**< valid share in the fit ROI      */
+    int32_t ground_inliers;        /**< plane-fit inliers               */
+    negobs_photo_stats_t stats;    /**< left stats used (or zero)       */
+} negobs_detect_result_t;
+
+/** Context; place it anywhere. Fields are private. */
+typedef struct negobs_detect {
+    negobs_detect_config_t cfg;
+    void *priv;
+} negobs_detect_t;
+
+/** @brief Defaults for a width x height frame (see field comments). */
+void negobs_detect_config_default(negobs_detect_config_t *cfg, int32_t width,
+                                  int32_t height);
+
+/**
+ * @brief Apply a sensitivity preset on top of a config: SENSITIVE
+ *        (h_min 80/40 mm, k 2.5, 2 of 4), BALANCED (the defaults),
+ *        CONSERVATIVE (h_min 120/60 mm, k 3.5, 4 of 6).
+ */
+negobs_status_t negobs_detect_config_preset(negobs_detect_config_t *cfg,
+                                            negobs_sensitivity_t preset);
+
+/**
+ * @brief Exact workspace size for a config.
+ * @return NEGOBS_OK, NEGOBS_ERR_INVAL (NULL or invalid config).
+ */
+negobs_status_t negobs_detect_workspace_size(const negobs_detect_config_t *cfg,
+                                             size_t *bytes_out);
+
+/**
+ * @brief Validate cfg, carve the workspace (16-byte aligned, must outlive
+ *        ctx) and reset the ground track and hazard tracks.
+ * @return NEGOBS_OK, NEGOBS_ERR_INVAL, NEGOBS_ERR_ALIGN,
+ *         NEGOBS_ERR_NOSPACE (workspace_bytes too small).
+ */
+negobs_status_t negobs_detect_init(negobs_detect_t *ctx,
+                                   const negobs_detect_config_t *cfg,
+                                   void *workspace, size_t workspace_bytes);
+
+/**
+ * @brief Process one frame.
+ *
+ * Unusable input that is still well-formed (all-invalid disparity, dark
+ * images, skewed timestamps) is not an error: it returns NEGOBS_OK with
+ * state NEGOBS_DETECT_NO_INFO and the reasons set. Malformed input (NULL
+ * disparity, wrong size) returns NEGOBS_ERR_INVAL *and* fills the result
+ * with NO_INFO / NEGOBS_DEGRADED_BAD_INPUT so a caller that ignores the
+ * status still does not report "clear".
+ * @return NEGOBS_OK, NEGOBS_ERR_INVAL, NEGOBS_ERR_STATE (not initialised).
+ */
+negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
+                                      const negobs_detect_frame_t *frame,
+                                      negobs_detect_result_t *result);
+
+/**
+ * @brief Photometric statistics of an image, sampling every 2nd pixel of
+ *        every 2nd row.
+ * @return NEGOBS_OK or NEGOBS_ERR_INVAL.
+ */
+negobs_status_t negobs_detect_photo_stats(const negobs_image_u8_t *img,
+                                          negobs_photo_stats_t *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* NEGOBS_DETECT_H */

@@ -1,0 +1,396 @@
+/*
+ * Alert state machine. Every pattern is a fixed list of (duration, on)
+ * segments, played once or repeated; the state is only the pattern and its
+ * start time, so the output at any instant is a pure function of the
+ * clock. See negobs/alert.h for the table and the priority rules.
+ */
+#include "negobs/alert.h"
+
+#include <string.h>
+
+#define ALERT_MAGIC 0x4E47414Cu /* "NGAL" */
+
+typedef struct seg {
+    uint16_t dur_ms;
+    uint8_t on;
+} seg_t;
+
+typedef struct pat {
+    const seg_t *s;
+    uint8_t n;
+    uint8_t repeat;
+    uint8_t prio;
+} pat_t;
+
+static const seg_t seg_ready[] = {{100, 1}, {100, 0}, {100, 1}, {100, 0}};
+static const seg_t seg_batt[] = {{80, 1},  {120, 0}, {80, 1}, {120, 0},
+                                 {80, 1},  {120, 0}, {80, 1}, {120, 0}};
+static const seg_t seg_noinfo_entry[] = {{400, 1}, {200, 0}, {400, 1},
+                                         {200, 0}, {400, 1}, {200, 0}};
+static const seg_t seg_noinfo[] = {{600, 1}, {2400, 0}};
+static const seg_t seg_caution_far[] = {{80, 1}, {80, 0}, {80, 1}, {760, 0}};
+static const seg_t seg_caution_mid[] = {{80, 1}, {80, 0}, {80, 1}, {360, 0}};
+static const seg_t seg_caution_near[] = {{80, 1}, {80, 0}, {80, 1}, {160, 0}};
+static const seg_t seg_imminent[] = {{300, 1}, {100, 0}};
+
+#define NSEG(a) ((uint8_t)(sizeof(a) / sizeof((a)[0])))
+
+/* Priorities: IMMINENT 6 > CAUTION 5 > READY 4 (power-on self-test, once,
+ * 400 ms) > NO_INFO 3 > LOW_BATTERY 2 > NONE 0. */
+static const pat_t pats[NEGOBS_PATTERN_COUNT] = {
+    {NULL, 0, 0, 0},
+    {seg_ready, NSEG(seg_ready), 0, 4},
+    {seg_batt, NSEG(seg_batt), 0, 2},
+    {seg_noinfo_entry, NSEG(seg_noinfo_entry), 0, 3},
+    {seg_noinfo, NSEG(seg_noinfo), 1, 3},
+    {seg_caution_far, NSEG(seg_caution_far), 1, 5},
+    {seg_caution_mid, NSEG(seg_caution_mid), 1, 5},
+    {seg_caution_near, NSEG(seg_caution_near), 1, 5},
+    {seg_imminent, NSEG(seg_imminent), 1, 6},
+};
+
+static int32_t since(uint32_t now, uint32_t then)
+{
+    return (int32_t)(now - then);
+}
+
+void negobs_alert_config_default(negobs_alert_config_t *cfg)
+{
+    memset(cfg, 0, sizeof *cfg);
+    cfg->min_pulse_ms = 80;
+    cfg->intensity_permille = 1000;
+    cfg->band_far_mm = 3000;
+    cfg->band_mid_mm = 2200;
+    cfg->binary_mode = 0;
+    cfg->stale_ms = 300;
+    cfg->noinfo_rearm_ms = 10000;
+    cfg->battery_period_ms = 60000;
+    cfg->imminent_hold_ms = 1000;
+    cfg->ready_on_start = 1;
+}
+
+static int32_t shortest_pulse(void)
+{
+    int32_t m = 1 << 30;
+    int i;
+    int j;
+    for (i = 1; i < NEGOBS_PATTERN_COUNT; i++) {
+        for (j = 0; j < pats[i].n; j++) {
+            if (pats[i].s[j].on && pats[i].s[j].dur_ms < m) {
+                m = pats[i].s[j].dur_ms;
+            }
+        }
+    }
+    return m;
+}
+
+negobs_status_t negobs_alert_workspace_size(const negobs_alert_config_t *cfg,
+                                            size_t *bytes_out)
+{
+    if (cfg == NULL || bytes_out == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    *bytes_out = 0;
+    return NEGOBS_OK;
+}
+
+negobs_status_t negobs_alert_init(negobs_alert_t *ctx,
+                                  const negobs_alert_config_t *cfg,
+                                  void *workspace, size_t workspace_bytes)
+{
+    (void)workspace;
+    (void)workspace_bytes;
+    if (ctx == NULL || cfg == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (cfg->min_pulse_ms < 30 || cfg->min_pulse_ms > shortest_pulse() ||
+        cfg->intensity_permille < 1 || cfg->intensity_permille > 1000 ||
+        cfg->band_mid_mm < 0 || cfg->band_far_mm < cfg->band_mid_mm ||
+        cfg->stale_ms < 1 || cfg->stale_ms > 60000 ||
+        cfg->noinfo_rearm_ms < 0 || cfg->battery_period_ms < 1000 ||
+        cfg->imminent_hold_ms < 0 || cfg->imminent_hold_ms > 60000) {
+        return NEGOBS_ERR_INVAL;
+    }
+    memset(ctx, 0, sizeof *ctx);
+    ctx->cfg = *cfg;
+    ctx->ready_pending = cfg->ready_on_start ? 1 : 0;
+    ctx->pat = NEGOBS_PATTERN_NONE;
+    ctx->magic = ALERT_MAGIC;
+    return NEGOBS_OK;
+}
+
+static int is_caution(negobs_alert_pattern_t p)
+{
+    return p == NEGOBS_PATTERN_CAUTION_FAR ||
+           p == NEGOBS_PATTERN_CAUTION_MID ||
+           p == NEGOBS_PATTERN_CAUTION_NEAR;
+}
+
+static int is_noinfo(negobs_alert_pattern_t p)
+{
+    return p == NEGOBS_PATTERN_NO_INFO_ENTRY || p == NEGOBS_PATTERN_NO_INFO;
+}
+
+/* Segment of pattern p (started at start) playing at now. Returns 0 when
+ * a one-shot pattern has finished (then *end is its end time). */
+static int locate(negobs_alert_pattern_t p, uint32_t start, uint32_t now,
+                  int32_t *idx, uint32_t *seg_start, uint32_t *end)
+{
+    const pat_t *pt = &pats[p];
+    int32_t total = 0;
+    int32_t el = since(now, start);
+    int32_t base;
+    int32_t i;
+    if (pt->n == 0) {
+        return 0;
+    }
+    for (i = 0; i < pt->n; i++) {
+        total += pt->s[i].dur_ms;
+    }
+    if (el < 0) {
+        el = 0;
+    }
+    if (!pt->repeat && el >= total) {
+        *end = start + (uint32_t)total;
+        return 0;
+    }
+    base = pt->repeat ? (el / total) * total : 0;
+    el -= base;
+    for (i = 0; i < pt->n; i++) {
+        if (el < pt->s[i].dur_ms) {
+            break;
+        }
+        el -= pt->s[i].dur_ms;
+        base += pt->s[i].dur_ms;
+    }
+    *idx = i;
+    *seg_start = start + (uint32_t)base;
+    *end = *seg_start + pt->s[i].dur_ms;
+    return 1;
+}
+
+static negobs_alert_pattern_t desired(negobs_alert_t *c, uint32_t now)
+{
+    const negobs_alert_config_t *cfg = &c->cfg;
+    int stale = !c->have_input ||
+                since(now, c->in.verdict_ms) > cfg->stale_ms;
+    if (!stale && c->in.level == NEGOBS_LEVEL_IMMINENT) {
+        c->imminent_seen = 1;
+        c->last_imminent_ms = now;
+    }
+    if (c->imminent_seen &&
+        since(now, c->last_imminent_ms) <= cfg->imminent_hold_ms) {
+        return NEGOBS_PATTERN_IMMINENT;
+    }
+    if (!stale && c->in.level == NEGOBS_LEVEL_CAUTION) {
+        if (cfg->binary_mode) {
+            return NEGOBS_PATTERN_CAUTION_MID;
+        }
+        if (c->in.range_mm >= cfg->band_far_mm) {
+            return NEGOBS_PATTERN_CAUTION_FAR;
+        }
+        if (c->in.range_mm >= cfg->band_mid_mm) {
+            return NEGOBS_PATTERN_CAUTION_MID;
+        }
+        return NEGOBS_PATTERN_CAUTION_NEAR;
+    }
+    if (c->ready_pending) {
+        return NEGOBS_PATTERN_READY;
+    }
+    if (stale || c->in.no_info) {
+        return NEGOBS_PATTERN_NO_INFO;
+    }
+    if (c->in.battery_low &&
+        (c->pat == NEGOBS_PATTERN_LOW_BATTERY || !c->battery_played ||
+         since(now, c->battery_start_ms) >= cfg->battery_period_ms)) {
+        return NEGOBS_PATTERN_LOW_BATTERY;
+    }
+    return NEGOBS_PATTERN_NONE;
+}
+
+static void start_pattern(negobs_alert_t *c, negobs_alert_pattern_t p,
+                          uint32_t now)
+{
+    if (c->pat == NEGOBS_PATTERN_READY) {
+        c->ready_pending = 0;
+    }
+    if (is_noinfo(p)) {
+        p = (!c->noinfo_seen ||
+             since(now, c->last_noinfo_ms) > c->cfg.noinfo_rearm_ms)
+                ? NEGOBS_PATTERN_NO_INFO_ENTRY
+                : NEGOBS_PATTERN_NO_INFO;
+    }
+    if (p == NEGOBS_PATTERN_LOW_BATTERY) {
+        c->battery_played = 1;
+        c->battery_start_ms = now;
+    }
+    c->pat = p;
+    c->pat_start_ms = now;
+}
+
+static uint32_t earlier(uint32_t now, uint32_t a, uint32_t b)
+{
+    return (since(a, now) <= since(b, now)) ? a : b;
+}
+
+negobs_status_t negobs_alert_update(negobs_alert_t *c, uint32_t now,
+                                    const negobs_alert_input_t *input,
+                                    negobs_motor_cmd_t *cmd)
+{
+    negobs_alert_pattern_t want;
+    int32_t idx = 0;
+    uint32_t seg_start = now;
+    uint32_t seg_end = now;
+    int on = 0;
+    int playing;
+    uint32_t next;
+    uint32_t i;
+
+    if (c == NULL || cmd == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (c->magic != ALERT_MAGIC) {
+        return NEGOBS_ERR_STATE;
+    }
+    if (input != NULL) {
+        c->in = *input;
+        c->have_input = 1;
+    }
+    if (!c->started) {
+        c->started = 1;
+        /* Before any verdict, staleness counts from the first update. */
+        if (!c->have_input) {
+            c->in.verdict_ms = now;
+            c->in.no_info = 1;
+            c->have_input = 1;
+        }
+    }
+
+    /* Finish one-shot patterns (the NO_INFO burst chains into NO_INFO). */
+    playing = locate(c->pat, c->pat_start_ms, now, &idx, &seg_start,
+                     &seg_end);
+    if (!playing && c->pat != NEGOBS_PATTERN_NONE) {
+        if (c->pat == NEGOBS_PATTERN_READY) {
+            c->ready_pending = 0;
+        }
+        if (c->pat == NEGOBS_PATTERN_NO_INFO_ENTRY) {
+            c->pat = NEGOBS_PATTERN_NO_INFO;
+            c->pat_start_ms = seg_end;
+        } else {
+            c->pat = NEGOBS_PATTERN_NONE;
+        }
+        playing = locate(c->pat, c->pat_start_ms, now, &idx, &seg_start,
+                         &seg_end);
+    }
+    on = playing ? pats[c->pat].s[idx].on : 0;
+
+    want = desired(c, now);
+    if (is_noinfo(want)) {
+        c->noinfo_seen = 1;
+        c->last_noinfo_ms = now;
+    }
+    if (want != c->pat && !(is_noinfo(want) && is_noinfo(c->pat))) {
+        int sw;
+        if (pats[want].prio > pats[c->pat].prio) {
+            sw = 1; /* pre-empt now (the min-pulse guard protects a pulse) */
+        } else if (is_caution(want) && is_caution(c->pat)) {
+            /* Band change: in the long gap after the double pulse. */
+            sw = !on && idx == pats[c->pat].n - 1;
+        } else {
+            sw = !on; /* lower priority: never cut a pulse */
+        }
+        if (sw) {
+            /* A pending READY pre-empted by a hazard is dropped. */
+            start_pattern(c, want, now);
+            playing = locate(c->pat, c->pat_start_ms, now, &idx, &seg_start,
+                             &seg_end);
+            on = playing ? pats[c->pat].s[idx].on : 0;
+        }
+    }
+
+    next = playing ? seg_end : now + 1000u;
+    /* Minimum pulse: never switch off earlier than min_pulse_ms. */
+    if (!on && c->motor_on &&
+        since(now, c->on_since_ms) < c->cfg.min_pulse_ms) {
+        on = 1;
+        next = c->on_since_ms + (uint32_t)c->cfg.min_pulse_ms;
+    }
+    if (on && !c->motor_on) {
+        c->on_since_ms = now;
+    }
+    c->motor_on = on;
+
+    /* Wake up for the watchdog deadline and the end of an IMMINENT hold. */
+    if (since(now, c->in.verdict_ms) <= c->cfg.stale_ms) {
+        next = earlier(now, next,
+                       c->in.verdict_ms + (uint32_t)c->cfg.stale_ms + 1u);
+    }
+    if (c->pat == NEGOBS_PATTERN_IMMINENT && c->imminent_seen &&
+        since(now, c->last_imminent_ms) <= c->cfg.imminent_hold_ms) {
+        next = earlier(now, next, c->last_imminent_ms +
+                                      (uint32_t)c->cfg.imminent_hold_ms + 1u);
+    }
+    if (c->in.battery_low && c->battery_played) {
+        uint32_t due = c->battery_start_ms + (uint32_t)c->cfg.battery_period_ms;
+        if (since(due, now) > 0) {
+            next = earlier(now, next, due);
+        }
+    }
+    if (since(next, now) <= 0) {
+        next = now + 1u;
+    }
+
+    cmd->on = on;
+    cmd->duty_permille = on ? c->cfg.intensity_permille : 0;
+    cmd->next_change_ms = next;
+    cmd->pattern = c->pat;
+    /* Upcoming schedule of the current pattern, assuming no new input. */
+    cmd->n_segments = 1;
+    cmd->segments[0].start_ms = now;
+    cmd->segments[0].on = on;
+    cmd->segments[0].duty_permille = cmd->duty_permille;
+    if (playing) {
+        const pat_t *pt = &pats[c->pat];
+        uint32_t t = seg_end;
+        int32_t k = idx;
+        if (on && !pt->s[idx].on) {
+            t = next; /* guard extension */
+        }
+        for (i = 1; i < NEGOBS_ALERT_MAX_SEGMENTS; i++) {
+            k++;
+            if (k >= pt->n) {
+                if (!pt->repeat) {
+                    cmd->segments[i].start_ms = t;
+                    cmd->segments[i].on = 0;
+                    cmd->segments[i].duty_permille = 0;
+                    cmd->n_segments = i + 1;
+                    break;
+                }
+                k = 0;
+            }
+            cmd->segments[i].start_ms = t;
+            cmd->segments[i].on = pt->s[k].on;
+            cmd->segments[i].duty_permille =
+                pt->s[k].on ? c->cfg.intensity_permille : 0;
+            cmd->n_segments = i + 1;
+            t += pt->s[k].dur_ms;
+        }
+    }
+    return NEGOBS_OK;
+}
+
+void negobs_alert_input_from_result(const negobs_detect_result_t *res,
+                                    int32_t battery_low, uint32_t verdict_ms,
+                                    negobs_alert_input_t *in)
+{
+    memset(in, 0, sizeof *in);
+    in->verdict_ms = verdict_ms;
+    in->battery_low = battery_low;
+    if (res == NULL) {
+        in->no_info = 1;
+        return;
+    }
+    in->level = res->level;
+    in->range_mm = res->nearest_range_mm;
+    in->no_info = (res->state == NEGOBS_DETECT_NO_INFO) ? 1 : 0;
+}

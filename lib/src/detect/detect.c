@@ -1,0 +1,1025 @@
+/*
+ * Negative-obstacle detector: gating, ground model, per-strip scan,
+ * hazard merging, disparity-edge support and temporal logic.
+ *
+ * The per-strip scan (the answer to the paper's step 9) works on the
+ * signed residual r = d_measured - d_ground of every valid pixel, in q4.
+ * For a drop of h beyond an edge, r = -d_ground * h / (H + h) on every row
+ * past the edge, whatever the pitch: that is the cue. Each row of a strip
+ * is classified by majority vote of its valid pixels (equivalent to
+ * testing the strip median, and O(1) per pixel):
+ *
+ *   DEFICIT   more than half have r <= -tau
+ *   POSITIVE  more than half have r >= +tau (walls, up-steps: stop here)
+ *   GROUND    more than half have |r| < tau
+ *   INVALID   fewer than a quarter of the strip valid
+ *   MIXED     none of these
+ *
+ * with tau(v) = max(d_g * h_t/(H + h_t), k * 1.25 * sigma / sqrt(n)),
+ * h_t = h_thresh_pct% of h_min (h_min_near inside h_near_range, else
+ * h_min_far), and 1.25 the efficiency loss of a median against a mean.
+ * Rows are visited from the bottom (near) upwards (far) until the ground
+ * model's range passes range_max or the strip leaves the corridor. A drop
+ * needs min_support_mm of GROUND before it and min_edge_rows DEFICIT rows
+ * (INVALID or MIXED rows inside the run neither count nor break it, up to
+ * two). Its range comes from the ground model at the last GROUND row.
+ */
+#include "negobs/detect.h"
+
+#include <string.h>
+
+#include "arena.h"
+#include "geom_internal.h"
+#include "ground_fit.h"
+#include "temporal.h"
+
+#define DETECT_MAGIC 0x4E474454u /* "NGDT" */
+#define MAX_STRIP_PX 64
+
+enum row_class {
+    ROW_INVALID = 0,
+    ROW_GROUND,
+    ROW_DEFICIT,
+    ROW_POSITIVE,
+    ROW_MIXED
+};
+
+typedef struct strip_hit {
+    int32_t found;
+    negobs_hazard_type_t type;
+    int32_t u0;
+    int32_t u1;
+    int32_t edge_v;   /* last ground row (bottom of the box)         */
+    int32_t top_v;    /* farthest row examined for this hazard       */
+    int32_t range_mm;
+    int32_t lateral_mm;
+    int32_t depth_mm;
+    int32_t drop_mm;
+    int32_t h_lower;
+    int32_t margin_q8; /* mean deficit / tau, Q8                     */
+} strip_hit_t;
+
+typedef struct detect_priv {
+    uint32_t magic;
+    gfit_t gfit;
+    temporal_t temporal;
+    strip_hit_t *hits;
+    int32_t n_strips;
+} detect_priv_t;
+
+void negobs_detect_config_default(negobs_detect_config_t *cfg, int32_t width,
+                                  int32_t height)
+{
+    memset(cfg, 0, sizeof *cfg);
+    negobs_camera_default(&cfg->cam, width, height);
+    cfg->cam_height_mm = 1200;
+    cfg->cam_height_tol_mm = 300;
+    cfg->cam_pitch_mdeg = 20000;
+    cfg->cam_pitch_tol_mdeg = 15000;
+    cfg->cam_roll_tol_mdeg = 12000;
+    cfg->max_disp_q4 = 64 * 16;
+    cfg->min_confidence = 1;
+    cfg->fit_rows_pct = 25;
+    cfg->fit_step_px = 2;
+    cfg->ground_min_valid_pct = 25;
+    cfg->ground_min_inlier_pct = 30;
+    cfg->track_gain_q15 = 16384;
+    cfg->track_gate_q4 = 24;
+    cfg->sigma_min_q4 = 2;
+    cfg->sigma_max_q4 = 24;
+    cfg->range_max_mm = 5000;
+    cfg->range_warn_mm = 4000;
+    cfg->range_imminent_mm = 1500;
+    cfg->ttc_imminent_ms = 1200;
+    cfg->corridor_half_width_mm = 600;
+    cfg->strip_px = 16;
+    cfg->h_min_far_mm = 100;
+    cfg->h_min_near_mm = 50;
+    cfg->h_near_range_mm = 2000;
+    cfg->h_thresh_pct = 70;
+    cfg->k_sigma_q4 = 48;
+    cfg->min_edge_rows = 3;
+    cfg->min_support_mm = 400;
+    cfg->min_gap_mm = 400;
+    cfg->max_hole_mm = 1000;
+    cfg->merge_range_mm = 300;
+    cfg->min_strips = 2;
+    cfg->missing_policy = NEGOBS_MISSING_CAUTION;
+    cfg->canny_thresh_permille = 70;
+    cfg->confirm_k = 3;
+    cfg->confirm_n = 5;
+    cfg->clear_m = 5;
+    cfg->hold_ms = 3000;
+    cfg->hold_speed_mm_s = 1400;
+    cfg->max_speed_mm_s = 2000;
+    cfg->assoc_range_mm = 400;
+    cfg->assoc_lateral_mm = 600;
+    cfg->hold_bottom_rows = 24;
+    cfg->sync_tol_ms = 5;
+    cfg->max_frame_age_ms = 150;
+    cfg->dark_mean_min = 20;
+    cfg->dark_max_permille = 700;
+    cfg->saturated_max_permille = 250;
+    cfg->texture_min_q4 = 24;
+}
+
+negobs_status_t negobs_detect_config_preset(negobs_detect_config_t *cfg,
+                                            negobs_sensitivity_t preset)
+{
+    if (cfg == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    switch (preset) {
+    case NEGOBS_SENS_SENSITIVE:
+        cfg->h_min_far_mm = 80;
+        cfg->h_min_near_mm = 40;
+        cfg->k_sigma_q4 = 40;
+        cfg->confirm_k = 2;
+        cfg->confirm_n = 4;
+        break;
+    case NEGOBS_SENS_BALANCED:
+        cfg->h_min_far_mm = 100;
+        cfg->h_min_near_mm = 50;
+        cfg->k_sigma_q4 = 48;
+        cfg->confirm_k = 3;
+        cfg->confirm_n = 5;
+        break;
+    case NEGOBS_SENS_CONSERVATIVE:
+        cfg->h_min_far_mm = 120;
+        cfg->h_min_near_mm = 60;
+        cfg->k_sigma_q4 = 56;
+        cfg->confirm_k = 4;
+        cfg->confirm_n = 6;
+        break;
+    default:
+        return NEGOBS_ERR_INVAL;
+    }
+    return NEGOBS_OK;
+}
+
+static int in_range(int32_t x, int32_t lo, int32_t hi)
+{
+    return x >= lo && x <= hi;
+}
+
+static negobs_status_t config_check(const negobs_detect_config_t *c)
+{
+    if (c == NULL || negobs_camera_check(&c->cam) != NEGOBS_OK) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (!in_range(c->cam_height_mm, 200, 5000) ||
+        !in_range(c->cam_height_tol_mm, 0, c->cam_height_mm - 100) ||
+        !in_range(c->cam_pitch_mdeg, -10000, 70000) ||
+        !in_range(c->cam_pitch_tol_mdeg, 0, 45000) ||
+        !in_range(c->cam_roll_tol_mdeg, 0, 45000) ||
+        !in_range(c->max_disp_q4, 16, 512 * 16) ||
+        !in_range(c->min_confidence, 0, 255) ||
+        !in_range(c->fit_rows_pct, 10, 100) ||
+        !in_range(c->fit_step_px, 1, 16) ||
+        !in_range(c->ground_min_valid_pct, 0, 100) ||
+        !in_range(c->ground_min_inlier_pct, 0, 100) ||
+        !in_range(c->track_gain_q15, 1, 32768) ||
+        !in_range(c->track_gate_q4, 1, 1024) ||
+        !in_range(c->sigma_min_q4, 1, 64) ||
+        !in_range(c->sigma_max_q4, c->sigma_min_q4, 256)) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (!in_range(c->range_max_mm, 500, 50000) ||
+        !in_range(c->range_warn_mm, 0, c->range_max_mm) ||
+        !in_range(c->range_imminent_mm, 0, c->range_warn_mm) ||
+        !in_range(c->ttc_imminent_ms, 0, 10000) ||
+        !in_range(c->corridor_half_width_mm, 100, 5000) ||
+        !in_range(c->strip_px, 4, MAX_STRIP_PX) ||
+        c->strip_px > c->cam.width ||
+        !in_range(c->h_min_far_mm, 10, 2000) ||
+        !in_range(c->h_min_near_mm, 10, 2000) ||
+        !in_range(c->h_near_range_mm, 0, 50000) ||
+        !in_range(c->h_thresh_pct, 10, 200) ||
+        !in_range(c->k_sigma_q4, 0, 256) ||
+        !in_range(c->min_edge_rows, 1, 64) ||
+        !in_range(c->min_support_mm, 0, 5000) ||
+        !in_range(c->min_gap_mm, 50, 10000) ||
+        !in_range(c->max_hole_mm, 0, 10000) ||
+        !in_range(c->merge_range_mm, 0, 5000) ||
+        !in_range(c->min_strips, 1, 64) ||
+        !in_range(c->missing_policy, 0, 2) ||
+        !in_range(c->canny_thresh_permille, 1, 1000)) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (!in_range(c->confirm_n, 1, 31) ||
+        !in_range(c->confirm_k, 1, c->confirm_n) ||
+        !in_range(c->clear_m, 1, 1000) || !in_range(c->hold_ms, 0, 60000) ||
+        !in_range(c->hold_speed_mm_s, 0, 5000) ||
+        !in_range(c->max_speed_mm_s, 0, 10000) ||
+        !in_range(c->assoc_range_mm, 0, 5000) ||
+        !in_range(c->assoc_lateral_mm, 0, 5000) ||
+        !in_range(c->hold_bottom_rows, 0, c->cam.height) ||
+        !in_range(c->sync_tol_ms, 0, 1000) ||
+        !in_range(c->max_frame_age_ms, 1, 60000) ||
+        !in_range(c->dark_mean_min, 0, 255) ||
+        !in_range(c->dark_max_permille, 0, 1000) ||
+        !in_range(c->saturated_max_permille, 0, 1000) ||
+        !in_range(c->texture_min_q4, 0, 4096)) {
+        return NEGOBS_ERR_INVAL;
+    }
+    return NEGOBS_OK;
+}
+
+/* The single carve function: measures with a NULL arena base. */
+static negobs_status_t carve(negobs_arena_t *ar,
+                             const negobs_detect_config_t *cfg,
+                             detect_priv_t **out)
+{
+    detect_priv_t tmp;
+    detect_priv_t *p = negobs_arena_take(ar, sizeof(detect_priv_t));
+    negobs_status_t st;
+    if (p == NULL) {
+        p = &tmp; /* measuring: carve into a scratch descriptor */
+    }
+    memset(p, 0, sizeof *p);
+    st = gfit_carve(&p->gfit, ar, cfg);
+    if (st != NEGOBS_OK) {
+        return st;
+    }
+    p->n_strips = cfg->cam.width / cfg->strip_px;
+    p->hits = negobs_arena_take(ar, (size_t)p->n_strips * sizeof(strip_hit_t));
+    *out = (p == &tmp) ? NULL : p;
+    return negobs_arena_status(ar);
+}
+
+negobs_status_t negobs_detect_workspace_size(const negobs_detect_config_t *cfg,
+                                             size_t *bytes_out)
+{
+    negobs_arena_t ar;
+    detect_priv_t *p;
+    negobs_status_t st;
+    if (bytes_out == NULL || config_check(cfg) != NEGOBS_OK) {
+        return NEGOBS_ERR_INVAL;
+    }
+    negobs_arena_init(&ar, NULL, 0);
+    st = carve(&ar, cfg, &p);
+    if (st != NEGOBS_OK) {
+        return st;
+    }
+    *bytes_out = negobs_arena_used(&ar);
+    return NEGOBS_OK;
+}
+
+negobs_status_t negobs_detect_init(negobs_detect_t *ctx,
+                                   const negobs_detect_config_t *cfg,
+                                   void *workspace, size_t workspace_bytes)
+{
+    negobs_arena_t ar;
+    detect_priv_t *p = NULL;
+    negobs_status_t st;
+    if (ctx == NULL || workspace == NULL || config_check(cfg) != NEGOBS_OK) {
+        return NEGOBS_ERR_INVAL;
+    }
+    ctx->priv = NULL;
+    ctx->cfg = *cfg;
+    negobs_arena_init(&ar, workspace, workspace_bytes);
+    if (negobs_arena_status(&ar) != NEGOBS_OK) {
+        return negobs_arena_status(&ar);
+    }
+    /* Carve against the context's own copy so pointers stay valid. */
+    st = carve(&ar, &ctx->cfg, &p);
+    if (st != NEGOBS_OK || p == NULL) {
+        return (st != NEGOBS_OK) ? st : NEGOBS_ERR_NOSPACE;
+    }
+    temporal_reset(&p->temporal, &ctx->cfg);
+    p->magic = DETECT_MAGIC;
+    ctx->priv = p;
+    return NEGOBS_OK;
+}
+
+negobs_status_t negobs_detect_photo_stats(const negobs_image_u8_t *img,
+                                          negobs_photo_stats_t *out)
+{
+    int32_t x;
+    int32_t y;
+    uint64_t sum = 0;
+    uint64_t grad = 0;
+    uint32_t n = 0;
+    uint32_t ng = 0;
+    uint32_t dark = 0;
+    uint32_t sat = 0;
+    if (out == NULL || negobs_image_u8_check(img) != NEGOBS_OK) {
+        return NEGOBS_ERR_INVAL;
+    }
+    for (y = 0; y < img->height; y += 2) {
+        const uint8_t *row = negobs_image_u8_row(img, y);
+        for (x = 0; x < img->width; x += 2) {
+            uint32_t p = row[x];
+            sum += p;
+            n++;
+            dark += (p <= 8u) ? 1u : 0u;
+            sat += (p >= 250u) ? 1u : 0u;
+            if (x + 1 < img->width) {
+                int32_t g = (int32_t)row[x + 1] - (int32_t)p;
+                grad += (uint32_t)negobs_abs_s32(g);
+                ng++;
+            }
+        }
+    }
+    out->mean = (int32_t)(sum / n);
+    out->dark_permille = (int32_t)(((uint64_t)dark * 1000u) / n);
+    out->saturated_permille = (int32_t)(((uint64_t)sat * 1000u) / n);
+    out->texture_q4 = ng ? (int32_t)((grad * 16u) / ng) : 0;
+    return NEGOBS_OK;
+}
+
+static uint32_t photo_reasons(const negobs_detect_config_t *cfg,
+                              const negobs_photo_stats_t *s)
+{
+    uint32_t r = 0;
+    if (s->mean < cfg->dark_mean_min ||
+        s->dark_permille > cfg->dark_max_permille) {
+        r |= NEGOBS_DEGRADED_TOO_DARK;
+    }
+    if (s->saturated_permille > cfg->saturated_max_permille) {
+        r |= NEGOBS_DEGRADED_SATURATED;
+    }
+    if (s->texture_q4 < cfg->texture_min_q4) {
+        r |= NEGOBS_DEGRADED_LOW_TEXTURE;
+    }
+    return r;
+}
+
+/* Scan context shared by the strips of one frame. */
+typedef struct scan_ctx {
+    const negobs_detect_config_t *cfg;
+    const negobs_image_s16_t *disp;
+    const negobs_image_u8_t *conf;
+    const negobs_ground_plane_t *plane;
+    const negobs_ground_frame_t *frame;
+    int32_t sigma_q4;
+    int32_t d_min_q4; /* ground disparity at range_max */
+} scan_ctx_t;
+
+/* Per-row statistics of one strip. */
+typedef struct row_stat {
+    int32_t n;
+    int32_t tau;
+    int32_t dg;       /* model at the strip centre, q4 */
+    int32_t n_def;
+    int32_t n_gnd;
+    int32_t n_pos;
+    int32_t n_deeper; /* below the first plateau by more than tau */
+    int64_t sum_dg_def;
+    int64_t sum_d_def;
+    int64_t sum_r_def;
+} row_stat_t;
+
+static int32_t h_min_at(const negobs_detect_config_t *cfg, int32_t range_mm)
+{
+    return (range_mm <= cfg->h_near_range_mm) ? cfg->h_min_near_mm
+                                              : cfg->h_min_far_mm;
+}
+
+/*
+ * Classify one row of a strip. rho1_q15 > 0 additionally counts pixels
+ * deeper than the first plateau (relative deficit rho1) by tau.
+ */
+static enum row_class classify_row(const scan_ctx_t *s, int32_t u0,
+                                   int32_t u1, int32_t v, int32_t range_mm,
+                                   int32_t rho1_q15, row_stat_t *st)
+{
+    const negobs_detect_config_t *cfg = s->cfg;
+    const int16_t *row = negobs_image_s16_row(s->disp, v);
+    const uint8_t *crow = (s->conf != NULL)
+                              ? negobs_image_u8_row(s->conf, v)
+                              : NULL;
+    int32_t rr[MAX_STRIP_PX];
+    int32_t gg[MAX_STRIP_PX];
+    int32_t dd[MAX_STRIP_PX];
+    int64_t base = (int64_t)s->plane->b_q20 * v + s->plane->c_q20;
+    int64_t acc = base + (int64_t)s->plane->a_q20 * u0;
+    int32_t h_t;
+    int32_t tau_geo;
+    int32_t tau_noise;
+    int32_t u;
+    int32_t i;
+    int32_t hmm = s->frame->height_mm;
+
+    memset(st, 0, sizeof *st);
+    st->dg = (int32_t)geom_rshift_round_s64(
+        base + (int64_t)s->plane->a_q20 * ((u0 + u1) / 2), 16);
+    for (u = u0; u < u1; u++, acc += s->plane->a_q20) {
+        int32_t d = row[u];
+        if (d == NEGOBS_DISP_INVALID || d < 0 ||
+            (crow != NULL && (int32_t)crow[u] < cfg->min_confidence)) {
+            continue;
+        }
+        gg[st->n] = (int32_t)geom_rshift_round_s64(acc, 16);
+        dd[st->n] = d;
+        rr[st->n] = d - gg[st->n];
+        st->n++;
+    }
+    if (st->n * 4 < (u1 - u0) || st->n < 3) {
+        return ROW_INVALID;
+    }
+    h_t = (h_min_at(cfg, range_mm) * cfg->h_thresh_pct) / 100;
+    tau_geo = (int32_t)(((int64_t)st->dg * h_t) / (hmm + h_t));
+    /* k * 1.25 * sigma / sqrt(n): k_q4*sigma_q4*5 / (4*sqrt(256 n)). */
+    tau_noise = (int32_t)(((int64_t)cfg->k_sigma_q4 * s->sigma_q4 * 5) /
+                          (4 * (int64_t)negobs_isqrt_u32(
+                                   (uint32_t)(256 * st->n))));
+    st->tau = geom_max_s32(geom_max_s32(tau_geo, tau_noise), 1);
+    for (i = 0; i < st->n; i++) {
+        int32_t r = rr[i];
+        if (r <= -st->tau) {
+            st->n_def++;
+            st->sum_dg_def += gg[i];
+            st->sum_d_def += dd[i];
+            st->sum_r_def += r;
+            if (rho1_q15 > 0 &&
+                r <= -(int32_t)(((int64_t)gg[i] * rho1_q15) >> 15) - st->tau) {
+                st->n_deeper++;
+            }
+        } else if (r >= st->tau) {
+            st->n_pos++;
+        } else {
+            st->n_gnd++;
+        }
+    }
+    if (st->n_def * 2 > st->n) {
+        return ROW_DEFICIT;
+    }
+    if (st->n_pos * 2 > st->n) {
+        return ROW_POSITIVE;
+    }
+    if (st->n_gnd * 2 > st->n) {
+        return ROW_GROUND;
+    }
+    return ROW_MIXED;
+}
+
+/* Floor distance and depth of the ground model at (u, v). */
+static void model_point(const scan_ctx_t *s, int32_t u, int32_t v,
+                        int32_t dg_q4, int32_t *range_mm, int32_t *lat_mm,
+                        int32_t *depth_mm)
+{
+    int32_t z = negobs_depth_mm_from_disp_q4(&s->cfg->cam, dg_q4);
+    if (z < 0) {
+        z = NEGOBS_DEPTH_MAX_MM;
+    }
+    negobs_ground_floor_point(&s->cfg->cam, s->frame, u * 16, v * 16, z,
+                              range_mm, lat_mm);
+    if (depth_mm != NULL) {
+        *depth_mm = z;
+    }
+}
+
+static int in_corridor(const scan_ctx_t *s, int32_t uc, int32_t dg_q4)
+{
+    /* |X| = |u - cx| * B / d <= W  <=>  |u - cx| * B_um <= W_um * d. */
+    int64_t du = negobs_abs_s32(uc * 16 + 8 - s->cfg->cam.cx_q4);
+    return du * s->cfg->cam.baseline_um <=
+           (int64_t)s->cfg->corridor_half_width_mm * 1000 * dg_q4;
+}
+
+static void scan_strip(const scan_ctx_t *s, int32_t u0, int32_t u1,
+                       strip_hit_t *hit)
+{
+    const negobs_detect_config_t *cfg = s->cfg;
+    const int32_t uc = (u0 + u1) / 2;
+    row_stat_t st;
+    int32_t v;
+    int32_t sup_start = -1; /* range of the first ground row, -1: none */
+    int32_t supported = 0;
+    int32_t last_g_v = -1;
+    int32_t last_g_r = 0;
+    int32_t last_g_dg = 0;
+    int32_t gap = 0;
+    int32_t run = 0;
+    int32_t run_skip = 0;
+    int32_t run_v = -1;
+    int64_t sdg = 0;
+    int64_t sd = 0;
+    int64_t sr = 0;
+    int64_t stau = 0;
+    int32_t miss_len = 0; /* invalid band beyond the last ground row */
+    int32_t phase = 0;    /* 0 scan, 1 classify after a drop          */
+    int32_t rho1 = 0;
+    int32_t back = 0;
+    int32_t deeper = 0;
+    int32_t range = 0;
+
+    memset(hit, 0, sizeof *hit);
+    hit->u0 = u0;
+    hit->u1 = u1;
+    for (v = cfg->cam.height - 1; v >= 0; v--) {
+        enum row_class rc;
+        int32_t dgc = negobs_ground_disp_q4(s->plane, uc, v);
+        if (dgc < s->d_min_q4 || dgc <= 0) {
+            break;
+        }
+        if (phase == 0 && !in_corridor(s, uc, dgc)) {
+            break;
+        }
+        model_point(s, uc, v, dgc, &range, NULL, NULL);
+        rc = classify_row(s, u0, u1, v, range, (phase == 1) ? rho1 : 0, &st);
+
+        if (phase == 1) {
+            /* Classify the drop found: hole (ground or far wall again),
+             * stairs (a second, deeper plateau) or plain drop. */
+            hit->top_v = v;
+            if (range - hit->range_mm > cfg->max_hole_mm + 500) {
+                break;
+            }
+            if (rc == ROW_GROUND || rc == ROW_POSITIVE) {
+                deeper = 0;
+                if (++back >= cfg->min_edge_rows &&
+                    range - hit->range_mm <= cfg->max_hole_mm) {
+                    hit->type = NEGOBS_HAZARD_HOLE;
+                    break;
+                }
+            } else if (rc == ROW_DEFICIT && st.n_deeper * 2 > st.n) {
+                back = 0;
+                if (++deeper >= cfg->min_edge_rows) {
+                    hit->type = NEGOBS_HAZARD_STAIRS;
+                    break;
+                }
+            } else if (rc == ROW_DEFICIT) {
+                back = 0;
+                deeper = 0;
+            }
+            continue;
+        }
+
+        switch (rc) {
+        case ROW_GROUND:
+            if (sup_start < 0) {
+                sup_start = range;
+            }
+            last_g_v = v;
+            last_g_r = range;
+            last_g_dg = dgc;
+            if (range - sup_start >= cfg->min_support_mm) {
+                supported = 1;
+            }
+            gap = 0;
+            run = 0;
+            run_skip = 0;
+            miss_len = 0;
+            break;
+        case ROW_DEFICIT:
+            gap = 0;
+            if (!supported) {
+                /* Lower surface before any supported ground. */
+                sup_start = -1;
+                run = 0;
+                break;
+            }
+            if (run == 0) {
+                run_v = v;
+                sdg = sd = sr = stau = 0;
+                run_skip = 0;
+            }
+            run++;
+            sdg += st.sum_dg_def;
+            sd += st.sum_d_def;
+            sr += st.sum_r_def;
+            stau += (int64_t)st.tau * st.n_def;
+            if (run >= cfg->min_edge_rows) {
+                hit->found = 1;
+                hit->type = NEGOBS_HAZARD_DROP;
+                hit->edge_v = last_g_v;
+                hit->top_v = v;
+                model_point(s, uc, last_g_v, last_g_dg, &hit->range_mm,
+                            &hit->lateral_mm, &hit->depth_mm);
+                /* Same-ray relation h = H * (d_g / d_far - 1). */
+                if (sd > 0) {
+                    hit->drop_mm = (int32_t)geom_clamp_s64(
+                        ((int64_t)s->frame->height_mm * (sdg - sd)) / sd, 0,
+                        100000);
+                } else {
+                    hit->drop_mm = 100000;
+                    hit->h_lower = 1;
+                }
+                hit->margin_q8 = (stau > 0)
+                                     ? (int32_t)geom_clamp_s64(
+                                           (-sr * 256) / stau, 0, 1 << 20)
+                                     : 0;
+                rho1 = (sdg > 0) ? (int32_t)(((sdg - sd) << 15) / sdg) : 0;
+                (void)run_v;
+                phase = 1;
+                back = 0;
+                deeper = 0;
+            }
+            break;
+        case ROW_POSITIVE:
+            if (supported && miss_len >= cfg->min_gap_mm) {
+                goto missing;
+            }
+            return; /* wall or up-step: nothing beyond is visible */
+        case ROW_INVALID:
+        case ROW_MIXED:
+        default:
+            if (run > 0) {
+                if (++run_skip > 2) {
+                    run = 0;
+                    run_skip = 0;
+                }
+            }
+            if (!supported) {
+                if (++gap > 2) {
+                    sup_start = -1;
+                }
+                break;
+            }
+            if (rc == ROW_INVALID && run == 0) {
+                miss_len = range - last_g_r;
+            }
+            break;
+        }
+    }
+    if (hit->found) {
+        return;
+    }
+    if (!(supported && miss_len >= cfg->min_gap_mm)) {
+        return;
+    }
+missing:
+    /* Missing ground: supported ground, then no data for min_gap_mm up to
+     * the end of the scan (or up to a far wall). The occlusion shadow of
+     * a drop h at range R is about R*h/H long, so h >= H*L/R. */
+    hit->found = 1;
+    hit->type = NEGOBS_HAZARD_UNKNOWN;
+    hit->edge_v = last_g_v;
+    hit->top_v = geom_max_s32(v, 0);
+    model_point(s, uc, last_g_v, last_g_dg, &hit->range_mm, &hit->lateral_mm,
+                &hit->depth_mm);
+    hit->drop_mm = (hit->range_mm > 0)
+                       ? (int32_t)(((int64_t)s->frame->height_mm * miss_len) /
+                                   hit->range_mm)
+                       : 0;
+    hit->h_lower = 1;
+    hit->margin_q8 = 256;
+}
+
+/* Sobel magnitude (L1) of the disparity map at (u, v); 0 near invalid. */
+static int32_t disp_grad(const negobs_image_s16_t *d, int32_t u, int32_t v)
+{
+    const int16_t *r0 = negobs_image_s16_row(d, v - 1);
+    const int16_t *r1 = negobs_image_s16_row(d, v);
+    const int16_t *r2 = negobs_image_s16_row(d, v + 1);
+    int32_t gx;
+    int32_t gy;
+    int32_t i;
+    for (i = -1; i <= 1; i++) {
+        if (r0[u + i] == NEGOBS_DISP_INVALID ||
+            r1[u + i] == NEGOBS_DISP_INVALID ||
+            r2[u + i] == NEGOBS_DISP_INVALID) {
+            return 0;
+        }
+    }
+    gx = (r0[u + 1] + 2 * r1[u + 1] + r2[u + 1]) -
+         (r0[u - 1] + 2 * r1[u - 1] + r2[u - 1]);
+    gy = (r2[u - 1] + 2 * r2[u] + r2[u + 1]) -
+         (r0[u - 1] + 2 * r0[u] + r0[u + 1]);
+    return negobs_abs_s32(gx) + negobs_abs_s32(gy);
+}
+
+/*
+ * Paper step 7 as a supporting cue: Canny-style edges of the disparity
+ * map. The high threshold is canny_thresh_permille (0.07) of the largest
+ * Sobel magnitude in the scanned band; an edge pixel must also be a local
+ * maximum along the column (non-maximum suppression in the direction a
+ * drop edge runs across). Returns edge pixels found within 2 rows of the
+ * hazard's edge row over its columns.
+ */
+static int32_t canny_support(const negobs_image_s16_t *d, int32_t gmax,
+                             int32_t thr_permille, const negobs_hazard_t *h)
+{
+    int32_t thr = (int32_t)(((int64_t)gmax * thr_permille) / 1000);
+    int32_t count = 0;
+    int32_t u;
+    int32_t v;
+    if (thr < 1) {
+        return 0;
+    }
+    for (v = h->v1 - 2; v <= h->v1 + 1; v++) {
+        if (v < 2 || v >= d->height - 2) {
+            continue;
+        }
+        for (u = geom_max_s32(h->u0, 1); u <= h->u1 && u < d->width - 1;
+             u++) {
+            int32_t g = disp_grad(d, u, v);
+            if (g >= thr && g >= disp_grad(d, u, v - 1) &&
+                g >= disp_grad(d, u, v + 1)) {
+                count++;
+            }
+        }
+    }
+    return count;
+}
+
+static int32_t band_grad_max(const negobs_image_s16_t *d, int32_t v_top)
+{
+    int32_t gmax = 0;
+    int32_t u;
+    int32_t v;
+    /* Every 2nd pixel of every 2nd row keeps this a small share of the
+     * frame cost. */
+    for (v = geom_max_s32(v_top, 1); v < d->height - 1; v += 2) {
+        for (u = 1; u < d->width - 1; u += 2) {
+            gmax = geom_max_s32(gmax, disp_grad(d, u, v));
+        }
+    }
+    return gmax;
+}
+
+static void fill_no_info(negobs_detect_result_t *res, uint32_t reasons)
+{
+    memset(res, 0, sizeof *res);
+    res->state = NEGOBS_DETECT_NO_INFO;
+    res->reasons = reasons;
+    res->level = NEGOBS_LEVEL_NONE;
+    res->nearest_range_mm = -1;
+}
+
+/* Merge adjacent strips into hazards; nearest kept when over the bound. */
+static void merge_strips(const scan_ctx_t *s, detect_priv_t *p,
+                         negobs_detect_result_t *res)
+{
+    const negobs_detect_config_t *cfg = s->cfg;
+    int32_t i = 0;
+    while (i < p->n_strips) {
+        int32_t j;
+        int32_t k;
+        int32_t cnt;
+        int32_t nearest;
+        int64_t drop_sum = 0;
+        int32_t types[4] = {0, 0, 0, 0};
+        int32_t margin = 0;
+        negobs_hazard_t h;
+        if (!p->hits[i].found) {
+            i++;
+            continue;
+        }
+        j = i + 1;
+        while (j < p->n_strips && p->hits[j].found &&
+               negobs_abs_s32(p->hits[j].range_mm - p->hits[j - 1].range_mm) <=
+                   cfg->merge_range_mm &&
+               (p->hits[j].type == NEGOBS_HAZARD_UNKNOWN) ==
+                   (p->hits[j - 1].type == NEGOBS_HAZARD_UNKNOWN)) {
+            j++;
+        }
+        cnt = j - i;
+        if (cnt < cfg->min_strips) {
+            i = j;
+            continue;
+        }
+        memset(&h, 0, sizeof h);
+        nearest = i;
+        h.u0 = (int16_t)p->hits[i].u0;
+        h.u1 = (int16_t)(p->hits[j - 1].u1 - 1);
+        h.v0 = (int16_t)p->hits[i].top_v;
+        h.v1 = (int16_t)p->hits[i].edge_v;
+        for (k = i; k < j; k++) {
+            if (p->hits[k].range_mm < p->hits[nearest].range_mm) {
+                nearest = k;
+            }
+        }
+        /* Among strips within 50 mm of the nearest, report the one most
+         * ahead (a straight curb across the path is "straight ahead"). */
+        {
+            int32_t rmin = p->hits[nearest].range_mm;
+            for (k = i; k < j; k++) {
+                if (p->hits[k].range_mm <= rmin + 50 &&
+                    negobs_abs_s32(p->hits[k].lateral_mm) <
+                        negobs_abs_s32(p->hits[nearest].lateral_mm)) {
+                    nearest = k;
+                }
+            }
+        }
+        for (k = i; k < j; k++) {
+            const strip_hit_t *sh = &p->hits[k];
+            drop_sum += sh->drop_mm;
+            types[sh->type]++;
+            margin += sh->margin_q8;
+            h.v0 = (int16_t)geom_min_s32(h.v0, sh->top_v);
+            h.v1 = (int16_t)geom_max_s32(h.v1, sh->edge_v);
+            if (sh->h_lower) {
+                h.flags |= NEGOBS_HAZARD_F_H_LOWER;
+            }
+        }
+        h.type = NEGOBS_HAZARD_DROP;
+        if (types[NEGOBS_HAZARD_UNKNOWN] == cnt) {
+            h.type = NEGOBS_HAZARD_UNKNOWN;
+        } else if (types[NEGOBS_HAZARD_STAIRS] * 2 >= cnt) {
+            h.type = NEGOBS_HAZARD_STAIRS;
+        } else if (types[NEGOBS_HAZARD_HOLE] * 2 >= cnt) {
+            h.type = NEGOBS_HAZARD_HOLE;
+        }
+        h.range_mm = p->hits[nearest].range_mm;
+        h.lateral_mm = p->hits[nearest].lateral_mm;
+        h.depth_mm = p->hits[nearest].depth_mm;
+        h.bearing_mdeg = negobs_bearing_mdeg(h.lateral_mm, h.range_mm);
+        h.drop_mm = (int32_t)(drop_sum / cnt);
+        h.strips = (int16_t)cnt;
+        /* Confidence: agreement across strips (4 strips = full) times the
+         * mean threshold margin (2x tau = full). Canny adds support. */
+        {
+            int64_t a = geom_min_s32(cnt, 4) * 8192;
+            int64_t m = geom_clamp_s64((int64_t)(margin / cnt), 0, 512);
+            h.conf_q15 = (int16_t)geom_clamp_s64((a * m) / 512, 0, 32767);
+        }
+        if (res->n_candidates < NEGOBS_DETECT_MAX_HAZARDS) {
+            res->candidates[res->n_candidates++] = h;
+        } else {
+            /* Replace the farthest when this one is nearer. */
+            uint32_t far = 0;
+            uint32_t q;
+            for (q = 1; q < res->n_candidates; q++) {
+                if (res->candidates[q].range_mm >
+                    res->candidates[far].range_mm) {
+                    far = q;
+                }
+            }
+            if (res->candidates[far].range_mm > h.range_mm) {
+                res->candidates[far] = h;
+            }
+            res->candidates_dropped++;
+        }
+        i = j;
+    }
+}
+
+negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
+                                      const negobs_detect_frame_t *frame,
+                                      negobs_detect_result_t *res)
+{
+    detect_priv_t *p;
+    const negobs_detect_config_t *cfg;
+    uint32_t reasons = 0;
+    negobs_photo_stats_t ls;
+    gfit_out_t g;
+    uint32_t i;
+    int32_t hold_range = 0;
+
+    if (res == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (ctx == NULL || ctx->priv == NULL ||
+        ((detect_priv_t *)ctx->priv)->magic != DETECT_MAGIC) {
+        fill_no_info(res, NEGOBS_DEGRADED_BAD_INPUT);
+        return NEGOBS_ERR_STATE;
+    }
+    p = (detect_priv_t *)ctx->priv;
+    cfg = &ctx->cfg;
+    if (frame == NULL || frame->disp_q4 == NULL ||
+        negobs_image_s16_check(frame->disp_q4) != NEGOBS_OK ||
+        frame->disp_q4->width != cfg->cam.width ||
+        frame->disp_q4->height != cfg->cam.height ||
+        (frame->confidence != NULL &&
+         (negobs_image_u8_check(frame->confidence) != NEGOBS_OK ||
+          frame->confidence->width != cfg->cam.width ||
+          frame->confidence->height != cfg->cam.height)) ||
+        (frame->left != NULL &&
+         negobs_image_u8_check(frame->left) != NEGOBS_OK)) {
+        fill_no_info(res, NEGOBS_DEGRADED_BAD_INPUT);
+        if (frame != NULL) {
+            /* Evidence cannot clear tracks, but held ones keep ageing. */
+            temporal_update(&p->temporal, NULL, 0, 0, 0, frame->now_ms);
+            res->n_hazards = temporal_report(&p->temporal, res->hazards,
+                                             NEGOBS_DETECT_MAX_HAZARDS,
+                                             frame->now_ms);
+        }
+        return NEGOBS_ERR_INVAL;
+    }
+    memset(res, 0, sizeof *res);
+    res->nearest_range_mm = -1;
+
+    /* Step 0: validity gating. */
+    if (negobs_abs_s32((int32_t)(frame->t_left_ms - frame->t_right_ms)) >
+        cfg->sync_tol_ms) {
+        reasons |= NEGOBS_DEGRADED_UNSYNCED;
+    }
+    if ((int32_t)(frame->now_ms - frame->t_left_ms) > cfg->max_frame_age_ms ||
+        (int32_t)(frame->now_ms - frame->t_left_ms) < -cfg->max_frame_age_ms) {
+        reasons |= NEGOBS_DEGRADED_STALE;
+    }
+    memset(&ls, 0, sizeof ls);
+    if (frame->left_stats != NULL) {
+        ls = *frame->left_stats;
+        reasons |= photo_reasons(cfg, &ls);
+    } else if (frame->left != NULL) {
+        (void)negobs_detect_photo_stats(frame->left, &ls);
+        reasons |= photo_reasons(cfg, &ls);
+    }
+    if (frame->right_stats != NULL) {
+        reasons |= photo_reasons(cfg, frame->right_stats);
+    }
+    res->stats = ls;
+
+    /* Step 1: ground model. */
+    gfit_process(&p->gfit, frame->disp_q4, frame->confidence, &g);
+    reasons |= g.reasons;
+    res->ground_valid_permille = g.valid_permille;
+    res->ground_inliers = g.inliers;
+
+    if (g.ok) {
+        scan_ctx_t s;
+        int32_t s_i;
+        int32_t d_w;
+        int32_t h;
+        res->ground_valid = 1;
+        res->plane = g.plane;
+        res->pose = g.pose;
+        res->sigma_q4 = g.sigma_q4;
+
+        /* Step 6 (self-check): can h_min_far still be seen at the warning
+         * range with this noise, aggregated over one strip? */
+        d_w = negobs_disp_q4_from_depth_mm(&cfg->cam, cfg->range_warn_mm);
+        h = cfg->h_min_far_mm;
+        if (g.sigma_q4 > cfg->sigma_max_q4 ||
+            (int64_t)cfg->k_sigma_q4 * g.sigma_q4 * 5 * 16 >
+                (int64_t)d_w * h * 64 *
+                    (int64_t)negobs_isqrt_u32((uint32_t)cfg->strip_px * 256u) /
+                    (g.frame.height_mm + h)) {
+            reasons |= NEGOBS_DEGRADED_NOISY;
+        }
+
+        /* Step 2-3: per-strip scan, merge. */
+        s.cfg = cfg;
+        s.disp = frame->disp_q4;
+        s.conf = frame->confidence;
+        s.plane = &p->gfit.plane;
+        s.frame = &g.frame;
+        s.sigma_q4 = g.sigma_q4;
+        s.d_min_q4 = negobs_disp_q4_from_depth_mm(&cfg->cam, cfg->range_max_mm);
+        for (s_i = 0; s_i < p->n_strips; s_i++) {
+            int32_t u0 = (cfg->cam.width - p->n_strips * cfg->strip_px) / 2 +
+                         s_i * cfg->strip_px;
+            scan_strip(&s, u0, u0 + cfg->strip_px, &p->hits[s_i]);
+        }
+        merge_strips(&s, p, res);
+        if (res->n_candidates > 0) {
+            int32_t vtop = cfg->cam.height;
+            int32_t gmax;
+            for (i = 0; i < res->n_candidates; i++) {
+                vtop = geom_min_s32(vtop, res->candidates[i].v0);
+            }
+            gmax = band_grad_max(frame->disp_q4, vtop);
+            for (i = 0; i < res->n_candidates; i++) {
+                negobs_hazard_t *hz = &res->candidates[i];
+                int32_t need = (hz->u1 - hz->u0 + 1) / 4;
+                if (canny_support(frame->disp_q4, gmax,
+                                  cfg->canny_thresh_permille, hz) >= need) {
+                    hz->flags |= NEGOBS_HAZARD_F_CANNY;
+                    hz->conf_q15 = (int16_t)geom_min_s32(
+                        32767, hz->conf_q15 + 4096);
+                }
+            }
+        }
+
+        /* Hold zone: an edge lost within the bottom rows, or so near that
+         * the support requirement can no longer be met below it. */
+        {
+            int32_t vb = geom_max_s32(cfg->cam.height - 1 -
+                                          cfg->hold_bottom_rows,
+                                      0);
+            int32_t dgb = negobs_ground_disp_q4(&g.plane, cfg->cam.width / 2,
+                                                vb);
+            int32_t rb = 0;
+            int32_t rn = 0;
+            model_point(&s, cfg->cam.width / 2, vb, dgb, &rb, NULL, NULL);
+            model_point(&s, cfg->cam.width / 2, cfg->cam.height - 1,
+                        negobs_ground_disp_q4(&g.plane, cfg->cam.width / 2,
+                                              cfg->cam.height - 1),
+                        &rn, NULL, NULL);
+            hold_range = geom_max_s32(rb, rn + cfg->min_support_mm +
+                                              cfg->assoc_range_mm);
+        }
+    } else {
+        /* No ground model: use the nominal geometry for the hold zone. */
+        hold_range = cfg->range_imminent_mm + cfg->assoc_range_mm;
+    }
+
+    /* Steps 4-5: temporal confirmation, clearing and hold. */
+    temporal_update(&p->temporal, res->candidates, res->n_candidates,
+                    reasons == 0u, hold_range, frame->now_ms);
+    res->n_hazards = temporal_report(&p->temporal, res->hazards,
+                                     NEGOBS_DETECT_MAX_HAZARDS,
+                                     frame->now_ms);
+    for (i = 0; i < res->n_hazards; i++) {
+        if (res->hazards[i].level > res->level ||
+            (res->hazards[i].level == res->level &&
+             res->level != NEGOBS_LEVEL_NONE &&
+             res->hazards[i].range_mm < res->nearest_range_mm)) {
+            res->level = res->hazards[i].level;
+            res->nearest_range_mm = res->hazards[i].range_mm;
+        }
+    }
+    res->reasons = reasons;
+    if (reasons != 0u) {
+        res->state = NEGOBS_DETECT_NO_INFO;
+    } else if (res->n_hazards > 0u) {
+        res->state = NEGOBS_DETECT_HAZARD;
+    } else {
+        res->state = NEGOBS_DETECT_CLEAR;
+    }
+    return NEGOBS_OK;
+}

@@ -1,0 +1,560 @@
+/*
+ * Ground model estimation: v-disparity -> Hough -> plane -> track.
+ *
+ * 1. v-disparity. Over the bottom fit_rows_pct of the image (and never above
+ *    the lowest horizon the pose tolerances allow), every fit_step-th pixel
+ *    with a valid disparity is counted into a (row, disparity bin) histogram.
+ * 2. Constrained Hough. A flat ground is the line d = s*(v - v_h) in that
+ *    histogram. Only lines whose (H, pitch) lie inside the configured
+ *    tolerance box are searched: 32 slopes s = B*cos(p)/H between the
+ *    extremes, and for each slope the intercept k = s*v_h over the horizon
+ *    rows the pitch range allows. A cell (v, d) votes k = s*v - d for every
+ *    slope, weighted by its count: no divisions in the loop. The peak is
+ *    taken on a 3-bin sum so noise that splits a line over two bins does
+ *    not lose it.
+ * 3. Plane refinement. Least squares of d = a*u + b*v + c on the samples
+ *    within a gate of the current model (IRLS with 0/1 weights): twice on
+ *    the nearer half of the fit rows with a shrinking gate, then twice on
+ *    all fit rows with an asymmetric gate (+3 sigma / -2 sigma). The unknowns are the corrections to the
+ *    current plane, on centred coordinates, so every sum stays small.
+ * 4. Noise. sigma = 1.4826 * MAD of the residuals of the samples in the
+ *    nearer half of the fit rows (an overflow bin keeps far outliers
+ *    counted), floored at sigma_min.
+ * 5. Acceptance and tracking. The pose of the plane must be inside the
+ *    tolerances and enough samples must be inliers. An accepted fit is
+ *    blended into the track when it agrees with it at three reference
+ *    points, and replaces it after two frames of disagreement.
+ *
+ * TUNABLE: the gates (48, 3 sigma; then +3/-2 sigma, q4 floors 12/6) and
+ * the 3 reference points.
+ * With a track the Hough search is skipped and the track seeds the fit.
+ */
+#include "ground_fit.h"
+
+#include <string.h>
+
+#include "geom_internal.h"
+#include "negobs/fixed.h"
+
+/* Ground fit limits: at most this many samples, so sums stay bounded. */
+#define GFIT_MAX_SAMPLES 32768
+
+static int32_t clamp_pitch(int32_t p)
+{
+    return negobs_clamp_s32(p, -10000, 70000);
+}
+
+negobs_status_t gfit_carve(gfit_t *g, negobs_arena_t *ar,
+                           const negobs_detect_config_t *cfg)
+{
+    const negobs_camera_t *cam = &cfg->cam;
+    int32_t pmin = clamp_pitch(cfg->cam_pitch_mdeg - cfg->cam_pitch_tol_mdeg);
+    int32_t pmax = clamp_pitch(cfg->cam_pitch_mdeg + cfg->cam_pitch_tol_mdeg);
+    int32_t hmin = geom_max_s32(cfg->cam_height_mm - cfg->cam_height_tol_mm,
+                                100);
+    int32_t hmax = cfg->cam_height_mm + cfg->cam_height_tol_mm;
+    int32_t smin;
+    int32_t cosmax;
+    int32_t cosmin;
+    int32_t sn;
+    int32_t cs;
+    int64_t vh_min_q4;
+    int64_t vh_max_q4;
+    int32_t vh_floor;
+    int32_t fit_rows;
+    int32_t i;
+    int64_t samples;
+
+    memset(g, 0, sizeof *g);
+    g->cfg = cfg;
+
+    /* Extremes of cos(pitch) over the range (cos is largest nearest 0). */
+    negobs_sincos_q30(pmin, &sn, &cs);
+    cosmin = cs;
+    negobs_sincos_q30(pmax, &sn, &cs);
+    cosmin = geom_min_s32(cosmin, cs);
+    if (pmin <= 0 && pmax >= 0) {
+        cosmax = 1 << 30;
+    } else {
+        int32_t c1;
+        int32_t c2;
+        negobs_sincos_q30(pmin, NULL, &c1);
+        negobs_sincos_q30(pmax, NULL, &c2);
+        cosmax = geom_max_s32(c1, c2);
+    }
+    /* Slopes s = B*cos/H in px/row Q12. */
+    smin = (int32_t)(((int64_t)cam->baseline_um * cosmin /
+                      ((int64_t)hmax * 1000)) >> 18);
+    {
+        int32_t smax = (int32_t)(((int64_t)cam->baseline_um * cosmax /
+                                  ((int64_t)hmin * 1000)) >> 18);
+        int32_t span = smax - smin;
+        g->n_slopes = GFIT_N_SLOPES;
+        for (i = 0; i < GFIT_N_SLOPES; i++) {
+            g->s_q12[i] = smin + (int32_t)(((int64_t)span * i +
+                                            (GFIT_N_SLOPES - 1) / 2) /
+                                           (GFIT_N_SLOPES - 1));
+            if (g->s_q12[i] < 1) {
+                g->s_q12[i] = 1;
+            }
+        }
+    }
+    /* Horizon rows v_h = cy - f*tan(p), Q4. */
+    negobs_sincos_q30(pmax, &sn, &cs);
+    vh_min_q4 = cam->cy_q4 - ((int64_t)cam->focal_q4 * sn) / cs;
+    negobs_sincos_q30(pmin, &sn, &cs);
+    vh_max_q4 = cam->cy_q4 - ((int64_t)cam->focal_q4 * sn) / cs;
+    for (i = 0; i < GFIT_N_SLOPES; i++) {
+        int64_t klo = ((int64_t)g->s_q12[i] * vh_min_q4) / 16;
+        int64_t khi = ((int64_t)g->s_q12[i] * vh_max_q4) / 16;
+        int64_t kbin = (khi - klo + GFIT_N_K - 3) / (GFIT_N_K - 2);
+        /* At least half a pixel of disparity per intercept bin. */
+        if (kbin < 2048) {
+            kbin = 2048;
+        }
+        /* One spare bin on each side. */
+        g->k_lo_q12[i] = klo - kbin;
+        g->k_bin_q12[i] = kbin;
+    }
+
+    /* Fit rows: bottom share, and at least 4 rows below the lowest
+     * horizon the tolerances allow. */
+    fit_rows = (cam->height * cfg->fit_rows_pct) / 100;
+    vh_floor = (int32_t)(vh_max_q4 / 16) + 4;
+    g->v_lo = geom_max_s32(cam->height - fit_rows, vh_floor);
+    if (g->v_lo > cam->height - 8) {
+        g->v_lo = cam->height - 8;
+    }
+    if (g->v_lo < 0) {
+        g->v_lo = 0;
+    }
+    g->rows = cam->height - g->v_lo;
+    g->bin_q4 = 8;
+    g->nbins = cfg->max_disp_q4 / g->bin_q4 + 1;
+    g->step = geom_max_s32(cfg->fit_step_px, 1);
+    samples = ((int64_t)cam->width / g->step + 1) * (g->rows / g->step + 1);
+    while (samples > GFIT_MAX_SAMPLES) {
+        g->step++;
+        samples = ((int64_t)cam->width / g->step + 1) *
+                  (g->rows / g->step + 1);
+    }
+
+    g->vhist = negobs_arena_take(
+        ar, (size_t)g->rows * (size_t)g->nbins * sizeof(uint16_t));
+    g->acc = negobs_arena_take(ar, (size_t)GFIT_N_SLOPES * GFIT_N_K *
+                                       sizeof(uint32_t));
+    g->absres = negobs_arena_take(ar, GFIT_ABS_BINS * sizeof(uint32_t));
+    gfit_reset(g);
+    return negobs_arena_status(ar);
+}
+
+void gfit_reset(gfit_t *g)
+{
+    g->tracked = 0;
+    g->jumps = 0;
+    g->fails = 0;
+    g->sigma_q4 = g->cfg->sigma_min_q4;
+    memset(&g->plane, 0, sizeof g->plane);
+}
+
+static int sample_valid(const negobs_image_u8_t *conf, int32_t min_conf,
+                        int32_t u, int32_t v, int32_t d)
+{
+    if (d == NEGOBS_DISP_INVALID || d < 0) {
+        return 0;
+    }
+    if (conf != NULL && (int32_t)negobs_image_u8_row(conf, v)[u] < min_conf) {
+        return 0;
+    }
+    return 1;
+}
+
+/* Hough peak over the v-disparity histogram. Returns 0 when empty. */
+static int hough_line(gfit_t *g, negobs_ground_plane_t *plane)
+{
+    int32_t r;
+    int32_t b;
+    int32_t i;
+    uint32_t best = 0;
+    int32_t best_i = -1;
+    int32_t best_k = 0;
+
+    memset(g->acc, 0, (size_t)GFIT_N_SLOPES * GFIT_N_K * sizeof(uint32_t));
+    for (r = 0; r < g->rows; r++) {
+        const uint16_t *h = g->vhist + (size_t)r * (size_t)g->nbins;
+        int32_t v = g->v_lo + r;
+        for (b = 1; b < g->nbins; b++) {
+            uint32_t c = h[b];
+            int64_t d_q12;
+            if (c == 0) {
+                continue;
+            }
+            /* Bin centre, px Q12. */
+            d_q12 = ((int64_t)b * g->bin_q4 + g->bin_q4 / 2) * 256;
+            for (i = 0; i < g->n_slopes; i++) {
+                int64_t k = (int64_t)g->s_q12[i] * v - d_q12;
+                int64_t kb = (k - g->k_lo_q12[i]) / g->k_bin_q12[i];
+                if (k >= g->k_lo_q12[i] && kb < GFIT_N_K) {
+                    g->acc[i * GFIT_N_K + (int32_t)kb] += c;
+                }
+            }
+        }
+    }
+    for (i = 0; i < g->n_slopes; i++) {
+        const uint32_t *a = g->acc + i * GFIT_N_K;
+        int32_t k;
+        for (k = 1; k < GFIT_N_K - 1; k++) {
+            uint32_t s = a[k - 1] + a[k] + a[k + 1];
+            if (s > best) {
+                best = s;
+                best_i = i;
+                best_k = k;
+            }
+        }
+    }
+    if (best_i < 0 || best == 0) {
+        return 0;
+    }
+    {
+        /* Weighted intercept inside the 3-bin window. */
+        const uint32_t *a = g->acc + best_i * GFIT_N_K;
+        int64_t kb = g->k_bin_q12[best_i];
+        int64_t k0 = g->k_lo_q12[best_i] + (int64_t)best_k * kb + kb / 2;
+        int64_t num = (int64_t)a[best_k + 1] - (int64_t)a[best_k - 1];
+        int64_t k = k0 + (num * kb) / (int64_t)best;
+        plane->a_q20 = 0;
+        plane->b_q20 = g->s_q12[best_i] * 256;
+        plane->c_q20 = (int32_t)geom_clamp_s64(-k * 256, -INT32_MAX,
+                                                INT32_MAX);
+    }
+    return 1;
+}
+
+/* num / den in Q16 with both normalised into range; den != 0. */
+static int64_t ratio_q16(int64_t num, int64_t den)
+{
+    const int64_t lim = (int64_t)1 << 44;
+    while (num >= lim || num <= -lim || den >= lim || den <= -lim) {
+        num = geom_asr_s64(num, 1);
+        den = geom_asr_s64(den, 1);
+    }
+    if (den == 0) {
+        return 0;
+    }
+    return negobs_div_round_s64(num * 65536, den);
+}
+
+/*
+ * One IRLS step: least squares for a correction plane on the samples with
+ * |residual| <= gate_q4. Returns the inlier count; updates *plane when the
+ * system is well conditioned.
+ *
+ * Scaling: x, y centred, |x|, |y| < 2^12; residuals |r| <= gate < 2^8 q4;
+ * at most 2^15 samples, so n*Sxx < 2^54 and n*Sxr < 2^50. Centred moments
+ * are shifted into 30 bits before the 2x2 products (< 2^61).
+ */
+static int32_t refine_step(const gfit_t *g, const negobs_image_s16_t *disp,
+                           const negobs_image_u8_t *conf,
+                           negobs_ground_plane_t *plane, int32_t gate_q4,
+                           int32_t neg_gate_q4, int32_t v_top)
+{
+    const negobs_camera_t *cam = &g->cfg->cam;
+    int32_t uc = cam->width / 2;
+    int32_t vc = g->v_lo + g->rows / 2;
+    int64_t n = 0;
+    int64_t sx = 0, sy = 0, sr = 0, sxx = 0, sxy = 0, syy = 0, sxr = 0,
+            syr = 0;
+    int64_t cxx, cxy, cyy, cxr, cyr;
+    int64_t det;
+    int64_t al_q16;
+    int64_t be_q16;
+    int64_t ga_q16;
+    int32_t v;
+    int32_t u;
+    int sh = 0;
+
+    for (v = cam->height - 1; v >= v_top; v -= g->step) {
+        const int16_t *row = negobs_image_s16_row(disp, v);
+        int64_t base = (int64_t)plane->b_q20 * v + plane->c_q20;
+        for (u = g->step / 2; u < cam->width; u += g->step) {
+            int32_t d = row[u];
+            int32_t r;
+            int64_t x;
+            int64_t y;
+            if (!sample_valid(conf, g->cfg->min_confidence, u, v, d)) {
+                continue;
+            }
+            r = d - (int32_t)geom_rshift_round_s64(
+                        base + (int64_t)plane->a_q20 * u, 16);
+            if (r > gate_q4 || r < -neg_gate_q4) {
+                continue;
+            }
+            x = u - uc;
+            y = v - vc;
+            n++;
+            sx += x;
+            sy += y;
+            sr += r;
+            sxx += x * x;
+            sxy += x * y;
+            syy += y * y;
+            sxr += x * r;
+            syr += y * r;
+        }
+    }
+    if (n < 16) {
+        return (int32_t)n;
+    }
+    cxx = n * sxx - sx * sx;
+    cxy = n * sxy - sx * sy;
+    cyy = n * syy - sy * sy;
+    cxr = n * sxr - sx * sr;
+    cyr = n * syr - sy * sr;
+    {
+        int64_t m = cxx;
+        int64_t t[4];
+        int j;
+        t[0] = cxy < 0 ? -cxy : cxy;
+        t[1] = cyy;
+        t[2] = cxr < 0 ? -cxr : cxr;
+        t[3] = cyr < 0 ? -cyr : cyr;
+        for (j = 0; j < 4; j++) {
+            if (t[j] > m) {
+                m = t[j];
+            }
+        }
+        while ((m >> sh) >= ((int64_t)1 << 30)) {
+            sh++;
+        }
+    }
+    cxx = geom_asr_s64(cxx, sh);
+    cxy = geom_asr_s64(cxy, sh);
+    cyy = geom_asr_s64(cyy, sh);
+    cxr = geom_asr_s64(cxr, sh);
+    cyr = geom_asr_s64(cyr, sh);
+    det = cxx * cyy - cxy * cxy;
+    /* Ill-conditioned (samples nearly on a line): refuse to update. */
+    if (cxx <= 0 || cyy <= 0 || det <= (cxx * cyy) / 16) {
+        return (int32_t)n;
+    }
+    /* Corrections in q4 per px, Q16 (= px Q20). */
+    al_q16 = ratio_q16(cxr * cyy - cyr * cxy, det);
+    be_q16 = ratio_q16(cyr * cxx - cxr * cxy, det);
+    ga_q16 = negobs_div_round_s64(sr * 65536 - al_q16 * sx - be_q16 * sy, n);
+    plane->a_q20 = (int32_t)geom_clamp_s64(plane->a_q20 + al_q16, -INT32_MAX,
+                                           INT32_MAX);
+    plane->b_q20 = (int32_t)geom_clamp_s64(plane->b_q20 + be_q16, -INT32_MAX,
+                                           INT32_MAX);
+    plane->c_q20 = (int32_t)geom_clamp_s64(
+        plane->c_q20 + ga_q16 - al_q16 * uc - be_q16 * vc, -INT32_MAX,
+        INT32_MAX);
+    return (int32_t)n;
+}
+
+/* MAD-based sigma (q4) of all valid fit-ROI samples against plane. */
+static int32_t noise_sigma(gfit_t *g, const negobs_image_s16_t *disp,
+                           const negobs_image_u8_t *conf,
+                           const negobs_ground_plane_t *plane)
+{
+    const negobs_camera_t *cam = &g->cfg->cam;
+    uint32_t total = 0;
+    uint32_t acc = 0;
+    int32_t v;
+    int32_t u;
+    int32_t b;
+    int32_t mad = GFIT_ABS_BINS - 1;
+
+    /* Only the nearer half of the fit rows: the ground under the user's
+     * feet is almost always there, so a drop farther up the fit region
+     * does not inflate the estimate. */
+    memset(g->absres, 0, GFIT_ABS_BINS * sizeof(uint32_t));
+    for (v = cam->height - 1; v >= g->v_lo + g->rows / 2; v -= g->step) {
+        const int16_t *row = negobs_image_s16_row(disp, v);
+        int64_t base = (int64_t)plane->b_q20 * v + plane->c_q20;
+        for (u = g->step / 2; u < cam->width; u += g->step) {
+            int32_t d = row[u];
+            int32_t r;
+            if (!sample_valid(conf, g->cfg->min_confidence, u, v, d)) {
+                continue;
+            }
+            r = d - (int32_t)geom_rshift_round_s64(
+                        base + (int64_t)plane->a_q20 * u, 16);
+            r = negobs_abs_s32(r);
+            if (r >= GFIT_ABS_BINS) {
+                r = GFIT_ABS_BINS - 1;
+            }
+            g->absres[r]++;
+            total++;
+        }
+    }
+    if (total == 0) {
+        return g->cfg->sigma_max_q4 + 1;
+    }
+    for (b = 0; b < GFIT_ABS_BINS; b++) {
+        acc += g->absres[b];
+        if (2u * acc >= total) {
+            mad = b;
+            break;
+        }
+    }
+    /* 1.4826 ~= 759/512; +0.5 q4 for the integer quantisation of r. */
+    return geom_max_s32((mad * 759 + 256 + 380) / 512, g->cfg->sigma_min_q4);
+}
+
+static int pose_in_tolerance(const negobs_detect_config_t *cfg,
+                             const negobs_ground_pose_t *p)
+{
+    return negobs_abs_s32(p->height_mm - cfg->cam_height_mm) <=
+               cfg->cam_height_tol_mm &&
+           negobs_abs_s32(p->pitch_mdeg - cfg->cam_pitch_mdeg) <=
+               cfg->cam_pitch_tol_mdeg &&
+           negobs_abs_s32(p->roll_mdeg) <= cfg->cam_roll_tol_mdeg;
+}
+
+/* Largest disparity difference of two planes at 3 reference points. */
+static int32_t plane_gap_q4(const gfit_t *g, const negobs_ground_plane_t *p,
+                            const negobs_ground_plane_t *q, int32_t *ref_q4)
+{
+    const negobs_camera_t *cam = &g->cfg->cam;
+    int32_t us[3];
+    int32_t vs[3];
+    int32_t worst = 0;
+    int i;
+    us[0] = cam->width / 2;
+    vs[0] = cam->height - 1;
+    us[1] = cam->width / 4;
+    vs[1] = g->v_lo;
+    us[2] = (3 * cam->width) / 4;
+    vs[2] = g->v_lo;
+    *ref_q4 = negobs_ground_disp_q4(p, us[0], vs[0]);
+    for (i = 0; i < 3; i++) {
+        int32_t dd = negobs_abs_s32(negobs_ground_disp_q4(p, us[i], vs[i]) -
+                                    negobs_ground_disp_q4(q, us[i], vs[i]));
+        worst = geom_max_s32(worst, dd);
+    }
+    return worst;
+}
+
+static int32_t blend(int32_t old, int32_t now, int32_t gain_q15)
+{
+    int64_t d = (int64_t)now - old;
+    return (int32_t)(old + geom_rshift_round_s64(d * gain_q15, 15));
+}
+
+void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
+                  const negobs_image_u8_t *conf, gfit_out_t *out)
+{
+    const negobs_detect_config_t *cfg = g->cfg;
+    const negobs_camera_t *cam = &cfg->cam;
+    negobs_ground_plane_t fit;
+    negobs_ground_pose_t pose;
+    int32_t v;
+    int32_t u;
+    uint32_t samples = 0;
+    uint32_t valid = 0;
+    int32_t inl = 0;
+    int32_t sigma;
+    int ok = 0;
+
+    memset(out, 0, sizeof *out);
+    memset(g->vhist, 0,
+           (size_t)g->rows * (size_t)g->nbins * sizeof(uint16_t));
+    for (v = cam->height - 1; v >= g->v_lo; v -= g->step) {
+        const int16_t *row = negobs_image_s16_row(disp, v);
+        uint16_t *h = g->vhist + (size_t)(v - g->v_lo) * (size_t)g->nbins;
+        for (u = g->step / 2; u < cam->width; u += g->step) {
+            int32_t d = row[u];
+            samples++;
+            if (!sample_valid(conf, cfg->min_confidence, u, v, d)) {
+                continue;
+            }
+            valid++;
+            if (d / g->bin_q4 < g->nbins) {
+                h[d / g->bin_q4]++;
+            }
+        }
+    }
+    out->valid_permille =
+        samples ? (int32_t)((valid * 1000u) / samples) : 0;
+    if (out->valid_permille < cfg->ground_min_valid_pct * 10) {
+        out->reasons |= NEGOBS_DEGRADED_FEW_GROUND;
+    } else if (g->tracked || hough_line(g, &fit)) {
+        /* With a track, start from it with tight gates (a drop entering
+         * the fit rows cannot drag the plane down); otherwise from the
+         * Hough line with a wide first gate. */
+        int32_t v_near = g->v_lo + g->rows / 2;
+        if (g->tracked) {
+            fit = g->plane;
+            sigma = g->sigma_q4;
+        } else {
+            /* First on the nearer half of the rows only, where the ground
+             * under the feet dominates even with an edge in the fit rows. */
+            refine_step(g, disp, conf, &fit, 48, 48, v_near);
+            sigma = noise_sigma(g, disp, conf, &fit);
+            refine_step(g, disp, conf, &fit, geom_max_s32(3 * sigma, 12),
+                        geom_max_s32(3 * sigma, 12), v_near);
+            sigma = noise_sigma(g, disp, conf, &fit);
+        }
+        /* Then all fit rows with an asymmetric gate: a lower surface only
+         * gives negative residuals, and a drop of h_min at the far end of
+         * the fit rows is only ~1.2 sigma... 3 sigma below the ground, so
+         * the negative side is cut at 2 sigma (bias ~0.05 sigma). */
+        refine_step(g, disp, conf, &fit, geom_max_s32(3 * sigma, 12),
+                    geom_max_s32(2 * sigma, 6), g->v_lo);
+        sigma = noise_sigma(g, disp, conf, &fit);
+        inl = refine_step(g, disp, conf, &fit, geom_max_s32(3 * sigma, 12),
+                          geom_max_s32(2 * sigma, 6), g->v_lo);
+        sigma = noise_sigma(g, disp, conf, &fit);
+        out->inliers = inl;
+        if ((int64_t)inl * 100 >= (int64_t)valid * cfg->ground_min_inlier_pct &&
+            inl >= 64 &&
+            negobs_ground_pose_from_plane(cam, &fit, &pose, NULL) ==
+                NEGOBS_OK &&
+            pose_in_tolerance(cfg, &pose)) {
+            ok = 1;
+        }
+    }
+    if (!ok) {
+        if (!(out->reasons & NEGOBS_DEGRADED_FEW_GROUND)) {
+            out->reasons |= NEGOBS_DEGRADED_GROUND_REJECTED;
+        }
+        if (++g->fails > 3) {
+            g->tracked = 0;
+        }
+        return;
+    }
+    g->fails = 0;
+    if (!g->tracked) {
+        g->plane = fit;
+        g->tracked = 1;
+        g->jumps = 0;
+        g->sigma_q4 = sigma;
+    } else {
+        int32_t ref;
+        int32_t gap = plane_gap_q4(g, &g->plane, &fit, &ref);
+        int32_t gate = geom_max_s32(cfg->track_gate_q4, ref / 10);
+        if (gap <= gate) {
+            g->plane.a_q20 = blend(g->plane.a_q20, fit.a_q20,
+                                   cfg->track_gain_q15);
+            g->plane.b_q20 = blend(g->plane.b_q20, fit.b_q20,
+                                   cfg->track_gain_q15);
+            g->plane.c_q20 = blend(g->plane.c_q20, fit.c_q20,
+                                   cfg->track_gain_q15);
+            g->jumps = 0;
+        } else if (++g->jumps >= 2) {
+            /* The new ground persisted: take it. */
+            g->plane = fit;
+            g->jumps = 0;
+        }
+        g->sigma_q4 = blend(g->sigma_q4, sigma, cfg->track_gain_q15);
+    }
+    out->plane = g->plane;
+    out->sigma_q4 = geom_max_s32(g->sigma_q4, cfg->sigma_min_q4);
+    if (negobs_ground_pose_from_plane(cam, &g->plane, &out->pose,
+                                      &out->frame) != NEGOBS_OK) {
+        out->reasons |= NEGOBS_DEGRADED_GROUND_REJECTED;
+        g->tracked = 0;
+        return;
+    }
+    out->ok = 1;
+}

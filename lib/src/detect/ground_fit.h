@@ -1,0 +1,67 @@
+/*
+ * Ground model estimation (internal): v-disparity histogram, constrained
+ * Hough line search, IRLS refinement to a disparity-space plane, tracking
+ * and online noise estimate.
+ */
+#ifndef NEGOBS_DETECT_GROUND_FIT_H
+#define NEGOBS_DETECT_GROUND_FIT_H
+
+#include <stdint.h>
+
+#include "arena.h"
+#include "negobs/detect.h"
+#include "negobs/ground.h"
+
+#define GFIT_N_SLOPES 32
+#define GFIT_N_K 128
+#define GFIT_ABS_BINS 64
+
+typedef struct gfit {
+    const negobs_detect_config_t *cfg;
+    uint16_t *vhist;  /* rows x nbins v-disparity histogram           */
+    uint32_t *acc;    /* GFIT_N_SLOPES x GFIT_N_K Hough accumulator   */
+    uint32_t *absres; /* GFIT_ABS_BINS |residual| histogram (q4)      */
+    int32_t v_lo;     /* first fit row                                */
+    int32_t rows;     /* fit rows (v_lo .. height-1)                  */
+    int32_t nbins;    /* disparity bins                               */
+    int32_t bin_q4;   /* bin width (q4)                               */
+    int32_t step;     /* sampling step (px)                           */
+    int32_t s_q12[GFIT_N_SLOPES];  /* candidate slopes, px/row Q12    */
+    int64_t k_lo_q12[GFIT_N_SLOPES];
+    int64_t k_bin_q12[GFIT_N_SLOPES];
+    int32_t n_slopes;
+    /* Track. */
+    int32_t tracked;
+    int32_t jumps;
+    int32_t fails;
+    negobs_ground_plane_t plane;
+    int32_t sigma_q4;
+} gfit_t;
+
+typedef struct gfit_out {
+    int32_t ok;           /* plane usable for detection this frame    */
+    uint32_t reasons;     /* NEGOBS_DEGRADED_FEW_GROUND / _REJECTED   */
+    negobs_ground_plane_t plane;
+    negobs_ground_pose_t pose;
+    negobs_ground_frame_t frame;
+    int32_t sigma_q4;
+    int32_t valid_permille;
+    int32_t inliers;
+} gfit_out_t;
+
+/* Carve buffers (measure mode when the arena has no base) and precompute
+ * the Hough grid. cfg must be valid and outlive g. */
+negobs_status_t gfit_carve(gfit_t *g, negobs_arena_t *ar,
+                           const negobs_detect_config_t *cfg);
+
+/* Forget the track. */
+void gfit_reset(gfit_t *g);
+
+/* Fit the ground for one disparity map (valid size checked by caller). */
+void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
+                  const negobs_image_u8_t *conf, gfit_out_t *out);
+
+/* One-shot fit without tracking, for tests: same as gfit_process on a
+ * fresh track. */
+
+#endif

@@ -1,0 +1,277 @@
+/*
+ * Hazard tracks.
+ *
+ * Association is greedy, nearest range first, inside a gate that follows
+ * the walking geometry: a real edge can only come closer, by at most
+ * max_speed * dt (plus the association tolerance), and may look up to
+ * assoc_range_mm farther because of noise. Lateral offsets must agree
+ * within assoc_lateral_mm.
+ *
+ * A track is confirmed when it was seen in confirm_k of the last confirm_n
+ * frames, and then stays confirmed until clear_m consecutive clean frames.
+ * Frames that are not "observed" (degraded) add evidence but never count
+ * as clean. When a confirmed track is lost close to the bottom of the
+ * image it is held: its range is dead-reckoned at hold_speed_mm_s and it
+ * keeps alerting for hold_ms.
+ */
+#include "temporal.h"
+
+#include <string.h>
+
+#include "geom_internal.h"
+
+static uint32_t popcount32(uint32_t x)
+{
+    uint32_t c = 0;
+    while (x != 0u) {
+        x &= x - 1u;
+        c++;
+    }
+    return c;
+}
+
+static int32_t elapsed_ms(uint32_t now, uint32_t then)
+{
+    /* Wrap-safe difference; negative if the clock went backwards. */
+    return (int32_t)(now - then);
+}
+
+void temporal_reset(temporal_t *t, const negobs_detect_config_t *cfg)
+{
+    memset(t, 0, sizeof *t);
+    t->cfg = cfg;
+    t->next_id = 1;
+}
+
+static uint32_t window_mask(const negobs_detect_config_t *cfg)
+{
+    return (cfg->confirm_n >= 32) ? 0xFFFFFFFFu
+                                  : (((uint32_t)1 << cfg->confirm_n) - 1u);
+}
+
+static int32_t held_range(const negobs_detect_config_t *cfg,
+                          const tmp_track_t *tr, uint32_t now_ms)
+{
+    int64_t dt = elapsed_ms(now_ms, tr->last_seen_ms);
+    int64_t r;
+    if (dt < 0) {
+        dt = 0;
+    }
+    r = tr->hz.range_mm - ((int64_t)cfg->hold_speed_mm_s * dt) / 1000;
+    return (int32_t)((r < 0) ? 0 : r);
+}
+
+void temporal_update(temporal_t *t, const negobs_hazard_t *cands, uint32_t n,
+                     int observed, int32_t hold_range_mm, uint32_t now_ms)
+{
+    const negobs_detect_config_t *cfg = t->cfg;
+    int32_t used[NEGOBS_DETECT_MAX_TRACKS];
+    int32_t dt = t->have_last ? elapsed_ms(now_ms, t->last_ms) : 0;
+    uint32_t order[NEGOBS_DETECT_MAX_HAZARDS];
+    uint32_t i;
+    uint32_t j;
+    int32_t k;
+
+    if (dt < 0) {
+        dt = 0;
+    }
+    if (n > NEGOBS_DETECT_MAX_HAZARDS) {
+        n = NEGOBS_DETECT_MAX_HAZARDS;
+    }
+    memset(used, 0, sizeof used);
+    /* Candidates nearest first (insertion sort, n <= 8). */
+    for (i = 0; i < n; i++) {
+        order[i] = i;
+    }
+    for (i = 1; i < n; i++) {
+        uint32_t x = order[i];
+        j = i;
+        while (j > 0 && cands[order[j - 1]].range_mm > cands[x].range_mm) {
+            order[j] = order[j - 1];
+            j--;
+        }
+        order[j] = x;
+    }
+
+    for (i = 0; i < n; i++) {
+        const negobs_hazard_t *c = &cands[order[i]];
+        int32_t best = -1;
+        int32_t best_err = INT32_MAX;
+        for (k = 0; k < NEGOBS_DETECT_MAX_TRACKS; k++) {
+            tmp_track_t *tr = &t->tracks[k];
+            int32_t pred;
+            int32_t lo;
+            int32_t hi;
+            int32_t err;
+            int32_t age;
+            if (!tr->active || used[k]) {
+                continue;
+            }
+            age = elapsed_ms(now_ms, tr->last_seen_ms);
+            if (age < 0) {
+                age = 0;
+            }
+            pred = tr->held ? held_range(cfg, tr, now_ms) : tr->hz.range_mm;
+            hi = pred + cfg->assoc_range_mm;
+            lo = pred - cfg->assoc_range_mm -
+                 (int32_t)(((int64_t)cfg->max_speed_mm_s * age) / 1000);
+            if (c->range_mm > hi || c->range_mm < lo) {
+                continue;
+            }
+            if (negobs_abs_s32(c->lateral_mm - tr->hz.lateral_mm) >
+                cfg->assoc_lateral_mm) {
+                continue;
+            }
+            err = negobs_abs_s32(c->range_mm - pred);
+            if (err < best_err) {
+                best_err = err;
+                best = k;
+            }
+        }
+        if (best < 0) {
+            /* New track: a free slot, else the weakest unconfirmed one. */
+            uint32_t weakest = 0xFFFFFFFFu;
+            for (k = 0; k < NEGOBS_DETECT_MAX_TRACKS; k++) {
+                if (!t->tracks[k].active) {
+                    best = k;
+                    break;
+                }
+            }
+            if (best < 0) {
+                for (k = 0; k < NEGOBS_DETECT_MAX_TRACKS; k++) {
+                    tmp_track_t *tr = &t->tracks[k];
+                    uint32_t hits = popcount32(tr->hist & window_mask(cfg));
+                    if (!tr->confirmed && !used[k] && hits < weakest) {
+                        weakest = hits;
+                        best = k;
+                    }
+                }
+            }
+            if (best < 0) {
+                continue; /* every slot holds a confirmed hazard */
+            }
+            memset(&t->tracks[best], 0, sizeof t->tracks[best]);
+            t->tracks[best].active = 1;
+            t->tracks[best].hz = *c;
+            t->tracks[best].hz.track_id = t->next_id++;
+            t->tracks[best].last_seen_ms = now_ms;
+            t->tracks[best].hist = 0;
+        } else {
+            tmp_track_t *tr = &t->tracks[best];
+            int32_t age = elapsed_ms(now_ms, tr->last_seen_ms);
+            uint32_t id = tr->hz.track_id;
+            negobs_hazard_type_t old_type = tr->hz.type;
+            if (age > 0) {
+                int32_t inst = (int32_t)(((int64_t)(tr->hz.range_mm -
+                                                    c->range_mm) * 1000) /
+                                         age);
+                inst = negobs_clamp_s32(inst, 0, cfg->max_speed_mm_s);
+                tr->speed_mm_s += (inst - tr->speed_mm_s) / 4;
+            }
+            tr->hz = *c;
+            tr->hz.track_id = id;
+            /* Missing ground never downgrades a measured drop. */
+            if (c->type == NEGOBS_HAZARD_UNKNOWN) {
+                tr->hz.type = old_type;
+            }
+            tr->last_seen_ms = now_ms;
+        }
+        used[best] = 1;
+        t->tracks[best].hist = (t->tracks[best].hist << 1) | 1u;
+        t->tracks[best].misses = 0;
+        t->tracks[best].held = 0;
+        if (popcount32(t->tracks[best].hist & window_mask(cfg)) >=
+            (uint32_t)cfg->confirm_k) {
+            t->tracks[best].confirmed = 1;
+        }
+    }
+
+    for (k = 0; k < NEGOBS_DETECT_MAX_TRACKS; k++) {
+        tmp_track_t *tr = &t->tracks[k];
+        if (!tr->active || used[k]) {
+            continue;
+        }
+        if (tr->held) {
+            if (elapsed_ms(now_ms, tr->hold_start_ms) > cfg->hold_ms) {
+                tr->active = 0;
+            }
+            continue;
+        }
+        if (!observed) {
+            /* No evidence either way; only time can retire it. */
+            if (elapsed_ms(now_ms, tr->last_seen_ms) > cfg->hold_ms) {
+                tr->active = 0;
+            }
+            continue;
+        }
+        tr->hist <<= 1;
+        tr->misses++;
+        if (tr->confirmed) {
+            if (tr->hz.range_mm <= hold_range_mm) {
+                tr->held = 1;
+                tr->hold_start_ms = now_ms;
+            } else if (tr->misses >= cfg->clear_m) {
+                tr->active = 0;
+            }
+        } else if ((tr->hist & window_mask(cfg)) == 0u) {
+            tr->active = 0;
+        }
+    }
+    (void)dt;
+    t->last_ms = now_ms;
+    t->have_last = 1;
+}
+
+uint32_t temporal_report(const temporal_t *t, negobs_hazard_t *out,
+                         uint32_t max, uint32_t now_ms)
+{
+    const negobs_detect_config_t *cfg = t->cfg;
+    uint32_t n = 0;
+    uint32_t i;
+    int32_t k;
+
+    for (k = 0; k < NEGOBS_DETECT_MAX_TRACKS; k++) {
+        const tmp_track_t *tr = &t->tracks[k];
+        negobs_hazard_t h;
+        negobs_alert_level_t lv = NEGOBS_LEVEL_NONE;
+        if (!tr->active || !(tr->confirmed || tr->held)) {
+            continue;
+        }
+        if (tr->hz.type == NEGOBS_HAZARD_UNKNOWN &&
+            cfg->missing_policy == NEGOBS_MISSING_IGNORE) {
+            continue;
+        }
+        h = tr->hz;
+        h.flags |= NEGOBS_HAZARD_F_CONFIRMED;
+        if (tr->held) {
+            h.flags |= NEGOBS_HAZARD_F_HELD;
+            h.range_mm = held_range(cfg, tr, now_ms);
+        }
+        if (tr->held || h.range_mm <= cfg->range_imminent_mm) {
+            lv = NEGOBS_LEVEL_IMMINENT;
+        } else if (tr->speed_mm_s >= 300 &&
+                   ((int64_t)h.range_mm * 1000) / tr->speed_mm_s <
+                       cfg->ttc_imminent_ms) {
+            lv = NEGOBS_LEVEL_IMMINENT;
+        } else if (h.range_mm <= cfg->range_warn_mm) {
+            lv = NEGOBS_LEVEL_CAUTION;
+        }
+        if (h.type == NEGOBS_HAZARD_UNKNOWN &&
+            cfg->missing_policy == NEGOBS_MISSING_CAUTION &&
+            lv == NEGOBS_LEVEL_IMMINENT) {
+            lv = NEGOBS_LEVEL_CAUTION;
+        }
+        h.level = lv;
+        if (n < max) {
+            /* Insert sorted by range. */
+            i = n;
+            while (i > 0 && out[i - 1].range_mm > h.range_mm) {
+                out[i] = out[i - 1];
+                i--;
+            }
+            out[i] = h;
+            n++;
+        }
+    }
+    return n;
+}

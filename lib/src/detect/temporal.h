@@ -1,0 +1,52 @@
+/*
+ * Temporal logic for hazards (internal): k-of-n confirmation, clearing
+ * after m clean frames, and the hold when a confirmed edge leaves the
+ * bottom of the image (it is then closer, not gone).
+ */
+#ifndef NEGOBS_DETECT_TEMPORAL_H
+#define NEGOBS_DETECT_TEMPORAL_H
+
+#include <stdint.h>
+
+#include "negobs/detect.h"
+
+typedef struct tmp_track {
+    int32_t active;
+    int32_t confirmed;
+    int32_t held;
+    uint32_t hist;         /* bit 0 = this frame, 1 = seen            */
+    int32_t misses;        /* consecutive observed frames without it  */
+    uint32_t last_seen_ms;
+    uint32_t hold_start_ms;
+    int32_t speed_mm_s;    /* approach speed estimate, >= 0           */
+    negobs_hazard_t hz;    /* latest observation (range as observed)  */
+} tmp_track_t;
+
+typedef struct temporal {
+    const negobs_detect_config_t *cfg;
+    tmp_track_t tracks[NEGOBS_DETECT_MAX_TRACKS];
+    uint32_t next_id;
+    uint32_t last_ms;
+    int32_t have_last;
+} temporal_t;
+
+void temporal_reset(temporal_t *t, const negobs_detect_config_t *cfg);
+
+/*
+ * Feed one frame's candidates (any order). observed != 0 means the frame
+ * was fully usable, so a missing track counts as a clean frame; otherwise
+ * candidates still add evidence but nothing is cleared. A confirmed track
+ * lost with range <= hold_range_mm is held (dead-reckoned) for hold_ms.
+ */
+void temporal_update(temporal_t *t, const negobs_hazard_t *cands, uint32_t n,
+                     int observed, int32_t hold_range_mm, uint32_t now_ms);
+
+/*
+ * Confirmed and held tracks as hazards, nearest first, with level and
+ * flags; returns the count (<= max). Held ranges are dead-reckoned to
+ * now_ms. Missing-ground (UNKNOWN) tracks follow cfg->missing_policy.
+ */
+uint32_t temporal_report(const temporal_t *t, negobs_hazard_t *out,
+                         uint32_t max, uint32_t now_ms);
+
+#endif

@@ -1,0 +1,545 @@
+/*
+ * Detector tests on analytic synthetic disparity maps (tests/detect/synth.h):
+ * rig of the project targets (H = 1.2 m, pitch 20 deg, f = 250 px at
+ * 320x240, B = 120 mm), noise sigma 0.25 px unless stated.
+ */
+#include "cmocka_all.h"
+#include "scene_util.h"
+
+static rig_t rig;
+
+static void scene(synth_scene_t *s, double noise, uint32_t seed)
+{
+    synth_flat(s, 1.2, 20.0);
+    s->noise_px = noise;
+    s->seed = seed;
+}
+
+/* Count frames (out of n, new noise each) with a candidate. */
+static int frames_with_candidates(synth_scene_t *s, int n)
+{
+    int i;
+    int hits = 0;
+    for (i = 0; i < n; i++) {
+        s->seed = 1000u + (uint32_t)i;
+        assert_int_equal(rig_frame(&rig, s), NEGOBS_OK);
+        if (rig.res.n_candidates > 0) {
+            hits++;
+        }
+    }
+    return hits;
+}
+
+static void test_detect_workspace_exact_and_nospace(void **state)
+{
+    negobs_detect_config_t cfg;
+    negobs_detect_t det;
+    size_t bytes = 0;
+    void *raw;
+    uint8_t *ws;
+    (void)state;
+    negobs_detect_config_default(&cfg, RIG_W, RIG_H);
+    assert_int_equal(negobs_detect_workspace_size(&cfg, &bytes), NEGOBS_OK);
+    assert_true(bytes > 0);
+    raw = malloc(bytes + 32);
+    assert_non_null(raw);
+    ws = (uint8_t *)(((uintptr_t)raw + 15u) & ~(uintptr_t)15u);
+    assert_int_equal(negobs_detect_init(&det, &cfg, ws, bytes - 1),
+                     NEGOBS_ERR_NOSPACE);
+    assert_int_equal(negobs_detect_init(&det, &cfg, ws + 1, bytes),
+                     NEGOBS_ERR_ALIGN);
+    assert_int_equal(negobs_detect_init(&det, &cfg, ws, bytes), NEGOBS_OK);
+    assert_int_equal(negobs_detect_init(NULL, &cfg, ws, bytes),
+                     NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_detect_init(&det, NULL, ws, bytes),
+                     NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_detect_workspace_size(&cfg, NULL),
+                     NEGOBS_ERR_INVAL);
+    cfg.strip_px = 1000;
+    assert_int_equal(negobs_detect_workspace_size(&cfg, &bytes),
+                     NEGOBS_ERR_INVAL);
+    negobs_detect_config_default(&cfg, RIG_W, RIG_H);
+    cfg.confirm_k = 6; /* > confirm_n */
+    assert_int_equal(negobs_detect_init(&det, &cfg, ws, bytes),
+                     NEGOBS_ERR_INVAL);
+    negobs_detect_config_default(&cfg, RIG_W, RIG_H);
+    cfg.cam.baseline_um = 0;
+    assert_int_equal(negobs_detect_workspace_size(&cfg, &bytes),
+                     NEGOBS_ERR_INVAL);
+    free(raw);
+}
+
+static void test_detect_workspace_scales_with_size(void **state)
+{
+    negobs_detect_config_t cfg;
+    size_t small = 0;
+    size_t big = 0;
+    (void)state;
+    negobs_detect_config_default(&cfg, 160, 120);
+    assert_int_equal(negobs_detect_workspace_size(&cfg, &small), NEGOBS_OK);
+    negobs_detect_config_default(&cfg, 640, 480);
+    assert_int_equal(negobs_detect_workspace_size(&cfg, &big), NEGOBS_OK);
+    assert_true(big > small);
+    /* O(rows * disparity bins): 640x480 stays well under 256 KiB. */
+    assert_true(big < 256u * 1024u);
+}
+
+static void test_detect_bad_input_reports_no_info(void **state)
+{
+    negobs_detect_frame_t f;
+    negobs_detect_t fresh;
+    int16_t small[16 * 16];
+    negobs_image_s16_t img = {small, 16, 16, 16};
+    (void)state;
+    rig_setup(&rig, NULL);
+    memset(&f, 0, sizeof f);
+    assert_int_equal(negobs_detect_process(&rig.det, &f, &rig.res),
+                     NEGOBS_ERR_INVAL);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+    assert_true(rig.res.reasons & NEGOBS_DEGRADED_BAD_INPUT);
+    f.disp_q4 = &img; /* wrong size */
+    assert_int_equal(negobs_detect_process(&rig.det, &f, &rig.res),
+                     NEGOBS_ERR_INVAL);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+    assert_int_equal(negobs_detect_process(&rig.det, NULL, &rig.res),
+                     NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_detect_process(&rig.det, &f, NULL),
+                     NEGOBS_ERR_INVAL);
+    memset(&fresh, 0, sizeof fresh);
+    assert_int_equal(negobs_detect_process(&fresh, &f, &rig.res),
+                     NEGOBS_ERR_STATE);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+    rig_teardown(&rig);
+}
+
+static void test_detect_all_invalid_is_no_info(void **state)
+{
+    synth_scene_t s;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.0, 1);
+    s.inv_u0 = 0;
+    s.inv_u1 = RIG_W;
+    s.inv_v0 = 0;
+    s.inv_v1 = RIG_H;
+    assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+    assert_true(rig.res.reasons & NEGOBS_DEGRADED_FEW_GROUND);
+    assert_int_equal(rig.res.ground_valid, 0);
+    assert_int_equal(rig.res.n_candidates, 0);
+    rig_teardown(&rig);
+}
+
+static void test_detect_flat_ground_pose_and_no_hazard(void **state)
+{
+    synth_scene_t s;
+    int i;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.25, 1);
+    s.dropout = 0.1;
+    for (i = 0; i < 60; i++) {
+        s.seed = (uint32_t)i + 1u;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        assert_int_equal(rig.res.reasons, 0);
+        assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+        assert_int_equal(rig.res.n_candidates, 0);
+        assert_int_equal(rig.res.n_hazards, 0);
+        assert_true(abs(rig.res.pose.height_mm - 1200) <= 30);
+        assert_true(abs(rig.res.pose.pitch_mdeg - 20000) <= 600);
+        assert_true(abs(rig.res.pose.roll_mdeg) <= 600);
+        /* sigma: 0.25 px = 4 q4 (+ rounding), estimated within 2 q4. */
+        assert_true(rig.res.sigma_q4 >= 3 && rig.res.sigma_q4 <= 6);
+    }
+    rig_teardown(&rig);
+}
+
+/*
+ * Range and height over the band the project measures (edge at 1.5-3 m,
+ * drops >= 100 mm) plus 150 mm at 3.5-4 m. Every frame uses new noise.
+ */
+static void test_detect_drop_range_and_height_errors(void **state)
+{
+    static const double ranges[] = {1.6, 2.0, 2.5, 3.0, 3.5, 4.0};
+    static const double heights[] = {0.10, 0.15, 0.25};
+    int ri;
+    int hi;
+    int total = 0;
+    int found = 0;
+    int worst_range_pm = 0;
+    int worst_h_pct = 0;
+    (void)state;
+    for (ri = 0; ri < 6; ri++) {
+        for (hi = 0; hi < 3; hi++) {
+            synth_scene_t s;
+            int k;
+            if (ranges[ri] > 3.01 && heights[hi] < 0.149) {
+                continue; /* 100 mm beyond 3 m: not a target */
+            }
+            rig_setup(&rig, NULL);
+            scene(&s, 0.25, 1);
+            synth_step(&s, ranges[ri], -heights[hi]);
+            for (k = 0; k < 8; k++) {
+                const negobs_hazard_t *h;
+                int err_pm;
+                int herr;
+                s.seed = 77u + (uint32_t)k * 13u;
+                assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+                total++;
+                h = rig_nearest(&rig);
+                if (h == NULL) {
+                    continue;
+                }
+                found++;
+                assert_true(h->type == NEGOBS_HAZARD_DROP ||
+                            h->type == NEGOBS_HAZARD_STAIRS);
+                err_pm = (int)((h->range_mm - ranges[ri] * 1000.0) * 1000.0 /
+                               (ranges[ri] * 1000.0));
+                herr = (int)((h->drop_mm - heights[hi] * 1000.0) * 100.0 /
+                             (heights[hi] * 1000.0));
+                if (abs(err_pm) > abs(worst_range_pm)) {
+                    worst_range_pm = err_pm;
+                }
+                if (abs(herr) > abs(worst_h_pct)) {
+                    worst_h_pct = herr;
+                }
+                assert_true(abs(err_pm) <= 100); /* range error <= 10 % */
+                assert_true(abs(herr) <= 40);
+                assert_true(abs(h->bearing_mdeg) <= 5000);
+            }
+            rig_teardown(&rig);
+        }
+    }
+    print_message("drop detection: %d/%d frames, worst range error %d "
+                  "permille, worst height error %d %%\n",
+                  found, total, worst_range_pm, worst_h_pct);
+    assert_true(found * 100 >= total * 95);
+}
+
+static void test_detect_150mm_confirmed_beyond_3500(void **state)
+{
+    synth_scene_t s;
+    double edge = 4.3;
+    int i;
+    int confirmed_at = -1;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.25, 1);
+    /* Walk towards the edge at 1.4 m/s, 10 frames per second. */
+    for (i = 0; i < 12 && confirmed_at < 0; i++) {
+        s.nseg = 0;
+        synth_step(&s, edge, -0.15);
+        s.seed = (uint32_t)i + 5u;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        if (rig.res.n_hazards > 0) {
+            confirmed_at = (int)(edge * 1000.0);
+            assert_true(rig.res.hazards[0].flags & NEGOBS_HAZARD_F_CONFIRMED);
+            assert_int_equal(rig.res.level, NEGOBS_LEVEL_CAUTION);
+            assert_int_equal(rig.res.state, NEGOBS_DETECT_HAZARD);
+        }
+        edge -= 0.14;
+    }
+    print_message("150 mm drop confirmed with the edge at %d mm\n",
+                  confirmed_at);
+    assert_true(confirmed_at >= 3500);
+    rig_teardown(&rig);
+}
+
+static void test_detect_no_false_hazard_on_upstep(void **state)
+{
+    synth_scene_t s;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.25, 1);
+    synth_step(&s, 2.5, 0.15);
+    assert_int_equal(frames_with_candidates(&s, 40), 0);
+    assert_int_equal(rig.res.n_hazards, 0);
+    rig_teardown(&rig);
+}
+
+static void test_detect_no_false_hazard_on_wall(void **state)
+{
+    synth_scene_t s;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.25, 1);
+    synth_step(&s, 3.0, 3.0);
+    assert_int_equal(frames_with_candidates(&s, 40), 0);
+    /* A wall close enough to fill the top of the fit region. */
+    scene(&s, 0.25, 1);
+    synth_step(&s, 2.0, 3.0);
+    assert_int_equal(frames_with_candidates(&s, 20), 0);
+    rig_teardown(&rig);
+}
+
+static void test_detect_no_false_hazard_with_dropout_and_roll(void **state)
+{
+    synth_scene_t s;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.25, 1);
+    s.roll_deg = 6.0;
+    s.dropout = 0.2;
+    assert_int_equal(frames_with_candidates(&s, 30), 0);
+    assert_true(abs(rig.res.pose.roll_mdeg - 6000) <= 700);
+    assert_true(abs(rig.res.pose.pitch_mdeg - 20000) <= 700);
+    rig_teardown(&rig);
+}
+
+static void test_detect_drop_with_roll(void **state)
+{
+    synth_scene_t s;
+    int found;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.25, 1);
+    s.roll_deg = -5.0;
+    synth_step(&s, 2.5, -0.15);
+    found = frames_with_candidates(&s, 10);
+    assert_true(found >= 9);
+    assert_true(abs(rig_nearest(&rig)->range_mm - 2500) <= 250);
+    rig_teardown(&rig);
+}
+
+static void test_detect_descending_stairs(void **state)
+{
+    synth_scene_t s;
+    int i;
+    int stairs = 0;
+    int found = 0;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.25, 1);
+    for (i = 0; i < 5; i++) {
+        synth_step(&s, 1.8 + 0.3 * i, -0.17 * (i + 1));
+    }
+    for (i = 0; i < 8; i++) {
+        const negobs_hazard_t *h;
+        s.seed = (uint32_t)i + 3u;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        h = rig_nearest(&rig);
+        if (h == NULL) {
+            continue;
+        }
+        found++;
+        stairs += (h->type == NEGOBS_HAZARD_STAIRS) ? 1 : 0;
+        assert_true(abs(h->range_mm - 1800) <= 180);
+    }
+    print_message("stairs: found %d/8, typed STAIRS %d\n", found, stairs);
+    assert_int_equal(found, 8);
+    assert_true(stairs >= 6);
+}
+
+static void test_detect_hole(void **state)
+{
+    synth_scene_t s;
+    int i;
+    int holes = 0;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.25, 1);
+    synth_step(&s, 2.2, -0.4);
+    synth_step(&s, 2.8, 0.0);
+    for (i = 0; i < 8; i++) {
+        const negobs_hazard_t *h;
+        s.seed = (uint32_t)i + 11u;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        h = rig_nearest(&rig);
+        assert_non_null(h);
+        assert_true(abs(h->range_mm - 2200) <= 220);
+        holes += (h->type == NEGOBS_HAZARD_HOLE) ? 1 : 0;
+    }
+    print_message("hole: typed HOLE %d/8\n", holes);
+    assert_true(holes >= 6);
+    rig_teardown(&rig);
+}
+
+static void test_detect_missing_ground(void **state)
+{
+    synth_scene_t s;
+    int i;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.25, 1);
+    /* No matches beyond ~2.4 m across the corridor (rows above 150). */
+    s.inv_u0 = 0;
+    s.inv_u1 = RIG_W;
+    s.inv_v0 = 0;
+    s.inv_v1 = 150;
+    for (i = 0; i < 4; i++) {
+        const negobs_hazard_t *h;
+        s.seed = (uint32_t)i + 1u;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        h = rig_nearest(&rig);
+        assert_non_null(h);
+        assert_int_equal(h->type, NEGOBS_HAZARD_UNKNOWN);
+        assert_true(h->flags & NEGOBS_HAZARD_F_H_LOWER);
+        assert_true(h->range_mm > 2000 && h->range_mm < 2600);
+    }
+    /* Missing ground alone never reaches IMMINENT (default policy). */
+    assert_true(rig.res.n_hazards > 0);
+    assert_int_equal(rig.res.level, NEGOBS_LEVEL_CAUTION);
+    rig_teardown(&rig);
+}
+
+static void test_detect_degraded_photometric(void **state)
+{
+    synth_scene_t s;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.25, 1);
+    rig.stats.mean = 5;
+    assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+    assert_true(rig.res.reasons & NEGOBS_DEGRADED_TOO_DARK);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+    rig.stats.mean = 120;
+    rig.stats.saturated_permille = 600;
+    assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+    assert_int_equal(rig.res.reasons, NEGOBS_DEGRADED_SATURATED);
+    rig.stats.saturated_permille = 0;
+    rig.stats.texture_q4 = 3;
+    assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+    assert_int_equal(rig.res.reasons, NEGOBS_DEGRADED_LOW_TEXTURE);
+    rig.stats.texture_q4 = 160;
+    assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+    assert_int_equal(rig.res.reasons, 0);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+    rig_teardown(&rig);
+}
+
+static void test_detect_photo_stats_from_image(void **state)
+{
+    static uint8_t px[64 * 32];
+    negobs_image_u8_t img = {px, 64, 32, 64};
+    negobs_photo_stats_t st;
+    int i;
+    (void)state;
+    memset(px, 0, sizeof px);
+    assert_int_equal(negobs_detect_photo_stats(&img, &st), NEGOBS_OK);
+    assert_int_equal(st.mean, 0);
+    assert_int_equal(st.dark_permille, 1000);
+    assert_int_equal(st.texture_q4, 0);
+    for (i = 0; i < 64 * 32; i++) {
+        px[i] = (uint8_t)((i & 1) ? 255 : 100);
+    }
+    assert_int_equal(negobs_detect_photo_stats(&img, &st), NEGOBS_OK);
+    assert_int_equal(st.mean, 100); /* even columns sampled */
+    assert_int_equal(st.texture_q4, 155 * 16);
+    assert_int_equal(negobs_detect_photo_stats(NULL, &st), NEGOBS_ERR_INVAL);
+}
+
+static void test_detect_degraded_timing(void **state)
+{
+    synth_scene_t s;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.25, 1);
+    synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+    rig.frame.disp_q4 = &rig.img;
+    rig.frame.left_stats = &rig.stats;
+    rig.frame.now_ms = 5000;
+    rig.frame.t_left_ms = 4950;
+    rig.frame.t_right_ms = 4960; /* 10 ms apart */
+    assert_int_equal(negobs_detect_process(&rig.det, &rig.frame, &rig.res),
+                     NEGOBS_OK);
+    assert_int_equal(rig.res.reasons, NEGOBS_DEGRADED_UNSYNCED);
+    rig.frame.t_right_ms = 4950;
+    rig.frame.now_ms = 5200; /* 250 ms old */
+    assert_int_equal(negobs_detect_process(&rig.det, &rig.frame, &rig.res),
+                     NEGOBS_OK);
+    assert_int_equal(rig.res.reasons, NEGOBS_DEGRADED_STALE);
+    /* Wrap-around of the millisecond clock is not staleness. */
+    rig.frame.t_left_ms = 0xFFFFFFF0u;
+    rig.frame.t_right_ms = 0xFFFFFFF2u;
+    rig.frame.now_ms = 0x00000020u;
+    assert_int_equal(negobs_detect_process(&rig.det, &rig.frame, &rig.res),
+                     NEGOBS_OK);
+    assert_int_equal(rig.res.reasons, 0);
+    rig_teardown(&rig);
+}
+
+static void test_detect_degraded_pose_and_noise(void **state)
+{
+    synth_scene_t s;
+    (void)state;
+    rig_setup(&rig, NULL);
+    /* Looking far down (pitch 45 deg > 20 + 15): ground rejected. */
+    synth_flat(&s, 1.2, 45.0);
+    s.noise_px = 0.25;
+    assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+    assert_true(rig.res.reasons & NEGOBS_DEGRADED_GROUND_REJECTED);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+    /* Camera at 2 m (tolerance 1.2 +- 0.3 m): rejected. */
+    synth_flat(&s, 2.0, 20.0);
+    s.noise_px = 0.25;
+    assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+    assert_true(rig.res.reasons & NEGOBS_DEGRADED_GROUND_REJECTED);
+    /* 1 px noise: cannot see 100 mm at 4 m any more. */
+    rig_teardown(&rig);
+    rig_setup(&rig, NULL);
+    scene(&s, 1.0, 1);
+    assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+    assert_true(rig.res.reasons & NEGOBS_DEGRADED_NOISY);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+    rig_teardown(&rig);
+}
+
+static void test_detect_presets(void **state)
+{
+    negobs_detect_config_t cfg;
+    (void)state;
+    negobs_detect_config_default(&cfg, RIG_W, RIG_H);
+    assert_int_equal(negobs_detect_config_preset(&cfg, NEGOBS_SENS_SENSITIVE),
+                     NEGOBS_OK);
+    assert_true(cfg.h_min_far_mm < 100);
+    assert_int_equal(
+        negobs_detect_config_preset(&cfg, NEGOBS_SENS_CONSERVATIVE),
+        NEGOBS_OK);
+    assert_true(cfg.h_min_far_mm > 100 && cfg.confirm_k > 3);
+    assert_int_equal(negobs_detect_config_preset(&cfg, NEGOBS_SENS_BALANCED),
+                     NEGOBS_OK);
+    assert_int_equal(cfg.h_min_far_mm, 100);
+    assert_int_equal(
+        negobs_detect_config_preset(&cfg, (negobs_sensitivity_t)7),
+        NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_detect_config_preset(NULL, NEGOBS_SENS_BALANCED),
+                     NEGOBS_ERR_INVAL);
+}
+
+static void test_detect_small_drop_below_threshold_ignored(void **state)
+{
+    synth_scene_t s;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.25, 1);
+    synth_step(&s, 3.0, -0.03); /* 30 mm at 3 m: below h_min */
+    assert_int_equal(frames_with_candidates(&s, 20), 0);
+    rig_teardown(&rig);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_detect_workspace_exact_and_nospace),
+        cmocka_unit_test(test_detect_workspace_scales_with_size),
+        cmocka_unit_test(test_detect_bad_input_reports_no_info),
+        cmocka_unit_test(test_detect_all_invalid_is_no_info),
+        cmocka_unit_test(test_detect_flat_ground_pose_and_no_hazard),
+        cmocka_unit_test(test_detect_drop_range_and_height_errors),
+        cmocka_unit_test(test_detect_150mm_confirmed_beyond_3500),
+        cmocka_unit_test(test_detect_no_false_hazard_on_upstep),
+        cmocka_unit_test(test_detect_no_false_hazard_on_wall),
+        cmocka_unit_test(test_detect_no_false_hazard_with_dropout_and_roll),
+        cmocka_unit_test(test_detect_drop_with_roll),
+        cmocka_unit_test(test_detect_descending_stairs),
+        cmocka_unit_test(test_detect_hole),
+        cmocka_unit_test(test_detect_missing_ground),
+        cmocka_unit_test(test_detect_degraded_photometric),
+        cmocka_unit_test(test_detect_photo_stats_from_image),
+        cmocka_unit_test(test_detect_degraded_timing),
+        cmocka_unit_test(test_detect_degraded_pose_and_noise),
+        cmocka_unit_test(test_detect_presets),
+        cmocka_unit_test(test_detect_small_drop_below_threshold_ignored),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
