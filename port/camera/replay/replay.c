@@ -310,8 +310,17 @@ static int read_session_pair(negobs_replay_t *st, uint64_t *tl, uint64_t *tr,
 
 static int rp_rewind(negobs_replay_t *st)
 {
+    /* The first pair of the next round is due one frame period after the
+     * last one, so a looped replay keeps its rate. For sessions the period
+     * is the recording's mean frame interval. */
+    uint64_t period = 0;
+    if (st->session && st->next > 1 && st->cur_tl > st->ts0_ns) {
+        period = (st->cur_tl - st->ts0_ns) / (st->next - 1u);
+    } else if (st->fps > 0) {
+        period = 1000000000u / (uint64_t)st->fps;
+    }
+    st->t0_ns = st->last_due_ns + period;
     st->next = 0;
-    st->t0_ns = negobs_clock_now_ns();
     st->ts0_ns = 0;
     if (st->session) {
         rewind(st->frames_txt);
@@ -416,6 +425,7 @@ static int rp_get_pair(void *ctx, negobs_frame_pair_t *pair,
         }
     }
     st->held = false;
+    st->last_due_ns = due;
     fill_frame(&pair->left, st->buf, st->cur_w, st->cur_h, due, st->cur_seq);
     fill_frame(&pair->right, st->buf + (size_t)st->cur_w * (size_t)st->cur_h,
                st->cur_w, st->cur_h, due + (st->cur_tr - st->cur_tl),

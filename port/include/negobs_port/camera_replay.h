@@ -47,6 +47,7 @@ typedef struct negobs_replay {
     FILE *right_f;
     uint64_t t0_ns;        /**< pacing: clock at start                 */
     uint64_t ts0_ns;       /**< pacing: first frame timestamp          */
+    uint64_t last_due_ns;  /**< delivery time of the last pair         */
     bool held;             /**< a pair is read but not yet due         */
     int32_t cur_w;         /**< the held pair: size, stamps, sequence  */
     int32_t cur_h;

@@ -1,0 +1,806 @@
+/*
+ * negobs_run: the device program.
+ *
+ *   negobs_run [options] LEFT RIGHT      LEFT/RIGHT: /dev/videoN or replay:DIR
+ *
+ * Main loop, top to bottom:
+ *   1. settings: defaults <- --config FILE <- command-line options
+ *   2. motor output opened, motor thread started (it is also the watchdog:
+ *      no fresh verdict within watchdog_ms -> no-information pattern)
+ *   3. camera pair opened and started; READY pattern played
+ *   4. for each synchronised pair: [record] -> app_process_pair() ->
+ *      pattern for the verdict -> motor thread; once per second a status
+ *      line (fps, latency, dropped pairs)
+ *   5. on SIGINT/SIGTERM, --frames N, or end of a replay: stop, motor off
+ *
+ * All buffers are static and sized by NEGOBS_RUN_MAX_W/H. What is wired
+ * today: capture, pairing, recording, the image-quality gate, watchdog and
+ * motor patterns. Stereo matching and drop-off detection are NOT wired
+ * (see app_pipeline.h), so silence does not yet mean "path clear".
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include <errno.h>
+#include <getopt.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "app_patterns.h"
+#include "app_pipeline.h"
+#include "negobs/status.h"
+#include "negobs/version.h"
+#include "negobs_port/alert.h"
+#include "negobs_port/camera.h"
+#include "negobs_port/camera_replay.h"
+#include "negobs_port/camera_v4l2.h"
+#include "negobs_port/clock.h"
+#include "negobs_port/config.h"
+
+#ifndef NEGOBS_RUN_DEFAULT_ALERT
+#define NEGOBS_RUN_DEFAULT_ALERT "console"
+#endif
+#ifndef NEGOBS_RUN_DEFAULT_CAMERA
+#define NEGOBS_RUN_DEFAULT_CAMERA "replay"
+#endif
+/* Length of the READY pattern (app_patterns.c), waited for at start. */
+#define APP_READY_MS 320u
+
+#ifndef NEGOBS_RUN_MAX_W
+#define NEGOBS_RUN_MAX_W 1280
+#endif
+#ifndef NEGOBS_RUN_MAX_H
+#define NEGOBS_RUN_MAX_H 800
+#endif
+
+/* Exit codes (documented in --help and docs/RUNNING.md). */
+enum {
+    EXIT_OK = 0,         /* frames done, end of replay, or SIGINT/SIGTERM */
+    EXIT_RUNTIME = 1,    /* failure while running (corrupt replay, ...)   */
+    EXIT_USAGE = 2,      /* bad option or argument                        */
+    EXIT_CONFIG = 3,     /* config file missing or invalid                */
+    EXIT_CAMERA = 4,     /* camera could not be opened or started         */
+    EXIT_ALERT = 5       /* motor output could not be opened              */
+};
+
+enum { LOG_ERROR = 0, LOG_WARN = 1, LOG_INFO = 2, LOG_DEBUG = 3 };
+
+/* ---- settings ------------------------------------------------------- */
+
+typedef struct run_settings {
+    char alert[96];
+    int32_t width;
+    int32_t height;
+    int32_t fps;
+    int32_t frames;
+    char record[256];
+    char log_level[16];
+    int32_t pair_tol_ms;
+    int32_t watchdog_ms;
+    int32_t exposure;
+    int32_t gain;
+    int32_t pwm_period_ns;
+    char pwm_sysfs_root[128];
+    bool gpio_active_low;
+    bool replay_loop;
+    int32_t status_interval_ms;
+    app_pipeline_config_t app;
+} run_settings_t;
+
+static run_settings_t S;
+static bool size_given;
+
+static const negobs_cfg_key_t config_keys[] = {
+    {"alert", NEGOBS_CFG_STRING, S.alert, 0, sizeof S.alert,
+     "gpio:CHIP:LINE | pwm:CHIP:CHANNEL | console | none"},
+    {"width", NEGOBS_CFG_INT, &S.width, 16, NEGOBS_RUN_MAX_W,
+     "capture width in pixels (default 640)"},
+    {"height", NEGOBS_CFG_INT, &S.height, 16, NEGOBS_RUN_MAX_H,
+     "capture height in pixels (default 480)"},
+    {"fps", NEGOBS_CFG_INT, &S.fps, 0, 240,
+     "frame rate; replay: pacing, 0 = as fast as possible (default 30)"},
+    {"frames", NEGOBS_CFG_INT, &S.frames, 0, INT32_MAX,
+     "stop after this many pairs, 0 = run until stopped (default 0)"},
+    {"record", NEGOBS_CFG_STRING, S.record, 0, sizeof S.record,
+     "record every pair to this folder (default: off)"},
+    {"log_level", NEGOBS_CFG_STRING, S.log_level, 0, sizeof S.log_level,
+     "error | warn | info | debug (default info)"},
+    {"pair_tolerance_ms", NEGOBS_CFG_INT, &S.pair_tol_ms, 0, 1000,
+     "max left/right timestamp difference of a pair (default 10)"},
+    {"watchdog_ms", NEGOBS_CFG_INT, &S.watchdog_ms, 50, 10000,
+     "no fresh pair for this long -> no-info pattern (default 300)"},
+    {"exposure", NEGOBS_CFG_INT, &S.exposure, -1, INT32_MAX,
+     "manual exposure for both cameras, driver units; -1 auto (default)"},
+    {"gain", NEGOBS_CFG_INT, &S.gain, -1, INT32_MAX,
+     "gain for both cameras, driver units; -1 leave as is (default)"},
+    {"pwm_period_ns", NEGOBS_CFG_INT, &S.pwm_period_ns, 1000, 1000000000,
+     "PWM period (default 1000000 = 1 kHz)"},
+    {"pwm_sysfs_root", NEGOBS_CFG_STRING, S.pwm_sysfs_root, 0,
+     sizeof S.pwm_sysfs_root, "sysfs PWM class folder (default /sys/class/pwm)"},
+    {"gpio_active_low", NEGOBS_CFG_BOOL, &S.gpio_active_low, 0, 1,
+     "motor on = line low (default false)"},
+    {"replay_loop", NEGOBS_CFG_BOOL, &S.replay_loop, 0, 1,
+     "start a replay over at its end (default false)"},
+    {"status_interval_ms", NEGOBS_CFG_INT, &S.status_interval_ms, 100,
+     600000, "period of the status line (default 1000)"},
+    {"dark_mean_min", NEGOBS_CFG_INT, &S.app.dark_mean_min, 0, 255,
+     "mean grey below this -> no-info (default 20)"},
+    {"saturation_permille_max", NEGOBS_CFG_INT, &S.app.sat_permille_max, 0,
+     1000, "share of pixels >= 250 above this -> no-info (default 300)"},
+    {"texture_std_min", NEGOBS_CFG_INT, &S.app.texture_std_min, 0, 127,
+     "5x5 std dev that counts as texture (default 4)"},
+    {"texture_permille_min", NEGOBS_CFG_INT, &S.app.texture_permille_min, 0,
+     1000, "share of textured windows below this -> no-info (default 20)"},
+    {"lr_mean_diff_max", NEGOBS_CFG_INT, &S.app.lr_mean_diff_max, 0, 255,
+     "left/right mean grey difference above this -> no-info (default 60)"},
+};
+#define N_KEYS (sizeof config_keys / sizeof config_keys[0])
+
+static void settings_default(void)
+{
+    memset(&S, 0, sizeof S);
+    (void)snprintf(S.alert, sizeof S.alert, "%s", NEGOBS_RUN_DEFAULT_ALERT);
+    S.width = 640;
+    S.height = 480;
+    S.fps = 30;
+    (void)snprintf(S.log_level, sizeof S.log_level, "info");
+    S.pair_tol_ms = NEGOBS_CAMERA_PAIR_TOL_MS_DEFAULT;
+    S.watchdog_ms = 300;
+    S.exposure = -1;
+    S.gain = -1;
+    S.pwm_period_ns = 1000000;
+    (void)snprintf(S.pwm_sysfs_root, sizeof S.pwm_sysfs_root,
+                   "/sys/class/pwm");
+    S.status_interval_ms = 1000;
+    app_pipeline_config_default(&S.app);
+}
+
+/* ---- logging -------------------------------------------------------- */
+
+static int log_level = LOG_INFO;
+static uint64_t log_t0_ms;
+
+static void logmsg(int level, const char *fmt, ...)
+{
+    static const char *const tag[] = {"error", "warn", "info", "debug"};
+    va_list ap;
+    uint64_t t;
+    if (level > log_level) {
+        return;
+    }
+    t = negobs_clock_now_ms() - log_t0_ms;
+    fprintf(stderr, "[%5lu.%03lu] %s: ", (unsigned long)(t / 1000u),
+            (unsigned long)(t % 1000u), tag[level]);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputc('\n', stderr);
+}
+
+static int parse_log_level(const char *s)
+{
+    static const char *const names[] = {"error", "warn", "info", "debug"};
+    int i;
+    for (i = 0; i < 4; i++) {
+        if (strcmp(s, names[i]) == 0) {
+            return i;
+        }
+    }
+    if (s[0] >= '0' && s[0] <= '3' && s[1] == '\0') {
+        return s[0] - '0';
+    }
+    return -1;
+}
+
+/* ---- command line --------------------------------------------------- */
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+"Usage: negobs_run [options] LEFT RIGHT\n"
+"       negobs_run [options] replay:DIR\n"
+"\n"
+"Warns of drop-offs ahead through a vibration motor, from a stereo pair.\n"
+"LEFT/RIGHT: /dev/videoN (V4L2) or replay:DIR (a folder of left_NNNN.pgm /\n"
+"right_NNNN.pgm pairs or a session recorded with --record). A bare name uses\n"
+"the build's default camera backend (" NEGOBS_RUN_DEFAULT_CAMERA ").\n"
+"\n"
+"STATUS: capture, pairing, recording, an image-quality gate (too dark,\n"
+"saturated, textureless -> no-information pattern), the 300 ms watchdog and\n"
+"the motor patterns are wired. Stereo matching and drop-off detection are\n"
+"NOT wired yet: silence does not mean the path is clear.\n"
+"\n"
+"Options:\n"
+"  --config FILE        read key = value settings (applied before options)\n"
+"  --alert SPEC         gpio:CHIP:LINE | pwm:CHIP:CHANNEL | console | none\n"
+"                       (default " NEGOBS_RUN_DEFAULT_ALERT ")\n"
+"  --width N, --height N   capture size (default 640x480; max %dx%d)\n"
+"  --fps N              frame rate (default 30; replay: pacing, 0 = fastest)\n"
+"  --frames N           stop after N pairs (default: run until stopped)\n"
+"  --record DIR         record every pair as a session (see docs/RUNNING.md)\n"
+"  --log-level LEVEL    error | warn | info | debug (default info)\n"
+"  --help               this text, then the config keys\n"
+"  --version            print the version\n"
+"\n"
+"Exit codes: 0 done or stopped by SIGINT/SIGTERM, 1 runtime failure,\n"
+"2 usage error, 3 config error, 4 camera failure, 5 motor output failure.\n",
+            NEGOBS_RUN_MAX_W, NEGOBS_RUN_MAX_H);
+}
+
+typedef struct run_args {
+    const char *config;
+    const char *left;
+    const char *right;
+} run_args_t;
+
+static int usage_error(const char *fmt, const char *arg)
+{
+    fprintf(stderr, "negobs_run: ");
+    fprintf(stderr, fmt, arg);
+    fprintf(stderr, "\nTry 'negobs_run --help'.\n");
+    return EXIT_USAGE;
+}
+
+/* Returns -1 to continue, else an exit code. */
+static int parse_args(int argc, char **argv, run_args_t *a)
+{
+    enum { O_CONFIG = 256, O_ALERT, O_WIDTH, O_HEIGHT, O_FPS, O_FRAMES,
+           O_RECORD, O_LOG, O_HELP, O_VERSION };
+    static const struct option opts[] = {
+        {"config", required_argument, NULL, O_CONFIG},
+        {"alert", required_argument, NULL, O_ALERT},
+        {"width", required_argument, NULL, O_WIDTH},
+        {"height", required_argument, NULL, O_HEIGHT},
+        {"fps", required_argument, NULL, O_FPS},
+        {"frames", required_argument, NULL, O_FRAMES},
+        {"record", required_argument, NULL, O_RECORD},
+        {"log-level", required_argument, NULL, O_LOG},
+        {"help", no_argument, NULL, O_HELP},
+        {"version", no_argument, NULL, O_VERSION},
+        {NULL, 0, NULL, 0},
+    };
+    negobs_cfg_error_t err;
+    int i;
+    int c;
+
+    /* Pass 1: --help/--version win; the config file comes first so that
+     * options override it whatever their order. */
+    for (i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--") == 0) {
+            break;
+        }
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            usage(stdout);
+            printf("\nConfig file keys (key = value, '#' comments):\n");
+            negobs_config_print_keys(stdout, config_keys, N_KEYS);
+            return EXIT_OK;
+        }
+        if (strcmp(argv[i], "--version") == 0) {
+            printf("negobs_run %s\n", NEGOBS_VERSION_STRING);
+            return EXIT_OK;
+        }
+        if (strcmp(argv[i], "--config") == 0 && i + 1 < argc) {
+            a->config = argv[i + 1];
+        } else if (strncmp(argv[i], "--config=", 9) == 0) {
+            a->config = argv[i] + 9;
+        }
+    }
+    if (a->config != NULL) {
+        memset(&err, 0, sizeof err);
+        if (negobs_config_parse_file(a->config, config_keys, N_KEYS, &err) !=
+            NEGOBS_OK) {
+            fprintf(stderr, "negobs_run: %s: %s\n", a->config, err.msg);
+            return EXIT_CONFIG;
+        }
+    }
+
+    /* Pass 2: options, through the same table as the config file. */
+    opterr = 0;
+    optind = 1;
+    while ((c = getopt_long(argc, argv, ":h", opts, NULL)) != -1) {
+        const char *key = NULL;
+        switch (c) {
+        case O_CONFIG: continue;
+        case O_ALERT: key = "alert"; break;
+        case O_WIDTH: key = "width"; size_given = true; break;
+        case O_HEIGHT: key = "height"; size_given = true; break;
+        case O_FPS: key = "fps"; break;
+        case O_FRAMES: key = "frames"; break;
+        case O_RECORD: key = "record"; break;
+        case O_LOG: key = "log_level"; break;
+        case ':':
+            return usage_error("option '%s' needs a value", argv[optind - 1]);
+        case '?':
+        default:
+            return usage_error("unknown option '%s'", argv[optind - 1]);
+        }
+        memset(&err, 0, sizeof err);
+        if (negobs_config_set(config_keys, N_KEYS, key, optarg, &err) !=
+            NEGOBS_OK) {
+            return usage_error("%s", err.msg);
+        }
+    }
+    if (parse_log_level(S.log_level) < 0) {
+        return usage_error("bad log level '%s'", S.log_level);
+    }
+    log_level = parse_log_level(S.log_level);
+    if (optind >= argc) {
+        return usage_error("%s", "missing camera arguments LEFT RIGHT");
+    }
+    a->left = argv[optind++];
+    if (optind < argc) {
+        a->right = argv[optind++];
+    }
+    if (optind < argc) {
+        return usage_error("unexpected argument '%s'", argv[optind]);
+    }
+    return -1;
+}
+
+/* ---- devices -------------------------------------------------------- */
+
+static negobs_alert_t alert;
+static negobs_alert_console_t alert_console;
+static negobs_alert_pwm_t alert_pwm;
+static negobs_alert_gpio_t alert_gpio;
+
+static negobs_camera_t camera;
+static negobs_replay_t replay_state;
+static negobs_v4l2_t v4l2_state;
+/* Replay pixels or packed-format luma: one pair at the largest size. */
+static uint8_t frame_buf[2u * NEGOBS_RUN_MAX_W * NEGOBS_RUN_MAX_H];
+
+static negobs_motor_thread_t motor;
+static negobs_recorder_t recorder;
+static app_pipeline_t pipeline;
+
+/* Parse "a:b:c" into kind and two fields; returns fields found. */
+static int split_spec(const char *spec, char *kind, size_t klen, char *f1,
+                      size_t l1, char *f2, size_t l2)
+{
+    const char *p1 = strchr(spec, ':');
+    const char *p2 = p1 != NULL ? strchr(p1 + 1, ':') : NULL;
+    size_t n = p1 != NULL ? (size_t)(p1 - spec) : strlen(spec);
+    if (n >= klen) {
+        return -1;
+    }
+    memcpy(kind, spec, n);
+    kind[n] = '\0';
+    f1[0] = f2[0] = '\0';
+    if (p1 == NULL) {
+        return 0;
+    }
+    n = p2 != NULL ? (size_t)(p2 - p1 - 1) : strlen(p1 + 1);
+    if (n >= l1) {
+        return -1;
+    }
+    memcpy(f1, p1 + 1, n);
+    f1[n] = '\0';
+    if (p2 == NULL) {
+        return 1;
+    }
+    if (strlen(p2 + 1) >= l2 || strchr(p2 + 1, ':') != NULL) {
+        return -1;
+    }
+    strcpy(f2, p2 + 1);
+    return 2;
+}
+
+static int parse_u32(const char *s, uint32_t *out)
+{
+    char *end = NULL;
+    unsigned long v;
+    if (s[0] < '0' || s[0] > '9') {
+        return -1;
+    }
+    errno = 0;
+    v = strtoul(s, &end, 10);
+    if (errno != 0 || *end != '\0' || v > 0xFFFFFFFFul) {
+        return -1;
+    }
+    *out = (uint32_t)v;
+    return 0;
+}
+
+/* Check the alert spec without opening anything (usage errors first). */
+static int check_alert_spec(const char *spec)
+{
+    char kind[16];
+    char f1[64];
+    char f2[16];
+    uint32_t u;
+    int n = split_spec(spec, kind, sizeof kind, f1, sizeof f1, f2, sizeof f2);
+    if ((strcmp(kind, "console") == 0 || strcmp(kind, "none") == 0) &&
+        n == 0) {
+        return 0;
+    }
+    if (strcmp(kind, "gpio") == 0 && n == 2 && f1[0] != '\0' &&
+        parse_u32(f2, &u) == 0) {
+        return 0;
+    }
+    if (strcmp(kind, "pwm") == 0 && n == 2 && parse_u32(f1, &u) == 0 &&
+        parse_u32(f2, &u) == 0) {
+        return 0;
+    }
+    return -1;
+}
+
+static int open_alert(const char *spec)
+{
+    char kind[16];
+    char f1[64];
+    char f2[16];
+    uint32_t a = 0;
+    uint32_t b = 0;
+    negobs_status_t s;
+    (void)split_spec(spec, kind, sizeof kind, f1, sizeof f1, f2, sizeof f2);
+    if (strcmp(kind, "console") == 0) {
+        s = negobs_alert_console_open(&alert_console, stdout, &alert);
+    } else if (strcmp(kind, "none") == 0) {
+        s = negobs_alert_none_open(&alert);
+    } else if (strcmp(kind, "pwm") == 0) {
+        (void)parse_u32(f1, &a);
+        (void)parse_u32(f2, &b);
+        s = negobs_alert_pwm_open(&alert_pwm, S.pwm_sysfs_root, a, b,
+                                  (uint32_t)S.pwm_period_ns, &alert);
+        if (s != NEGOBS_OK) {
+            logmsg(LOG_ERROR, "pwm output: %s", alert_pwm.errmsg);
+        }
+    } else {
+        (void)parse_u32(f2, &b);
+        s = negobs_alert_gpio_open(&alert_gpio, f1, b, S.gpio_active_low,
+                                   &alert);
+        if (s != NEGOBS_OK) {
+            logmsg(LOG_ERROR, "gpio output: %s", alert_gpio.errmsg);
+        }
+    }
+    if (s != NEGOBS_OK) {
+        logmsg(LOG_ERROR, "cannot open motor output '%s': %s", spec,
+               negobs_status_str(s));
+        return -1;
+    }
+    logmsg(LOG_INFO, "motor output: %s", spec);
+    return 0;
+}
+
+/* Which backend an argument names: "replay", "v4l2", or the default. */
+static const char *camera_kind(const char *arg)
+{
+    if (strncmp(arg, "replay:", 7) == 0) {
+        return "replay";
+    }
+    if (strncmp(arg, "v4l2:", 5) == 0 || strncmp(arg, "/dev/", 5) == 0) {
+        return "v4l2";
+    }
+    return NEGOBS_RUN_DEFAULT_CAMERA;
+}
+
+static int check_camera_args(const run_args_t *a)
+{
+    const char *k = camera_kind(a->left);
+    if (strcmp(k, "replay") == 0) {
+        if (a->right != NULL && strcmp(a->right, a->left) != 0) {
+            return usage_error("%s", "a replay folder holds both sides: give "
+                                     "replay:DIR once (or twice the same)");
+        }
+        return 0;
+    }
+    if (strcmp(k, "v4l2") == 0) {
+        if (a->right == NULL) {
+            return usage_error("%s", "missing RIGHT camera");
+        }
+        if (strcmp(camera_kind(a->right), "v4l2") != 0) {
+            return usage_error("RIGHT '%s' must be a V4L2 device too",
+                               a->right);
+        }
+        return 0;
+    }
+    return usage_error("camera backend '%s' is not built into negobs_run", k);
+}
+
+static int open_camera(const run_args_t *a)
+{
+    negobs_camera_config_t cfg;
+    negobs_status_t s;
+    negobs_camera_config_default(&cfg);
+    cfg.left = a->left;
+    cfg.right = a->right != NULL ? a->right : a->left;
+    cfg.width = S.width;
+    cfg.height = S.height;
+    cfg.fps = S.fps;
+    cfg.pair_tol_ms = S.pair_tol_ms;
+    cfg.exposure = S.exposure;
+    cfg.gain = S.gain;
+    cfg.loop = S.replay_loop;
+    if (strcmp(camera_kind(a->left), "replay") == 0) {
+        if (!size_given) {
+            cfg.width = 0; /* take the size of the files */
+            cfg.height = 0;
+        }
+        s = negobs_replay_init(&replay_state, frame_buf, sizeof frame_buf,
+                               &camera);
+    } else {
+        s = negobs_v4l2_init(&v4l2_state, frame_buf, sizeof frame_buf,
+                             &camera);
+    }
+    if (s == NEGOBS_OK) {
+        s = negobs_camera_open(&camera, &cfg);
+        if (s == NEGOBS_OK) {
+            s = negobs_camera_start(&camera);
+            if (s != NEGOBS_OK) {
+                negobs_camera_close(&camera);
+            }
+        }
+    }
+    if (s != NEGOBS_OK) {
+        logmsg(LOG_ERROR, "camera %s: %s (%s)", a->left,
+               negobs_camera_errmsg(&camera), negobs_status_str(s));
+        return -1;
+    }
+    logmsg(LOG_INFO, "camera: %s backend, %s %s", camera.ops->name, cfg.left,
+           cfg.right);
+    return 0;
+}
+
+/* ---- signals -------------------------------------------------------- */
+
+static volatile sig_atomic_t stop_requested;
+
+static void on_stop_signal(int sig)
+{
+    (void)sig;
+    stop_requested = 1;
+}
+
+/* Fatal signals: the motor must not keep running after a crash. Only
+ * async-signal-safe calls (write/ioctl on open descriptors), then the
+ * default action runs (SA_RESETHAND). */
+static void on_fatal_signal(int sig)
+{
+    if (alert.ops != NULL && alert.ops->off_async != NULL) {
+        alert.ops->off_async(alert.ctx);
+    }
+    (void)raise(sig);
+}
+
+static void install_signals(void)
+{
+    static const int stops[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
+    static const int fatal[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
+    struct sigaction sa;
+    size_t i;
+    memset(&sa, 0, sizeof sa);
+    (void)sigemptyset(&sa.sa_mask);
+    sa.sa_handler = on_stop_signal; /* no SA_RESTART: waits return EINTR */
+    for (i = 0; i < sizeof stops / sizeof stops[0]; i++) {
+        (void)sigaction(stops[i], &sa, NULL);
+    }
+    sa.sa_handler = on_fatal_signal;
+    sa.sa_flags = (int)SA_RESETHAND;
+    for (i = 0; i < sizeof fatal / sizeof fatal[0]; i++) {
+        (void)sigaction(fatal[i], &sa, NULL);
+    }
+    sa.sa_handler = SIG_IGN;
+    sa.sa_flags = 0;
+    (void)sigaction(SIGPIPE, &sa, NULL);
+}
+
+/* ---- main loop ------------------------------------------------------ */
+
+typedef struct run_status {
+    uint64_t next_ms;
+    uint64_t window_start_ms;
+    uint32_t pairs;
+    uint64_t lat_sum_us;
+    uint64_t lat_max_us;
+    app_verdict_t verdict;
+    uint32_t verdicts[4];  /* pairs per verdict over the whole run */
+} run_status_t;
+
+static void status_line(run_status_t *st, uint64_t now)
+{
+    negobs_camera_stats_t cs;
+    uint64_t span = now - st->window_start_ms;
+    unsigned long fps10 = span > 0
+        ? (unsigned long)((uint64_t)st->pairs * 10000u / span) : 0;
+    unsigned long lat = st->pairs > 0
+        ? (unsigned long)(st->lat_sum_us / st->pairs / 100u) : 0;
+    negobs_camera_get_stats(&camera, &cs);
+    logmsg(LOG_INFO,
+           "status fps=%lu.%lu latency_ms=%lu.%lu max=%lu dropped=%lu "
+           "timeouts=%lu reopens=%lu verdict=%s reason=%s mean=%ld/%ld "
+           "texture=%ld/%ld watchdog=%lu",
+           fps10 / 10u, fps10 % 10u, lat / 10u, lat % 10u,
+           (unsigned long)(st->lat_max_us / 1000u),
+           (unsigned long)cs.dropped_pairs, (unsigned long)cs.timeouts,
+           (unsigned long)cs.reopens, app_verdict_name(st->verdict),
+           app_reason_name(pipeline.last.reason),
+           (long)pipeline.last.mean[0], (long)pipeline.last.mean[1],
+           (long)pipeline.last.texture_permille[0],
+           (long)pipeline.last.texture_permille[1],
+           (unsigned long)negobs_motor_thread_watchdog_fires(&motor));
+    st->window_start_ms = now;
+    st->next_ms = now + (uint64_t)S.status_interval_ms;
+    st->pairs = 0;
+    st->lat_sum_us = 0;
+    st->lat_max_us = 0;
+}
+
+static int run_loop(void)
+{
+    run_status_t st;
+    negobs_frame_pair_t pair;
+    uint32_t done = 0;
+    int last_err = NEGOBS_OK;
+    bool recording = false;
+    memset(&st, 0, sizeof st);
+    st.window_start_ms = negobs_clock_now_ms();
+    st.next_ms = st.window_start_ms + (uint64_t)S.status_interval_ms;
+    st.verdict = APP_VERDICT_NO_INFO;
+
+    while (!stop_requested) {
+        uint64_t now;
+        int rc = negobs_camera_get_pair(&camera, &pair, S.watchdog_ms);
+        now = negobs_clock_now_ms();
+        if (rc == NEGOBS_OK) {
+            app_verdict_t v;
+            uint64_t lat_us;
+            if (S.record[0] != '\0' && !recording &&
+                negobs_recorder_open(&recorder, S.record, pair.left.y.width,
+                                     pair.left.y.height) == NEGOBS_OK) {
+                /* The session takes its frame size from the first pair. */
+                recording = true;
+                logmsg(LOG_INFO, "recording to %s", S.record);
+            }
+            if (S.record[0] != '\0' &&
+                (!recording ||
+                 negobs_recorder_write(&recorder, &pair) != NEGOBS_OK)) {
+                logmsg(LOG_ERROR, "record: %s", recorder.errmsg);
+                negobs_camera_release(&camera, &pair);
+                return EXIT_RUNTIME;
+            }
+            v = app_process_pair(&pipeline, &pair.left.y, &pair.right.y);
+            negobs_motor_thread_post(&motor, app_pattern_for(v));
+            lat_us = (negobs_clock_now_ns() - pair.left.ts_ns) / 1000u;
+            negobs_camera_release(&camera, &pair);
+            if (v != st.verdict) {
+                logmsg(LOG_INFO, "verdict %s -> %s (%s)",
+                       app_verdict_name(st.verdict), app_verdict_name(v),
+                       app_reason_name(pipeline.last.reason));
+            }
+            st.verdict = v;
+            st.verdicts[v & 3]++;
+            st.pairs++;
+            st.lat_sum_us += lat_us;
+            if (lat_us > st.lat_max_us) {
+                st.lat_max_us = lat_us;
+            }
+            last_err = NEGOBS_OK;
+            done++;
+            if (S.frames > 0 && done >= (uint32_t)S.frames) {
+                logmsg(LOG_INFO, "%lu pairs processed", (unsigned long)done);
+                break;
+            }
+        } else if (rc == NEGOBS_CAMERA_END) {
+            logmsg(LOG_INFO, "end of replay after %lu pairs",
+                   (unsigned long)done);
+            break;
+        } else if (rc == NEGOBS_ERR_AGAIN) {
+            continue; /* signal: the loop condition decides */
+        } else if (rc == NEGOBS_ERR_TIMEOUT || rc == NEGOBS_ERR_NODEV ||
+                   rc == NEGOBS_ERR_IO) {
+            /* No data: say so at once rather than wait for the watchdog. */
+            negobs_motor_thread_post(&motor,
+                                     app_pattern_for(APP_VERDICT_NO_INFO));
+            if (rc != last_err) {
+                logmsg(LOG_WARN, "camera: %s%s%s",
+                       negobs_status_str((negobs_status_t)rc),
+                       negobs_camera_errmsg(&camera)[0] != '\0' ? ": " : "",
+                       negobs_camera_errmsg(&camera));
+            }
+            if (st.verdict != APP_VERDICT_NO_INFO) {
+                logmsg(LOG_INFO, "verdict %s -> no-info (camera)",
+                       app_verdict_name(st.verdict));
+            }
+            st.verdict = APP_VERDICT_NO_INFO;
+            last_err = rc;
+        } else {
+            logmsg(LOG_ERROR, "camera: %s (%s)",
+                   negobs_status_str((negobs_status_t)rc),
+                   negobs_camera_errmsg(&camera));
+            return EXIT_RUNTIME;
+        }
+        if (now >= st.next_ms) {
+            status_line(&st, now);
+        }
+    }
+    if (stop_requested) {
+        logmsg(LOG_INFO, "stop requested, shutting down");
+    }
+    {
+        negobs_camera_stats_t cs;
+        negobs_camera_get_stats(&camera, &cs);
+        logmsg(LOG_INFO,
+               "summary pairs=%lu no-info=%lu clear=%lu caution=%lu "
+               "imminent=%lu last_reason=%s dropped=%lu timeouts=%lu",
+               (unsigned long)done, (unsigned long)st.verdicts[0],
+               (unsigned long)st.verdicts[1], (unsigned long)st.verdicts[2],
+               (unsigned long)st.verdicts[3],
+               app_reason_name(pipeline.last.reason),
+               (unsigned long)cs.dropped_pairs, (unsigned long)cs.timeouts);
+    }
+    return EXIT_OK;
+}
+
+int main(int argc, char **argv)
+{
+    run_args_t args;
+    int rc;
+
+    log_t0_ms = negobs_clock_now_ms();
+    settings_default();
+    memset(&args, 0, sizeof args);
+    rc = parse_args(argc, argv, &args);
+    if (rc >= 0) {
+        return rc;
+    }
+    if (check_alert_spec(S.alert) != 0) {
+        return usage_error("bad alert '%s' (want gpio:CHIP:LINE, "
+                           "pwm:CHIP:CHANNEL, console or none)", S.alert);
+    }
+    rc = check_camera_args(&args);
+    if (rc != 0) {
+        return rc;
+    }
+    if (app_pipeline_init(&pipeline, &S.app) != NEGOBS_OK) {
+        fprintf(stderr, "negobs_run: bad image-quality thresholds\n");
+        return EXIT_CONFIG;
+    }
+    install_signals();
+    logmsg(LOG_WARN, "drop-off detection is NOT wired in this build: only "
+                     "the image-quality gate runs (silence != clear)");
+
+    if (open_alert(S.alert) != 0) {
+        return EXIT_ALERT;
+    }
+    if (negobs_motor_thread_start(&motor, &alert,
+                                  app_pattern_for(APP_VERDICT_NO_INFO),
+                                  (uint32_t)S.watchdog_ms) != NEGOBS_OK) {
+        logmsg(LOG_ERROR, "cannot start the motor thread");
+        negobs_alert_close(&alert);
+        return EXIT_ALERT;
+    }
+    /* READY: let the start-up pulses finish before verdicts replace it
+     * (a post of a different pattern restarts the motor schedule). */
+    {
+        /* Re-posting the same pattern keeps it playing and feeds the
+         * watchdog, which would otherwise cut in during the wait. */
+        uint32_t waited;
+        for (waited = 0; waited < APP_READY_MS; waited += 40u) {
+            negobs_motor_thread_post(&motor, app_pattern_ready());
+            negobs_clock_sleep_ms(40u);
+        }
+    }
+    negobs_motor_thread_post(&motor, app_pattern_for(APP_VERDICT_NO_INFO));
+
+    if (open_camera(&args) != 0) {
+        negobs_motor_thread_stop(&motor);
+        negobs_alert_close(&alert);
+        return EXIT_CAMERA;
+    }
+    rc = run_loop();
+
+
+    /* Shutdown: camera first, then the motor (off), then the output. */
+    negobs_camera_stop(&camera);
+    negobs_camera_close(&camera);
+    negobs_recorder_close(&recorder);
+    negobs_motor_thread_stop(&motor);
+    negobs_alert_close(&alert);
+    logmsg(LOG_INFO, "exit %d", rc);
+    return rc;
+}

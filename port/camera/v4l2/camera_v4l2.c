@@ -1,0 +1,711 @@
+/*
+ * V4L2 stereo capture (two nodes, MMAP streaming), after v4l-utils'
+ * capture-example.c, with a handle instead of globals and statuses instead
+ * of exit(): QUERYCAP -> S_FMT (re-read: the driver may change it) ->
+ * S_PARM -> REQBUFS -> QUERYBUF + mmap -> QBUF all -> STREAMON; then
+ * poll + DQBUF, and QBUF again when the application releases the pair.
+ *
+ * Pairing. Each node keeps at most one dequeued frame waiting for its
+ * partner; when both wait, negobs_pair_decide() matches them or drops the
+ * older one. When a node has several frames ready, only the newest is
+ * kept (older ones are requeued and counted as stale), so the pipeline
+ * always works on the freshest pair instead of a growing backlog.
+ *
+ * Device loss. ENODEV/EIO from an ioctl, POLLERR/POLLHUP, or several poll
+ * timeouts in a row mark a node lost: it is closed, and get_pair tries to
+ * reopen it with exponential back-off, returning NEGOBS_ERR_NODEV (after
+ * waiting at most its timeout) until it is back.
+ */
+#define _DEFAULT_SOURCE
+
+#include <errno.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/ioctl.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <linux/videodev2.h>
+
+#include "negobs_port/camera_v4l2.h"
+#include "negobs_port/clock.h"
+
+static void v_error(negobs_v4l2_t *st, int err, const char *fmt, ...)
+{
+    va_list ap;
+    int n;
+    va_start(ap, fmt);
+    n = vsnprintf(st->errmsg, sizeof st->errmsg, fmt, ap);
+    va_end(ap);
+    if (n >= 0 && err != 0 && (size_t)n < sizeof st->errmsg) {
+        (void)snprintf(st->errmsg + n, sizeof st->errmsg - (size_t)n, ": %s",
+                       strerror(err));
+    }
+}
+
+static int xioctl(int fd, unsigned long req, void *arg)
+{
+    int r;
+    do {
+        r = ioctl(fd, req, arg);
+    } while (r < 0 && errno == EINTR);
+    return r;
+}
+
+static negobs_status_t errno_status(int e)
+{
+    return (e == ENODEV || e == ENOENT || e == ENXIO) ? NEGOBS_ERR_NODEV
+                                                      : NEGOBS_ERR_IO;
+}
+
+static void dev_reset(negobs_v4l2_dev_t *d)
+{
+    d->fd = -1;
+    d->nbuf = 0;
+    d->streaming = false;
+    d->pending = false;
+    d->held_idx = -1;
+}
+
+static void dev_close(negobs_v4l2_dev_t *d)
+{
+    uint32_t i;
+    if (d->fd >= 0) {
+        if (d->streaming) {
+            enum v4l2_buf_type t = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+            (void)xioctl(d->fd, VIDIOC_STREAMOFF, &t);
+        }
+        for (i = 0; i < d->nbuf; i++) {
+            if (d->buf[i].start != NULL) {
+                (void)munmap(d->buf[i].start, d->buf[i].length);
+                d->buf[i].start = NULL;
+            }
+        }
+        if (d->nbuf > 0) {
+            struct v4l2_requestbuffers rb;
+            memset(&rb, 0, sizeof rb);
+            rb.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+            rb.memory = V4L2_MEMORY_MMAP;
+            (void)xioctl(d->fd, VIDIOC_REQBUFS, &rb);
+        }
+        (void)close(d->fd);
+    }
+    dev_reset(d);
+}
+
+/* Try the formats the node lists, best first; S_FMT and re-read. */
+static negobs_status_t dev_set_format(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
+{
+    struct v4l2_fmtdesc fd;
+    struct v4l2_format f;
+    uint32_t best = 0;
+    int best_rank = -1;
+    negobs_status_t s;
+    memset(&fd, 0, sizeof fd);
+    fd.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    while (xioctl(d->fd, VIDIOC_ENUM_FMT, &fd) == 0) {
+        int r = negobs_v4l2_format_rank(fd.pixelformat);
+        if (r >= 0 && (best_rank < 0 || r < best_rank)) {
+            best_rank = r;
+            best = fd.pixelformat;
+        }
+        fd.index++;
+    }
+    if (best_rank < 0) {
+        v_error(st, 0, "%s: no GREY/NV12/NV21/YU12/YV12/YUYV/UYVY format",
+                d->path);
+        return NEGOBS_ERR_UNSUPPORTED;
+    }
+    memset(&f, 0, sizeof f);
+    f.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    f.fmt.pix.width = (uint32_t)st->cfg.width;
+    f.fmt.pix.height = (uint32_t)st->cfg.height;
+    f.fmt.pix.pixelformat = best;
+    f.fmt.pix.field = V4L2_FIELD_NONE;
+    f.fmt.pix.bytesperline = 0; /* let the driver choose its stride */
+    if (xioctl(d->fd, VIDIOC_S_FMT, &f) != 0) {
+        int e = errno;
+        v_error(st, e, "%s: VIDIOC_S_FMT", d->path);
+        return e == EINVAL ? NEGOBS_ERR_UNSUPPORTED : errno_status(e);
+    }
+    /* S_FMT may change anything: believe what it returns. */
+    if (f.fmt.pix.width > (uint32_t)NEGOBS_MAX_DIM ||
+        f.fmt.pix.height > (uint32_t)NEGOBS_MAX_DIM) {
+        v_error(st, 0, "%s: driver size too large", d->path);
+        return NEGOBS_ERR_UNSUPPORTED;
+    }
+    s = negobs_v4l2_check_format(f.fmt.pix.pixelformat,
+                                 (int32_t)f.fmt.pix.width,
+                                 (int32_t)f.fmt.pix.height,
+                                 f.fmt.pix.bytesperline,
+                                 f.fmt.pix.sizeimage);
+    if (s != NEGOBS_OK) {
+        v_error(st, 0, "%s: driver returned an unusable format", d->path);
+        return s;
+    }
+    d->fourcc = f.fmt.pix.pixelformat;
+    d->width = (int32_t)f.fmt.pix.width;
+    d->height = (int32_t)f.fmt.pix.height;
+    d->bytesperline = f.fmt.pix.bytesperline;
+    d->sizeimage = f.fmt.pix.sizeimage;
+    return NEGOBS_OK;
+}
+
+static void dev_set_rate(negobs_v4l2_dev_t *d, int32_t fps)
+{
+    struct v4l2_streamparm p;
+    if (fps <= 0) {
+        return;
+    }
+    memset(&p, 0, sizeof p);
+    p.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    if (xioctl(d->fd, VIDIOC_G_PARM, &p) != 0 ||
+        (p.parm.capture.capability & V4L2_CAP_TIMEPERFRAME) == 0) {
+        return; /* the driver has a fixed rate */
+    }
+    p.parm.capture.timeperframe.numerator = 1;
+    p.parm.capture.timeperframe.denominator = (uint32_t)fps;
+    (void)xioctl(d->fd, VIDIOC_S_PARM, &p);
+}
+
+static bool dev_has_ctrl(negobs_v4l2_dev_t *d, uint32_t id)
+{
+    struct v4l2_queryctrl q;
+    memset(&q, 0, sizeof q);
+    q.id = id;
+    return xioctl(d->fd, VIDIOC_QUERYCTRL, &q) == 0 &&
+           (q.flags & V4L2_CTRL_FLAG_DISABLED) == 0;
+}
+
+static int dev_set_ctrl(negobs_v4l2_dev_t *d, uint32_t id, int32_t value)
+{
+    struct v4l2_control c;
+    memset(&c, 0, sizeof c);
+    c.id = id;
+    c.value = value;
+    return xioctl(d->fd, VIDIOC_S_CTRL, &c);
+}
+
+static negobs_status_t dev_map_buffers(negobs_v4l2_t *st,
+                                       negobs_v4l2_dev_t *d)
+{
+    struct v4l2_requestbuffers rb;
+    uint32_t i;
+    memset(&rb, 0, sizeof rb);
+    rb.count = NEGOBS_V4L2_BUFFERS;
+    rb.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    rb.memory = V4L2_MEMORY_MMAP;
+    if (xioctl(d->fd, VIDIOC_REQBUFS, &rb) != 0) {
+        int e = errno;
+        v_error(st, e, "%s: VIDIOC_REQBUFS", d->path);
+        return e == EINVAL ? NEGOBS_ERR_UNSUPPORTED : errno_status(e);
+    }
+    d->nbuf = rb.count; /* so dev_close frees them whatever happens */
+    if (rb.count < NEGOBS_V4L2_MIN_BUFFERS ||
+        rb.count > NEGOBS_V4L2_MAX_BUFFERS) {
+        v_error(st, 0, "%s: driver gave %u buffers, need %u..%u", d->path,
+                (unsigned)rb.count, (unsigned)NEGOBS_V4L2_MIN_BUFFERS,
+                (unsigned)NEGOBS_V4L2_MAX_BUFFERS);
+        if (rb.count > NEGOBS_V4L2_MAX_BUFFERS) {
+            d->nbuf = 0;
+        }
+        return NEGOBS_ERR_NOSPACE;
+    }
+    for (i = 0; i < rb.count; i++) {
+        struct v4l2_buffer b;
+        void *p;
+        memset(&b, 0, sizeof b);
+        b.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+        b.memory = V4L2_MEMORY_MMAP;
+        b.index = i;
+        if (xioctl(d->fd, VIDIOC_QUERYBUF, &b) != 0) {
+            int e = errno;
+            v_error(st, e, "%s: VIDIOC_QUERYBUF", d->path);
+            return errno_status(e);
+        }
+        p = mmap(NULL, b.length, PROT_READ | PROT_WRITE, MAP_SHARED, d->fd,
+                 (off_t)b.m.offset);
+        if (p == MAP_FAILED) {
+            int e = errno;
+            v_error(st, e, "%s: mmap", d->path);
+            return errno_status(e);
+        }
+        d->buf[i].start = p;
+        d->buf[i].length = b.length;
+    }
+    return NEGOBS_OK;
+}
+
+static negobs_status_t dev_open(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
+{
+    struct v4l2_capability cap;
+    uint32_t caps;
+    negobs_status_t s;
+    d->fd = open(d->path, O_RDWR | O_NONBLOCK | O_CLOEXEC);
+    if (d->fd < 0) {
+        int e = errno;
+        v_error(st, e, "open %s", d->path);
+        d->fd = -1;
+        return errno_status(e);
+    }
+    memset(&cap, 0, sizeof cap);
+    if (xioctl(d->fd, VIDIOC_QUERYCAP, &cap) != 0) {
+        int e = errno;
+        v_error(st, e, "%s: VIDIOC_QUERYCAP (not a V4L2 device?)", d->path);
+        dev_close(d);
+        return (e == ENOTTY || e == ENOSYS || e == EINVAL)
+                   ? NEGOBS_ERR_UNSUPPORTED
+                   : errno_status(e);
+    }
+    caps = (cap.capabilities & V4L2_CAP_DEVICE_CAPS) != 0 ? cap.device_caps
+                                                          : cap.capabilities;
+    if ((caps & V4L2_CAP_VIDEO_CAPTURE) == 0 ||
+        (caps & V4L2_CAP_STREAMING) == 0) {
+        v_error(st, 0, "%s: no single-planar streaming capture", d->path);
+        dev_close(d);
+        return NEGOBS_ERR_UNSUPPORTED;
+    }
+    s = dev_set_format(st, d);
+    if (s == NEGOBS_OK) {
+        dev_set_rate(d, st->cfg.fps);
+        d->has_exposure = dev_has_ctrl(d, V4L2_CID_EXPOSURE_ABSOLUTE);
+        d->has_gain = dev_has_ctrl(d, V4L2_CID_GAIN);
+        s = dev_map_buffers(st, d);
+    }
+    if (s != NEGOBS_OK) {
+        dev_close(d);
+    }
+    return s;
+}
+
+static negobs_status_t dev_queue(negobs_v4l2_dev_t *d, uint32_t idx)
+{
+    struct v4l2_buffer b;
+    memset(&b, 0, sizeof b);
+    b.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    b.memory = V4L2_MEMORY_MMAP;
+    b.index = idx;
+    return xioctl(d->fd, VIDIOC_QBUF, &b) == 0 ? NEGOBS_OK
+                                               : errno_status(errno);
+}
+
+static negobs_status_t dev_start(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
+{
+    enum v4l2_buf_type t = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    uint32_t i;
+    for (i = 0; i < d->nbuf; i++) {
+        if (dev_queue(d, i) != NEGOBS_OK) {
+            int e = errno;
+            v_error(st, e, "%s: VIDIOC_QBUF", d->path);
+            return errno_status(e);
+        }
+    }
+    if (xioctl(d->fd, VIDIOC_STREAMON, &t) != 0) {
+        int e = errno;
+        v_error(st, e, "%s: VIDIOC_STREAMON", d->path);
+        return errno_status(e);
+    }
+    d->streaming = true;
+    d->timeouts_in_row = 0;
+    return NEGOBS_OK;
+}
+
+/* Exposure and gain: set on both nodes alike, or on neither. */
+static void apply_controls(negobs_v4l2_t *st)
+{
+    negobs_v4l2_dev_t *l = &st->dev[0];
+    negobs_v4l2_dev_t *r = &st->dev[1];
+    if (st->cfg.exposure >= 0) {
+        if (l->has_exposure && r->has_exposure) {
+            (void)dev_set_ctrl(l, V4L2_CID_EXPOSURE_AUTO,
+                               V4L2_EXPOSURE_MANUAL);
+            (void)dev_set_ctrl(r, V4L2_CID_EXPOSURE_AUTO,
+                               V4L2_EXPOSURE_MANUAL);
+            (void)dev_set_ctrl(l, V4L2_CID_EXPOSURE_ABSOLUTE,
+                               st->cfg.exposure);
+            (void)dev_set_ctrl(r, V4L2_CID_EXPOSURE_ABSOLUTE,
+                               st->cfg.exposure);
+        } else {
+            v_error(st, 0, "exposure not offered by both cameras: left as is");
+        }
+    }
+    if (st->cfg.gain >= 0) {
+        if (l->has_gain && r->has_gain) {
+            (void)dev_set_ctrl(l, V4L2_CID_GAIN, st->cfg.gain);
+            (void)dev_set_ctrl(r, V4L2_CID_GAIN, st->cfg.gain);
+        } else {
+            v_error(st, 0, "gain not offered by both cameras: left as is");
+        }
+    }
+}
+
+static const char *strip_prefix(const char *p)
+{
+    return strncmp(p, "v4l2:", 5) == 0 ? p + 5 : p;
+}
+
+static negobs_status_t v_open(void *ctx, const negobs_camera_config_t *cfg)
+{
+    negobs_v4l2_t *st = ctx;
+    negobs_status_t s;
+    int i;
+    if (cfg == NULL || cfg->left == NULL || cfg->right == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    st->cfg = *cfg;
+    if (st->cfg.width <= 0) {
+        st->cfg.width = 640;
+    }
+    if (st->cfg.height <= 0) {
+        st->cfg.height = 480;
+    }
+    if (st->cfg.pair_tol_ms < 0) {
+        st->cfg.pair_tol_ms = NEGOBS_CAMERA_PAIR_TOL_MS_DEFAULT;
+    }
+    memset(&st->stats, 0, sizeof st->stats);
+    for (i = 0; i < 2; i++) {
+        const char *p = strip_prefix(i == 0 ? cfg->left : cfg->right);
+        negobs_v4l2_dev_t *d = &st->dev[i];
+        memset(d, 0, sizeof *d);
+        dev_reset(d);
+        if (strlen(p) >= sizeof d->path) {
+            return NEGOBS_ERR_INVAL;
+        }
+        strcpy(d->path, p);
+    }
+    for (i = 0; i < 2; i++) {
+        s = dev_open(st, &st->dev[i]);
+        if (s != NEGOBS_OK) {
+            dev_close(&st->dev[0]);
+            return s;
+        }
+    }
+    if (st->dev[0].width != st->dev[1].width ||
+        st->dev[0].height != st->dev[1].height) {
+        v_error(st, 0, "cameras disagree on size: %ldx%ld vs %ldx%ld",
+                (long)st->dev[0].width, (long)st->dev[0].height,
+                (long)st->dev[1].width, (long)st->dev[1].height);
+        dev_close(&st->dev[0]);
+        dev_close(&st->dev[1]);
+        return NEGOBS_ERR_UNSUPPORTED;
+    }
+    if (negobs_v4l2_format_packed(st->dev[0].fourcc) ||
+        negobs_v4l2_format_packed(st->dev[1].fourcc)) {
+        size_t need = 2u * (size_t)st->dev[0].width *
+                      (size_t)st->dev[0].height;
+        if (st->scratch == NULL || st->scratch_bytes < need) {
+            v_error(st, 0, "packed format needs %lu bytes of scratch",
+                    (unsigned long)need);
+            dev_close(&st->dev[0]);
+            dev_close(&st->dev[1]);
+            return NEGOBS_ERR_NOSPACE;
+        }
+    }
+    apply_controls(st);
+    return NEGOBS_OK;
+}
+
+static negobs_status_t v_start(void *ctx)
+{
+    negobs_v4l2_t *st = ctx;
+    int i;
+    for (i = 0; i < 2; i++) {
+        negobs_status_t s = dev_start(st, &st->dev[i]);
+        if (s != NEGOBS_OK) {
+            return s;
+        }
+    }
+    st->started = true;
+    return NEGOBS_OK;
+}
+
+static void mark_lost(negobs_v4l2_t *st, negobs_v4l2_dev_t *d, int err,
+                      const char *what)
+{
+    v_error(st, err, "%s: %s, reopening", d->path, what);
+    dev_close(d);
+    d->lost = true;
+    d->backoff_ms = negobs_v4l2_backoff_ms(0);
+    d->retry_at_ms = negobs_clock_now_ms() + d->backoff_ms;
+    st->stats.device_losses++;
+}
+
+static void try_reopen(negobs_v4l2_t *st, negobs_v4l2_dev_t *d, uint64_t now)
+{
+    negobs_v4l2_dev_t *other = d == &st->dev[0] ? &st->dev[1] : &st->dev[0];
+    negobs_status_t s;
+    if (now < d->retry_at_ms) {
+        return;
+    }
+    s = dev_open(st, d);
+    if (s == NEGOBS_OK && other->fd >= 0 &&
+        (d->width != other->width || d->height != other->height)) {
+        v_error(st, 0, "%s: came back with another size", d->path);
+        dev_close(d);
+        s = NEGOBS_ERR_UNSUPPORTED;
+    }
+    if (s == NEGOBS_OK) {
+        s = dev_start(st, d);
+        if (s != NEGOBS_OK) {
+            dev_close(d);
+        }
+    }
+    if (s == NEGOBS_OK) {
+        d->lost = false;
+        st->stats.reopens++;
+        apply_controls(st);
+        return;
+    }
+    d->backoff_ms = d->backoff_ms >= NEGOBS_V4L2_BACKOFF_MAX_MS / 2u
+                        ? NEGOBS_V4L2_BACKOFF_MAX_MS
+                        : d->backoff_ms * 2u;
+    d->retry_at_ms = now + d->backoff_ms;
+}
+
+/* Dequeue everything ready on a node, keeping only the newest frame. */
+static void drain(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
+{
+    for (;;) {
+        struct v4l2_buffer b;
+        memset(&b, 0, sizeof b);
+        b.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+        b.memory = V4L2_MEMORY_MMAP;
+        if (xioctl(d->fd, VIDIOC_DQBUF, &b) != 0) {
+            int e = errno;
+            if (e != EAGAIN) {
+                mark_lost(st, d, e, "VIDIOC_DQBUF");
+            }
+            return;
+        }
+        if (b.index >= d->nbuf) {
+            continue; /* cannot happen with a sane driver; never index it */
+        }
+        if ((b.flags & V4L2_BUF_FLAG_ERROR) != 0 ||
+            b.bytesused < negobs_v4l2_frame_bytes(d->fourcc, d->height,
+                                                  d->bytesperline) / 2u) {
+            st->stats.short_frames++;
+            (void)dev_queue(d, b.index);
+            continue;
+        }
+        if (d->pending) {
+            st->stats.stale_frames++;
+            (void)dev_queue(d, d->pend_idx);
+        }
+        d->pending = true;
+        d->pend_idx = b.index;
+        d->pend_bytes = b.bytesused;
+        d->pend_seq = b.sequence;
+        if ((b.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) ==
+            V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC) {
+            d->pend_ts = (uint64_t)b.timestamp.tv_sec * 1000000000u +
+                         (uint64_t)b.timestamp.tv_usec * 1000u;
+        } else {
+            d->pend_ts = negobs_clock_now_ns();
+        }
+        d->timeouts_in_row = 0;
+    }
+}
+
+static negobs_status_t make_frame(negobs_v4l2_t *st, int side,
+                                  negobs_frame_t *f)
+{
+    negobs_v4l2_dev_t *d = &st->dev[side];
+    size_t plane = (size_t)d->width * (size_t)d->height;
+    uint8_t *scr = st->scratch != NULL ? st->scratch + (size_t)side * plane
+                                       : NULL;
+    size_t scr_bytes = st->scratch != NULL ? plane : 0;
+    negobs_status_t s = negobs_v4l2_luma(
+        d->fourcc, d->buf[d->pend_idx].start, d->pend_bytes, d->width,
+        d->height, d->bytesperline, scr, scr_bytes, &f->y);
+    f->ts_ns = d->pend_ts;
+    f->sequence = d->pend_seq;
+    return s;
+}
+
+static void v_release(void *ctx, negobs_frame_pair_t *pair)
+{
+    negobs_v4l2_t *st = ctx;
+    int i;
+    (void)pair;
+    for (i = 0; i < 2; i++) {
+        negobs_v4l2_dev_t *d = &st->dev[i];
+        if (d->held_idx >= 0 && d->fd >= 0) {
+            if (dev_queue(d, (uint32_t)d->held_idx) != NEGOBS_OK &&
+                errno == ENODEV) {
+                mark_lost(st, d, errno, "VIDIOC_QBUF");
+            }
+        }
+        d->held_idx = -1;
+    }
+}
+
+static int v_get_pair(void *ctx, negobs_frame_pair_t *pair,
+                      int32_t timeout_ms)
+{
+    negobs_v4l2_t *st = ctx;
+    uint64_t deadline;
+    uint64_t tol_ns;
+    if (!st->started || pair == NULL) {
+        return NEGOBS_ERR_STATE;
+    }
+    v_release(st, pair); /* a pair not released is released now */
+    tol_ns = (uint64_t)st->cfg.pair_tol_ms * 1000000u;
+    deadline = negobs_clock_now_ms() + (uint64_t)(timeout_ms > 0 ? timeout_ms
+                                                                 : 0);
+    for (;;) {
+        struct pollfd pfd[2];
+        int map[2];
+        nfds_t n = 0;
+        uint64_t now = negobs_clock_now_ms();
+        int i;
+        int rc;
+
+        for (i = 0; i < 2; i++) {
+            if (st->dev[i].lost) {
+                try_reopen(st, &st->dev[i], now);
+            }
+        }
+        if (st->dev[0].lost || st->dev[1].lost) {
+            uint64_t wake = deadline;
+            for (i = 0; i < 2; i++) {
+                if (st->dev[i].lost && st->dev[i].retry_at_ms < wake) {
+                    wake = st->dev[i].retry_at_ms;
+                }
+            }
+            if (wake > now) {
+                negobs_clock_sleep_ms((uint32_t)(wake - now));
+            }
+            return NEGOBS_ERR_NODEV;
+        }
+
+        if (st->dev[0].pending && st->dev[1].pending) {
+            negobs_v4l2_dev_t *l = &st->dev[0];
+            negobs_v4l2_dev_t *r = &st->dev[1];
+            negobs_pair_action_t a =
+                negobs_pair_decide(l->pend_ts, r->pend_ts, tol_ns);
+            if (a == NEGOBS_PAIR_MATCH) {
+                negobs_status_t sl = make_frame(st, 0, &pair->left);
+                negobs_status_t sr = make_frame(st, 1, &pair->right);
+                l->pending = false;
+                r->pending = false;
+                if (sl != NEGOBS_OK || sr != NEGOBS_OK) {
+                    st->stats.short_frames++;
+                    (void)dev_queue(l, l->pend_idx);
+                    (void)dev_queue(r, r->pend_idx);
+                    continue;
+                }
+                l->held_idx = (int32_t)l->pend_idx;
+                r->held_idx = (int32_t)r->pend_idx;
+                pair->index = st->stats.pairs++;
+                return NEGOBS_OK;
+            }
+            {
+                negobs_v4l2_dev_t *old = a == NEGOBS_PAIR_DROP_LEFT ? l : r;
+                old->pending = false;
+                (void)dev_queue(old, old->pend_idx);
+                st->stats.dropped_pairs++;
+            }
+            continue;
+        }
+
+        for (i = 0; i < 2; i++) {
+            if (!st->dev[i].pending) {
+                pfd[n].fd = st->dev[i].fd;
+                pfd[n].events = POLLIN;
+                pfd[n].revents = 0;
+                map[n] = i;
+                n++;
+            }
+        }
+        if (now >= deadline) {
+            rc = 0;
+        } else {
+            rc = poll(pfd, n, (int)(deadline - now));
+        }
+        if (rc < 0) {
+            if (errno == EINTR) {
+                return NEGOBS_ERR_AGAIN;
+            }
+            v_error(st, errno, "poll");
+            return NEGOBS_ERR_IO;
+        }
+        if (rc == 0) {
+            nfds_t k;
+            for (k = 0; k < n; k++) {
+                negobs_v4l2_dev_t *d = &st->dev[map[k]];
+                if (++d->timeouts_in_row >=
+                    NEGOBS_V4L2_TIMEOUTS_BEFORE_REOPEN) {
+                    mark_lost(st, d, 0, "no frames");
+                }
+            }
+            st->stats.timeouts++;
+            return NEGOBS_ERR_TIMEOUT;
+        }
+        for (i = 0; i < (int)n; i++) {
+            negobs_v4l2_dev_t *d = &st->dev[map[i]];
+            if ((pfd[i].revents & (POLLERR | POLLHUP | POLLNVAL)) != 0) {
+                mark_lost(st, d, ENODEV, "poll error");
+            } else if ((pfd[i].revents & POLLIN) != 0) {
+                drain(st, d);
+            }
+        }
+    }
+}
+
+static void v_stop(void *ctx)
+{
+    negobs_v4l2_t *st = ctx;
+    int i;
+    for (i = 0; i < 2; i++) {
+        negobs_v4l2_dev_t *d = &st->dev[i];
+        if (d->fd >= 0 && d->streaming) {
+            enum v4l2_buf_type t = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+            (void)xioctl(d->fd, VIDIOC_STREAMOFF, &t);
+            d->streaming = false;
+        }
+        d->pending = false;
+        d->held_idx = -1;
+    }
+    st->started = false;
+}
+
+static void v_close(void *ctx)
+{
+    negobs_v4l2_t *st = ctx;
+    dev_close(&st->dev[0]);
+    dev_close(&st->dev[1]);
+}
+
+static void v_stats(void *ctx, negobs_camera_stats_t *out)
+{
+    *out = ((negobs_v4l2_t *)ctx)->stats;
+}
+
+static const char *v_errmsg(void *ctx)
+{
+    return ((negobs_v4l2_t *)ctx)->errmsg;
+}
+
+static const negobs_camera_ops_t v4l2_ops = {
+    "v4l2", v_open, v_start, v_get_pair, v_release,
+    v_stop, v_close, v_stats, v_errmsg,
+};
+
+negobs_status_t negobs_v4l2_init(negobs_v4l2_t *st, uint8_t *scratch,
+                                 size_t scratch_bytes, negobs_camera_t *cam)
+{
+    if (st == NULL || cam == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    memset(st, 0, sizeof *st);
+    dev_reset(&st->dev[0]);
+    dev_reset(&st->dev[1]);
+    st->scratch = scratch;
+    st->scratch_bytes = scratch != NULL ? scratch_bytes : 0;
+    cam->ops = &v4l2_ops;
+    cam->ctx = st;
+    return NEGOBS_OK;
+}
