@@ -558,6 +558,17 @@ int main(int argc, char **argv)
         }
         if (eg.has_row_at_cx)
             rowc = fmt("%.2f", eg.row_at_cx);
+        // Further edges: every step edge of the stairs, the far rim of a hole.
+        std::string extra;
+        if (sp.hazard == synth::Hazard::Stairs) {
+            extra = ", \"step_ranges_mm\": [";
+            for (int k = 0; k < sp.steps; ++k)
+                extra += fmt("%s%.1f", k ? ", " : "", (sp.edge_z + k * sp.run - pose.z) * 1e3);
+            extra += "]";
+        } else if (sp.hazard == synth::Hazard::Hole) {
+            extra = fmt(", \"far_edge_range_mm\": %.1f",
+                        (sp.edge_z + sp.hole_length - pose.z) * 1e3);
+        }
         double drop = 0.0;
         switch (sp.hazard) {
         case synth::Hazard::Curb:
@@ -572,14 +583,14 @@ int main(int argc, char **argv)
                      "\"drop_mm\": %.1f, \"total_drop_mm\": %.1f, \"edge_visible\": %s, "
                      "\"edge_cols\": %d, \"edge_rows\": %s, \"edge_box\": %s, "
                      "\"edge_row_at_cx\": %s, \"H_mm\": %.2f, \"pitch\": %.4f, "
-                     "\"roll\": %.4f, \"yaw\": %.4f, \"cam_x_mm\": %.1f, \"cam_z_mm\": %.1f}%s\n",
+                     "\"roll\": %.4f, \"yaw\": %.4f, \"cam_x_mm\": %.1f, \"cam_z_mm\": %.1f%s}%s\n",
                      i, t, ln.c_str(), rn.c_str(),
                      o.gt_disparity ? ("\"" + dn + "\"").c_str() : "null",
                      synth::hazard_name(sp.hazard), edge.c_str(), drop * 1e3,
                      (sp.hazard == synth::Hazard::Stairs ? sp.rise * sp.steps : drop) * 1e3,
                      eg.visible ? "true" : "false", eg.cols_visible, rows.c_str(), box.c_str(),
                      rowc.c_str(), pose.y * 1e3, pose.pitch, pose.roll, pose.yaw,
-                     pose.x * 1e3, pose.z * 1e3, i + 1 < o.frames ? "," : "");
+                     pose.x * 1e3, pose.z * 1e3, extra.c_str(), i + 1 < o.frames ? "," : "");
     }
     std::fprintf(gt, "]\n}\n");
     if (std::fclose(gt) != 0)
