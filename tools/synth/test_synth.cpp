@@ -155,6 +155,45 @@ int test_flat_gt()
               "flat_gt: edge range 4000 mm");
     }
     fs::remove_all(out);
+
+    // Sequence: per-frame range = start - speed*t, and the edge row follows
+    // the per-frame (bobbing, swaying) pose.
+    const fs::path seq = scratch("flat_seq");
+    const int rs = run("--scene curb --edge-mm 6000 --frames 12 --speed 1.5 --fps 5 --bob-mm 40 "
+                       "--sway-deg 2 --roll-sway-deg 0 --seed 4 --quiet --out '" +
+                       seq.string() + "'");
+    check(rs == 0, "flat_gt: CLI sequence run");
+    std::ifstream f(seq / "gt.json");
+    std::string line;
+    int frames = 0, rows_checked = 0;
+    double h_min = 1e9, h_max = -1e9;
+    while (std::getline(f, line)) {
+        if (line.rfind("{\"i\": ", 0) != 0)
+            continue;
+        double i = 0, range = 0, h = 0, pitch = 0, row = 0;
+        check(json_number(line, "i", i) && json_number(line, "edge_range_mm", range) &&
+                  json_number(line, "H_mm", h) && json_number(line, "pitch", pitch),
+              "flat_gt: frame line has i, edge_range_mm, H_mm, pitch");
+        check(std::fabs(range - (6000.0 - 1500.0 * i / 5.0)) < 0.06,
+              "flat_gt: frame range follows speed and fps");
+        h_min = std::min(h_min, h);
+        h_max = std::max(h_max, h);
+        if (json_number(line, "edge_row_at_cx", row)) {
+            const double expect = 119.5 - 250.0 * std::tan(pitch * kPi / 180.0 -
+                                                           std::atan(h / range));
+            // pitch and H are printed with 4 and 2 decimals.
+            check(std::fabs(row - expect) < 0.02, "flat_gt: sequence edge row " +
+                                                      std::to_string(row) + " vs " +
+                                                      std::to_string(expect));
+            ++rows_checked;
+        }
+        ++frames;
+    }
+    check(frames == 12, "flat_gt: 12 frame lines");
+    check(rows_checked >= 6, "flat_gt: edge visible in the approach");
+    check(h_max - h_min > 20.0 && h_max < 1240.01 && h_min > 1159.99,
+          "flat_gt: bobbing within +-40 mm");
+    fs::remove_all(seq);
     return failures;
 }
 
@@ -344,6 +383,23 @@ int test_determinism()
     fs::remove_all(a);
     fs::remove_all(b);
     fs::remove_all(c);
+
+    // A photo texture (here a generated one) renders and is deterministic.
+    const fs::path photo = scratch("photo.png");
+    cv::Mat img(64, 96, CV_8U);
+    synth::Rng rng(5);
+    for (int y = 0; y < img.rows; ++y)
+        for (int x = 0; x < img.cols; ++x)
+            img.at<uint8_t>(y, x) = static_cast<uint8_t>(rng.next() & 255u);
+    check(cv::imwrite(photo.string(), img), "determinism: write photo texture");
+    const std::string pargs = "--single --texture '" + photo.string() + "' --texture-mm 5 --quiet ";
+    check(run(pargs + "--out '" + a.string() + "'") == 0, "determinism: photo run a");
+    check(run(pargs + "--out '" + b.string() + "'") == 0, "determinism: photo run b");
+    const std::string pa = slurp(a / "left_0000.png");
+    check(!pa.empty() && pa == slurp(b / "left_0000.png"), "determinism: photo texture");
+    fs::remove_all(a);
+    fs::remove_all(b);
+    fs::remove(photo);
     return failures;
 }
 
