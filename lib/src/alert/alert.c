@@ -148,7 +148,11 @@ static int locate(negobs_alert_pattern_t p, uint32_t start, uint32_t now,
         total += pt->s[i].dur_ms;
     }
     if (el < 0) {
-        el = 0;
+        /* Scheduled to start later: a silent gap until then. */
+        *idx = -1;
+        *seg_start = now;
+        *end = start;
+        return 1;
     }
     if (!pt->repeat && el >= total) {
         *end = start + (uint32_t)total;
@@ -282,15 +286,12 @@ negobs_status_t negobs_alert_update(negobs_alert_t *c, uint32_t now,
         playing = locate(c->pat, c->pat_start_ms, now, &idx, &seg_start,
                          &seg_end);
     }
-    on = playing ? pats[c->pat].s[idx].on : 0;
+    on = (playing && idx >= 0) ? pats[c->pat].s[idx].on : 0;
 
     want = desired(c, now);
-    if (is_noinfo(want)) {
-        c->noinfo_seen = 1;
-        c->last_noinfo_ms = now;
-    }
     if (want != c->pat && !(is_noinfo(want) && is_noinfo(c->pat))) {
         int sw;
+        negobs_alert_pattern_t old = c->pat;
         if (pats[want].prio > pats[c->pat].prio) {
             sw = 1; /* pre-empt now (the min-pulse guard protects a pulse) */
         } else if (is_caution(want) && is_caution(c->pat)) {
@@ -302,10 +303,21 @@ negobs_status_t negobs_alert_update(negobs_alert_t *c, uint32_t now,
         if (sw) {
             /* A pending READY pre-empted by a hazard is dropped. */
             start_pattern(c, want, now);
+            /* After a pulse that just ended, keep a gap so two patterns
+             * never fuse into one long pulse. TUNABLE: 100 ms. */
+            if (pats[want].prio <= pats[old].prio && c->motor_on) {
+                c->pat_start_ms = now + 100u;
+            }
             playing = locate(c->pat, c->pat_start_ms, now, &idx, &seg_start,
                              &seg_end);
-            on = playing ? pats[c->pat].s[idx].on : 0;
+            on = (playing && idx >= 0) ? pats[c->pat].s[idx].on : 0;
         }
+    }
+
+    /* Remembered while it plays, so the entry burst sees the gap. */
+    if (is_noinfo(c->pat)) {
+        c->noinfo_seen = 1;
+        c->last_noinfo_ms = now;
     }
 
     next = playing ? seg_end : now + 1000u;
@@ -353,8 +365,8 @@ negobs_status_t negobs_alert_update(negobs_alert_t *c, uint32_t now,
         const pat_t *pt = &pats[c->pat];
         uint32_t t = seg_end;
         int32_t k = idx;
-        if (on && !pt->s[idx].on) {
-            t = next; /* guard extension */
+        if (idx < 0 || (on && !pt->s[idx].on)) {
+            t = next; /* guard extension or delayed start */
         }
         for (i = 1; i < NEGOBS_ALERT_MAX_SEGMENTS; i++) {
             k++;
