@@ -549,12 +549,14 @@ int main(int argc, char **argv)
         // Horizontal distance from the camera to the edge line, measured
         // perpendicular to it (negative once the edge is passed).
         const bool has_edge = sp.hazard != synth::Hazard::Flat;
-        std::string edge = "null", rows = "null", box = "null", rowc = "null";
+        std::string edge = "null", rows = "null", box = "null", rowc = "null", line = "null";
         if (has_edge)
             edge = fmt("%.1f", (sp.edge_z - pose.z) * 1e3);
         if (eg.visible) {
             rows = fmt("[%.2f, %.2f]", eg.v_min, eg.v_max);
             box = fmt("[%.0f, %.2f, %.0f, %.2f]", eg.u_min, eg.v_min, eg.u_max, eg.v_max);
+            line = fmt("[%.0f, %.2f, %.0f, %.2f]", eg.u_min, eg.v_at_u_min, eg.u_max,
+                       eg.v_at_u_max);
         }
         if (eg.has_row_at_cx)
             rowc = fmt("%.2f", eg.row_at_cx);
@@ -581,14 +583,14 @@ int main(int argc, char **argv)
                      "{\"i\": %d, \"t_s\": %.4f, \"left\": \"%s\", \"right\": \"%s\", "
                      "\"disparity\": %s, \"hazard\": \"%s\", \"edge_range_mm\": %s, "
                      "\"drop_mm\": %.1f, \"total_drop_mm\": %.1f, \"edge_visible\": %s, "
-                     "\"edge_cols\": %d, \"edge_rows\": %s, \"edge_box\": %s, "
+                     "\"edge_cols\": %d, \"edge_rows\": %s, \"edge_box\": %s, \"edge_line\": %s, "
                      "\"edge_row_at_cx\": %s, \"H_mm\": %.2f, \"pitch\": %.4f, "
                      "\"roll\": %.4f, \"yaw\": %.4f, \"cam_x_mm\": %.1f, \"cam_z_mm\": %.1f%s}%s\n",
                      i, t, ln.c_str(), rn.c_str(),
                      o.gt_disparity ? ("\"" + dn + "\"").c_str() : "null",
                      synth::hazard_name(sp.hazard), edge.c_str(), drop * 1e3,
                      (sp.hazard == synth::Hazard::Stairs ? sp.rise * sp.steps : drop) * 1e3,
-                     eg.visible ? "true" : "false", eg.cols_visible, rows.c_str(), box.c_str(),
+                     eg.visible ? "true" : "false", eg.cols_visible, rows.c_str(), box.c_str(), line.c_str(),
                      rowc.c_str(), pose.y * 1e3, pose.pitch, pose.roll, pose.yaw,
                      pose.x * 1e3, pose.z * 1e3, extra.c_str(), i + 1 < o.frames ? "," : "");
     }

@@ -725,29 +725,33 @@ EdgeGT edge_ground_truth(const Scene &scene, const Rig &rig, const Pose &pose)
         return g;
     const double ze = scene.params().edge_z;
     const CameraFrame cf = camera_frame(rig, pose, 0);
-    double best_dc = kInf;
-    for (int u = 0; u < rig.width; ++u) {
-        // Plane of all rays through column u; intersect with the edge line
-        // P(X) = (X, 0, ze).
+    // Row where the edge line crosses image column u, if it is visible
+    // there: the plane of all rays through column u is intersected with the
+    // edge line P(X) = (X, 0, ze), and the ray to that point must not hit
+    // anything nearer.
+    auto at_column = [&](double u, double &row) {
         const Vec3 da = pixel_ray(rig, cf, 0, u, 0.0);
         const Vec3 db = pixel_ray(rig, cf, 0, u, rig.height - 1.0);
         const Vec3 n = cross(da, db);
         if (std::fabs(n.x) < 1e-12)
-            continue;
+            return false;
         const double X = cf.c.x - (n.y * (0.0 - cf.c.y) + n.z * (ze - cf.c.z)) / n.x;
         if (X < x0 || X > x1)
-            continue;
+            return false;
         const Vec3 p{X, 0.0, ze};
-        double pu, pv, depth;
-        if (!project(rig, cf, 0, p, pu, pv, depth))
-            continue;
-        if (pv < -0.5 || pv > rig.height - 0.5)
-            continue;
-        // Occlusion: the first hit along the ray must be the edge point.
+        double pu, depth;
+        if (!project(rig, cf, 0, p, pu, row, depth))
+            return false;
+        if (row < -0.5 || row > rig.height - 0.5)
+            return false;
         const Vec3 d = mul(sub(p, cf.c), 1.0 / depth);
         double t;
         const int ri = scene.intersect(cf.c, d, t);
-        if (ri >= 0 && t < depth * (1.0 - 1e-6))
+        return !(ri >= 0 && t < depth * (1.0 - 1e-6));
+    };
+    for (int u = 0; u < rig.width; ++u) {
+        double pv;
+        if (!at_column(u, pv))
             continue;
         if (g.cols_visible == 0) {
             g.u_min = g.u_max = u;
@@ -760,14 +764,10 @@ EdgeGT edge_ground_truth(const Scene &scene, const Rig &rig, const Pose &pose)
         g.v_min = std::min(g.v_min, pv);
         g.v_max = std::max(g.v_max, pv);
         ++g.cols_visible;
-        const double dc = std::fabs(u - rig.cx);
-        if (dc < best_dc && dc <= 0.5) {
-            best_dc = dc;
-            g.has_row_at_cx = true;
-            g.row_at_cx = pv;
-        }
     }
     g.visible = g.cols_visible > 0;
+    if (g.visible && rig.cx >= -0.5 && rig.cx <= rig.width - 0.5)
+        g.has_row_at_cx = at_column(rig.cx, g.row_at_cx);
     return g;
 }
 

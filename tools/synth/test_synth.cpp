@@ -194,6 +194,25 @@ int test_flat_gt()
     check(h_max - h_min > 20.0 && h_max < 1240.01 && h_min > 1159.99,
           "flat_gt: bobbing within +-40 mm");
     fs::remove_all(seq);
+
+    // Under roll and yaw the edge is a slanted straight line; its row at
+    // the principal column lies on edge_line.
+    const fs::path sl = scratch("slant");
+    check(run("--single --roll-deg 5 --yaw-deg 20 --quiet --out '" + sl.string() + "'") == 0,
+          "flat_gt: slanted run");
+    const std::string sg = slurp(sl / "gt.json");
+    const size_t k = sg.find("\"edge_line\": [");
+    double u0 = 0, v0 = 0, u1 = 0, v1 = 0, rowc = 0;
+    check(k != std::string::npos &&
+              std::sscanf(sg.c_str() + k, "\"edge_line\": [%lf, %lf, %lf, %lf]", &u0, &v0, &u1,
+                          &v1) == 4 &&
+              json_number(sg, "edge_row_at_cx", rowc),
+          "flat_gt: slanted edge_line and edge_row_at_cx present");
+    const double on_line = v0 + (v1 - v0) * (159.5 - u0) / (u1 - u0);
+    check(std::fabs(v1 - v0) > 30.0, "flat_gt: roll 5 + yaw 20 slants the edge");
+    check(std::fabs(rowc - on_line) < 0.02, "flat_gt: edge row at cx " + std::to_string(rowc) +
+                                                " on edge_line " + std::to_string(on_line));
+    fs::remove_all(sl);
     return failures;
 }
 
