@@ -1,0 +1,534 @@
+/*
+ * The V4L2 backend's device path against two fake capture nodes: open,
+ * ioctl, poll, mmap, munmap and close are replaced at link time
+ * (-Wl,--wrap=...), so format negotiation, buffer handling, timestamp
+ * pairing, control handling and device loss/reopen run exactly as on a
+ * device, without one. Calls on other descriptors go to the real libc.
+ */
+#define _DEFAULT_SOURCE
+
+#include <errno.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <stdarg.h>
+#include <stdbool.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <sys/types.h>
+
+#include <linux/videodev2.h>
+
+#include "cmocka_all.h"
+#include "negobs_port/camera.h"
+#include "negobs_port/camera_v4l2.h"
+
+#define FW 64
+#define FH 8
+#define NBUF_MAX 4
+#define BUFSZ (2 * 128 * FH)
+#define FAKE_FD0 900
+
+typedef struct fake_dev {
+    const char *path;
+    bool is_open;
+    int open_errno;          /* open() fails with this when non-zero */
+    uint32_t fmts[4];
+    int nfmts;
+    uint32_t bpl_pad;        /* driver pads rows by this many bytes */
+    uint32_t reqbufs_count;  /* buffers the driver grants */
+    bool has_exposure;
+    int32_t exposure_set;    /* last S_CTRL value, -1 none */
+    int exposure_calls;
+    /* live state */
+    struct v4l2_pix_format fmt;
+    uint32_t nbuf;
+    bool queued[NBUF_MAX];
+    bool streaming;
+    uint8_t mem[NBUF_MAX][BUFSZ];
+    /* frame script: timestamps in ms; arrive one per poll call */
+    uint32_t ts_ms[16];
+    int nframes;
+    int arrived;
+    int next;
+    int dqbuf_errno_at;      /* frame index at which DQBUF fails, -1 never */
+    int dqbuf_errno;
+} fake_dev_t;
+
+static fake_dev_t fk[2];
+
+static fake_dev_t *fake_of(int fd)
+{
+    if (fd == FAKE_FD0 || fd == FAKE_FD0 + 1) {
+        return &fk[fd - FAKE_FD0];
+    }
+    return NULL;
+}
+
+/* Meson builds with _FILE_OFFSET_BITS=64, so glibc's open() and mmap()
+ * are the symbols open64 and mmap64 in the objects under test. */
+int __real_open64(const char *path, int flags, ...);
+int __wrap_open64(const char *path, int flags, ...);
+int __real_close(int fd);
+int __wrap_close(int fd);
+int __real_ioctl(int fd, unsigned long req, ...);
+int __wrap_ioctl(int fd, unsigned long req, ...);
+int __real_poll(struct pollfd *fds, nfds_t n, int timeout);
+int __wrap_poll(struct pollfd *fds, nfds_t n, int timeout);
+void *__real_mmap64(void *a, size_t len, int prot, int flags, int fd,
+                    off_t off);
+void *__wrap_mmap64(void *a, size_t len, int prot, int flags, int fd,
+                    off_t off);
+int __real_munmap(void *a, size_t len);
+int __wrap_munmap(void *a, size_t len);
+
+int __wrap_open64(const char *path, int flags, ...)
+{
+    int i;
+    mode_t mode = 0;
+    va_list ap;
+    va_start(ap, flags);
+    if ((flags & O_CREAT) != 0) {
+        mode = (mode_t)va_arg(ap, unsigned int);
+    }
+    va_end(ap);
+    for (i = 0; i < 2; i++) {
+        if (fk[i].path != NULL && strcmp(path, fk[i].path) == 0) {
+            if (fk[i].open_errno != 0) {
+                errno = fk[i].open_errno;
+                return -1;
+            }
+            fk[i].is_open = true;
+            fk[i].streaming = false;
+            fk[i].nbuf = 0;
+            memset(fk[i].queued, 0, sizeof fk[i].queued);
+            return FAKE_FD0 + i;
+        }
+    }
+    return __real_open64(path, flags, mode);
+}
+
+int __wrap_close(int fd)
+{
+    fake_dev_t *d = fake_of(fd);
+    if (d == NULL) {
+        return __real_close(fd);
+    }
+    d->is_open = false;
+    return 0;
+}
+
+static int fake_fail(int e)
+{
+    errno = e;
+    return -1;
+}
+
+static int fake_ioctl(fake_dev_t *d, unsigned long req, void *arg)
+{
+    if (!d->is_open) {
+        return fake_fail(EBADF);
+    }
+    if (req == VIDIOC_QUERYCAP) {
+        struct v4l2_capability *c = arg;
+        memset(c, 0, sizeof *c);
+        c->capabilities = V4L2_CAP_VIDEO_CAPTURE | V4L2_CAP_STREAMING |
+                          V4L2_CAP_DEVICE_CAPS;
+        c->device_caps = V4L2_CAP_VIDEO_CAPTURE | V4L2_CAP_STREAMING;
+        return 0;
+    }
+    if (req == VIDIOC_ENUM_FMT) {
+        struct v4l2_fmtdesc *f = arg;
+        if (f->index >= (uint32_t)d->nfmts) {
+            return fake_fail(EINVAL);
+        }
+        f->pixelformat = d->fmts[f->index];
+        return 0;
+    }
+    if (req == VIDIOC_S_FMT) {
+        struct v4l2_format *f = arg;
+        uint32_t bpp = f->fmt.pix.pixelformat == V4L2_PIX_FMT_YUYV ? 2u : 1u;
+        /* The driver clamps the size and pads the rows. */
+        f->fmt.pix.width = FW;
+        f->fmt.pix.height = FH;
+        f->fmt.pix.bytesperline = FW * bpp + d->bpl_pad;
+        f->fmt.pix.sizeimage = f->fmt.pix.bytesperline * FH *
+                               (bpp == 1u ? 3u : 2u) / 2u;
+        d->fmt = f->fmt.pix;
+        return 0;
+    }
+    if (req == VIDIOC_G_PARM || req == VIDIOC_S_PARM) {
+        struct v4l2_streamparm *p = arg;
+        p->parm.capture.capability = V4L2_CAP_TIMEPERFRAME;
+        return 0;
+    }
+    if (req == VIDIOC_QUERYCTRL) {
+        struct v4l2_queryctrl *q = arg;
+        return (q->id == V4L2_CID_EXPOSURE_ABSOLUTE && d->has_exposure)
+                   ? 0
+                   : fake_fail(EINVAL);
+    }
+    if (req == VIDIOC_S_CTRL) {
+        struct v4l2_control *c = arg;
+        if (c->id == V4L2_CID_EXPOSURE_ABSOLUTE) {
+            d->exposure_set = c->value;
+            d->exposure_calls++;
+        }
+        return 0;
+    }
+    if (req == VIDIOC_REQBUFS) {
+        struct v4l2_requestbuffers *r = arg;
+        d->nbuf = r->count == 0 ? 0 : d->reqbufs_count;
+        r->count = d->nbuf;
+        return 0;
+    }
+    if (req == VIDIOC_QUERYBUF) {
+        struct v4l2_buffer *b = arg;
+        if (b->index >= d->nbuf) {
+            return fake_fail(EINVAL);
+        }
+        b->length = BUFSZ;
+        b->m.offset = b->index * BUFSZ;
+        return 0;
+    }
+    if (req == VIDIOC_QBUF) {
+        struct v4l2_buffer *b = arg;
+        if (b->index >= d->nbuf || d->queued[b->index]) {
+            return fake_fail(EINVAL);
+        }
+        d->queued[b->index] = true;
+        return 0;
+    }
+    if (req == VIDIOC_STREAMON) {
+        d->streaming = true;
+        return 0;
+    }
+    if (req == VIDIOC_STREAMOFF) {
+        d->streaming = false;
+        memset(d->queued, 0, sizeof d->queued);
+        return 0;
+    }
+    if (req == VIDIOC_DQBUF) {
+        struct v4l2_buffer *b = arg;
+        uint32_t i;
+        if (d->dqbuf_errno_at >= 0 && d->next >= d->dqbuf_errno_at &&
+            d->next < d->arrived) {
+            int e = d->dqbuf_errno;
+            d->dqbuf_errno_at = -1; /* fails once */
+            return fake_fail(e);
+        }
+        if (!d->streaming || d->next >= d->arrived) {
+            return fake_fail(EAGAIN);
+        }
+        for (i = 0; i < d->nbuf; i++) {
+            if (d->queued[i]) {
+                break;
+            }
+        }
+        if (i == d->nbuf) {
+            return fake_fail(EAGAIN); /* all buffers with the application */
+        }
+        d->queued[i] = false;
+        memset(d->mem[i], 0x10 + d->next, BUFSZ);
+        b->index = i;
+        b->bytesused = d->fmt.sizeimage;
+        b->flags = V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC;
+        b->timestamp.tv_sec = (time_t)(d->ts_ms[d->next] / 1000u);
+        b->timestamp.tv_usec =
+            (suseconds_t)((d->ts_ms[d->next] % 1000u) * 1000u);
+        b->sequence = (uint32_t)d->next;
+        d->next++;
+        return 0;
+    }
+    return fake_fail(ENOTTY);
+}
+
+int __wrap_ioctl(int fd, unsigned long req, ...)
+{
+    va_list ap;
+    void *arg;
+    fake_dev_t *d;
+    va_start(ap, req);
+    arg = va_arg(ap, void *);
+    va_end(ap);
+    d = fake_of(fd);
+    if (d == NULL) {
+        return __real_ioctl(fd, req, arg);
+    }
+    return fake_ioctl(d, req, arg);
+}
+
+/* Each poll lets one more frame arrive on every polled node. */
+int __wrap_poll(struct pollfd *fds, nfds_t n, int timeout)
+{
+    nfds_t i;
+    int ready = 0;
+    if (n == 0 || fake_of(fds[0].fd) == NULL) {
+        return __real_poll(fds, n, timeout);
+    }
+    for (i = 0; i < n; i++) {
+        fake_dev_t *d = fake_of(fds[i].fd);
+        fds[i].revents = 0;
+        if (d->arrived < d->nframes) {
+            d->arrived++;
+        }
+        if (d->next < d->arrived) {
+            fds[i].revents = POLLIN;
+            ready++;
+        }
+    }
+    return ready; /* 0 = timeout, returned at once */
+}
+
+void *__wrap_mmap64(void *a, size_t len, int prot, int flags, int fd,
+                    off_t off)
+{
+    fake_dev_t *d = fake_of(fd);
+    if (d == NULL) {
+        return __real_mmap64(a, len, prot, flags, fd, off);
+    }
+    return d->mem[(size_t)off / BUFSZ];
+}
+
+int __wrap_munmap(void *a, size_t len)
+{
+    int i;
+    for (i = 0; i < 2; i++) {
+        if ((uint8_t *)a >= &fk[i].mem[0][0] &&
+            (uint8_t *)a < &fk[i].mem[0][0] + sizeof fk[i].mem) {
+            return 0;
+        }
+    }
+    return __real_munmap(a, len);
+}
+
+/* ---- fixtures -------------------------------------------------------- */
+
+static negobs_v4l2_t st;
+static negobs_camera_t cam;
+static uint8_t scratch[2 * FW * FH];
+
+static int setup(void **state)
+{
+    int i;
+    (void)state;
+    memset(fk, 0, sizeof fk);
+    fk[0].path = "/fake/video0";
+    fk[1].path = "/fake/video1";
+    for (i = 0; i < 2; i++) {
+        fk[i].fmts[0] = V4L2_PIX_FMT_YUYV;
+        fk[i].fmts[1] = V4L2_PIX_FMT_NV12;
+        fk[i].nfmts = 2;
+        fk[i].bpl_pad = 16;
+        fk[i].reqbufs_count = 4;
+        fk[i].exposure_set = -1;
+        fk[i].dqbuf_errno_at = -1;
+    }
+    return 0;
+}
+
+static void script(int side, const uint32_t *ts, int n)
+{
+    memcpy(fk[side].ts_ms, ts, (size_t)n * sizeof ts[0]);
+    fk[side].nframes = n;
+}
+
+static negobs_status_t open_cam(int32_t exposure)
+{
+    negobs_camera_config_t cfg;
+    negobs_status_t s;
+    negobs_camera_config_default(&cfg);
+    cfg.left = "/fake/video0";
+    cfg.right = "v4l2:/fake/video1";
+    cfg.exposure = exposure;
+    assert_int_equal(negobs_v4l2_init(&st, scratch, sizeof scratch, &cam),
+                     NEGOBS_OK);
+    s = negobs_camera_open(&cam, &cfg);
+    if (s == NEGOBS_OK) {
+        assert_int_equal(negobs_camera_start(&cam), NEGOBS_OK);
+    }
+    return s;
+}
+
+/* ---- tests ----------------------------------------------------------- */
+
+static void test_v4l2_negotiates_planar_and_hands_out_y_in_place(void **state)
+{
+    static const uint32_t ts[] = {1000, 1033};
+    negobs_frame_pair_t p;
+    (void)state;
+    script(0, ts, 2);
+    script(1, ts, 2);
+    assert_int_equal(open_cam(-1), NEGOBS_OK);
+    assert_int_equal(st.dev[0].fourcc, V4L2_PIX_FMT_NV12);
+    assert_int_equal(st.dev[0].bytesperline, FW + 16);
+    assert_true(fk[0].streaming && fk[1].streaming);
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(p.left.y.width, FW);
+    assert_int_equal(p.left.y.height, FH);
+    assert_int_equal(p.left.y.stride, FW + 16); /* bytesperline, no copy */
+    assert_true(p.left.y.data >= &fk[0].mem[0][0] &&
+                p.left.y.data < &fk[0].mem[0][0] + sizeof fk[0].mem);
+    assert_int_equal(p.left.ts_ns, 1000u * 1000000u);
+    assert_int_equal(p.left.y.data[0], 0x10);
+    /* Released buffers go back to the driver. */
+    negobs_camera_release(&cam, &p);
+    assert_true(fk[0].queued[0] && fk[1].queued[0]);
+    negobs_camera_stop(&cam);
+    negobs_camera_close(&cam);
+    assert_false(fk[0].is_open || fk[1].is_open);
+}
+
+static void test_v4l2_packed_only_extracts_luma_to_scratch(void **state)
+{
+    static const uint32_t ts[] = {1000};
+    negobs_frame_pair_t p;
+    (void)state;
+    fk[0].nfmts = 1; /* YUYV only */
+    fk[1].nfmts = 1;
+    script(0, ts, 1);
+    script(1, ts, 1);
+    assert_int_equal(open_cam(-1), NEGOBS_OK);
+    assert_int_equal(st.dev[1].fourcc, V4L2_PIX_FMT_YUYV);
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_ptr_equal(p.left.y.data, scratch);
+    assert_ptr_equal(p.right.y.data, scratch + FW * FH);
+    assert_int_equal(p.right.y.stride, FW);
+    negobs_camera_close(&cam);
+}
+
+static void test_v4l2_pairs_by_timestamp_and_counts_drops(void **state)
+{
+    /* Right loses its 2nd frame: left 1033 has no partner. */
+    static const uint32_t l[] = {1000, 1033, 1066, 1100};
+    static const uint32_t r[] = {1002, 1068, 1103};
+    negobs_frame_pair_t p;
+    negobs_camera_stats_t s;
+    (void)state;
+    script(0, l, 4);
+    script(1, r, 3);
+    assert_int_equal(open_cam(-1), NEGOBS_OK);
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(p.left.ts_ns / 1000000u, 1000);
+    assert_int_equal(p.right.ts_ns / 1000000u, 1002);
+    negobs_camera_release(&cam, &p);
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(p.left.ts_ns / 1000000u, 1066);
+    assert_int_equal(p.right.ts_ns / 1000000u, 1068);
+    assert_int_equal(p.left.sequence, 2);
+    /* Not released on purpose: get_pair releases it itself. */
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(p.left.ts_ns / 1000000u, 1100);
+    assert_int_equal(p.index, 2);
+    negobs_camera_get_stats(&cam, &s);
+    assert_int_equal(s.pairs, 3);
+    assert_int_equal(s.dropped_pairs, 1);
+    /* Nothing more: a timeout, reported as such. */
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 50), NEGOBS_ERR_TIMEOUT);
+    negobs_camera_get_stats(&cam, &s);
+    assert_int_equal(s.timeouts, 1);
+    negobs_camera_close(&cam);
+}
+
+static void test_v4l2_device_loss_reopens_with_backoff(void **state)
+{
+    static const uint32_t ts[] = {1000, 1033, 1066, 1100};
+    negobs_frame_pair_t p;
+    negobs_camera_stats_t s;
+    (void)state;
+    script(0, ts, 4);
+    script(1, ts, 4);
+    fk[1].dqbuf_errno_at = 1;
+    fk[1].dqbuf_errno = ENODEV;
+    assert_int_equal(open_cam(-1), NEGOBS_OK);
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    negobs_camera_release(&cam, &p);
+    /* Right node vanishes; reopen is refused at first. */
+    fk[1].open_errno = ENOENT;
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 300), NEGOBS_ERR_NODEV);
+    assert_false(fk[1].is_open);
+    assert_non_null(strstr(negobs_camera_errmsg(&cam), "/fake/video1"));
+    negobs_camera_get_stats(&cam, &s);
+    assert_int_equal(s.device_losses, 1);
+    assert_int_equal(s.reopens, 0);
+    /* The node comes back: the next calls reopen it and pairs flow. */
+    fk[1].open_errno = 0;
+    fk[1].arrived = fk[1].next = 0;
+    fk[1].ts_ms[0] = 1066;
+    fk[1].ts_ms[1] = 1100;
+    fk[1].nframes = 2;
+    {
+        int rc = NEGOBS_ERR_NODEV;
+        int tries = 0;
+        while (rc == NEGOBS_ERR_NODEV && tries++ < 10) {
+            rc = negobs_camera_get_pair(&cam, &p, 300);
+        }
+        assert_int_equal(rc, NEGOBS_OK);
+    }
+    negobs_camera_get_stats(&cam, &s);
+    assert_int_equal(s.reopens, 1);
+    assert_true(fk[1].is_open && fk[1].streaming);
+    assert_int_equal(p.right.ts_ns / 1000000u, p.left.ts_ns / 1000000u);
+    negobs_camera_close(&cam);
+}
+
+static void test_v4l2_repeated_timeouts_mark_node_lost(void **state)
+{
+    negobs_frame_pair_t p;
+    negobs_camera_stats_t s;
+    int i;
+    (void)state;
+    assert_int_equal(open_cam(-1), NEGOBS_OK); /* no frames scripted */
+    for (i = 0; i < NEGOBS_V4L2_TIMEOUTS_BEFORE_REOPEN; i++) {
+        assert_int_equal(negobs_camera_get_pair(&cam, &p, 10),
+                         NEGOBS_ERR_TIMEOUT);
+    }
+    negobs_camera_get_stats(&cam, &s);
+    assert_int_equal(s.timeouts, NEGOBS_V4L2_TIMEOUTS_BEFORE_REOPEN);
+    assert_int_equal(s.device_losses, 2);
+    negobs_camera_close(&cam);
+}
+
+static void test_v4l2_exposure_only_when_both_offer_it(void **state)
+{
+    (void)state;
+    fk[0].has_exposure = true;
+    assert_int_equal(open_cam(500), NEGOBS_OK);
+    assert_int_equal(fk[0].exposure_calls + fk[1].exposure_calls, 0);
+    assert_non_null(strstr(negobs_camera_errmsg(&cam), "exposure"));
+    negobs_camera_close(&cam);
+    fk[1].has_exposure = true;
+    assert_int_equal(open_cam(500), NEGOBS_OK);
+    assert_int_equal(fk[0].exposure_set, 500);
+    assert_int_equal(fk[1].exposure_set, 500);
+    negobs_camera_close(&cam);
+}
+
+static void test_v4l2_too_few_buffers_or_formats_fail_open(void **state)
+{
+    (void)state;
+    fk[1].reqbufs_count = 2;
+    assert_int_equal(open_cam(-1), NEGOBS_ERR_NOSPACE);
+    assert_false(fk[0].is_open || fk[1].is_open);
+    fk[1].reqbufs_count = 4;
+    fk[0].fmts[0] = V4L2_PIX_FMT_MJPEG;
+    fk[0].nfmts = 1;
+    assert_int_equal(open_cam(-1), NEGOBS_ERR_UNSUPPORTED);
+    assert_non_null(strstr(negobs_camera_errmsg(&cam), "format"));
+    assert_false(fk[0].is_open || fk[1].is_open);
+}
+
+int main(void)
+{
+#define T(f) cmocka_unit_test_setup(f, setup)
+    const struct CMUnitTest tests[] = {
+        T(test_v4l2_negotiates_planar_and_hands_out_y_in_place),
+        T(test_v4l2_packed_only_extracts_luma_to_scratch),
+        T(test_v4l2_pairs_by_timestamp_and_counts_drops),
+        T(test_v4l2_device_loss_reopens_with_backoff),
+        T(test_v4l2_repeated_timeouts_mark_node_lost),
+        T(test_v4l2_exposure_only_when_both_offer_it),
+        T(test_v4l2_too_few_buffers_or_formats_fail_open),
+    };
+#undef T
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
