@@ -1,0 +1,281 @@
+/*
+ * Temporal logic: k-of-n confirmation, clearing after m clean frames,
+ * degraded frames that cannot clear, the hold below the image, and an
+ * end-to-end approach on synthetic maps.
+ */
+#include "cmocka_all.h"
+#include "detect/temporal.h"
+#include "scene_util.h"
+
+static negobs_detect_config_t cfg;
+static temporal_t tp;
+
+static negobs_hazard_t cand(int32_t range, int32_t lat)
+{
+    negobs_hazard_t h;
+    memset(&h, 0, sizeof h);
+    h.type = NEGOBS_HAZARD_DROP;
+    h.range_mm = range;
+    h.lateral_mm = lat;
+    h.drop_mm = 150;
+    return h;
+}
+
+static uint32_t report(negobs_hazard_t *out, uint32_t now)
+{
+    return temporal_report(&tp, out, NEGOBS_DETECT_MAX_HAZARDS, now);
+}
+
+static void setup_cfg(void)
+{
+    negobs_detect_config_default(&cfg, RIG_W, RIG_H);
+    temporal_reset(&tp, &cfg);
+}
+
+static void test_temporal_confirms_on_k_of_n(void **state)
+{
+    negobs_hazard_t c = cand(3000, 0);
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    (void)state;
+    setup_cfg();
+    temporal_update(&tp, &c, 1, 1, 2000, 100);
+    temporal_update(&tp, NULL, 0, 1, 2000, 200);
+    temporal_update(&tp, &c, 1, 1, 2000, 300);
+    assert_int_equal(report(out, 300), 0); /* 2 of 3 */
+    temporal_update(&tp, NULL, 0, 1, 2000, 400);
+    c.range_mm = 2900;
+    temporal_update(&tp, &c, 1, 1, 2000, 500); /* 3 of 5 */
+    assert_int_equal(report(out, 500), 1);
+    assert_true(out[0].flags & NEGOBS_HAZARD_F_CONFIRMED);
+    assert_int_equal(out[0].range_mm, 2900);
+    assert_int_equal(out[0].level, NEGOBS_LEVEL_CAUTION);
+    assert_true(out[0].track_id > 0);
+}
+
+static void test_temporal_sparse_hits_never_confirm(void **state)
+{
+    negobs_hazard_t c = cand(3000, 0);
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    uint32_t t;
+    (void)state;
+    setup_cfg();
+    /* One hit every third frame: at most 2 in any 5. */
+    for (t = 1; t <= 30; t++) {
+        temporal_update(&tp, (t % 3u == 0u) ? &c : NULL,
+                        (t % 3u == 0u) ? 1u : 0u, 1, 2000, t * 100u);
+        assert_int_equal(report(out, t * 100u), 0);
+    }
+}
+
+static void test_temporal_clears_after_m_clean_frames(void **state)
+{
+    negobs_hazard_t c = cand(3500, 100);
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    uint32_t t;
+    (void)state;
+    setup_cfg();
+    for (t = 1; t <= 3; t++) {
+        temporal_update(&tp, &c, 1, 1, 2000, t * 100u);
+    }
+    assert_int_equal(report(out, 300), 1);
+    for (t = 4; t < 4 + 4; t++) {
+        temporal_update(&tp, NULL, 0, 1, 2000, t * 100u);
+        assert_int_equal(report(out, t * 100u), 1); /* < clear_m */
+    }
+    temporal_update(&tp, NULL, 0, 1, 2000, 800);
+    assert_int_equal(report(out, 800), 0);
+}
+
+static void test_temporal_degraded_frames_do_not_clear(void **state)
+{
+    negobs_hazard_t c = cand(3500, 0);
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    uint32_t t;
+    (void)state;
+    setup_cfg();
+    for (t = 1; t <= 3; t++) {
+        temporal_update(&tp, &c, 1, 1, 2000, t * 100u);
+    }
+    for (t = 4; t < 20; t++) {
+        temporal_update(&tp, NULL, 0, 0, 2000, t * 100u);
+    }
+    assert_int_equal(report(out, 1900), 1);
+    /* ...but not for ever: hold_ms after the last sighting it expires. */
+    temporal_update(&tp, NULL, 0, 0, 2000, 3400);
+    assert_int_equal(report(out, 3400), 0);
+}
+
+static void test_temporal_hold_when_edge_leaves_image(void **state)
+{
+    negobs_hazard_t c = cand(2200, 0);
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    uint32_t t;
+    int32_t prev;
+    (void)state;
+    setup_cfg();
+    for (t = 1; t <= 5; t++) {
+        c.range_mm = 2200 - (int32_t)t * 140;
+        temporal_update(&tp, &c, 1, 1, 2000, t * 100u);
+    }
+    assert_int_equal(report(out, 500), 1);
+    assert_int_equal(out[0].level, NEGOBS_LEVEL_IMMINENT); /* 1500 mm */
+    prev = out[0].range_mm;
+    /* The edge is gone from the image: held, closer every frame. */
+    for (t = 6; t <= 30; t++) {
+        temporal_update(&tp, NULL, 0, 1, 2000, t * 100u);
+        assert_int_equal(report(out, t * 100u), 1);
+        assert_true(out[0].flags & NEGOBS_HAZARD_F_HELD);
+        assert_int_equal(out[0].level, NEGOBS_LEVEL_IMMINENT);
+        assert_true(out[0].range_mm <= prev);
+        prev = out[0].range_mm;
+    }
+    assert_int_equal(prev, 0);
+    /* hold_ms = 3000 after the hold began (600): gone at 3700. */
+    temporal_update(&tp, NULL, 0, 1, 2000, 3600);
+    assert_int_equal(report(out, 3600), 1);
+    temporal_update(&tp, NULL, 0, 1, 2000, 3700);
+    assert_int_equal(report(out, 3700), 0);
+}
+
+static void test_temporal_far_track_lost_is_not_held(void **state)
+{
+    negobs_hazard_t c = cand(3800, 0);
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    uint32_t t;
+    (void)state;
+    setup_cfg();
+    for (t = 1; t <= 3; t++) {
+        temporal_update(&tp, &c, 1, 1, 2000, t * 100u);
+    }
+    temporal_update(&tp, NULL, 0, 1, 2000, 400);
+    assert_int_equal(report(out, 400), 1);
+    assert_false(out[0].flags & NEGOBS_HAZARD_F_HELD);
+}
+
+static void test_temporal_association_follows_walking(void **state)
+{
+    negobs_hazard_t c[2];
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    uint32_t t;
+    (void)state;
+    setup_cfg();
+    /* Two edges: one ahead approaching at 1.4 m/s, one to the side. */
+    for (t = 1; t <= 6; t++) {
+        c[0] = cand(4000 - (int32_t)t * 140, 0);
+        c[1] = cand(3000 - (int32_t)t * 140, 1500);
+        temporal_update(&tp, c, 2, 1, 1500, t * 100u);
+    }
+    assert_int_equal(report(out, 600), 2);
+    assert_true(out[0].track_id != out[1].track_id);
+    assert_int_equal(out[0].range_mm, 3000 - 6 * 140);
+    /* A candidate 1 m farther than the track is a different hazard. */
+    c[0] = cand(4160 + 1000, 0);
+    temporal_update(&tp, c, 1, 1, 1500, 700);
+    assert_int_equal(report(out, 700), 2);
+}
+
+static void test_temporal_missing_ground_policy(void **state)
+{
+    negobs_hazard_t c = cand(1200, 0);
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    uint32_t t;
+    (void)state;
+    setup_cfg();
+    c.type = NEGOBS_HAZARD_UNKNOWN;
+    for (t = 1; t <= 3; t++) {
+        temporal_update(&tp, &c, 1, 1, 1000, t * 100u);
+    }
+    assert_int_equal(report(out, 300), 1);
+    assert_int_equal(out[0].level, NEGOBS_LEVEL_CAUTION); /* capped */
+    cfg.missing_policy = NEGOBS_MISSING_DANGER;
+    assert_int_equal(report(out, 300), 1);
+    assert_int_equal(out[0].level, NEGOBS_LEVEL_IMMINENT);
+    cfg.missing_policy = NEGOBS_MISSING_IGNORE;
+    assert_int_equal(report(out, 300), 0);
+}
+
+static void test_temporal_bounded_tracks(void **state)
+{
+    negobs_hazard_t c[NEGOBS_DETECT_MAX_HAZARDS];
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    uint32_t t;
+    int i;
+    (void)state;
+    setup_cfg();
+    /* Far more distinct candidates than tracks over time: no overflow,
+     * and confirmed tracks are never evicted by new ones. */
+    for (t = 1; t <= 3; t++) {
+        c[0] = cand(3000, 0);
+        temporal_update(&tp, c, 1, 1, 1000, t * 100u);
+    }
+    for (t = 4; t <= 40; t++) {
+        for (i = 0; i < NEGOBS_DETECT_MAX_HAZARDS; i++) {
+            c[i] = cand(3000, 0);
+            c[i].lateral_mm = 2000 + (int32_t)(t * 8u + (uint32_t)i) * 700;
+        }
+        c[0] = cand(3000, 0);
+        temporal_update(&tp, c, NEGOBS_DETECT_MAX_HAZARDS, 1, 1000, t * 100u);
+        assert_true(report(out, t * 100u) >= 1);
+    }
+}
+
+/* End to end: walk at 1.4 m/s towards a 150 mm drop; CAUTION early,
+ * then IMMINENT, and still IMMINENT (held) when the edge is below the
+ * image. */
+static void test_temporal_approach_sequence_end_to_end(void **state)
+{
+    static rig_t r;
+    synth_scene_t s;
+    double edge = 5.0;
+    int i;
+    int first_caution_mm = -1;
+    int first_imminent_mm = -1;
+    int held_seen = 0;
+    (void)state;
+    rig_setup(&r, NULL);
+    for (i = 0; i < 40 && edge > 0.3; i++) {
+        synth_flat(&s, 1.2, 20.0);
+        s.noise_px = 0.25;
+        s.seed = (uint32_t)i + 1u;
+        synth_step(&s, edge, -0.15);
+        assert_int_equal(rig_frame(&r, &s), NEGOBS_OK);
+        if (r.res.level == NEGOBS_LEVEL_CAUTION && first_caution_mm < 0) {
+            first_caution_mm = (int)(edge * 1000);
+        }
+        if (r.res.level == NEGOBS_LEVEL_IMMINENT && first_imminent_mm < 0) {
+            first_imminent_mm = (int)(edge * 1000);
+        }
+        if (edge < 1.6) {
+            /* From here on the alert must not stop. */
+            assert_int_equal(r.res.level, NEGOBS_LEVEL_IMMINENT);
+        }
+        if (r.res.n_hazards > 0 &&
+            (r.res.hazards[0].flags & NEGOBS_HAZARD_F_HELD)) {
+            held_seen = 1;
+        }
+        edge -= 0.14;
+    }
+    print_message("approach: CAUTION from %d mm, IMMINENT from %d mm\n",
+                  first_caution_mm, first_imminent_mm);
+    assert_true(first_caution_mm >= 3500);
+    assert_true(first_imminent_mm >= 1500);
+    assert_true(held_seen);
+    rig_teardown(&r);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_temporal_confirms_on_k_of_n),
+        cmocka_unit_test(test_temporal_sparse_hits_never_confirm),
+        cmocka_unit_test(test_temporal_clears_after_m_clean_frames),
+        cmocka_unit_test(test_temporal_degraded_frames_do_not_clear),
+        cmocka_unit_test(test_temporal_hold_when_edge_leaves_image),
+        cmocka_unit_test(test_temporal_far_track_lost_is_not_held),
+        cmocka_unit_test(test_temporal_association_follows_walking),
+        cmocka_unit_test(test_temporal_missing_ground_policy),
+        cmocka_unit_test(test_temporal_bounded_tracks),
+        cmocka_unit_test(test_temporal_approach_sequence_end_to_end),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
