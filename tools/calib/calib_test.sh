@@ -23,8 +23,9 @@ echo "== $calib --list $list --out $work/table.bin --save-yaml $work/calib.yml"
 "$calib" --list "$list" --out "$work/table.bin" --save-yaml "$work/calib.yml" \
     || { echo "FAIL: calibration"; exit 1; }
 
-echo "== $check --table $work/table.bin --list $list --max-rms 0.5"
+echo "== $check --table $work/table.bin --list $list --max-rms 0.5 --yaml $work/calib.yml"
 "$check" --table "$work/table.bin" --list "$list" --max-rms 0.5 \
+    --yaml "$work/calib.yml" \
     || { echo "FAIL: row alignment"; exit 1; }
 
 echo "== same calibration through --yaml"

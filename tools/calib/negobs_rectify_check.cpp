@@ -14,9 +14,11 @@
 #include <string>
 #include <vector>
 
+#include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "calib_common.hpp"
 
@@ -30,9 +32,13 @@ int usage(const char *argv0, int code)
 {
     std::fprintf(code ? stderr : stdout,
 "usage: %s --table TABLE.bin --list STEREO_LIST.xml [--board WxH]\n"
-"          [--max-rms PX] [--save DIR]\n"
+"          [--max-rms PX] [--save DIR] [--yaml CALIB.yml [--alpha A]]\n"
 "  --max-rms PX  fail when the row RMS is >= PX (default 0.5)\n"
-"  --save DIR    write the rectified pairs as DIR/rect_NN_{l,r}.png\n",
+"  --save DIR    write the rectified pairs as DIR/rect_NN_{l,r}.png\n"
+"  --yaml FILE   calibration written by negobs_calib --save-yaml: also\n"
+"                rectify with OpenCV's float maps and cv::remap and report\n"
+"                that figure and the pixel difference to the library\n"
+"  --alpha A     stereoRectify alpha used for the table (default 0)\n",
                  argv0);
     return code;
 }
@@ -67,6 +73,40 @@ void row_diffs(const std::vector<cv::Point2f> &l,
     }
 }
 
+// OpenCV's own float rectification of the same calibration, as a
+// reference for the integer remap. Same calls as negobs_calib.
+bool opencv_maps(const std::string &path, double alpha, cv::Size size,
+                 cv::Mat maps[2][2])
+{
+    cv::FileStorage fs;
+    try {
+        if (!fs.open(path, cv::FileStorage::READ)) {
+            return false;
+        }
+    } catch (const cv::Exception &) {
+        return false;
+    }
+    cv::Mat M1, D1, M2, D2, R, T;
+    fs["M1"] >> M1;
+    fs["D1"] >> D1;
+    fs["M2"] >> M2;
+    fs["D2"] >> D2;
+    fs["R"] >> R;
+    fs["T"] >> T;
+    if (M1.empty() || D1.empty() || M2.empty() || D2.empty() || R.empty() ||
+        T.empty()) {
+        return false;
+    }
+    cv::Mat R1, R2, P1, P2, Q;
+    cv::stereoRectify(M1, D1, M2, D2, size, R, T, R1, R2, P1, P2, Q,
+                      cv::CALIB_ZERO_DISPARITY, alpha, size);
+    cv::initUndistortRectifyMap(M1, D1, R1, P1, size, CV_32FC1, maps[0][0],
+                                maps[0][1]);
+    cv::initUndistortRectifyMap(M2, D2, R2, P2, size, CV_32FC1, maps[1][0],
+                                maps[1][1]);
+    return true;
+}
+
 struct FreeDeleter {
     void operator()(void *p) const { std::free(p); }
 };
@@ -76,9 +116,10 @@ struct FreeDeleter {
 int main(int argc, char **argv)
 {
     cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
-    std::string table_path, list_path, save_dir;
+    std::string table_path, list_path, save_dir, yaml_path;
     cv::Size board(9, 6);
     double max_rms = 0.5;
+    double alpha = 0.0;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--help" || a == "-h") {
@@ -96,6 +137,16 @@ int main(int argc, char **argv)
             list_path = v;
         } else if (a == "--save") {
             save_dir = v;
+        } else if (a == "--yaml") {
+            yaml_path = v;
+        } else if (a == "--alpha") {
+            char *end = nullptr;
+            alpha = std::strtod(v.c_str(), &end);
+            if (end == v.c_str() || *end != '\0' || alpha < -1 || alpha > 1) {
+                std::fprintf(stderr, "negobs_rectify_check: bad --alpha "
+                                     "%s\n", v.c_str());
+                return 2;
+            }
         } else if (a == "--board") {
             if (!negobs_calib::parse_size(v, board)) {
                 std::fprintf(stderr, "negobs_rectify_check: bad --board %s\n",
@@ -162,8 +213,20 @@ int main(int argc, char **argv)
         std::fprintf(stderr, "negobs_rectify_check: %s\n", err.c_str());
         return 1;
     }
-    double sq_rect = 0, sum_rect = 0, sq_raw = 0, sum_raw = 0;
-    size_t n_rect = 0, n_raw = 0;
+    cv::Mat cvmaps[2][2];
+    const bool ref = !yaml_path.empty();
+    if (ref && !opencv_maps(yaml_path, alpha,
+                            cv::Size(info.width, info.height), cvmaps)) {
+        std::fprintf(stderr, "negobs_rectify_check: cannot read M1 D1 M2 D2 "
+                             "R T from %s\n", yaml_path.c_str());
+        return 1;
+    }
+    double sq_rect = 0, sum_rect = 0, sq_raw = 0, sum_raw = 0, sq_cv = 0;
+    double sum_cv = 0;
+    size_t n_rect = 0, n_raw = 0, n_cv = 0;
+    double diff_sum = 0;
+    double diff_max = 0;
+    size_t diff_n = 0;
     int used = 0;
     int index = 0;
     for (const auto &p : pairs) {
@@ -199,6 +262,28 @@ int main(int argc, char **argv)
             std::snprintf(name, sizeof name, "/rect_%02d_r.png", index);
             cv::imwrite(save_dir + name, rr);
         }
+        if (ref) {
+            cv::Mat cvl, cvr;
+            cv::remap(l, cvl, cvmaps[0][0], cvmaps[0][1], cv::INTER_LINEAR,
+                      cv::BORDER_CONSTANT, cv::Scalar(0));
+            cv::remap(r, cvr, cvmaps[1][0], cvmaps[1][1], cv::INTER_LINEAR,
+                      cv::BORDER_CONSTANT, cv::Scalar(0));
+            for (const auto &pr : {std::make_pair(&lr, &cvl),
+                                   std::make_pair(&rr, &cvr)}) {
+                cv::Mat d;
+                cv::absdiff(*pr.first, *pr.second, d);
+                double mx = 0;
+                cv::minMaxLoc(d, nullptr, &mx);
+                diff_max = std::max(diff_max, mx);
+                diff_sum += cv::sum(d)[0];
+                diff_n += d.total();
+            }
+            std::vector<cv::Point2f> kl, kr;
+            if (negobs_calib::find_corners(cvl, board, kl) &&
+                negobs_calib::find_corners(cvr, board, kr)) {
+                row_diffs(kl, kr, sq_cv, sum_cv, n_cv);
+            }
+        }
         std::vector<cv::Point2f> cl, cr, rl, rrw;
         if (negobs_calib::find_corners(l, board, rl) &&
             negobs_calib::find_corners(r, board, rrw)) {
@@ -229,6 +314,13 @@ int main(int argc, char **argv)
     if (n_raw > 0) {
         std::printf("raw images:       row RMS %.3f px over %zu corners\n",
                     std::sqrt(sq_raw / n_raw), n_raw);
+    }
+    if (n_cv > 0) {
+        std::printf("rectified (OpenCV float maps + cv::remap): row RMS "
+                    "%.3f px (mean %+.3f) over %zu corners\n",
+                    std::sqrt(sq_cv / n_cv), sum_cv / n_cv, n_cv);
+        std::printf("lib vs cv::remap pixels: mean |diff| %.3f, max %.0f "
+                    "grey levels\n", diff_sum / diff_n, diff_max);
     }
     std::printf("rectified (lib):  row RMS %.3f px (mean %+.3f) over %zu "
                 "corners in %d of %zu pairs; limit %.3f\n", rms,
