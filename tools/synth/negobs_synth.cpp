@@ -49,6 +49,7 @@ struct Options {
     uint64_t texture_seed = 1;
     std::string texture_file;
     std::string texture_kind = "asphalt";
+    int distractors = 0;
     double texture_mm = 2.0;
     bool gt_disparity = false;
     bool preview = false;
@@ -76,6 +77,9 @@ void usage(FILE *fp, const char *argv0)
 "  --hole-offset-mm X   hole: lateral centre, + = right (default 0)\n"
 "  --wall-height-mm H   wall height (default 2500)\n"
 "  --lower-shade K      brightness of surfaces below the near ground (0.9)\n"
+"  --distractors N      N random intensity-only distractors on the near\n"
+"                       ground: painted stripes, hard shadows, dark patches,\n"
+"                       manhole covers (default 0; never to be alarmed)\n"
 "  --texture-kind K     asphalt|paving procedural texture (default asphalt)\n"
 "  --texture FILE       tile a grey photo on all surfaces instead\n"
 "  --texture-mm S       photo: millimetres per photo pixel (default 2)\n"
@@ -271,6 +275,8 @@ int parse(int argc, char **argv, Options &o)
             o.texture_kind = val;
             if (val != "asphalt" && val != "paving")
                 return fail(a0, "unknown texture kind '" + val + "' (asphalt|paving)");
+        } else if (arg == "--distractors") {
+            rc = integer(o.distractors, 0, 1000);
         } else if (arg == "--texture") {
             o.texture_file = val;
         } else if (arg == "--texture-mm") {
@@ -426,6 +432,12 @@ int main(int argc, char **argv)
     if (!tex_ok)
         return fail(a0, err);
 
+    // Distractors from 1 m ahead to 2 m past the edge (8 m on flat
+    // ground), on the Y = 0 surfaces only.
+    o.scene.distractors = synth::random_distractors(
+        o.distractors, 1.0,
+        o.scene.hazard == synth::Hazard::Flat ? 8.0 : std::max(2.0, o.scene.edge_z + 2.0),
+        o.seed);
     const synth::Scene scene(o.scene);
     const bool sequence = !o.single;
     // Motion phases from the seed, so every sequence bobs differently.
@@ -440,6 +452,20 @@ int main(int argc, char **argv)
     if (!gt)
         return fail(a0, "cannot write '" + gt_path + "'");
     const synth::SceneParams &sp = o.scene;
+    std::string dlist;
+    for (const synth::Distractor &d : sp.distractors) {
+        if (!dlist.empty())
+            dlist += ", ";
+        if (d.kind == synth::Distractor::Manhole)
+            dlist += fmt("{\"type\": \"manhole\", \"x_mm\": %.0f, \"z_mm\": %.0f, "
+                         "\"radius_mm\": %.0f, \"value\": %.3g}",
+                         d.x0 * 1e3, d.z0 * 1e3, d.x1 * 1e3, d.value);
+        else
+            dlist += fmt("{\"type\": \"%s\", \"x_mm\": [%.0f, %.0f], \"z_mm\": [%.0f, %.0f], "
+                         "\"value\": %.3g}",
+                         synth::distractor_name(d.kind), d.x0 * 1e3, d.x1 * 1e3, d.z0 * 1e3,
+                         d.z1 * 1e3, d.value);
+    }
     std::fprintf(gt, "{\n\"generator\": \"negobs_synth %s\",\n", negobs_version());
     std::fprintf(gt,
                  "\"camera\": {\"f\": %.6g, \"B_mm\": %.6g, \"cx\": %.6g, \"cy\": %.6g, "
@@ -453,7 +479,7 @@ int main(int argc, char **argv)
                  "\"drop_mm\": %.6g, \"steps\": %d, \"rise_mm\": %.6g, \"run_mm\": %.6g, "
                  "\"hole_width_mm\": %.6g, \"hole_length_mm\": %.6g, "
                  "\"hole_offset_mm\": %.6g, \"wall_height_mm\": %.6g, "
-                 "\"texture\": \"%s\", \"texture_seed\": %llu},\n",
+                 "\"texture\": \"%s\", \"texture_seed\": %llu, \"distractors\": [%s]},\n",
                  synth::hazard_name(sp.hazard),
                  (sp.hazard == synth::Hazard::Curb || sp.hazard == synth::Hazard::Stairs ||
                   sp.hazard == synth::Hazard::Hole) ? "true" : "false",
@@ -461,7 +487,7 @@ int main(int argc, char **argv)
                  sp.hole_width * 1e3, sp.hole_length * 1e3, sp.hole_offset * 1e3,
                  sp.wall_height * 1e3,
                  json_escape(o.texture_file.empty() ? o.texture_kind : o.texture_file).c_str(),
-                 static_cast<unsigned long long>(o.texture_seed));
+                 static_cast<unsigned long long>(o.texture_seed), dlist.c_str());
     std::fprintf(gt,
                  "\"render\": {\"supersample\": %d, \"noise\": %.6g, \"gain_right\": %.6g, "
                  "\"offset_right\": %.6g, \"brightness\": %.6g, \"blur\": %.6g, \"seed\": %llu, "

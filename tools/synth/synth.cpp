@@ -220,6 +220,64 @@ bool Scene::edge_segment(double &x0, double &x1) const
     }
 }
 
+const char *distractor_name(Distractor::Kind k)
+{
+    switch (k) {
+    case Distractor::Stripe: return "stripe";
+    case Distractor::Shadow: return "shadow";
+    case Distractor::Patch: return "patch";
+    case Distractor::Manhole: return "manhole";
+    }
+    return "?";
+}
+
+std::vector<Distractor> random_distractors(int n, double z_near, double z_far, uint64_t seed)
+{
+    std::vector<Distractor> out;
+    Rng rng(seed * 0x94D049BB133111EBull + 99);
+    for (int i = 0; i < n; ++i) {
+        Distractor d;
+        const double zc = z_near + (z_far - z_near) * rng.uniform();
+        const double xc = -2.0 + 4.0 * rng.uniform();
+        d.kind = static_cast<Distractor::Kind>(rng.next() % 4u);
+        switch (d.kind) {
+        case Distractor::Stripe: { // painted line across the path
+            const double w = 0.1 + 0.4 * rng.uniform();
+            d.x0 = xc - 1.0 - 3.0 * rng.uniform();
+            d.x1 = xc + 1.0 + 3.0 * rng.uniform();
+            d.z0 = zc;
+            d.z1 = zc + w;
+            d.value = 200.0 + 40.0 * rng.uniform();
+            break;
+        }
+        case Distractor::Shadow: // hard shadow of a building or pole
+            d.x0 = xc - 0.5 - 2.0 * rng.uniform();
+            d.x1 = xc + 0.5 + 2.0 * rng.uniform();
+            d.z0 = zc;
+            d.z1 = zc + 0.3 + 2.5 * rng.uniform();
+            d.value = 0.35 + 0.25 * rng.uniform();
+            break;
+        case Distractor::Patch: { // dark tile, repair patch, wet spot
+            const double a = 0.3 + 0.8 * rng.uniform(), b = 0.3 + 0.8 * rng.uniform();
+            d.x0 = xc - a / 2;
+            d.x1 = xc + a / 2;
+            d.z0 = zc;
+            d.z1 = zc + b;
+            d.value = 0.3 + 0.4 * rng.uniform();
+            break;
+        }
+        case Distractor::Manhole:
+            d.x0 = xc;
+            d.z0 = zc;
+            d.x1 = 0.3 + 0.1 * rng.uniform();
+            d.value = 0.45 + 0.2 * rng.uniform();
+            break;
+        }
+        out.push_back(d);
+    }
+    return out;
+}
+
 // ---------------------------------------------------------------- Texture
 
 namespace {
@@ -576,8 +634,48 @@ struct RowJob {
 // Texture value of a hit on rect `r` at ray parameter t, with the footprint
 // of the ray differentials du, dv (per step in u and v) on the plane:
 // dP = t*(dD - D*(n.dD)/(n.D)).
-float shade_hit(const Texture &tex, const Rect &r, const Vec3 &c, const Vec3 &d,
-                double t, const Vec3 &du, const Vec3 &dv)
+// Fraction of [c - e, c + e] inside [a, b] (box-filtered step edges).
+double cover1(double c, double e, double a, double b)
+{
+    if (e < 1e-9)
+        return (c >= a && c <= b) ? 1.0 : 0.0;
+    const double lo = std::max(c - e, a), hi = std::min(c + e, b);
+    return hi > lo ? (hi - lo) / (2.0 * e) : 0.0;
+}
+
+// Paint, shadows and patches on the near ground, filtered over the
+// footprint half-extents (ex, ez).
+float distract(const std::vector<Distractor> &ds, double x, double z, double ex, double ez,
+               float v)
+{
+    for (const Distractor &d : ds) {
+        double c;
+        if (d.kind == Distractor::Manhole) {
+            const double e = std::max(ex, ez);
+            if (std::fabs(x - d.x0) > d.x1 + e || std::fabs(z - d.z0) > d.x1 + e)
+                continue;
+            const double r = std::sqrt((x - d.x0) * (x - d.x0) + (z - d.z0) * (z - d.z0));
+            c = cover1(r, e, -1.0, d.x1);
+        } else {
+            if (x + ex < d.x0 || x - ex > d.x1 || z + ez < d.z0 || z - ez > d.z1)
+                continue;
+            c = cover1(x, ex, d.x0, d.x1) * cover1(z, ez, d.z0, d.z1);
+        }
+        if (c <= 0.0)
+            continue;
+        const auto cf = static_cast<float>(c);
+        float target;
+        if (d.kind == Distractor::Stripe) // paint keeps a little of the grain
+            target = static_cast<float>(d.value) + 0.25f * (v - 125.0f);
+        else
+            target = v * static_cast<float>(d.value);
+        v += cf * (target - v);
+    }
+    return v;
+}
+
+float shade_hit(const Texture &tex, const std::vector<Distractor> &ds, const Rect &r,
+                const Vec3 &c, const Vec3 &d, double t, const Vec3 &du, const Vec3 &dv)
 {
     const Vec3 p = add(c, mul(d, t));
     const double dn = comp(d, r.axis);
@@ -588,6 +686,9 @@ float shade_hit(const Texture &tex, const Rect &r, const Vec3 &c, const Vec3 &d,
     switch (r.axis) {
     case 1: // horizontal: (X, Z)
         v = tex.sample(p.x, p.z, fu.x, fu.z, fv.x, fv.z);
+        if (r.pos == 0.0 && !ds.empty())
+            v = distract(ds, p.x, p.z, 0.5 * (std::fabs(fu.x) + std::fabs(fv.x)),
+                         0.5 * (std::fabs(fu.z) + std::fabs(fv.z)), v);
         break;
     case 2: // constant Z: (X, Y)
         v = tex.sample(p.x, p.y + r.tex_offset, fu.x, fu.y, fv.x, fv.y);
@@ -636,6 +737,7 @@ void render_rows(const RowJob &job, int y0, int y1)
     const float inv = 1.0f / static_cast<float>(ss * ss);
     const auto sky = static_cast<float>(job.sky);
     const int w = rig.width, h = rig.height;
+    const std::vector<Distractor> &ds = scene.params().distractors;
     for (int y = y0; y < y1; ++y) {
         float *row = job.img->ptr<float>(y);
         const int *hr = job.hit->ptr<int>(y);
@@ -652,7 +754,7 @@ void render_rows(const RowJob &job, int y0, int y1)
             }
             if (uniform) {
                 row[x] = rc < 0 ? sky
-                                : shade_hit(*job.tex, rects[static_cast<size_t>(rc)], cf.c,
+                                : shade_hit(*job.tex, ds, rects[static_cast<size_t>(rc)], cf.c,
                                             pixel_ray(rig, cf, job.which, x, y), ht[x],
                                             du1, dv1);
                 continue;
@@ -666,7 +768,7 @@ void render_rows(const RowJob &job, int y0, int y1)
                     double t;
                     const int r = scene.intersect(cf.c, d, t);
                     acc += r < 0 ? sky
-                                 : shade_hit(*job.tex, rects[static_cast<size_t>(r)], cf.c, d,
+                                 : shade_hit(*job.tex, ds, rects[static_cast<size_t>(r)], cf.c, d,
                                              t, dus, dvs);
                 }
             }
@@ -705,7 +807,8 @@ float render_point(const Scene &scene, const Texture &tex, const Rig &rig,
     const int r = scene.intersect(cf.c, d, t);
     if (r < 0)
         return static_cast<float>(sky);
-    return shade_hit(tex, scene.rects()[static_cast<size_t>(r)], cf.c, d, t,
+    return shade_hit(tex, scene.params().distractors, scene.rects()[static_cast<size_t>(r)],
+                     cf.c, d, t,
                      mul(cf.ax, 1.0 / rig.f), mul(cf.ay, 1.0 / rig.f));
 }
 

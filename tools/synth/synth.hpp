@@ -48,6 +48,17 @@ enum class Hazard { Curb, Stairs, Hole, Upstep, Wall, Flat };
 const char *hazard_name(Hazard h);
 bool hazard_from_name(const std::string &s, Hazard &out);
 
+// Flat-ground distractor painted on the near ground (Y = 0): intensity
+// only, no geometry.  Must never be alarmed.
+struct Distractor {
+    enum Kind { Stripe, Shadow, Patch, Manhole } kind = Stripe;
+    double x0 = 0, x1 = 0, z0 = 0, z1 = 0; // m; manhole: centre and radius in x0, z0, x1
+    double value = 1.0;  // Stripe: paint grey level; others: brightness factor
+};
+const char *distractor_name(Distractor::Kind k);
+// N random distractors between z_near and z_far, deterministic from seed.
+std::vector<Distractor> random_distractors(int n, double z_near, double z_far, uint64_t seed);
+
 struct SceneParams {
     Hazard hazard = Hazard::Curb;
     double edge_z = 4.0;        // m, world Z of the hazard's near edge
@@ -60,6 +71,7 @@ struct SceneParams {
     double hole_offset = 0.0;   // m, lateral centre of the hole
     double wall_height = 2.5;   // m
     double lower_shade = 0.9;   // brightness factor of surfaces below Y = 0
+    std::vector<Distractor> distractors;
 };
 
 // Axis-aligned planar rectangle (bounds may be +-infinity).

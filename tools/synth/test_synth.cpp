@@ -254,6 +254,7 @@ struct WarpCase {
     int ss;
     bool expect_occlusion;
     double blur; // lens PSF; sub-pixel row shifts need a band-limited image
+    int distractors;
 };
 
 int test_warp()
@@ -262,14 +263,16 @@ int test_warp()
     std::string err;
     check(tex.make_procedural(11, "asphalt", err), "texture: " + err);
     const WarpCase cases[] = {
-        {synth::Hazard::Curb, 3.0, 0.2, 20.0, 0.0, 0.0, 0.0, 2, false, 0.0},
-        {synth::Hazard::Stairs, 3.0, 0.2, 22.0, 3.0, 0.0, 0.5, 2, false, 0.7},
+        {synth::Hazard::Curb, 3.0, 0.2, 20.0, 0.0, 0.0, 0.0, 2, false, 0.0, 0},
+        {synth::Hazard::Stairs, 3.0, 0.2, 22.0, 3.0, 0.0, 0.5, 2, false, 0.7, 0},
         // A deep pit close by, to the left: its right-hand rim hides more of
         // the floor from the right camera (occlusion detected and skipped).
-        {synth::Hazard::Hole, 2.5, 0.5, 18.0, -2.0, -10.0, -1.0, 3, true, 0.0},
-        {synth::Hazard::Upstep, 3.0, 0.2, 20.0, 0.0, 0.0, 0.25, 2, false, 0.7},
-        {synth::Hazard::Wall, 3.0, 0.2, 15.0, 1.0, -5.0, 0.0, 1, false, 0.0},
-        {synth::Hazard::Flat, 3.0, 0.2, 25.0, 0.0, 0.0, 0.0, 2, false, 0.0},
+        {synth::Hazard::Hole, 2.5, 0.5, 18.0, -2.0, -10.0, -1.0, 3, true, 0.0, 0},
+        {synth::Hazard::Upstep, 3.0, 0.2, 20.0, 0.0, 0.0, 0.25, 2, false, 0.7, 0},
+        {synth::Hazard::Wall, 3.0, 0.2, 15.0, 1.0, -5.0, 0.0, 1, false, 0.0, 0},
+        {synth::Hazard::Flat, 3.0, 0.2, 25.0, 0.0, 0.0, 0.0, 2, false, 0.0, 0},
+        // Painted stripes, shadows, patches, manholes: intensity only.
+        {synth::Hazard::Flat, 3.0, 0.2, 22.0, 0.0, 0.0, 0.0, 2, false, 0.0, 12},
     };
     for (const WarpCase &wc : cases) {
         synth::SceneParams sp;
@@ -278,6 +281,7 @@ int test_warp()
         sp.drop = wc.drop;
         sp.hole_offset = -1.2;
         sp.hole_length = 2.0;
+        sp.distractors = synth::random_distractors(wc.distractors, 1.0, 6.0, 21);
         const synth::Scene scene(sp);
         synth::Rig rig;
         rig.right_row_shift = wc.vshift;
@@ -371,6 +375,16 @@ int test_warp()
         check(mae < 3.0, std::string("warp: mean abs error < 3 for ") +
                              synth::hazard_name(wc.hazard));
         check(disp_err == 0, "warp: right position is (x - d, y + shift)");
+        if (wc.distractors > 0) {
+            // Distractors change the image but not the geometry.
+            synth::SceneParams plain = sp;
+            plain.distractors.clear();
+            cv::Mat L2, D2;
+            synth::render_view(synth::Scene(plain), tex, rig, pose, 0, ro, L2, &D2);
+            check(cv::norm(D, D2, cv::NORM_INF) == 0.0, "warp: distractors leave GT disparity");
+            check(cv::norm(L, L2, cv::NORM_L1) / static_cast<double>(L.total()) > 1.0,
+                  "warp: distractors are visible");
+        }
         if (wc.expect_occlusion)
             check(occluded > 10, "warp: pit wall occludes floor in the right view");
     }
