@@ -9,11 +9,18 @@
  *   negobs_digest              print "digest <16 hex digits>"
  *   negobs_digest --perturb    same, with one input pixel changed
  *   negobs_digest --self-test  exit 1 unless the two digests differ
+ *
+ * The stereo engine runs on a generated pair (tests/stereo/synth.h: slanted
+ * ground, drop-off, box, 2-row vertical offset); its Q4 disparities,
+ * confidences and statistics are fed into the same digest.
  */
 #include <stdio.h>
 #include <string.h>
 
 #include "negobs/negobs.h"
+#include "negobs/stereo.h"
+
+#include "../stereo/synth.h"
 
 #define W 96
 #define H 72
@@ -24,6 +31,20 @@ static uint32_t sumsq[H * W];
 static uint32_t colbuf[2 * W];
 static uint32_t ii[(W + 1) * (H + 1)];
 static uint32_t iiq[(W + 1) * (H + 1)];
+
+#define SW 128
+#define SH 96
+#define SDMAX 31
+
+static uint8_t s_left[SW * SH];
+static uint8_t s_right[SW * SH];
+static uint8_t s_tex[SW * SH];
+static uint8_t s_occ[SW * SH];
+static int16_t s_gt[SW * SH];
+static int16_t s_disp[SW * SH];
+static uint8_t s_conf[SW * SH];
+static uint8_t s_ws[NEGOBS_STEREO_WORKSPACE_MAX(SW, SH, SDMAX)]
+    __attribute__((aligned(16)));
 
 typedef struct digest {
     uint64_t h;
@@ -88,6 +109,60 @@ static uint64_t run(int perturb)
     for (i = 0; i < sizeof ii / sizeof ii[0]; i++) {
         feed_u32(&d, ii[i]);
         feed_u32(&d, iiq[i]);
+    }
+    {
+        synth_scene_t sc;
+        negobs_stereo_config_t cfg;
+        negobs_stereo_t ctx;
+        negobs_stereo_stats_t st;
+        negobs_image_u8_t li;
+        negobs_image_u8_t ri;
+        negobs_image_u8_t ci;
+        negobs_image_s16_t di;
+        sc.w = SW;
+        sc.h = SH;
+        sc.d_top_q8 = 6 * 256;
+        sc.d_bottom_q8 = 22 * 256;
+        sc.drop_q8 = 4 * 256;
+        sc.box_q8 = 27 * 256;
+        sc.voff = 2;
+        sc.seed = 2024u;
+        synth_render(&sc, s_left, s_right, s_gt, s_occ, s_tex);
+        if (perturb) {
+            s_left[(SH / 2) * SW + SW / 2] ^= 1u;
+        }
+        negobs_stereo_config_default(&cfg, SW, SH);
+        cfg.max_disp = SDMAX;
+        cfg.lr_check = 1;
+        li.data = s_left;
+        li.width = SW;
+        li.height = SH;
+        li.stride = SW;
+        ri = li;
+        ri.data = s_right;
+        ci = li;
+        ci.data = s_conf;
+        di.data = s_disp;
+        di.width = SW;
+        di.height = SH;
+        di.stride = SW;
+        if (negobs_stereo_init(&ctx, &cfg, s_ws, sizeof s_ws) != NEGOBS_OK ||
+            negobs_stereo_process(&ctx, &li, &ri, &di, &ci, &st) !=
+                NEGOBS_OK) {
+            return 0;
+        }
+        for (i = 0; i < (size_t)(SW * SH); i++) {
+            feed_u32(&d, (uint32_t)(uint16_t)s_disp[i]);
+        }
+        feed(&d, s_conf, sizeof s_conf);
+        feed_u32(&d, st.seeds);
+        feed_u32(&d, st.grown);
+        feed_u32(&d, st.visited_cells);
+        feed_u32(&d, st.gcs_matched);
+        feed_u32(&d, st.valid);
+        feed_u32(&d, (uint32_t)st.vertical_offset);
+        feed_u32(&d, (uint32_t)st.range_min);
+        feed_u32(&d, (uint32_t)st.range_max);
     }
     for (x = -3000; x < 3000; x += 7) {
         feed_u32(&d, (uint32_t)negobs_rshift_round_s32(x * 977, 5));

@@ -12,6 +12,11 @@
  *   negobs_stereo_process(ctx, left, right, disp_q4, confidence, stats)
  *   disp_q4 values: disparity * 16, NEGOBS_DISP_INVALID (INT16_MIN) = none
  *   stats: seeds, queue_peak, queue_overflows, visited_cells, band
+ *
+ * Conventions: left is the reference; a scene point at column x of the left
+ * image is at column x - d of the right image (d >= 0) and, with a vertical
+ * misalignment `off`, at row y + off. docs/DISPARITY.md describes every
+ * stage, format and default.
  */
 #ifndef NEGOBS_STEREO_H
 #define NEGOBS_STEREO_H
@@ -27,13 +32,84 @@
 extern "C" {
 #endif
 
-/** Configuration; zero it, then call negobs_stereo_config_default(). */
+/**
+ * Configuration; zero it, then call negobs_stereo_config_default().
+ *
+ * Units: pixels unless the name says otherwise; `_q14` fields are
+ * correlation values with 16384 = 1.0; `_q8` fields 256 = 1.0; `_q4`
+ * fields 1/16 px. Defaults in parentheses. The config is copied by init.
+ */
 typedef struct negobs_stereo_config {
     int32_t width;    /**< frame width (pixels)                    */
     int32_t height;   /**< frame height (pixels)                   */
     int32_t min_disp; /**< smallest disparity searched (pixels)    */
     int32_t max_disp; /**< largest disparity searched (pixels)     */
+
+    /* search range (stage 1) */
+    int32_t auto_range;   /**< 1: narrow the range from a 1/4-scale map (1) */
+    int32_t range_margin; /**< px added around the estimated range (4)   */
+    int32_t tile_size;    /**< px, side of a per-tile seed range (32)    */
+
+    /* vertical misalignment (stage 6) */
+    int32_t vertical_search; /**< estimate |offset| <= this, 0..4 (4)     */
+    int32_t vertical_offset; /**< rows, used when vertical_search == 0:
+                                  left row y matches right row y + offset */
+
+    /* seeds (stage 2) */
+    int32_t canny_low;    /**< L1 Sobel magnitude of a weak edge (60)    */
+    int32_t canny_high;   /**< L1 Sobel magnitude of a strong edge (120) */
+    int32_t seed_step;    /**< try every n-th edge pixel of a row (2)    */
+    int32_t seed_tau_q14; /**< seed MNCC floor (0.8 = 13107)             */
+    int32_t seed_margin_q14; /**< best minus 2nd best (|dd| >= 2) (819)   */
+
+    /* growing (stage 3) */
+    int32_t ncc_tau_q14;  /**< growing MNCC threshold tau (0.6 = 9830)   */
+    int32_t ncc_mu_q14;   /**< growth margin mu (0.1 = 1638)             */
+    int32_t ssk_beta_q8;  /**< stable-matching margin, share of c (26)   */
+    int32_t zonegap;      /**< d difference that does not inhibit (1)    */
+    int32_t texture_min;  /**< VL+VR floor, n^2 x variance units (2500)  */
+    int32_t queue_capacity; /**< seed queue entries (8192)               */
+    int32_t strip_rows;   /**< rows per processing strip, 8..255 (32)    */
+
+    /* DP (stage 4) */
+    int32_t band;         /**< DP band half-width around GCS d, 1..16 (2) */
+    int32_t dp_neutral_q14; /**< score of unvisited band cells (0)       */
+    int32_t dp_jump_q14;  /**< penalty of a jump |dd| > 1 (8192)         */
+
+    /* refinement (stage 5) */
+    int32_t lr_check;     /**< 1: drop pixels occluded in the right view (0) */
+    int32_t speckle_size; /**< regions below this many px removed, 0..256 (24) */
+    int32_t speckle_diff_q4; /**< largest step inside a region (16)     */
+    int32_t adaptive_mean; /**< 1: adaptive mean filter (1)              */
 } negobs_stereo_config_t;
+
+/** Largest disparity range (max_disp - min_disp + 1). */
+#define NEGOBS_STEREO_MAX_RANGE 256
+/** Smallest frame accepted (pixels). */
+#define NEGOBS_STEREO_MIN_WIDTH 32
+#define NEGOBS_STEREO_MIN_HEIGHT 16
+/** Largest band half-width. */
+#define NEGOBS_STEREO_MAX_BAND 16
+
+/**
+ * Constant-expression upper bound of negobs_stereo_workspace_size() for a
+ * w x h frame searched over [0, dmax] (or any narrower range), valid for
+ * configs with strip_rows <= 32, queue_capacity <= 8192 and
+ * speckle_size <= 256 (the defaults are inside). Includes debug guards and
+ * alignment slack. Use it to size a static workspace; the unit tests check
+ * it against the exact query over a grid of sizes.
+ */
+#define NEGOBS_STEREO_WORKSPACE_MAX(w, h, dmax)                              \
+    ((size_t)(w) * 36u * 22u +                                               \
+     (size_t)(w) * 32u * (((size_t)(dmax) + 1u) / 8u + 2u) +                 \
+     (size_t)8192u * 8u + 257u * 4u +                                        \
+     (size_t)(w) * (size_t)(h) / 16u * 3u +                                  \
+     ((size_t)(w) / 8u + 2u) * ((size_t)(h) / 8u + 2u) * 4u +                \
+     ((size_t)(dmax) + 4u) * 32u +                                           \
+     (size_t)(w) * ((size_t)(dmax) + 1u) * 3u + (size_t)(w) * 12u +          \
+     (size_t)(h) * ((size_t)(dmax) + 4u) +                                   \
+     ((size_t)(w) + (size_t)(h) + 16u) * 4u +                                \
+     (size_t)(w) * (size_t)(h) / 4u + 257u * 4u + 8192u)
 
 /** Per-frame statistics. */
 typedef struct negobs_stereo_stats {
@@ -42,6 +118,15 @@ typedef struct negobs_stereo_stats {
     uint32_t queue_overflows; /**< pushes dropped by the bound     */
     uint32_t visited_cells;   /**< disparity-space cells scored    */
     int32_t band;             /**< DP band half-width used (px)    */
+    uint32_t edges;           /**< Canny edge pixels               */
+    uint32_t grown;           /**< candidates accepted by growing  */
+    uint32_t gcs_matched;     /**< pixels matched after GCS        */
+    uint32_t valid;           /**< valid output pixels             */
+    uint32_t lr_rejected;     /**< pixels dropped by the LR check  */
+    uint32_t speckles_removed; /**< pixels dropped as speckles     */
+    int32_t range_min;        /**< search range used (pixels)      */
+    int32_t range_max;
+    int32_t vertical_offset;  /**< rows: left y matches right y+off */
 } negobs_stereo_stats_t;
 
 /** Context; place it anywhere (static is fine). Fields are private. */
@@ -50,18 +135,33 @@ typedef struct negobs_stereo {
     void *priv;
 } negobs_stereo_t;
 
+/** @brief Defaults for a width x height frame, range [0, 63]. */
 void negobs_stereo_config_default(negobs_stereo_config_t *cfg, int32_t width,
                                   int32_t height);
+/**
+ * @brief Exact workspace bytes init will consume for this config.
+ * @return NEGOBS_OK, or NEGOBS_ERR_INVAL for a bad config.
+ */
 negobs_status_t negobs_stereo_workspace_size(const negobs_stereo_config_t *cfg,
                                              size_t *bytes_out);
+/**
+ * @brief Validate cfg and carve the workspace (16-byte aligned).
+ * @return NEGOBS_OK, NEGOBS_ERR_INVAL, NEGOBS_ERR_ALIGN or
+ *         NEGOBS_ERR_NOSPACE (workspace_bytes too small).
+ */
 negobs_status_t negobs_stereo_init(negobs_stereo_t *ctx,
                                    const negobs_stereo_config_t *cfg,
                                    void *workspace, size_t workspace_bytes);
 /**
+ * @param[in]  left, right rectified grey images of cfg width x height
  * @param[out] disp_q4    width x height, disparity * 16 or
  *                        NEGOBS_DISP_INVALID
  * @param[out] confidence width x height, 0 (none) .. 255; may be NULL
  * @param[out] stats      may be NULL
+ * @return NEGOBS_OK (also for textureless input: the map is then invalid),
+ *         NEGOBS_ERR_INVAL for mismatched or bad images, NEGOBS_ERR_STATE
+ *         without a successful init, NEGOBS_ERR_CORRUPT if a debug guard of
+ *         the workspace was overwritten.
  */
 negobs_status_t negobs_stereo_process(negobs_stereo_t *ctx,
                                       const negobs_image_u8_t *left,

@@ -1,0 +1,386 @@
+/*
+ * Stage 4: two-stage dynamic programming (Sun 2002), banded around the GCS
+ * disparities.
+ *
+ * Stage 1 runs along each row over the states d of a per-column band:
+ *   matched pixel (GCS d):  [d - band, d + band], cells scored with MNCC
+ *   hole pixel:             [min(dl, dr) - band, max(dl, dr) + band] from the
+ *                           nearest matched pixels left/right on the row;
+ *                           these cells are never scored ("unvisited") and
+ *                           get the neutral score dp_neutral_q14.
+ *   Y(x, d) = cost(x, d) + max( Y(x-1, d-1), Y(x-1, d), Y(x-1, d+1),
+ *                               max_d' Y(x-1, d') - dp_jump )
+ * i.e. Sun's |dd| <= 1 smoothness plus a penalised jump, which the band
+ * needs where it moves by more than one level between columns.
+ * Stage 2 runs down the end column x = W-1 over the normalised end scores
+ * Y(W-1, y, d) - max_d Y(W-1, y, d) with the same recurrence and picks one
+ * end disparity per row; each row is then back-tracked from it.
+ *
+ * Memory: one row of pointers and costs (W x D bytes + W x D int16), the
+ * stage-2 pointers (H x D bytes). Stage 1 runs twice per row (once to feed
+ * stage 2, once with pointers for the back-track), recomputing its costs,
+ * instead of keeping W x H x D pointers.
+ *
+ * Scaling and overflow: costs are Q14 in [-16384, 16384], dp_jump is
+ * limited to [0, 32768], so |Y| <= W * 49152 < 2^28 for W <= 4096 and the
+ * NEG sentinel (-2^30) is never reached by a real path. Stage 2 sums up to
+ * 4096 rows of values >= -2^28 in int64.
+ */
+#include <string.h>
+
+#include "stereo/stereo_int.h"
+
+#define NEG32 (INT32_MIN / 2)
+#define NEG64 (INT64_MIN / 4)
+
+/* Bands of one row; returns 0 when the row has no GCS match at all. */
+static int row_bands(stx_t *s, const int16_t *g)
+{
+    int32_t w = s->w;
+    int32_t b = s->cfg.band;
+    int32_t x;
+    int32_t last = NEGOBS_DISP_INVALID;
+    int any = 0;
+    int32_t lo_lim = s->gdmin;
+    int32_t hi_lim = s->gdmax;
+
+    /* left-nearest pass stores dl in blo, right-nearest pass finishes */
+    for (x = 0; x < w; x++) {
+        if (g[x] != NEGOBS_DISP_INVALID) {
+            last = g[x];
+            any = 1;
+        }
+        s->blo[x] = (int16_t)last;
+    }
+    if (!any) {
+        return 0;
+    }
+    last = NEGOBS_DISP_INVALID;
+    for (x = w - 1; x >= 0; x--) {
+        int32_t dl = s->blo[x];
+        int32_t lo;
+        int32_t hi;
+        if (g[x] != NEGOBS_DISP_INVALID) {
+            last = g[x];
+            lo = g[x] - b;
+            hi = g[x] + b;
+            s->bscored[x] = 1u;
+        } else {
+            int32_t dr = last;
+            if (dl == NEGOBS_DISP_INVALID) {
+                dl = dr;
+            }
+            if (dr == NEGOBS_DISP_INVALID) {
+                dr = dl;
+            }
+            lo = ((dl < dr) ? dl : dr) - b;
+            hi = ((dl > dr) ? dl : dr) + b;
+            s->bscored[x] = 0u;
+        }
+        lo = negobs_clamp_s32(lo, lo_lim, hi_lim);
+        hi = negobs_clamp_s32(hi, lo, hi_lim);
+        s->blo[x] = (int16_t)lo;
+        s->bhi[x] = (int16_t)hi;
+    }
+    return 1;
+}
+
+/* Stage 1 forward pass; returns the index (d - dmin) of the best end. */
+static int32_t stage1(stx_t *s, int32_t y, int keep)
+{
+    int32_t w = s->w;
+    int32_t nd = s->ndisp;
+    int32_t dmin = s->dmin;
+    int32_t jump = s->cfg.dp_jump_q14;
+    int32_t neutral = s->cfg.dp_neutral_q14;
+    int32_t *yp = s->yprev + 1; /* index -1 .. nd valid */
+    int32_t *yc = s->ycur + 1;
+    int32_t x;
+    int32_t i;
+    int32_t bestp = 0;
+    int32_t argp = 0;
+    int32_t plo = 0;
+    int32_t phi = -1;  /* band of yc's stale content (column x-2) */
+    int32_t lo;
+    int32_t hi;
+
+    for (i = -1; i <= nd; i++) {
+        yp[i] = NEG32;
+        yc[i] = NEG32;
+    }
+    for (x = 0; x < w; x++) {
+        int32_t bcur = NEG32;
+        int32_t acur = 0;
+        int scored = s->bscored[x];
+        int16_t *crow = s->cost + (ptrdiff_t)x * nd;
+        uint8_t *prow = s->p1 + (ptrdiff_t)x * nd;
+        lo = s->blo[x] - dmin;
+        hi = s->bhi[x] - dmin;
+        for (i = plo; i <= phi; i++) {
+            yc[i] = NEG32;
+        }
+        for (i = lo; i <= hi; i++) {
+            int32_t c = neutral;
+            int32_t m;
+            int32_t t;
+            if (scored) {
+                s->st.visited_cells++;
+                c = stx_mncc_strip(s, x, y, i + dmin);
+                if (c == STX_FLAT) {
+                    c = neutral;
+                }
+            }
+            if (x == 0) {
+                m = 0;
+                t = 1;
+            } else {
+                m = yp[i];
+                t = 1;
+                if (yp[i - 1] > m) {
+                    m = yp[i - 1];
+                    t = 0;
+                }
+                if (yp[i + 1] > m) {
+                    m = yp[i + 1];
+                    t = 2;
+                }
+                if (bestp - jump > m) {
+                    m = bestp - jump;
+                    t = 3;
+                }
+            }
+            yc[i] = m + c;
+            if (keep) {
+                crow[i] = (int16_t)c;
+                prow[i] = (uint8_t)t;
+            }
+            if (yc[i] > bcur) {
+                bcur = yc[i];
+                acur = i;
+            }
+        }
+        if (keep) {
+            s->jump_to[x] = (int16_t)argp;
+        }
+        {
+            int32_t *tmp = yp;
+            yp = yc;
+            yc = tmp;
+        }
+        /* yc now holds column x-1: its band is the previous lo/hi */
+        plo = (x == 0) ? 0 : s->blo[x - 1] - dmin;
+        phi = (x == 0) ? -1 : s->bhi[x - 1] - dmin;
+        if (x == 0) {
+            plo = 0;
+            phi = -1;
+        }
+        bestp = bcur;
+        argp = acur;
+    }
+    /* yp holds the last column; copy it to yprev for the caller */
+    if (yp != s->yprev + 1) {
+        memcpy(s->yprev, s->ycur, (size_t)(nd + 2) * sizeof *s->yprev);
+    }
+    return argp;
+}
+
+void stx_dp_stage2_reset(stx_t *s)
+{
+    s->zrows = 0;
+}
+
+static void stage2_feed(stx_t *s, int32_t y, int have)
+{
+    int32_t nd = s->ndisp;
+    int32_t jump = s->cfg.dp_jump_q14;
+    const int32_t *ye = s->yprev + 1;
+    int32_t ymax = NEG32;
+    int64_t zbest = NEG64;
+    int32_t zarg = 0;
+    int32_t i;
+    uint8_t *p = s->p2 + (ptrdiff_t)y * nd;
+    int64_t pbest = NEG64;
+    int32_t parg = 0;
+
+    if (have) {
+        for (i = 0; i < nd; i++) {
+            if (ye[i] > ymax) {
+                ymax = ye[i];
+            }
+        }
+    }
+    if (s->zrows > 0) {
+        for (i = 0; i < nd; i++) {
+            if (s->zprev[i] > pbest) {
+                pbest = s->zprev[i];
+                parg = i;
+            }
+        }
+        s->zarg[y - 1] = (int16_t)parg;
+    }
+    for (i = 0; i < nd; i++) {
+        int64_t e;
+        int64_t m;
+        int t = 1;
+        if (!have) {
+            e = 0; /* a row without matches says nothing */
+        } else if (ye[i] <= NEG32) {
+            s->zcur[i] = NEG64;
+            p[i] = 1u;
+            continue;
+        } else {
+            e = (int64_t)ye[i] - ymax;
+        }
+        if (s->zrows == 0) {
+            m = 0;
+        } else {
+            m = s->zprev[i];
+            if (i > 0 && s->zprev[i - 1] > m) {
+                m = s->zprev[i - 1];
+                t = 0;
+            }
+            if (i + 1 < nd && s->zprev[i + 1] > m) {
+                m = s->zprev[i + 1];
+                t = 2;
+            }
+            if (pbest - jump > m) {
+                m = pbest - jump;
+                t = 3;
+            }
+        }
+        s->zcur[i] = m + e;
+        p[i] = (uint8_t)t;
+        if (s->zcur[i] > zbest) {
+            zbest = s->zcur[i];
+            zarg = i;
+        }
+    }
+    (void)zarg;
+    memcpy(s->zprev, s->zcur, (size_t)nd * sizeof *s->zprev);
+    s->zrows++;
+}
+
+void stx_dp_stage2_finish(stx_t *s)
+{
+    int32_t nd = s->ndisp;
+    int32_t y;
+    int32_t d = 0;
+    int64_t best = NEG64;
+    int32_t i;
+    if (s->zrows == 0) {
+        return;
+    }
+    for (i = 0; i < nd; i++) {
+        if (s->zprev[i] > best) {
+            best = s->zprev[i];
+            d = i;
+        }
+    }
+    for (y = s->zrows - 1; y >= 0; y--) {
+        int t;
+        s->dend[y] = (int16_t)(d + s->dmin);
+        if (y == 0) {
+            break;
+        }
+        t = s->p2[(ptrdiff_t)y * nd + d];
+        if (t == 3) {
+            d = s->zarg[y - 1];
+        } else {
+            d = negobs_clamp_s32(d + t - 1, 0, nd - 1);
+        }
+    }
+}
+
+static int32_t score_at(stx_t *s, int32_t x, int32_t y, int32_t d)
+{
+    if (d < s->blo[x] || d > s->bhi[x] || !s->bscored[x]) {
+        if (d < s->gdmin || d > s->gdmax) {
+            return STX_FLAT;
+        }
+        s->st.visited_cells++;
+        return stx_mncc_strip(s, x, y, d);
+    }
+    {
+        int32_t c = s->cost[(ptrdiff_t)x * s->ndisp + (d - s->dmin)];
+        return c;
+    }
+}
+
+void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
+                int16_t *outrow, uint8_t *confrow)
+{
+    int32_t w = s->w;
+    int32_t nd = s->ndisp;
+    int32_t dmin = s->dmin;
+    int32_t x;
+    int32_t d;
+    int have = row_bands(s, gcsrow);
+
+    if (pass == 0) {
+        if (have) {
+            (void)stage1(s, y, 0);
+        }
+        stage2_feed(s, y, have);
+        return;
+    }
+    if (!have) {
+        for (x = 0; x < w; x++) {
+            outrow[x] = NEGOBS_DISP_INVALID;
+            if (confrow != NULL) {
+                confrow[x] = 0;
+            }
+        }
+        return;
+    }
+    {
+        int32_t endarg = stage1(s, y, 1);
+        d = s->dend[y];
+        if (d < s->blo[w - 1] || d > s->bhi[w - 1]) {
+            d = endarg + dmin;
+        }
+    }
+    /* back-track; integer disparities into outrow */
+    for (x = w - 1; x >= 0; x--) {
+        int t;
+        outrow[x] = (int16_t)d;
+        if (x == 0) {
+            break;
+        }
+        t = s->p1[(ptrdiff_t)x * nd + (d - dmin)];
+        if (t == 3) {
+            d = s->jump_to[x] + dmin;
+        } else {
+            d = d + t - 1;
+        }
+        d = negobs_clamp_s32(d, s->blo[x - 1], s->bhi[x - 1]);
+    }
+    /* stage 5a: sub-pixel refinement and confidence */
+    for (x = 0; x < w; x++) {
+        int32_t di = outrow[x];
+        int32_t c0 = score_at(s, x, y, di);
+        int32_t cm = score_at(s, x, y, di - 1);
+        int32_t cp = score_at(s, x, y, di + 1);
+        int32_t off = 0;
+        int32_t conf = 0;
+        if (c0 != STX_FLAT && cm != STX_FLAT && cp != STX_FLAT) {
+            int32_t den = cm - 2 * c0 + cp;
+            if (den < 0) {
+                int64_t o = negobs_div_round_s64((int64_t)16 * (cm - cp),
+                                                 (int64_t)2 * den);
+                off = (int32_t)((o > 8) ? 8 : ((o < -8) ? -8 : o));
+            }
+        }
+        if (c0 != STX_FLAT && c0 > 0) {
+            conf = (c0 * 255) >> 14;
+            if (!s->bscored[x]) {
+                conf >>= 1;
+            }
+        } else if (c0 == STX_FLAT) {
+            conf = 4;
+        }
+        outrow[x] = (int16_t)(di * NEGOBS_DISP_ONE + off);
+        if (confrow != NULL) {
+            confrow[x] = (uint8_t)negobs_clamp_s32(conf, 0, 255);
+        }
+    }
+}

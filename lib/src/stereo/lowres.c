@@ -1,0 +1,304 @@
+/*
+ * Stage 1: elementary 1/4-scale disparity map and the search range; stage 6:
+ * the global vertical misalignment.
+ *
+ * Both images are reduced by 4x4 box averaging (the right image taken at the
+ * vertical offset already estimated). Each low-res pixel is matched over
+ * [dmin/4, dmax/4] with a zero-mean SAD on 3x3 windows:
+ *   cost = sum |9 L - SL - (9 R - SR)|   (<= 9 * 9 * 255 * 2, fits int32)
+ * A low-res disparity is kept only if the window has texture (mean absolute
+ * deviation >= 3 grey levels) and the best cost beats every cost at least two
+ * levels away by 1/8. From the kept values:
+ *   global range = [1st, 99th percentile] * 4, widened by range_margin and
+ *                  clipped to the configured [min_disp, max_disp];
+ *   tile range   = min/max over the tile and its 8 neighbours, same margin,
+ *                  clipped to the global range (global when empty).
+ * With fewer than 16 kept values the configured range is used unchanged.
+ *
+ * Vertical offset: up to 256 textured points on a grid are matched with
+ * full-resolution MNCC over the configured range for every offset in
+ * [-n, n]; the offset with the largest sum of best scores wins (ties go to
+ * the smaller |offset|, then to the negative one).
+ */
+#include <string.h>
+
+#include "stereo/stereo_int.h"
+
+static void downsample(const negobs_image_u8_t *img, int32_t voff,
+                       uint8_t *out, int32_t lw, int32_t lh)
+{
+    int32_t x4;
+    int32_t y4;
+    for (y4 = 0; y4 < lh; y4++) {
+        const uint8_t *rows[4];
+        int32_t k;
+        for (k = 0; k < 4; k++) {
+            int32_t y = negobs_clamp_s32(4 * y4 + k + voff, 0, img->height - 1);
+            rows[k] = negobs_image_u8_row(img, y);
+        }
+        for (x4 = 0; x4 < lw; x4++) {
+            uint32_t acc = 0;
+            int32_t j;
+            for (k = 0; k < 4; k++) {
+                for (j = 0; j < 4; j++) {
+                    acc += rows[k][4 * x4 + j];
+                }
+            }
+            out[y4 * lw + x4] = (uint8_t)((acc + 8u) >> 4);
+        }
+    }
+}
+
+static int32_t box3(const uint8_t *p, int32_t stride)
+{
+    int32_t s = 0;
+    int32_t k;
+    for (k = -1; k <= 1; k++) {
+        const uint8_t *q = p + k * stride;
+        s += (int32_t)q[-1] + (int32_t)q[0] + (int32_t)q[1];
+    }
+    return s;
+}
+
+static int32_t zsad3(const uint8_t *a, int32_t sa, const uint8_t *b,
+                     int32_t sb, int32_t stride)
+{
+    int32_t c = 0;
+    int32_t k;
+    int32_t j;
+    for (k = -1; k <= 1; k++) {
+        for (j = -1; j <= 1; j++) {
+            int32_t t = 9 * ((int32_t)a[k * stride + j] - (int32_t)b[k * stride + j]) -
+                        (sa - sb);
+            c += (t < 0) ? -t : t;
+        }
+    }
+    return c;
+}
+
+void stx_lowres_range(stx_t *s)
+{
+    int32_t lw = s->lw;
+    int32_t lh = s->lh;
+    int32_t dmin = s->dmin;
+    int32_t dmax = s->dmin + s->ndisp - 1;
+    int32_t dmin4 = dmin / 4;
+    int32_t dmax4 = (dmax + 3) / 4;
+    int32_t nd4 = dmax4 - dmin4 + 1;
+    int32_t margin = s->cfg.range_margin;
+    int32_t x4;
+    int32_t y4;
+    int32_t i;
+    uint32_t kept = 0;
+    int32_t ntile = s->tw * s->th;
+    int32_t t4 = s->tile / 4;
+
+    s->gdmin = dmin;
+    s->gdmax = dmax;
+    for (i = 0; i < ntile; i++) {
+        s->tile_lo[i] = (int16_t)dmin;
+        s->tile_hi[i] = (int16_t)dmax;
+    }
+    if (!s->cfg.auto_range || lw < 5 || lh < 3) {
+        return;
+    }
+    downsample(s->left, 0, s->lo_l, lw, lh);
+    downsample(s->right, s->voff, s->lo_r, lw, lh);
+    memset(s->lo_d, STX_NONE8, (size_t)lw * (size_t)lh);
+    memset(s->hist, 0, (size_t)(nd4 + 1) * sizeof *s->hist);
+
+    for (y4 = 1; y4 < lh - 1; y4++) {
+        for (x4 = 1; x4 < lw - 1; x4++) {
+            const uint8_t *a = s->lo_l + y4 * lw + x4;
+            int32_t sa = box3(a, lw);
+            int32_t tex = 0;
+            int32_t best = INT32_MAX;
+            int32_t bestd = -1;
+            int32_t k;
+            int32_t second = INT32_MAX;
+            int32_t d4;
+            int32_t costs[80];
+            for (k = 0; k < 9; k++) {
+                int32_t t = 9 * (int32_t)a[(k / 3 - 1) * lw + (k % 3 - 1)] - sa;
+                tex += (t < 0) ? -t : t;
+            }
+            if (tex < 9 * 9 * 3) {
+                continue;
+            }
+            for (d4 = dmin4; d4 <= dmax4; d4++) {
+                int32_t xr = x4 - d4;
+                int32_t c = INT32_MAX;
+                if (xr >= 1 && xr < lw - 1) {
+                    const uint8_t *b = s->lo_r + y4 * lw + xr;
+                    c = zsad3(a, sa, b, box3(b, lw), lw);
+                }
+                costs[d4 - dmin4] = c;
+                if (c < best) {
+                    best = c;
+                    bestd = d4;
+                }
+            }
+            if (bestd < 0) {
+                continue;
+            }
+            for (d4 = dmin4; d4 <= dmax4; d4++) {
+                int32_t dd = d4 - bestd;
+                if ((dd >= 2 || dd <= -2) && costs[d4 - dmin4] < second) {
+                    second = costs[d4 - dmin4];
+                }
+            }
+            if (second != INT32_MAX && second - best <= best / 8 + 9) {
+                continue;
+            }
+            s->lo_d[y4 * lw + x4] = (uint8_t)(bestd - dmin4);
+            s->hist[bestd - dmin4]++;
+            kept++;
+        }
+    }
+    if (kept < 16u) {
+        return;
+    }
+    {
+        uint32_t cut = kept / 100u;
+        uint32_t cum = 0;
+        int32_t lo = 0;
+        int32_t hi = nd4 - 1;
+        for (i = 0; i < nd4; i++) {
+            cum += s->hist[i];
+            if (cum > cut) {
+                lo = i;
+                break;
+            }
+        }
+        cum = 0;
+        for (i = nd4 - 1; i >= 0; i--) {
+            cum += s->hist[i];
+            if (cum > cut) {
+                hi = i;
+                break;
+            }
+        }
+        s->gdmin = negobs_clamp_s32(4 * (lo + dmin4) - 2 - margin, dmin, dmax);
+        s->gdmax = negobs_clamp_s32(4 * (hi + dmin4) + 2 + margin, s->gdmin,
+                                    dmax);
+    }
+    /* per tile: own min/max in the upper half of the arrays, then dilate */
+    {
+        int16_t *olo = s->tile_lo + ntile;
+        int16_t *ohi = s->tile_hi + ntile;
+        int32_t tx;
+        int32_t ty;
+        for (i = 0; i < ntile; i++) {
+            olo[i] = INT16_MAX;
+            ohi[i] = INT16_MIN;
+        }
+        for (y4 = 0; y4 < lh; y4++) {
+            for (x4 = 0; x4 < lw; x4++) {
+                uint8_t v = s->lo_d[y4 * lw + x4];
+                int32_t ti;
+                int32_t d;
+                if (v == STX_NONE8) {
+                    continue;
+                }
+                ti = (y4 / t4) * s->tw + (x4 / t4);
+                if (y4 / t4 >= s->th || x4 / t4 >= s->tw) {
+                    continue;
+                }
+                d = 4 * ((int32_t)v + dmin4);
+                if (d < olo[ti]) {
+                    olo[ti] = (int16_t)d;
+                }
+                if (d > ohi[ti]) {
+                    ohi[ti] = (int16_t)d;
+                }
+            }
+        }
+        for (ty = 0; ty < s->th; ty++) {
+            for (tx = 0; tx < s->tw; tx++) {
+                int32_t l = INT16_MAX;
+                int32_t h = INT16_MIN;
+                int32_t dy;
+                int32_t dx;
+                for (dy = -1; dy <= 1; dy++) {
+                    for (dx = -1; dx <= 1; dx++) {
+                        int32_t yy = ty + dy;
+                        int32_t xx = tx + dx;
+                        int32_t ti;
+                        if (yy < 0 || yy >= s->th || xx < 0 || xx >= s->tw) {
+                            continue;
+                        }
+                        ti = yy * s->tw + xx;
+                        if (olo[ti] < l) {
+                            l = olo[ti];
+                        }
+                        if (ohi[ti] > h) {
+                            h = ohi[ti];
+                        }
+                    }
+                }
+                i = ty * s->tw + tx;
+                if (l > h) {
+                    s->tile_lo[i] = (int16_t)s->gdmin;
+                    s->tile_hi[i] = (int16_t)s->gdmax;
+                } else {
+                    l = negobs_clamp_s32(l - 2 - margin, s->gdmin, s->gdmax);
+                    h = negobs_clamp_s32(h + 2 + margin, l, s->gdmax);
+                    s->tile_lo[i] = (int16_t)l;
+                    s->tile_hi[i] = (int16_t)h;
+                }
+            }
+        }
+    }
+}
+
+void stx_tile_range(const stx_t *s, int32_t x, int32_t y, int32_t *lo,
+                    int32_t *hi)
+{
+    int32_t tx = negobs_clamp_s32(x / s->tile, 0, s->tw - 1);
+    int32_t ty = negobs_clamp_s32(y / s->tile, 0, s->th - 1);
+    *lo = s->tile_lo[ty * s->tw + tx];
+    *hi = s->tile_hi[ty * s->tw + tx];
+}
+
+int32_t stx_vertical_estimate(stx_t *s, int32_t n)
+{
+    int32_t sx = s->w / 16;
+    int32_t sy = s->h / 16;
+    int64_t best_score = -1;
+    int32_t best = 0;
+    int32_t off;
+    int32_t k;
+    int32_t dmax = s->dmin + s->ndisp - 1;
+
+    if (sx < 4) {
+        sx = 4;
+    }
+    if (sy < 4) {
+        sy = 4;
+    }
+    for (k = 0; k <= 2 * n; k++) {
+        /* order 0, -1, +1, -2, +2 ... so ties keep the smaller |offset| */
+        int64_t score = 0;
+        int32_t x;
+        int32_t y;
+        off = (k & 1) ? -((k + 1) / 2) : (k / 2);
+        for (y = sy / 2 + 6; y < s->h - 6; y += sy) {
+            for (x = sx / 2 + 2; x < s->w - 2; x += sx) {
+                int32_t bc = 0;
+                int32_t d;
+                for (d = s->dmin; d <= dmax && d <= x - 2; d++) {
+                    int32_t c = stx_mncc_direct(s, x, y, d, off);
+                    if (c != STX_FLAT && c > bc) {
+                        bc = c;
+                    }
+                }
+                score += bc;
+            }
+        }
+        if (score > best_score) {
+            best_score = score;
+            best = off;
+        }
+    }
+    return best;
+}

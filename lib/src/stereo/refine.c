@@ -1,0 +1,229 @@
+/*
+ * Stage 5b: left-right (occlusion) check, speckle removal and the adaptive
+ * mean filter, all in place on the Q4 disparity image with line-sized
+ * scratch.
+ *
+ * LR check: each row is forward-warped into the right view keeping the
+ * largest disparity per right column (a z-buffer); a left pixel whose right
+ * column is claimed by a disparity more than 1 px larger is occluded there
+ * and is dropped.
+ *
+ * Speckles: 4-connected regions whose neighbouring disparities differ by at
+ * most speckle_diff_q4 are flood-filled with a list of at most
+ * speckle_size + 1 entries and two bitmaps (visited, kept). A region that
+ * overflows the list, or touches a kept pixel, is kept; a complete region
+ * smaller than speckle_size is invalidated. Every left-over part of an
+ * overflowed region touches a kept pixel, so no part of a large region is
+ * ever removed.
+ *
+ * Adaptive mean (libelas `adaptiveMean`, ALGORITHMS.md 3.7): separable,
+ * horizontal then vertical, 9 taps; the weight of a neighbour is
+ * max(0, 64 - |d_i - d_centre|) in Q4 (4 px triangle). A hole whose two
+ * nearest valid neighbours on the line (within 4 px) agree to 1 px is filled
+ * with their mean. Sum of weights * d <= 9 * 64 * 32767 < 2^25.
+ */
+#include <string.h>
+
+#include "stereo/stereo_int.h"
+
+void stx_lr_check(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                  int32_t conf_stride)
+{
+    int32_t w = s->w;
+    int32_t y;
+    int16_t *zb = s->line;
+    for (y = 0; y < s->h; y++) {
+        int16_t *row = negobs_image_s16_row(disp, y);
+        int32_t x;
+        for (x = 0; x < w; x++) {
+            zb[x] = INT16_MIN;
+        }
+        for (x = 0; x < w; x++) {
+            int32_t d4 = row[x];
+            int32_t rx;
+            if (d4 == NEGOBS_DISP_INVALID) {
+                continue;
+            }
+            rx = x - negobs_rshift_round_s32(d4, 4);
+            if (rx >= 0 && rx < w && d4 > zb[rx]) {
+                zb[rx] = (int16_t)d4;
+            }
+        }
+        for (x = 0; x < w; x++) {
+            int32_t d4 = row[x];
+            int32_t rx;
+            if (d4 == NEGOBS_DISP_INVALID) {
+                continue;
+            }
+            rx = x - negobs_rshift_round_s32(d4, 4);
+            if (rx < 0 || rx >= w || zb[rx] > d4 + NEGOBS_DISP_ONE) {
+                row[x] = NEGOBS_DISP_INVALID;
+                if (conf != NULL) {
+                    conf[(ptrdiff_t)y * conf_stride + x] = 0;
+                }
+                s->st.lr_rejected++;
+            }
+        }
+    }
+}
+
+static int bit_get(const uint8_t *b, size_t i)
+{
+    return (b[i >> 3] >> (i & 7u)) & 1;
+}
+
+static void bit_set(uint8_t *b, size_t i)
+{
+    b[i >> 3] = (uint8_t)(b[i >> 3] | (1u << (i & 7u)));
+}
+
+void stx_speckle(stx_t *s, negobs_image_s16_t *disp)
+{
+    int32_t w = s->w;
+    int32_t h = s->h;
+    int32_t lim = s->cfg.speckle_size;
+    int32_t diff = s->cfg.speckle_diff_q4;
+    size_t npx = (size_t)w * (size_t)h;
+    int32_t y;
+    int32_t x;
+
+    if (lim <= 1) {
+        return;
+    }
+    memset(s->vis, 0, (npx + 7u) / 8u);
+    memset(s->keep, 0, (npx + 7u) / 8u);
+    for (y = 0; y < h; y++) {
+        for (x = 0; x < w; x++) {
+            size_t p = (size_t)y * (size_t)w + (size_t)x;
+            int32_t n = 0;
+            int32_t head = 0;
+            int big = 0;
+            int32_t i;
+            if (bit_get(s->vis, p) ||
+                negobs_image_s16_row(disp, y)[x] == NEGOBS_DISP_INVALID) {
+                continue;
+            }
+            bit_set(s->vis, p);
+            s->flood[n++] = (uint32_t)p;
+            while (head < n) {
+                uint32_t q = s->flood[head++];
+                int32_t qy = (int32_t)(q / (uint32_t)w);
+                int32_t qx = (int32_t)(q - (uint32_t)qy * (uint32_t)w);
+                int32_t dq = negobs_image_s16_row(disp, qy)[qx];
+                int k;
+                for (k = 0; k < 4; k++) {
+                    int32_t rx = qx + ((k == 0) ? -1 : ((k == 1) ? 1 : 0));
+                    int32_t ry = qy + ((k == 2) ? -1 : ((k == 3) ? 1 : 0));
+                    size_t r;
+                    int32_t dr;
+                    if (rx < 0 || rx >= w || ry < 0 || ry >= h) {
+                        continue;
+                    }
+                    dr = negobs_image_s16_row(disp, ry)[rx];
+                    if (dr == NEGOBS_DISP_INVALID || dr - dq > diff ||
+                        dq - dr > diff) {
+                        continue;
+                    }
+                    r = (size_t)ry * (size_t)w + (size_t)rx;
+                    if (bit_get(s->keep, r)) {
+                        big = 1;
+                    }
+                    if (bit_get(s->vis, r)) {
+                        continue;
+                    }
+                    if (n > lim) {
+                        big = 1;
+                        continue;
+                    }
+                    bit_set(s->vis, r);
+                    s->flood[n++] = (uint32_t)r;
+                }
+            }
+            if (big || n >= lim) {
+                for (i = 0; i < n; i++) {
+                    bit_set(s->keep, s->flood[i]);
+                }
+            } else {
+                for (i = 0; i < n; i++) {
+                    uint32_t q = s->flood[i];
+                    int32_t qy = (int32_t)(q / (uint32_t)w);
+                    int32_t qx = (int32_t)(q - (uint32_t)qy * (uint32_t)w);
+                    negobs_image_s16_row(disp, qy)[qx] = NEGOBS_DISP_INVALID;
+                }
+                s->st.speckles_removed += (uint32_t)n;
+            }
+        }
+    }
+}
+
+/* One line of the adaptive mean: in -> out, n samples. */
+static void amean_line(const int16_t *in, int16_t *out, int32_t n)
+{
+    int32_t i;
+    for (i = 0; i < n; i++) {
+        int32_t c = in[i];
+        int32_t k;
+        if (c != NEGOBS_DISP_INVALID) {
+            int32_t sw = 0;
+            int32_t sd = 0;
+            for (k = -4; k <= 4; k++) {
+                int32_t j = i + k;
+                int32_t v;
+                int32_t wt;
+                if (j < 0 || j >= n) {
+                    continue;
+                }
+                v = in[j];
+                if (v == NEGOBS_DISP_INVALID) {
+                    continue;
+                }
+                wt = 64 - negobs_abs_s32(v - c);
+                if (wt > 0) {
+                    sw += wt;
+                    sd += wt * v;
+                }
+            }
+            out[i] = (int16_t)negobs_div_round_s64(sd, sw);
+        } else {
+            int32_t a = NEGOBS_DISP_INVALID;
+            int32_t b = NEGOBS_DISP_INVALID;
+            for (k = 1; k <= 4 && a == NEGOBS_DISP_INVALID; k++) {
+                if (i - k >= 0) {
+                    a = in[i - k];
+                }
+            }
+            for (k = 1; k <= 4 && b == NEGOBS_DISP_INVALID; k++) {
+                if (i + k < n) {
+                    b = in[i + k];
+                }
+            }
+            out[i] = NEGOBS_DISP_INVALID;
+            if (a != NEGOBS_DISP_INVALID && b != NEGOBS_DISP_INVALID &&
+                negobs_abs_s32(a - b) <= NEGOBS_DISP_ONE) {
+                out[i] = (int16_t)((a + b) / 2);
+            }
+        }
+    }
+}
+
+void stx_adaptive_mean(stx_t *s, negobs_image_s16_t *disp)
+{
+    int32_t w = s->w;
+    int32_t h = s->h;
+    int32_t x;
+    int32_t y;
+    for (y = 0; y < h; y++) {
+        int16_t *row = negobs_image_s16_row(disp, y);
+        memcpy(s->line, row, (size_t)w * sizeof *row);
+        amean_line(s->line, row, w);
+    }
+    for (x = 0; x < w; x++) {
+        for (y = 0; y < h; y++) {
+            s->line[y] = negobs_image_s16_row(disp, y)[x];
+        }
+        amean_line(s->line, s->line2, h);
+        for (y = 0; y < h; y++) {
+            negobs_image_s16_row(disp, y)[x] = s->line2[y];
+        }
+    }
+}

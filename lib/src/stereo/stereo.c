@@ -1,0 +1,349 @@
+/*
+ * Public entry points of the disparity engine: config defaults and checks,
+ * workspace carving (one function for the size query and for init), and the
+ * per-frame driver that runs the stages strip by strip.
+ */
+#include <string.h>
+
+#include "negobs/stereo.h"
+#include "stereo/stereo_int.h"
+
+void negobs_stereo_config_default(negobs_stereo_config_t *cfg, int32_t width,
+                                  int32_t height)
+{
+    memset(cfg, 0, sizeof *cfg);
+    cfg->width = width;
+    cfg->height = height;
+    cfg->min_disp = 0;
+    cfg->max_disp = 63;
+    cfg->auto_range = 1;
+    cfg->range_margin = 4;
+    cfg->tile_size = 32;
+    cfg->vertical_search = 4;
+    cfg->vertical_offset = 0;
+    cfg->canny_low = 60;
+    cfg->canny_high = 120;
+    cfg->seed_step = 2;
+    cfg->seed_tau_q14 = 13107;   /* 0.8 */
+    cfg->seed_margin_q14 = 819;  /* 0.05 */
+    cfg->ncc_tau_q14 = 9830;     /* 0.6 */
+    cfg->ncc_mu_q14 = 1638;      /* 0.1 */
+    cfg->ssk_beta_q8 = 26;       /* 0.1 */
+    cfg->zonegap = 1;
+    cfg->texture_min = 2500;
+    cfg->queue_capacity = 8192;
+    cfg->strip_rows = 32;
+    cfg->band = 2;
+    cfg->dp_neutral_q14 = 0;
+    cfg->dp_jump_q14 = 8192;     /* 0.5 */
+    cfg->lr_check = 0;
+    cfg->speckle_size = 24;
+    cfg->speckle_diff_q4 = 16;
+    cfg->adaptive_mean = 1;
+}
+
+static negobs_status_t check_config(const negobs_stereo_config_t *c)
+{
+    if (c == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (c->width < NEGOBS_STEREO_MIN_WIDTH || c->width > NEGOBS_MAX_DIM ||
+        c->height < NEGOBS_STEREO_MIN_HEIGHT || c->height > NEGOBS_MAX_DIM) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (c->min_disp < 0 || c->max_disp < c->min_disp ||
+        c->max_disp - c->min_disp + 1 > NEGOBS_STEREO_MAX_RANGE ||
+        c->max_disp > c->width - 2 * STX_WIN_R - 2 || c->max_disp > 2000) {
+        return NEGOBS_ERR_INVAL; /* range wider than the image */
+    }
+    if (c->range_margin < 0 || c->range_margin > 64 || c->tile_size < 8 ||
+        c->tile_size > 1024 || (c->tile_size % 4) != 0) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (c->vertical_search < 0 || c->vertical_search > 4 ||
+        c->vertical_offset < -4 || c->vertical_offset > 4) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (c->canny_low < 0 || c->canny_high < c->canny_low ||
+        c->canny_high > 4096 || c->seed_step < 1 || c->seed_step > 64) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (c->seed_tau_q14 < 0 || c->seed_tau_q14 > STX_ONE_Q14 ||
+        c->seed_margin_q14 < 0 || c->seed_margin_q14 > STX_ONE_Q14 ||
+        c->ncc_tau_q14 < 0 || c->ncc_tau_q14 > STX_ONE_Q14 ||
+        c->ncc_mu_q14 < 0 || c->ncc_mu_q14 > STX_ONE_Q14 ||
+        c->ssk_beta_q8 < 0 || c->ssk_beta_q8 > 255 || c->zonegap < 0 ||
+        c->zonegap > 16 || c->texture_min < 0) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (c->queue_capacity < 16 || c->queue_capacity > (1 << 22) ||
+        c->strip_rows < 8 || c->strip_rows > 255) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (c->band < 1 || c->band > NEGOBS_STEREO_MAX_BAND ||
+        c->dp_neutral_q14 < -STX_ONE_Q14 ||
+        c->dp_neutral_q14 > STX_ONE_Q14 || c->dp_jump_q14 < 0 ||
+        c->dp_jump_q14 > 2 * STX_ONE_Q14) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (c->speckle_size < 0 || c->speckle_size > 65536 ||
+        c->speckle_diff_q4 < 0 || c->speckle_diff_q4 > 4096) {
+        return NEGOBS_ERR_INVAL;
+    }
+    return NEGOBS_OK;
+}
+
+#define TAKE(ptr, type, count)                                               \
+    do {                                                                     \
+        void *p_ = negobs_arena_take(a, (size_t)(count) * sizeof(type));     \
+        if (s != NULL) {                                                     \
+            (ptr) = (type *)p_;                                              \
+        }                                                                    \
+    } while (0)
+
+/*
+ * The only place that decides the workspace layout. In measuring mode
+ * (NULL base) `s` stays NULL and only the sizes are summed.
+ */
+static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c)
+{
+    stx_t *s = (stx_t *)negobs_arena_take(a, sizeof(stx_t));
+    int32_t w = c->width;
+    int32_t h = c->height;
+    int32_t nd = c->max_disp - c->min_disp + 1;
+    int32_t sh = c->strip_rows;
+    size_t spx = (size_t)sh * (size_t)w;
+    int32_t lw = w / STX_LOWRES;
+    int32_t lh = h / STX_LOWRES;
+    int32_t tw = (w + c->tile_size - 1) / c->tile_size;
+    int32_t th = (h + c->tile_size - 1) / c->tile_size;
+    int32_t nd4 = (c->max_disp + 3) / 4 - c->min_disp / 4 + 1;
+    int32_t maxwh = (w > h) ? w : h;
+    size_t npx = (size_t)w * (size_t)h;
+
+    if (s != NULL) {
+        memset(s, 0, sizeof *s);
+        s->cfg = *c;
+        s->w = w;
+        s->h = h;
+        s->dmin = c->min_disp;
+        s->ndisp = nd;
+        s->sh = sh;
+        s->lw = lw;
+        s->lh = lh;
+        s->tile = c->tile_size;
+        s->tw = tw;
+        s->th = th;
+        s->q.cap = c->queue_capacity;
+    }
+    TAKE(s->sl, uint16_t, spx);
+    TAKE(s->sr, uint16_t, spx);
+    TAKE(s->vl, uint32_t, spx);
+    TAKE(s->vr, uint32_t, spx);
+    TAKE(s->mag, uint16_t, spx + 2u * (size_t)w);
+    TAKE(s->edge, uint8_t, spx);
+    TAKE(s->ld, uint8_t, spx);
+    TAKE(s->lc, uint8_t, spx);
+    TAKE(s->lc2, uint8_t, spx);
+    TAKE(s->rd, uint8_t, spx);
+    TAKE(s->rc, uint8_t, spx);
+    TAKE(s->rc2, uint8_t, spx);
+    TAKE(s->tbits, uint8_t, (spx * (size_t)nd + 7u) / 8u);
+    TAKE(s->q.item, uint32_t, c->queue_capacity);
+    TAKE(s->q.next, int32_t, c->queue_capacity);
+    TAKE(s->q.head, int32_t, STX_NBUCKET);
+    TAKE(s->lo_l, uint8_t, (size_t)lw * (size_t)lh);
+    TAKE(s->lo_r, uint8_t, (size_t)lw * (size_t)lh);
+    TAKE(s->lo_d, uint8_t, (size_t)lw * (size_t)lh);
+    TAKE(s->tile_lo, int16_t, 2 * tw * th);
+    TAKE(s->tile_hi, int16_t, 2 * tw * th);
+    TAKE(s->hist, uint32_t, nd4 + 2);
+    TAKE(s->yprev, int32_t, nd + 2);
+    TAKE(s->ycur, int32_t, nd + 2);
+    TAKE(s->zprev, int64_t, nd);
+    TAKE(s->zcur, int64_t, nd);
+    TAKE(s->p1, uint8_t, (size_t)w * (size_t)nd);
+    TAKE(s->cost, int16_t, (size_t)w * (size_t)nd);
+    TAKE(s->jump_to, int16_t, w);
+    TAKE(s->blo, int16_t, w);
+    TAKE(s->bhi, int16_t, w);
+    TAKE(s->bscored, uint8_t, w);
+    TAKE(s->rowd, int16_t, w);
+    TAKE(s->p2, uint8_t, (size_t)h * (size_t)nd);
+    TAKE(s->dend, int16_t, h);
+    TAKE(s->zarg, int16_t, h);
+    TAKE(s->line, int16_t, maxwh + 16);
+    TAKE(s->line2, int16_t, maxwh + 16);
+    TAKE(s->vis, uint8_t, (npx + 7u) / 8u);
+    TAKE(s->keep, uint8_t, (npx + 7u) / 8u);
+    TAKE(s->flood, uint32_t, c->speckle_size + 2);
+    return s;
+}
+
+negobs_status_t negobs_stereo_workspace_size(const negobs_stereo_config_t *cfg,
+                                             size_t *bytes_out)
+{
+    negobs_arena_t a;
+    negobs_status_t st;
+    if (bytes_out == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    st = check_config(cfg);
+    if (st != NEGOBS_OK) {
+        return st;
+    }
+    negobs_arena_init(&a, NULL, 0);
+    (void)carve(&a, cfg);
+    if (negobs_arena_status(&a) != NEGOBS_OK) {
+        return negobs_arena_status(&a);
+    }
+    *bytes_out = negobs_arena_used(&a);
+    return NEGOBS_OK;
+}
+
+negobs_status_t negobs_stereo_init(negobs_stereo_t *ctx,
+                                   const negobs_stereo_config_t *cfg,
+                                   void *workspace, size_t workspace_bytes)
+{
+    negobs_arena_t a;
+    stx_t *s;
+    negobs_status_t st;
+
+    if (ctx == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    ctx->priv = NULL;
+    st = check_config(cfg);
+    if (st != NEGOBS_OK) {
+        return st;
+    }
+    if (workspace == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    negobs_arena_init(&a, workspace, workspace_bytes);
+    if (negobs_arena_status(&a) != NEGOBS_OK) {
+        return negobs_arena_status(&a);
+    }
+    s = carve(&a, cfg);
+    if (negobs_arena_status(&a) != NEGOBS_OK || s == NULL) {
+        return (negobs_arena_status(&a) != NEGOBS_OK) ? negobs_arena_status(&a)
+                                                      : NEGOBS_ERR_NOSPACE;
+    }
+    s->arena = a; /* kept for the guard check after each frame */
+    ctx->cfg = *cfg;
+    ctx->priv = s;
+    return NEGOBS_OK;
+}
+
+static negobs_status_t check_frame(const stx_t *s,
+                                   const negobs_image_u8_t *l,
+                                   const negobs_image_u8_t *r,
+                                   const negobs_image_s16_t *d,
+                                   const negobs_image_u8_t *c)
+{
+    if (negobs_image_u8_check(l) != NEGOBS_OK ||
+        negobs_image_u8_check(r) != NEGOBS_OK ||
+        negobs_image_s16_check(d) != NEGOBS_OK) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (l->width != s->w || l->height != s->h || r->width != s->w ||
+        r->height != s->h || d->width != s->w || d->height != s->h) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (c != NULL && (negobs_image_u8_check(c) != NEGOBS_OK ||
+                      c->width != s->w || c->height != s->h)) {
+        return NEGOBS_ERR_INVAL;
+    }
+    return NEGOBS_OK;
+}
+
+negobs_status_t negobs_stereo_process(negobs_stereo_t *ctx,
+                                      const negobs_image_u8_t *left,
+                                      const negobs_image_u8_t *right,
+                                      negobs_image_s16_t *disp_q4,
+                                      negobs_image_u8_t *confidence,
+                                      negobs_stereo_stats_t *stats)
+{
+    stx_t *s;
+    negobs_status_t st;
+    int32_t y0;
+    int32_t y;
+
+    if (ctx == NULL || ctx->priv == NULL) {
+        return NEGOBS_ERR_STATE;
+    }
+    s = (stx_t *)ctx->priv;
+    st = check_frame(s, left, right, disp_q4, confidence);
+    if (st != NEGOBS_OK) {
+        return st;
+    }
+    memset(&s->st, 0, sizeof s->st);
+    s->left = left;
+    s->right = right;
+    s->st.band = s->cfg.band;
+
+    /* stage 6 then 1: vertical offset, range */
+    s->voff = s->cfg.vertical_offset;
+    s->gdmin = s->dmin;
+    s->gdmax = s->dmin + s->ndisp - 1;
+    if (s->cfg.vertical_search > 0) {
+        s->voff = stx_vertical_estimate(s, s->cfg.vertical_search);
+    }
+    stx_lowres_range(s);
+    s->st.vertical_offset = s->voff;
+    s->st.range_min = s->gdmin;
+    s->st.range_max = s->gdmax;
+
+    /* stages 2-4 (first DP pass) strip by strip */
+    stx_dp_stage2_reset(s);
+    for (y0 = 0; y0 < s->h; y0 += s->sh) {
+        int32_t y1 = (y0 + s->sh < s->h) ? y0 + s->sh : s->h;
+        stx_strip_stats(s, y0, y1);
+        s->st.edges += stx_canny_strip(s, y0, y1);
+        stx_gcs_strip(s, disp_q4);
+        for (y = y0; y < y1; y++) {
+            stx_dp_row(s, y, negobs_image_s16_row(disp_q4, y), 0, NULL, NULL);
+        }
+    }
+    stx_dp_stage2_finish(s);
+    /* second DP pass: back-track, sub-pixel, confidence */
+    for (y0 = 0; y0 < s->h; y0 += s->sh) {
+        int32_t y1 = (y0 + s->sh < s->h) ? y0 + s->sh : s->h;
+        stx_strip_stats(s, y0, y1);
+        for (y = y0; y < y1; y++) {
+            int16_t *row = negobs_image_s16_row(disp_q4, y);
+            memcpy(s->rowd, row, (size_t)s->w * sizeof *row);
+            stx_dp_row(s, y, s->rowd, 1, row,
+                       confidence ? negobs_image_u8_row(confidence, y)
+                                  : NULL);
+        }
+    }
+    if (s->cfg.lr_check) {
+        stx_lr_check(s, disp_q4, confidence ? confidence->data : NULL,
+                     confidence ? confidence->stride : 0);
+    }
+    stx_speckle(s, disp_q4);
+    if (s->cfg.adaptive_mean) {
+        stx_adaptive_mean(s, disp_q4);
+    }
+    for (y = 0; y < s->h; y++) {
+        const int16_t *row = negobs_image_s16_row(disp_q4, y);
+        uint8_t *crow = confidence ? negobs_image_u8_row(confidence, y) : NULL;
+        int32_t x;
+        for (x = 0; x < s->w; x++) {
+            if (row[x] != NEGOBS_DISP_INVALID) {
+                s->st.valid++;
+            } else if (crow != NULL) {
+                crow[x] = 0;
+            }
+        }
+    }
+    if (stats != NULL) {
+        *stats = s->st;
+    }
+    /* debug builds: a stage that wrote past a carved block shows here */
+    if (negobs_arena_check(&s->arena) != NEGOBS_OK) {
+        return NEGOBS_ERR_CORRUPT;
+    }
+    return NEGOBS_OK;
+}

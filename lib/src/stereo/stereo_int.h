@@ -1,0 +1,194 @@
+/*
+ * Disparity engine internals (not installed).
+ *
+ * One private state block is carved from the caller's workspace by
+ * negobs_stereo_carve() (stereo.c), which runs twice: once in measuring
+ * mode for negobs_stereo_workspace_size() and once for real in init, so the
+ * size query cannot drift from what init consumes.
+ *
+ * Rows are processed in horizontal strips of `strip_rows` rows: window
+ * statistics, Canny, the GCS matching table and the seed queue only exist
+ * for one strip at a time, which is what keeps the workspace near
+ * 512 KB at 320x240 with 64 disparities. Full-frame state is limited to the
+ * low-resolution range maps and the DP stage-2 pointers (H x D bytes).
+ *
+ * Fixed-point conventions (see docs/DISPARITY.md):
+ *   correlation scores  Q14 int32, 16384 = 1.0 (MNCC in [-1, 1])
+ *   table scores        Q8 uint8, 255 ~ 1.0, 0 = "none / -inf"
+ *   disparities         integer px inside the engine, Q4 on output
+ */
+#ifndef NEGOBS_STEREO_INT_H
+#define NEGOBS_STEREO_INT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "arena.h"
+#include "negobs/stereo.h"
+
+#define STX_WIN_R 2                 /* 5x5 window                      */
+#define STX_WIN_N 25                /* pixels per window               */
+#define STX_ONE_Q14 16384
+#define STX_FLAT INT32_MIN          /* "no texture": score undefined   */
+#define STX_LOWRES 4                /* elementary map scale (1/4)      */
+#define STX_NBUCKET 257             /* bucket queue: c_q14 >> 6        */
+#define STX_NONE8 0xFFu             /* empty u8 disparity slot         */
+
+/* ---- bounded bucket queue (queue.c) ---------------------------------- */
+typedef struct stx_queue {
+    uint32_t *item;   /* packed u:12 | v:12 | d:8                       */
+    int32_t *next;    /* singly linked LIFO per bucket / free list      */
+    int32_t *head;    /* STX_NBUCKET heads, -1 = empty                  */
+    int32_t free_head;
+    int32_t cap;
+    int32_t count;
+    int32_t top;      /* highest possibly non-empty bucket              */
+    uint32_t peak;
+    uint32_t overflows;
+} stx_queue_t;
+
+void stx_queue_reset(stx_queue_t *q);
+/* Push with key (0..STX_NBUCKET-1). When full, the lowest-key entry is
+ * evicted if the new key is higher, otherwise the new entry is dropped;
+ * either way `overflows` is incremented. Returns 1 if stored. */
+int stx_queue_push(stx_queue_t *q, uint32_t item, int32_t key);
+/* Pop an entry of the highest non-empty bucket; 0 when empty. */
+int stx_queue_pop(stx_queue_t *q, uint32_t *item);
+
+static inline uint32_t stx_pack(int32_t u, int32_t v, int32_t d)
+{
+    return ((uint32_t)u << 20) | ((uint32_t)v << 8) | (uint32_t)d;
+}
+static inline int32_t stx_unpack_u(uint32_t p) { return (int32_t)(p >> 20); }
+static inline int32_t stx_unpack_v(uint32_t p)
+{
+    return (int32_t)((p >> 8) & 0xFFFu);
+}
+static inline int32_t stx_unpack_d(uint32_t p) { return (int32_t)(p & 0xFFu); }
+
+/* ---- private state ---------------------------------------------------- */
+typedef struct stx {
+    negobs_stereo_config_t cfg;
+    int32_t w, h;
+    int32_t dmin, ndisp;   /* configured range: dmin .. dmin+ndisp-1     */
+    int32_t sh;            /* strip rows                                 */
+
+    /* frame inputs (set by process) */
+    const negobs_image_u8_t *left;
+    const negobs_image_u8_t *right;
+    int32_t voff;          /* right row = left row + voff                */
+    int32_t gdmin, gdmax;  /* global search range of this frame          */
+
+    /* strip window statistics, strip-relative rows */
+    int32_t y0, y1;        /* strip rows [y0, y1)                        */
+    uint16_t *sl, *sr;     /* 5x5 sums                                   */
+    uint32_t *vl, *vr;     /* 25*Q - S^2 (= n^2 var), 0 = no window      */
+
+    /* Canny (strip + 1 halo row each side) */
+    uint16_t *mag;
+    uint8_t *edge;
+
+    /* GCS matching table for one strip (u8 Q8 scores, d - dmin) */
+    uint8_t *ld, *lc, *lc2;
+    uint8_t *rd, *rc, *rc2;
+    uint8_t *tbits;        /* (v, u, d) triple membership, 1 bit each    */
+    stx_queue_t q;
+
+    /* elementary low-resolution map and per-tile ranges */
+    int32_t lw, lh;        /* low-res size                               */
+    uint8_t *lo_l, *lo_r;
+    uint8_t *lo_d;         /* low-res disparity (d4 - dmin4), 0xFF none   */
+    int32_t tile, tw, th;  /* tile size (px) and tile grid               */
+    int16_t *tile_lo, *tile_hi;
+    uint32_t *hist;        /* ndisp/4 + 2 bins                           */
+
+    /* DP */
+    int32_t *yprev, *ycur; /* ndisp + 2 scores each (stage 1)            */
+    int64_t *zprev, *zcur; /* ndisp (stage 2)                            */
+    uint8_t *p1;           /* w x ndisp stage-1 pointers of one row      */
+    int16_t *cost;         /* w x ndisp Q14 costs of one row (sub-pixel) */
+    int16_t *jump_to;      /* w: argmax of previous column               */
+    int16_t *blo, *bhi;    /* w: band per column                         */
+    uint8_t *bscored;      /* w: 1 = band cells scored (GCS match)       */
+    int16_t *rowd;         /* w: GCS disparities of the current row      */
+    uint8_t *p2;           /* h x ndisp stage-2 pointers                 */
+    int16_t *dend;         /* h: stage-2 end disparity per row          */
+    int16_t *zarg;         /* h: argmax of stage-2 scores per row       */
+    int32_t zrows;         /* rows fed to stage 2 so far                */
+
+    /* refinement */
+    int16_t *line;         /* max(w, h) + 16 scratch                     */
+    int16_t *line2;
+    uint8_t *vis;          /* w*h bits: speckle visited                  */
+    uint8_t *keep;         /* w*h bits: speckle "big region"             */
+    uint32_t *flood;       /* speckle_size + 1 entries                   */
+
+    negobs_stereo_stats_t st;
+    negobs_arena_t arena;  /* the carve, for negobs_arena_check()        */
+} stx_t;
+
+/* ---- ncc.c ------------------------------------------------------------ */
+/* Window statistics of image rows [ya, ya+n): S and V per pixel; windows
+ * leaving the image get V = 0 (no window). */
+void stx_stats_rows(const negobs_image_u8_t *img, int32_t ya, int32_t n,
+                    uint16_t *s, uint32_t *v);
+/* MNCC of 5x5 windows in Q14 from sums: 2*num/(VL+VR). STX_FLAT when
+ * VL+VR < tex_min. */
+int32_t stx_mncc_q14(uint32_t sum_lr, uint32_t sl, uint32_t vl, uint32_t sr,
+                     uint32_t vr, uint32_t tex_min);
+/* 2*num and den of the MNCC (no division); 0 when flat. */
+int stx_mncc_num_den(uint32_t sum_lr, uint32_t sl, uint32_t vl, uint32_t sr,
+                     uint32_t vr, uint32_t tex_min, int32_t *num2,
+                     int32_t *den);
+/* num2 / den in Q14, rounded towards zero (den > 0, |num2| <= den). */
+int32_t stx_frac_q14(int32_t num2, int32_t den);
+/* Strip-statistics MNCC as a fraction; 0 when out of bounds or flat. */
+int stx_mncc_frac(const stx_t *s, int32_t u, int32_t v, int32_t d,
+                  int32_t *num2, int32_t *den);
+/* Raw 5x5 cross sum at left (u, vl_row) and right (ur, vr_row). */
+uint32_t stx_cross5(const negobs_image_u8_t *l, int32_t u, int32_t yl,
+                    const negobs_image_u8_t *r, int32_t ur, int32_t yr);
+/* MNCC of candidate (u, v, d) with statistics of the current strip; v is an
+ * image row inside the strip. STX_FLAT when out of bounds or flat. */
+int32_t stx_mncc_strip(const stx_t *s, int32_t u, int32_t v, int32_t d);
+/* Same from the images only (window sums computed directly). */
+int32_t stx_mncc_direct(const stx_t *s, int32_t u, int32_t v, int32_t d,
+                        int32_t voff);
+/* Compute strip statistics for rows [y0, y1) (right uses s->voff). */
+void stx_strip_stats(stx_t *s, int32_t y0, int32_t y1);
+
+/* ---- canny.c ---------------------------------------------------------- */
+/* Edge map of strip rows [y0, y1) into s->edge (1 = edge). Returns count. */
+uint32_t stx_canny_strip(stx_t *s, int32_t y0, int32_t y1);
+
+/* ---- lowres.c --------------------------------------------------------- */
+/* Elementary 1/4-scale disparity and search ranges (global + per tile). */
+void stx_lowres_range(stx_t *s);
+/* Estimate the vertical offset in [-n, n]; returns the chosen offset. */
+int32_t stx_vertical_estimate(stx_t *s, int32_t n);
+/* Tile range for pixel (x, y). */
+void stx_tile_range(const stx_t *s, int32_t x, int32_t y, int32_t *lo,
+                    int32_t *hi);
+
+/* ---- gcs.c ------------------------------------------------------------ */
+/* Seeds + growth + stable selection for the current strip; writes integer
+ * disparities (or NEGOBS_DISP_INVALID) into rows [y0, y1) of out. */
+void stx_gcs_strip(stx_t *s, negobs_image_s16_t *out);
+
+/* ---- dp.c ------------------------------------------------------------- */
+/* Stage 1 of one row (needs the strip statistics of row y). With
+ * pass == 0 the end column feeds stage 2; with pass == 1 the row is
+ * back-tracked from s->dend[y] and written (integer px) to out, costs kept
+ * in s->cost for sub-pixel refinement. `gcsrow` holds the GCS result. */
+void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
+                int16_t *outrow, uint8_t *confrow);
+void stx_dp_stage2_reset(stx_t *s);
+void stx_dp_stage2_finish(stx_t *s);
+
+/* ---- refine.c --------------------------------------------------------- */
+void stx_lr_check(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                  int32_t conf_stride);
+void stx_speckle(stx_t *s, negobs_image_s16_t *disp);
+void stx_adaptive_mean(stx_t *s, negobs_image_s16_t *disp);
+
+#endif /* NEGOBS_STEREO_INT_H */

@@ -1,0 +1,146 @@
+/* Integer Canny on synthetic edges. */
+#include <string.h>
+
+#include "cmocka_all.h"
+#include "stereo/stereo_int.h"
+
+#define W 64
+#define H 40
+
+static uint8_t pix[H * W];
+static uint16_t mag[(H + 2) * W];
+static uint8_t edge[H * W];
+
+static stx_t make(negobs_image_u8_t *img)
+{
+    stx_t s;
+    memset(&s, 0, sizeof s);
+    img->data = pix;
+    img->width = W;
+    img->height = H;
+    img->stride = W;
+    s.left = img;
+    s.w = W;
+    s.h = H;
+    s.mag = mag;
+    s.edge = edge;
+    s.cfg.canny_low = 60;
+    s.cfg.canny_high = 120;
+    return s;
+}
+
+static void test_canny_vertical_step_gives_one_column(void **state)
+{
+    negobs_image_u8_t img;
+    stx_t s = make(&img);
+    int32_t x;
+    int32_t y;
+    uint32_t n;
+    (void)state;
+    for (y = 0; y < H; y++) {
+        for (x = 0; x < W; x++) {
+            pix[y * W + x] = (uint8_t)((x < 32) ? 50 : 200);
+        }
+    }
+    n = stx_canny_strip(&s, 0, H);
+    /* rows 1..H-2 have a full Sobel; exactly one edge pixel each */
+    assert_int_equal(n, H - 2);
+    for (y = 1; y < H - 1; y++) {
+        int32_t cnt = 0;
+        for (x = 0; x < W; x++) {
+            if (edge[y * W + x]) {
+                cnt++;
+                assert_true(x == 31 || x == 32);
+            }
+        }
+        assert_int_equal(cnt, 1);
+    }
+}
+
+static void test_canny_horizontal_step_in_a_strip(void **state)
+{
+    negobs_image_u8_t img;
+    stx_t s = make(&img);
+    int32_t x;
+    int32_t y;
+    uint32_t n;
+    (void)state;
+    for (y = 0; y < H; y++) {
+        for (x = 0; x < W; x++) {
+            pix[y * W + x] = (uint8_t)((y < 20) ? 30 : 220);
+        }
+    }
+    /* strip rows 16..24: the edge row is inside, halo rows are read */
+    n = stx_canny_strip(&s, 16, 24);
+    assert_int_equal(n, W - 2);
+    for (x = 1; x < W - 1; x++) {
+        int32_t r = 0;
+        int32_t cnt = 0;
+        for (r = 0; r < 8; r++) {
+            if (edge[r * W + x]) {
+                cnt++;
+                assert_true(16 + r == 19 || 16 + r == 20);
+            }
+        }
+        assert_int_equal(cnt, 1);
+    }
+}
+
+static void test_canny_flat_and_weak_edges_give_nothing(void **state)
+{
+    negobs_image_u8_t img;
+    stx_t s = make(&img);
+    int32_t x;
+    int32_t y;
+    (void)state;
+    memset(pix, 90, sizeof pix);
+    assert_int_equal(stx_canny_strip(&s, 0, H), 0);
+    /* step of 10 grey levels: L1 magnitude 40 < low threshold */
+    for (y = 0; y < H; y++) {
+        for (x = 0; x < W; x++) {
+            pix[y * W + x] = (uint8_t)((x < 32) ? 90 : 100);
+        }
+    }
+    assert_int_equal(stx_canny_strip(&s, 0, H), 0);
+}
+
+static void test_canny_hysteresis_keeps_weak_pixels_next_to_strong(void **state)
+{
+    negobs_image_u8_t img;
+    stx_t s = make(&img);
+    int32_t x;
+    int32_t y;
+    uint32_t n;
+    (void)state;
+    /* step of 20 (magnitude 80: weak) everywhere, 60 (strong) on rows
+     * 0..3 only: the weak column below is connected to the strong part */
+    for (y = 0; y < H; y++) {
+        for (x = 0; x < W; x++) {
+            int32_t hi = (y < 4) ? 160 : 120;
+            pix[y * W + x] = (uint8_t)((x < 32) ? 100 : hi);
+        }
+    }
+    n = stx_canny_strip(&s, 0, H);
+    assert_true(n >= H - 2);
+    for (y = 8; y < H - 1; y++) {
+        assert_true(edge[y * W + 31] || edge[y * W + 32]);
+    }
+    /* without the strong part nothing survives */
+    for (y = 0; y < 4; y++) {
+        for (x = 32; x < W; x++) {
+            pix[y * W + x] = 120;
+        }
+    }
+    assert_int_equal(stx_canny_strip(&s, 0, H), 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_canny_vertical_step_gives_one_column),
+        cmocka_unit_test(test_canny_horizontal_step_in_a_strip),
+        cmocka_unit_test(test_canny_flat_and_weak_edges_give_nothing),
+        cmocka_unit_test(test_canny_hysteresis_keeps_weak_pixels_next_to_strong),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

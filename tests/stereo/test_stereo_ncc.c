@@ -1,0 +1,192 @@
+/* Integer MNCC and window statistics against direct references. */
+#include <string.h>
+
+#include "cmocka_all.h"
+#include "stereo/stereo_int.h"
+
+#define W 40
+#define H 30
+#define STRIDE 44
+
+static uint8_t a[H * STRIDE];
+static uint8_t b[H * STRIDE];
+static uint16_t s_sum[H * W];
+static uint32_t s_var[H * W];
+
+static negobs_image_u8_t img(uint8_t *p)
+{
+    negobs_image_u8_t i;
+    i.data = p;
+    i.width = W;
+    i.height = H;
+    i.stride = STRIDE;
+    return i;
+}
+
+static void fill_noise(uint8_t *p, uint32_t seed)
+{
+    int32_t i;
+    for (i = 0; i < H * STRIDE; i++) {
+        p[i] = (uint8_t)test_lcg_next(&seed);
+    }
+}
+
+/* Reference: sums straight from the definition, int64. */
+static void ref_sums(const uint8_t *p, int32_t x, int32_t y, int64_t *s,
+                     int64_t *q)
+{
+    int32_t i;
+    int32_t j;
+    *s = 0;
+    *q = 0;
+    for (i = -2; i <= 2; i++) {
+        for (j = -2; j <= 2; j++) {
+            int64_t v = p[(y + i) * STRIDE + x + j];
+            *s += v;
+            *q += v * v;
+        }
+    }
+}
+
+static int64_t ref_cross(const uint8_t *p, int32_t x, int32_t y,
+                         const uint8_t *r, int32_t xr, int32_t yr)
+{
+    int64_t acc = 0;
+    int32_t i;
+    int32_t j;
+    for (i = -2; i <= 2; i++) {
+        for (j = -2; j <= 2; j++) {
+            acc += (int64_t)p[(y + i) * STRIDE + x + j] *
+                   r[(yr + i) * STRIDE + xr + j];
+        }
+    }
+    return acc;
+}
+
+static void test_stats_rows_match_direct_sums(void **state)
+{
+    negobs_image_u8_t i = img(a);
+    int32_t x;
+    int32_t y;
+    (void)state;
+    fill_noise(a, 11u);
+    stx_stats_rows(&i, 0, H, s_sum, s_var);
+    for (y = 0; y < H; y++) {
+        for (x = 0; x < W; x++) {
+            int64_t s;
+            int64_t q;
+            if (x < 2 || y < 2 || x >= W - 2 || y >= H - 2) {
+                assert_int_equal(s_var[y * W + x], 0);
+                continue;
+            }
+            ref_sums(a, x, y, &s, &q);
+            assert_int_equal(s_sum[y * W + x], s);
+            assert_int_equal(s_var[y * W + x], 25 * q - s * s);
+        }
+    }
+}
+
+static void test_mncc_matches_reference_within_one_lsb(void **state)
+{
+    stx_t s;
+    negobs_image_u8_t li = img(a);
+    negobs_image_u8_t ri = img(b);
+    int32_t x;
+    int32_t y;
+    int32_t d;
+    (void)state;
+    fill_noise(a, 5u);
+    fill_noise(b, 6u);
+    /* make b partly a copy of a (shift 3) so high scores occur too */
+    for (y = 0; y < H; y++) {
+        for (x = 0; x + 3 < W; x++) {
+            if (y < H / 2) {
+                b[y * STRIDE + x] = a[y * STRIDE + x + 3];
+            }
+        }
+    }
+    memset(&s, 0, sizeof s);
+    s.left = &li;
+    s.right = &ri;
+    s.w = W;
+    s.h = H;
+    s.cfg.texture_min = 1;
+    for (y = 2; y < H - 2; y++) {
+        for (x = 2; x < W - 2; x++) {
+            for (d = 0; d <= 6 && x - d >= 2; d++) {
+                int64_t sl;
+                int64_t ql;
+                int64_t sr;
+                int64_t qr;
+                int64_t num;
+                int64_t den;
+                int64_t ref;
+                int32_t c = stx_mncc_direct(&s, x, y, d, 0);
+                ref_sums(a, x, y, &sl, &ql);
+                ref_sums(b, x - d, y, &sr, &qr);
+                num = 25 * ref_cross(a, x, y, b, x - d, y) - sl * sr;
+                den = (25 * ql - sl * sl) + (25 * qr - sr * sr);
+                ref = (2 * num * 16384) / den; /* truncation toward 0 */
+                assert_true(c >= -16384 && c <= 16384);
+                assert_true(c - ref <= 1 && ref - c <= 1);
+                if (y + 2 < H / 2 && d == 3) {
+                    assert_int_equal(c, 16384); /* identical windows */
+                }
+            }
+        }
+    }
+}
+
+static void test_mncc_flat_and_inverted_windows(void **state)
+{
+    stx_t s;
+    negobs_image_u8_t li = img(a);
+    negobs_image_u8_t ri = img(b);
+    int32_t i;
+    (void)state;
+    fill_noise(a, 9u);
+    for (i = 0; i < H * STRIDE; i++) {
+        b[i] = (uint8_t)(255u - a[i]);
+    }
+    memset(&s, 0, sizeof s);
+    s.left = &li;
+    s.right = &ri;
+    s.w = W;
+    s.h = H;
+    s.cfg.texture_min = 2500;
+    assert_int_equal(stx_mncc_direct(&s, 10, 10, 0, 0), -16384);
+    memset(b, 77, sizeof b);
+    /* one flat window still has the other's variance: score 0, not flat */
+    assert_int_equal(stx_mncc_direct(&s, 10, 10, 0, 0), STX_FLAT);
+    memset(a, 77, sizeof a);
+    assert_int_equal(stx_mncc_direct(&s, 10, 10, 0, 0), STX_FLAT);
+    /* out of the image: flat, never a read outside */
+    fill_noise(a, 1u);
+    fill_noise(b, 2u);
+    assert_int_equal(stx_mncc_direct(&s, 1, 10, 0, 0), STX_FLAT);
+    assert_int_equal(stx_mncc_direct(&s, 10, 10, 9, 0), STX_FLAT);
+    assert_int_equal(stx_mncc_direct(&s, 10, H - 3, 0, 1), STX_FLAT);
+    assert_true(stx_mncc_direct(&s, 10, H - 4, 0, 1) != STX_FLAT);
+}
+
+static void test_frac_q14_saturates_and_rounds_toward_zero(void **state)
+{
+    (void)state;
+    assert_int_equal(stx_frac_q14(10, 20), 8192);
+    assert_int_equal(stx_frac_q14(-10, 20), -8192);
+    assert_int_equal(stx_frac_q14(1, 3), 5461);
+    assert_int_equal(stx_frac_q14(-1, 3), -5461);
+    assert_int_equal(stx_frac_q14(20000000, 20000000), 16384);
+    assert_int_equal(stx_frac_q14(-20000000, 20000000), -16384);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_stats_rows_match_direct_sums),
+        cmocka_unit_test(test_mncc_matches_reference_within_one_lsb),
+        cmocka_unit_test(test_mncc_flat_and_inverted_windows),
+        cmocka_unit_test(test_frac_q14_saturates_and_rounds_toward_zero),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
