@@ -1,0 +1,207 @@
+/*
+ * Ground plane geometry and estimation: pose <-> plane round trips, plane
+ * against the analytic ground disparity, floor distances, and the fit on
+ * synthetic maps (noise, roll, dropout, rejection).
+ */
+#include <math.h>
+#include <stdlib.h>
+
+#include "cmocka_all.h"
+#include "detect/ground_fit.h"
+#include "scene_util.h"
+
+#define TEST_PI 3.14159265358979323846
+
+static negobs_camera_t cam;
+
+static void test_ground_pose_plane_round_trip(void **state)
+{
+    int32_t h;
+    int32_t p;
+    int32_t r;
+    (void)state;
+    negobs_camera_default(&cam, 320, 240);
+    for (h = 600; h <= 2000; h += 350) {
+        for (p = -5000; p <= 45000; p += 7000) {
+            for (r = -15000; r <= 15000; r += 5000) {
+                negobs_ground_pose_t in = {h, p, r};
+                negobs_ground_pose_t out;
+                negobs_ground_plane_t pl;
+                assert_int_equal(negobs_ground_plane_from_pose(&cam, &in, &pl),
+                                 NEGOBS_OK);
+                assert_int_equal(
+                    negobs_ground_pose_from_plane(&cam, &pl, &out, NULL),
+                    NEGOBS_OK);
+                assert_true(abs(out.height_mm - h) <= 2);
+                assert_true(abs(out.pitch_mdeg - p) <= 10);
+                assert_true(abs(out.roll_mdeg - r) <= 10);
+            }
+        }
+    }
+}
+
+static void test_ground_plane_matches_analytic_disparity(void **state)
+{
+    static int16_t d[RIG_W * RIG_H];
+    synth_scene_t s;
+    negobs_ground_pose_t pose = {1200, 20000, 4000};
+    negobs_ground_plane_t pl;
+    int32_t u;
+    int32_t v;
+    (void)state;
+    negobs_camera_default(&cam, RIG_W, RIG_H);
+    synth_flat(&s, 1.2, 20.0);
+    s.roll_deg = 4.0;
+    synth_render(&s, &cam, d, RIG_W);
+    assert_int_equal(negobs_ground_plane_from_pose(&cam, &pose, &pl),
+                     NEGOBS_OK);
+    for (v = 60; v < RIG_H; v += 7) {
+        for (u = 0; u < RIG_W; u += 11) {
+            int32_t ds = d[v * RIG_W + u];
+            if (ds == NEGOBS_DISP_INVALID) {
+                continue;
+            }
+            assert_true(abs(negobs_ground_disp_q4(&pl, u, v) - ds) <= 1);
+        }
+    }
+}
+
+static void test_ground_floor_distance_of_ground_pixels(void **state)
+{
+    negobs_ground_pose_t pose = {1200, 20000, 0};
+    negobs_ground_plane_t pl;
+    negobs_ground_frame_t fr;
+    negobs_ground_pose_t back;
+    int32_t v;
+    (void)state;
+    negobs_camera_default(&cam, RIG_W, RIG_H);
+    assert_int_equal(negobs_ground_plane_from_pose(&cam, &pose, &pl),
+                     NEGOBS_OK);
+    assert_int_equal(negobs_ground_pose_from_plane(&cam, &pl, &back, &fr),
+                     NEGOBS_OK);
+    for (v = 100; v < RIG_H; v += 10) {
+        double ang = 20.0 * TEST_PI / 180.0 +
+                     atan((v - (cam.cy_q4 / 16.0)) / (cam.focal_q4 / 16.0));
+        double ref = 1200.0 / tan(ang);
+        int32_t dq = negobs_ground_disp_q4(&pl, 160, v);
+        int32_t z = negobs_depth_mm_from_disp_q4(&cam, dq);
+        int32_t fwd;
+        int32_t lat;
+        negobs_ground_floor_point(&cam, &fr, 160 * 16, v * 16, z, &fwd, &lat);
+        /* Disparity rounding (1/32 px) dominates: 0.5 %. */
+        assert_true(fabs(fwd - ref) <= ref * 0.005 + 2.0);
+        assert_true(abs(lat) <= 10);
+    }
+}
+
+static void test_ground_plane_from_pose_rejects_bad_input(void **state)
+{
+    negobs_ground_pose_t pose = {50, 20000, 0};
+    negobs_ground_plane_t pl = {0, 0, 0};
+    negobs_ground_pose_t out;
+    (void)state;
+    negobs_camera_default(&cam, RIG_W, RIG_H);
+    assert_int_equal(negobs_ground_plane_from_pose(&cam, &pose, &pl),
+                     NEGOBS_ERR_INVAL);
+    pose.height_mm = 1200;
+    pose.pitch_mdeg = 85000;
+    assert_int_equal(negobs_ground_plane_from_pose(&cam, &pose, &pl),
+                     NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_ground_plane_from_pose(NULL, &pose, &pl),
+                     NEGOBS_ERR_INVAL);
+    /* A plane whose disparity falls towards the bottom is no ground. */
+    pl.b_q20 = -1000;
+    assert_int_equal(negobs_ground_pose_from_plane(&cam, &pl, &out, NULL),
+                     NEGOBS_ERR_RANGE);
+}
+
+/* Fit on one synthetic frame through the internal estimator. */
+static void fit_scene(const synth_scene_t *s, gfit_out_t *out)
+{
+    static int16_t d[RIG_W * RIG_H];
+    static uint8_t mem[128 * 1024] __attribute__((aligned(16)));
+    static negobs_detect_config_t cfg;
+    negobs_image_s16_t img = {d, RIG_W, RIG_H, RIG_W};
+    negobs_arena_t ar;
+    gfit_t g;
+    negobs_detect_config_default(&cfg, RIG_W, RIG_H);
+    negobs_arena_init(&ar, mem, sizeof mem);
+    assert_int_equal(gfit_carve(&g, &ar, &cfg), NEGOBS_OK);
+    synth_render(s, &cfg.cam, d, RIG_W);
+    gfit_process(&g, &img, NULL, out);
+}
+
+static void test_ground_fit_recovers_pose_with_noise_and_roll(void **state)
+{
+    static const double rolls[] = {0.0, 4.0, -8.0};
+    static const double heights[] = {1.0, 1.2, 1.45};
+    static const double pitches[] = {10.0, 20.0, 30.0};
+    int i;
+    (void)state;
+    for (i = 0; i < 3; i++) {
+        synth_scene_t s;
+        gfit_out_t o;
+        synth_flat(&s, heights[i], pitches[i]);
+        s.roll_deg = rolls[i];
+        s.noise_px = 0.25;
+        s.dropout = 0.15;
+        s.seed = (uint32_t)i + 40u;
+        fit_scene(&s, &o);
+        assert_int_equal(o.ok, 1);
+        assert_int_equal(o.reasons, 0);
+        assert_true(abs(o.pose.height_mm - (int)(heights[i] * 1000)) <= 40);
+        assert_true(abs(o.pose.pitch_mdeg - (int)(pitches[i] * 1000)) <= 800);
+        assert_true(abs(o.pose.roll_mdeg - (int)(rolls[i] * 1000)) <= 800);
+        assert_true(o.sigma_q4 >= 3 && o.sigma_q4 <= 6);
+    }
+}
+
+static void test_ground_fit_ignores_drop_beyond_fit_rows(void **state)
+{
+    synth_scene_t s;
+    gfit_out_t o;
+    (void)state;
+    synth_flat(&s, 1.2, 20.0);
+    s.noise_px = 0.25;
+    synth_step(&s, 1.9, -0.3);
+    fit_scene(&s, &o);
+    assert_int_equal(o.ok, 1);
+    assert_true(abs(o.pose.height_mm - 1200) <= 40);
+    assert_true(abs(o.pose.pitch_mdeg - 20000) <= 800);
+}
+
+static void test_ground_fit_rejects_out_of_tolerance(void **state)
+{
+    synth_scene_t s;
+    gfit_out_t o;
+    (void)state;
+    synth_flat(&s, 1.2, 42.0); /* nominal 20 +- 15 */
+    s.noise_px = 0.25;
+    fit_scene(&s, &o);
+    assert_int_equal(o.ok, 0);
+    assert_true(o.reasons & NEGOBS_DEGRADED_GROUND_REJECTED);
+    synth_flat(&s, 1.2, 20.0);
+    s.roll_deg = 20.0; /* roll tolerance 12 */
+    fit_scene(&s, &o);
+    assert_int_equal(o.ok, 0);
+    /* Mostly invalid: too few ground pixels. */
+    synth_flat(&s, 1.2, 20.0);
+    s.dropout = 0.9;
+    fit_scene(&s, &o);
+    assert_int_equal(o.ok, 0);
+    assert_true(o.reasons & NEGOBS_DEGRADED_FEW_GROUND);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_ground_pose_plane_round_trip),
+        cmocka_unit_test(test_ground_plane_matches_analytic_disparity),
+        cmocka_unit_test(test_ground_floor_distance_of_ground_pixels),
+        cmocka_unit_test(test_ground_plane_from_pose_rejects_bad_input),
+        cmocka_unit_test(test_ground_fit_recovers_pose_with_noise_and_roll),
+        cmocka_unit_test(test_ground_fit_ignores_drop_beyond_fit_rows),
+        cmocka_unit_test(test_ground_fit_rejects_out_of_tolerance),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
