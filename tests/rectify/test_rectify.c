@@ -603,6 +603,81 @@ static void test_rectify_integer_bilinear_is_exact(void **state)
     }
 }
 
+/* floor(a / 2^n) for any sign, n in 0..8 (reference, no shifts). */
+static int64_t floor_div_pow2(int64_t a, int n)
+{
+    int64_t d = (int64_t)1 << n;
+    int64_t q = a / d;
+    return (a % d != 0 && a < 0) ? q - 1 : q;
+}
+
+/* A non-affine (random) node grid: the per-pixel coordinate must be the
+ * exact bilinear blend of the four nodes, rounded half up to Q.8, then
+ * sampled; checked against a direct 64-bit evaluation at every pixel. */
+static void test_rectify_random_grid_matches_reference(void **state)
+{
+    const int32_t w = 41;
+    const int32_t h = 27;
+    int32_t shift;
+    (void)state;
+    for (shift = 0; shift <= NEGOBS_RECTIFY_MAX_GRID_SHIFT; shift++) {
+        const int32_t gw = NEGOBS_RECTIFY_GRID_NODES(w, shift);
+        const int32_t gh = NEGOBS_RECTIFY_GRID_NODES(h, shift);
+        const int32_t step = 1 << shift;
+        negobs_rectify_info_t info = make_info(w, h, shift);
+        negobs_rectify_config_t cfg;
+        negobs_rectify_t ctx;
+        negobs_image_u8_t in = image(raw, w, h, w);
+        negobs_image_u8_t o = image(out, w, h, w);
+        uint32_t seed = 1234u + (uint32_t)shift;
+        size_t n = 0;
+        int32_t i;
+        int32_t x;
+        int32_t y;
+        for (i = 0; i < gw * gh; i++) {
+            int32_t gx = i % gw;
+            int32_t gy = i / gw;
+            /* identity plus up to +-3 px of noise, some nodes outside */
+            nodes_l[2 * i] = (gx << shift) * 256 +
+                             (int32_t)(test_lcg_next(&seed) % 1537u) - 768;
+            nodes_l[2 * i + 1] = (gy << shift) * 256 +
+                                 (int32_t)(test_lcg_next(&seed) % 1537u) -
+                                 768;
+        }
+        memcpy(nodes_r, nodes_l, sizeof nodes_l);
+        assert_int_equal(negobs_rectify_table_write(&info, nodes_l, nodes_r,
+                                                    table, sizeof table, &n),
+                         NEGOBS_OK);
+        init_ctx(&ctx, &cfg, w, h, n);
+        fill_random(&in, seed);
+        assert_int_equal(negobs_rectify_rows(&ctx, NEGOBS_RECTIFY_CAMERA_LEFT,
+                                             &in, &o, 0, h, NULL),
+                         NEGOBS_OK);
+        for (y = 0; y < h; y++) {
+            for (x = 0; x < w; x++) {
+                int32_t gx = x / step;
+                int32_t gy = y / step;
+                int64_t fx = x % step;
+                int64_t fy = y % step;
+                int32_t c[2];
+                int k;
+                for (k = 0; k < 2; k++) {
+                    const int32_t *n00 = nodes_l + 2 * (gy * gw + gx) + k;
+                    int64_t v = (step - fx) * (step - fy) * n00[0] +
+                                fx * (step - fy) * n00[2] +
+                                (step - fx) * fy * n00[2 * gw] +
+                                fx * fy * n00[2 * gw + 2];
+                    int64_t half = (shift > 0) ? ((int64_t)1 << (2 * shift - 1))
+                                               : 0;
+                    c[k] = (int32_t)floor_div_pow2(v + half, 2 * shift);
+                }
+                assert_int_equal(negobs_image_u8_row(&o, y)[x],
+                                 ref_sample(&in, c[0], c[1], 0));
+            }
+        }
+    }
+}
+
 static void test_rectify_rows_in_bands_equal_whole_frame(void **state)
 {
     static const affine_t m = {250, 7, 300, -5, 262, -100};
@@ -704,6 +779,7 @@ int main(void)
         cmocka_unit_test(test_rectify_identity_table_reproduces_image),
         cmocka_unit_test(test_rectify_affine_table_matches_direct_reference),
         cmocka_unit_test(test_rectify_integer_bilinear_is_exact),
+        cmocka_unit_test(test_rectify_random_grid_matches_reference),
         cmocka_unit_test(test_rectify_rows_in_bands_equal_whole_frame),
         cmocka_unit_test(test_rectify_process_checks_arguments),
     };

@@ -14,7 +14,6 @@
 #include <string.h>
 
 #include "arena.h"
-#include "negobs/fixed.h"
 #include "table_le.h"
 
 #define RECTIFY_READY 0x52454354u /* "RECT" */
@@ -105,10 +104,18 @@ negobs_status_t negobs_rectify_init(negobs_rectify_t *ctx,
     return NEGOBS_OK;
 }
 
-/* Round a Q.(8 + n) coordinate to Q.8, half up; n may be 0. */
-static inline int32_t to_q8(int32_t v, int n)
+/*
+ * Round a Q.(8 + n) coordinate to Q.8, half up, n in 0..8, without a
+ * branch and without shifting a negative value (implementation-defined in
+ * C99): |v| <= 2^29, so v + 2^30 is positive; 2^30 is a multiple of 2^n,
+ * so removing (2^30 >> n) afterwards is exact. bias_round = 2^30 plus half
+ * an output unit (0 when n = 0).
+ */
+#define RECTIFY_BIAS ((int32_t)1 << 30)
+
+static inline int32_t to_q8(int32_t v, int n, int32_t bias_round)
 {
-    return (n == 0) ? v : negobs_rshift_round_s32(v, n);
+    return (int32_t)((uint32_t)(v + bias_round) >> n) - (RECTIFY_BIAS >> n);
 }
 
 /*
@@ -173,6 +180,9 @@ static uint32_t remap_row(const negobs_rectify_t *ctx,
     const int32_t ymax = (raw->height - 1) * NEGOBS_RECTIFY_ONE_Q8;
     const uint8_t border = ctx->cfg->border_u8;
     const int32_t *q = ctx->row_q;
+    const int sh = (int)(2 * s);
+    const int32_t bias_round =
+        RECTIFY_BIAS + ((sh > 0) ? ((int32_t)1 << (sh - 1)) : 0);
     uint32_t nborder = 0;
     int32_t x0;
 
@@ -185,8 +195,8 @@ static uint32_t remap_row(const negobs_rectify_t *ctx,
         const int32_t x1 = (x0 + step < w) ? x0 + step : w;
         int32_t x;
         for (x = x0; x < x1; x++) {
-            const int32_t cx = to_q8(ax, 2 * s);
-            const int32_t cy = to_q8(ay, 2 * s);
+            const int32_t cx = to_q8(ax, sh, bias_round);
+            const int32_t cy = to_q8(ay, sh, bias_round);
             if (cx < 0 || cy < 0 || cx > xmax || cy > ymax) {
                 out[x] = border;
                 nborder++;
