@@ -122,7 +122,7 @@ apt_retry() {
   for i in 1 2 3 4 5; do
     "$@" >> "$LOG" 2>&1 && return 0
     step "apt failed (try $i/5): $*"
-    sleep $((i * 3))
+    [[ $i -lt 5 ]] && sleep $((i * 2))
   done
   tail -n 5 "$LOG" | sed 's/^/hw:   /'
   return 1
@@ -148,12 +148,21 @@ apt_arm64_setup() {
   # refresh the lists at most every 6 hours
   if [[ -z $(find "$APTD/lists" -maxdepth 1 -name '*_Packages*' -mmin -360 2>/dev/null | head -n 1) ]]; then
     step "apt-get update (arm64, private lists)"
-    if ! apt_retry apt-get "${APTO[@]}" update -qq; then
+    # apt-get update exits 0 when some sources failed: count the indexes
+    if ! apt_retry arm64_update; then
       # older lists still name packages that may be cached in debs/
       compgen -G "$APTD/lists/*_Packages*" > /dev/null || return 1
       step "apt-get update failed; going on with the lists from an earlier run"
     fi
   fi
+}
+arm64_update() {
+  local out rc=0
+  out=$(apt-get "${APTO[@]}" update -q 2>&1) || rc=1
+  echo "$out"
+  if grep -qE '^(Err:|E: |W: (Failed to fetch|Some index files failed))' <<< "$out"; then rc=1; fi
+  compgen -G "$APTD/lists/*_Packages*" > /dev/null || rc=1
+  return $rc
 }
 # dl DEST PKG[=VER]...: apt-get download into DEST unless a matching .deb is there
 dl() {
