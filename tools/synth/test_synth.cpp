@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <opencv2/core.hpp>
