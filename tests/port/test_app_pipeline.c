@@ -1,0 +1,129 @@
+/* negobs_run's processing hook: the image-quality gate and its verdicts. */
+#include <string.h>
+
+#include "app_pipeline.h"
+#include "cmocka_all.h"
+
+#define W 64
+#define H 48
+#define S 80 /* padded stride */
+
+static uint8_t left_px[H * S];
+static uint8_t right_px[H * S];
+static uint8_t big[800 * 1280];
+
+/* Fill w x h (stride s) with values lo..lo+span-1; padding gets 255. */
+static void fill(uint8_t *px, int32_t w, int32_t h, int32_t s, uint32_t seed,
+                 uint32_t lo, uint32_t span)
+{
+    int32_t x;
+    int32_t y;
+    for (y = 0; y < h; y++) {
+        for (x = 0; x < s; x++) {
+            px[y * s + x] = x < w ? (uint8_t)(lo + (span > 0
+                                                     ? test_lcg_next(&seed) % span
+                                                     : 0))
+                                  : 255;
+        }
+    }
+}
+
+static negobs_image_u8_t img(uint8_t *px)
+{
+    negobs_image_u8_t i = {px, W, H, S};
+    return i;
+}
+
+static app_pipeline_t pipe_init(void)
+{
+    app_pipeline_t p;
+    app_pipeline_config_t c;
+    app_pipeline_config_default(&c);
+    assert_int_equal(app_pipeline_init(&p, &c), NEGOBS_OK);
+    return p;
+}
+
+static app_verdict_t run(app_pipeline_t *p)
+{
+    negobs_image_u8_t l = img(left_px);
+    negobs_image_u8_t r = img(right_px);
+    return app_process_pair(p, &l, &r);
+}
+
+static void test_textured_pair_gives_standin_clear(void **state)
+{
+    app_pipeline_t p = pipe_init();
+    (void)state;
+    fill(left_px, W, H, S, 1, 40, 160);
+    fill(right_px, W, H, S, 2, 40, 160);
+    assert_int_equal(run(&p), APP_VERDICT_CLEAR);
+    assert_int_equal(p.last.reason, APP_REASON_NONE);
+    assert_in_range(p.last.mean[0], 110, 130);
+    /* The 255 padding beyond the width is not counted as saturation. */
+    assert_int_equal(p.last.sat_permille[0], 0);
+    assert_true(p.last.texture_permille[1] > 900);
+}
+
+static void test_unusable_images_give_no_info_with_reason(void **state)
+{
+    app_pipeline_t p = pipe_init();
+    (void)state;
+    fill(left_px, W, H, S, 1, 40, 160);
+    fill(right_px, W, H, S, 2, 0, 10); /* dark */
+    assert_int_equal(run(&p), APP_VERDICT_NO_INFO);
+    assert_int_equal(p.last.reason, APP_REASON_DARK);
+    fill(right_px, W, H, S, 2, 250, 6); /* blinded */
+    assert_int_equal(run(&p), APP_VERDICT_NO_INFO);
+    assert_int_equal(p.last.reason, APP_REASON_SATURATED);
+    fill(right_px, W, H, S, 2, 128, 0); /* flat: lens covered, fog */
+    assert_int_equal(run(&p), APP_VERDICT_NO_INFO);
+    assert_int_equal(p.last.reason, APP_REASON_TEXTURELESS);
+    assert_int_equal(p.last.texture_permille[1], 0);
+    fill(left_px, W, H, S, 1, 40, 100);  /* mean ~90 */
+    fill(right_px, W, H, S, 2, 140, 100); /* mean ~190 */
+    assert_int_equal(run(&p), APP_VERDICT_NO_INFO);
+    assert_int_equal(p.last.reason, APP_REASON_MISMATCH);
+    assert_string_equal(app_reason_name(p.last.reason), "lr-mismatch");
+}
+
+static void test_bad_input_gives_no_info(void **state)
+{
+    app_pipeline_t p = pipe_init();
+    negobs_image_u8_t l = img(left_px);
+    negobs_image_u8_t r = img(right_px);
+    app_pipeline_config_t c;
+    (void)state;
+    fill(left_px, W, H, S, 1, 40, 160);
+    fill(right_px, W, H, S, 2, 40, 160);
+    r.width = W - 2;
+    assert_int_equal(app_process_pair(&p, &l, &r), APP_VERDICT_NO_INFO);
+    assert_int_equal(p.last.reason, APP_REASON_BAD_INPUT);
+    l.data = NULL;
+    r.width = W;
+    assert_int_equal(app_process_pair(&p, &l, &r), APP_VERDICT_NO_INFO);
+    assert_int_equal(app_process_pair(&p, NULL, &r), APP_VERDICT_NO_INFO);
+    app_pipeline_config_default(&c);
+    c.sat_permille_max = 1001;
+    assert_int_equal(app_pipeline_init(&p, &c), NEGOBS_ERR_INVAL);
+}
+
+static void test_large_frames_are_subsampled(void **state)
+{
+    app_pipeline_t p = pipe_init();
+    negobs_image_u8_t l = {big, 1280, 800, 1280};
+    (void)state;
+    fill(big, 1280, 800, 1280, 3, 40, 160);
+    assert_int_equal(app_process_pair(&p, &l, &l), APP_VERDICT_CLEAR);
+    assert_in_range(p.last.mean[0], 110, 130);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_textured_pair_gives_standin_clear),
+        cmocka_unit_test(test_unusable_images_give_no_info_with_reason),
+        cmocka_unit_test(test_bad_input_gives_no_info),
+        cmocka_unit_test(test_large_frames_are_subsampled),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
