@@ -58,14 +58,14 @@ typedef struct negobs_stereo_config {
     /* seeds (stage 2) */
     int32_t canny_low;    /**< L1 Sobel magnitude of a weak edge (60)    */
     int32_t canny_high;   /**< L1 Sobel magnitude of a strong edge (120) */
-    int32_t seed_step;    /**< try every n-th edge pixel of a row (2)    */
+    int32_t seed_step;    /**< try every n-th edge pixel of a row (4)    */
     int32_t seed_tau_q14; /**< seed MNCC floor (0.8 = 13107)             */
     int32_t seed_margin_q14; /**< best minus 2nd best (|dd| >= 2) (819)   */
 
     /* growing (stage 3) */
     int32_t ncc_tau_q14;  /**< growing MNCC threshold tau (0.6 = 9830)   */
     int32_t ncc_mu_q14;   /**< growth margin mu (0.1 = 1638)             */
-    int32_t ssk_beta_q8;  /**< stable-matching margin, share of c (26)   */
+    int32_t ssk_beta_q8;  /**< stable-matching margin, share of c (0)    */
     int32_t zonegap;      /**< d difference that does not inhibit (1)    */
     int32_t texture_min;  /**< VL+VR floor, n^2 x variance units (2500)  */
     int32_t queue_capacity; /**< seed queue entries (8192)               */
@@ -77,8 +77,8 @@ typedef struct negobs_stereo_config {
     int32_t dp_jump_q14;  /**< penalty of a jump |dd| > 1 (8192)         */
 
     /* refinement (stage 5) */
-    int32_t lr_check;     /**< 1: drop pixels occluded in the right view (0) */
-    int32_t speckle_size; /**< regions below this many px removed, 0..256 (24) */
+    int32_t lr_check;     /**< 1: drop pixels occluded in the right view (1) */
+    int32_t speckle_size; /**< regions below this many px removed, 0..256 (100) */
     int32_t speckle_diff_q4; /**< largest step inside a region (16)     */
     int32_t adaptive_mean; /**< 1: adaptive mean filter (1)              */
 } negobs_stereo_config_t;

@@ -62,6 +62,19 @@ static void table_update(uint8_t *bd, uint8_t *bc, uint8_t *c2, int32_t d,
     }
 }
 
+/* Is (u, v, d) already in the matching table? (u, d checked by caller) */
+static int in_table(const stx_t *s, int32_t u, int32_t v, int32_t d)
+{
+    size_t bit;
+    if (u < 0 || u >= s->w || v < s->y0 || v >= s->y1 || d < s->gdmin ||
+        d > s->gdmax) {
+        return 1; /* outside: never a candidate */
+    }
+    bit = ((size_t)(v - s->y0) * (size_t)s->w + (size_t)u) *
+              (size_t)s->ndisp + (size_t)(d - s->dmin);
+    return (s->tbits[bit >> 3] >> (bit & 7u)) & 1u;
+}
+
 /* Try to accept candidate (u, v, d) with score c; push it when accepted. */
 static int try_accept(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t c)
 {
@@ -143,6 +156,19 @@ static void grow(stx_t *s)
             int32_t bv = 0;
             int32_t bd = 0;
             int m;
+            int fresh = 0;
+            /* a set whose members are all in the table (or outside) can
+             * accept nothing: skip its correlations (exact pruning) */
+            for (m = 0; m < 5 && nb_set[k][m][2] != 99; m++) {
+                if (!in_table(s, u + nb_set[k][m][0], v + nb_set[k][m][2],
+                              d + nb_set[k][m][1])) {
+                    fresh = 1;
+                    break;
+                }
+            }
+            if (!fresh) {
+                continue;
+            }
             for (m = 0; m < 5; m++) {
                 int32_t qu;
                 int32_t qv;

@@ -77,21 +77,6 @@ void stx_stats_rows(const negobs_image_u8_t *img, int32_t ya, int32_t n,
     }
 }
 
-int stx_mncc_num_den(uint32_t sum_lr, uint32_t sl, uint32_t vl, uint32_t sr,
-                     uint32_t vr, uint32_t tex_min, int32_t *num2,
-                     int32_t *den)
-{
-    uint32_t d = vl + vr;
-    int32_t num;
-    if (d < tex_min || d == 0u) {
-        return 0;
-    }
-    num = (int32_t)((uint32_t)STX_WIN_N * sum_lr) - (int32_t)(sl * sr);
-    *num2 = 2 * num; /* |2 num| <= VL + VR < 2^25 */
-    *den = (int32_t)d;
-    return 1;
-}
-
 int32_t stx_frac_q14(int32_t num2, int32_t den)
 {
     uint32_t a = (uint32_t)((num2 < 0) ? -num2 : num2);
@@ -117,48 +102,6 @@ int32_t stx_mncc_q14(uint32_t sum_lr, uint32_t sl, uint32_t vl, uint32_t sr,
         return STX_FLAT;
     }
     return stx_frac_q14(n2, den);
-}
-
-uint32_t stx_cross5(const negobs_image_u8_t *l, int32_t u, int32_t yl,
-                    const negobs_image_u8_t *r, int32_t ur, int32_t yr)
-{
-    uint32_t acc = 0;
-    int32_t k;
-    const uint8_t *a = negobs_image_u8_row(l, yl - STX_WIN_R) + u - STX_WIN_R;
-    const uint8_t *b = negobs_image_u8_row(r, yr - STX_WIN_R) + ur - STX_WIN_R;
-    for (k = 0; k < 5; k++) {
-        acc += (uint32_t)a[0] * b[0] + (uint32_t)a[1] * b[1] +
-               (uint32_t)a[2] * b[2] + (uint32_t)a[3] * b[3] +
-               (uint32_t)a[4] * b[4];
-        a += l->stride;
-        b += r->stride;
-    }
-    return acc;
-}
-
-int stx_mncc_frac(const stx_t *s, int32_t u, int32_t v, int32_t d,
-                  int32_t *num2, int32_t *den)
-{
-    int32_t ur = u - d;
-    ptrdiff_t il;
-    ptrdiff_t ir;
-    uint32_t vl;
-    uint32_t vr;
-
-    if (u < STX_WIN_R || u >= s->w - STX_WIN_R || ur < STX_WIN_R ||
-        ur >= s->w - STX_WIN_R || v < s->y0 || v >= s->y1) {
-        return 0;
-    }
-    il = (ptrdiff_t)(v - s->y0) * s->w + u;
-    ir = (ptrdiff_t)(v - s->y0) * s->w + ur;
-    vl = s->vl[il];
-    vr = s->vr[ir];
-    if (vl == 0u || vr == 0u) {
-        return 0; /* window outside the image or perfectly flat */
-    }
-    return stx_mncc_num_den(
-        stx_cross5(s->left, u, v, s->right, ur, v + s->voff), s->sl[il], vl,
-        s->sr[ir], vr, (uint32_t)s->cfg.texture_min, num2, den);
 }
 
 int32_t stx_mncc_strip(const stx_t *s, int32_t u, int32_t v, int32_t d)

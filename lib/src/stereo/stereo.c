@@ -23,12 +23,12 @@ void negobs_stereo_config_default(negobs_stereo_config_t *cfg, int32_t width,
     cfg->vertical_offset = 0;
     cfg->canny_low = 60;
     cfg->canny_high = 120;
-    cfg->seed_step = 2;
+    cfg->seed_step = 4;
     cfg->seed_tau_q14 = 13107;   /* 0.8 */
     cfg->seed_margin_q14 = 819;  /* 0.05 */
     cfg->ncc_tau_q14 = 9830;     /* 0.6 */
     cfg->ncc_mu_q14 = 1638;      /* 0.1 */
-    cfg->ssk_beta_q8 = 26;       /* 0.1 */
+    cfg->ssk_beta_q8 = 0;        /* plain stable matching; DP fills */
     cfg->zonegap = 1;
     cfg->texture_min = 2500;
     cfg->queue_capacity = 8192;
@@ -36,8 +36,8 @@ void negobs_stereo_config_default(negobs_stereo_config_t *cfg, int32_t width,
     cfg->band = 2;
     cfg->dp_neutral_q14 = 0;
     cfg->dp_jump_q14 = 8192;     /* 0.5 */
-    cfg->lr_check = 0;
-    cfg->speckle_size = 24;
+    cfg->lr_check = 1;
+    cfg->speckle_size = 100;
     cfg->speckle_diff_q4 = 16;
     cfg->adaptive_mean = 1;
 }

@@ -136,18 +136,8 @@ void stx_stats_rows(const negobs_image_u8_t *img, int32_t ya, int32_t n,
  * VL+VR < tex_min. */
 int32_t stx_mncc_q14(uint32_t sum_lr, uint32_t sl, uint32_t vl, uint32_t sr,
                      uint32_t vr, uint32_t tex_min);
-/* 2*num and den of the MNCC (no division); 0 when flat. */
-int stx_mncc_num_den(uint32_t sum_lr, uint32_t sl, uint32_t vl, uint32_t sr,
-                     uint32_t vr, uint32_t tex_min, int32_t *num2,
-                     int32_t *den);
 /* num2 / den in Q14, rounded towards zero (den > 0, |num2| <= den). */
 int32_t stx_frac_q14(int32_t num2, int32_t den);
-/* Strip-statistics MNCC as a fraction; 0 when out of bounds or flat. */
-int stx_mncc_frac(const stx_t *s, int32_t u, int32_t v, int32_t d,
-                  int32_t *num2, int32_t *den);
-/* Raw 5x5 cross sum at left (u, vl_row) and right (ur, vr_row). */
-uint32_t stx_cross5(const negobs_image_u8_t *l, int32_t u, int32_t yl,
-                    const negobs_image_u8_t *r, int32_t ur, int32_t yr);
 /* MNCC of candidate (u, v, d) with statistics of the current strip; v is an
  * image row inside the strip. STX_FLAT when out of bounds or flat. */
 int32_t stx_mncc_strip(const stx_t *s, int32_t u, int32_t v, int32_t d);
@@ -156,6 +146,67 @@ int32_t stx_mncc_direct(const stx_t *s, int32_t u, int32_t v, int32_t d,
                         int32_t voff);
 /* Compute strip statistics for rows [y0, y1) (right uses s->voff). */
 void stx_strip_stats(stx_t *s, int32_t y0, int32_t y1);
+
+/* ---- hot MNCC kernels (inline: called millions of times) ---------- */
+/* 2*num and den of the MNCC (no division); 0 when flat. */
+static inline int stx_mncc_num_den(uint32_t sum_lr, uint32_t sl, uint32_t vl, uint32_t sr,
+                     uint32_t vr, uint32_t tex_min, int32_t *num2,
+                     int32_t *den)
+{
+    uint32_t d = vl + vr;
+    int32_t num;
+    if (d < tex_min || d == 0u) {
+        return 0;
+    }
+    num = (int32_t)((uint32_t)STX_WIN_N * sum_lr) - (int32_t)(sl * sr);
+    *num2 = 2 * num; /* |2 num| <= VL + VR < 2^25 */
+    *den = (int32_t)d;
+    return 1;
+}
+
+/* Raw 5x5 cross sum at left (u, yl) and right (ur, yr). */
+static inline uint32_t stx_cross5(const negobs_image_u8_t *l, int32_t u, int32_t yl,
+                    const negobs_image_u8_t *r, int32_t ur, int32_t yr)
+{
+    uint32_t acc = 0;
+    int32_t k;
+    const uint8_t *a = negobs_image_u8_row(l, yl - STX_WIN_R) + u - STX_WIN_R;
+    const uint8_t *b = negobs_image_u8_row(r, yr - STX_WIN_R) + ur - STX_WIN_R;
+    for (k = 0; k < 5; k++) {
+        acc += (uint32_t)a[0] * b[0] + (uint32_t)a[1] * b[1] +
+               (uint32_t)a[2] * b[2] + (uint32_t)a[3] * b[3] +
+               (uint32_t)a[4] * b[4];
+        a += l->stride;
+        b += r->stride;
+    }
+    return acc;
+}
+
+/* Strip-statistics MNCC as a fraction; 0 when out of bounds or flat. */
+static inline int stx_mncc_frac(const stx_t *s, int32_t u, int32_t v, int32_t d,
+                  int32_t *num2, int32_t *den)
+{
+    int32_t ur = u - d;
+    ptrdiff_t il;
+    ptrdiff_t ir;
+    uint32_t vl;
+    uint32_t vr;
+
+    if (u < STX_WIN_R || u >= s->w - STX_WIN_R || ur < STX_WIN_R ||
+        ur >= s->w - STX_WIN_R || v < s->y0 || v >= s->y1) {
+        return 0;
+    }
+    il = (ptrdiff_t)(v - s->y0) * s->w + u;
+    ir = (ptrdiff_t)(v - s->y0) * s->w + ur;
+    vl = s->vl[il];
+    vr = s->vr[ir];
+    if (vl == 0u || vr == 0u) {
+        return 0; /* window outside the image or perfectly flat */
+    }
+    return stx_mncc_num_den(
+        stx_cross5(s->left, u, v, s->right, ur, v + s->voff), s->sl[il], vl,
+        s->sr[ir], vr, (uint32_t)s->cfg.texture_min, num2, den);
+}
 
 /* ---- canny.c ---------------------------------------------------------- */
 /* Edge map of strip rows [y0, y1) into s->edge (1 = edge). Returns count. */
