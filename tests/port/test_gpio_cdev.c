@@ -28,6 +28,8 @@ static struct {
     int chip_open;
     int value;     /* last value written, -1 none */
     int writes;
+    bool no_v2;    /* an old kernel: v2 ioctls are ENOTTY */
+    struct gpiohandle_request req_v1;
 } fake;
 
 int __real_open64(const char *path, int flags, ...);
@@ -78,6 +80,29 @@ int __wrap_ioctl(int fd, unsigned long req, ...)
     va_start(ap, req);
     arg = va_arg(ap, void *);
     va_end(ap);
+    if (fake.no_v2 && (req == GPIO_V2_GET_LINE_IOCTL ||
+                       req == GPIO_V2_LINE_SET_VALUES_IOCTL)) {
+        errno = ENOTTY;
+        return -1;
+    }
+    if (fd == CHIP_FD && req == GPIO_GET_LINEHANDLE_IOCTL) {
+        struct gpiohandle_request *r = arg;
+        fake.requests++;
+        fake.req_v1 = *r;
+        if (fake.request_errno != 0) {
+            errno = fake.request_errno;
+            return -1;
+        }
+        r->fd = LINE_FD;
+        fake.line_open = 1;
+        return 0;
+    }
+    if (fd == LINE_FD && req == GPIOHANDLE_SET_LINE_VALUES_IOCTL) {
+        struct gpiohandle_data *d = arg;
+        fake.value = d->values[0];
+        fake.writes++;
+        return 0;
+    }
     if (fd == CHIP_FD && req == GPIO_V2_GET_LINE_IOCTL) {
         struct gpio_v2_line_request *r = arg;
         fake.requests++;
@@ -182,6 +207,28 @@ static void test_gpio_errors_are_reported(void **state)
                      NEGOBS_ERR_INVAL);
 }
 
+static void test_gpio_falls_back_to_uapi_v1_on_old_kernels(void **state)
+{
+    negobs_alert_gpio_t g;
+    negobs_alert_t out;
+    (void)state;
+    fake.no_v2 = true;
+    assert_int_equal(negobs_alert_gpio_open(&g, "gpiochip0", 5, true, &out),
+                     NEGOBS_OK);
+    assert_true(g.uapi_v1);
+    assert_int_equal(fake.req_v1.lines, 1);
+    assert_int_equal(fake.req_v1.lineoffsets[0], 5);
+    assert_true((fake.req_v1.flags & GPIOHANDLE_REQUEST_OUTPUT) != 0);
+    assert_true((fake.req_v1.flags & GPIOHANDLE_REQUEST_ACTIVE_LOW) != 0);
+    assert_int_equal(fake.req_v1.default_values[0], 0);
+    assert_string_equal(fake.req_v1.consumer_label, "negobs-motor");
+    assert_int_equal(negobs_alert_set(&out, 300), NEGOBS_OK);
+    assert_int_equal(fake.value, 1);
+    negobs_alert_close(&out);
+    assert_int_equal(fake.value, 0);
+    assert_int_equal(fake.line_open, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -189,6 +236,8 @@ int main(void)
         cmocka_unit_test_setup(
             test_gpio_levels_switch_line_and_close_turns_off, reset),
         cmocka_unit_test_setup(test_gpio_errors_are_reported, reset),
+        cmocka_unit_test_setup(
+            test_gpio_falls_back_to_uapi_v1_on_old_kernels, reset),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,8 +1,11 @@
 /*
- * GPIO alert backend on the Linux GPIO character device, uAPI v2.
+ * GPIO alert backend on the Linux GPIO character device, uAPI v2 with a
+ * fallback to uAPI v1 for kernels older than 5.10 (the v2 request then
+ * fails with ENOTTY or EINVAL before anything is claimed).
  *
  * Raw ioctls, no libgpiod: the board image needs no extra library and the
- * same code builds for every target whose kernel headers are >= 5.10.
+ * same code cross-builds for every target (libgpiod 1.6 would add a
+ * dependency that the cross sysroots here do not have).
  * The line is requested as an output with initial value 0 (motor off)
  * and held until close; the kernel drops the request, and the line keeps
  * its last value, if the process dies, so close/off paths set 0 first.
@@ -35,17 +38,49 @@ static void gpio_error(negobs_alert_gpio_t *st, int err, const char *fmt, ...)
     }
 }
 
-static int set_line(int fd, int on)
+static int set_line(const negobs_alert_gpio_t *st, int on)
 {
-    struct gpio_v2_line_values v;
     int rc;
-    memset(&v, 0, sizeof v);
-    v.mask = 1;
-    v.bits = on ? 1u : 0u;
-    do {
-        rc = ioctl(fd, GPIO_V2_LINE_SET_VALUES_IOCTL, &v);
-    } while (rc < 0 && errno == EINTR);
+    if (st->uapi_v1) {
+        struct gpiohandle_data d;
+        memset(&d, 0, sizeof d);
+        d.values[0] = on ? 1u : 0u;
+        do {
+            rc = ioctl(st->line_fd, GPIOHANDLE_SET_LINE_VALUES_IOCTL, &d);
+        } while (rc < 0 && errno == EINTR);
+    } else {
+        struct gpio_v2_line_values v;
+        memset(&v, 0, sizeof v);
+        v.mask = 1;
+        v.bits = on ? 1u : 0u;
+        do {
+            rc = ioctl(st->line_fd, GPIO_V2_LINE_SET_VALUES_IOCTL, &v);
+        } while (rc < 0 && errno == EINTR);
+    }
     return rc;
+}
+
+/* uAPI v1 request: one output line, default 0. */
+static int request_v1(negobs_alert_gpio_t *st, uint32_t line,
+                      bool active_low)
+{
+    struct gpiohandle_request r;
+    memset(&r, 0, sizeof r);
+    r.lineoffsets[0] = line;
+    r.lines = 1;
+    r.flags = GPIOHANDLE_REQUEST_OUTPUT;
+    if (active_low) {
+        r.flags |= GPIOHANDLE_REQUEST_ACTIVE_LOW;
+    }
+    r.default_values[0] = 0;
+    (void)snprintf(r.consumer_label, sizeof r.consumer_label,
+                   "negobs-motor");
+    if (ioctl(st->chip_fd, GPIO_GET_LINEHANDLE_IOCTL, &r) < 0) {
+        return -1;
+    }
+    st->line_fd = r.fd;
+    st->uapi_v1 = true;
+    return 0;
 }
 
 static negobs_status_t gpio_set(void *ctx, uint16_t permille)
@@ -58,7 +93,7 @@ static negobs_status_t gpio_set(void *ctx, uint16_t permille)
     if (st->line_fd < 0) {
         return NEGOBS_ERR_STATE;
     }
-    if (set_line(st->line_fd, on) != 0) {
+    if (set_line(st, on) != 0) {
         gpio_error(st, errno, "set line %u", (unsigned)st->line);
         return errno == ENODEV ? NEGOBS_ERR_NODEV : NEGOBS_ERR_IO;
     }
@@ -70,7 +105,7 @@ static void gpio_off_async(void *ctx)
 {
     negobs_alert_gpio_t *st = ctx;
     if (st->line_fd >= 0) {
-        (void)set_line(st->line_fd, 0);
+        (void)set_line(st, 0);
     }
 }
 
@@ -78,7 +113,7 @@ static void gpio_close(void *ctx)
 {
     negobs_alert_gpio_t *st = ctx;
     if (st->line_fd >= 0) {
-        (void)set_line(st->line_fd, 0);
+        (void)set_line(st, 0);
         (void)close(st->line_fd);
         st->line_fd = -1;
     }
@@ -134,14 +169,18 @@ negobs_status_t negobs_alert_gpio_open(negobs_alert_gpio_t *st,
     req.config.attrs[0].attr.id = GPIO_V2_LINE_ATTR_ID_OUTPUT_VALUES;
     req.config.attrs[0].attr.values = 0; /* start with the motor off */
     req.config.attrs[0].mask = 1;
-    if (ioctl(st->chip_fd, GPIO_V2_GET_LINE_IOCTL, &req) < 0) {
+    if (ioctl(st->chip_fd, GPIO_V2_GET_LINE_IOCTL, &req) == 0) {
+        st->line_fd = req.fd;
+    } else if ((errno == ENOTTY || errno == EINVAL) &&
+               request_v1(st, line, active_low) == 0) {
+        /* Kernel without uAPI v2 (< 5.10): v1 handle obtained. */
+    } else {
         int e = errno;
         gpio_error(st, e, "request line %u on %s", (unsigned)line, path);
         (void)close(st->chip_fd);
         st->chip_fd = -1;
         return e == EINVAL ? NEGOBS_ERR_INVAL : NEGOBS_ERR_IO;
     }
-    st->line_fd = req.fd;
     alert->ops = &gpio_ops;
     alert->ctx = st;
     return NEGOBS_OK;

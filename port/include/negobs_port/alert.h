@@ -140,12 +140,14 @@ typedef struct negobs_alert_gpio {
     int line_fd;
     uint32_t line;
     int value;
+    bool uapi_v1;       /**< kernel < 5.10: line held through uAPI v1 */
     int last_errno;
     char errmsg[NEGOBS_PORT_ERRMSG_LEN];
 } negobs_alert_gpio_t;
 
 /**
- * @brief Request one output line through the GPIO chardev (uAPI v2).
+ * @brief Request one output line through the GPIO chardev (uAPI v2, or v1
+ *        on kernels older than 5.10).
  * @param chip  "/dev/gpiochip0", "gpiochip0" or "0"
  * @param line  line offset on that chip
  * @param active_low  drive the line low for "motor on"
