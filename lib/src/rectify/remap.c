@@ -135,8 +135,8 @@ static void blend_node_rows(const negobs_rectify_t *ctx, const uint8_t *map,
     int32_t *q = ctx->row_q;
     int32_t i;
     for (i = 0; i < 2 * gw; i++) {
-        q[i] = negobs_rd_s32le(n0 + 4 * i) * wy0 +
-               negobs_rd_s32le(n1 + 4 * i) * fy;
+        q[i] = negobs_rd_s32le(n0 + (size_t)i * 4u) * wy0 +
+               negobs_rd_s32le(n1 + (size_t)i * 4u) * fy;
     }
 }
 
@@ -187,7 +187,7 @@ static uint32_t remap_row(const negobs_rectify_t *ctx,
     int32_t x0;
 
     for (x0 = 0; x0 < w; x0 += step) {
-        const int32_t *n = q + 2 * (x0 >> s);
+        const int32_t *n = q + (size_t)(x0 >> s) * 2u;
         int32_t ax = n[0] * step;
         int32_t ay = n[1] * step;
         const int32_t dx = n[2] - n[0];
@@ -287,8 +287,8 @@ negobs_status_t negobs_rectify_process(negobs_rectify_t *ctx,
                                        negobs_image_u8_t *right_rect,
                                        negobs_rectify_stats_t *stats)
 {
-    negobs_rectify_stats_t sl;
-    negobs_rectify_stats_t sr;
+    negobs_rectify_stats_t sl = {0};
+    negobs_rectify_stats_t sr = {0};
     negobs_status_t st;
     int32_t h;
 

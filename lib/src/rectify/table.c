@@ -18,6 +18,9 @@
  * of flash) instead of the usual 1 KiB, two lookups per byte. The whole
  * table is hashed once per init, so the slower rate does not matter.
  */
+/* NEGOBS_RECTIFY_MAGIC without its terminator. */
+static const uint8_t magic[8] = {'N', 'G', 'O', 'B', 'R', 'E', 'C', 'T'};
+
 static const uint32_t crc_nibble[16] = {
     0x00000000u, 0x1DB71064u, 0x3B6E20C8u, 0x26D930ACu,
     0x76DC4190u, 0x6B6B51F4u, 0x4DB26158u, 0x5005713Cu,
@@ -92,7 +95,7 @@ negobs_status_t negobs_rectify_table_check(const uint8_t *table, size_t len,
     if (len < (size_t)NEGOBS_RECTIFY_HEADER_BYTES) {
         return NEGOBS_ERR_CORRUPT;
     }
-    if (memcmp(table + RT_OFF_MAGIC, NEGOBS_RECTIFY_MAGIC, 8) != 0) {
+    if (memcmp(table + RT_OFF_MAGIC, magic, sizeof magic) != 0) {
         return NEGOBS_ERR_CORRUPT;
     }
     memset(&in, 0, sizeof in);
@@ -212,7 +215,7 @@ negobs_status_t negobs_rectify_table_write(const negobs_rectify_info_t *info,
 
     p = out;
     memset(p, 0, (size_t)NEGOBS_RECTIFY_HEADER_BYTES);
-    memcpy(p + RT_OFF_MAGIC, NEGOBS_RECTIFY_MAGIC, 8);
+    memcpy(p + RT_OFF_MAGIC, magic, sizeof magic);
     negobs_wr_u16le(p + RT_OFF_VMAJOR, (uint16_t)NEGOBS_RECTIFY_VERSION_MAJOR);
     negobs_wr_u16le(p + RT_OFF_VMINOR, (uint16_t)NEGOBS_RECTIFY_VERSION_MINOR);
     negobs_wr_u32le(p + RT_OFF_HEADER_BYTES,
