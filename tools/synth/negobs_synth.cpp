@@ -52,6 +52,8 @@ struct Options {
     int distractors = 0;
     double texture_mm = 2.0;
     bool gt_disparity = false;
+    bool gt_disparity_right = false;
+    int threads = -1;
     bool preview = false;
     bool quiet = false;
     std::string out;
@@ -117,6 +119,9 @@ void usage(FILE *fp, const char *argv0)
 "  --out DIR            output folder (created)\n"
 "  --gt-disparity       also write disp_NNNN.png (16-bit, disparity*16,\n"
 "                       0 = no surface) of the left image\n"
+"  --gt-disparity-right also write dispr_NNNN.png, the right image's GT\n"
+"                       disparity (same encoding; its match is at x + d)\n"
+"  --threads N          worker threads (default: OpenCV's choice, all cores)\n"
 "  --preview            also write preview_NNNN.png: left image with the GT\n"
 "                       edge line, next to the GT disparity (brighter = nearer)\n"
 "  --quiet              no progress/timing line\n"
@@ -195,6 +200,7 @@ int parse(int argc, char **argv, Options &o)
         bool is_flag = false;
         if (flag("--single")) { o.single = true; is_flag = true; }
         else if (flag("--gt-disparity")) { o.gt_disparity = true; is_flag = true; }
+        else if (flag("--gt-disparity-right")) { o.gt_disparity_right = true; is_flag = true; }
         else if (flag("--quiet")) { o.quiet = true; is_flag = true; }
         else if (flag("--preview")) { o.preview = true; is_flag = true; }
         if (is_flag) {
@@ -339,6 +345,8 @@ int parse(int argc, char **argv, Options &o)
             rc = num(o.rig.right_row_shift, -100.0, 100.0);
         } else if (arg == "--ss") {
             rc = integer(o.render.supersample, 1, 4);
+        } else if (arg == "--threads") {
+            rc = integer(o.threads, 1, 256);
         } else if (arg == "--out") {
             o.out = val;
         } else {
@@ -407,6 +415,26 @@ bool write_png(const std::string &path, const cv::Mat &m)
     }
 }
 
+// 16-bit disparity PNG: round(d*16), at least 1 where a surface is hit,
+// 0 = no surface.
+cv::Mat disp16(const cv::Mat &disp)
+{
+    cv::Mat d16(disp.rows, disp.cols, CV_16U);
+    for (int y = 0; y < disp.rows; ++y) {
+        const float *s = disp.ptr<float>(y);
+        uint16_t *q = d16.ptr<uint16_t>(y);
+        for (int x = 0; x < disp.cols; ++x) {
+            if (s[x] <= 0.0f) {
+                q[x] = 0;
+            } else {
+                const long v = std::lround(static_cast<double>(s[x]) * 16.0);
+                q[x] = static_cast<uint16_t>(std::clamp(v, 1L, 65535L));
+            }
+        }
+    }
+    return d16;
+}
+
 } // namespace
 
 int main(int argc, char **argv)
@@ -419,6 +447,8 @@ int main(int argc, char **argv)
         return prc;
 
     const char *a0 = argv[0];
+    if (o.threads > 0)
+        cv::setNumThreads(o.threads);
     std::error_code ec;
     std::filesystem::create_directories(o.out, ec);
     if (ec || !std::filesystem::is_directory(o.out))
@@ -492,12 +522,13 @@ int main(int argc, char **argv)
                  "\"render\": {\"supersample\": %d, \"noise\": %.6g, \"gain_right\": %.6g, "
                  "\"offset_right\": %.6g, \"brightness\": %.6g, \"blur\": %.6g, \"seed\": %llu, "
                  "\"speed_mps\": %.6g, \"fps\": %.6g, \"bob_mm\": %.6g, \"bob_hz\": %.6g, "
-                 "\"sway_deg\": %.6g, \"roll_sway_deg\": %.6g, \"gt_disparity\": %s},\n",
+                 "\"sway_deg\": %.6g, \"roll_sway_deg\": %.6g, \"gt_disparity\": %s, "
+                 "\"gt_disparity_right\": %s},\n",
                  o.render.supersample, o.sensor.noise_sigma, o.sensor.gain_right,
                  o.sensor.offset_right, o.sensor.brightness, o.sensor.blur,
                  static_cast<unsigned long long>(o.seed), sequence ? o.speed : 0.0, o.fps,
                  o.bob_mm, o.bob_hz, o.sway_deg, o.roll_sway_deg,
-                 o.gt_disparity ? "true" : "false");
+                 o.gt_disparity ? "true" : "false", o.gt_disparity_right ? "true" : "false");
     std::fprintf(gt, "\"frames\": [\n");
 
     double render_ms = 0.0;
@@ -518,7 +549,9 @@ int main(int argc, char **argv)
         cv::Mat lf, rf, disp;
         synth::render_view(scene, tex, o.rig, pose, 0, o.render, lf,
                            (o.gt_disparity || o.preview) ? &disp : nullptr);
-        synth::render_view(scene, tex, o.rig, pose, 1, o.render, rf, nullptr);
+        cv::Mat dispr;
+        synth::render_view(scene, tex, o.rig, pose, 1, o.render, rf,
+                           o.gt_disparity_right ? &dispr : nullptr);
         synth::apply_blur(lf, o.sensor.blur);
         synth::apply_blur(rf, o.sensor.blur);
         const uint64_t fseed = o.seed * 0xD1B54A32D192ED03ull + static_cast<uint64_t>(i) * 7919u + 1;
@@ -535,24 +568,11 @@ int main(int argc, char **argv)
             std::fclose(gt);
             return fail(a0, "cannot write images into '" + o.out + "'");
         }
-        if (o.gt_disparity) {
-            cv::Mat d16(disp.rows, disp.cols, CV_16U);
-            for (int y = 0; y < disp.rows; ++y) {
-                const float *s = disp.ptr<float>(y);
-                uint16_t *q = d16.ptr<uint16_t>(y);
-                for (int x = 0; x < disp.cols; ++x) {
-                    if (s[x] <= 0.0f) {
-                        q[x] = 0;
-                    } else {
-                        const long v = std::lround(static_cast<double>(s[x]) * 16.0);
-                        q[x] = static_cast<uint16_t>(std::clamp(v, 1L, 65535L));
-                    }
-                }
-            }
-            if (!write_png(o.out + "/" + dn, d16)) {
-                std::fclose(gt);
-                return fail(a0, "cannot write disparity into '" + o.out + "'");
-            }
+        if ((o.gt_disparity && !write_png(o.out + "/" + dn, disp16(disp))) ||
+            (o.gt_disparity_right &&
+             !write_png(o.out + "/" + fmt("dispr_%04d.png", i), disp16(dispr)))) {
+            std::fclose(gt);
+            return fail(a0, "cannot write disparity into '" + o.out + "'");
         }
 
         if (o.preview) {

@@ -397,7 +397,8 @@ int test_warp()
 int test_determinism()
 {
     const std::string common = "--scene stairs --frames 3 --noise 2 --gain-right 1.05 "
-                               "--vshift-right 0.3 --gt-disparity --quiet ";
+                               "--vshift-right 0.3 --gt-disparity --gt-disparity-right --threads 2 "
+                               "--quiet ";
     const fs::path a = scratch("det_a"), b = scratch("det_b"), c = scratch("det_c");
     check(run(common + "--seed 7 --out '" + a.string() + "'") == 0, "determinism: run a");
     check(run(common + "--seed 7 --out '" + b.string() + "'") == 0, "determinism: run b");
@@ -409,11 +410,18 @@ int test_determinism()
         check(!ba.empty() && ba == bb, "determinism: " + name + " identical for the same seed");
         ++files;
     }
-    check(files == 10, "determinism: 3 x (left, right, disp) + gt.json written");
+    check(files == 13, "determinism: 3 x (left, right, disp, dispr) + gt.json written");
     check(slurp(a / "left_0002.png") != slurp(c / "left_0002.png"),
           "determinism: another seed gives another image");
     check(slurp(a / "gt.json") != slurp(c / "gt.json"),
           "determinism: another seed gives another camera motion");
+    fs::remove_all(c);
+    // The thread count must not change a byte.
+    check(run(common + "--seed 7 --threads 1 --out '" + c.string() + "'") == 0,
+          "determinism: single-thread run");
+    check(slurp(a / "left_0001.png") == slurp(c / "left_0001.png") &&
+              slurp(a / "dispr_0002.png") == slurp(c / "dispr_0002.png"),
+          "determinism: 1 thread gives the same bytes as 2");
     fs::remove_all(a);
     fs::remove_all(b);
     fs::remove_all(c);
@@ -447,7 +455,7 @@ int test_bad_options()
         "--scene nope",  "--f abc",          "--frames 0",       "--bogus 1",
         "--width",       "--single --frames 3", "--noise -1",    "--ss 9",
         "--seed -3",     "--pitch-deg 95",   "--texture /nonexistent/x.png",
-        "--texture-kind marble", "--single=1", "stray",         "--drop-mm 1e400",
+        "--texture-kind marble", "--single=1", "stray",         "--drop-mm 1e400", "--threads 0",
     };
     for (const char *args : bad) {
         std::string err;
