@@ -142,6 +142,26 @@ static void test_replay_loop_restarts_at_first_pair(void **state)
     negobs_camera_close(&cam);
 }
 
+static void test_replay_requested_size_must_match(void **state)
+{
+    negobs_replay_t rp;
+    negobs_camera_t cam;
+    negobs_camera_config_t cfg;
+    negobs_frame_pair_t p;
+    (void)state;
+    write_pair(0, W, H);
+    negobs_camera_config_default(&cfg); /* asks for 640x480 */
+    cfg.left = dir;
+    cfg.fps = 0;
+    assert_int_equal(negobs_replay_init(&rp, pix, sizeof pix, &cam),
+                     NEGOBS_OK);
+    assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_OK);
+    assert_int_equal(negobs_camera_start(&cam), NEGOBS_OK);
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_ERR_INVAL);
+    assert_non_null(strstr(negobs_camera_errmsg(&cam), "640x480 requested"));
+    negobs_camera_close(&cam);
+}
+
 static void test_replay_paces_at_fps(void **state)
 {
     negobs_replay_t rp;
@@ -374,6 +394,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         T(test_replay_reads_pgm_pairs_until_end),
         T(test_replay_loop_restarts_at_first_pair),
+        T(test_replay_requested_size_must_match),
         T(test_replay_paces_at_fps),
         T(test_replay_rejects_truncated_pgm),
         T(test_pgm_reader_rejects_corrupt_headers),

@@ -194,11 +194,8 @@ static negobs_status_t rp_open(void *ctx, const negobs_camera_config_t *cfg)
         }
     }
     /* For PGM folders the requested size is checked on the first frame. */
-    st->width = st->session ? st->width : 0;
-    if (!st->session && cfg->width > 0 && cfg->height > 0) {
-        st->width = -cfg->width; /* negative: "expected", not yet seen */
-        st->height = -cfg->height;
-    }
+    st->want_w = cfg->width > 0 && cfg->height > 0 ? cfg->width : 0;
+    st->want_h = cfg->width > 0 && cfg->height > 0 ? cfg->height : 0;
     return NEGOBS_OK;
 }
 
@@ -360,9 +357,9 @@ static int rp_read_next(negobs_replay_t *st)
         return rc;
     }
     if (!st->session) {
-        if (st->width < 0 && (w != -st->width || h != -st->height)) {
+        if (st->want_w > 0 && (w != st->want_w || h != st->want_h)) {
             rp_error(st, "%s: images are %ldx%ld, %ldx%ld requested", st->dir,
-                     (long)w, (long)h, (long)-st->width, (long)-st->height);
+                     (long)w, (long)h, (long)st->want_w, (long)st->want_h);
             return NEGOBS_ERR_INVAL;
         }
         if (st->width > 0 && (w != st->width || h != st->height)) {

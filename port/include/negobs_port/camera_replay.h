@@ -39,6 +39,8 @@ typedef struct negobs_replay {
     bool loop;
     int32_t width;         /**< 0 until the first frame is read        */
     int32_t height;
+    int32_t want_w;        /**< size the caller asked for, 0 = any     */
+    int32_t want_h;
     int32_t fps;
     uint32_t next;         /**< next pair index                        */
     uint32_t nframes;      /**< session: pairs listed in frames.txt    */
