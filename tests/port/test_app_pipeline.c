@@ -20,10 +20,8 @@ static void fill(uint8_t *px, int32_t w, int32_t h, int32_t s, uint32_t seed,
     int32_t y;
     for (y = 0; y < h; y++) {
         for (x = 0; x < s; x++) {
-            px[y * s + x] = x < w ? (uint8_t)(lo + (span > 0
-                                                     ? test_lcg_next(&seed) % span
-                                                     : 0))
-                                  : 255;
+            uint32_t v = span > 0 ? lo + test_lcg_next(&seed) % span : lo;
+            px[y * s + x] = x < w ? (uint8_t)v : 255;
         }
     }
 }
