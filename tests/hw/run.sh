@@ -107,6 +107,7 @@ need_tools() {
   [[ -e /usr/lib/x86_64-linux-gnu/libelf.so.1 || $(uname -m) != x86_64 ]] || missing+=(libelf1)
   [[ -e /usr/lib/x86_64-linux-gnu/libssl.so.3 || $(uname -m) != x86_64 ]] || missing+=(libssl3)
   [[ ${#missing[@]} -eq 0 ]] && return 0
+  mapfile -t missing < <(printf '%s\n' "${missing[@]}" | sort -u)
   if [[ $(id -u) -ne 0 ]]; then
     echo "hw: missing host packages and not root: ${missing[*]}"
     return 1
