@@ -262,13 +262,13 @@ void stx_tile_range(const stx_t *s, int32_t x, int32_t y, int32_t *lo,
 
 int32_t stx_vertical_estimate(stx_t *s, int32_t n)
 {
-    int32_t sx = s->w / 16;
-    int32_t sy = s->h / 16;
+    int32_t sx = s->w / 12;
+    int32_t sy = s->h / 12;
     int64_t best_score = -1;
     int32_t best = 0;
-    int32_t off;
     int32_t k;
     int32_t dmax = s->dmin + s->ndisp - 1;
+    uint32_t tex = (uint32_t)s->cfg.texture_min;
 
     if (sx < 4) {
         sx = 4;
@@ -278,16 +278,35 @@ int32_t stx_vertical_estimate(stx_t *s, int32_t n)
     }
     for (k = 0; k <= 2 * n; k++) {
         /* order 0, -1, +1, -2, +2 ... so ties keep the smaller |offset| */
+        int32_t off = (k & 1) ? -((k + 1) / 2) : (k / 2);
         int64_t score = 0;
         int32_t x;
         int32_t y;
-        off = (k & 1) ? -((k + 1) / 2) : (k / 2);
         for (y = sy / 2 + 6; y < s->h - 6; y += sy) {
+            int32_t yr = y + off;
+            if (yr < STX_WIN_R || yr >= s->h - STX_WIN_R) {
+                continue;
+            }
             for (x = sx / 2 + 2; x < s->w - 2; x += sx) {
                 int32_t bc = 0;
                 int32_t d;
+                uint32_t sl;
+                uint32_t vl;
+                stx_sums5(s->left, x, y, &sl, &vl);
+                if (vl == 0u) {
+                    continue;
+                }
                 for (d = s->dmin; d <= dmax && d <= x - 2; d++) {
-                    int32_t c = stx_mncc_direct(s, x, y, d, off);
+                    uint32_t sr;
+                    uint32_t vr;
+                    int32_t c;
+                    stx_sums5(s->right, x - d, yr, &sr, &vr);
+                    if (vr == 0u) {
+                        continue;
+                    }
+                    c = stx_mncc_q14(
+                        stx_cross5(s->left, x, y, s->right, x - d, yr), sl, vl,
+                        sr, vr, tex);
                     if (c != STX_FLAT && c > bc) {
                         bc = c;
                     }

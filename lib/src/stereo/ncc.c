@@ -114,8 +114,8 @@ int32_t stx_mncc_strip(const stx_t *s, int32_t u, int32_t v, int32_t d)
     return stx_frac_q14(n2, den);
 }
 
-static void sums_direct(const negobs_image_u8_t *img, int32_t x, int32_t y,
-                        uint32_t *sum, uint32_t *var)
+void stx_sums5(const negobs_image_u8_t *img, int32_t x, int32_t y,
+               uint32_t *sum, uint32_t *var)
 {
     uint32_t a = 0;
     uint32_t q = 0;
@@ -148,8 +148,8 @@ int32_t stx_mncc_direct(const stx_t *s, int32_t u, int32_t v, int32_t d,
         vr < STX_WIN_R || vr >= s->h - STX_WIN_R) {
         return STX_FLAT;
     }
-    sums_direct(s->left, u, v, &sl, &vl);
-    sums_direct(s->right, ur, vr, &sr, &vrr);
+    stx_sums5(s->left, u, v, &sl, &vl);
+    stx_sums5(s->right, ur, vr, &sr, &vrr);
     if (vl == 0u || vrr == 0u) {
         return STX_FLAT;
     }

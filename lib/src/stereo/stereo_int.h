@@ -144,6 +144,10 @@ int32_t stx_mncc_strip(const stx_t *s, int32_t u, int32_t v, int32_t d);
 /* Same from the images only (window sums computed directly). */
 int32_t stx_mncc_direct(const stx_t *s, int32_t u, int32_t v, int32_t d,
                         int32_t voff);
+/* S and V of the 5x5 window at (x, y), straight from the image (the window
+ * must be inside). */
+void stx_sums5(const negobs_image_u8_t *img, int32_t x, int32_t y,
+               uint32_t *sum, uint32_t *var);
 /* Compute strip statistics for rows [y0, y1) (right uses s->voff). */
 void stx_strip_stats(stx_t *s, int32_t y0, int32_t y1);
 
