@@ -37,6 +37,8 @@ typedef struct result {
     negobs_stereo_stats_t st;
 } result_t;
 
+static int g_flat_scene; /* 1: constant disparity 20 px, no drop, no box */
+
 static result_t run(int32_t voff, int32_t vsearch, int32_t fixed_off)
 {
     synth_scene_t sc;
@@ -57,6 +59,12 @@ static result_t run(int32_t voff, int32_t vsearch, int32_t fixed_off)
     sc.box_q8 = 36 * 256;
     sc.voff = voff;
     sc.seed = 4242u;
+    if (g_flat_scene) {
+        sc.d_top_q8 = 20 * 256;
+        sc.d_bottom_q8 = 20 * 256;
+        sc.drop_q8 = 0;
+        sc.box_q8 = 0;
+    }
     synth_render(&sc, left, right, gt, occ, tex);
 
     negobs_stereo_config_default(&cfg, W, H);
@@ -100,8 +108,10 @@ static void test_regress_rectified_pair(void **state)
     assert_true(r.bad1 <= BAD1_MAX_PERMILLE);
     assert_true(r.bad05 <= BAD05_MAX_PERMILLE);
     assert_true(r.dens >= DENS_MIN_PERMILLE);
-    /* the range estimate must cover the scene (8 .. 36 px) */
+    /* the range estimate must cover the scene (8 .. 36 px) and narrow the
+     * configured 0 .. 47 (measured [2, 42]) */
     assert_true(r.st.range_min <= 8 && r.st.range_max >= 36);
+    assert_true(r.st.range_min >= 2 && r.st.range_max <= 44);
     assert_int_equal(r.st.queue_overflows, 0);
 }
 
@@ -139,6 +149,19 @@ static void test_regress_fixed_offset(void **state)
     assert_true(r.bad1 <= BAD1_MAX_PERMILLE);
 }
 
+static void test_regress_range_narrows_on_constant_scene(void **state)
+{
+    result_t r;
+    (void)state;
+    g_flat_scene = 1;
+    r = run(0, 0, 0);
+    g_flat_scene = 0;
+    /* 20 px everywhere: 1/4-scale estimate 20, +-(2 + 4) margin */
+    assert_int_equal(r.st.range_min, 14);
+    assert_int_equal(r.st.range_max, 26);
+    assert_true(r.bad1 <= BAD1_MAX_PERMILLE);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -147,6 +170,7 @@ int main(void)
         cmocka_unit_test(test_regress_negative_offset_is_found),
         cmocka_unit_test(test_regress_uncompensated_offset_fails),
         cmocka_unit_test(test_regress_fixed_offset),
+        cmocka_unit_test(test_regress_range_narrows_on_constant_scene),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

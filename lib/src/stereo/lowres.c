@@ -7,8 +7,9 @@
  * [dmin/4, dmax/4] with a zero-mean SAD on 3x3 windows:
  *   cost = sum |9 L - SL - (9 R - SR)|   (<= 9 * 9 * 255 * 2, fits int32)
  * A low-res disparity is kept only if the window has texture (mean absolute
- * deviation >= 3 grey levels) and the best cost beats every cost at least two
- * levels away by 1/8. From the kept values:
+ * deviation >= 3 grey levels), the best cost beats every cost at least two
+ * levels away by 1/8, and the right pixel's own best match (left-right
+ * check) lands within one level of it. From the kept values:
  *   global range = [1st, 99th percentile] * 4, widened by range_margin and
  *                  clipped to the configured [min_disp, max_disp];
  *   tile range   = min/max over the tile and its 8 neighbours, same margin,
@@ -149,6 +150,31 @@ void stx_lowres_range(stx_t *s)
             }
             if (second != INT32_MAX && second - best <= best / 8 + 9) {
                 continue;
+            }
+            /* left-right check: the right pixel must pick us back */
+            {
+                int32_t xr = x4 - bestd;
+                const uint8_t *b = s->lo_r + y4 * lw + xr;
+                int32_t sb = box3(b, lw);
+                int32_t rb = INT32_MAX;
+                int32_t rd = -1;
+                for (d4 = dmin4; d4 <= dmax4; d4++) {
+                    int32_t xl = xr + d4;
+                    int32_t c;
+                    const uint8_t *a2;
+                    if (xl < 1 || xl >= lw - 1) {
+                        continue;
+                    }
+                    a2 = s->lo_l + y4 * lw + xl;
+                    c = zsad3(a2, box3(a2, lw), b, sb, lw);
+                    if (c < rb) {
+                        rb = c;
+                        rd = d4;
+                    }
+                }
+                if (rd < bestd - 1 || rd > bestd + 1) {
+                    continue;
+                }
             }
             s->lo_d[y4 * lw + x4] = (uint8_t)(bestd - dmin4);
             s->hist[bestd - dmin4]++;
