@@ -127,7 +127,8 @@ typedef struct negobs_detect_config {
     int32_t fit_step_px;       /**< fit subsampling (default 2 px)      */
     int32_t ground_min_valid_pct; /**< valid share in fit ROI (25 %)   */
     int32_t ground_min_inlier_pct;/**< inliers among valid (30 %)      */
-    int32_t track_gain_q15;    /**< plane smoothing gain (16384 = 0.5) */
+    int32_t track_gain_q15;    /**< plane smoothing gain (32768 = 1.0:
+                                    follow each accepted fit)           */
     int32_t track_gate_q4;     /**< plane jump gate at ref rows (24)   */
     int32_t sigma_min_q4;      /**< noise floor (default 2 = 1/8 px)   */
     int32_t sigma_max_q4;      /**< above: DEGRADED_NOISY (default 24) */
@@ -143,10 +144,10 @@ typedef struct negobs_detect_config {
     int32_t h_min_near_mm;     /**< smallest drop within near (50 mm)  */
     int32_t h_near_range_mm;   /**< near zone limit (default 2000 mm)  */
     int32_t h_thresh_pct;      /**< geometric threshold as % of h_min
-                                    (default 70)                        */
+                                    (default 80)                        */
     int32_t k_sigma_q4;        /**< noise multiplier (default 48 = 3.0) */
     int32_t min_edge_rows;     /**< deficit rows in a run (default 3)  */
-    int32_t min_support_mm;    /**< ground before the edge (400 mm)    */
+    int32_t min_support_mm;    /**< ground before the edge (250 mm)    */
     int32_t min_gap_mm;        /**< missing-ground band (default 400)  */
     int32_t max_hole_mm;       /**< hole: ground again within (1000)   */
     int32_t merge_range_mm;    /**< strips merge within (default 300)  */

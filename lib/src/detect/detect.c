@@ -83,7 +83,7 @@ void negobs_detect_config_default(negobs_detect_config_t *cfg, int32_t width,
     cfg->fit_step_px = 2;
     cfg->ground_min_valid_pct = 25;
     cfg->ground_min_inlier_pct = 30;
-    cfg->track_gain_q15 = 16384;
+    cfg->track_gain_q15 = 32768;
     cfg->track_gate_q4 = 24;
     cfg->sigma_min_q4 = 2;
     cfg->sigma_max_q4 = 24;
@@ -96,10 +96,10 @@ void negobs_detect_config_default(negobs_detect_config_t *cfg, int32_t width,
     cfg->h_min_far_mm = 100;
     cfg->h_min_near_mm = 50;
     cfg->h_near_range_mm = 2000;
-    cfg->h_thresh_pct = 70;
+    cfg->h_thresh_pct = 80;
     cfg->k_sigma_q4 = 48;
     cfg->min_edge_rows = 3;
-    cfg->min_support_mm = 400;
+    cfg->min_support_mm = 250;
     cfg->min_gap_mm = 400;
     cfg->max_hole_mm = 1000;
     cfg->merge_range_mm = 300;
@@ -365,6 +365,7 @@ typedef struct row_stat {
     int32_t n_gnd;
     int32_t n_pos;
     int32_t n_deeper; /* below the first plateau by more than tau */
+    int32_t n_up;     /* above half the first plateau's deficit     */
     int64_t sum_dg_def;
     int64_t sum_d_def;
     int64_t sum_r_def;
@@ -427,6 +428,10 @@ static enum row_class classify_row(const scan_ctx_t *s, int32_t u0,
     st->tau = geom_max_s32(geom_max_s32(tau_geo, tau_noise), 1);
     for (i = 0; i < st->n; i++) {
         int32_t r = rr[i];
+        if (rho1_q15 > 0 &&
+            r > -(int32_t)(((int64_t)gg[i] * rho1_q15) >> 16)) {
+            st->n_up++;
+        }
         if (r <= -st->tau) {
             st->n_def++;
             st->sum_dg_def += gg[i];
@@ -527,7 +532,10 @@ static void scan_strip(const scan_ctx_t *s, int32_t u0, int32_t u1,
             if (range - hit->range_mm > cfg->max_hole_mm + 500) {
                 break;
             }
-            if (rc == ROW_GROUND || rc == ROW_POSITIVE) {
+            if ((rc == ROW_GROUND || rc == ROW_POSITIVE) &&
+                st.n_up * 2 > st.n) {
+                /* Back up to the ground (closer to it than to the
+                 * plateau): the far rim or far wall of a hole. */
                 deeper = 0;
                 if (++back >= cfg->min_edge_rows &&
                     range - hit->range_mm <= cfg->max_hole_mm) {

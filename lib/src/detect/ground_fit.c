@@ -27,7 +27,6 @@
  *
  * TUNABLE: the gates (48, 3 sigma; then +3/-2 sigma, q4 floors 12/6) and
  * the 3 reference points.
- * With a track the Hough search is skipped and the track seeds the fit.
  */
 #include "ground_fit.h"
 
@@ -478,23 +477,18 @@ void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
         samples ? (int32_t)((valid * 1000u) / samples) : 0;
     if (out->valid_permille < cfg->ground_min_valid_pct * 10) {
         out->reasons |= NEGOBS_DEGRADED_FEW_GROUND;
-    } else if (g->tracked || hough_line(g, &fit)) {
-        /* With a track, start from it with tight gates (a drop entering
-         * the fit rows cannot drag the plane down); otherwise from the
-         * Hough line with a wide first gate. */
+    } else if (hough_line(g, &fit)) {
+        /* Every frame starts again from the Hough line and the nearer half
+         * of the fit rows, where the ground under the feet dominates even
+         * with an edge in the fit rows. (Seeding from the track instead
+         * lets a lower surface inside the fit rows pull the plane down a
+         * little more every frame.) */
         int32_t v_near = g->v_lo + g->rows / 2;
-        if (g->tracked) {
-            fit = g->plane;
-            sigma = g->sigma_q4;
-        } else {
-            /* First on the nearer half of the rows only, where the ground
-             * under the feet dominates even with an edge in the fit rows. */
-            refine_step(g, disp, conf, &fit, 48, 48, v_near);
-            sigma = noise_sigma(g, disp, conf, &fit);
-            refine_step(g, disp, conf, &fit, geom_max_s32(3 * sigma, 12),
-                        geom_max_s32(3 * sigma, 12), v_near);
-            sigma = noise_sigma(g, disp, conf, &fit);
-        }
+        refine_step(g, disp, conf, &fit, 48, 48, v_near);
+        sigma = noise_sigma(g, disp, conf, &fit);
+        refine_step(g, disp, conf, &fit, geom_max_s32(3 * sigma, 12),
+                    geom_max_s32(3 * sigma, 12), v_near);
+        sigma = noise_sigma(g, disp, conf, &fit);
         /* Then all fit rows with an asymmetric gate: a lower surface only
          * gives negative residuals, and a drop of h_min at the far end of
          * the fit rows is only ~1.2 sigma... 3 sigma below the ground, so
