@@ -86,7 +86,7 @@ const char *const kHelp =
     "                    1 with --check)\n"
     "  --markdown FILE   write the table as Markdown\n"
     "  --plots DIR       write DIR/eval_bad1all.png and DIR/eval_time.png\n"
-    "  --pictures DIR    write DIR/<set>.png: negobs | BM | SGBM | GT colour\n"
+    "  --pictures DIR    write DIR/eval_<set>.png: negobs | BM | SGBM | GT colour\n"
     "                    maps (TURBO over 0..max_disp, black = no value)\n"
     "  --pictures-format png|jpg   (default png)\n"
     "  --pictures-width N          shrink wider pictures to N px (1600)\n"
@@ -826,7 +826,7 @@ bool write_picture(const Options &opt, const SetResult &r)
                    cv::Size(max_w, row.rows * max_w / row.cols), 0, 0,
                    cv::INTER_AREA);
     try {
-        return cv::imwrite(opt.pictures + "/" + r.spec.name + "." +
+        return cv::imwrite(opt.pictures + "/eval_" + r.spec.name + "." +
                                opt.pictures_ext,
                            row, {cv::IMWRITE_JPEG_QUALITY, 85,
                                  cv::IMWRITE_PNG_COMPRESSION, 9});
