@@ -484,15 +484,16 @@ void Texture::build_mips(std::vector<float> base, int w, int h)
     }
 }
 
-float Texture::bilinear(int level, float x, float y) const
+inline float Texture::bilinear(int level, float x, float y) const
 {
     // x, y are already wrapped into [0, w) x [0, h) up to one period of
     // slack; sizes are powers of two, so wrap with a mask.
     const Level &l = levels_[static_cast<size_t>(level)];
-    const float fx = std::floor(x), fy = std::floor(y);
-    const float ax = x - fx, ay = y - fy;
+    int ix = static_cast<int>(x), iy = static_cast<int>(y); // floor, also < 0
+    ix -= (x < static_cast<float>(ix)) ? 1 : 0;
+    iy -= (y < static_cast<float>(iy)) ? 1 : 0;
+    const float ax = x - static_cast<float>(ix), ay = y - static_cast<float>(iy);
     const int mx = l.w - 1, my = l.h - 1;
-    const int ix = static_cast<int>(fx), iy = static_cast<int>(fy);
     const size_t x0 = static_cast<size_t>(ix & mx), x1 = static_cast<size_t>((ix + 1) & mx);
     const size_t y0 = static_cast<size_t>(iy & my), y1 = static_cast<size_t>((iy + 1) & my);
     const size_t w = static_cast<size_t>(l.w);
