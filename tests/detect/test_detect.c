@@ -328,6 +328,7 @@ static void test_detect_descending_stairs(void **state)
     print_message("stairs: found %d/4, typed STAIRS %d\n", found, stairs);
     assert_int_equal(found, 4);
     assert_true(stairs >= 3);
+    rig_teardown(&rig);
 }
 
 static void test_detect_hole(void **state)

@@ -609,7 +609,7 @@ static void scan_strip(const scan_ctx_t *s, int32_t u0, int32_t u1,
                                      ? (int32_t)geom_clamp_s64(
                                            (-sr * 256) / stau, 0, 1 << 20)
                                      : 0;
-                rho1 = (sdg > 0) ? (int32_t)(((sdg - sd) << 15) / sdg) : 0;
+                rho1 = (sdg > 0) ? (int32_t)(((sdg - sd) * 32768) / sdg) : 0;
                 (void)run_v;
                 phase = 1;
                 back = 0;

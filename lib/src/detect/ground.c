@@ -100,9 +100,9 @@ negobs_status_t negobs_ground_pose_from_plane(const negobs_camera_t *cam,
         e, (int64_t)negobs_isqrt_u64((uint64_t)(a * a + b * b)));
     pose->roll_mdeg = negobs_atan2_mdeg(a, b);
     if (frame != NULL) {
-        nx = (a << 30) / norm;
-        ny = (b << 30) / norm;
-        nz = (e << 30) / norm;
+        nx = (a * ((int64_t)1 << 30)) / norm;
+        ny = (b * ((int64_t)1 << 30)) / norm;
+        nz = (e * ((int64_t)1 << 30)) / norm;
         frame->nx_q30 = (int32_t)nx;
         frame->ny_q30 = (int32_t)ny;
         frame->nz_q30 = (int32_t)nz;
@@ -142,8 +142,8 @@ void negobs_ground_floor_point(const negobs_camera_t *cam,
     if (cosp <= 0) {
         cosp = 1;
     }
-    fwd = negobs_div_round_s64(((int64_t)z_mm << 30) - np * frame->nz_q30,
-                               cosp);
+    fwd = negobs_div_round_s64(
+        (int64_t)z_mm * ((int64_t)1 << 30) - np * frame->nz_q30, cosp);
     lat = negobs_div_round_s64(frame->ny_q30 * x - frame->nx_q30 * y, cosp);
     if (forward_mm != NULL) {
         *forward_mm = (int32_t)geom_clamp_s64(fwd, -INT32_MAX, INT32_MAX);
