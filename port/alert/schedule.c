@@ -123,10 +123,13 @@ int64_t negobs_motor_exec_tick(negobs_motor_exec_t *ex, uint64_t now_ms)
                 return -1;
             }
             next = s->loop_start;
-            /* Far behind: jump whole loop periods at once. */
-            if (now_ms - ex->seg_end_ms > loop_period_ms(s)) {
+            /* Far behind: jump whole loop periods at once (the period is
+             * > 0, negobs_motor_schedule_check() made sure of it). */
+            {
                 uint64_t p = loop_period_ms(s);
-                ex->seg_end_ms += ((now_ms - ex->seg_end_ms) / p) * p;
+                if (p > 0 && now_ms - ex->seg_end_ms > p) {
+                    ex->seg_end_ms += ((now_ms - ex->seg_end_ms) / p) * p;
+                }
             }
         }
         ex->seg = (uint8_t)next;

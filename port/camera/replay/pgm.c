@@ -67,6 +67,7 @@ negobs_status_t negobs_pgm_read(const char *path, uint8_t *dst, size_t cap,
                                 size_t err_len)
 {
     FILE *f;
+    int magic[2];
     int32_t width;
     int32_t height;
     int32_t maxval;
@@ -81,7 +82,9 @@ negobs_status_t negobs_pgm_read(const char *path, uint8_t *dst, size_t cap,
         set_err(err, err_len, path, strerror(e));
         return e == ENOENT ? NEGOBS_ERR_NODEV : NEGOBS_ERR_IO;
     }
-    if (fgetc(f) != 'P' || fgetc(f) != '5') {
+    magic[0] = fgetc(f);
+    magic[1] = fgetc(f);
+    if (magic[0] != 'P' || magic[1] != '5') {
         set_err(err, err_len, path, "not a binary PGM (P5) file");
         (void)fclose(f);
         return NEGOBS_ERR_CORRUPT;

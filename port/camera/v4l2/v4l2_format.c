@@ -119,7 +119,7 @@ negobs_status_t negobs_v4l2_luma(uint32_t fourcc, uint8_t *base,
             const uint8_t *src = base + (size_t)y * bytesperline + off;
             uint8_t *dst = scratch + (size_t)y * (size_t)width;
             for (x = 0; x < width; x++) {
-                dst[x] = src[2 * x];
+                dst[x] = src[(size_t)2 * (size_t)x];
             }
         }
     }
