@@ -3,6 +3,8 @@
  * rig of the project targets (H = 1.2 m, pitch 20 deg, f = 250 px at
  * 320x240, B = 120 mm), noise sigma 0.25 px unless stated.
  */
+#include <math.h>
+
 #include "cmocka_all.h"
 #include "scene_util.h"
 
@@ -518,6 +520,123 @@ static void test_detect_small_drop_below_threshold_ignored(void **state)
     rig_teardown(&rig);
 }
 
+/* Regression: a smoothed track lagged the walking pitch oscillation and
+ * produced candidates on flat ground. */
+static void test_detect_walking_oscillation_no_candidates(void **state)
+{
+    synth_scene_t s;
+    int i;
+    (void)state;
+    rig_setup(&rig, NULL);
+    for (i = 0; i < 20; i++) {
+        synth_flat(&s, 1.2 + 0.02 * sin(i * 0.9 + 1.0),
+                   20.0 + 1.5 * sin(i * 0.9));
+        s.roll_deg = 2.0 * sin(i * 0.45);
+        s.noise_px = 0.25;
+        s.dropout = 0.1;
+        s.seed = (uint32_t)i + 300u;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        assert_int_equal(rig.res.reasons, 0);
+        assert_int_equal(rig.res.n_candidates, 0);
+    }
+    rig_teardown(&rig);
+}
+
+/* Regression: with an edge inside the fit rows from the first frame, the
+ * plane must not drift onto the lower surface over the frames. */
+static void test_detect_edge_in_fit_rows_does_not_drag_ground(void **state)
+{
+    synth_scene_t s;
+    int i;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.25, 1);
+    s.dropout = 0.1;
+    synth_step(&s, 1.5, -0.1);
+    for (i = 0; i < 6; i++) {
+        const negobs_hazard_t *h;
+        s.seed = (uint32_t)i * 7u + 1u;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        assert_true(abs(rig.res.pose.height_mm - 1200) <= 80);
+        h = rig_nearest(&rig);
+        assert_non_null(h);
+        assert_true(abs(h->range_mm - 1500) <= 150);
+    }
+    rig_teardown(&rig);
+}
+
+static void test_detect_confidence_image_masks_pixels(void **state)
+{
+    static uint8_t conf[RIG_W * RIG_H];
+    negobs_image_u8_t cimg = {conf, RIG_W, RIG_H, RIG_W};
+    synth_scene_t s;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.25, 1);
+    memset(conf, 0, sizeof conf);
+    synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+    rig.frame.disp_q4 = &rig.img;
+    rig.frame.confidence = &cimg;
+    rig.frame.left_stats = &rig.stats;
+    rig.frame.now_ms = 1000;
+    rig.frame.t_left_ms = 990;
+    rig.frame.t_right_ms = 990;
+    /* Confidence 0 everywhere: nothing is usable. */
+    assert_int_equal(negobs_detect_process(&rig.det, &rig.frame, &rig.res),
+                     NEGOBS_OK);
+    assert_true(rig.res.reasons & NEGOBS_DEGRADED_FEW_GROUND);
+    memset(conf, 200, sizeof conf);
+    assert_int_equal(negobs_detect_process(&rig.det, &rig.frame, &rig.res),
+                     NEGOBS_OK);
+    assert_int_equal(rig.res.reasons, 0);
+    /* Wrong-sized confidence is malformed input. */
+    cimg.width = 100;
+    assert_int_equal(negobs_detect_process(&rig.det, &rig.frame, &rig.res),
+                     NEGOBS_ERR_INVAL);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+    rig_teardown(&rig);
+}
+
+static void test_detect_left_image_stats_used(void **state)
+{
+    static uint8_t px[RIG_W * RIG_H];
+    negobs_image_u8_t left = {px, RIG_W, RIG_H, RIG_W};
+    synth_scene_t s;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.25, 1);
+    memset(px, 3, sizeof px); /* black frame */
+    synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+    rig.frame.disp_q4 = &rig.img;
+    rig.frame.left = &left;
+    rig.frame.now_ms = 1000;
+    rig.frame.t_left_ms = 990;
+    rig.frame.t_right_ms = 990;
+    assert_int_equal(negobs_detect_process(&rig.det, &rig.frame, &rig.res),
+                     NEGOBS_OK);
+    assert_true(rig.res.reasons & NEGOBS_DEGRADED_TOO_DARK);
+    assert_true(rig.res.reasons & NEGOBS_DEGRADED_LOW_TEXTURE);
+    assert_int_equal(rig.res.stats.mean, 3);
+    rig_teardown(&rig);
+}
+
+static void test_detect_canny_supports_a_clear_drop(void **state)
+{
+    synth_scene_t s;
+    const negobs_hazard_t *h;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.1, 1);
+    synth_step(&s, 2.0, -0.4);
+    assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+    h = rig_nearest(&rig);
+    assert_non_null(h);
+    assert_true(h->flags & NEGOBS_HAZARD_F_CANNY);
+    assert_true(h->conf_q15 > 16384);
+    assert_true(h->u0 <= h->u1 && h->v0 <= h->v1);
+    rig_teardown(&rig);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -541,6 +660,11 @@ int main(void)
         cmocka_unit_test(test_detect_degraded_pose_and_noise),
         cmocka_unit_test(test_detect_presets),
         cmocka_unit_test(test_detect_small_drop_below_threshold_ignored),
+        cmocka_unit_test(test_detect_walking_oscillation_no_candidates),
+        cmocka_unit_test(test_detect_edge_in_fit_rows_does_not_drag_ground),
+        cmocka_unit_test(test_detect_confidence_image_masks_pixels),
+        cmocka_unit_test(test_detect_left_image_stats_used),
+        cmocka_unit_test(test_detect_canny_supports_a_clear_drop),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
