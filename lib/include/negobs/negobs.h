@@ -7,5 +7,12 @@
 #include "negobs/image.h"
 #include "negobs/boxsum.h"
 #include "negobs/version.h"
+#include "negobs/stereo.h"
+#include "negobs/depth.h"
+#include "negobs/ground.h"
+#include "negobs/detect.h"
+#include "negobs/alert.h"
+#include "negobs/rectify.h"
+#include "negobs/pipeline.h"
 
 #endif /* NEGOBS_NEGOBS_H */

@@ -1,0 +1,119 @@
+/*
+ * The whole per-frame job in one module: stereo pair -> disparity ->
+ * detection -> alert schedule. It owns nothing but one caller workspace
+ * that holds the stage workspaces and the intermediate disparity and
+ * confidence images.
+ *
+ * A runtime calls negobs_pipeline_process() for every frame pair and
+ * negobs_pipeline_tick() whenever no pair arrived in time (its watchdog):
+ * the alert logic then falls to the no-information pattern by itself.
+ */
+#ifndef NEGOBS_PIPELINE_H
+#define NEGOBS_PIPELINE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "negobs/alert.h"
+#include "negobs/detect.h"
+#include "negobs/image.h"
+#include "negobs/status.h"
+#include "negobs/stereo.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Configuration of every stage; keep sizes consistent (see default). */
+typedef struct negobs_pipeline_config {
+    negobs_stereo_config_t stereo;
+    negobs_detect_config_t detect;
+    negobs_alert_config_t alert;
+} negobs_pipeline_config_t;
+
+/** One frame pair with its capture times (ms, caller's monotonic clock). */
+typedef struct negobs_pipeline_frame {
+    const negobs_image_u8_t *left;  /**< NULL: camera lost (no-info)  */
+    const negobs_image_u8_t *right; /**< NULL: camera lost (no-info)  */
+    uint32_t t_left_ms;
+    uint32_t t_right_ms;
+    uint32_t now_ms;     /**< time of this call                       */
+    int32_t battery_low; /**< 1 plays the low-battery pattern         */
+} negobs_pipeline_frame_t;
+
+/** What one frame produced. */
+typedef struct negobs_pipeline_result {
+    negobs_status_t stereo_status;  /**< NEGOBS_OK or why no disparity */
+    negobs_stereo_stats_t stereo;   /**< matcher statistics            */
+    negobs_detect_result_t detect;  /**< state, reasons, hazards       */
+    negobs_motor_cmd_t motor;       /**< what the motor does now/next  */
+} negobs_pipeline_result_t;
+
+/** Context; fields are private. */
+typedef struct negobs_pipeline {
+    negobs_pipeline_config_t cfg;
+    negobs_stereo_t stereo;
+    negobs_detect_t detect;
+    negobs_alert_t alert;
+    negobs_image_s16_t disp_q4;
+    negobs_image_u8_t confidence;
+    uint32_t magic;
+} negobs_pipeline_t;
+
+/**
+ * @brief Defaults of every stage for a width x height frame, with the
+ *        detector's camera size and disparity limit tied to the matcher's.
+ */
+void negobs_pipeline_config_default(negobs_pipeline_config_t *cfg,
+                                    int32_t width, int32_t height);
+
+/**
+ * @brief Exact workspace bytes for cfg (stage workspaces + disparity and
+ *        confidence images).
+ * @return NEGOBS_OK, or the first stage's NEGOBS_ERR_INVAL.
+ */
+negobs_status_t negobs_pipeline_workspace_size(
+    const negobs_pipeline_config_t *cfg, size_t *bytes_out);
+
+/**
+ * @brief Initialise every stage on one 16-byte aligned workspace. The
+ *        config is copied.
+ * @return NEGOBS_OK, NEGOBS_ERR_INVAL (inconsistent sizes or a stage
+ *         config), NEGOBS_ERR_ALIGN, NEGOBS_ERR_NOSPACE.
+ */
+negobs_status_t negobs_pipeline_init(negobs_pipeline_t *ctx,
+                                     const negobs_pipeline_config_t *cfg,
+                                     void *workspace, size_t workspace_bytes);
+
+/**
+ * @brief Run one frame pair. A frame the matcher refuses (NULL image,
+ *        wrong size) is not an error of this call: it becomes a
+ *        no-information verdict (NEGOBS_DEGRADED_BAD_INPUT) so the user
+ *        is told, and stereo_status says why.
+ * @return NEGOBS_OK, NEGOBS_ERR_INVAL (NULL ctx/frame/result),
+ *         NEGOBS_ERR_STATE (not initialised).
+ */
+negobs_status_t negobs_pipeline_process(negobs_pipeline_t *ctx,
+                                        const negobs_pipeline_frame_t *frame,
+                                        negobs_pipeline_result_t *result);
+
+/**
+ * @brief Advance the alert logic without a frame (timer or watchdog).
+ * @return as negobs_alert_update().
+ */
+negobs_status_t negobs_pipeline_tick(negobs_pipeline_t *ctx, uint32_t now_ms,
+                                     negobs_motor_cmd_t *motor);
+
+/** @brief The last disparity image (disp_q4), for overlays and logs. */
+const negobs_image_s16_t *negobs_pipeline_disparity(
+    const negobs_pipeline_t *ctx);
+
+/** @brief The last confidence image (0..255). */
+const negobs_image_u8_t *negobs_pipeline_confidence(
+    const negobs_pipeline_t *ctx);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* NEGOBS_PIPELINE_H */

@@ -1,0 +1,222 @@
+#include "negobs/pipeline.h"
+
+#include <string.h>
+
+#include "arena.h"
+
+#define PIPELINE_MAGIC 0x4E50494Cu /* "NPIL" */
+
+void negobs_pipeline_config_default(negobs_pipeline_config_t *cfg,
+                                    int32_t width, int32_t height)
+{
+    memset(cfg, 0, sizeof *cfg);
+    negobs_stereo_config_default(&cfg->stereo, width, height);
+    negobs_detect_config_default(&cfg->detect, width, height);
+    negobs_alert_config_default(&cfg->alert);
+    cfg->detect.max_disp_q4 = (cfg->stereo.max_disp + 1) * NEGOBS_DISP_ONE;
+}
+
+typedef struct carve_out {
+    void *stereo_ws;
+    size_t stereo_bytes;
+    void *detect_ws;
+    size_t detect_bytes;
+    int16_t *disp;
+    uint8_t *conf;
+} carve_out_t;
+
+/*
+ * The sizes of the stage workspaces come from the stages themselves; the
+ * pipeline only adds the two intermediate images. Same code measures and
+ * carves (see arena.h).
+ */
+static negobs_status_t carve(negobs_arena_t *a,
+                             const negobs_pipeline_config_t *cfg,
+                             carve_out_t *out)
+{
+    negobs_status_t st;
+    size_t npix;
+
+    st = negobs_stereo_workspace_size(&cfg->stereo, &out->stereo_bytes);
+    if (st != NEGOBS_OK) {
+        return st;
+    }
+    st = negobs_detect_workspace_size(&cfg->detect, &out->detect_bytes);
+    if (st != NEGOBS_OK) {
+        return st;
+    }
+    npix = (size_t)cfg->stereo.width * (size_t)cfg->stereo.height;
+    out->stereo_ws = negobs_arena_take(a, out->stereo_bytes);
+    out->detect_ws = negobs_arena_take(a, out->detect_bytes);
+    out->disp = (int16_t *)negobs_arena_take(a, npix * sizeof(int16_t));
+    out->conf = (uint8_t *)negobs_arena_take(a, npix);
+    return negobs_arena_status(a);
+}
+
+static negobs_status_t check_config(const negobs_pipeline_config_t *cfg)
+{
+    if (cfg == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    /* The detector must describe the same frames the matcher produces. */
+    if (cfg->detect.cam.width != cfg->stereo.width ||
+        cfg->detect.cam.height != cfg->stereo.height) {
+        return NEGOBS_ERR_INVAL;
+    }
+    return NEGOBS_OK;
+}
+
+negobs_status_t negobs_pipeline_workspace_size(
+    const negobs_pipeline_config_t *cfg, size_t *bytes_out)
+{
+    negobs_arena_t a;
+    carve_out_t c;
+    negobs_status_t st;
+
+    if (bytes_out == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    st = check_config(cfg);
+    if (st != NEGOBS_OK) {
+        return st;
+    }
+    negobs_arena_init(&a, NULL, 0);
+    st = carve(&a, cfg, &c);
+    if (st != NEGOBS_OK) {
+        return st;
+    }
+    *bytes_out = negobs_arena_used(&a);
+    return NEGOBS_OK;
+}
+
+negobs_status_t negobs_pipeline_init(negobs_pipeline_t *ctx,
+                                     const negobs_pipeline_config_t *cfg,
+                                     void *workspace, size_t workspace_bytes)
+{
+    negobs_arena_t a;
+    carve_out_t c;
+    negobs_status_t st;
+
+    if (ctx == NULL || workspace == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    memset(ctx, 0, sizeof *ctx);
+    st = check_config(cfg);
+    if (st != NEGOBS_OK) {
+        return st;
+    }
+    negobs_arena_init(&a, workspace, workspace_bytes);
+    if (negobs_arena_status(&a) != NEGOBS_OK) {
+        return negobs_arena_status(&a);
+    }
+    st = carve(&a, cfg, &c);
+    if (st != NEGOBS_OK) {
+        return st;
+    }
+    ctx->cfg = *cfg;
+    st = negobs_stereo_init(&ctx->stereo, &ctx->cfg.stereo, c.stereo_ws,
+                            c.stereo_bytes);
+    if (st != NEGOBS_OK) {
+        return st;
+    }
+    st = negobs_detect_init(&ctx->detect, &ctx->cfg.detect, c.detect_ws,
+                            c.detect_bytes);
+    if (st != NEGOBS_OK) {
+        return st;
+    }
+    st = negobs_alert_init(&ctx->alert, &ctx->cfg.alert, NULL, 0);
+    if (st != NEGOBS_OK) {
+        return st;
+    }
+    ctx->disp_q4.data = c.disp;
+    ctx->disp_q4.width = cfg->stereo.width;
+    ctx->disp_q4.height = cfg->stereo.height;
+    ctx->disp_q4.stride = cfg->stereo.width;
+    ctx->confidence.data = c.conf;
+    ctx->confidence.width = cfg->stereo.width;
+    ctx->confidence.height = cfg->stereo.height;
+    ctx->confidence.stride = cfg->stereo.width;
+    ctx->magic = PIPELINE_MAGIC;
+    return NEGOBS_OK;
+}
+
+/*
+ * A frame without a usable disparity map still has to reach the user: the
+ * verdict is "no information" with the reason, never "clear".
+ */
+static void no_info_result(negobs_detect_result_t *res)
+{
+    memset(res, 0, sizeof *res);
+    res->state = NEGOBS_DETECT_NO_INFO;
+    res->reasons = NEGOBS_DEGRADED_BAD_INPUT;
+    res->level = NEGOBS_LEVEL_NONE;
+    res->nearest_range_mm = -1;
+}
+
+negobs_status_t negobs_pipeline_process(negobs_pipeline_t *ctx,
+                                        const negobs_pipeline_frame_t *frame,
+                                        negobs_pipeline_result_t *result)
+{
+    negobs_detect_frame_t df;
+    negobs_alert_input_t in;
+    negobs_status_t st;
+
+    if (ctx == NULL || frame == NULL || result == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (ctx->magic != PIPELINE_MAGIC) {
+        return NEGOBS_ERR_STATE;
+    }
+    memset(result, 0, sizeof *result);
+    if (frame->left == NULL || frame->right == NULL) {
+        st = NEGOBS_ERR_INVAL;
+    } else {
+        st = negobs_stereo_process(&ctx->stereo, frame->left, frame->right,
+                                   &ctx->disp_q4, &ctx->confidence,
+                                   &result->stereo);
+    }
+    result->stereo_status = st;
+    if (st == NEGOBS_OK) {
+        memset(&df, 0, sizeof df);
+        df.disp_q4 = &ctx->disp_q4;
+        df.confidence = &ctx->confidence;
+        df.left = frame->left;
+        df.t_left_ms = frame->t_left_ms;
+        df.t_right_ms = frame->t_right_ms;
+        df.now_ms = frame->now_ms;
+        st = negobs_detect_process(&ctx->detect, &df, &result->detect);
+    }
+    if (st != NEGOBS_OK) {
+        no_info_result(&result->detect);
+    }
+    negobs_alert_input_from_result(&result->detect, frame->battery_low,
+                                   frame->now_ms, &in);
+    return negobs_alert_update(&ctx->alert, frame->now_ms, &in,
+                               &result->motor);
+}
+
+negobs_status_t negobs_pipeline_tick(negobs_pipeline_t *ctx, uint32_t now_ms,
+                                     negobs_motor_cmd_t *motor)
+{
+    if (ctx == NULL || motor == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (ctx->magic != PIPELINE_MAGIC) {
+        return NEGOBS_ERR_STATE;
+    }
+    return negobs_alert_update(&ctx->alert, now_ms, NULL, motor);
+}
+
+const negobs_image_s16_t *negobs_pipeline_disparity(
+    const negobs_pipeline_t *ctx)
+{
+    return (ctx != NULL && ctx->magic == PIPELINE_MAGIC) ? &ctx->disp_q4
+                                                         : NULL;
+}
+
+const negobs_image_u8_t *negobs_pipeline_confidence(
+    const negobs_pipeline_t *ctx)
+{
+    return (ctx != NULL && ctx->magic == PIPELINE_MAGIC) ? &ctx->confidence
+                                                         : NULL;
+}

@@ -1,0 +1,180 @@
+/*
+ * Pipeline glue: exact workspace, consistent stage configs, and the
+ * fail-safe path (a lost camera or a refused frame becomes the
+ * no-information pattern, never silence).
+ */
+#include <stdlib.h>
+#include <string.h>
+
+#include "cmocka_all.h"
+#include "negobs/pipeline.h"
+
+#define W 160
+#define H 120
+
+static uint8_t left_px[W * H];
+static uint8_t right_px[W * H];
+
+static void *aligned_ws(size_t bytes, void **raw)
+{
+    uintptr_t p;
+    *raw = malloc(bytes + 16u);
+    assert_non_null(*raw);
+    p = ((uintptr_t)*raw + 15u) & ~(uintptr_t)15u;
+    return (void *)p;
+}
+
+static void test_pipeline_workspace_is_exact(void **state)
+{
+    negobs_pipeline_config_t cfg;
+    negobs_pipeline_t *ctx = malloc(sizeof *ctx);
+    size_t bytes = 0;
+    void *raw;
+    void *ws;
+    (void)state;
+    assert_non_null(ctx);
+    negobs_pipeline_config_default(&cfg, W, H);
+    assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes), NEGOBS_OK);
+    assert_true(bytes > (size_t)W * H * 3u);
+    ws = aligned_ws(bytes, &raw);
+    assert_int_equal(negobs_pipeline_init(ctx, &cfg, ws, bytes - 1),
+                     NEGOBS_ERR_NOSPACE);
+    assert_int_equal(negobs_pipeline_init(ctx, &cfg, ws, bytes), NEGOBS_OK);
+    assert_int_equal(negobs_pipeline_disparity(ctx)->width, W);
+    assert_int_equal(negobs_pipeline_init(ctx, &cfg, (uint8_t *)ws + 1,
+                                          bytes),
+                     NEGOBS_ERR_ALIGN);
+    free(raw);
+    free(ctx);
+}
+
+static void test_pipeline_rejects_mismatched_stage_sizes(void **state)
+{
+    negobs_pipeline_config_t cfg;
+    size_t bytes;
+    (void)state;
+    negobs_pipeline_config_default(&cfg, W, H);
+    cfg.detect.cam.width = W + 2;
+    assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes),
+                     NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_pipeline_workspace_size(NULL, &bytes),
+                     NEGOBS_ERR_INVAL);
+}
+
+static void test_pipeline_lost_camera_gives_no_info_pattern(void **state)
+{
+    negobs_pipeline_config_t cfg;
+    negobs_pipeline_t *ctx = malloc(sizeof *ctx);
+    negobs_pipeline_result_t res;
+    negobs_pipeline_frame_t fr;
+    negobs_image_u8_t left = {left_px, W, H, W};
+    size_t bytes;
+    void *raw;
+    void *ws;
+    uint32_t t;
+    int saw_no_info = 0;
+    int motor_on = 0;
+    (void)state;
+    assert_non_null(ctx);
+    negobs_pipeline_config_default(&cfg, W, H);
+    assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes), NEGOBS_OK);
+    ws = aligned_ws(bytes, &raw);
+    assert_int_equal(negobs_pipeline_init(ctx, &cfg, ws, bytes), NEGOBS_OK);
+    memset(&fr, 0, sizeof fr);
+    fr.left = &left;
+    fr.right = NULL; /* right camera gone */
+    for (t = 0; t < 3000; t += 100) {
+        fr.t_left_ms = t;
+        fr.t_right_ms = t;
+        fr.now_ms = t;
+        assert_int_equal(negobs_pipeline_process(ctx, &fr, &res), NEGOBS_OK);
+        assert_int_equal(res.stereo_status, NEGOBS_ERR_INVAL);
+        assert_int_equal(res.detect.state, NEGOBS_DETECT_NO_INFO);
+        assert_true(res.detect.reasons & NEGOBS_DEGRADED_BAD_INPUT);
+        if (res.motor.pattern == NEGOBS_PATTERN_NO_INFO ||
+            res.motor.pattern == NEGOBS_PATTERN_NO_INFO_ENTRY) {
+            saw_no_info = 1;
+        }
+        motor_on |= res.motor.on;
+    }
+    assert_true(saw_no_info);
+    assert_true(motor_on); /* the user feels it */
+    free(raw);
+    free(ctx);
+}
+
+static void test_pipeline_flat_grey_frames_are_not_clear(void **state)
+{
+    /* Textureless frames: the matcher finds nothing, the verdict must be
+     * no-information, not "clear". */
+    negobs_pipeline_config_t cfg;
+    negobs_pipeline_t *ctx = malloc(sizeof *ctx);
+    negobs_pipeline_result_t res;
+    negobs_pipeline_frame_t fr;
+    negobs_image_u8_t left = {left_px, W, H, W};
+    negobs_image_u8_t right = {right_px, W, H, W};
+    size_t bytes;
+    void *raw;
+    void *ws;
+    (void)state;
+    assert_non_null(ctx);
+    memset(left_px, 128, sizeof left_px);
+    memset(right_px, 128, sizeof right_px);
+    negobs_pipeline_config_default(&cfg, W, H);
+    assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes), NEGOBS_OK);
+    ws = aligned_ws(bytes, &raw);
+    assert_int_equal(negobs_pipeline_init(ctx, &cfg, ws, bytes), NEGOBS_OK);
+    memset(&fr, 0, sizeof fr);
+    fr.left = &left;
+    fr.right = &right;
+    fr.now_ms = 10;
+    fr.t_left_ms = 10;
+    fr.t_right_ms = 10;
+    assert_int_equal(negobs_pipeline_process(ctx, &fr, &res), NEGOBS_OK);
+    assert_int_not_equal(res.detect.state, NEGOBS_DETECT_CLEAR);
+    assert_int_equal(res.detect.state, NEGOBS_DETECT_NO_INFO);
+    free(raw);
+    free(ctx);
+}
+
+static void test_pipeline_tick_without_frames_falls_to_no_info(void **state)
+{
+    negobs_pipeline_config_t cfg;
+    negobs_pipeline_t *ctx = malloc(sizeof *ctx);
+    negobs_motor_cmd_t cmd;
+    size_t bytes;
+    void *raw;
+    void *ws;
+    uint32_t t;
+    int saw = 0;
+    (void)state;
+    assert_non_null(ctx);
+    negobs_pipeline_config_default(&cfg, W, H);
+    assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes), NEGOBS_OK);
+    ws = aligned_ws(bytes, &raw);
+    memset(ctx, 0, sizeof *ctx); /* never initialised */
+    assert_int_equal(negobs_pipeline_tick(ctx, 0, &cmd), NEGOBS_ERR_STATE);
+    assert_int_equal(negobs_pipeline_init(ctx, &cfg, ws, bytes), NEGOBS_OK);
+    for (t = 0; t <= 2000; t += 50) {
+        assert_int_equal(negobs_pipeline_tick(ctx, t, &cmd), NEGOBS_OK);
+        if (cmd.pattern == NEGOBS_PATTERN_NO_INFO ||
+            cmd.pattern == NEGOBS_PATTERN_NO_INFO_ENTRY) {
+            saw = 1;
+        }
+    }
+    assert_true(saw);
+    free(raw);
+    free(ctx);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_pipeline_workspace_is_exact),
+        cmocka_unit_test(test_pipeline_rejects_mismatched_stage_sizes),
+        cmocka_unit_test(test_pipeline_lost_camera_gives_no_info_pattern),
+        cmocka_unit_test(test_pipeline_flat_grey_frames_are_not_clear),
+        cmocka_unit_test(test_pipeline_tick_without_frames_falls_to_no_info),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
