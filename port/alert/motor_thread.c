@@ -97,8 +97,15 @@ negobs_status_t negobs_motor_thread_start(negobs_motor_thread_t *t,
         (void)pthread_mutex_destroy(&t->lock);
         return NEGOBS_ERR_IO;
     }
-    /* The thread inherits this mask: signals go to the main thread. */
+    /* The thread inherits this mask: asynchronous signals go to the main
+     * thread. Fault signals stay unblocked, so a crash in this thread
+     * still reaches the program's handler (which turns the motor off). */
     (void)sigfillset(&all);
+    (void)sigdelset(&all, SIGSEGV);
+    (void)sigdelset(&all, SIGBUS);
+    (void)sigdelset(&all, SIGFPE);
+    (void)sigdelset(&all, SIGILL);
+    (void)sigdelset(&all, SIGABRT);
     (void)pthread_sigmask(SIG_BLOCK, &all, &old);
     rc = pthread_create(&t->thread, NULL, motor_main, t);
     (void)pthread_sigmask(SIG_SETMASK, &old, NULL);

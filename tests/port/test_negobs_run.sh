@@ -91,6 +91,26 @@ else
 fi
 expect "missing pwm chip" 5 "no PWM chip" --config "$T/pwm.conf" --alert pwm:3:0 replay:"$T/rp"
 
+# A crash while the motor runs: the fault handler must switch it off
+# (sysfs PWM keeps its last duty after the process dies otherwise).
+printf 'replay_loop = true\nfps = 30\n' >>"$T/pwm.conf"
+"$RUN" --config "$T/pwm.conf" --alert pwm:0:1 replay:"$T/dark" >"$T/out" 2>"$T/err" &
+pid=$!
+n=0
+while [ "$(cat "$T/pwm/pwmchip0/pwm1/duty_cycle")" != 50000 ] && [ $n -lt 100 ]; do
+    sleep 0.02; n=$((n + 1))
+done
+was=$(cat "$T/pwm/pwmchip0/pwm1/duty_cycle")
+kill -SEGV $pid
+wait $pid
+rc=$?
+now=$(cat "$T/pwm/pwmchip0/pwm1/duty_cycle")
+if [ "$was" = 50000 ] && [ "$now" = 0 ] && [ $rc -eq 139 ]; then
+    ok "motor off after a crash (SIGSEGV)"
+else
+    echo "     | duty before $was, after $now, exit $rc" >>"$T/err"; bad "motor off after a crash (SIGSEGV)"
+fi
+
 # SIGTERM: clean shutdown with exit 0.
 "$RUN" --fps 30 --alert none --config /dev/null replay:"$T/rp" >"$T/out" 2>"$T/err" &
 pid=$!

@@ -242,8 +242,9 @@ typedef struct negobs_motor_thread {
 
 /**
  * @brief Start the thread. `stale` is played when posts stop for
- *        `watchdog_ms` (0 disables the watchdog). Signals are blocked in
- *        the thread so the main thread receives SIGINT/SIGTERM.
+ *        `watchdog_ms` (0 disables the watchdog). Asynchronous signals
+ *        are blocked in the thread so the main thread receives
+ *        SIGINT/SIGTERM; fault signals (SIGSEGV, SIGABRT, ...) are not.
  * @return NEGOBS_OK, NEGOBS_ERR_INVAL, NEGOBS_ERR_IO (thread not created).
  */
 negobs_status_t negobs_motor_thread_start(negobs_motor_thread_t *t,
