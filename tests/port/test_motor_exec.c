@@ -212,7 +212,9 @@ static void test_thread_watchdog_plays_stale_pattern(void **state)
     int i;
     (void)state;
     memset(&r, 0, sizeof r);
-    assert_int_equal(negobs_motor_thread_start(&t, &out, &st, 60), NEGOBS_OK);
+    /* Generous margins: loaded CI machines stall threads for tens of ms. */
+    assert_int_equal(negobs_motor_thread_start(&t, &out, &st, 150),
+                     NEGOBS_OK);
     /* Fed every 10 ms: the watchdog stays quiet. */
     for (i = 0; i < 10; i++) {
         negobs_motor_thread_post(&t, &q);
@@ -220,7 +222,7 @@ static void test_thread_watchdog_plays_stale_pattern(void **state)
     }
     assert_int_equal(negobs_motor_thread_watchdog_fires(&t), 0);
     /* Starved: it must take over within its period (+ generous slack). */
-    sleep_ms(250);
+    sleep_ms(600);
     assert_int_equal(negobs_motor_thread_watchdog_fires(&t), 1);
     negobs_motor_thread_stop(&t);
     assert_true(r.n >= 3);

@@ -178,7 +178,7 @@ static void test_replay_paces_at_fps(void **state)
     cfg.left = dir;
     cfg.width = 0;
     cfg.height = 0;
-    cfg.fps = 50; /* 20 ms apart: 4 pairs take >= 60 ms */
+    cfg.fps = 10; /* 100 ms apart: 4 pairs take >= 300 ms */
     assert_int_equal(negobs_replay_init(&rp, pix, sizeof pix, &cam),
                      NEGOBS_OK);
     assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_OK);
@@ -188,10 +188,10 @@ static void test_replay_paces_at_fps(void **state)
     assert_int_equal(negobs_camera_get_pair(&cam, &p, 5), NEGOBS_OK);
     assert_int_equal(negobs_camera_get_pair(&cam, &p, 5), NEGOBS_ERR_TIMEOUT);
     for (i = 1; i < 4; i++) {
-        assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+        assert_int_equal(negobs_camera_get_pair(&cam, &p, 200), NEGOBS_OK);
         assert_int_equal(p.left.sequence, (uint32_t)i);
     }
-    assert_true(negobs_clock_now_ms() - t0 >= 59);
+    assert_true(negobs_clock_now_ms() - t0 >= 299);
     negobs_camera_close(&cam);
 }
 
