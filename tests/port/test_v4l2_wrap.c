@@ -55,6 +55,8 @@ typedef struct fake_dev {
 } fake_dev_t;
 
 static fake_dev_t fk[2];
+static int poll_eintr;   /* next polls fail with EINTR */
+static int dqbuf_eintr;  /* next DQBUFs fail with EINTR */
 
 static fake_dev_t *fake_of(int fd)
 {
@@ -210,6 +212,10 @@ static int fake_ioctl(fake_dev_t *d, unsigned long req, void *arg)
     if (req == VIDIOC_DQBUF) {
         struct v4l2_buffer *b = arg;
         uint32_t i;
+        if (dqbuf_eintr > 0) {
+            dqbuf_eintr--;
+            return fake_fail(EINTR);
+        }
         if (d->dqbuf_errno_at >= 0 && d->next >= d->dqbuf_errno_at &&
             d->next < d->arrived) {
             int e = d->dqbuf_errno;
@@ -265,6 +271,11 @@ int __wrap_poll(struct pollfd *fds, nfds_t n, int timeout)
     if (n == 0 || fake_of(fds[0].fd) == NULL) {
         return __real_poll(fds, n, timeout);
     }
+    if (poll_eintr > 0) {
+        poll_eintr--;
+        errno = EINTR;
+        return -1;
+    }
     for (i = 0; i < n; i++) {
         fake_dev_t *d = fake_of(fds[i].fd);
         fds[i].revents = 0;
@@ -312,6 +323,8 @@ static int setup(void **state)
     int i;
     (void)state;
     memset(fk, 0, sizeof fk);
+    poll_eintr = 0;
+    dqbuf_eintr = 0;
     fk[0].path = "/fake/video0";
     fk[1].path = "/fake/video1";
     for (i = 0; i < 2; i++) {
@@ -488,6 +501,25 @@ static void test_v4l2_repeated_timeouts_mark_node_lost(void **state)
     negobs_camera_close(&cam);
 }
 
+static void test_v4l2_signals_give_again_and_ioctls_retry(void **state)
+{
+    static const uint32_t ts[] = {1000, 1033};
+    negobs_frame_pair_t p;
+    (void)state;
+    script(0, ts, 2);
+    script(1, ts, 2);
+    assert_int_equal(open_cam(-1), NEGOBS_OK);
+    /* A signal during the wait: the caller gets AGAIN to check its flags. */
+    poll_eintr = 1;
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_ERR_AGAIN);
+    /* EINTR inside DQBUF is retried silently. */
+    dqbuf_eintr = 3;
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(dqbuf_eintr, 0);
+    assert_int_equal(p.left.ts_ns / 1000000u, 1000);
+    negobs_camera_close(&cam);
+}
+
 static void test_v4l2_exposure_only_when_both_offer_it(void **state)
 {
     (void)state;
@@ -526,6 +558,7 @@ int main(void)
         T(test_v4l2_pairs_by_timestamp_and_counts_drops),
         T(test_v4l2_device_loss_reopens_with_backoff),
         T(test_v4l2_repeated_timeouts_mark_node_lost),
+        T(test_v4l2_signals_give_again_and_ioctls_retry),
         T(test_v4l2_exposure_only_when_both_offer_it),
         T(test_v4l2_too_few_buffers_or_formats_fail_open),
     };
