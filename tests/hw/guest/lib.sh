@@ -21,13 +21,18 @@ hw_vivid_load() {
 # -L left.raw -R right.raw).  Sets HW_INJECT_PID.  The consumer must use the
 # same format and size (default 640x480 GREY; -f YUYV for YUYV).
 hw_inject_start() {
-    v4l2_loop inject -q "$@" /dev/video0 /dev/video1 /dev/video2 /dev/video3 &
+    rm -f /tmp/inject.ready
+    v4l2_loop inject -q -r /tmp/inject.ready "$@" /dev/video0 /dev/video1 /dev/video2 /dev/video3 &
     HW_INJECT_PID=$!
-    # the capture nodes are configured once the injector prints its banner;
-    # give it a moment, then make sure it is still alive
-    sleep 0.5
-    kill -0 $HW_INJECT_PID 2>/dev/null || { echo "injector died"; return 1; }
     export HW_INJECT_PID
+    # the consumer must not start before the injector has configured the
+    # capture nodes and started the output (TCG on a busy host is slow)
+    n=0
+    while [ ! -e /tmp/inject.ready ] && [ $n -lt 300 ]; do
+        kill -0 $HW_INJECT_PID 2>/dev/null || { echo "injector died"; return 1; }
+        sleep 0.1; n=$((n + 1))
+    done
+    [ -e /tmp/inject.ready ] || { echo "injector not ready after 30 s"; hw_inject_stop; return 1; }
 }
 hw_inject_stop() {
     if [ -n "${HW_INJECT_PID:-}" ]; then

@@ -22,13 +22,15 @@
  *       until -t seconds passed.  Frames are generated, or read from raw
  *       files (-L left.raw -R right.raw: concatenated frames of the chosen
  *       format, cycled).  This is the injector for running the real firmware
- *       (negobs_run CAP0 CAP1) against known frames.
+ *       (negobs_run CAP0 CAP1) against known frames.  With -r FILE it
+ *       creates FILE once the consumer may start (capture nodes configured,
+ *       output streaming).
  *   v4l2_loop capture [opts] [-x] [-O DIR] CAP0 CAP1
  *       Stands in for the program under test while `inject` runs: only
  *       S_FMT + mmap streaming on CAP0/CAP1, as negobs_run would do.  Checks
  *       the captured frames against the generated ones (-x: no check, for
- *       frames injected from files) and saves the first -n of each eye as
- *       DIR/left_NNN.raw, DIR/right_NNN.raw with -O.
+ *       frames injected from files) and with -O saves -n frames of each
+ *       eye (distinct ones when checking) as DIR/left_NNN.raw, right_NNN.raw.
  *
  * Options: -W width (640) -H height (480) -f GREY|YUYV (GREY)
  *          -n frames to check per capture node (8) -b buffers (4, >= 3)
@@ -360,7 +362,7 @@ static void usage(void)
 	fprintf(stderr,
 		"usage: v4l2_loop check  [opts] CAP0 CAP1 OUT0 OUT1\n"
 		"       v4l2_loop inject [opts] [-t s] [-L left.raw -R right.raw] "
-		"CAP0 CAP1 OUT0 OUT1\n"
+		"[-r readyfile] CAP0 CAP1 OUT0 OUT1\n"
 		"       v4l2_loop capture [opts] [-x] [-O dir] CAP0 CAP1\n"
 		"opts: -W w -H h -f GREY|YUYV -n frames -b bufs -T poll_ms -q\n");
 	exit(2);
@@ -393,11 +395,13 @@ int main(int argc, char **argv)
 	struct node cap[2], out[2];
 	struct source src;
 	const char *mode, *lf = NULL, *rf = NULL, *savedir = NULL;
+	const char *readyfile = NULL;
 	double seconds = 0, t0;
 	int opt, inject = 0, capture_only = 0, verify = 1;
 	unsigned i, e;
 	uint8_t *expect;
 	unsigned got[2] = {0, 0}, bad = 0, distinct[2] = {0, 0};
+	unsigned saved[2] = {0, 0};
 	uint32_t last[2] = {UINT32_MAX, UINT32_MAX};
 
 	if (argc < 2)
@@ -410,7 +414,7 @@ int main(int argc, char **argv)
 	else if (strcmp(mode, "check") != 0)
 		usage();
 	optind = 2;
-	while ((opt = getopt(argc, argv, "W:H:f:n:b:T:t:L:R:O:xq")) != -1) {
+	while ((opt = getopt(argc, argv, "W:H:f:n:b:T:t:L:R:O:r:xq")) != -1) {
 		switch (opt) {
 		case 'W': g_w = (unsigned)atoi(optarg); break;
 		case 'H': g_h = (unsigned)atoi(optarg); break;
@@ -429,6 +433,7 @@ int main(int argc, char **argv)
 		case 'L': lf = optarg; break;
 		case 'R': rf = optarg; break;
 		case 'O': savedir = optarg; break;
+		case 'r': readyfile = optarg; break;
 		case 'x': verify = 0; break;
 		case 'q': g_quiet = 1; break;
 		default: usage();
@@ -495,6 +500,14 @@ int main(int argc, char **argv)
 		       g_w, g_h, g_fourcc == V4L2_PIX_FMT_GREY ? "GREY" : "YUYV",
 		       lf ? "from files" : "generated", out[0].path,
 		       out[1].path);
+		/* capture nodes configured and frames waiting: a consumer
+		 * may start now */
+		if (readyfile) {
+			FILE *rfp = fopen(readyfile, "w");
+			if (!rfp || fclose(rfp) != 0)
+				DIE("creating %s: %s", readyfile,
+				    strerror(errno));
+		}
 		t0 = now_s();
 		for (;;) {
 			struct pollfd pf[2];
@@ -531,7 +544,12 @@ int main(int argc, char **argv)
 		stream(&cap[e], 1);
 	}
 	t0 = now_s();
-	while (got[0] < g_nframes || got[1] < g_nframes) {
+	/* with -O, go on until -n distinct frames per eye are saved (a busy
+	 * host can hand out the same injected frame several times), within
+	 * 50 x -n frames */
+	while (got[0] < g_nframes || got[1] < g_nframes ||
+	       (savedir && (saved[0] < g_nframes || saved[1] < g_nframes) &&
+		got[0] < 50 * g_nframes && got[1] < 50 * g_nframes)) {
 		struct pollfd pf[4];
 		unsigned nfd = capture_only ? 2 : 4;
 		int r;
@@ -588,8 +606,9 @@ int main(int argc, char **argv)
 					       cap[e].path, b.sequence,
 					       b.bytesused, n, eye,
 					       why ? why : "ok");
-				if (savedir && got[e] < g_nframes)
-					save_frame(savedir, e, got[e], p);
+				if (savedir && !why && saved[e] < g_nframes &&
+				    (!verify || n != last[e]))
+					save_frame(savedir, e, saved[e]++, p);
 				if (why)
 					bad++;
 				else if (verify && n != last[e]) {
