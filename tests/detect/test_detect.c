@@ -86,6 +86,34 @@ static void test_detect_workspace_scales_with_size(void **state)
     assert_true(big < 256u * 1024u);
 }
 
+/* The static upper-bound macro holds over a grid of configs. */
+static void test_detect_workspace_max_macro_is_an_upper_bound(void **state)
+{
+    static const int32_t dims[][2] = {
+        {64, 48}, {160, 120}, {320, 240}, {640, 480}, {1280, 720}};
+    int i;
+    int j;
+    (void)state;
+    for (i = 0; i < 5; i++) {
+        for (j = 0; j < 4; j++) {
+            negobs_detect_config_t cfg;
+            size_t bytes = 0;
+            int32_t md = 16 << j; /* 16 .. 128 px */
+            negobs_detect_config_default(&cfg, dims[i][0], dims[i][1]);
+            cfg.max_disp_q4 = md * 16;
+            cfg.fit_rows_pct = 100;
+            cfg.fit_step_px = 1;
+            cfg.strip_px = 4;
+            cfg.cam_pitch_mdeg = 60000;
+            cfg.cam_pitch_tol_mdeg = 5000;
+            assert_int_equal(negobs_detect_workspace_size(&cfg, &bytes),
+                             NEGOBS_OK);
+            assert_true(bytes <= NEGOBS_DETECT_WORKSPACE_MAX(
+                                     dims[i][0], dims[i][1], md));
+        }
+    }
+}
+
 static void test_detect_bad_input_reports_no_info(void **state)
 {
     negobs_detect_frame_t f;
@@ -642,6 +670,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_detect_workspace_exact_and_nospace),
         cmocka_unit_test(test_detect_workspace_scales_with_size),
+        cmocka_unit_test(test_detect_workspace_max_macro_is_an_upper_bound),
         cmocka_unit_test(test_detect_bad_input_reports_no_info),
         cmocka_unit_test(test_detect_all_invalid_is_no_info),
         cmocka_unit_test(test_detect_flat_ground_pose_and_no_hazard),

@@ -37,6 +37,17 @@ extern "C" {
 #define NEGOBS_DETECT_MAX_TRACKS 8
 #endif
 
+/**
+ * Upper bound of negobs_detect_workspace_size() as a constant expression,
+ * for static buffers: any valid config with this width, height and
+ * max_disp_q4 <= 16 * max_disp_px fits. (Context and tracks < 8 KiB,
+ * v-disparity histogram <= h x (2 max_disp + 2) x 2 bytes, Hough 16 KiB,
+ * strips <= w/4 x 64 bytes, plus arena guards.)
+ */
+#define NEGOBS_DETECT_WORKSPACE_MAX(w, h, max_disp_px)                      \
+    ((size_t)8192u + (size_t)(h) * ((size_t)(max_disp_px) * 2u + 2u) * 2u + \
+     (size_t)16640u + ((size_t)(w) / 4u + 1u) * 64u + (size_t)256u)
+
 /** Why the detector cannot vouch for "no hazard" (bitmask). */
 typedef enum negobs_degraded_reason {
     NEGOBS_DEGRADED_TOO_DARK = 1u << 0,     /**< mean/dark share       */
