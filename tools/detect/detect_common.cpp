@@ -1,0 +1,595 @@
+#include "detect_common.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <fstream>
+#include <sstream>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace negobs_detect_tools {
+
+namespace {
+
+// Value text after "key": in s (number, string, true/false/null, or [..]).
+bool find_value(const std::string &s, const std::string &key, std::string &v)
+{
+    const std::string pat = "\"" + key + "\":";
+    size_t p = s.find(pat);
+    if (p == std::string::npos) {
+        return false;
+    }
+    p += pat.size();
+    while (p < s.size() && s[p] == ' ') {
+        ++p;
+    }
+    if (p >= s.size()) {
+        return false;
+    }
+    size_t e = p;
+    if (s[p] == '"') {
+        e = s.find('"', p + 1);
+        if (e == std::string::npos) {
+            return false;
+        }
+        v = s.substr(p + 1, e - p - 1);
+        return true;
+    }
+    if (s[p] == '[') {
+        e = s.find(']', p);
+        if (e == std::string::npos) {
+            return false;
+        }
+        v = s.substr(p, e - p + 1);
+        return true;
+    }
+    while (e < s.size() && s[e] != ',' && s[e] != '}') {
+        ++e;
+    }
+    v = s.substr(p, e - p);
+    while (!v.empty() && v.back() == ' ') {
+        v.pop_back();
+    }
+    return true;
+}
+
+bool find_num(const std::string &s, const std::string &key, double &out)
+{
+    std::string v;
+    if (!find_value(s, key, v) || v == "null" || v.empty()) {
+        return false;
+    }
+    char *end = nullptr;
+    out = std::strtod(v.c_str(), &end);
+    return end != v.c_str();
+}
+
+std::string fmt(const char *f, double v)
+{
+    char b[64];
+    std::snprintf(b, sizeof b, f, v);
+    return b;
+}
+
+} // namespace
+
+bool read_gt(const std::string &path, GtSeq &gt, std::string &err)
+{
+    std::ifstream in(path);
+    if (!in) {
+        err = "cannot read " + path;
+        return false;
+    }
+    std::string line;
+    bool have_cam = false;
+    while (std::getline(in, line)) {
+        if (line.rfind("\"camera\":", 0) == 0) {
+            double v = 0;
+            if (!find_num(line, "f", gt.cam.f) ||
+                !find_num(line, "B_mm", gt.cam.baseline_mm) ||
+                !find_num(line, "cx", gt.cam.cx) ||
+                !find_num(line, "cy", gt.cam.cy) ||
+                !find_num(line, "H_mm", gt.cam.height_mm) ||
+                !find_num(line, "pitch", gt.cam.pitch_deg) ||
+                !find_num(line, "width", v)) {
+                err = path + ": camera line lacks f/B_mm/cx/cy/H_mm/pitch/width";
+                return false;
+            }
+            gt.width = static_cast<int>(v);
+            if (!find_num(line, "height", v)) {
+                err = path + ": camera line lacks height";
+                return false;
+            }
+            gt.height = static_cast<int>(v);
+            find_num(line, "right_row_shift", gt.right_row_shift);
+            have_cam = true;
+        } else if (line.rfind("\"scene\":", 0) == 0) {
+            std::string v;
+            if (find_value(line, "hazard", v)) {
+                gt.hazard = v;
+            }
+            if (find_value(line, "negative", v)) {
+                gt.negative = (v == "true");
+            }
+        } else if (line.rfind("\"render\":", 0) == 0) {
+            find_num(line, "fps", gt.fps);
+        } else if (line.rfind("{\"i\":", 0) == 0) {
+            GtFrame fr;
+            double v = 0;
+            std::string s;
+            if (!find_num(line, "i", v) || !find_value(line, "left", fr.left) ||
+                !find_value(line, "right", fr.right)) {
+                err = path + ": frame line lacks i/left/right";
+                return false;
+            }
+            fr.i = static_cast<int>(v);
+            find_value(line, "hazard", fr.hazard);
+            fr.has_range = find_num(line, "edge_range_mm", fr.edge_range_mm);
+            find_num(line, "drop_mm", fr.drop_mm);
+            fr.edge_visible = find_value(line, "edge_visible", s) && s == "true";
+            if (find_value(line, "edge_box", s) && s.size() > 2 && s[0] == '[') {
+                fr.has_box = std::sscanf(s.c_str(), "[%lf, %lf, %lf, %lf]",
+                                         &fr.box[0], &fr.box[1], &fr.box[2],
+                                         &fr.box[3]) == 4;
+            }
+            gt.frames.push_back(fr);
+        }
+    }
+    if (!have_cam) {
+        err = path + ": no \"camera\" line (not a negobs_synth gt.json?)";
+        return false;
+    }
+    return true;
+}
+
+bool load_grey(const std::string &path, cv::Mat &grey, std::string &err)
+{
+    cv::Mat m = cv::imread(path, cv::IMREAD_UNCHANGED);
+    if (m.empty()) {
+        err = "cannot read image " + path;
+        return false;
+    }
+    if (m.depth() == CV_16U) {
+        m.convertTo(m, CV_8U, 1.0 / 257.0);
+    }
+    if (m.channels() == 3) {
+        cv::cvtColor(m, grey, cv::COLOR_BGR2GRAY);
+    } else if (m.channels() == 4) {
+        cv::cvtColor(m, grey, cv::COLOR_BGRA2GRAY);
+    } else {
+        grey = m;
+    }
+    if (grey.type() != CV_8UC1) {
+        err = "unsupported image format " + path;
+        return false;
+    }
+    if (!grey.isContinuous()) {
+        grey = grey.clone();
+    }
+    return true;
+}
+
+double thread_cpu_ms()
+{
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) * 1e3 +
+           static_cast<double>(ts.tv_nsec) * 1e-6;
+}
+
+Runner::Runner() = default;
+
+Runner::~Runner()
+{
+    std::free(ws_);
+}
+
+bool Runner::init(int width, int height, const CamParams &cam,
+                  std::string &err, bool whole)
+{
+    whole_ = whole;
+    negobs_pipeline_config_default(&cfg_, width, height);
+    const double cx = cam.cx >= 0 ? cam.cx : (width - 1) / 2.0;
+    const double cy = cam.cy >= 0 ? cam.cy : (height - 1) / 2.0;
+    cfg_.detect.cam.focal_q4 = static_cast<int32_t>(std::lround(cam.f * 16));
+    cfg_.detect.cam.cx_q4 = static_cast<int32_t>(std::lround(cx * 16));
+    cfg_.detect.cam.cy_q4 = static_cast<int32_t>(std::lround(cy * 16));
+    cfg_.detect.cam.baseline_um =
+        static_cast<int32_t>(std::lround(cam.baseline_mm * 1000));
+    cfg_.detect.cam_height_mm = static_cast<int32_t>(std::lround(cam.height_mm));
+    cfg_.detect.cam_pitch_mdeg =
+        static_cast<int32_t>(std::lround(cam.pitch_deg * 1000));
+    if (cam.max_disp > 0) {
+        cfg_.stereo.max_disp = cam.max_disp;
+        cfg_.detect.max_disp_q4 = (cam.max_disp + 1) * NEGOBS_DISP_ONE;
+    }
+    if (cam.vshift_set) {
+        cfg_.stereo.vertical_search = 0;
+        cfg_.stereo.vertical_offset = cam.vshift;
+    }
+    size_t bytes = 0;
+    negobs_status_t st = negobs_pipeline_workspace_size(&cfg_, &bytes);
+    if (st != NEGOBS_OK) {
+        err = std::string("pipeline config rejected: ") + negobs_status_str(st);
+        return false;
+    }
+    std::free(ws_);
+    ws_ = std::aligned_alloc(16, (bytes + 15) / 16 * 16);
+    if (ws_ == nullptr) {
+        err = "out of memory";
+        return false;
+    }
+    st = negobs_pipeline_init(&ctx_, &cfg_, ws_, bytes);
+    if (st != NEGOBS_OK) {
+        err = std::string("negobs_pipeline_init: ") + negobs_status_str(st);
+        return false;
+    }
+    ready_ = true;
+    return true;
+}
+
+bool Runner::process(const cv::Mat &left, const cv::Mat &right, uint32_t t_ms,
+                     FrameOut &out, std::string &err)
+{
+    if (!ready_) {
+        err = "pipeline not initialised";
+        return false;
+    }
+    negobs_image_u8_t l{}, r{};
+    l.data = const_cast<uint8_t *>(left.ptr<uint8_t>(0));
+    l.width = left.cols;
+    l.height = left.rows;
+    l.stride = static_cast<int32_t>(left.step1());
+    r.data = const_cast<uint8_t *>(right.ptr<uint8_t>(0));
+    r.width = right.cols;
+    r.height = right.rows;
+    r.stride = static_cast<int32_t>(right.step1());
+    negobs_pipeline_frame_t fr{};
+    fr.left = &l;
+    fr.right = &r;
+    fr.t_left_ms = t_ms;
+    fr.t_right_ms = t_ms;
+    fr.now_ms = t_ms;
+    out = FrameOut{};
+    negobs_pipeline_result_t *res = &out.res;
+    negobs_status_t st;
+    const double t0 = thread_cpu_ms();
+    if (whole_) {
+        st = negobs_pipeline_process(&ctx_, &fr, res);
+        out.total_ms = thread_cpu_ms() - t0;
+    } else {
+        // Same steps as negobs_pipeline_process, on its own stage contexts.
+        std::memset(res, 0, sizeof *res);
+        st = negobs_stereo_process(&ctx_.stereo, &l, &r, &ctx_.disp_q4,
+                                   &ctx_.confidence, &res->stereo);
+        res->stereo_status = st;
+        const double t1 = thread_cpu_ms();
+        out.stereo_ms = t1 - t0;
+        if (st == NEGOBS_OK) {
+            negobs_detect_frame_t df{};
+            df.disp_q4 = &ctx_.disp_q4;
+            df.confidence = &ctx_.confidence;
+            df.left = &l;
+            df.t_left_ms = t_ms;
+            df.t_right_ms = t_ms;
+            df.now_ms = t_ms;
+            st = negobs_detect_process(&ctx_.detect, &df, &res->detect);
+        }
+        const double t2 = thread_cpu_ms();
+        out.detect_ms = t2 - t1;
+        if (st != NEGOBS_OK) {
+            std::memset(&res->detect, 0, sizeof res->detect);
+            res->detect.state = NEGOBS_DETECT_NO_INFO;
+            res->detect.reasons = NEGOBS_DEGRADED_BAD_INPUT;
+            res->detect.nearest_range_mm = -1;
+        }
+        negobs_alert_input_t in{};
+        negobs_alert_input_from_result(&res->detect, 0, t_ms, &in);
+        st = negobs_alert_update(&ctx_.alert, t_ms, &in, &res->motor);
+        out.total_ms = thread_cpu_ms() - t0;
+    }
+    if (st != NEGOBS_OK) {
+        err = std::string("pipeline: ") + negobs_status_str(st);
+        return false;
+    }
+    return true;
+}
+
+cv::Mat Runner::disparity() const
+{
+    const negobs_image_s16_t *d = negobs_pipeline_disparity(&ctx_);
+    if (d == nullptr) {
+        return cv::Mat();
+    }
+    return cv::Mat(d->height, d->width, CV_16SC1, d->data,
+                   static_cast<size_t>(d->stride) * sizeof(int16_t));
+}
+
+const char *state_name(int s)
+{
+    switch (s) {
+    case NEGOBS_DETECT_CLEAR: return "CLEAR";
+    case NEGOBS_DETECT_HAZARD: return "HAZARD";
+    case NEGOBS_DETECT_NO_INFO: return "NO_INFO";
+    default: return "?";
+    }
+}
+
+const char *level_name(int l)
+{
+    switch (l) {
+    case NEGOBS_LEVEL_NONE: return "NONE";
+    case NEGOBS_LEVEL_CAUTION: return "CAUTION";
+    case NEGOBS_LEVEL_IMMINENT: return "IMMINENT";
+    default: return "?";
+    }
+}
+
+const char *pattern_name(int p)
+{
+    static const char *const names[] = {
+        "NONE", "READY", "LOW_BATTERY", "NO_INFO_ENTRY", "NO_INFO",
+        "CAUTION_FAR", "CAUTION_MID", "CAUTION_NEAR", "IMMINENT"};
+    return (p >= 0 && p < NEGOBS_PATTERN_COUNT) ? names[p] : "?";
+}
+
+const char *type_name(int t)
+{
+    switch (t) {
+    case NEGOBS_HAZARD_UNKNOWN: return "UNKNOWN";
+    case NEGOBS_HAZARD_DROP: return "DROP";
+    case NEGOBS_HAZARD_STAIRS: return "STAIRS";
+    case NEGOBS_HAZARD_HOLE: return "HOLE";
+    default: return "?";
+    }
+}
+
+std::string reasons_string(uint32_t reasons, const char *sep)
+{
+    static const char *const names[] = {
+        "TOO_DARK", "SATURATED", "LOW_TEXTURE", "FEW_GROUND",
+        "GROUND_REJECTED", "STALE", "UNSYNCED", "NOISY", "BAD_INPUT"};
+    std::string s;
+    for (unsigned b = 0; b < 9; ++b) {
+        if (reasons & (1u << b)) {
+            if (!s.empty()) {
+                s += sep;
+            }
+            s += names[b];
+        }
+    }
+    return s;
+}
+
+std::string flags_string(uint32_t flags, const char *sep)
+{
+    static const char *const names[] = {"CONFIRMED", "HELD", "H_LOWER", "CANNY"};
+    std::string s;
+    for (unsigned b = 0; b < 4; ++b) {
+        if (flags & (1u << b)) {
+            if (!s.empty()) {
+                s += sep;
+            }
+            s += names[b];
+        }
+    }
+    return s;
+}
+
+namespace {
+
+std::string quoted_list(const std::string &joined)
+{
+    // joined uses "," as separator
+    std::string out = "[";
+    std::stringstream ss(joined);
+    std::string item;
+    bool first = true;
+    while (std::getline(ss, item, ',')) {
+        if (item.empty()) {
+            continue;
+        }
+        out += first ? "\"" : ",\"";
+        out += item + "\"";
+        first = false;
+    }
+    return out + "]";
+}
+
+std::string hazard_json(const negobs_hazard_t &h)
+{
+    std::ostringstream o;
+    o << "{\"type\":\"" << type_name(h.type) << "\",\"level\":\""
+      << level_name(h.level) << "\",\"track\":" << h.track_id
+      << ",\"range_mm\":" << h.range_mm << ",\"lateral_mm\":" << h.lateral_mm
+      << ",\"bearing_deg\":" << fmt("%.1f", h.bearing_mdeg / 1000.0)
+      << ",\"drop_mm\":" << h.drop_mm << ",\"box\":[" << h.u0 << "," << h.v0
+      << "," << h.u1 << "," << h.v1 << "],\"confidence\":"
+      << fmt("%.3f", h.conf_q15 / 32767.0) << ",\"strips\":" << h.strips
+      << ",\"flags\":" << quoted_list(flags_string(h.flags, ",")) << "}";
+    return o.str();
+}
+
+} // namespace
+
+std::string json_line(int frame, const std::string &name, const FrameOut &o,
+                      const GtFrame *gt, int width, int height)
+{
+    const negobs_detect_result_t &d = o.res.detect;
+    std::ostringstream s;
+    s << "{\"frame\":" << frame << ",\"file\":\"" << name
+      << "\",\"stereo_status\":\""
+      << negobs_status_str(static_cast<negobs_status_t>(o.res.stereo_status))
+      << "\",\"state\":\"" << state_name(d.state)
+      << "\",\"reasons\":" << quoted_list(reasons_string(d.reasons, ","))
+      << ",\"level\":\"" << level_name(d.level)
+      << "\",\"nearest_range_mm\":" << d.nearest_range_mm
+      << ",\"pattern\":\"" << pattern_name(o.res.motor.pattern)
+      << "\",\"motor_on\":" << o.res.motor.on
+      << ",\"duty_permille\":" << o.res.motor.duty_permille
+      << ",\"hazards\":[";
+    for (uint32_t k = 0; k < d.n_hazards && k < NEGOBS_DETECT_MAX_HAZARDS; ++k) {
+        s << (k ? "," : "") << hazard_json(d.hazards[k]);
+    }
+    s << "],\"candidates\":[";
+    for (uint32_t k = 0; k < d.n_candidates && k < NEGOBS_DETECT_MAX_HAZARDS;
+         ++k) {
+        s << (k ? "," : "") << hazard_json(d.candidates[k]);
+    }
+    const double npix = static_cast<double>(width) * height;
+    s << "],\"stereo\":{\"valid\":" << o.res.stereo.valid << ",\"valid_pct\":"
+      << fmt("%.1f", npix > 0 ? 100.0 * o.res.stereo.valid / npix : 0.0)
+      << ",\"seeds\":" << o.res.stereo.seeds << ",\"range\":["
+      << o.res.stereo.range_min << "," << o.res.stereo.range_max
+      << "],\"vertical_offset\":" << o.res.stereo.vertical_offset
+      << "},\"ground\":{\"valid\":" << d.ground_valid
+      << ",\"valid_permille\":" << d.ground_valid_permille
+      << ",\"inliers\":" << d.ground_inliers << ",\"sigma_px\":"
+      << fmt("%.3f", d.sigma_q4 / 16.0) << ",\"height_mm\":"
+      << d.pose.height_mm << ",\"pitch_deg\":"
+      << fmt("%.2f", d.pose.pitch_mdeg / 1000.0) << "},\"ms\":{";
+    if (o.stereo_ms >= 0) {
+        s << "\"stereo\":" << fmt("%.2f", o.stereo_ms)
+          << ",\"detect\":" << fmt("%.2f", o.detect_ms) << ",";
+    }
+    s << "\"total\":" << fmt("%.2f", o.total_ms) << "}";
+    if (gt != nullptr) {
+        s << ",\"gt\":{\"hazard\":\"" << gt->hazard << "\",\"edge_range_mm\":";
+        if (gt->has_range) {
+            s << fmt("%.0f", gt->edge_range_mm);
+        } else {
+            s << "null";
+        }
+        s << ",\"drop_mm\":" << fmt("%.0f", gt->drop_mm)
+          << ",\"edge_visible\":" << (gt->edge_visible ? "true" : "false")
+          << "}";
+    }
+    s << "}";
+    return s.str();
+}
+
+cv::Mat colour_disparity(const cv::Mat &disp_q4, int max_disp)
+{
+    cv::Mat grey(disp_q4.size(), CV_8UC1);
+    cv::Mat mask(disp_q4.size(), CV_8UC1);
+    const double scale = 255.0 / (16.0 * std::max(1, max_disp));
+    for (int y = 0; y < disp_q4.rows; ++y) {
+        const int16_t *d = disp_q4.ptr<int16_t>(y);
+        uint8_t *g = grey.ptr<uint8_t>(y);
+        uint8_t *m = mask.ptr<uint8_t>(y);
+        for (int x = 0; x < disp_q4.cols; ++x) {
+            if (d[x] == NEGOBS_DISP_INVALID || d[x] < 0) {
+                g[x] = 0;
+                m[x] = 0;
+            } else {
+                g[x] = cv::saturate_cast<uint8_t>(d[x] * scale);
+                m[x] = 255;
+            }
+        }
+    }
+    cv::Mat col;
+    cv::applyColorMap(grey, col, cv::COLORMAP_JET);
+    cv::Mat out(disp_q4.size(), CV_8UC3, cv::Scalar(0, 0, 0));
+    col.copyTo(out, mask);
+    return out;
+}
+
+cv::Mat overlay(const cv::Mat &left, const cv::Mat &disp_q4, int max_disp,
+                int frame, const FrameOut &o, const GtFrame *gt,
+                const std::vector<cv::Rect> &labels)
+{
+    // Small frames are drawn at 2x so labels stay legible.
+    const int k = left.cols < 480 ? 2 : 1;
+    cv::Mat l3;
+    cv::cvtColor(left, l3, cv::COLOR_GRAY2BGR);
+    // Scale to the range the matcher actually searched, else everything
+    // near the ground is one colour.
+    const int dmax = o.res.stereo.range_max >= 8 ? std::min(max_disp, o.res.stereo.range_max)
+                                                 : max_disp;
+    cv::Mat dc = colour_disparity(disp_q4, dmax);
+    if (k != 1) {
+        cv::resize(l3, l3, cv::Size(), k, k, cv::INTER_NEAREST);
+        cv::resize(dc, dc, cv::Size(), k, k, cv::INTER_NEAREST);
+    }
+    const double fs = 0.45;
+    const int font = cv::FONT_HERSHEY_SIMPLEX;
+    for (const cv::Rect &r : labels) {
+        cv::rectangle(l3, cv::Rect(r.x * k, r.y * k, r.width * k, r.height * k),
+                      cv::Scalar(255, 255, 0), 1);
+    }
+    if (gt != nullptr && gt->has_box) {
+        cv::line(l3, cv::Point(static_cast<int>(gt->box[0] * k),
+                               static_cast<int>((gt->box[1] + 0.5) * k)),
+                 cv::Point(static_cast<int>(gt->box[2] * k),
+                           static_cast<int>((gt->box[3] + 0.5) * k)),
+                 cv::Scalar(0, 200, 0), 1);
+    }
+    const negobs_detect_result_t &d = o.res.detect;
+    for (uint32_t i = 0; i < d.n_candidates && i < NEGOBS_DETECT_MAX_HAZARDS; ++i) {
+        const negobs_hazard_t &h = d.candidates[i];
+        cv::rectangle(l3, cv::Point(h.u0 * k, h.v0 * k),
+                      cv::Point(h.u1 * k + k - 1, h.v1 * k + k - 1),
+                      cv::Scalar(0, 220, 255), 1);
+    }
+    for (uint32_t i = 0; i < d.n_hazards && i < NEGOBS_DETECT_MAX_HAZARDS; ++i) {
+        const negobs_hazard_t &h = d.hazards[i];
+        const cv::Scalar c = h.level == NEGOBS_LEVEL_IMMINENT
+                                 ? cv::Scalar(0, 0, 255)
+                                 : cv::Scalar(0, 128, 255);
+        cv::rectangle(l3, cv::Point(h.u0 * k, h.v0 * k),
+                      cv::Point(h.u1 * k + k - 1, h.v1 * k + k - 1), c, 2);
+        char txt[96];
+        std::snprintf(txt, sizeof txt, "%s %.2fm %dcm%s", type_name(h.type),
+                      h.range_mm / 1000.0, (h.drop_mm + 5) / 10,
+                      (h.flags & NEGOBS_HAZARD_F_HELD) ? " held" : "");
+        int base = 0;
+        cv::Size ts = cv::getTextSize(txt, font, fs, 1, &base);
+        int ty = h.v0 * k - 4;
+        if (ty - ts.height < 0) {
+            ty = h.v1 * k + ts.height + 4;
+        }
+        const int tx = std::max(0, std::min(h.u0 * k, l3.cols - ts.width));
+        cv::rectangle(l3, cv::Point(tx, ty - ts.height - 2),
+                      cv::Point(tx + ts.width, ty + 2), cv::Scalar(0, 0, 0),
+                      cv::FILLED);
+        cv::putText(l3, txt, cv::Point(tx, ty), font, fs, c, 1, cv::LINE_AA);
+    }
+    cv::Mat top;
+    cv::hconcat(l3, dc, top);
+    const int bar_h = 40;
+    cv::Mat bar(bar_h, top.cols, CV_8UC3, cv::Scalar(40, 40, 40));
+    cv::Scalar sc = d.state == NEGOBS_DETECT_HAZARD
+                        ? cv::Scalar(0, 128, 255)
+                        : d.state == NEGOBS_DETECT_NO_INFO
+                              ? cv::Scalar(200, 200, 200)
+                              : cv::Scalar(0, 220, 0);
+    char l1[256], l2[256];
+    std::string rs = reasons_string(d.reasons, "|");
+    std::snprintf(l1, sizeof l1, "#%d %s  level %s  pattern %s  motor %s%s%s",
+                  frame, state_name(d.state), level_name(d.level),
+                  pattern_name(o.res.motor.pattern),
+                  o.res.motor.on ? "ON" : "off", rs.empty() ? "" : "  reasons ",
+                  rs.c_str());
+    std::string gts;
+    if (gt != nullptr && gt->has_range) {
+        gts = "  GT " + gt->hazard + " " + fmt("%.2fm", gt->edge_range_mm / 1000) +
+              " drop " + fmt("%.0fmm", gt->drop_mm);
+    }
+    std::snprintf(l2, sizeof l2,
+                  "valid %.0f%%  seeds %u  sigma %.2fpx  stereo %.1fms detect %.1fms%s",
+                  100.0 * o.res.stereo.valid / std::max(1, left.cols * left.rows),
+                  o.res.stereo.seeds, d.sigma_q4 / 16.0, o.stereo_ms,
+                  o.detect_ms, gts.c_str());
+    cv::putText(bar, l1, cv::Point(6, 16), font, fs, sc, 1, cv::LINE_AA);
+    cv::putText(bar, l2, cv::Point(6, 34), font, fs, cv::Scalar(220, 220, 220),
+                1, cv::LINE_AA);
+    cv::Mat out;
+    cv::vconcat(top, bar, out);
+    return out;
+}
+
+} // namespace negobs_detect_tools

@@ -1,0 +1,131 @@
+// Shared plumbing of the detection host tools (negobs_png,
+// negobs_detect_eval): camera parameters, negobs_synth's gt.json, the
+// pipeline run with per-stage timing, JSON lines and overlay pictures.
+#ifndef NEGOBS_TOOLS_DETECT_COMMON_HPP
+#define NEGOBS_TOOLS_DETECT_COMMON_HPP
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+extern "C" {
+#include "negobs/negobs.h"
+}
+
+namespace negobs_detect_tools {
+
+// Rig description. NaN principal point = image centre ((w-1)/2, (h-1)/2).
+struct CamParams {
+    double f = 250.0;       // px
+    double baseline_mm = 120.0;
+    double cx = -1.0;       // < 0: centre
+    double cy = -1.0;
+    double height_mm = 1200.0;
+    double pitch_deg = 20.0;
+    int max_disp = -1;      // < 0: library default
+    bool vshift_set = false; // false: the matcher estimates it
+    int vshift = 0;          // rows: left y matches right y + vshift
+};
+
+// One frame of negobs_synth's gt.json (docs/SYNTH.md).
+struct GtFrame {
+    int i = 0;
+    std::string left, right;
+    std::string hazard;
+    bool has_range = false;
+    double edge_range_mm = 0.0;
+    double drop_mm = 0.0;
+    bool edge_visible = false;
+    bool has_box = false;
+    double box[4] = {0, 0, 0, 0};
+};
+
+struct GtSeq {
+    CamParams cam;
+    int width = 0, height = 0;
+    double right_row_shift = 0.0;
+    std::string hazard;
+    bool negative = false;
+    double fps = 10.0;
+    std::vector<GtFrame> frames;
+};
+
+// Reads gt.json (one JSON object per line for frames, as written by
+// negobs_synth). Returns false with err on unreadable/malformed files.
+bool read_gt(const std::string &path, GtSeq &gt, std::string &err);
+
+// Reads an 8-bit grey image (colour converted). false + err if unreadable.
+bool load_grey(const std::string &path, cv::Mat &grey, std::string &err);
+
+// Thread CPU time in ms (robust against other load on the machine).
+double thread_cpu_ms();
+
+// One frame's outcome.
+struct FrameOut {
+    negobs_pipeline_result_t res{};
+    double stereo_ms = -1.0; // < 0: not measured separately (--whole)
+    double detect_ms = -1.0;
+    double total_ms = 0.0;
+};
+
+// Owns a pipeline context and its aligned workspace.
+class Runner {
+public:
+    Runner();
+    ~Runner();
+    Runner(const Runner &) = delete;
+    Runner &operator=(const Runner &) = delete;
+
+    // Configures the pipeline for width x height and cam. tweak (optional)
+    // may edit the config before init. false + err on failure.
+    bool init(int width, int height, const CamParams &cam, std::string &err,
+              bool whole = false);
+
+    // Runs one pair captured at t_ms. Stage timings: the tool calls
+    // negobs_stereo_process and negobs_detect_process on the pipeline's
+    // own stage contexts and images in the same order as
+    // negobs_pipeline_process (lib/src/pipeline/pipeline.c), so both
+    // stages are timed on exactly the data the pipeline uses. With
+    // whole = true negobs_pipeline_process itself is called.
+    bool process(const cv::Mat &left, const cv::Mat &right, uint32_t t_ms,
+                 FrameOut &out, std::string &err);
+
+    // Last disparity (CV_16S, disp*16, INT16_MIN invalid), a view.
+    cv::Mat disparity() const;
+    const negobs_pipeline_config_t &config() const { return cfg_; }
+
+private:
+    negobs_pipeline_config_t cfg_{};
+    negobs_pipeline_t ctx_{};
+    void *ws_ = nullptr;
+    bool whole_ = false;
+    bool ready_ = false;
+};
+
+// Names.
+const char *state_name(int state);
+const char *level_name(int level);
+const char *pattern_name(int pattern);
+const char *type_name(int type);
+std::string reasons_string(uint32_t reasons, const char *sep);
+std::string flags_string(uint32_t flags, const char *sep);
+
+// JSON line of one frame (no newline). gt may be null; name = file.
+std::string json_line(int frame, const std::string &name, const FrameOut &o,
+                      const GtFrame *gt, int width, int height);
+
+// Colour disparity (jet, invalid black) scaled to max_disp px.
+cv::Mat colour_disparity(const cv::Mat &disp_q4, int max_disp);
+
+// Left image with hazards and candidates, colour disparity beside it and a
+// status bar below. gt (optional) draws the ground-truth edge box.
+cv::Mat overlay(const cv::Mat &left, const cv::Mat &disp_q4, int max_disp,
+                int frame, const FrameOut &o, const GtFrame *gt,
+                const std::vector<cv::Rect> &labels = {});
+
+} // namespace negobs_detect_tools
+
+#endif

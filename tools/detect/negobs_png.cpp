@@ -1,0 +1,385 @@
+// negobs_png: the full negobs pipeline (stereo -> detect -> alert) on one
+// PNG pair or on a sequence folder (negobs_synth output or any folder of
+// left_NNNN.png/right_NNNN.png), with overlay pictures and one JSON line
+// per frame.
+//
+// Exit codes: 0 ok, 1 data error (unreadable file, size mismatch, pipeline
+// refused the config), 2 bad command line.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "detect_common.hpp"
+
+namespace fs = std::filesystem;
+using namespace negobs_detect_tools;
+
+namespace {
+
+void usage(FILE *f)
+{
+    std::fprintf(
+        f,
+        "usage: negobs_png LEFT RIGHT --out DIR [options]\n"
+        "       negobs_png --seq DIR --out OUTDIR [options]\n"
+        "Runs the whole negobs pipeline and writes OUTDIR/overlay_NNNN.png and\n"
+        "one JSON line per frame (stdout, or --json FILE).\n"
+        "Camera: read from DIR/gt.json when present (negobs_synth), else:\n"
+        "  --f PX            focal length (250 at 320 px width, scaled)\n"
+        "  --baseline-mm B   baseline (120)\n"
+        "  --cx PX --cy PX   principal point (image centre)\n"
+        "  --height-mm H     camera height above ground (1200)\n"
+        "  --pitch-deg P     camera pitch down (20)\n"
+        "  --max-disp D      largest disparity searched (library default 63)\n"
+        "  --vshift ROWS     left row y matches right row y+ROWS (default:\n"
+        "                    the matcher estimates it)\n"
+        "Options given on the command line override gt.json.\n"
+        "  --fps F           frame rate for timestamps (10, or gt.json's)\n"
+        "  --repeat N        single pair: feed it N times (confirmation needs\n"
+        "                    3 of 5 frames) (1)\n"
+        "  --first N --count N  sequence: frame subset\n"
+        "  --json FILE       JSON lines to FILE instead of stdout\n"
+        "  --no-overlay      do not write pictures\n"
+        "  --whole           call negobs_pipeline_process itself (no per-stage\n"
+        "                    timing)\n"
+        "  --summary         one summary line at the end (stdout)\n"
+        "  --quiet           no JSON lines on stdout\n"
+        "Exit: 0 ok, 1 data error, 2 bad command line.\n");
+}
+
+bool parse_double(const char *s, double &v)
+{
+    char *end = nullptr;
+    v = std::strtod(s, &end);
+    return end != s && *end == '\0' && std::isfinite(v);
+}
+
+bool parse_int(const char *s, int &v)
+{
+    char *end = nullptr;
+    long x = std::strtol(s, &end, 10);
+    if (end == s || *end != '\0' || x < -1000000 || x > 1000000) {
+        return false;
+    }
+    v = static_cast<int>(x);
+    return true;
+}
+
+int bad(const std::string &msg)
+{
+    std::fprintf(stderr, "negobs_png: error: %s\n", msg.c_str());
+    std::fprintf(stderr, "try 'negobs_png --help'\n");
+    return 2;
+}
+
+int fail(const std::string &msg)
+{
+    std::fprintf(stderr, "negobs_png: error: %s\n", msg.c_str());
+    return 1;
+}
+
+struct Item {
+    std::string left, right, name;
+    const GtFrame *gt = nullptr;
+};
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+    std::string seq, out, json_path;
+    std::vector<std::string> pos;
+    double f = -1, B = -1, cx = -1, cy = -1, H = -1, pitch = -1e9, fps = -1;
+    int max_disp = -1, vshift = 0, repeat = 1, first = 0, count = -1;
+    bool vshift_set = false, overlay_on = true, summary = false, quiet = false,
+         whole = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto need = [&](const char *what) -> const char * {
+            if (i + 1 >= argc) {
+                return nullptr;
+            }
+            (void)what;
+            return argv[++i];
+        };
+        const bool takes_value =
+            a == "--seq" || a == "--out" || a == "--json" || a == "--f" ||
+            a == "--baseline-mm" || a == "--cx" || a == "--cy" ||
+            a == "--height-mm" || a == "--pitch-deg" || a == "--max-disp" ||
+            a == "--vshift" || a == "--fps" || a == "--repeat" ||
+            a == "--first" || a == "--count";
+        if (a == "--help" || a == "-h") {
+            usage(stdout);
+            return 0;
+        }
+        if (takes_value) {
+            const char *v = need(a.c_str());
+            if (v == nullptr) {
+                return bad("option " + a + " needs a value");
+            }
+            bool ok = true;
+            if (a == "--seq") {
+                seq = v;
+            } else if (a == "--out") {
+                out = v;
+            } else if (a == "--json") {
+                json_path = v;
+            } else if (a == "--f") {
+                ok = parse_double(v, f) && f >= 1 && f <= 8192;
+            } else if (a == "--baseline-mm") {
+                ok = parse_double(v, B) && B >= 1 && B <= 1000;
+            } else if (a == "--cx") {
+                ok = parse_double(v, cx) && cx >= 0;
+            } else if (a == "--cy") {
+                ok = parse_double(v, cy) && cy >= 0;
+            } else if (a == "--height-mm") {
+                ok = parse_double(v, H) && H >= 200 && H <= 3000;
+            } else if (a == "--pitch-deg") {
+                ok = parse_double(v, pitch) && pitch >= -10 && pitch <= 80;
+            } else if (a == "--max-disp") {
+                ok = parse_int(v, max_disp) && max_disp >= 8 && max_disp <= 255;
+            } else if (a == "--vshift") {
+                ok = parse_int(v, vshift) && vshift >= -16 && vshift <= 16;
+                vshift_set = true;
+            } else if (a == "--fps") {
+                ok = parse_double(v, fps) && fps > 0 && fps <= 1000;
+            } else if (a == "--repeat") {
+                ok = parse_int(v, repeat) && repeat >= 1 && repeat <= 1000;
+            } else if (a == "--first") {
+                ok = parse_int(v, first) && first >= 0;
+            } else if (a == "--count") {
+                ok = parse_int(v, count) && count >= 1;
+            }
+            if (!ok) {
+                return bad("bad value '" + std::string(v) + "' for " + a);
+            }
+        } else if (a == "--no-overlay") {
+            overlay_on = false;
+        } else if (a == "--summary") {
+            summary = true;
+        } else if (a == "--quiet") {
+            quiet = true;
+        } else if (a == "--whole") {
+            whole = true;
+        } else if (!a.empty() && a[0] == '-') {
+            return bad("unknown option " + a);
+        } else {
+            pos.push_back(a);
+        }
+    }
+    if (seq.empty() == (pos.size() != 2)) {
+        return bad(seq.empty() ? "give LEFT RIGHT or --seq DIR"
+                               : "--seq DIR takes no LEFT RIGHT arguments");
+    }
+    if (out.empty() && overlay_on) {
+        return bad("--out DIR is required (or --no-overlay)");
+    }
+
+    GtSeq gt;
+    bool have_gt = false;
+    std::vector<Item> items;
+    if (!seq.empty()) {
+        if (!fs::is_directory(seq)) {
+            return fail("sequence folder " + seq + " does not exist");
+        }
+        const std::string gp = (fs::path(seq) / "gt.json").string();
+        std::string err;
+        if (fs::exists(gp)) {
+            if (!read_gt(gp, gt, err)) {
+                return fail(err);
+            }
+            have_gt = true;
+            for (const GtFrame &g : gt.frames) {
+                Item it;
+                it.left = (fs::path(seq) / g.left).string();
+                it.right = (fs::path(seq) / g.right).string();
+                it.name = g.left;
+                it.gt = &g;
+                items.push_back(it);
+            }
+        } else {
+            std::vector<std::string> lefts;
+            for (const auto &e : fs::directory_iterator(seq)) {
+                const std::string n = e.path().filename().string();
+                if (n.rfind("left_", 0) == 0 && e.path().extension() == ".png") {
+                    lefts.push_back(n);
+                }
+            }
+            std::sort(lefts.begin(), lefts.end());
+            for (const std::string &n : lefts) {
+                Item it;
+                it.left = (fs::path(seq) / n).string();
+                it.right = (fs::path(seq) / ("right_" + n.substr(5))).string();
+                it.name = n;
+                items.push_back(it);
+            }
+        }
+        if (items.empty()) {
+            return fail("no frames (left_NNNN.png or gt.json) in " + seq);
+        }
+        if (first >= static_cast<int>(items.size())) {
+            return bad("--first beyond the last frame");
+        }
+        items.erase(items.begin(), items.begin() + first);
+        if (count > 0 && count < static_cast<int>(items.size())) {
+            items.resize(static_cast<size_t>(count));
+        }
+    } else {
+        for (int r = 0; r < repeat; ++r) {
+            Item it;
+            it.left = pos[0];
+            it.right = pos[1];
+            it.name = fs::path(pos[0]).filename().string();
+            items.push_back(it);
+        }
+    }
+
+    CamParams cam = have_gt ? gt.cam : CamParams{};
+    if (f > 0) cam.f = f;
+    if (B > 0) cam.baseline_mm = B;
+    if (cx >= 0) cam.cx = cx;
+    if (cy >= 0) cam.cy = cy;
+    if (H > 0) cam.height_mm = H;
+    if (pitch > -1e8) cam.pitch_deg = pitch;
+    cam.max_disp = max_disp;
+    cam.vshift_set = vshift_set;
+    cam.vshift = vshift;
+    if (fps <= 0) {
+        fps = have_gt ? gt.fps : 10.0;
+    }
+
+    if (overlay_on) {
+        std::error_code ec;
+        fs::create_directories(out, ec);
+        if (ec) {
+            return fail("cannot create " + out + ": " + ec.message());
+        }
+    }
+    FILE *jf = nullptr;
+    if (!json_path.empty()) {
+        jf = std::fopen(json_path.c_str(), "w");
+        if (jf == nullptr) {
+            return fail("cannot write " + json_path);
+        }
+    } else if (!quiet) {
+        jf = stdout;
+    }
+
+    Runner runner;
+    int w = 0, h = 0;
+    int n = 0, nhaz = 0, nnoinfo = 0, first_conf = -1;
+    int first_conf_range = -1;
+    double first_conf_gt = -1;
+    double sum_st = 0, sum_dt = 0, sum_tot = 0;
+    int max_disp_used = 63;
+    for (size_t k = 0; k < items.size(); ++k) {
+        const Item &it = items[k];
+        cv::Mat L, R;
+        std::string err;
+        if (!load_grey(it.left, L, err) || !load_grey(it.right, R, err)) {
+            return fail(err);
+        }
+        if (L.size() != R.size()) {
+            return fail("size mismatch: " + it.left + " is " +
+                        std::to_string(L.cols) + "x" + std::to_string(L.rows) +
+                        ", " + it.right + " is " + std::to_string(R.cols) +
+                        "x" + std::to_string(R.rows));
+        }
+        if (k == 0) {
+            w = L.cols;
+            h = L.rows;
+            if (have_gt && (gt.width != w || gt.height != h)) {
+                return fail("gt.json says " + std::to_string(gt.width) + "x" +
+                            std::to_string(gt.height) + ", images are " +
+                            std::to_string(w) + "x" + std::to_string(h));
+            }
+            if (!have_gt && f <= 0) {
+                cam.f = 250.0 * w / 320.0;
+            }
+            if (!runner.init(w, h, cam, err, whole)) {
+                return fail(err);
+            }
+            max_disp_used = runner.config().stereo.max_disp;
+        } else if (L.cols != w || L.rows != h) {
+            return fail("size mismatch: " + it.left + " differs from frame 0");
+        }
+        const uint32_t t_ms =
+            1000u + static_cast<uint32_t>(std::lround(1000.0 * k / fps));
+        FrameOut o;
+        if (!runner.process(L, R, t_ms, o, err)) {
+            return fail(err);
+        }
+        const int frame_no = it.gt ? it.gt->i : static_cast<int>(k);
+        if (jf != nullptr) {
+            std::fprintf(jf, "%s\n",
+                         json_line(frame_no, it.name, o, it.gt, w, h).c_str());
+            std::fflush(jf);
+        }
+        if (overlay_on) {
+            cv::Mat ov = overlay(L, runner.disparity(), max_disp_used, frame_no,
+                                 o, it.gt);
+            char fn[64];
+            std::snprintf(fn, sizeof fn, "overlay_%04d.png", frame_no);
+            const std::string p = (fs::path(out) / fn).string();
+            if (!cv::imwrite(p, ov)) {
+                return fail("cannot write " + p);
+            }
+        }
+        const negobs_detect_result_t &d = o.res.detect;
+        ++n;
+        if (d.state == NEGOBS_DETECT_HAZARD) {
+            ++nhaz;
+        }
+        if (d.state == NEGOBS_DETECT_NO_INFO) {
+            ++nnoinfo;
+        }
+        for (uint32_t j = 0; j < d.n_hazards && first_conf < 0; ++j) {
+            if (d.hazards[j].flags & NEGOBS_HAZARD_F_CONFIRMED) {
+                first_conf = frame_no;
+                first_conf_range = d.hazards[j].range_mm;
+                if (it.gt && it.gt->has_range) {
+                    first_conf_gt = it.gt->edge_range_mm;
+                }
+            }
+        }
+        sum_st += std::max(0.0, o.stereo_ms);
+        sum_dt += std::max(0.0, o.detect_ms);
+        sum_tot += o.total_ms;
+    }
+    if (jf != nullptr && jf != stdout) {
+        std::fclose(jf);
+    }
+    if (summary) {
+        std::printf("summary: %d frames (%dx%d), hazard state in %d, no-info in %d; ",
+                    n, w, h, nhaz, nnoinfo);
+        if (first_conf >= 0) {
+            std::printf("first confirmed hazard at frame %d, range %.2f m", first_conf,
+                        first_conf_range / 1000.0);
+            if (first_conf_gt >= 0) {
+                std::printf(" (true %.2f m)", first_conf_gt / 1000.0);
+            }
+        } else {
+            std::printf("no confirmed hazard");
+        }
+        if (have_gt) {
+            std::printf("; scene %s%s", gt.hazard.c_str(),
+                        gt.negative ? " (negative obstacle)" : " (must not alarm)");
+        }
+        if (whole) {
+            std::printf("; mean CPU %.1f ms/frame\n", sum_tot / std::max(1, n));
+        } else {
+            std::printf("; mean CPU stereo %.1f ms, detect %.2f ms (%.1f %%)\n",
+                        sum_st / std::max(1, n), sum_dt / std::max(1, n),
+                        sum_st > 0 ? 100.0 * sum_dt / sum_st : 0.0);
+        }
+    }
+    return 0;
+}

@@ -1,0 +1,68 @@
+#!/bin/sh
+# negobs_png on sequences rendered at test time by negobs_synth.
+#  1. 15 cm curb, 14 frames from 5 m at 1.2 m/s, f=250, B=120, 320x240:
+#     some frame must hold a confirmed hazard whose range is within 10 % of
+#     the ground truth of that frame.
+#  2. flat ground, 8 frames: no frame may hold a hazard (state HAZARD).
+#  3. a right image of another size: exit 1 with "size mismatch".
+# usage: test_png.sh NEGOBS_SYNTH NEGOBS_PNG WORKDIR
+set -eu
+synth=$1
+png=$2
+work=$3
+rm -rf "$work"
+mkdir -p "$work"
+
+"$synth" --scene curb --drop-mm 150 --edge-mm 5000 --frames 14 --fps 10 \
+    --speed 1.2 --noise 2 --blur 0.5 --seed 11 --threads 1 --quiet --out "$work/curb"
+"$png" --seq "$work/curb" --out "$work/curb_out" --json "$work/curb.jsonl" --summary \
+    --no-overlay
+# One JSON object per line; hazards[] come before candidates[] and "gt" is
+# last. For each frame print: gt range and the ranges of confirmed hazards.
+ok=$(awk '
+{
+    line = $0
+    gt = line; sub(/.*"gt":\{[^}]*"edge_range_mm":/, "", gt); sub(/[,}].*/, "", gt)
+    hz = line; sub(/.*"hazards":\[/, "", hz); sub(/\],"candidates".*/, "", hz)
+    n = split(hz, parts, /\{"type":/)
+    for (k = 2; k <= n; k++) {
+        p = parts[k]
+        if (p !~ /CONFIRMED/) continue
+        r = p; sub(/.*"range_mm":/, "", r); sub(/,.*/, "", r)
+        if (gt != "null" && gt > 0) {
+            e = (r - gt) / gt; if (e < 0) e = -e
+            printf "frame %d: confirmed at %d mm, true %d mm, error %.1f %%\n", NR - 1, r, gt, 100 * e > "/dev/stderr"
+            if (e <= 0.10) good++
+        }
+    }
+}
+END { print good + 0 }' "$work/curb.jsonl")
+if [ "$ok" -lt 1 ]; then
+    echo "FAIL: no confirmed hazard within 10 % of the true range on the curb sequence"
+    exit 1
+fi
+echo "curb: $ok frames with a confirmed hazard within 10 % of the true range"
+
+"$synth" --scene flat --frames 8 --fps 10 --speed 1.2 --noise 2 --blur 0.5 \
+    --seed 12 --threads 1 --quiet --out "$work/flat"
+"$png" --seq "$work/flat" --out "$work/flat_out" --json "$work/flat.jsonl" --summary
+if grep -q '"state":"HAZARD"' "$work/flat.jsonl"; then
+    echo "FAIL: hazard reported on flat ground:"
+    grep '"state":"HAZARD"' "$work/flat.jsonl" | head -3
+    exit 1
+fi
+[ -f "$work/flat_out/overlay_0000.png" ] || { echo "FAIL: no overlay written"; exit 1; }
+echo "flat: no hazard in $(wc -l < "$work/flat.jsonl") frames"
+
+# Size mismatch: 320x240 left against a 160x120 right.
+"$synth" --single --scene flat --width 160 --height 120 --f 125 --threads 1 --quiet \
+    --out "$work/small"
+set +e
+"$png" "$work/flat/left_0000.png" "$work/small/right_0000.png" --out "$work/mm" \
+    2> "$work/mm.err" > /dev/null
+rc=$?
+set -e
+if [ $rc -ne 1 ] || ! grep -q "size mismatch" "$work/mm.err"; then
+    echo "FAIL: size mismatch gave exit $rc:"; cat "$work/mm.err"; exit 1
+fi
+echo "size mismatch: exit 1 ($(cat "$work/mm.err"))"
