@@ -19,6 +19,8 @@ static negobs_image_u8_t li;
 static negobs_image_u8_t ri;
 
 /* Right = left shifted by 5 px: true disparity 5 everywhere. */
+static int g_rescore;
+
 static stx_t *setup(int32_t band)
 {
     static negobs_stereo_t ctx;
@@ -44,6 +46,7 @@ static stx_t *setup(int32_t band)
     negobs_stereo_config_default(&cfg, W, H);
     cfg.max_disp = 31;
     cfg.band = band;
+    cfg.dp_rescore = g_rescore;
     assert_int_equal(negobs_stereo_init(&ctx, &cfg, ws, sizeof ws), NEGOBS_OK);
     s = (stx_t *)ctx.priv;
     s->left = &li;
@@ -161,6 +164,34 @@ static void test_dp_jump_follows_a_step_in_the_band(void **state)
     assert_true(out[60] >= 19 * 16 - 8 && out[60] <= 21 * 16 + 8);
 }
 
+static void test_dp_rescore_corrects_an_off_by_one_gcs_map(void **state)
+{
+    stx_t *s;
+    int32_t x;
+    int32_t y;
+    uint32_t before;
+    (void)state;
+    for (y = 0; y < H; y++) {
+        for (x = 0; x < W; x++) {
+            gcs[y * W + x] = 4; /* true disparity is 5 */
+        }
+    }
+    /* default: only the GCS cell is scored, the DP keeps 4 */
+    s = setup(2);
+    run_rows(s);
+    stx_dp_row(s, 12, gcs + 12 * W, 1, out, conf);
+    assert_true(out[40] >= 4 * 16 - 8 && out[40] <= 4 * 16 + 8);
+    /* dp_rescore: every band cell is correlated, 5 wins */
+    g_rescore = 1;
+    s = setup(2);
+    g_rescore = 0;
+    before = s->st.visited_cells;
+    run_rows(s);
+    stx_dp_row(s, 12, gcs + 12 * W, 1, out, conf);
+    assert_true(out[40] >= 5 * 16 - 8 && out[40] <= 5 * 16 + 8);
+    assert_true(s->st.visited_cells > before);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -168,6 +199,7 @@ int main(void)
         cmocka_unit_test(test_dp_stays_inside_the_band),
         cmocka_unit_test(test_dp_row_without_matches_is_invalid),
         cmocka_unit_test(test_dp_jump_follows_a_step_in_the_band),
+        cmocka_unit_test(test_dp_rescore_corrects_an_off_by_one_gcs_map),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

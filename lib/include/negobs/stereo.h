@@ -75,6 +75,8 @@ typedef struct negobs_stereo_config {
     int32_t band;         /**< DP band half-width around GCS d, 1..16 (2) */
     int32_t dp_neutral_q14; /**< score of unvisited band cells (0)       */
     int32_t dp_jump_q14;  /**< penalty of a jump |dd| > 1 (8192)         */
+    int32_t dp_rescore;   /**< 1: score every band cell with MNCC, 0: only
+                               the GCS cell (1.0), the rest neutral (0)  */
 
     /* refinement (stage 5) */
     int32_t lr_check;     /**< 1: drop pixels occluded in the right view (1) */

@@ -111,6 +111,7 @@ typedef struct stx {
     int16_t *blo, *bhi;    /* w: band per column                         */
     uint8_t *bscored;      /* w: 1 = band cells scored (GCS match)       */
     int16_t *rowd;         /* w: GCS disparities of the current row      */
+    const int16_t *gcs_cur; /* GCS row being processed by the DP          */
     uint8_t *p2;           /* h x ndisp stage-2 pointers                 */
     int16_t *dend;         /* h: stage-2 end disparity per row          */
     int16_t *zarg;         /* h: argmax of stage-2 scores per row       */
