@@ -35,6 +35,8 @@ typedef struct synth_scene {
     double y_m[SYNTH_MAX_SEG]; /* segment height (lower < 0)         */
     double lat_half_m; /* profile lateral half-width (0: unlimited)  */
     double noise_px;   /* disparity noise sigma (px)                 */
+    double noise_far_px; /* if > 0: sigma grows linearly from noise_px
+                            at 1 m depth to this at 5 m              */
     double dropout;    /* share of pixels made invalid at random     */
     int inv_u0, inv_v0, inv_u1, inv_v1; /* invalid box (u1 > u0)     */
     uint32_t seed;
@@ -161,7 +163,12 @@ static inline void synth_render(const synth_scene_t *s,
                 continue;
             }
             d = f * b / t;
-            if (s->noise_px > 0.0) {
+            if (s->noise_far_px > 0.0) {
+                double w = (t - 1.0) / 4.0;
+                w = (w < 0.0) ? 0.0 : ((w > 1.0) ? 1.0 : w);
+                d += (s->noise_px + (s->noise_far_px - s->noise_px) * w) *
+                     synth_gauss(&st);
+            } else if (s->noise_px > 0.0) {
                 d += s->noise_px * synth_gauss(&st);
             }
             if (d < 0.0) {

@@ -665,6 +665,34 @@ static void test_detect_canny_supports_a_clear_drop(void **state)
     rig_teardown(&rig);
 }
 
+/* Noise growing with range: the band estimate sees it where the ground
+ * estimate (rows under the feet) cannot, and the self-check reports that
+ * 100 mm can no longer be seen at 4 m. */
+static void test_detect_far_noise_raises_noisy(void **state)
+{
+    synth_scene_t s;
+    int i;
+    (void)state;
+    rig_setup(&rig, NULL);
+    for (i = 0; i < 4; i++) {
+        scene(&s, 0.25, (uint32_t)i + 1u);
+        s.noise_far_px = 0.3;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        assert_int_equal(rig.res.reasons, 0);
+        assert_int_equal(rig.res.n_candidates, 0);
+    }
+    for (i = 0; i < 4; i++) {
+        scene(&s, 0.25, (uint32_t)i + 10u);
+        s.noise_far_px = 1.0;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        assert_true(rig.res.reasons & NEGOBS_DEGRADED_NOISY);
+        assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+        assert_int_equal(rig.res.n_candidates, 0);
+        assert_true(rig.res.sigma_warn_q4 > rig.res.sigma_q4);
+    }
+    rig_teardown(&rig);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -694,6 +722,7 @@ int main(void)
         cmocka_unit_test(test_detect_confidence_image_masks_pixels),
         cmocka_unit_test(test_detect_left_image_stats_used),
         cmocka_unit_test(test_detect_canny_supports_a_clear_drop),
+        cmocka_unit_test(test_detect_far_noise_raises_noisy),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -42,11 +42,11 @@ extern "C" {
  * for static buffers: any valid config with this width, height and
  * max_disp_q4 <= 16 * max_disp_px fits. (Context and tracks < 8 KiB,
  * v-disparity histogram <= h x (2 max_disp + 2) x 2 bytes, Hough 16 KiB,
- * strips <= w/4 x 64 bytes, plus arena guards.)
+ * strips <= w/4 x 64 bytes, noise bands 2 KiB, plus arena guards.)
  */
 #define NEGOBS_DETECT_WORKSPACE_MAX(w, h, max_disp_px)                      \
     ((size_t)8192u + (size_t)(h) * ((size_t)(max_disp_px) * 2u + 2u) * 2u + \
-     (size_t)16640u + ((size_t)(w) / 4u + 1u) * 64u + (size_t)256u)
+     (size_t)16640u + ((size_t)(w) / 4u + 1u) * 64u + (size_t)2368u)
 
 /** Why the detector cannot vouch for "no hazard" (bitmask). */
 typedef enum negobs_degraded_reason {
@@ -214,7 +214,8 @@ typedef struct negobs_detect_result {
     int32_t ground_valid;          /**< 1 if a ground model was used    */
     negobs_ground_plane_t plane;   /**< ground model used               */
     negobs_ground_pose_t pose;     /**< its camera pose                 */
-    int32_t sigma_q4;              /**< disparity noise estimate        */
+    int32_t sigma_q4;              /**< disparity noise, ground (q4)    */
+    int32_t sigma_warn_q4;         /**< noise at the warning range (q4) */
     int32_t ground_valid_permille; /**< valid share in the fit ROI      */
     int32_t ground_inliers;        /**< plane-fit inliers               */
     negobs_photo_stats_t stats;    /**< left stats used (or zero)       */

@@ -59,12 +59,16 @@ typedef struct strip_hit {
     int32_t margin_q8; /* mean deficit / tau, Q8                     */
 } strip_hit_t;
 
+#define NOISE_BANDS 8
+#define NOISE_BINS 64
+
 typedef struct detect_priv {
     uint32_t magic;
     gfit_t gfit;
     temporal_t temporal;
     strip_hit_t *hits;
     int32_t n_strips;
+    uint32_t *band_hist; /* NOISE_BANDS x NOISE_BINS |horizontal diff| */
 } detect_priv_t;
 
 void negobs_detect_config_default(negobs_detect_config_t *cfg, int32_t width,
@@ -243,6 +247,8 @@ static negobs_status_t carve(negobs_arena_t *ar,
     }
     p->n_strips = cfg->cam.width / cfg->strip_px;
     p->hits = negobs_arena_take(ar, (size_t)p->n_strips * sizeof(strip_hit_t));
+    p->band_hist = negobs_arena_take(
+        ar, (size_t)NOISE_BANDS * NOISE_BINS * sizeof(uint32_t));
     *out = (p == &tmp) ? NULL : p;
     return negobs_arena_status(ar);
 }
@@ -354,7 +360,84 @@ typedef struct scan_ctx {
     const negobs_ground_frame_t *frame;
     int32_t sigma_q4;
     int32_t d_min_q4; /* ground disparity at range_max */
+    int32_t band_v0;  /* first row of the noise bands    */
+    int32_t band_rows;/* rows per band (>= 1)            */
+    int32_t band_sigma_q4[NOISE_BANDS];
 } scan_ctx_t;
+
+/* Noise for row v: the larger of the ground estimate and the band's. */
+static int32_t sigma_at(const scan_ctx_t *s, int32_t v)
+{
+    int32_t b = (v - s->band_v0) / s->band_rows;
+    b = negobs_clamp_s32(b, 0, NOISE_BANDS - 1);
+    return geom_max_s32(s->sigma_q4, s->band_sigma_q4[b]);
+}
+
+/*
+ * Noise per band of rows from horizontal neighbours: for a smooth surface
+ * d(u+1) - d(u) has sigma*sqrt(2) and no model term, so a drop (a
+ * horizontal edge) does not inflate it. sigma = 1.4826 * MAD / sqrt(2)
+ * ~= MAD * 1073/1024. Stereo noise that is correlated along rows makes
+ * this an underestimate, which is why it only ever raises the ground
+ * estimate (sigma_at). Every 2nd row, all columns.
+ */
+static void band_noise(scan_ctx_t *s, uint32_t *hist, int32_t v_top)
+{
+    const negobs_image_s16_t *d = s->disp;
+    int32_t h = s->cfg->cam.height;
+    int32_t b;
+    int32_t v;
+    int32_t u;
+    if (v_top < 0) {
+        v_top = 0;
+    }
+    if (v_top > h - 1) {
+        v_top = h - 1;
+    }
+    s->band_v0 = v_top;
+    s->band_rows = geom_max_s32((h - v_top + NOISE_BANDS - 1) / NOISE_BANDS,
+                                1);
+    memset(hist, 0, (size_t)NOISE_BANDS * NOISE_BINS * sizeof(uint32_t));
+    for (v = v_top; v < h; v += 2) {
+        const int16_t *row = negobs_image_s16_row(d, v);
+        uint32_t *hb = hist + (size_t)(geom_min_s32(
+                                  (v - v_top) / s->band_rows,
+                                  NOISE_BANDS - 1)) *
+                                  NOISE_BINS;
+        for (u = 0; u + 1 < d->width; u++) {
+            int32_t a = row[u];
+            int32_t c = row[u + 1];
+            int32_t x;
+            if (a == NEGOBS_DISP_INVALID || c == NEGOBS_DISP_INVALID) {
+                continue;
+            }
+            x = negobs_abs_s32(c - a);
+            hb[(x < NOISE_BINS) ? x : NOISE_BINS - 1]++;
+        }
+    }
+    for (b = 0; b < NOISE_BANDS; b++) {
+        const uint32_t *hb = hist + (size_t)b * NOISE_BINS;
+        uint32_t total = 0;
+        uint32_t acc = 0;
+        int32_t i;
+        int32_t mad = 0;
+        for (i = 0; i < NOISE_BINS; i++) {
+            total += hb[i];
+        }
+        s->band_sigma_q4[b] = 0;
+        if (total < 64u) {
+            continue; /* too few pairs: rely on the ground estimate */
+        }
+        for (i = 0; i < NOISE_BINS; i++) {
+            acc += hb[i];
+            if (2u * acc >= total) {
+                mad = i;
+                break;
+            }
+        }
+        s->band_sigma_q4[b] = (mad * 1073 + 512) / 1024;
+    }
+}
 
 /* Per-row statistics of one strip. */
 typedef struct row_stat {
@@ -422,7 +505,7 @@ static enum row_class classify_row(const scan_ctx_t *s, int32_t u0,
     h_t = (h_min_at(cfg, range_mm) * cfg->h_thresh_pct) / 100;
     tau_geo = (int32_t)(((int64_t)st->dg * h_t) / (hmm + h_t));
     /* k * 1.25 * sigma / sqrt(n): k_q4*sigma_q4*5 / (4*sqrt(256 n)). */
-    tau_noise = (int32_t)(((int64_t)cfg->k_sigma_q4 * s->sigma_q4 * 5) /
+    tau_noise = (int32_t)(((int64_t)cfg->k_sigma_q4 * sigma_at(s, v) * 5) /
                           (4 * (int64_t)negobs_isqrt_u32(
                                    (uint32_t)(256 * st->n))));
     st->tau = geom_max_s32(geom_max_s32(tau_geo, tau_noise), 1);
@@ -938,19 +1021,6 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
         res->pose = g.pose;
         res->sigma_q4 = g.sigma_q4;
 
-        /* Step 6 (self-check): can h_min_far still be seen at the warning
-         * range with this noise, aggregated over one strip? */
-        d_w = negobs_disp_q4_from_depth_mm(&cfg->cam, cfg->range_warn_mm);
-        h = cfg->h_min_far_mm;
-        if (g.sigma_q4 > cfg->sigma_max_q4 ||
-            (int64_t)cfg->k_sigma_q4 * g.sigma_q4 * 5 * 16 >
-                (int64_t)d_w * h * 64 *
-                    (int64_t)negobs_isqrt_u32((uint32_t)cfg->strip_px * 256u) /
-                    (g.frame.height_mm + h)) {
-            reasons |= NEGOBS_DEGRADED_NOISY;
-        }
-
-        /* Step 2-3: per-strip scan, merge. */
         s.cfg = cfg;
         s.disp = frame->disp_q4;
         s.conf = frame->confidence;
@@ -958,6 +1028,44 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
         s.frame = &g.frame;
         s.sigma_q4 = g.sigma_q4;
         s.d_min_q4 = negobs_disp_q4_from_depth_mm(&cfg->cam, cfg->range_max_mm);
+
+        /* Noise per band of rows over the scanned part of the image (from
+         * the row where the ground reaches range_max down to the bottom). */
+        {
+            int32_t v_top = cfg->cam.height - 1;
+            while (v_top > 0 &&
+                   negobs_ground_disp_q4(&g.plane, cfg->cam.width / 2,
+                                         v_top - 1) >= s.d_min_q4) {
+                v_top--;
+            }
+            band_noise(&s, p->band_hist, v_top);
+        }
+
+        /* Step 6 (self-check): can h_min_far still be seen at the warning
+         * range with the noise there, aggregated over one strip? */
+        d_w = negobs_disp_q4_from_depth_mm(&cfg->cam, cfg->range_warn_mm);
+        h = cfg->h_min_far_mm;
+        {
+            int32_t v_w = cfg->cam.height - 1;
+            int32_t sw;
+            while (v_w > 0 && negobs_ground_disp_q4(&g.plane,
+                                                    cfg->cam.width / 2,
+                                                    v_w) > d_w) {
+                v_w--;
+            }
+            sw = sigma_at(&s, v_w);
+            res->sigma_warn_q4 = sw;
+            if (sw > cfg->sigma_max_q4 ||
+                (int64_t)cfg->k_sigma_q4 * sw * 5 * 16 >
+                    (int64_t)d_w * h * 64 *
+                        (int64_t)negobs_isqrt_u32((uint32_t)cfg->strip_px *
+                                                  256u) /
+                        (g.frame.height_mm + h)) {
+                reasons |= NEGOBS_DEGRADED_NOISY;
+            }
+        }
+
+        /* Step 2-3: per-strip scan, merge. */
         for (s_i = 0; s_i < p->n_strips; s_i++) {
             int32_t u0 = (cfg->cam.width - p->n_strips * cfg->strip_px) / 2 +
                          s_i * cfg->strip_px;
