@@ -1,5 +1,5 @@
 /*
- * Image-quality gate: the stand-in for the full pipeline (see the header).
+ * Image-quality gate, then the library's whole pipeline (see the header).
  *
  * Each image is first subsampled by an integer factor to at most
  * APP_DEC_MAX_W x APP_DEC_MAX_H, so the static scratch is a few hundred
@@ -14,6 +14,7 @@
 
 #include "app_pipeline.h"
 #include "negobs/boxsum.h"
+#include "negobs/pipeline.h"
 
 #define APP_DEC_MAX_W 320
 #define APP_DEC_MAX_H 240
@@ -25,6 +26,19 @@ static uint16_t box_sum[APP_DEC_MAX_W * APP_DEC_MAX_H];
 static uint32_t box_sq[APP_DEC_MAX_W * APP_DEC_MAX_H];
 static uint32_t col_buf[2 * APP_DEC_MAX_W];
 
+/*
+ * The library pipeline lives in static memory: its workspace at the
+ * largest supported frame (752x480, the DUO camera) with debug guards is
+ * about 2.3 MB; NEGOBS_RUN_MAX sizes beyond that are refused with a
+ * no-information verdict rather than a crash.
+ */
+#define APP_WS_BYTES (2560u * 1024u)
+static uint8_t lib_ws[APP_WS_BYTES] __attribute__((aligned(16)));
+static negobs_pipeline_t lib_pipe;
+static int32_t lib_w;
+static int32_t lib_h;
+static int lib_ready;
+
 void app_pipeline_config_default(app_pipeline_config_t *cfg)
 {
     cfg->dark_mean_min = 20;
@@ -32,6 +46,11 @@ void app_pipeline_config_default(app_pipeline_config_t *cfg)
     cfg->texture_std_min = 4;
     cfg->texture_permille_min = 20;
     cfg->lr_mean_diff_max = 60;
+    cfg->focal_px = 250;
+    cfg->baseline_mm = 120;
+    cfg->cam_height_mm = 1200;
+    cfg->cam_pitch_mdeg = 20000;
+    cfg->max_disp = 63;
 }
 
 negobs_status_t app_pipeline_init(app_pipeline_t *p,
@@ -42,10 +61,16 @@ negobs_status_t app_pipeline_init(app_pipeline_t *p,
         cfg->sat_permille_max > 1000 || cfg->texture_std_min < 0 ||
         cfg->texture_std_min > 127 || cfg->texture_permille_min < 0 ||
         cfg->texture_permille_min > 1000 || cfg->lr_mean_diff_max < 0 ||
-        cfg->lr_mean_diff_max > 255) {
+        cfg->lr_mean_diff_max > 255 || cfg->focal_px < 50 ||
+        cfg->focal_px > 4000 || cfg->baseline_mm < 10 ||
+        cfg->baseline_mm > 1000 || cfg->cam_height_mm < 300 ||
+        cfg->cam_height_mm > 3000 || cfg->cam_pitch_mdeg < 0 ||
+        cfg->cam_pitch_mdeg > 60000 || cfg->max_disp < 8 ||
+        cfg->max_disp > 255) {
         return NEGOBS_ERR_INVAL;
     }
     memset(p, 0, sizeof *p);
+    lib_ready = 0; /* a new configuration sets the library up again */
     p->cfg = *cfg;
     return NEGOBS_OK;
 }
@@ -113,9 +138,77 @@ static negobs_status_t measure(const negobs_image_u8_t *img, int32_t tex_std,
     return NEGOBS_OK;
 }
 
+/* (Re)initialise the library pipeline for this frame size. */
+static negobs_status_t lib_setup(const app_pipeline_config_t *c, int32_t w,
+                                 int32_t h)
+{
+    negobs_pipeline_config_t pc;
+    size_t bytes = 0;
+    negobs_status_t st;
+
+    if (lib_ready && lib_w == w && lib_h == h) {
+        return NEGOBS_OK;
+    }
+    lib_ready = 0;
+    negobs_pipeline_config_default(&pc, w, h);
+    /* The matcher refuses a range wider than half the frame. */
+    pc.stereo.max_disp = (c->max_disp < w / 2) ? c->max_disp : w / 2 - 1;
+    pc.detect.max_disp_q4 = (pc.stereo.max_disp + 1) * NEGOBS_DISP_ONE;
+    /* The focal length is given for the frame the camera delivers. */
+    pc.detect.cam.focal_q4 = c->focal_px * NEGOBS_DISP_ONE;
+    pc.detect.cam.baseline_um = c->baseline_mm * 1000;
+    pc.detect.cam_height_mm = c->cam_height_mm;
+    pc.detect.cam_pitch_mdeg = c->cam_pitch_mdeg;
+    st = negobs_pipeline_workspace_size(&pc, &bytes);
+    if (st != NEGOBS_OK) {
+        return st;
+    }
+    if (bytes > sizeof lib_ws) {
+        return NEGOBS_ERR_NOSPACE;
+    }
+    st = negobs_pipeline_init(&lib_pipe, &pc, lib_ws, bytes);
+    if (st != NEGOBS_OK) {
+        return st;
+    }
+    lib_w = w;
+    lib_h = h;
+    lib_ready = 1;
+    return NEGOBS_OK;
+}
+
+/* Detector verdict -> app verdict; "clear" only when it really looked. */
+static app_verdict_t verdict_of(const negobs_pipeline_result_t *r,
+                                app_frame_stats_t *st)
+{
+    const negobs_detect_result_t *d = &r->detect;
+    st->detect_reasons = d->reasons;
+    st->nearest_range_mm = d->nearest_range_mm;
+    st->hazards = d->n_hazards;
+    if (d->state == NEGOBS_DETECT_NO_INFO) {
+        st->reason = APP_REASON_DETECTOR;
+        return APP_VERDICT_NO_INFO;
+    }
+    if (d->level == NEGOBS_LEVEL_IMMINENT) {
+        return APP_VERDICT_IMMINENT;
+    }
+    if (d->level == NEGOBS_LEVEL_CAUTION) {
+        return APP_VERDICT_CAUTION;
+    }
+    return APP_VERDICT_CLEAR;
+}
+
 app_verdict_t app_process_pair(app_pipeline_t *p,
                                const negobs_image_u8_t *left,
                                const negobs_image_u8_t *right)
+{
+    return app_process_pair_at(p, left, right, 0, 0, 0);
+}
+
+app_verdict_t app_process_pair_at(app_pipeline_t *p,
+                                  const negobs_image_u8_t *left,
+                                  const negobs_image_u8_t *right,
+                                  uint32_t t_left_ms, uint32_t t_right_ms,
+                                  uint32_t now_ms)
 {
     const negobs_image_u8_t *img[2];
     app_frame_stats_t *st = &p->last;
@@ -157,9 +250,32 @@ app_verdict_t app_process_pair(app_pipeline_t *p,
     if (st->reason != APP_REASON_NONE) {
         return APP_VERDICT_NO_INFO;
     }
-    /* NOT WIRED: stereo matching, ground fit and drop-off detection go
-     * here. Until then a usable pair is reported as CLEAR. */
-    return APP_VERDICT_CLEAR;
+    if (lib_setup(&p->cfg, left->width, left->height) != NEGOBS_OK) {
+        st->reason = APP_REASON_BAD_INPUT;
+        return APP_VERDICT_NO_INFO;
+    }
+    {
+        negobs_pipeline_frame_t fr;
+        negobs_pipeline_result_t res;
+        memset(&fr, 0, sizeof fr);
+        fr.left = left;
+        fr.right = right;
+        fr.t_left_ms = t_left_ms;
+        fr.t_right_ms = t_right_ms;
+        fr.now_ms = now_ms;
+        if (negobs_pipeline_process(&lib_pipe, &fr, &res) != NEGOBS_OK) {
+            st->reason = APP_REASON_BAD_INPUT;
+            return APP_VERDICT_NO_INFO;
+        }
+        if (res.stereo_status != NEGOBS_OK) {
+            st->reason = APP_REASON_BAD_INPUT;
+            return APP_VERDICT_NO_INFO;
+        }
+        st->valid_permille = (int32_t)(
+            (uint64_t)res.stereo.valid * 1000u /
+            ((uint64_t)left->width * (uint64_t)left->height));
+        return verdict_of(&res, st);
+    }
 }
 
 const char *app_verdict_name(app_verdict_t v)
@@ -181,6 +297,7 @@ const char *app_reason_name(app_reason_t r)
     case APP_REASON_DARK: return "dark";
     case APP_REASON_SATURATED: return "saturated";
     case APP_REASON_TEXTURELESS: return "textureless";
+    case APP_REASON_DETECTOR: return "detector";
     case APP_REASON_MISMATCH: return "lr-mismatch";
     default: return "?";
     }

@@ -1,13 +1,12 @@
 /*
  * The processing hook of negobs_run: one call per synchronised pair.
  *
- * Today app_process_pair() only checks whether the images can carry
+ * app_process_pair() first checks whether the images can carry
  * information at all (brightness, saturation, texture, from the library's
- * box sums) and answers NO_INFO when they cannot. The stereo matching and
- * drop-off detection are NOT wired in yet: a usable pair gives
- * APP_VERDICT_CLEAR without any obstacle check. Replacing the body of
- * app_process_pair() with the full pipeline is the only change needed;
- * the verdicts and the rest of negobs_run stay as they are.
+ * box sums) and answers NO_INFO when they cannot. A usable pair then goes
+ * through the library's whole pipeline (negobs/pipeline.h: stereo ->
+ * ground model -> drop-off detection with temporal confirmation), and the
+ * detector's verdict decides: no-information, clear, caution or imminent.
  */
 #ifndef NEGOBS_APP_PIPELINE_H
 #define NEGOBS_APP_PIPELINE_H
@@ -21,8 +20,8 @@
 typedef enum app_verdict {
     APP_VERDICT_NO_INFO = 0,  /**< cannot judge: play the no-info pattern */
     APP_VERDICT_CLEAR = 1,    /**< nothing to report (silence)            */
-    APP_VERDICT_CAUTION = 2,  /**< drop-off ahead (not produced yet)       */
-    APP_VERDICT_IMMINENT = 3  /**< drop-off close (not produced yet)       */
+    APP_VERDICT_CAUTION = 2,  /**< confirmed drop-off ahead               */
+    APP_VERDICT_IMMINENT = 3  /**< confirmed drop-off close               */
 } app_verdict_t;
 
 /** Why the last pair gave NO_INFO. */
@@ -32,7 +31,8 @@ typedef enum app_reason {
     APP_REASON_DARK,        /**< mean grey below dark_mean_min            */
     APP_REASON_SATURATED,   /**< too many pixels at >= 250                */
     APP_REASON_TEXTURELESS, /**< too few windows with local contrast      */
-    APP_REASON_MISMATCH     /**< left and right brightness far apart      */
+    APP_REASON_MISMATCH,    /**< left and right brightness far apart      */
+    APP_REASON_DETECTOR     /**< the detector cannot see (detect_reasons) */
 } app_reason_t;
 
 /** Thresholds (all integers; defaults in brackets). */
@@ -42,6 +42,12 @@ typedef struct app_pipeline_config {
     int32_t texture_std_min;      /**< 5x5 std dev for "textured" [4]      */
     int32_t texture_permille_min; /**< share of textured windows [20]      */
     int32_t lr_mean_diff_max;     /**< |mean L - mean R| [60]              */
+    /* Camera geometry for the detector (rectified pair). */
+    int32_t focal_px;             /**< focal length, pixels [250]          */
+    int32_t baseline_mm;          /**< stereo baseline [120]               */
+    int32_t cam_height_mm;        /**< camera height above ground [1200]   */
+    int32_t cam_pitch_mdeg;       /**< downward pitch, 1/1000 deg [20000]  */
+    int32_t max_disp;             /**< largest disparity searched [63]     */
 } app_pipeline_config_t;
 
 /** Statistics of the last pair, per image (0 = left, 1 = right). */
@@ -50,6 +56,10 @@ typedef struct app_frame_stats {
     int32_t sat_permille[2];
     int32_t texture_permille[2];
     app_reason_t reason;
+    uint32_t detect_reasons;  /**< NEGOBS_DEGRADED_* of the detector     */
+    int32_t nearest_range_mm; /**< nearest confirmed hazard, -1 if none  */
+    uint32_t hazards;         /**< confirmed or held hazards             */
+    int32_t valid_permille;   /**< share of pixels with a disparity      */
 } app_frame_stats_t;
 
 typedef struct app_pipeline {
@@ -65,8 +75,17 @@ negobs_status_t app_pipeline_init(app_pipeline_t *p,
 
 /**
  * @brief Process one synchronised pair (images are only read).
- * Uses static scratch buffers: not reentrant, one pipeline per process.
+ * Uses static scratch buffers and one static library pipeline (set up on
+ * the first pair and again when the frame size changes): not reentrant,
+ * one pipeline per process. Times are the caller's monotonic ms.
  */
+app_verdict_t app_process_pair_at(app_pipeline_t *p,
+                                  const negobs_image_u8_t *left,
+                                  const negobs_image_u8_t *right,
+                                  uint32_t t_left_ms, uint32_t t_right_ms,
+                                  uint32_t now_ms);
+
+/** @brief app_process_pair_at() with all times 0 (tests, replays). */
 app_verdict_t app_process_pair(app_pipeline_t *p,
                                const negobs_image_u8_t *left,
                                const negobs_image_u8_t *right);

@@ -13,10 +13,9 @@
  *      line (fps, latency, dropped pairs)
  *   5. on SIGINT/SIGTERM, --frames N, or end of a replay: stop, motor off
  *
- * All buffers are static and sized by NEGOBS_RUN_MAX_W/H. What is wired
- * today: capture, pairing, recording, the image-quality gate, watchdog and
- * motor patterns. Stereo matching and drop-off detection are NOT wired
- * (see app_pipeline.h), so silence does not yet mean "path clear".
+ * All buffers are static and sized by NEGOBS_RUN_MAX_W/H. Each usable
+ * pair runs the library's whole pipeline (see app_pipeline.h): stereo,
+ * ground model, drop-off detection with temporal confirmation.
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -138,6 +137,16 @@ static const negobs_cfg_key_t config_keys[] = {
      1000, "share of textured windows below this -> no-info (default 20)"},
     {"lr_mean_diff_max", NEGOBS_CFG_INT, &S.app.lr_mean_diff_max, 0, 255,
      "left/right mean grey difference above this -> no-info (default 60)"},
+    {"focal_px", NEGOBS_CFG_INT, &S.app.focal_px, 50, 4000,
+     "focal length of the rectified frames, pixels (default 250)"},
+    {"baseline_mm", NEGOBS_CFG_INT, &S.app.baseline_mm, 10, 1000,
+     "stereo baseline, mm (default 120)"},
+    {"cam_height_mm", NEGOBS_CFG_INT, &S.app.cam_height_mm, 300, 3000,
+     "camera height above the ground, mm (default 1200)"},
+    {"cam_pitch_mdeg", NEGOBS_CFG_INT, &S.app.cam_pitch_mdeg, 0, 60000,
+     "downward pitch, 1/1000 degree (default 20000)"},
+    {"max_disp", NEGOBS_CFG_INT, &S.app.max_disp, 8, 255,
+     "largest disparity searched, pixels (default 63)"},
 };
 #define N_KEYS (sizeof config_keys / sizeof config_keys[0])
 
@@ -210,10 +219,11 @@ static void usage(FILE *out)
 "right_NNNN.pgm pairs or a session recorded with --record). A bare name uses\n"
 "the build's default camera backend (" NEGOBS_RUN_DEFAULT_CAMERA ").\n"
 "\n"
-"STATUS: capture, pairing, recording, an image-quality gate (too dark,\n"
-"saturated, textureless -> no-information pattern), the 300 ms watchdog and\n"
-"the motor patterns are wired. Stereo matching and drop-off detection are\n"
-"NOT wired yet: silence does not mean the path is clear.\n"
+"Each pair passes an image-quality gate (too dark, saturated, textureless ->\n"
+"no-information pattern), then the library's stereo matching and drop-off\n"
+"detection; a 300 ms watchdog plays no-information when pairs stop.\n"
+"Set the camera geometry (focal_px, baseline_mm, cam_height_mm,\n"
+"cam_pitch_mdeg) in --config for a real rig: wrong values blind it.\n"
 "\n"
 "Options:\n"
 "  --config FILE        read key = value settings (applied before options)\n"
@@ -664,7 +674,10 @@ static int run_loop(void)
                 negobs_camera_release(&camera, &pair);
                 return EXIT_RUNTIME;
             }
-            v = app_process_pair(&pipeline, &pair.left.y, &pair.right.y);
+            v = app_process_pair_at(
+                &pipeline, &pair.left.y, &pair.right.y,
+                (uint32_t)(pair.left.ts_ns / 1000000u),
+                (uint32_t)(pair.right.ts_ns / 1000000u), (uint32_t)now);
             negobs_motor_thread_post(&motor, app_pattern_for(v));
             lat_us = (negobs_clock_now_ns() - pair.left.ts_ns) / 1000u;
             negobs_camera_release(&camera, &pair);
@@ -762,8 +775,6 @@ int main(int argc, char **argv)
         return EXIT_CONFIG;
     }
     install_signals();
-    logmsg(LOG_WARN, "drop-off detection is NOT wired in this build: only "
-                     "the image-quality gate runs (silence != clear)");
 
     if (open_alert(S.alert) != 0) {
         return EXIT_ALERT;

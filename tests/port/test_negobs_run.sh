@@ -42,7 +42,7 @@ while [ $i -lt 4 ]; do
 done
 mkpair "$T/bad" 0 "head -c 100 /dev/zero"   # truncated raster
 
-expect "help exits 0 and admits what is not wired" 0 "NOT wired" --help
+expect "help names the geometry keys" 0 "cam_height_mm" --help
 expect "help lists config keys" 0 "watchdog_ms" --help
 expect "version" 0 "negobs_run 0" --version
 expect "no camera arguments is a usage error" 2 "missing camera" --alert none
@@ -62,7 +62,9 @@ expect "missing replay folder" 4 "no left_0000.pgm" --alert none replay:"$T/none
 expect "missing V4L2 device" 4 "open /nonexistent" --alert none v4l2:/nonexistent/v0 v4l2:/nonexistent/v1
 expect "replay runs to the end" 0 "end of replay after 4 pairs" --fps 0 --alert none replay:"$T/rp"
 expect "frames N stops early" 0 "2 pairs processed" --fps 0 --frames 2 --alert none replay:"$T/rp" replay:"$T/rp"
-expect "usable images give the stand-in verdict" 0 "verdict no-info -> clear" --fps 0 --alert none replay:"$T/rp"
+# Unrelated random images pass the quality gate, but no ground is seen:
+# the detector, not the gate, must answer no-info (never "clear").
+expect "unmatchable images reach the detector" 0 "clear=0 caution=0 imminent=0 last_reason=detector" --fps 0 --alert none --log-level debug replay:"$T/rp"
 expect "dark images give no-info" 0 "no-info=4 clear=0 caution=0 imminent=0 last_reason=dark" --fps 0 --alert none --log-level debug replay:"$T/dark"
 expect "truncated replay file is a runtime error" 1 "truncated" --fps 0 --alert none replay:"$T/bad"
 expect "record a session" 0 "recording to" --fps 0 --alert none --record "$T/rec" replay:"$T/rp"
