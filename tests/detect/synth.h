@@ -34,6 +34,7 @@ typedef struct synth_scene {
     double z_m[SYNTH_MAX_SEG]; /* segment start (forward distance)   */
     double y_m[SYNTH_MAX_SEG]; /* segment height (lower < 0)         */
     double lat_half_m; /* profile lateral half-width (0: unlimited)  */
+    double yaw_deg;    /* profile axis turned right of straight ahead */
     double noise_px;   /* disparity noise sigma (px)                 */
     double noise_far_px; /* if > 0: sigma grows linearly from noise_px
                             at 1 m depth to this at 5 m              */
@@ -147,8 +148,13 @@ static inline void synth_render(const synth_scene_t *s,
             double x = (u - cx) / f;
             double y = (v - cy) / f;
             double dn[1];
-            double fwd = fw[0] * x + fw[1] * y + fw[2];
-            double lat = l[0] * x + l[1] * y;
+            double fwd0 = fw[0] * x + fw[1] * y + fw[2];
+            double lat0 = l[0] * x + l[1] * y;
+            /* Coordinates along and across the (possibly turned) profile. */
+            double fwd = fwd0 * cos(s->yaw_deg * d2r) +
+                         lat0 * sin(s->yaw_deg * d2r);
+            double lat = lat0 * cos(s->yaw_deg * d2r) -
+                         fwd0 * sin(s->yaw_deg * d2r);
             double lh = 0.0;
             double t;
             double d;

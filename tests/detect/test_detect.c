@@ -693,6 +693,45 @@ static void test_detect_far_noise_raises_noisy(void **state)
     rig_teardown(&rig);
 }
 
+/* An edge met obliquely: the profile turned 20 degrees. Along the
+ * walking direction the edge is nearer on the right, at
+ * D(X) = (z - X sin a) / cos a; the detector reports the nearest corridor
+ * point and the edge direction. */
+static void test_detect_oblique_edge_angle(void **state)
+{
+    synth_scene_t s;
+    const negobs_hazard_t *h;
+    int i;
+    (void)state;
+    rig_setup(&rig, NULL);
+    for (i = 0; i < 3; i++) {
+        double want;
+        scene(&s, 0.25, (uint32_t)i + 21u);
+        s.yaw_deg = 20.0;
+        synth_step(&s, 2.5, -0.2);
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        h = rig_nearest(&rig);
+        assert_non_null(h);
+        print_message("oblique: range %d lateral %d angle %d mdeg strips %d\n",
+                      h->range_mm, h->lateral_mm, h->edge_angle_mdeg,
+                      h->strips);
+        /* Range falls to the right: atan(dD/dX) = -20 deg. */
+        assert_true(abs(h->edge_angle_mdeg + 20000) <= 5000);
+        want = (2.5 - h->lateral_mm / 1000.0 * sin(20.0 * 3.14159265 / 180.0)) /
+               cos(20.0 * 3.14159265 / 180.0) * 1000.0;
+        assert_true(fabs(h->range_mm - want) <= want * 0.1);
+        assert_true(h->lateral_mm > 0);
+    }
+    /* Square edge: angle near 0. */
+    scene(&s, 0.25, 5);
+    synth_step(&s, 2.5, -0.2);
+    assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+    h = rig_nearest(&rig);
+    assert_non_null(h);
+    assert_true(abs(h->edge_angle_mdeg) <= 3000);
+    rig_teardown(&rig);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -723,6 +762,7 @@ int main(void)
         cmocka_unit_test(test_detect_left_image_stats_used),
         cmocka_unit_test(test_detect_canny_supports_a_clear_drop),
         cmocka_unit_test(test_detect_far_noise_raises_noisy),
+        cmocka_unit_test(test_detect_oblique_edge_angle),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -112,6 +112,9 @@ typedef struct negobs_hazard {
     int16_t u0, v0, u1, v1; /**< image box, inclusive (pixels)        */
     int16_t conf_q15;      /**< confidence 0..32767                   */
     int16_t strips;        /**< column strips that agreed             */
+    int32_t edge_angle_mdeg; /**< edge direction against the lateral
+                                  axis: 0 = square across the path,
+                                  > 0 = nearer on the left (mdeg)      */
 } negobs_hazard_t;
 
 /** Photometric statistics of one image (from negobs_detect_photo_stats). */

@@ -910,6 +910,28 @@ static void merge_strips(const scan_ctx_t *s, detect_priv_t *p,
         h.bearing_mdeg = negobs_bearing_mdeg(h.lateral_mm, h.range_mm);
         h.drop_mm = (int32_t)(drop_sum / cnt);
         h.strips = (int16_t)cnt;
+        /* Edge orientation: least-squares line range = m * lateral + q
+         * through the strips' edge points; angle = atan(m). */
+        {
+            int64_t n = 0;
+            int64_t sx = 0;
+            int64_t sy = 0;
+            int64_t sxx = 0;
+            int64_t sxy = 0;
+            for (k = i; k < j; k++) {
+                int64_t x = p->hits[k].lateral_mm;
+                int64_t y = p->hits[k].range_mm;
+                n++;
+                sx += x;
+                sy += y;
+                sxx += x * x;
+                sxy += x * y;
+            }
+            if (n >= 2 && n * sxx - sx * sx > 0) {
+                h.edge_angle_mdeg =
+                    negobs_atan2_mdeg(n * sxy - sx * sy, n * sxx - sx * sx);
+            }
+        }
         /* Confidence: agreement across strips (4 strips = full) times the
          * mean threshold margin (2x tau = full). Canny adds support. */
         {
