@@ -104,7 +104,7 @@ typedef struct negobs_stereo_config {
 #define NEGOBS_STEREO_WORKSPACE_MAX(w, h, dmax)                              \
     ((size_t)(w) * 36u * 22u +                                               \
      (size_t)(w) * 32u * (((size_t)(dmax) + 1u) / 8u + 2u) +                 \
-     (size_t)8192u * 8u + 257u * 4u +                                        \
+     (size_t)8192u * 8u + 257u * 4u + 2048u * 12u +                          \
      (size_t)(w) * (size_t)(h) / 16u * 3u +                                  \
      ((size_t)(w) / 8u + 2u) * ((size_t)(h) / 8u + 2u) * 4u +                \
      ((size_t)(dmax) + 4u) * 32u +                                           \

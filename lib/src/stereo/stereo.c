@@ -154,6 +154,7 @@ static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c)
     TAKE(s->q.item, uint32_t, c->queue_capacity);
     TAKE(s->q.next, int32_t, c->queue_capacity);
     TAKE(s->q.head, int32_t, STX_NBUCKET);
+    TAKE(s->cache, stx_cache_entry_t, 1u << STX_CACHE_BITS);
     TAKE(s->lo_l, uint8_t, (size_t)lw * (size_t)lh);
     TAKE(s->lo_r, uint8_t, (size_t)lw * (size_t)lh);
     TAKE(s->lo_d, uint8_t, (size_t)lw * (size_t)lh);

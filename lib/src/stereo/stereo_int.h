@@ -33,6 +33,14 @@
 #define STX_LOWRES 4                /* elementary map scale (1/4)      */
 #define STX_NBUCKET 257             /* bucket queue: c_q14 >> 6        */
 #define STX_NONE8 0xFFu             /* empty u8 disparity slot         */
+#define STX_CACHE_BITS 11           /* growth score cache: 2048 entries */
+
+/* One cached correlation of the growth stage (key 0 = empty). */
+typedef struct stx_cache_entry {
+    uint32_t key;   /* stx_pack(u, v - y0, d - dmin) + 1                 */
+    int32_t num2;   /* MNCC fraction, den == 0: flat / no score          */
+    int32_t den;
+} stx_cache_entry_t;
 
 /* ---- bounded bucket queue (queue.c) ---------------------------------- */
 typedef struct stx_queue {
@@ -93,6 +101,7 @@ typedef struct stx {
     uint8_t *rd, *rc, *rc2;
     uint8_t *tbits;        /* (v, u, d) triple membership, 1 bit each    */
     stx_queue_t q;
+    stx_cache_entry_t *cache; /* direct-mapped, 1 << STX_CACHE_BITS       */
 
     /* elementary low-resolution map and per-tile ranges */
     int32_t lw, lh;        /* low-res size                               */
