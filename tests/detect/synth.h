@@ -130,6 +130,8 @@ static inline void synth_render(const synth_scene_t *s,
     double cx = cam->cx_q4 / 16.0;
     double cy = cam->cy_q4 / 16.0;
     double b = cam->baseline_um / 1e6;
+    double cyaw = cos(s->yaw_deg * d2r);
+    double syaw = sin(s->yaw_deg * d2r);
     uint32_t st = s->seed * 2654435761u + 12345u;
     int32_t u;
     int32_t v;
@@ -151,10 +153,8 @@ static inline void synth_render(const synth_scene_t *s,
             double fwd0 = fw[0] * x + fw[1] * y + fw[2];
             double lat0 = l[0] * x + l[1] * y;
             /* Coordinates along and across the (possibly turned) profile. */
-            double fwd = fwd0 * cos(s->yaw_deg * d2r) +
-                         lat0 * sin(s->yaw_deg * d2r);
-            double lat = lat0 * cos(s->yaw_deg * d2r) -
-                         fwd0 * sin(s->yaw_deg * d2r);
+            double fwd = fwd0 * cyaw + lat0 * syaw;
+            double lat = lat0 * cyaw - fwd0 * syaw;
             double lh = 0.0;
             double t;
             double d;
