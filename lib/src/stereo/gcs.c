@@ -72,7 +72,7 @@ static int in_table(const stx_t *s, int32_t u, int32_t v, int32_t d)
     }
     bit = ((size_t)(v - s->y0) * (size_t)s->w + (size_t)u) *
               (size_t)s->ndisp + (size_t)(d - s->dmin);
-    return (s->tbits[bit >> 3] >> (bit & 7u)) & 1u;
+    return (int)(((uint32_t)s->tbits[bit >> 3] >> (bit & 7u)) & 1u);
 }
 
 /* Try to accept candidate (u, v, d) with score c; push it when accepted. */
