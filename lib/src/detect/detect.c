@@ -581,7 +581,6 @@ static void scan_strip(const scan_ctx_t *s, int32_t u0, int32_t u1,
     int32_t gap = 0;
     int32_t run = 0;
     int32_t run_skip = 0;
-    int32_t run_v = -1;
     int64_t sdg = 0;
     int64_t sd = 0;
     int64_t sr = 0;
@@ -663,7 +662,6 @@ static void scan_strip(const scan_ctx_t *s, int32_t u0, int32_t u1,
                 break;
             }
             if (run == 0) {
-                run_v = v;
                 sdg = sd = sr = stau = 0;
                 run_skip = 0;
             }
@@ -693,7 +691,6 @@ static void scan_strip(const scan_ctx_t *s, int32_t u0, int32_t u1,
                                            (-sr * 256) / stau, 0, 1 << 20)
                                      : 0;
                 rho1 = (sdg > 0) ? (int32_t)(((sdg - sd) * 32768) / sdg) : 0;
-                (void)run_v;
                 phase = 1;
                 back = 0;
                 deeper = 0;

@@ -66,15 +66,11 @@ void temporal_update(temporal_t *t, const negobs_hazard_t *cands, uint32_t n,
 {
     const negobs_detect_config_t *cfg = t->cfg;
     int32_t used[NEGOBS_DETECT_MAX_TRACKS];
-    int32_t dt = t->have_last ? elapsed_ms(now_ms, t->last_ms) : 0;
     uint32_t order[NEGOBS_DETECT_MAX_HAZARDS];
     uint32_t i;
     uint32_t j;
     int32_t k;
 
-    if (dt < 0) {
-        dt = 0;
-    }
     if (n > NEGOBS_DETECT_MAX_HAZARDS) {
         n = NEGOBS_DETECT_MAX_HAZARDS;
     }
@@ -217,7 +213,6 @@ void temporal_update(temporal_t *t, const negobs_hazard_t *cands, uint32_t n,
             tr->active = 0;
         }
     }
-    (void)dt;
     t->last_ms = now_ms;
     t->have_last = 1;
 }
