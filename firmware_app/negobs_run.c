@@ -354,12 +354,12 @@ static int parse_args(int argc, char **argv, run_args_t *a)
 
 /* ---- devices -------------------------------------------------------- */
 
-static negobs_alert_t alert;
+static negobs_motor_out_t alert;
 static negobs_alert_console_t alert_console;
 static negobs_alert_pwm_t alert_pwm;
 static negobs_alert_gpio_t alert_gpio;
 
-static negobs_camera_t camera;
+static negobs_capture_t camera;
 static negobs_replay_t replay_state;
 static negobs_v4l2_t v4l2_state;
 /* Replay pixels or packed-format luma: one pair at the largest size. */

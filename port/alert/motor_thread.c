@@ -68,7 +68,7 @@ static void *motor_main(void *arg)
 }
 
 negobs_status_t negobs_motor_thread_start(negobs_motor_thread_t *t,
-                                          negobs_alert_t *out,
+                                          negobs_motor_out_t *out,
                                           const negobs_motor_schedule_t *stale,
                                           uint32_t watchdog_ms)
 {

@@ -70,7 +70,7 @@ static void exec_apply(negobs_motor_exec_t *ex, uint16_t level)
     ex->level = (int32_t)level;
 }
 
-void negobs_motor_exec_init(negobs_motor_exec_t *ex, negobs_alert_t *out)
+void negobs_motor_exec_init(negobs_motor_exec_t *ex, negobs_motor_out_t *out)
 {
     memset(ex, 0, sizeof *ex);
     ex->out = out;

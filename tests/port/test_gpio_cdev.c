@@ -140,7 +140,7 @@ static int reset(void **state)
 static void test_gpio_requests_output_line_off(void **state)
 {
     negobs_alert_gpio_t g;
-    negobs_alert_t out;
+    negobs_motor_out_t out;
     const struct gpio_v2_line_config *c = &fake.req.config;
     (void)state;
     assert_int_equal(negobs_alert_gpio_open(&g, "gpiochip2", 17, false, &out),
@@ -161,7 +161,7 @@ static void test_gpio_requests_output_line_off(void **state)
 static void test_gpio_levels_switch_line_and_close_turns_off(void **state)
 {
     negobs_alert_gpio_t g;
-    negobs_alert_t out;
+    negobs_motor_out_t out;
     (void)state;
     assert_int_equal(negobs_alert_gpio_open(&g, "0", 3, true, &out),
                      NEGOBS_OK);
@@ -188,7 +188,7 @@ static void test_gpio_levels_switch_line_and_close_turns_off(void **state)
 static void test_gpio_errors_are_reported(void **state)
 {
     negobs_alert_gpio_t g;
-    negobs_alert_t out;
+    negobs_motor_out_t out;
     (void)state;
     fake.open_errno = ENOENT;
     assert_int_equal(negobs_alert_gpio_open(&g, "/dev/gpiochip9", 0, false,
@@ -210,7 +210,7 @@ static void test_gpio_errors_are_reported(void **state)
 static void test_gpio_falls_back_to_uapi_v1_on_old_kernels(void **state)
 {
     negobs_alert_gpio_t g;
-    negobs_alert_t out;
+    negobs_motor_out_t out;
     (void)state;
     fake.no_v2 = true;
     assert_int_equal(negobs_alert_gpio_open(&g, "gpiochip0", 5, true, &out),

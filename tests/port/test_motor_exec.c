@@ -60,7 +60,7 @@ static void test_exec_one_shot_pulses_then_idle(void **state)
 {
     static const uint16_t ready[] = {1000, 100, 0, 100, 1000, 100};
     rec_out_t r;
-    negobs_alert_t out = {&rec_ops, &r};
+    negobs_motor_out_t out = {&rec_ops, &r};
     negobs_motor_exec_t ex;
     negobs_motor_schedule_t s = make(ready, 3, NEGOBS_MOTOR_NO_LOOP);
     (void)state;
@@ -87,7 +87,7 @@ static void test_exec_late_tick_keeps_pattern_phase(void **state)
     /* Caution pattern: 80 on, 80 off, 80 on, 760 off, repeated (1 s). */
     static const uint16_t caution[] = {1000, 80, 0, 80, 1000, 80, 0, 760};
     rec_out_t r;
-    negobs_alert_t out = {&rec_ops, &r};
+    negobs_motor_out_t out = {&rec_ops, &r};
     negobs_motor_exec_t ex;
     negobs_motor_schedule_t s = make(caution, 4, 0);
     (void)state;
@@ -115,7 +115,7 @@ static void test_exec_intro_then_loop_tail(void **state)
     static const uint16_t noinfo[] = {1000, 400, 0, 200, 1000, 400, 0, 200,
                                       1000, 400, 0, 400, 1000, 600, 0, 2400};
     rec_out_t r;
-    negobs_alert_t out = {&rec_ops, &r};
+    negobs_motor_out_t out = {&rec_ops, &r};
     negobs_motor_exec_t ex;
     negobs_motor_schedule_t s = make(noinfo, 8, 6);
     (void)state;
@@ -137,7 +137,7 @@ static void test_exec_rejects_bad_schedules(void **state)
     static const uint16_t too_strong[] = {1001, 100};
     static const uint16_t zero_loop[] = {1000, 100, 0, 0};
     rec_out_t r;
-    negobs_alert_t out = {&rec_ops, &r};
+    negobs_motor_out_t out = {&rec_ops, &r};
     negobs_motor_exec_t ex;
     negobs_motor_schedule_t s;
     (void)state;
@@ -158,7 +158,7 @@ static void test_exec_retries_failed_write_and_stop_turns_off(void **state)
 {
     static const uint16_t on[] = {700, 1000};
     rec_out_t r;
-    negobs_alert_t out = {&rec_ops, &r};
+    negobs_motor_out_t out = {&rec_ops, &r};
     negobs_motor_exec_t ex;
     negobs_motor_schedule_t s = make(on, 1, 0);
     (void)state;
@@ -205,7 +205,7 @@ static void test_thread_watchdog_plays_stale_pattern(void **state)
     static const uint16_t stale[] = {1000, 30000};
     static const uint16_t quiet[] = {0, 30000};
     rec_out_t r;
-    negobs_alert_t out = {&rec_ops, &r};
+    negobs_motor_out_t out = {&rec_ops, &r};
     negobs_motor_thread_t t;
     negobs_motor_schedule_t st = make(stale, 1, 0);
     negobs_motor_schedule_t q = make(quiet, 1, 0);

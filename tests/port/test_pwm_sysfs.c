@@ -70,7 +70,7 @@ static void test_pwm_open_writes_period_duty_enable(void **state)
 {
     fixture_t *fx = *state;
     negobs_alert_pwm_t pwm;
-    negobs_alert_t out;
+    negobs_motor_out_t out;
     char exp[32];
     make_channel(fx, 0);
     assert_int_equal(negobs_alert_pwm_open(&pwm, fx->root, 0, 0, 1000000u,
@@ -89,7 +89,7 @@ static void test_pwm_duty_follows_permille_and_close_disables(void **state)
 {
     fixture_t *fx = *state;
     negobs_alert_pwm_t pwm;
-    negobs_alert_t out;
+    negobs_motor_out_t out;
     make_channel(fx, 1);
     assert_int_equal(negobs_alert_pwm_open(&pwm, fx->root, 0, 1, 40000u,
                                            &out),
@@ -116,7 +116,7 @@ static void test_pwm_export_without_channel_dir_times_out(void **state)
 {
     fixture_t *fx = *state;
     negobs_alert_pwm_t pwm;
-    negobs_alert_t out;
+    negobs_motor_out_t out;
     char buf[32];
     assert_int_equal(negobs_alert_pwm_open(&pwm, fx->root, 0, 1, 1000000u,
                                            &out),
@@ -155,7 +155,7 @@ static void test_pwm_exports_channel_and_unexports_on_close(void **state)
 {
     fixture_t *fx = *state;
     negobs_alert_pwm_t pwm;
-    negobs_alert_t out;
+    negobs_motor_out_t out;
     pthread_t th;
     char buf[32];
     assert_int_equal(pthread_create(&th, NULL, fake_kernel, fx), 0);
@@ -178,7 +178,7 @@ static void test_pwm_write_failure_is_reported(void **state)
 {
     fixture_t *fx = *state;
     negobs_alert_pwm_t pwm;
-    negobs_alert_t out;
+    negobs_motor_out_t out;
     char dir[400];
     make_channel(fx, 0);
     /* A directory where the period file should be: open(O_WRONLY) fails
@@ -197,7 +197,7 @@ static void test_pwm_missing_chip_is_nodev(void **state)
 {
     fixture_t *fx = *state;
     negobs_alert_pwm_t pwm;
-    negobs_alert_t out;
+    negobs_motor_out_t out;
     assert_int_equal(negobs_alert_pwm_open(&pwm, fx->root, 7, 0, 1000000u,
                                            &out),
                      NEGOBS_ERR_NODEV);

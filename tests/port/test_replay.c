@@ -54,7 +54,7 @@ static void write_pair(uint32_t idx, int32_t w, int32_t h)
     }
 }
 
-static void open_replay(negobs_replay_t *rp, negobs_camera_t *cam,
+static void open_replay(negobs_replay_t *rp, negobs_capture_t *cam,
                         negobs_status_t want)
 {
     negobs_camera_config_t cfg;
@@ -92,7 +92,7 @@ static void check_pair(const negobs_frame_pair_t *p, uint32_t idx)
 static void test_replay_reads_pgm_pairs_until_end(void **state)
 {
     negobs_replay_t rp;
-    negobs_camera_t cam;
+    negobs_capture_t cam;
     negobs_frame_pair_t p;
     negobs_camera_stats_t stats;
     uint32_t i;
@@ -118,7 +118,7 @@ static void test_replay_reads_pgm_pairs_until_end(void **state)
 static void test_replay_loop_restarts_at_first_pair(void **state)
 {
     negobs_replay_t rp;
-    negobs_camera_t cam;
+    negobs_capture_t cam;
     negobs_camera_config_t cfg;
     negobs_frame_pair_t p;
     (void)state;
@@ -145,7 +145,7 @@ static void test_replay_loop_restarts_at_first_pair(void **state)
 static void test_replay_requested_size_must_match(void **state)
 {
     negobs_replay_t rp;
-    negobs_camera_t cam;
+    negobs_capture_t cam;
     negobs_camera_config_t cfg;
     negobs_frame_pair_t p;
     (void)state;
@@ -165,7 +165,7 @@ static void test_replay_requested_size_must_match(void **state)
 static void test_replay_paces_at_fps(void **state)
 {
     negobs_replay_t rp;
-    negobs_camera_t cam;
+    negobs_capture_t cam;
     negobs_camera_config_t cfg;
     negobs_frame_pair_t p;
     uint64_t t0;
@@ -200,7 +200,7 @@ static void test_replay_rejects_truncated_pgm(void **state)
     static const char hdr[] = "P5\n16 8\n255\n";
     uint8_t buf[sizeof hdr - 1 + 50];
     negobs_replay_t rp;
-    negobs_camera_t cam;
+    negobs_capture_t cam;
     negobs_frame_pair_t p;
     (void)state;
     write_pair(0, W, H);
@@ -267,7 +267,7 @@ static void test_pgm_reader_rejects_corrupt_headers(void **state)
 static void test_replay_missing_right_or_size_change_is_corrupt(void **state)
 {
     negobs_replay_t rp;
-    negobs_camera_t cam;
+    negobs_capture_t cam;
     negobs_frame_pair_t p;
     char path[400];
     (void)state;
@@ -323,7 +323,7 @@ static void record_session(uint32_t n)
 static void test_session_round_trip(void **state)
 {
     negobs_replay_t rp;
-    negobs_camera_t cam;
+    negobs_capture_t cam;
     negobs_frame_pair_t p;
     uint32_t i;
     (void)state;
@@ -342,7 +342,7 @@ static void test_session_round_trip(void **state)
 static void test_session_truncated_frames_are_corrupt(void **state)
 {
     negobs_replay_t rp;
-    negobs_camera_t cam;
+    negobs_capture_t cam;
     negobs_frame_pair_t p;
     char path[400];
     FILE *f;
@@ -365,7 +365,7 @@ static void test_session_truncated_frames_are_corrupt(void **state)
 static void test_session_bad_header_or_record_is_corrupt(void **state)
 {
     negobs_replay_t rp;
-    negobs_camera_t cam;
+    negobs_capture_t cam;
     negobs_frame_pair_t p;
     (void)state;
     record_session(2);

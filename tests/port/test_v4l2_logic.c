@@ -222,7 +222,7 @@ static void test_backoff_doubles_and_caps(void **state)
 static void test_open_missing_device_is_nodev(void **state)
 {
     negobs_v4l2_t st;
-    negobs_camera_t cam;
+    negobs_capture_t cam;
     negobs_camera_config_t cfg;
     (void)state;
     negobs_camera_config_default(&cfg);

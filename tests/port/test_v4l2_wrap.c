@@ -315,7 +315,7 @@ int __wrap_munmap(void *a, size_t len)
 /* ---- fixtures -------------------------------------------------------- */
 
 static negobs_v4l2_t st;
-static negobs_camera_t cam;
+static negobs_capture_t cam;
 static uint8_t scratch[2 * FW * FH];
 
 static int setup(void **state)

@@ -41,7 +41,7 @@ static const negobs_alert_ops_t console_ops = {
 };
 
 negobs_status_t negobs_alert_console_open(negobs_alert_console_t *st,
-                                          FILE *out, negobs_alert_t *alert)
+                                          FILE *out, negobs_motor_out_t *alert)
 {
     if (st == NULL || out == NULL || alert == NULL) {
         return NEGOBS_ERR_INVAL;

@@ -133,7 +133,7 @@ static const negobs_alert_ops_t gpio_ops = {
 negobs_status_t negobs_alert_gpio_open(negobs_alert_gpio_t *st,
                                        const char *chip, uint32_t line,
                                        bool active_low,
-                                       negobs_alert_t *alert)
+                                       negobs_motor_out_t *alert)
 {
     char path[128];
     struct gpio_v2_line_request req;

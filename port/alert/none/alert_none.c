@@ -18,7 +18,7 @@ static const negobs_alert_ops_t none_ops = {
     "none", none_set, NULL, none_close,
 };
 
-negobs_status_t negobs_alert_none_open(negobs_alert_t *alert)
+negobs_status_t negobs_alert_none_open(negobs_motor_out_t *alert)
 {
     if (alert == NULL) {
         return NEGOBS_ERR_INVAL;

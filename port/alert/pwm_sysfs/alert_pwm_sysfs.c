@@ -168,7 +168,7 @@ static bool is_dir(const char *path)
 negobs_status_t negobs_alert_pwm_open(negobs_alert_pwm_t *st,
                                       const char *root, uint32_t chip,
                                       uint32_t channel, uint32_t period_ns,
-                                      negobs_alert_t *alert)
+                                      negobs_motor_out_t *alert)
 {
     char path[256];
     negobs_status_t s;

@@ -499,7 +499,7 @@ static const negobs_camera_ops_t replay_ops = {
 };
 
 negobs_status_t negobs_replay_init(negobs_replay_t *st, uint8_t *buf,
-                                   size_t buf_bytes, negobs_camera_t *cam)
+                                   size_t buf_bytes, negobs_capture_t *cam)
 {
     if (st == NULL || buf == NULL || buf_bytes < 2 || cam == NULL) {
         return NEGOBS_ERR_INVAL;

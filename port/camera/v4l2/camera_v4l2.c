@@ -698,7 +698,7 @@ static const negobs_camera_ops_t v4l2_ops = {
 };
 
 negobs_status_t negobs_v4l2_init(negobs_v4l2_t *st, uint8_t *scratch,
-                                 size_t scratch_bytes, negobs_camera_t *cam)
+                                 size_t scratch_bytes, negobs_capture_t *cam)
 {
     if (st == NULL || cam == NULL) {
         return NEGOBS_ERR_INVAL;

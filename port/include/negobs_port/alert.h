@@ -38,14 +38,14 @@ extern "C" {
 #define NEGOBS_MOTOR_FULL 1000u
 
 /** One segment: hold `duty_permille` for `duration_ms`. */
-typedef struct negobs_motor_segment {
+typedef struct negobs_motor_step {
     uint16_t duty_permille; /**< 0 (off) .. 1000 (full drive)       */
     uint16_t duration_ms;   /**< 1 .. 65535 ms; 0-length is skipped */
-} negobs_motor_segment_t;
+} negobs_motor_step_t;
 
 /** A whole pattern, passed by value (it is small). */
 typedef struct negobs_motor_schedule {
-    negobs_motor_segment_t seg[NEGOBS_MOTOR_MAX_SEGMENTS];
+    negobs_motor_step_t seg[NEGOBS_MOTOR_MAX_SEGMENTS];
     uint8_t count;      /**< segments used, 0..NEGOBS_MOTOR_MAX_SEGMENTS  */
     uint8_t loop_start; /**< first repeated segment, or NEGOBS_MOTOR_NO_LOOP */
 } negobs_motor_schedule_t;
@@ -80,10 +80,10 @@ typedef struct negobs_alert_ops {
 } negobs_alert_ops_t;
 
 /** A handle: ops plus backend state. */
-typedef struct negobs_alert {
+typedef struct negobs_motor_out {
     const negobs_alert_ops_t *ops;
     void *ctx;
-} negobs_alert_t;
+} negobs_motor_out_t;
 
 /** Size of the per-handle diagnostic message. */
 #define NEGOBS_PORT_ERRMSG_LEN 160
@@ -98,10 +98,10 @@ typedef struct negobs_alert_console {
 
 /** @brief Console backend writing lines "motor <t> ms: 1000 permille". */
 negobs_status_t negobs_alert_console_open(negobs_alert_console_t *st,
-                                          FILE *out, negobs_alert_t *alert);
+                                          FILE *out, negobs_motor_out_t *alert);
 
 /** @brief Backend that accepts and discards everything. */
-negobs_status_t negobs_alert_none_open(negobs_alert_t *alert);
+negobs_status_t negobs_alert_none_open(negobs_motor_out_t *alert);
 
 /** Sysfs PWM backend state (caller-owned; fields private). */
 typedef struct negobs_alert_pwm {
@@ -132,7 +132,7 @@ typedef struct negobs_alert_pwm {
 negobs_status_t negobs_alert_pwm_open(negobs_alert_pwm_t *st,
                                       const char *root, uint32_t chip,
                                       uint32_t channel, uint32_t period_ns,
-                                      negobs_alert_t *alert);
+                                      negobs_motor_out_t *alert);
 
 /** GPIO character-device backend state (fields private). */
 typedef struct negobs_alert_gpio {
@@ -157,15 +157,15 @@ typedef struct negobs_alert_gpio {
 negobs_status_t negobs_alert_gpio_open(negobs_alert_gpio_t *st,
                                        const char *chip, uint32_t line,
                                        bool active_low,
-                                       negobs_alert_t *alert);
+                                       negobs_motor_out_t *alert);
 
 /** @brief Convenience wrappers around alert->ops. */
-static inline negobs_status_t negobs_alert_set(negobs_alert_t *a,
+static inline negobs_status_t negobs_alert_set(negobs_motor_out_t *a,
                                                uint16_t duty_permille)
 {
     return a->ops->set(a->ctx, duty_permille);
 }
-static inline void negobs_alert_close(negobs_alert_t *a)
+static inline void negobs_alert_close(negobs_motor_out_t *a)
 {
     if (a->ops != NULL) {
         a->ops->close(a->ctx);
@@ -183,7 +183,7 @@ static inline void negobs_alert_close(negobs_alert_t *a)
  * tick comes late; late ticks skip whole segments as needed).
  */
 typedef struct negobs_motor_exec {
-    negobs_alert_t *out;
+    negobs_motor_out_t *out;
     negobs_motor_schedule_t sched;
     bool active;          /**< a schedule is playing                    */
     uint8_t seg;          /**< current segment index                    */
@@ -194,7 +194,7 @@ typedef struct negobs_motor_exec {
 } negobs_motor_exec_t;
 
 /** @brief Bind an executor to an output; nothing plays yet. */
-void negobs_motor_exec_init(negobs_motor_exec_t *ex, negobs_alert_t *out);
+void negobs_motor_exec_init(negobs_motor_exec_t *ex, negobs_motor_out_t *out);
 
 /**
  * @brief Start `s` from its first segment at time `now_ms` (replaces any
@@ -248,7 +248,7 @@ typedef struct negobs_motor_thread {
  * @return NEGOBS_OK, NEGOBS_ERR_INVAL, NEGOBS_ERR_IO (thread not created).
  */
 negobs_status_t negobs_motor_thread_start(negobs_motor_thread_t *t,
-                                          negobs_alert_t *out,
+                                          negobs_motor_out_t *out,
                                           const negobs_motor_schedule_t *stale,
                                           uint32_t watchdog_ms);
 

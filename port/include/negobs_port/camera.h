@@ -96,45 +96,45 @@ typedef struct negobs_camera_ops {
 } negobs_camera_ops_t;
 
 /** A source handle. */
-typedef struct negobs_camera {
+typedef struct negobs_capture {
     const negobs_camera_ops_t *ops;
     void *ctx;
-} negobs_camera_t;
+} negobs_capture_t;
 
 static inline negobs_status_t negobs_camera_open(
-    negobs_camera_t *c, const negobs_camera_config_t *cfg)
+    negobs_capture_t *c, const negobs_camera_config_t *cfg)
 {
     return c->ops->open(c->ctx, cfg);
 }
-static inline negobs_status_t negobs_camera_start(negobs_camera_t *c)
+static inline negobs_status_t negobs_camera_start(negobs_capture_t *c)
 {
     return c->ops->start(c->ctx);
 }
-static inline int negobs_camera_get_pair(negobs_camera_t *c,
+static inline int negobs_camera_get_pair(negobs_capture_t *c,
                                          negobs_frame_pair_t *pair,
                                          int32_t timeout_ms)
 {
     return c->ops->get_pair(c->ctx, pair, timeout_ms);
 }
-static inline void negobs_camera_release(negobs_camera_t *c,
+static inline void negobs_camera_release(negobs_capture_t *c,
                                          negobs_frame_pair_t *pair)
 {
     c->ops->release(c->ctx, pair);
 }
-static inline void negobs_camera_stop(negobs_camera_t *c)
+static inline void negobs_camera_stop(negobs_capture_t *c)
 {
     c->ops->stop(c->ctx);
 }
-static inline void negobs_camera_close(negobs_camera_t *c)
+static inline void negobs_camera_close(negobs_capture_t *c)
 {
     c->ops->close(c->ctx);
 }
-static inline void negobs_camera_get_stats(negobs_camera_t *c,
+static inline void negobs_camera_get_stats(negobs_capture_t *c,
                                            negobs_camera_stats_t *out)
 {
     c->ops->stats(c->ctx, out);
 }
-static inline const char *negobs_camera_errmsg(negobs_camera_t *c)
+static inline const char *negobs_camera_errmsg(negobs_capture_t *c)
 {
     return c->ops->errmsg(c->ctx);
 }

@@ -69,7 +69,7 @@ typedef struct negobs_replay {
  * files (NEGOBS_ERR_INVAL otherwise).
  */
 negobs_status_t negobs_replay_init(negobs_replay_t *st, uint8_t *buf,
-                                   size_t buf_bytes, negobs_camera_t *cam);
+                                   size_t buf_bytes, negobs_capture_t *cam);
 
 /**
  * @brief Read a binary PGM (P5, maxval 1..255) into `dst` (rows packed,

@@ -89,7 +89,7 @@ typedef struct negobs_v4l2 {
  * "v4l2:" prefix is accepted).
  */
 negobs_status_t negobs_v4l2_init(negobs_v4l2_t *st, uint8_t *scratch,
-                                 size_t scratch_bytes, negobs_camera_t *cam);
+                                 size_t scratch_bytes, negobs_capture_t *cam);
 
 /* ---- Pure helpers (no device access; unit-tested on their own) ---- */
 
