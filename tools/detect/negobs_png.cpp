@@ -15,7 +15,9 @@
 #include <string>
 #include <vector>
 
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "detect_common.hpp"
 
@@ -48,6 +50,8 @@ void usage(FILE *f)
         "  --first N --count N  sequence: frame subset\n"
         "  --json FILE       JSON lines to FILE instead of stdout\n"
         "  --no-overlay      do not write pictures\n"
+        "  --overlay-scale K scale the pictures by K (0.1..4, default 1; below 1\n"
+        "                    also 32 grey levels per channel: small files)\n"
         "  --whole           call negobs_pipeline_process itself (no per-stage\n"
         "                    timing)\n"
         "  --summary         one summary line at the end (stdout)\n"
@@ -97,6 +101,7 @@ int main(int argc, char **argv)
 {
     std::string seq, out, json_path;
     std::vector<std::string> pos;
+    double overlay_scale = 1.0;
     double f = -1, B = -1, cx = -1, cy = -1, H = -1, pitch = -1e9, fps = -1;
     int max_disp = -1, vshift = 0, repeat = 1, first = 0, count = -1;
     bool vshift_set = false, overlay_on = true, summary = false, quiet = false,
@@ -115,7 +120,7 @@ int main(int argc, char **argv)
             a == "--baseline-mm" || a == "--cx" || a == "--cy" ||
             a == "--height-mm" || a == "--pitch-deg" || a == "--max-disp" ||
             a == "--vshift" || a == "--fps" || a == "--repeat" ||
-            a == "--first" || a == "--count";
+            a == "--first" || a == "--count" || a == "--overlay-scale";
         if (a == "--help" || a == "-h") {
             usage(stdout);
             return 0;
@@ -155,6 +160,9 @@ int main(int argc, char **argv)
                 ok = parse_int(v, repeat) && repeat >= 1 && repeat <= 1000;
             } else if (a == "--first") {
                 ok = parse_int(v, first) && first >= 0;
+            } else if (a == "--overlay-scale") {
+                ok = parse_double(v, overlay_scale) && overlay_scale >= 0.1 &&
+                     overlay_scale <= 4;
             } else if (a == "--count") {
                 ok = parse_int(v, count) && count >= 1;
             }
@@ -326,6 +334,13 @@ int main(int argc, char **argv)
         if (overlay_on) {
             cv::Mat ov = overlay(L, runner.disparity(), max_disp_used, frame_no,
                                  o, it.gt);
+            if (overlay_scale != 1.0) {
+                cv::resize(ov, ov, cv::Size(), overlay_scale, overlay_scale,
+                           overlay_scale < 1 ? cv::INTER_AREA : cv::INTER_NEAREST);
+                if (overlay_scale < 1) {
+                    cv::bitwise_and(ov, cv::Scalar(0xF8, 0xF8, 0xF8), ov);
+                }
+            }
             char fn[64];
             std::snprintf(fn, sizeof fn, "overlay_%04d.png", frame_no);
             const std::string p = (fs::path(out) / fn).string();
