@@ -5,9 +5,14 @@
 #   vivid  V4L2 capture of an injected stereo pair (vivid loopback)
 #   gpio   GPIO character device on PL061 (+ gpio-sim when it builds)
 #   pwm    PWM sysfs ABI on pwm-sim.ko (tests/hw/kmod/pwm-sim.c)
+#   run-curb         the real negobs_run (static aarch64, built from this
+#                    tree) on a synthetic walk toward a curb; motor line
+#                    (gpio-sim) observed from outside
+#   run-camera-loss  the real negobs_run: right camera stops, no-info
+#                    pattern on the line, frames return, verdicts resume
 #   payload  /payload/run.sh from --payload DIR (drop-in for negobs_run)
 #
-# usage: bash tests/hw/run.sh [--sections vivid,gpio,pwm[,payload]]
+# usage: bash tests/hw/run.sh [--sections vivid,gpio,pwm,run-curb,run-camera-loss[,payload]]
 #          [--payload DIR] [--payload-file FILE]... [--no-gpio-sim]
 #          [--timeout S] [--clean]
 # --payload DIR / --payload-file FILE (repeatable) copy into the guest's
@@ -31,11 +36,11 @@ set -u -o pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 HW=$ROOT/tests/hw
 WORK=${NEGOBS_HW_WORK:-$ROOT/build/hw}
-SECTIONS="vivid gpio pwm"
+SECTIONS="vivid gpio pwm run-curb run-camera-loss"
 PAYLOAD=""
 PAYLOAD_FILES=()
 GPIO_SIM=1
-QEMU_TIMEOUT=240
+QEMU_TIMEOUT=420
 T0=$(date +%s.%N)
 
 while [[ $# -gt 0 ]]; do
@@ -285,7 +290,7 @@ build_kmods || step "module build incomplete (log: $LOG)"
 GB=$WORK/guest-bin
 mkdir -p "$GB"
 GUEST_OK=1
-for p in v4l2_loop gpio_test pwm_test; do
+for p in v4l2_loop gpio_test pwm_test motor_watch; do
   if [[ ! -x $GB/$p || $HW/guest/$p.c -nt $GB/$p ]]; then
     step "cross-compiling $p (static aarch64)"
     quiet aarch64-linux-gnu-gcc -std=c99 -O2 -Wall -Wextra -static -o "$GB/$p" "$HW/guest/$p.c" ||
@@ -294,12 +299,32 @@ for p in v4l2_loop gpio_test pwm_test; do
 done
 [[ $GUEST_OK = 1 ]] || skip_all "cross-compiling the guest programs failed (log: $LOG)"
 
+# ---- the real negobs_run + its scenes (run-curb, run-camera-loss) ----------------
+NEGOBS_OK=0 NEGOBS_WHY=""
+if [[ " $SECTIONS " == *" run-"* ]]; then
+  step "building negobs_run (static aarch64) + synth scenes (tests/hw/build_negobs.sh)"
+  bash "$HW/build_negobs.sh" "$WORK/negobs" >> "$LOG" 2>&1
+  case $? in
+    0) NEGOBS_OK=1 ;;
+    77) NEGOBS_WHY=$(tail -n 1 "$LOG") ;;
+    *) NEGOBS_WHY="tests/hw/build_negobs.sh failed (log: $LOG)"; tail -n 15 "$LOG" | sed 's/^/hw:   /' ;;
+  esac
+fi
+
 # decide which sections can run; the others are skipped with a reason
 RUN=""
 for s in $SECTIONS; do
   case $s in
     pwm) [[ $KMOD_OK = 1 ]] || { RESULT[$s]=SKIPPED; REASON[$s]="pwm-sim.ko could not be built (log: $LOG)"; continue; } ;;
     vivid|gpio|payload) ;;
+    run-curb|run-camera-loss)
+      if [[ $NEGOBS_OK != 1 ]]; then
+        # a failed build is a failure, a missing prerequisite a skip
+        if [[ $NEGOBS_WHY == *build_negobs.sh\ failed* ]]; then RESULT[$s]=FAIL; REASON[$s]="($NEGOBS_WHY)"
+        else RESULT[$s]=SKIPPED; REASON[$s]="negobs_run/negobs_synth not buildable: $NEGOBS_WHY"; fi
+        continue
+      fi
+      [[ $GPIOSIM_OK = 1 ]] || { RESULT[$s]=SKIPPED; REASON[$s]="gpio-sim.ko not built (--no-gpio-sim or build failure): no outside motor observer"; continue; } ;;
     *) RESULT[$s]=FAIL; REASON[$s]="(unknown section)"; continue ;;
   esac
   RUN="$RUN $s"
@@ -324,7 +349,13 @@ mkdir -p "$IR"/{bin,sbin,proc,sys,dev,tmp,tests,payload,usr/bin,lib/modules/"$KV
 cp "$BB/bin/busybox" "$IR/bin/busybox"
 cp "$HW/guest/init.sh" "$IR/init" && chmod 755 "$IR/init"
 sed -i '1s|.*|#!/bin/busybox sh|' "$IR/init"
-cp "$HW/guest/"{lib,vivid,gpio,pwm,payload}.sh "$IR/tests/"
+cp "$HW/guest/"{lib,vivid,gpio,pwm,payload,negobs_lib,run-curb,run-camera-loss}.sh "$IR/tests/"
+if [[ " $RUN " == *" run-"* ]]; then
+  mkdir -p "$IR/negobs/curb" "$IR/negobs/flat"
+  cp "$WORK/negobs/"{negobs_run,rig.conf} "$IR/negobs/"
+  cp "$WORK/negobs/curb/"*.{raw,md5} "$IR/negobs/curb/"
+  cp "$WORK/negobs/flat/"*.{raw,md5} "$IR/negobs/flat/"
+fi
 cp "$GB/"* "$IR/bin/"
 MODS=(vivid configfs)
 [[ $KMOD_OK = 1 ]] && MODS+=(pwm-sim)
@@ -368,7 +399,7 @@ timeout --kill-after=10 "$QEMU_TIMEOUT" qemu-system-aarch64 -M virt -accel tcg -
 QRC=$?
 BOOT_S=$(awk -v a="$TB" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
 tr -d '\r' < "$GLOG" > "$GLOG.txt"
-grep -E '^(\[[a-z]+\] |GUEST|SECTION )' "$GLOG.txt" | sed 's/^/guest| /'
+grep -E '^(\[[a-z-]+\] |GUEST|SECTION )' "$GLOG.txt" | sed 's/^/guest| /'
 step "qemu exited with $QRC after ${BOOT_S}s"
 [[ $QRC = 124 || $QRC = 137 ]] && step "qemu timed out after ${QEMU_TIMEOUT}s (serial log: $GLOG)"
 

@@ -36,6 +36,11 @@
  *          -n frames to check per capture node (8) -b buffers (4, >= 3)
  *          -T poll timeout ms (5000) -t seconds (inject: 0 = forever)
  *          -L file -R file (inject: raw frames) -q (quiet)
+ *          -P ms (inject with -L/-R: paced playback, file frame i from
+ *                 i*ms after the start, once through, then the last frame
+ *                 is held: a walk at a known speed)
+ *   v4l2_loop ctrl DEV NAME VALUE sets one control by name (e.g. vivid's
+ *       "Percentage of Dropped Buffers", to stop a camera's frames).
  *
  * C99 + POSIX, built static for aarch64 by tests/hw/run.sh.
  */
@@ -78,6 +83,8 @@ struct node {
 static unsigned g_w = 640, g_h = 480, g_nframes = 8, g_nbufs = 4;
 static uint32_t g_fourcc = V4L2_PIX_FMT_GREY;
 static int g_timeout_ms = 5000, g_quiet;
+static int g_hold_ms;      /* -P: file frame i shown from i*ms after start */
+static double g_play_t0;   /* start of the -P playback (0: not started) */
 static size_t g_size; /* bytes per frame */
 
 static int xioctl(int fd, unsigned long req, void *arg)
@@ -336,11 +343,27 @@ struct source {
 	uint32_t next[2]; /* next frame number per eye */
 };
 
+static double now_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + ts.tv_nsec / 1e9;
+}
+
 static void fill_out(struct source *s, unsigned eye, uint8_t *dst)
 {
 	uint32_t n = s->next[eye]++;
 	if (s->f[eye]) {
 		long idx = (long)(n % (uint32_t)s->nfile[eye]);
+		if (g_hold_ms > 0) {
+			/* paced playback: the frame for the time since the
+			 * start, once through, then the last frame held */
+			idx = g_play_t0 > 0
+			      ? (long)((now_s() - g_play_t0) * 1000.0 / g_hold_ms)
+			      : 0;
+			if (idx >= s->nfile[eye])
+				idx = s->nfile[eye] - 1;
+		}
 		if (fseek(s->f[eye], idx * (long)g_size, SEEK_SET) != 0 ||
 		    fread(dst, 1, g_size, s->f[eye]) != g_size)
 			DIE("reading frame %ld of eye %u: %s", idx, eye,
@@ -350,20 +373,14 @@ static void fill_out(struct source *s, unsigned eye, uint8_t *dst)
 	}
 }
 
-static double now_s(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + ts.tv_nsec / 1e9;
-}
-
 static void usage(void)
 {
 	fprintf(stderr,
 		"usage: v4l2_loop check  [opts] CAP0 CAP1 OUT0 OUT1\n"
 		"       v4l2_loop inject [opts] [-t s] [-L left.raw -R right.raw] "
-		"[-r readyfile] CAP0 CAP1 OUT0 OUT1\n"
+		"[-P hold_ms] [-r readyfile] CAP0 CAP1 OUT0 OUT1\n"
 		"       v4l2_loop capture [opts] [-x] [-O dir] CAP0 CAP1\n"
+		"       v4l2_loop ctrl DEV 'Control Name' VALUE\n"
 		"opts: -W w -H h -f GREY|YUYV -n frames -b bufs -T poll_ms -q\n");
 	exit(2);
 }
@@ -407,6 +424,18 @@ int main(int argc, char **argv)
 	if (argc < 2)
 		usage();
 	mode = argv[1];
+	if (strcmp(mode, "ctrl") == 0) {
+		/* v4l2_loop ctrl DEV NAME VALUE: set one control by name */
+		int fd;
+		if (argc != 5)
+			usage();
+		fd = open(argv[2], O_RDWR | O_NONBLOCK);
+		if (fd < 0)
+			DIE("open %s: %s", argv[2], strerror(errno));
+		set_ctrl(fd, argv[2], argv[3], atoi(argv[4]));
+		close(fd);
+		return 0;
+	}
 	if (strcmp(mode, "inject") == 0)
 		inject = 1;
 	else if (strcmp(mode, "capture") == 0)
@@ -414,7 +443,7 @@ int main(int argc, char **argv)
 	else if (strcmp(mode, "check") != 0)
 		usage();
 	optind = 2;
-	while ((opt = getopt(argc, argv, "W:H:f:n:b:T:t:L:R:O:r:xq")) != -1) {
+	while ((opt = getopt(argc, argv, "W:H:f:n:b:T:t:L:R:O:r:P:xq")) != -1) {
 		switch (opt) {
 		case 'W': g_w = (unsigned)atoi(optarg); break;
 		case 'H': g_h = (unsigned)atoi(optarg); break;
@@ -434,6 +463,7 @@ int main(int argc, char **argv)
 		case 'R': rf = optarg; break;
 		case 'O': savedir = optarg; break;
 		case 'r': readyfile = optarg; break;
+		case 'P': g_hold_ms = atoi(optarg); break;
 		case 'x': verify = 0; break;
 		case 'q': g_quiet = 1; break;
 		default: usage();
@@ -509,6 +539,7 @@ int main(int argc, char **argv)
 				    strerror(errno));
 		}
 		t0 = now_s();
+		g_play_t0 = t0;
 		for (;;) {
 			struct pollfd pf[2];
 			int r;

@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# Host side of the run-curb / run-camera-loss sections (called by
+# tests/hw/run.sh; can be run alone): builds the real firmware and the scenes
+# it is shown in the guest, into OUT (default build/hw/negobs):
+#
+#   OUT/negobs_run      static aarch64, release, from this tree
+#                       (meson cross build in build/hw-negobs_run-a64)
+#   OUT/curb/{left,right}.raw   negobs_synth walk toward a 150 mm curb,
+#                       edge 4.0 m -> 1.24 m, 24 frames at 10 fps / 1.2 m/s
+#   OUT/flat/{left,right}.raw   one flat-ground pair (no hazard)
+#   OUT/rig.conf        the synth rig for negobs_run --config
+#
+# Frames: negobs_synth renders 320x240 8-bit grey PNGs (native build in
+# build/hw-host: needs OpenCV 4); tests/hw/png2raw.py repeats every pixel
+# 2x2 into 640x480 raw GREY (vivid loops 640x480p59.94; its capture scaler
+# gives negobs_run the original 320x240 back).
+#
+# usage: bash tests/hw/build_negobs.sh [OUT]
+# exit 0 ok; 77 when a prerequisite is missing (message on the last line);
+# other = build failure.  Rebuilds only what changed (meson/ninja; the scenes
+# are re-rendered when negobs_synth or png2raw.py is newer).
+set -u -o pipefail
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+OUT=${1:-${NEGOBS_HW_WORK:-$ROOT/build/hw}/negobs}
+A64=$ROOT/build/hw-negobs_run-a64
+HOST=$ROOT/build/hw-host
+mkdir -p "$OUT"
+
+command -v meson > /dev/null || { echo "meson not installed"; exit 77; }
+command -v python3 > /dev/null || { echo "python3 not installed (png2raw.py)"; exit 77; }
+
+# 1. static aarch64 negobs_run (release: -O2 for TCG's sake)
+if [[ ! -f $A64/build.ninja ]]; then
+  rm -rf "$A64"
+  meson setup --cross-file "$ROOT/tools/cross/aarch64-linux-gnu.ini" --buildtype=release \
+    -Dtests=disabled -Dtools=disabled -Dc_link_args=-static "$A64" || exit 1
+fi
+meson compile -C "$A64" firmware_app/negobs_run || exit 1
+if aarch64-linux-gnu-readelf -l "$A64/firmware_app/negobs_run" | grep -q 'program interpreter'; then
+  echo "negobs_run is not static"; exit 1
+fi
+cp "$A64/firmware_app/negobs_run" "$OUT/negobs_run.new" && mv "$OUT/negobs_run.new" "$OUT/negobs_run"
+
+# 2. negobs_synth, native (needs OpenCV: tools=auto turns it off without)
+if [[ ! -f $HOST/build.ninja ]]; then
+  rm -rf "$HOST"
+  meson setup -Dtests=disabled "$HOST" || exit 1
+fi
+if ! meson compile -C "$HOST" tools/synth/negobs_synth; then
+  if ! grep -q "negobs_synth" "$HOST/build.ninja"; then
+    echo "negobs_synth not buildable here (OpenCV 4 missing?)"; exit 77
+  fi
+  exit 1
+fi
+SYNTH=$HOST/tools/synth/negobs_synth
+
+# 3. scenes (the synth rig: f=250 px, B=120 mm, H=1200 mm, pitch 20 deg)
+RIG=(--f 250 --baseline-mm 120 --height-mm 1200 --pitch-deg 20 --width 320 --height 240 --seed 7)
+scene() { # name synth-args...
+  local name=$1; shift
+  local d=$OUT/$name
+  if [[ -f $d/left.raw && -f $d/right.raw && $d/left.raw -nt $SYNTH &&
+        $d/left.raw -nt $ROOT/tests/hw/png2raw.py && $d/left.raw -nt ${BASH_SOURCE[0]} ]]; then
+    return 0
+  fi
+  rm -rf "$d" "$OUT/png-$name"
+  "$SYNTH" "$@" "${RIG[@]}" --out "$OUT/png-$name" > /dev/null || return 1
+  python3 "$ROOT/tests/hw/png2raw.py" "$OUT/png-$name" "$d" || return 1
+  cp "$OUT/png-$name/gt.json" "$d/gt.json"
+}
+scene curb --scene curb --drop-mm 150 --edge-mm 4000 --frames 24 --speed 1.2 --fps 10 || exit 1
+scene flat --scene flat --single || exit 1
+
+cat > "$OUT/rig.conf" <<'EOF'
+# negobs_synth's rig (tests/hw/build_negobs.sh): 320x240, f=250 px,
+# B=120 mm, H=1200 mm, pitch 20 deg
+width = 320
+height = 240
+focal_px = 250
+baseline_mm = 120
+cam_height_mm = 1200
+cam_pitch_mdeg = 20000
+max_disp = 63
+EOF
+echo "negobs: $(du -sk "$OUT" | cut -f1) KiB in $OUT"

@@ -1,0 +1,105 @@
+/*
+ * motor_watch: outside observer of the motor line for the negobs_run
+ * sections of the emulated-hardware tests (tests/hw).
+ *
+ *   motor_watch [-i ms] FILE
+ *       Reads FILE (gpio-sim's sim_gpioN/value, or a PWM channel's
+ *       duty_cycle: anything > 0 counts as on) every -i ms (default 5) and
+ *       prints one line per change of state, "T V" with T = CLOCK_BOOTTIME
+ *       in seconds (same clock as /proc/uptime) and V = 0 or 1; the first
+ *       line is the state at start.  Runs until SIGTERM/SIGINT.
+ *   motor_watch now
+ *       Prints the current CLOCK_BOOTTIME (mark an event in the same clock).
+ *
+ * Every sample also reports the largest gap between two samples at exit
+ * ("# samples N max_gap_ms G") so the run shows how finely the line was
+ * observed under TCG.  C99 + POSIX, static aarch64.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#ifndef CLOCK_BOOTTIME
+#define CLOCK_BOOTTIME 7
+#endif
+
+static volatile sig_atomic_t stop;
+static void on_sig(int s)
+{
+	(void)s;
+	stop = 1;
+}
+
+static double now_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_BOOTTIME, &ts);
+	return (double)ts.tv_sec + ts.tv_nsec / 1e9;
+}
+
+static int read_state(const char *path)
+{
+	char buf[32];
+	ssize_t n;
+	int fd = open(path, O_RDONLY);
+	if (fd < 0)
+		return -1;
+	n = read(fd, buf, sizeof buf - 1);
+	close(fd);
+	if (n <= 0)
+		return -1;
+	buf[n] = '\0';
+	return strtol(buf, NULL, 10) > 0;
+}
+
+int main(int argc, char **argv)
+{
+	int ms = 5, last = -2, v;
+	const char *path;
+	unsigned long samples = 0;
+	double prev = 0, gap = 0, t;
+	struct sigaction sa;
+	struct timespec d;
+
+	if (argc == 2 && strcmp(argv[1], "now") == 0) {
+		printf("%.3f\n", now_s());
+		return 0;
+	}
+	if (argc == 4 && strcmp(argv[1], "-i") == 0) {
+		ms = atoi(argv[2]);
+		path = argv[3];
+	} else if (argc == 2) {
+		path = argv[1];
+	} else {
+		fprintf(stderr, "usage: motor_watch [-i ms] FILE | motor_watch now\n");
+		return 2;
+	}
+	memset(&sa, 0, sizeof sa);
+	sa.sa_handler = on_sig;
+	sigaction(SIGTERM, &sa, NULL);
+	sigaction(SIGINT, &sa, NULL);
+	setvbuf(stdout, NULL, _IOLBF, 0);
+	d.tv_sec = ms / 1000;
+	d.tv_nsec = (long)(ms % 1000) * 1000000L;
+	while (!stop) {
+		v = read_state(path);
+		t = now_s();
+		if (samples > 0 && t - prev > gap)
+			gap = t - prev;
+		prev = t;
+		samples++;
+		if (v >= 0 && v != last) {
+			printf("%.3f %d\n", t, v);
+			last = v;
+		}
+		nanosleep(&d, NULL);
+	}
+	printf("# samples %lu max_gap_ms %.0f\n", samples, gap * 1000.0);
+	return 0;
+}

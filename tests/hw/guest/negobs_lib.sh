@@ -1,0 +1,102 @@
+# Helpers for the sections that run the real negobs_run (run-curb,
+# run-camera-loss).  Source after /tests/lib.sh.  The host side
+# (tests/hw/build_negobs.sh) put into /negobs: negobs_run (static aarch64),
+# rig.conf, curb/{left,right}.raw, flat/{left,right}.raw (640x480 GREY).
+
+NEGOBS=/negobs
+
+# negobs_prereq: exit 77 (skip) with a reason when the image has no firmware
+negobs_prereq() {
+    [ -x $NEGOBS/negobs_run ] || { echo "no /negobs/negobs_run in the image (host build failed or skipped)"; exit 77; }
+}
+
+# negobs_vivid_load: vivid in loopback like hw_vivid_load, but with the
+# error-injection controls ("Percentage of Dropped Buffers" stops a camera's
+# frames) and capture crop/compose/scaler on (ccs 7: what no_error_inj=1
+# gives by default).  Reloads vivid if an earlier section loaded it.
+negobs_vivid_load() {
+    if grep -q '^vivid ' /proc/modules; then
+        rmmod vivid || { echo "cannot unload vivid"; return 1; }
+    fi
+    modprobe vivid n_devs=2 node_types=0x101,0x101 vid_cap_nr=0,1 vid_out_nr=2,3 \
+        no_error_inj=0 ccs_cap_mode=7,7 ccs_out_mode=7,7 || return 1
+    for i in 0 1 2 3; do
+        n=0
+        while [ ! -e /dev/video$i ] && [ $n -lt 50 ]; do sleep 0.1; n=$((n + 1)); done
+        [ -e /dev/video$i ] || { echo "vivid: /dev/video$i did not appear"; return 1; }
+    done
+    echo "vivid: loopback, error-injection controls on, capture scaler on"
+}
+
+now() { motor_watch now; }
+
+# negobs_watch_start FILE: outside observer of the motor (edges, 5 ms)
+negobs_watch_start() {
+    motor_watch -i 5 "$1" > /tmp/edges &
+    WATCH_PID=$!
+}
+negobs_watch_stop() {
+    kill "$WATCH_PID" 2>/dev/null; wait "$WATCH_PID" 2>/dev/null
+    tail -n 1 /tmp/edges | sed 's/^# /motor_watch: /'
+}
+
+# negobs_start CONF ALERT: negobs_run in the background, log /tmp/negobs.log;
+# sets NEGOBS_PID and T_START (boot clock, just before exec)
+negobs_start() {
+    T_START=$(now)
+    $NEGOBS/negobs_run --config "$1" --alert "$2" /dev/video0 /dev/video1 2> /tmp/negobs.log &
+    NEGOBS_PID=$!
+    echo "negobs_run started at boot clock $T_START: --config $1 --alert $2"
+}
+# negobs_stop: SIGINT; returns 0 when it ended cleanly (exit 0)
+negobs_stop() {
+    kill -INT "$NEGOBS_PID" 2>/dev/null
+    wait "$NEGOBS_PID"
+    NEGOBS_RC=$?
+    sed 's/^/negobs_run| /' /tmp/negobs.log
+    echo "negobs_run exit status $NEGOBS_RC"
+    [ "$NEGOBS_RC" -eq 0 ]
+}
+
+# log_time PATTERN [AFTER]: negobs_run's own time (s since its start) of the
+# first log line matching PATTERN (ERE) at or after AFTER seconds; empty if none
+log_time() {
+    awk -v pat="$1" -v after="${2:-0}" '
+        { t = $1; gsub(/[\[\]]/, "", t) }
+        $0 ~ pat && t + 0 >= after + 0 { print t; exit }' /tmp/negobs.log
+}
+
+# pulses: the on-pulses seen on the motor line, "START_BOOT WIDTH_MS" per
+# line (a pulse still on at the end has width -1)
+pulses() {
+    awk '$1 !~ /^#/ {
+            if ($2 == 1) { on = $1 }
+            else if (on != "") { printf "%.3f %.0f\n", on, ($1 - on) * 1000; on = "" }
+         }
+         END { if (on != "") printf "%.3f -1\n", on }' /tmp/edges
+}
+
+# patterns T0 T1: classifies the pulses starting in [T0, T1) (boot clock) by
+# the pattern table of firmware_app/app_patterns.c, one "CLASS START" line
+# per recognised pair of pulses (TOL_MS of slack on every width and gap for
+# the emulator's scheduling):
+#   caution  two ~80 ms pulses 160 ms apart (start to start)
+#   imminent two ~300 ms pulses 400 ms apart
+#   noinfo   a ~400 ms pulse followed 600 ms later by another (entry burst)
+#            or a ~600 ms pulse (the repeating part)
+patterns() {
+    pulses | awk -v t0="$1" -v t1="$2" -v tol="${TOL_MS:-60}" '
+        function near(x, want) { return x >= want - tol && x <= want + tol }
+        $1 >= t0 && $1 < t1 { n++; s[n] = $1; w[n] = $2 }
+        END {
+            for (i = 1; i <= n; i++) {
+                g = (i < n) ? (s[i + 1] - s[i]) * 1000 : -1
+                if (i < n && near(w[i], 80) && near(w[i + 1], 80) && near(g, 160))
+                    print "caution", s[i]
+                else if (i < n && near(w[i], 300) && near(w[i + 1], 300) && near(g, 400))
+                    print "imminent", s[i]
+                else if ((i < n && near(w[i], 400) && near(g, 600)) || near(w[i], 600))
+                    print "noinfo", s[i]
+            }
+        }'
+}
