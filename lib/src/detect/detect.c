@@ -327,6 +327,9 @@ negobs_status_t negobs_detect_photo_stats(const negobs_image_u8_t *img,
             }
         }
     }
+    if (n == 0) {
+        return NEGOBS_ERR_INVAL; /* no pixel sampled */
+    }
     out->mean = (int32_t)(sum / n);
     out->dark_permille = (int32_t)(((uint64_t)dark * 1000u) / n);
     out->saturated_permille = (int32_t)(((uint64_t)sat * 1000u) / n);
@@ -932,7 +935,7 @@ static void merge_strips(const scan_ctx_t *s, detect_priv_t *p,
         /* Confidence: agreement across strips (4 strips = full) times the
          * mean threshold margin (2x tau = full). Canny adds support. */
         {
-            int64_t a = geom_min_s32(cnt, 4) * 8192;
+            int64_t a = (int64_t)geom_min_s32(cnt, 4) * 8192;
             int64_t m = geom_clamp_s64((int64_t)(margin / cnt), 0, 512);
             h.conf_q15 = (int16_t)geom_clamp_s64((a * m) / 512, 0, 32767);
         }

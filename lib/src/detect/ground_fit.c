@@ -200,7 +200,7 @@ static int hough_line(gfit_t *g, negobs_ground_plane_t *plane)
         }
     }
     for (i = 0; i < g->n_slopes; i++) {
-        const uint32_t *a = g->acc + i * GFIT_N_K;
+        const uint32_t *a = g->acc + (ptrdiff_t)i * GFIT_N_K;
         int32_t k;
         for (k = 1; k < GFIT_N_K - 1; k++) {
             uint32_t s = a[k - 1] + a[k] + a[k + 1];
@@ -216,7 +216,7 @@ static int hough_line(gfit_t *g, negobs_ground_plane_t *plane)
     }
     {
         /* Weighted intercept inside the 3-bin window. */
-        const uint32_t *a = g->acc + best_i * GFIT_N_K;
+        const uint32_t *a = g->acc + (ptrdiff_t)best_i * GFIT_N_K;
         int64_t kb = g->k_bin_q12[best_i];
         int64_t k0 = g->k_lo_q12[best_i] + (int64_t)best_k * kb + kb / 2;
         int64_t num = (int64_t)a[best_k + 1] - (int64_t)a[best_k - 1];

@@ -242,11 +242,12 @@ uint32_t temporal_report(const temporal_t *t, negobs_hazard_t *out,
             h.flags |= NEGOBS_HAZARD_F_HELD;
             h.range_mm = held_range(cfg, tr, now_ms);
         }
-        if (tr->held || h.range_mm <= cfg->range_imminent_mm) {
-            lv = NEGOBS_LEVEL_IMMINENT;
-        } else if (tr->speed_mm_s >= 300 &&
-                   ((int64_t)h.range_mm * 1000) / tr->speed_mm_s <
-                       cfg->ttc_imminent_ms) {
+        if (tr->held || h.range_mm <= cfg->range_imminent_mm ||
+            (tr->speed_mm_s >= 300 &&
+             ((int64_t)h.range_mm * 1000) / tr->speed_mm_s <
+                 cfg->ttc_imminent_ms)) {
+            /* At the edge, held below the image, or reached within the
+             * time to contact at the walking speed. */
             lv = NEGOBS_LEVEL_IMMINENT;
         } else if (h.range_mm <= cfg->range_warn_mm) {
             lv = NEGOBS_LEVEL_CAUTION;

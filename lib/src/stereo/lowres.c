@@ -55,7 +55,7 @@ static int32_t box3(const uint8_t *p, int32_t stride)
     int32_t s = 0;
     int32_t k;
     for (k = -1; k <= 1; k++) {
-        const uint8_t *q = p + k * stride;
+        const uint8_t *q = p + (ptrdiff_t)k * stride;
         s += (int32_t)q[-1] + (int32_t)q[0] + (int32_t)q[1];
     }
     return s;
@@ -110,7 +110,7 @@ void stx_lowres_range(stx_t *s)
 
     for (y4 = 1; y4 < lh - 1; y4++) {
         for (x4 = 1; x4 < lw - 1; x4++) {
-            const uint8_t *a = s->lo_l + y4 * lw + x4;
+            const uint8_t *a = s->lo_l + (ptrdiff_t)y4 * lw + x4;
             int32_t sa = box3(a, lw);
             int32_t tex = 0;
             int32_t best = INT32_MAX;
@@ -130,7 +130,7 @@ void stx_lowres_range(stx_t *s)
                 int32_t xr = x4 - d4;
                 int32_t c = INT32_MAX;
                 if (xr >= 1 && xr < lw - 1) {
-                    const uint8_t *b = s->lo_r + y4 * lw + xr;
+                    const uint8_t *b = s->lo_r + (ptrdiff_t)y4 * lw + xr;
                     c = zsad3(a, sa, b, box3(b, lw), lw);
                 }
                 costs[d4 - dmin4] = c;
@@ -154,7 +154,7 @@ void stx_lowres_range(stx_t *s)
             /* left-right check: the right pixel must pick us back */
             {
                 int32_t xr = x4 - bestd;
-                const uint8_t *b = s->lo_r + y4 * lw + xr;
+                const uint8_t *b = s->lo_r + (ptrdiff_t)y4 * lw + xr;
                 int32_t sb = box3(b, lw);
                 int32_t rb = INT32_MAX;
                 int32_t rd = -1;
@@ -165,7 +165,7 @@ void stx_lowres_range(stx_t *s)
                     if (xl < 1 || xl >= lw - 1) {
                         continue;
                     }
-                    a2 = s->lo_l + y4 * lw + xl;
+                    a2 = s->lo_l + (ptrdiff_t)y4 * lw + xl;
                     c = zsad3(a2, box3(a2, lw), b, sb, lw);
                     if (c < rb) {
                         rb = c;
