@@ -856,7 +856,7 @@ int evaluate_surdis(const Options &opt)
              fmtd("%.0f", cam.pitch_deg) + " deg; frames at 10 fps.");
     rep.both("");
     int scored = 0, hit = 0, hit_warned = 0, frames = 0, noinfo = 0, hazard_frames = 0;
-    std::vector<std::string> missed;
+    std::vector<std::string> missed, hits;
     std::vector<int> pics = {30, 60, 80, 95};
     double st_sum = 0, dt_sum = 0;
     std::string est_pose;
@@ -910,14 +910,25 @@ int evaluate_surdis(const Options &opt)
             }
         }
         bool ok = false;
+        std::string hit_desc;
         for (uint32_t k = 0; k < d.n_hazards && k < NEGOBS_DETECT_MAX_HAZARDS; ++k) {
             const negobs_hazard_t &h = d.hazards[k];
             if (!(h.flags & NEGOBS_HAZARD_F_CONFIRMED) || h.type == NEGOBS_HAZARD_UNKNOWN) {
                 continue;
             }
             for (const Box &b : boxes) {
-                ok = ok || overlaps(b, h.u0, h.v0, h.u1, h.v1);
+                if (overlaps(b, h.u0, h.v0, h.u1, h.v1)) {
+                    if (!ok) {
+                        hit_desc = std::to_string(n) + ": " + type_name(h.type) + " " +
+                                   fmtd("%.2f m", h.range_mm / 1000.0) + "/" +
+                                   fmtd("%.0f cm", h.drop_mm / 10.0);
+                    }
+                    ok = true;
+                }
             }
+        }
+        if (ok && in_corr) {
+            hits.push_back(hit_desc);
         }
         if (in_corr) {
             ++scored;
@@ -979,8 +990,17 @@ int evaluate_surdis(const Options &opt)
              std::to_string(noinfo) + " | " + fmtd("%.1f", st_sum / frames) + " | " +
              fmtd("%.2f", dt_sum / frames) + " |");
     rep.both("");
+    if (!hits.empty()) {
+        std::string h = "Frames with a confirmed hazard on the label (frame: type "
+                        "range/drop):";
+        for (const std::string &x : hits) {
+            h += " " + x + ";";
+        }
+        rep.both(h);
+        rep.both("");
+    }
     if (!missed.empty()) {
-        rep.both("Missed frames:");
+        rep.both("Frames without a confirmed hazard on the label:");
         rep.both("");
         rep.both("| frame | state | reasons | nearest candidate / confirmed hazards |");
         rep.both("|---|---|---|---|");
