@@ -61,9 +61,12 @@ negobs_stop() {
 # log_time PATTERN [AFTER]: negobs_run's own time (s since its start) of the
 # first log line matching PATTERN (ERE) at or after AFTER seconds; empty if none
 log_time() {
+    # lines look like "[   12.345] info: ..." (the time is right-aligned)
     awk -v pat="$1" -v after="${2:-0}" '
-        { t = $1; gsub(/[\[\]]/, "", t) }
-        $0 ~ pat && t + 0 >= after + 0 { print t; exit }' /tmp/negobs.log
+        match($0, /^\[ *[0-9]+\.[0-9]+\]/) {
+            t = substr($0, 2, RLENGTH - 2) + 0
+            if ($0 ~ pat && t >= after + 0) { print t; exit }
+        }' /tmp/negobs.log
 }
 
 # pulses: the on-pulses seen on the motor line, "START_BOOT WIDTH_MS" per

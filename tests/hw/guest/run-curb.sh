@@ -47,10 +47,13 @@ fi
 VB=$(awk -v a="$T_START" -v b="$TV" 'BEGIN { printf "%.3f", a + b }')
 IDX=$(awk -v v="$VB" -v i="$T_INJ" -v h="$HOLD_MS" 'BEGIN { k = int((v - i) * 1000 / h); if (k > 23) k = 23; print k }')
 echo "run-curb: first hazard verdict at ${TV}s of negobs_run (boot $VB), frame $IDX shown, edge $((4000 - 120 * IDX)) mm ahead"
-FIRST=$(patterns 0 "$T_END" | awk '$1 == "caution" || $1 == "imminent"' | head -n 1)
-PRE=$(patterns "$(awk -v a="$T_START" 'BEGIN { print a + 0.5 }')" "$(awk -v a="$VB" 'BEGIN { print a - 0.05 }')" |
+# READY (100/100/100 ms) plays in the first ~0.5 s and looks like caution:
+# hazard patterns are looked for after it
+T_READY=$(awk -v a="$T_START" 'BEGIN { print a + 1.0 }')
+FIRST=$(patterns "$(awk -v a="$VB" 'BEGIN { print a - 0.1 }')" "$T_END" | awk '$1 == "caution" || $1 == "imminent"' | head -n 1)
+PRE=$(patterns "$T_READY" "$(awk -v a="$VB" 'BEGIN { print a - 0.1 }')" |
       awk '$1 == "caution" || $1 == "imminent"' | head -n 1)
-echo "run-curb: patterns recognised on the line: $(patterns 0 "$T_END" | awk '{ c[$1]++ } END { for (k in c) printf "%s=%d ", k, c[k] }')"
+echo "run-curb: patterns recognised on the line after READY: $(patterns "$T_READY" "$T_END" | awk '{ c[$1]++ } END { for (k in c) printf "%s=%d ", k, c[k] }')"
 if [ -z "$FIRST" ]; then
     echo "run-curb: FAIL: no caution/imminent pattern on the motor line"; rc=1
 else
