@@ -682,9 +682,18 @@ static int run_loop(void)
             lat_us = (negobs_clock_now_ns() - pair.left.ts_ns) / 1000u;
             negobs_camera_release(&camera, &pair);
             if (v != st.verdict) {
-                logmsg(LOG_INFO, "verdict %s -> %s (%s)",
-                       app_verdict_name(st.verdict), app_verdict_name(v),
-                       app_reason_name(pipeline.last.reason));
+                /* For "detector", say which NEGOBS_DEGRADED_* bits
+                 * (negobs/detect.h) made it blind: stale or unsynced
+                 * frames read very differently from a bad ground fit. */
+                if (pipeline.last.reason == APP_REASON_DETECTOR) {
+                    logmsg(LOG_INFO, "verdict %s -> %s (detector 0x%lx)",
+                           app_verdict_name(st.verdict), app_verdict_name(v),
+                           (unsigned long)pipeline.last.detect_reasons);
+                } else {
+                    logmsg(LOG_INFO, "verdict %s -> %s (%s)",
+                           app_verdict_name(st.verdict), app_verdict_name(v),
+                           app_reason_name(pipeline.last.reason));
+                }
             }
             st.verdict = v;
             st.verdicts[v & 3]++;
