@@ -8,11 +8,13 @@
 #   run-curb         the real negobs_run (static aarch64, built from this
 #                    tree) on a synthetic walk toward a curb; motor line
 #                    (gpio-sim) observed from outside
+#   run-curb-pwm     run-curb with --alert pwm: on pwm-sim, observed
+#                    through the channel's sysfs duty_cycle
 #   run-camera-loss  the real negobs_run: right camera stops, no-info
 #                    pattern on the line, frames return, verdicts resume
 #   payload  /payload/run.sh from --payload DIR (drop-in for negobs_run)
 #
-# usage: bash tests/hw/run.sh [--sections vivid,gpio,pwm,run-curb,run-camera-loss[,payload]]
+# usage: bash tests/hw/run.sh [--sections vivid,gpio,pwm,run-curb,run-camera-loss,run-curb-pwm[,payload]]
 #          [--payload DIR] [--payload-file FILE]... [--no-gpio-sim]
 #          [--timeout S] [--clean]
 # --payload DIR / --payload-file FILE (repeatable) copy into the guest's
@@ -36,7 +38,7 @@ set -u -o pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 HW=$ROOT/tests/hw
 WORK=${NEGOBS_HW_WORK:-$ROOT/build/hw}
-SECTIONS="vivid gpio pwm run-curb run-camera-loss"
+SECTIONS="vivid gpio pwm run-curb run-camera-loss run-curb-pwm"
 PAYLOAD=""
 PAYLOAD_FILES=()
 GPIO_SIM=1
@@ -317,14 +319,17 @@ for s in $SECTIONS; do
   case $s in
     pwm) [[ $KMOD_OK = 1 ]] || { RESULT[$s]=SKIPPED; REASON[$s]="pwm-sim.ko could not be built (log: $LOG)"; continue; } ;;
     vivid|gpio|payload) ;;
-    run-curb|run-camera-loss)
+    run-curb|run-camera-loss|run-curb-pwm)
+      if [[ $s == run-curb-pwm && $KMOD_OK != 1 ]]; then
+        RESULT[$s]=SKIPPED; REASON[$s]="pwm-sim.ko could not be built (log: $LOG)"; continue
+      fi
       if [[ $NEGOBS_OK != 1 ]]; then
         # a failed build is a failure, a missing prerequisite a skip
         if [[ $NEGOBS_WHY == *build_negobs.sh\ failed* ]]; then RESULT[$s]=FAIL; REASON[$s]="($NEGOBS_WHY)"
         else RESULT[$s]=SKIPPED; REASON[$s]="negobs_run/negobs_synth not buildable: $NEGOBS_WHY"; fi
         continue
       fi
-      [[ $GPIOSIM_OK = 1 ]] || { RESULT[$s]=SKIPPED; REASON[$s]="gpio-sim.ko not built (--no-gpio-sim or build failure): no outside motor observer"; continue; } ;;
+      [[ $GPIOSIM_OK = 1 || $s == run-curb-pwm ]] || { RESULT[$s]=SKIPPED; REASON[$s]="gpio-sim.ko not built (--no-gpio-sim or build failure): no outside motor observer"; continue; } ;;
     *) RESULT[$s]=FAIL; REASON[$s]="(unknown section)"; continue ;;
   esac
   RUN="$RUN $s"
@@ -349,7 +354,7 @@ mkdir -p "$IR"/{bin,sbin,proc,sys,dev,tmp,tests,payload,usr/bin,lib/modules/"$KV
 cp "$BB/bin/busybox" "$IR/bin/busybox"
 cp "$HW/guest/init.sh" "$IR/init" && chmod 755 "$IR/init"
 sed -i '1s|.*|#!/bin/busybox sh|' "$IR/init"
-cp "$HW/guest/"{lib,vivid,gpio,pwm,payload,negobs_lib,run-curb,run-camera-loss}.sh "$IR/tests/"
+cp "$HW/guest/"{lib,vivid,gpio,pwm,payload,negobs_lib,run-curb,run-camera-loss,run-curb-pwm}.sh "$IR/tests/"
 if [[ " $RUN " == *" run-"* ]]; then
   mkdir -p "$IR/negobs/curb" "$IR/negobs/flat"
   cp "$WORK/negobs/"{negobs_run,rig.conf} "$IR/negobs/"

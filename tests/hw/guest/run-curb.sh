@@ -7,6 +7,9 @@
 # the logged change, no hazard pattern appears before the first hazard
 # verdict, the first hazard comes before the walk ends (edge >= 1.24 m), and
 # negobs_run exits 0 on SIGINT.
+# ALERT_KIND=pwm (section run-curb-pwm): the motor is a pwm-sim channel
+# (--alert pwm:N:0) and the observer reads its duty_cycle (> 0 = on); the
+# channel must be enabled with period 1000000 while negobs_run runs.
 set -u
 . /tests/lib.sh
 . /tests/negobs_lib.sh
@@ -19,17 +22,41 @@ HAZARD_LAG_S=3
 TOL_MS=60
 
 negobs_vivid_load || exit 1
-hw_gpio_sim_setup negobs-curb 8 || { echo "gpio-sim not in the image: no motor observer"; exit 77; }
+S=${ALERT_KIND:-gpio}
+if [ "$S" = pwm ]; then
+    hw_pwm_sim_load 2 || { echo "pwm-sim.ko not in the image"; exit 77; }
+    ALERT="pwm:$HW_PWMCHIP:0"
+    PWMD=/sys/class/pwm/pwmchip$HW_PWMCHIP/pwm0
+    WATCH=$PWMD/duty_cycle      # exported by negobs_run; motor_watch waits for it
+else
+    hw_gpio_sim_setup negobs-curb 8 || { echo "gpio-sim not in the image: no motor observer"; exit 77; }
+    ALERT="gpio:$HW_GPIOCHIP:0"
+    WATCH=$HW_GPIO_SIM/sim_gpio0/value
+fi
 { cat $NEGOBS/rig.conf; echo "watchdog_ms = $WDOG_MS"; echo "pair_tolerance_ms = 20"
   echo "record = /tmp/rec"; } > /tmp/curb.conf
-negobs_watch_start "$HW_GPIO_SIM/sim_gpio0/value"
+negobs_watch_start "$WATCH"
 hw_inject_start -f GREY -W 640 -H 480 -L $NEGOBS/curb/left.raw -R $NEGOBS/curb/right.raw -P "$HOLD_MS" || exit 1
 T_INJ=$(now)
-negobs_start /tmp/curb.conf "gpio:$HW_GPIOCHIP:0"
-s=0
-while [ $s -lt $RUN_S ] && kill -0 $NEGOBS_PID 2>/dev/null; do sleep 1; s=$((s + 1)); done
+negobs_start /tmp/curb.conf "$ALERT"
+s=0 PWMSTATE=""
+while [ $s -lt $RUN_S ] && kill -0 $NEGOBS_PID 2>/dev/null; do
+    sleep 1; s=$((s + 1))
+    [ "$S" = pwm ] && [ $s -eq 5 ] && PWMSTATE="enable=$(cat $PWMD/enable 2>&1) period=$(cat $PWMD/period 2>&1)"
+done
 rc=0
+if [ "$S" = pwm ]; then
+    echo "run-curb: pwm channel 5 s into the run: $PWMSTATE"
+    [ "$PWMSTATE" = "enable=1 period=1000000" ] || { echo "run-curb: FAIL: pwm channel not enabled at 1 ms period"; rc=1; }
+fi
 negobs_stop || { echo "run-curb: negobs_run did not end cleanly"; rc=1; }
+if [ "$S" = pwm ]; then
+    [ -e "$PWMD" ] && { echo "run-curb: FAIL: pwm0 still exported after exit"; rc=1; }
+    grep -A2 pwm-sim /sys/kernel/debug/pwm 2>/dev/null | sed 's/^/run-curb: after exit: /'
+    # the motor is left off: pwm-sim's recorded state for channel 0
+    grep -A2 pwm-sim /sys/kernel/debug/pwm 2>/dev/null | grep -q ' pwm-0 .*duty: 0 ns' ||
+        { echo "run-curb: FAIL: pwm channel 0 not at duty 0 after exit"; rc=1; }
+fi
 T_END=$(now)
 negobs_watch_stop
 hw_inject_stop
