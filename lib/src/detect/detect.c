@@ -1043,6 +1043,7 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
         res->pose = g.pose;
         res->sigma_q4 = g.sigma_q4;
 
+        memset(&s, 0, sizeof s); /* every field defined before use */
         s.cfg = cfg;
         s.disp = frame->disp_q4;
         s.conf = frame->confidence;
