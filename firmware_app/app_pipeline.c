@@ -51,6 +51,7 @@ void app_pipeline_config_default(app_pipeline_config_t *cfg)
     cfg->cam_height_mm = 1200;
     cfg->cam_pitch_mdeg = 20000;
     cfg->max_disp = 63;
+    cfg->sync_tol_ms = 10;
 }
 
 negobs_status_t app_pipeline_init(app_pipeline_t *p,
@@ -66,7 +67,8 @@ negobs_status_t app_pipeline_init(app_pipeline_t *p,
         cfg->baseline_mm > 1000 || cfg->cam_height_mm < 300 ||
         cfg->cam_height_mm > 3000 || cfg->cam_pitch_mdeg < 0 ||
         cfg->cam_pitch_mdeg > 60000 || cfg->max_disp < 8 ||
-        cfg->max_disp > 255) {
+        cfg->max_disp > 255 || cfg->sync_tol_ms < 0 ||
+        cfg->sync_tol_ms > 1000) {
         return NEGOBS_ERR_INVAL;
     }
     memset(p, 0, sizeof *p);
@@ -159,6 +161,8 @@ static negobs_status_t lib_setup(const app_pipeline_config_t *c, int32_t w,
     pc.detect.cam.baseline_um = c->baseline_mm * 1000;
     pc.detect.cam_height_mm = c->cam_height_mm;
     pc.detect.cam_pitch_mdeg = c->cam_pitch_mdeg;
+    /* One limit for "a pair": what the capture pairs, the detector takes. */
+    pc.detect.sync_tol_ms = c->sync_tol_ms;
     st = negobs_pipeline_workspace_size(&pc, &bytes);
     if (st != NEGOBS_OK) {
         return st;

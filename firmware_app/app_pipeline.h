@@ -48,6 +48,8 @@ typedef struct app_pipeline_config {
     int32_t cam_height_mm;        /**< camera height above ground [1200]   */
     int32_t cam_pitch_mdeg;       /**< downward pitch, 1/1000 deg [20000]  */
     int32_t max_disp;             /**< largest disparity searched [63]     */
+    int32_t sync_tol_ms;          /**< L/R capture skew the detector accepts;
+                                       negobs_run sets its pairing limit [10] */
 } app_pipeline_config_t;
 
 /** Statistics of the last pair, per image (0 = left, 1 = right). */

@@ -779,6 +779,8 @@ int main(int argc, char **argv)
     if (rc != 0) {
         return rc;
     }
+    /* The detector must accept every pair the capture layer pairs. */
+    S.app.sync_tol_ms = S.pair_tol_ms;
     if (app_pipeline_init(&pipeline, &S.app) != NEGOBS_OK) {
         fprintf(stderr, "negobs_run: bad image-quality thresholds\n");
         return EXIT_CONFIG;
