@@ -52,6 +52,7 @@ void app_pipeline_config_default(app_pipeline_config_t *cfg)
     cfg->cam_pitch_mdeg = 20000;
     cfg->max_disp = 63;
     cfg->sync_tol_ms = 10;
+    cfg->max_frame_age_ms = 150;
 }
 
 negobs_status_t app_pipeline_init(app_pipeline_t *p,
@@ -68,7 +69,8 @@ negobs_status_t app_pipeline_init(app_pipeline_t *p,
         cfg->cam_height_mm > 3000 || cfg->cam_pitch_mdeg < 0 ||
         cfg->cam_pitch_mdeg > 60000 || cfg->max_disp < 8 ||
         cfg->max_disp > 255 || cfg->sync_tol_ms < 0 ||
-        cfg->sync_tol_ms > 1000) {
+        cfg->sync_tol_ms > 1000 || cfg->max_frame_age_ms < 1 ||
+        cfg->max_frame_age_ms > 60000) {
         return NEGOBS_ERR_INVAL;
     }
     memset(p, 0, sizeof *p);
@@ -163,6 +165,7 @@ static negobs_status_t lib_setup(const app_pipeline_config_t *c, int32_t w,
     pc.detect.cam_pitch_mdeg = c->cam_pitch_mdeg;
     /* One limit for "a pair": what the capture pairs, the detector takes. */
     pc.detect.sync_tol_ms = c->sync_tol_ms;
+    pc.detect.max_frame_age_ms = c->max_frame_age_ms;
     st = negobs_pipeline_workspace_size(&pc, &bytes);
     if (st != NEGOBS_OK) {
         return st;

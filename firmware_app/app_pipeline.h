@@ -50,6 +50,7 @@ typedef struct app_pipeline_config {
     int32_t max_disp;             /**< largest disparity searched [63]     */
     int32_t sync_tol_ms;          /**< L/R capture skew the detector accepts;
                                        negobs_run sets its pairing limit [10] */
+    int32_t max_frame_age_ms;     /**< older frames are stale: no-info [150] */
 } app_pipeline_config_t;
 
 /** Statistics of the last pair, per image (0 = left, 1 = right). */

@@ -147,6 +147,9 @@ static const negobs_cfg_key_t config_keys[] = {
      "downward pitch, 1/1000 degree (default 20000)"},
     {"max_disp", NEGOBS_CFG_INT, &S.app.max_disp, 8, 255,
      "largest disparity searched, pixels (default 63)"},
+    {"max_frame_age_ms", NEGOBS_CFG_INT, &S.app.max_frame_age_ms, 1, 60000,
+     "capture-to-verdict age above which a pair is stale -> no-info "
+     "(default 150; raise only for slow emulators)"},
 };
 #define N_KEYS (sizeof config_keys / sizeof config_keys[0])
 

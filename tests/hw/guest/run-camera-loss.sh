@@ -26,7 +26,7 @@ TOL_MS=80
 
 negobs_vivid_load || exit 1
 hw_gpio_sim_setup negobs-loss 8 || { echo "gpio-sim not in the image: no motor observer"; exit 77; }
-{ cat $NEGOBS/rig.conf; echo "watchdog_ms = $WDOG_MS"; echo "pair_tolerance_ms = 20"; } > /tmp/loss.conf
+{ cat $NEGOBS/rig.conf; echo "watchdog_ms = $WDOG_MS"; echo "max_frame_age_ms = $WDOG_MS"; echo "pair_tolerance_ms = 20"; } > /tmp/loss.conf
 negobs_watch_start "$HW_GPIO_SIM/sim_gpio0/value"
 hw_inject_start -f GREY -W 640 -H 480 -L $NEGOBS/flat/left.raw -R $NEGOBS/flat/right.raw || exit 1
 negobs_start /tmp/loss.conf "gpio:$HW_GPIOCHIP:0"

@@ -33,7 +33,7 @@ else
     ALERT="gpio:$HW_GPIOCHIP:0"
     WATCH=$HW_GPIO_SIM/sim_gpio0/value
 fi
-{ cat $NEGOBS/rig.conf; echo "watchdog_ms = $WDOG_MS"; echo "pair_tolerance_ms = 20"
+{ cat $NEGOBS/rig.conf; echo "watchdog_ms = $WDOG_MS"; echo "max_frame_age_ms = $WDOG_MS"; echo "pair_tolerance_ms = 20"
   echo "record = /tmp/rec"; } > /tmp/curb.conf
 negobs_watch_start "$WATCH"
 hw_inject_start -f GREY -W 640 -H 480 -L $NEGOBS/curb/left.raw -R $NEGOBS/curb/right.raw -P "$HOLD_MS" || exit 1
