@@ -17,7 +17,7 @@
  * Priorities: IMMINENT > CAUTION > NO_INFO > LOW_BATTERY > READY. A higher
  * priority pre-empts at once; a lower one waits until the motor is off
  * (a pulse is never cut). Caution band changes wait for the gap after the
- * double pulse. IMMINENT is held for imminent_hold_ms after its last
+ * two-pulse burst. IMMINENT is held for imminent_hold_ms after its last
  * verdict, so a brief degraded blip does not turn it into "unknown".
  */
 #ifndef NEGOBS_ALERT_H

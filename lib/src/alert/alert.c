@@ -295,7 +295,7 @@ negobs_status_t negobs_alert_update(negobs_alert_t *c, uint32_t now,
         if (pats[want].prio > pats[c->pat].prio) {
             sw = 1; /* pre-empt now (the min-pulse guard protects a pulse) */
         } else if (is_caution(want) && is_caution(c->pat)) {
-            /* Band change: in the long gap after the double pulse. */
+            /* Band change: in the long gap after the two-pulse burst. */
             sw = !on && idx == pats[c->pat].n - 1;
         } else {
             sw = !on; /* lower priority: never cut a pulse */

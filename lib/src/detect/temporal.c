@@ -125,7 +125,7 @@ void temporal_update(temporal_t *t, const negobs_hazard_t *cands, uint32_t n,
             }
         }
         if (best < 0) {
-            /* New track: a free slot, else the weakest unconfirmed one. */
+            /* New track: an unused slot, else the weakest unconfirmed one. */
             uint32_t weakest = 0xFFFFFFFFu;
             for (k = 0; k < NEGOBS_DETECT_MAX_TRACKS; k++) {
                 if (!t->tracks[k].active) {

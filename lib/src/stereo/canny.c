@@ -4,7 +4,7 @@
  * Sobel gradients gx, gy (|g| <= 1020 each), L1 magnitude |gx| + |gy|
  * (<= 2040, uint16), non-maximum suppression along the gradient direction
  * quantised to 4 sectors with the integer slope test
- * |gy| * 1000 < |gx| * 414 (tan 22.5 deg = 0.4142), then double threshold
+ * |gy| * 1000 < |gx| * 414 (tan 22.5 deg = 0.4142), then two thresholds
  * and hysteresis. Hysteresis is bounded: weak pixels are promoted when an
  * 8-neighbour is strong, in one forward and one backward raster pass over
  * the strip (no stack, no recursion); chains longer than that are cut,

@@ -45,7 +45,7 @@ typedef struct stx_cache_entry {
 /* ---- bounded bucket queue (queue.c) ---------------------------------- */
 typedef struct stx_queue {
     uint32_t *item;   /* packed u:12 | v:12 | d:8                       */
-    int32_t *next;    /* singly linked LIFO per bucket / free list      */
+    int32_t *next;    /* singly linked LIFO per bucket / spare list     */
     int32_t *head;    /* STX_NBUCKET heads, -1 = empty                  */
     int32_t free_head;
     int32_t cap;
