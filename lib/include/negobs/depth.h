@@ -11,6 +11,7 @@
 
 #include <stdint.h>
 
+#include "negobs/fixed.h" /* negobs_isqrt_u64 */
 #include "negobs/status.h"
 
 #ifdef __cplusplus
@@ -98,8 +99,6 @@ static inline int32_t negobs_bearing_mdeg(int32_t lateral_mm,
     return negobs_atan2_mdeg(lateral_mm, forward_mm);
 }
 
-/** @brief Largest r with r*r <= x, for 64-bit values. */
-uint64_t negobs_isqrt_u64(uint64_t x);
 
 #ifdef __cplusplus
 }

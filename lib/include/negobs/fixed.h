@@ -61,14 +61,15 @@ static inline int32_t negobs_rshift_round_s32(int32_t x, int n)
 }
 
 /**
- * @brief Integer square root: largest r with r * r <= x.
+ * @brief Integer square root of a 64-bit value: largest r with r * r <= x.
  *
- * Bit-by-bit method: 16 iterations, no division, same result everywhere.
+ * Bit-by-bit method: at most 32 iterations, no division, same result
+ * everywhere.
  */
-static inline uint32_t negobs_isqrt_u32(uint32_t x)
+static inline uint64_t negobs_isqrt_u64(uint64_t x)
 {
-    uint32_t r = 0;
-    uint32_t bit = (uint32_t)1 << 30;
+    uint64_t r = 0;
+    uint64_t bit = (uint64_t)1 << 62;
     while (bit > x) {
         bit >>= 2;
     }
@@ -82,6 +83,12 @@ static inline uint32_t negobs_isqrt_u32(uint32_t x)
         bit >>= 2;
     }
     return r;
+}
+
+/** @brief Integer square root: largest r with r * r <= x (32-bit). */
+static inline uint32_t negobs_isqrt_u32(uint32_t x)
+{
+    return (uint32_t)negobs_isqrt_u64(x);
 }
 
 /** @brief |x| for int32 without the INT32_MIN trap (saturates to MAX). */

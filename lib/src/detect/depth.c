@@ -224,22 +224,3 @@ void negobs_sincos_q30(int32_t angle_mdeg, int32_t *sin_q30,
         *cos_q30 = (int32_t)x;
     }
 }
-
-uint64_t negobs_isqrt_u64(uint64_t x)
-{
-    uint64_t r = 0;
-    uint64_t bit = (uint64_t)1 << 62;
-    while (bit > x) {
-        bit >>= 2;
-    }
-    while (bit != 0) {
-        if (x >= r + bit) {
-            x -= r + bit;
-            r = (r >> 1) + bit;
-        } else {
-            r >>= 1;
-        }
-        bit >>= 2;
-    }
-    return r;
-}
