@@ -237,9 +237,80 @@ static void test_open_missing_device_is_nodev(void **state)
     negobs_camera_close(&cam);
 }
 
+/* ---- frozen-stream detection --------------------------------------- */
+
+static void test_signature_sees_sampled_pixels_and_ignores_stride(void **state)
+{
+    static uint8_t a[40 * 30];
+    static uint8_t b[48 * 30];
+    negobs_image_u8_t ia = {a, 40, 30, 40};
+    negobs_image_u8_t ib = {b, 40, 30, 48};
+    uint32_t s0;
+    int y;
+    (void)state;
+    for (y = 0; y < 30; y++) {
+        int x;
+        for (x = 0; x < 40; x++) {
+            a[y * 40 + x] = (uint8_t)(x * 7 + y * 3);
+            b[y * 48 + x] = (uint8_t)(x * 7 + y * 3);
+        }
+        memset(&b[y * 48 + 40], 0xAA, 8); /* padding is never read */
+    }
+    s0 = negobs_frame_signature(&ia);
+    assert_int_equal(negobs_frame_signature(&ib), s0);
+    /* One sampled pixel (row 2, column 3) flipped by one grey level: a
+     * noise-sized change is seen. */
+    a[2 * 40 + 3] ^= 1u;
+    assert_int_not_equal(negobs_frame_signature(&ia), s0);
+    a[2 * 40 + 3] ^= 1u;
+    assert_int_equal(negobs_frame_signature(&ia), s0);
+    /* Sampling is sparse on purpose: an odd row is not read. */
+    a[1 * 40 + 3] ^= 1u;
+    assert_int_equal(negobs_frame_signature(&ia), s0);
+    assert_int_equal(negobs_frame_signature(NULL), 0);
+}
+
+static void test_frozen_needs_limit_identical_frames_and_clears(void **state)
+{
+    negobs_frozen_t f;
+    (void)state;
+    memset(&f, 0, sizeof f);
+    /* Changing content never freezes. */
+    assert_false(negobs_frozen_update(&f, 1, 3));
+    assert_false(negobs_frozen_update(&f, 2, 3));
+    /* 3 identical frames in a row (the first plus 2 repeats). */
+    assert_false(negobs_frozen_update(&f, 7, 3));
+    assert_false(negobs_frozen_update(&f, 7, 3));
+    assert_true(negobs_frozen_update(&f, 7, 3));
+    assert_true(negobs_frozen_update(&f, 7, 3));
+    assert_int_equal(f.repeats, 3);
+    /* The first changed frame clears it. */
+    assert_false(negobs_frozen_update(&f, 8, 3));
+    assert_int_equal(f.repeats, 0);
+    /* 0 = off, whatever repeats. */
+    assert_false(negobs_frozen_update(&f, 8, 0));
+    assert_false(negobs_frozen_update(&f, 8, 0));
+    /* A limit of 1 means 2: a single frame cannot repeat. */
+    memset(&f, 0, sizeof f);
+    assert_false(negobs_frozen_update(&f, 5, 1));
+    assert_true(negobs_frozen_update(&f, 5, 1));
+}
+
+static void test_camera_config_default_turns_frozen_check_on(void **state)
+{
+    negobs_camera_config_t cfg;
+    (void)state;
+    negobs_camera_config_default(&cfg);
+    assert_int_equal(cfg.frozen_frames, NEGOBS_CAMERA_FROZEN_FRAMES_DEFAULT);
+    assert_true(cfg.frozen_frames >= 2);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_signature_sees_sampled_pixels_and_ignores_stride),
+        cmocka_unit_test(test_frozen_needs_limit_identical_frames_and_clears),
+        cmocka_unit_test(test_camera_config_default_turns_frozen_check_on),
         cmocka_unit_test(test_pair_decide_matches_within_tolerance),
         cmocka_unit_test(test_pairing_recovers_from_a_missing_frame),
         cmocka_unit_test(test_pairing_drops_out_of_sync_streams),

@@ -52,6 +52,8 @@ typedef struct fake_dev {
     int next;
     int dqbuf_errno_at;      /* frame index at which DQBUF fails, -1 never */
     int dqbuf_errno;
+    int frozen_from;         /* frames [from, to) repeat frame from-1's */
+    int frozen_to;           /* content (a hung ISP); -1 never          */
 } fake_dev_t;
 
 static fake_dev_t fk[2];
@@ -234,7 +236,12 @@ static int fake_ioctl(fake_dev_t *d, unsigned long req, void *arg)
             return fake_fail(EAGAIN); /* all buffers with the application */
         }
         d->queued[i] = false;
-        memset(d->mem[i], 0x10 + d->next, BUFSZ);
+        memset(d->mem[i],
+               0x10 + (d->frozen_from > 0 && d->next >= d->frozen_from &&
+                               d->next < d->frozen_to
+                           ? d->frozen_from - 1
+                           : d->next),
+               BUFSZ);
         b->index = i;
         b->bytesused = d->fmt.sizeimage;
         b->flags = V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC;
@@ -317,6 +324,8 @@ int __wrap_munmap(void *a, size_t len)
 static negobs_v4l2_t st;
 static negobs_capture_t cam;
 static uint8_t scratch[2 * FW * FH];
+static int32_t frozen_limit; /* cfg.frozen_frames of open_cam() */
+static int32_t pair_tol;     /* cfg.pair_tol_ms of open_cam() */
 
 static int setup(void **state)
 {
@@ -335,7 +344,11 @@ static int setup(void **state)
         fk[i].reqbufs_count = 4;
         fk[i].exposure_set = -1;
         fk[i].dqbuf_errno_at = -1;
+        fk[i].frozen_from = -1;
+        fk[i].frozen_to = -1;
     }
+    frozen_limit = NEGOBS_CAMERA_FROZEN_FRAMES_DEFAULT;
+    pair_tol = NEGOBS_CAMERA_PAIR_TOL_MS_DEFAULT;
     return 0;
 }
 
@@ -353,6 +366,8 @@ static negobs_status_t open_cam(int32_t exposure)
     cfg.left = "/fake/video0";
     cfg.right = "v4l2:/fake/video1";
     cfg.exposure = exposure;
+    cfg.frozen_frames = frozen_limit;
+    cfg.pair_tol_ms = pair_tol;
     assert_int_equal(negobs_v4l2_init(&st, scratch, sizeof scratch, &cam),
                      NEGOBS_OK);
     s = negobs_camera_open(&cam, &cfg);
@@ -437,8 +452,100 @@ static void test_v4l2_pairs_by_timestamp_and_counts_drops(void **state)
     assert_int_equal(s.dropped_pairs, 1);
     /* Nothing more: a timeout, reported as such. */
     assert_int_equal(negobs_camera_get_pair(&cam, &p, 50), NEGOBS_ERR_TIMEOUT);
+    assert_non_null(strstr(negobs_camera_errmsg(&cam), "no frames from"));
     negobs_camera_get_stats(&cam, &s);
     assert_int_equal(s.timeouts, 1);
+    negobs_camera_close(&cam);
+}
+
+static void test_v4l2_frozen_camera_withholds_pairs_until_it_changes(
+    void **state)
+{
+    static const uint32_t ts[] = {1000, 1033, 1066, 1100, 1133, 1166, 1200};
+    negobs_frame_pair_t p;
+    negobs_camera_stats_t s;
+    int i;
+    (void)state;
+    script(0, ts, 7);
+    script(1, ts, 7);
+    /* Right frames 1..4 repeat frame 0's content; frame 5 is new. */
+    fk[1].frozen_from = 1;
+    fk[1].frozen_to = 5;
+    frozen_limit = 3;
+    assert_int_equal(open_cam(-1), NEGOBS_OK);
+    /* Frames 0 and 1: two identical, below the limit of 3. */
+    for (i = 0; i < 2; i++) {
+        assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+        negobs_camera_release(&cam, &p);
+    }
+    /* Frames 2, 3, 4: frozen, withheld with an error that says so, and
+     * the buffers go back to the driver. */
+    for (i = 2; i < 5; i++) {
+        assert_int_equal(negobs_camera_get_pair(&cam, &p, 100),
+                         NEGOBS_ERR_IO);
+        assert_non_null(strstr(negobs_camera_errmsg(&cam), "frozen"));
+        assert_non_null(strstr(negobs_camera_errmsg(&cam), "/fake/video1"));
+    }
+    assert_true(fk[1].queued[0] || fk[1].queued[1] || fk[1].queued[2] ||
+                fk[1].queued[3]);
+    /* Frame 5 changed: pairs flow again, without a reopen. */
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(p.right.ts_ns / 1000000u, 1166);
+    assert_int_equal(p.right.y.data[0], 0x15);
+    negobs_camera_get_stats(&cam, &s);
+    assert_int_equal(s.frozen_pairs, 3);
+    assert_int_equal(s.reopens, 0);
+    negobs_camera_close(&cam);
+}
+
+static void test_v4l2_frozen_check_off_delivers_repeats(void **state)
+{
+    static const uint32_t ts[] = {1000, 1033, 1066, 1100};
+    negobs_frame_pair_t p;
+    int i;
+    (void)state;
+    script(0, ts, 4);
+    script(1, ts, 4);
+    fk[0].frozen_from = 1;
+    fk[0].frozen_to = 4;
+    frozen_limit = 0;
+    assert_int_equal(open_cam(-1), NEGOBS_OK);
+    for (i = 0; i < 4; i++) {
+        assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    }
+    negobs_camera_close(&cam);
+}
+
+static void test_v4l2_drift_beyond_tolerance_times_out_as_out_of_sync(
+    void **state)
+{
+    /* Right runs 16 ms behind left: nothing within 10 ms. */
+    static const uint32_t l[] = {1000, 1033, 1066, 1100, 1133};
+    static const uint32_t r[] = {1016, 1049, 1082, 1100, 1133};
+    negobs_frame_pair_t p;
+    negobs_camera_stats_t s;
+    (void)state;
+    script(0, l, 5);
+    script(1, r, 5);
+    fk[0].nframes = 3; /* the first three for now */
+    fk[1].nframes = 3;
+    pair_tol = 10;
+    assert_int_equal(open_cam(-1), NEGOBS_OK);
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 50), NEGOBS_ERR_TIMEOUT);
+    assert_non_null(strstr(negobs_camera_errmsg(&cam), "out of sync"));
+    assert_non_null(strstr(negobs_camera_errmsg(&cam), "16 ms"));
+    negobs_camera_get_stats(&cam, &s);
+    assert_true(s.dropped_pairs >= 4);
+    assert_int_equal(s.pairs, 0);
+    /* The drift ends (the cameras are back in step): pairs again, no
+     * reopen. */
+    fk[0].nframes = 5;
+    fk[1].nframes = 5;
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(p.left.ts_ns / 1000000u, 1100);
+    assert_int_equal(p.right.ts_ns / 1000000u, 1100);
+    negobs_camera_get_stats(&cam, &s);
+    assert_int_equal(s.reopens, 0);
     negobs_camera_close(&cam);
 }
 
@@ -556,6 +663,9 @@ int main(void)
         T(test_v4l2_negotiates_planar_and_hands_out_y_in_place),
         T(test_v4l2_packed_only_extracts_luma_to_scratch),
         T(test_v4l2_pairs_by_timestamp_and_counts_drops),
+        T(test_v4l2_frozen_camera_withholds_pairs_until_it_changes),
+        T(test_v4l2_frozen_check_off_delivers_repeats),
+        T(test_v4l2_drift_beyond_tolerance_times_out_as_out_of_sync),
         T(test_v4l2_device_loss_reopens_with_backoff),
         T(test_v4l2_repeated_timeouts_mark_node_lost),
         T(test_v4l2_signals_give_again_and_ioctls_retry),

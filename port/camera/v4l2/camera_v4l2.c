@@ -11,6 +11,17 @@
  * kept (older ones are requeued and counted as stale), so the pipeline
  * always works on the freshest pair instead of a growing backlog.
  *
+ * Frozen content. A driver or ISP that hangs may keep handing out the same
+ * image; every paired frame's sampled signature is compared with that
+ * node's previous one, and while frozen_frames frames in a row were
+ * identical the pair is requeued and get_pair returns NEGOBS_ERR_IO
+ * ("frozen: ..."), so the caller plays no-information instead of judging a
+ * stale view. The first frame that changes clears it.
+ *
+ * Drift. Pairs further apart than pair_tol_ms are dropped; when nothing
+ * could be paired before the timeout although frames arrived, the timeout
+ * says so ("left/right out of sync: ...") rather than "no frames".
+ *
  * Device loss. ENODEV/EIO from an ioctl, POLLERR/POLLHUP, or several poll
  * timeouts in a row mark a node lost: it is closed, and get_pair tries to
  * reopen it with exponential back-off, returning NEGOBS_ERR_NODEV (after
@@ -545,12 +556,53 @@ static void v_release(void *ctx, negobs_frame_pair_t *pair)
     }
 }
 
+/* True when either side is frozen (its errmsg set). */
+static bool frozen_check(negobs_v4l2_t *st, const negobs_frame_pair_t *pair)
+{
+    const negobs_frame_t *f[2];
+    bool frozen = false;
+    int i;
+    f[0] = &pair->left;
+    f[1] = &pair->right;
+    for (i = 0; i < 2; i++) {
+        negobs_v4l2_dev_t *d = &st->dev[i];
+        if (negobs_frozen_update(&d->frozen, negobs_frame_signature(&f[i]->y),
+                                 st->cfg.frozen_frames)) {
+            v_error(st, 0, "frozen: %s image unchanged for %lu frames",
+                    d->path, (unsigned long)d->frozen.repeats + 1u);
+            frozen = true;
+        }
+    }
+    return frozen;
+}
+
+/* Why nothing was paired in time: frames came but never matched (drift),
+ * or a node stayed silent. */
+static void timeout_message(negobs_v4l2_t *st, uint32_t drops,
+                            const int *silent, nfds_t n_silent)
+{
+    if (drops > 0) {
+        v_error(st, 0,
+                "left/right out of sync: %lu frames dropped, last |dt| "
+                "%lu ms > pair_tolerance_ms %ld",
+                (unsigned long)drops,
+                (unsigned long)(st->last_drop_dt_ns / 1000000u),
+                (long)st->cfg.pair_tol_ms);
+    } else if (n_silent == 1) {
+        v_error(st, 0, "no frames from %s", st->dev[silent[0]].path);
+    } else {
+        v_error(st, 0, "no frames from %s and %s", st->dev[0].path,
+                st->dev[1].path);
+    }
+}
+
 static int v_get_pair(void *ctx, negobs_frame_pair_t *pair,
                       int32_t timeout_ms)
 {
     negobs_v4l2_t *st = ctx;
     uint64_t deadline;
     uint64_t tol_ns;
+    uint32_t drops = 0;
     if (!st->started || pair == NULL) {
         return NEGOBS_ERR_STATE;
     }
@@ -600,6 +652,12 @@ static int v_get_pair(void *ctx, negobs_frame_pair_t *pair,
                     (void)dev_queue(r, r->pend_idx);
                     continue;
                 }
+                if (frozen_check(st, pair)) {
+                    (void)dev_queue(l, l->pend_idx);
+                    (void)dev_queue(r, r->pend_idx);
+                    st->stats.frozen_pairs++;
+                    return NEGOBS_ERR_IO;
+                }
                 l->held_idx = (int32_t)l->pend_idx;
                 r->held_idx = (int32_t)r->pend_idx;
                 pair->index = st->stats.pairs++;
@@ -610,6 +668,10 @@ static int v_get_pair(void *ctx, negobs_frame_pair_t *pair,
                 old->pending = false;
                 (void)dev_queue(old, old->pend_idx);
                 st->stats.dropped_pairs++;
+                drops++;
+                st->last_drop_dt_ns = l->pend_ts > r->pend_ts
+                                          ? l->pend_ts - r->pend_ts
+                                          : r->pend_ts - l->pend_ts;
             }
             continue;
         }
@@ -645,6 +707,7 @@ static int v_get_pair(void *ctx, negobs_frame_pair_t *pair,
                 }
             }
             st->stats.timeouts++;
+            timeout_message(st, drops, map, n);
             return NEGOBS_ERR_TIMEOUT;
         }
         for (i = 0; i < (int)n; i++) {

@@ -32,6 +32,15 @@ extern "C" {
 /** Default largest timestamp difference of a pair (ms). */
 #define NEGOBS_CAMERA_PAIR_TOL_MS_DEFAULT 10
 
+/**
+ * Default number of identical frames in a row after which a live camera
+ * counts as frozen (10: a third of a second at 30 fps). A real sensor never
+ * delivers two identical frames: its temporal noise changes some of the
+ * sampled pixels every frame. Only a fully clipped image (all 0 or all 255)
+ * can repeat, and that is no-information anyway.
+ */
+#define NEGOBS_CAMERA_FROZEN_FRAMES_DEFAULT 10
+
 /** Request passed to open(); zero fields mean "backend default". */
 typedef struct negobs_camera_config {
     const char *left;      /**< device or path of the left camera     */
@@ -44,6 +53,9 @@ typedef struct negobs_camera_config {
     int32_t exposure;      /**< manual exposure (driver units), -1 auto */
     int32_t gain;          /**< manual gain (driver units), -1 = leave */
     bool loop;             /**< replay: start over at the end          */
+    int32_t frozen_frames; /**< live cameras: this many identical frames
+                                in a row = frozen, pairs withheld
+                                (NEGOBS_ERR_IO); 0 = off               */
 } negobs_camera_config_t;
 
 /** @brief Fill a config with the defaults (exposure/gain -1). */
@@ -73,6 +85,7 @@ typedef struct negobs_camera_stats {
     uint32_t timeouts;      /**< get_pair calls that timed out          */
     uint32_t reopens;       /**< successful device reopens              */
     uint32_t device_losses; /**< times a device was found gone          */
+    uint32_t frozen_pairs;  /**< pairs withheld: a camera was frozen     */
 } negobs_camera_stats_t;
 
 /** Operations of one source; `ctx` is its state struct. */
@@ -85,7 +98,10 @@ typedef struct negobs_camera_ops {
      * @return NEGOBS_OK, NEGOBS_CAMERA_END, NEGOBS_ERR_TIMEOUT,
      *         NEGOBS_ERR_NODEV (device lost; later calls try to reopen it
      *         with back-off), NEGOBS_ERR_AGAIN (interrupted by a signal),
-     *         NEGOBS_ERR_CORRUPT (bad replay file), NEGOBS_ERR_IO.
+     *         NEGOBS_ERR_CORRUPT (bad replay file), NEGOBS_ERR_IO (also: a
+     *         live camera is frozen, see frozen_frames). errmsg() says
+     *         which: e.g. "frozen: ..." or, with NEGOBS_ERR_TIMEOUT while
+     *         frames arrive, "left/right out of sync: ...".
      */
     int (*get_pair)(void *ctx, negobs_frame_pair_t *pair, int32_t timeout_ms);
     void (*release)(void *ctx, negobs_frame_pair_t *pair);
@@ -156,6 +172,33 @@ typedef enum negobs_pair_action {
  */
 negobs_pair_action_t negobs_pair_decide(uint64_t left_ns, uint64_t right_ns,
                                         uint64_t tol_ns);
+
+/* ------------------------------------------------------------------ */
+/* Frozen-stream detection (pure; used by the V4L2 backend)            */
+
+/** Per-camera state: signature of the last frame and repeats in a row. */
+typedef struct negobs_frozen {
+    uint32_t last_sig;
+    uint32_t repeats;  /**< frames equal to the one before, in a row */
+    bool have_last;
+} negobs_frozen_t;
+
+/**
+ * @brief Cheap content signature of a luma plane: FNV-1a over every 3rd
+ *        pixel of every 2nd row (a few thousand samples at VGA). Sensor
+ *        noise changes it every frame; a repeated buffer does not.
+ * @return The signature; 0 for a NULL or empty image.
+ */
+uint32_t negobs_frame_signature(const negobs_image_u8_t *img);
+
+/**
+ * @brief Feed one frame's signature.
+ * @param limit  identical frames in a row that mean "frozen"; 0 = never
+ *               (values below 2 count as 2: one frame cannot repeat)
+ * @return true while the last `limit` frames were all identical; the first
+ *         frame that differs clears it.
+ */
+bool negobs_frozen_update(negobs_frozen_t *f, uint32_t sig, int32_t limit);
 
 #ifdef __cplusplus
 }

@@ -10,6 +10,9 @@
  * pairs further apart than pair_tol_ms are dropped and counted. A node
  * that fails (ENODEV, EIO, POLLERR, or 3 timeouts in a row) is closed and
  * reopened with exponential back-off (100 ms .. 2 s).
+ * A node whose content stops changing (frozen_frames identical frames in a
+ * row, negobs_frozen_update) has its pairs withheld with NEGOBS_ERR_IO and
+ * "frozen: ..." until the content changes again.
  */
 #ifndef NEGOBS_PORT_CAMERA_V4L2_H
 #define NEGOBS_PORT_CAMERA_V4L2_H
@@ -68,6 +71,7 @@ typedef struct negobs_v4l2_dev {
     uint32_t timeouts_in_row;
     bool has_exposure;
     bool has_gain;
+    negobs_frozen_t frozen;
 } negobs_v4l2_dev_t;
 
 /** State of a stereo V4L2 source (caller-owned, fields private). */
@@ -78,6 +82,7 @@ typedef struct negobs_v4l2 {
     size_t scratch_bytes;
     bool started;
     negobs_camera_stats_t stats;
+    uint64_t last_drop_dt_ns; /**< |dt| of the last pair dropped          */
     char errmsg[NEGOBS_PORT_ERRMSG_LEN];
 } negobs_v4l2_t;
 

@@ -28,7 +28,9 @@ negobs_vivid_load || exit 1
 hw_gpio_sim_setup negobs-loss 8 || { echo "gpio-sim not in the image: no motor observer"; exit 77; }
 { cat $NEGOBS/rig.conf; echo "watchdog_ms = $WDOG_MS"; echo "max_frame_age_ms = $WDOG_MS"; echo "pair_tolerance_ms = 20"; } > /tmp/loss.conf
 negobs_watch_start "$HW_GPIO_SIM/sim_gpio0/value"
-hw_inject_start -f GREY -W 640 -H 480 -L $NEGOBS/flat/left.raw -R $NEGOBS/flat/right.raw || exit 1
+# -N: sensor-like noise on the held flat pair, else the V4L2 layer would
+# (rightly) call the pixel-identical stream frozen (run-fault-frozen)
+hw_inject_start -f GREY -W 640 -H 480 -L $NEGOBS/flat/left.raw -R $NEGOBS/flat/right.raw -N /tmp/noise.off || exit 1
 negobs_start /tmp/loss.conf "gpio:$HW_GPIOCHIP:0"
 rc=0
 fail() { echo "run-camera-loss: FAIL: $*"; rc=1; }

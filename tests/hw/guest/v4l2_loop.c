@@ -39,6 +39,10 @@
  *          -P ms (inject with -L/-R: paced playback, file frame i from
  *                 i*ms after the start, once through, then the last frame
  *                 is held: a walk at a known speed)
+ *          -N FILE (inject with -L/-R: sensor-like noise, the lowest bit of
+ *                 about half the pixels flipped at random in every frame
+ *                 written, as long as FILE does not exist; while it exists
+ *                 the file frames go out unchanged: a frozen stream)
  *   v4l2_loop ctrl DEV NAME VALUE sets one control by name (e.g. vivid's
  *       "Percentage of Dropped Buffers", to stop a camera's frames).
  *
@@ -85,6 +89,8 @@ static uint32_t g_fourcc = V4L2_PIX_FMT_GREY;
 static int g_timeout_ms = 5000, g_quiet;
 static int g_hold_ms;      /* -P: file frame i shown from i*ms after start */
 static double g_play_t0;   /* start of the -P playback (0: not started) */
+static const char *g_noise_off; /* -N: noise unless this file exists */
+static uint64_t g_rng = 0x9E3779B97F4A7C15ull;
 static size_t g_size; /* bytes per frame */
 
 static int xioctl(int fd, unsigned long req, void *arg)
@@ -350,6 +356,22 @@ static double now_s(void)
 	return (double)ts.tv_sec + ts.tv_nsec / 1e9;
 }
 
+/* A real sensor never delivers two identical frames (temporal noise);
+ * a held synthetic frame does.  xorshift64, 8 pixels per step. */
+static void add_noise(uint8_t *dst)
+{
+	size_t i;
+	for (i = 0; i + 8 <= g_size; i += 8) {
+		uint64_t w;
+		g_rng ^= g_rng << 13;
+		g_rng ^= g_rng >> 7;
+		g_rng ^= g_rng << 17;
+		memcpy(&w, dst + i, 8);
+		w ^= g_rng & 0x0101010101010101ull;
+		memcpy(dst + i, &w, 8);
+	}
+}
+
 static void fill_out(struct source *s, unsigned eye, uint8_t *dst)
 {
 	uint32_t n = s->next[eye]++;
@@ -368,6 +390,8 @@ static void fill_out(struct source *s, unsigned eye, uint8_t *dst)
 		    fread(dst, 1, g_size, s->f[eye]) != g_size)
 			DIE("reading frame %ld of eye %u: %s", idx, eye,
 			    strerror(errno));
+		if (g_noise_off != NULL && access(g_noise_off, F_OK) != 0)
+			add_noise(dst);
 	} else {
 		gen_frame(dst, n, eye);
 	}
@@ -378,7 +402,7 @@ static void usage(void)
 	fprintf(stderr,
 		"usage: v4l2_loop check  [opts] CAP0 CAP1 OUT0 OUT1\n"
 		"       v4l2_loop inject [opts] [-t s] [-L left.raw -R right.raw] "
-		"[-P hold_ms] [-r readyfile] CAP0 CAP1 OUT0 OUT1\n"
+		"[-P hold_ms] [-N nonoise_file] [-r readyfile] CAP0 CAP1 OUT0 OUT1\n"
 		"       v4l2_loop capture [opts] [-x] [-O dir] CAP0 CAP1\n"
 		"       v4l2_loop ctrl DEV 'Control Name' VALUE\n"
 		"opts: -W w -H h -f GREY|YUYV -n frames -b bufs -T poll_ms -q\n");
@@ -443,7 +467,7 @@ int main(int argc, char **argv)
 	else if (strcmp(mode, "check") != 0)
 		usage();
 	optind = 2;
-	while ((opt = getopt(argc, argv, "W:H:f:n:b:T:t:L:R:O:r:P:xq")) != -1) {
+	while ((opt = getopt(argc, argv, "W:H:f:n:b:T:t:L:R:O:r:P:N:xq")) != -1) {
 		switch (opt) {
 		case 'W': g_w = (unsigned)atoi(optarg); break;
 		case 'H': g_h = (unsigned)atoi(optarg); break;
@@ -464,6 +488,7 @@ int main(int argc, char **argv)
 		case 'O': savedir = optarg; break;
 		case 'r': readyfile = optarg; break;
 		case 'P': g_hold_ms = atoi(optarg); break;
+		case 'N': g_noise_off = optarg; break;
 		case 'x': verify = 0; break;
 		case 'q': g_quiet = 1; break;
 		default: usage();
