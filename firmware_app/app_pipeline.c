@@ -51,6 +51,10 @@ void app_pipeline_config_default(app_pipeline_config_t *cfg)
     cfg->cam_height_mm = 1200;
     cfg->cam_pitch_mdeg = 20000;
     cfg->max_disp = 63;
+    cfg->focal_q4 = 0;
+    cfg->baseline_um = 0;
+    cfg->cx_q4 = -1;
+    cfg->cy_q4 = -1;
     cfg->sync_tol_ms = 10;
     cfg->max_frame_age_ms = 150;
 }
@@ -70,7 +74,9 @@ negobs_status_t app_pipeline_init(app_pipeline_t *p,
         cfg->cam_pitch_mdeg > 60000 || cfg->max_disp < 8 ||
         cfg->max_disp > 255 || cfg->sync_tol_ms < 0 ||
         cfg->sync_tol_ms > 1000 || cfg->max_frame_age_ms < 1 ||
-        cfg->max_frame_age_ms > 60000) {
+        cfg->max_frame_age_ms > 60000 || cfg->focal_q4 < 0 ||
+        cfg->focal_q4 > 4000 * 16 || cfg->baseline_um < 0 ||
+        cfg->baseline_um > 1000000 || cfg->cx_q4 < -1 || cfg->cy_q4 < -1) {
         return NEGOBS_ERR_INVAL;
     }
     memset(p, 0, sizeof *p);
@@ -159,8 +165,16 @@ static negobs_status_t lib_setup(const app_pipeline_config_t *c, int32_t w,
     pc.stereo.max_disp = (c->max_disp < w / 2) ? c->max_disp : w / 2 - 1;
     pc.detect.max_disp_q4 = (pc.stereo.max_disp + 1) * NEGOBS_DISP_ONE;
     /* The focal length is given for the frame the camera delivers. */
-    pc.detect.cam.focal_q4 = c->focal_px * NEGOBS_DISP_ONE;
-    pc.detect.cam.baseline_um = c->baseline_mm * 1000;
+    pc.detect.cam.focal_q4 = c->focal_q4 > 0 ? c->focal_q4
+                                             : c->focal_px * NEGOBS_DISP_ONE;
+    pc.detect.cam.baseline_um = c->baseline_um > 0 ? c->baseline_um
+                                                   : c->baseline_mm * 1000;
+    if (c->cx_q4 >= 0) {
+        pc.detect.cam.cx_q4 = c->cx_q4;
+    }
+    if (c->cy_q4 >= 0) {
+        pc.detect.cam.cy_q4 = c->cy_q4;
+    }
     pc.detect.cam_height_mm = c->cam_height_mm;
     pc.detect.cam_pitch_mdeg = c->cam_pitch_mdeg;
     /* One limit for "a pair": what the capture pairs, the detector takes. */

@@ -48,6 +48,13 @@ typedef struct app_pipeline_config {
     int32_t cam_height_mm;        /**< camera height above ground [1200]   */
     int32_t cam_pitch_mdeg;       /**< downward pitch, 1/1000 deg [20000]  */
     int32_t max_disp;             /**< largest disparity searched [63]     */
+    /* Exact geometry from a calibration table (negobs_run --calib); they
+     * take precedence over focal_px / baseline_mm when set. */
+    int32_t focal_q4;             /**< focal, 1/16 px; 0 = focal_px [0]    */
+    int32_t baseline_um;          /**< baseline, um; 0 = baseline_mm [0]   */
+    int32_t cx_q4;                /**< principal point x, 1/16 px;
+                                       -1 = image centre [-1]              */
+    int32_t cy_q4;                /**< principal point y; -1 = centre [-1] */
     int32_t sync_tol_ms;          /**< L/R capture skew the detector accepts;
                                        negobs_run sets its pairing limit [10] */
     int32_t max_frame_age_ms;     /**< older frames are stale: no-info [150] */

@@ -5,13 +5,20 @@
  *
  * Main loop, top to bottom:
  *   1. settings: defaults <- --config FILE <- command-line options
- *   2. motor output opened, motor thread started (it is also the watchdog:
- *      no fresh verdict within watchdog_ms -> no-information pattern)
- *   3. camera pair opened and started; READY pattern played
- *   4. for each synchronised pair: [record] -> app_process_pair() ->
- *      pattern for the verdict -> motor thread; once per second a status
- *      line (fps, latency, dropped pairs)
- *   5. on SIGINT/SIGTERM, --frames N, or end of a replay: stop, motor off
+ *   2. [--calib: the rectification table loaded and checked]
+ *   3. motor output opened, motor thread started; the library's alert
+ *      state machine plays READY
+ *   4. camera pair opened and started
+ *   5. for each synchronised pair: [record] -> [rectify] ->
+ *      app_process_pair() -> the library's alert state machine -> motor
+ *      schedule -> motor thread; once per second a status line (fps,
+ *      latency, dropped pairs)
+ *   6. on SIGINT/SIGTERM, --frames N, or end of a replay: stop, motor off
+ *
+ * No fresh verdict within watchdog_ms -> no-information pattern: the
+ * schedule handed to the motor thread already switches to it at that time
+ * (app_alert.h), and the motor thread's own watchdog backs that up when
+ * the main loop stops posting (APP_WDOG_MARGIN_MS later).
  *
  * All buffers are static and sized by NEGOBS_RUN_MAX_W/H. Each usable
  * pair runs the library's whole pipeline (see app_pipeline.h): stereo,
@@ -29,8 +36,9 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "app_patterns.h"
+#include "app_alert.h"
 #include "app_pipeline.h"
+#include "negobs/rectify.h"
 #include "negobs/status.h"
 #include "negobs/version.h"
 #include "negobs_port/alert.h"
@@ -46,8 +54,15 @@
 #ifndef NEGOBS_RUN_DEFAULT_CAMERA
 #define NEGOBS_RUN_DEFAULT_CAMERA "replay"
 #endif
-/* Length of the READY pattern (app_patterns.c), waited for at start. */
-#define APP_READY_MS 320u
+/* Longest wait for the library's READY pattern before the cameras open. */
+#define APP_READY_MAX_MS 1000u
+/* The motor thread's watchdog fires this long after the library's own
+ * stale deadline, so that a main loop that is alive (it posts when
+ * get_pair times out, at watchdog_ms) never races it; it only takes over
+ * from a hung main loop. */
+#define APP_WDOG_MARGIN_MS 20u
+/* Largest calibration table read (grid shift >= 1 at 1280 x 800). */
+#define APP_CALIB_MAX_BYTES (6u * 1024u * 1024u)
 
 #ifndef NEGOBS_RUN_MAX_W
 #define NEGOBS_RUN_MAX_W 1280
@@ -63,7 +78,9 @@ enum {
     EXIT_USAGE = 2,      /* bad option or argument                        */
     EXIT_CONFIG = 3,     /* config file missing or invalid                */
     EXIT_CAMERA = 4,     /* camera could not be opened or started         */
-    EXIT_ALERT = 5       /* motor output could not be opened              */
+    EXIT_ALERT = 5,      /* motor output could not be opened              */
+    EXIT_CALIB = 6       /* calibration table unreadable, corrupt,
+                            truncated or for another frame size          */
 };
 
 enum { LOG_ERROR = 0, LOG_WARN = 1, LOG_INFO = 2, LOG_DEBUG = 3 };
@@ -87,11 +104,14 @@ typedef struct run_settings {
     bool gpio_active_low;
     bool replay_loop;
     int32_t status_interval_ms;
+    char calib[256];
+    negobs_alert_config_t alert_cfg;
     app_pipeline_config_t app;
 } run_settings_t;
 
 static run_settings_t S;
 static bool size_given;
+static bool alert_binary_flag;
 
 static const negobs_cfg_key_t config_keys[] = {
     {"alert", NEGOBS_CFG_STRING, S.alert, 0, sizeof S.alert,
@@ -147,6 +167,22 @@ static const negobs_cfg_key_t config_keys[] = {
      "downward pitch, 1/1000 degree (default 20000)"},
     {"max_disp", NEGOBS_CFG_INT, &S.app.max_disp, 8, 255,
      "largest disparity searched, pixels (default 63)"},
+    {"calib", NEGOBS_CFG_STRING, S.calib, 0, sizeof S.calib,
+     "rectification table from negobs_calib; its f, B, cx, cy replace "
+     "focal_px and baseline_mm (default: none, frames are rectified)"},
+    {"alert_intensity_permille", NEGOBS_CFG_INT,
+     &S.alert_cfg.intensity_permille, 1, 1000,
+     "drive level of every pulse (default 1000)"},
+    {"caution_far_mm", NEGOBS_CFG_INT, &S.alert_cfg.band_far_mm, 0, 100000,
+     "caution range >= this: slow double pulse every 1.0 s (default 3000)"},
+    {"caution_mid_mm", NEGOBS_CFG_INT, &S.alert_cfg.band_mid_mm, 0, 100000,
+     "caution range >= this: every 0.6 s, nearer every 0.4 s (default "
+     "2200; <= caution_far_mm)"},
+    {"alert_binary", NEGOBS_CFG_BOOL, &alert_binary_flag, 0, 1,
+     "one caution pattern (every 0.6 s) whatever the range (default false)"},
+    {"imminent_hold_ms", NEGOBS_CFG_INT, &S.alert_cfg.imminent_hold_ms, 0,
+     5000, "imminent keeps playing this long after its last verdict "
+     "(default 1000)"},
     {"max_frame_age_ms", NEGOBS_CFG_INT, &S.app.max_frame_age_ms, 1, 60000,
      "capture-to-verdict age above which a pair is stale -> no-info "
      "(default 150; raise only for slow emulators)"},
@@ -169,6 +205,7 @@ static void settings_default(void)
     (void)snprintf(S.pwm_sysfs_root, sizeof S.pwm_sysfs_root,
                    "/sys/class/pwm");
     S.status_interval_ms = 1000;
+    negobs_alert_config_default(&S.alert_cfg);
     app_pipeline_config_default(&S.app);
 }
 
@@ -224,12 +261,17 @@ static void usage(FILE *out)
 "\n"
 "Each pair passes an image-quality gate (too dark, saturated, textureless ->\n"
 "no-information pattern), then the library's stereo matching and drop-off\n"
-"detection; a 300 ms watchdog plays no-information when pairs stop.\n"
+"detection; the library's alert state machine chooses the motor pattern\n"
+"(ready, caution by distance band, imminent, no-information); no fresh\n"
+"verdict for watchdog_ms (300) plays no-information.\n"
 "Set the camera geometry (focal_px, baseline_mm, cam_height_mm,\n"
 "cam_pitch_mdeg) in --config for a real rig: wrong values blind it.\n"
 "\n"
 "Options:\n"
 "  --config FILE        read key = value settings (applied before options)\n"
+"  --calib FILE         rectification table from negobs_calib: every pair is\n"
+"                       rectified; its f, B, cx, cy replace focal_px and\n"
+"                       baseline_mm; no --width/--height: the table's size\n"
 "  --alert SPEC         gpio:CHIP:LINE | pwm:CHIP:CHANNEL | console | none\n"
 "                       (default " NEGOBS_RUN_DEFAULT_ALERT ")\n"
 "  --width N, --height N   capture size (default 640x480; max %dx%d)\n"
@@ -241,7 +283,8 @@ static void usage(FILE *out)
 "  --version            print the version\n"
 "\n"
 "Exit codes: 0 done or stopped by SIGINT/SIGTERM, 1 runtime failure,\n"
-"2 usage error, 3 config error, 4 camera failure, 5 motor output failure.\n",
+"2 usage error, 3 config error, 4 camera failure, 5 motor output failure,\n"
+"6 calibration table refused (unreadable, corrupt, truncated, other size).\n",
             NEGOBS_RUN_MAX_W, NEGOBS_RUN_MAX_H);
 }
 
@@ -263,7 +306,7 @@ static int usage_error(const char *fmt, const char *arg)
 static int parse_args(int argc, char **argv, run_args_t *a)
 {
     enum { O_CONFIG = 256, O_ALERT, O_WIDTH, O_HEIGHT, O_FPS, O_FRAMES,
-           O_RECORD, O_LOG, O_HELP, O_VERSION };
+           O_RECORD, O_LOG, O_HELP, O_VERSION, O_CALIB };
     static const struct option opts[] = {
         {"config", required_argument, NULL, O_CONFIG},
         {"alert", required_argument, NULL, O_ALERT},
@@ -272,6 +315,7 @@ static int parse_args(int argc, char **argv, run_args_t *a)
         {"fps", required_argument, NULL, O_FPS},
         {"frames", required_argument, NULL, O_FRAMES},
         {"record", required_argument, NULL, O_RECORD},
+        {"calib", required_argument, NULL, O_CALIB},
         {"log-level", required_argument, NULL, O_LOG},
         {"help", no_argument, NULL, O_HELP},
         {"version", no_argument, NULL, O_VERSION},
@@ -325,6 +369,7 @@ static int parse_args(int argc, char **argv, run_args_t *a)
         case O_FPS: key = "fps"; break;
         case O_FRAMES: key = "frames"; break;
         case O_RECORD: key = "record"; break;
+        case O_CALIB: key = "calib"; break;
         case O_LOG: key = "log_level"; break;
         case ':':
             return usage_error("option '%s' needs a value", argv[optind - 1]);
@@ -371,6 +416,7 @@ static uint8_t frame_buf[2u * NEGOBS_RUN_MAX_W * NEGOBS_RUN_MAX_H];
 static negobs_motor_thread_t motor;
 static negobs_recorder_t recorder;
 static app_pipeline_t pipeline;
+static app_alert_t alert_sm;
 
 /* Parse "a:b:c" into kind and two fields; returns fields found. */
 static int split_spec(const char *spec, char *kind, size_t klen, char *f1,
@@ -560,6 +606,210 @@ static int open_camera(const run_args_t *a)
     return 0;
 }
 
+/* ---- calibration ---------------------------------------------------- */
+
+/* The table stays here for the whole run (the library keeps a pointer to
+ * it); rectified pairs go to rect_buf. */
+static uint8_t calib_table[APP_CALIB_MAX_BYTES];
+static size_t calib_bytes;
+static negobs_rectify_info_t calib_info;
+static negobs_rectify_config_t rect_cfg;
+static negobs_rectify_t rect_ctx;
+static uint8_t rect_ws[NEGOBS_RECTIFY_WORKSPACE_MAX(NEGOBS_RUN_MAX_W)]
+    __attribute__((aligned(16)));
+static uint8_t rect_buf[2u * NEGOBS_RUN_MAX_W * NEGOBS_RUN_MAX_H];
+static bool rect_ready;
+
+static uint32_t rd_u32le(const uint8_t *p)
+{
+    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) |
+           ((uint32_t)p[3] << 24);
+}
+
+/* Why the library refused a table, in words a person can act on: decoded
+ * from the documented header (docs/CALIBRATION.md, section 3). */
+static void calib_why(negobs_status_t st, char *msg, size_t len)
+{
+    uint32_t total;
+    if (st == NEGOBS_ERR_UNSUPPORTED) {
+        (void)snprintf(msg, len, "unsupported table version or format "
+                                 "(this negobs_run reads version %d.x)",
+                       NEGOBS_RECTIFY_VERSION_MAJOR);
+        return;
+    }
+    if (calib_bytes < NEGOBS_RECTIFY_HEADER_BYTES) {
+        (void)snprintf(msg, len, "truncated: %lu bytes, shorter than the "
+                                 "%d-byte header",
+                       (unsigned long)calib_bytes,
+                       NEGOBS_RECTIFY_HEADER_BYTES);
+        return;
+    }
+    if (memcmp(calib_table, NEGOBS_RECTIFY_MAGIC, 8) != 0) {
+        (void)snprintf(msg, len, "not a negobs rectification table "
+                                 "(bad magic)");
+        return;
+    }
+    total = rd_u32le(calib_table + 16);
+    if ((size_t)total > calib_bytes) {
+        (void)snprintf(msg, len, "truncated: %lu of the %lu bytes its "
+                                 "header declares",
+                       (unsigned long)calib_bytes, (unsigned long)total);
+        return;
+    }
+    (void)snprintf(msg, len, "corrupt: checksum (CRC32) or header values "
+                             "do not match");
+}
+
+/* Read and check the table, set the geometry and the capture size. */
+static int load_calib(const char *path)
+{
+    char why[128];
+    FILE *f = fopen(path, "rb");
+    negobs_status_t st;
+    bool more;
+    bool err;
+    if (f == NULL) {
+        fprintf(stderr, "negobs_run: calibration table %s: %s\n", path,
+                strerror(errno));
+        return EXIT_CALIB;
+    }
+    calib_bytes = fread(calib_table, 1, sizeof calib_table, f);
+    more = fgetc(f) != EOF;
+    err = ferror(f) != 0;
+    (void)fclose(f);
+    if (err) {
+        fprintf(stderr, "negobs_run: calibration table %s: read error\n",
+                path);
+        return EXIT_CALIB;
+    }
+    if (more) {
+        fprintf(stderr, "negobs_run: calibration table %s: larger than %u "
+                        "bytes (use a coarser negobs_calib --grid-shift)\n",
+                path, APP_CALIB_MAX_BYTES);
+        return EXIT_CALIB;
+    }
+    st = negobs_rectify_table_check(calib_table, calib_bytes, 0, 0,
+                                    &calib_info);
+    if (st != NEGOBS_OK) {
+        calib_why(st, why, sizeof why);
+        fprintf(stderr, "negobs_run: calibration table %s refused: %s\n",
+                path, why);
+        return EXIT_CALIB;
+    }
+    if (calib_info.width > NEGOBS_RUN_MAX_W ||
+        calib_info.height > NEGOBS_RUN_MAX_H) {
+        fprintf(stderr, "negobs_run: calibration table %s refused: it is "
+                        "for %ldx%ld, larger than %dx%d\n",
+                path, (long)calib_info.width, (long)calib_info.height,
+                NEGOBS_RUN_MAX_W, NEGOBS_RUN_MAX_H);
+        return EXIT_CALIB;
+    }
+    if (size_given && (S.width != calib_info.width ||
+                       S.height != calib_info.height)) {
+        fprintf(stderr, "negobs_run: calibration table %s refused: size "
+                        "mismatch: the table is for %ldx%ld, the capture "
+                        "size is %ldx%ld\n",
+                path, (long)calib_info.width, (long)calib_info.height,
+                (long)S.width, (long)S.height);
+        return EXIT_CALIB;
+    }
+    /* The table's size is the capture size (a replay keeps its files'
+     * size; the first pair is checked against the table). */
+    S.width = calib_info.width;
+    S.height = calib_info.height;
+    /* Measured geometry wins over the config's nominal values. */
+    S.app.focal_q4 = (int32_t)((calib_info.f_q16 + 2048u) >> 12);
+    S.app.baseline_um = (int32_t)calib_info.baseline_um;
+    S.app.cx_q4 = calib_info.cx_q16 >= 0
+                      ? (int32_t)((calib_info.cx_q16 + 2048) >> 12) : -1;
+    S.app.cy_q4 = calib_info.cy_q16 >= 0
+                      ? (int32_t)((calib_info.cy_q16 + 2048) >> 12) : -1;
+    return -1;
+}
+
+/* One line with what the table brings (after the log is set up). */
+static void log_calib(const char *path)
+{
+    uint32_t f100 = (uint32_t)(((uint64_t)calib_info.f_q16 * 100u +
+                                32768u) >> 16);
+    int32_t cx100 = (int32_t)(((int64_t)calib_info.cx_q16 * 100 + 32768) /
+                              65536);
+    int32_t cy100 = (int32_t)(((int64_t)calib_info.cy_q16 * 100 + 32768) /
+                              65536);
+    logmsg(LOG_INFO,
+           "calib: %s: %ldx%ld grid 2^%ld f_px=%lu.%02lu baseline_mm=%lu.%03lu "
+           "cx=%ld.%02ld cy=%ld.%02ld (replace focal_px=%ld baseline_mm=%ld)",
+           path, (long)calib_info.width, (long)calib_info.height,
+           (long)calib_info.grid_shift, (unsigned long)(f100 / 100u),
+           (unsigned long)(f100 % 100u),
+           (unsigned long)(calib_info.baseline_um / 1000u),
+           (unsigned long)(calib_info.baseline_um % 1000u),
+           (long)(cx100 / 100), (long)(cx100 < 0 ? -cx100 % 100 : cx100 % 100),
+           (long)(cy100 / 100), (long)(cy100 < 0 ? -cy100 % 100 : cy100 % 100),
+           (long)S.app.focal_px, (long)S.app.baseline_mm);
+    if (calib_info.doffs_q16 != 0) {
+        logmsg(LOG_WARN, "calib: the table has a disparity offset "
+                         "(doffs_q16 %ld) that the detector ignores",
+               (long)calib_info.doffs_q16);
+    }
+}
+
+/* Set up the remap for the first pair's size; -1 when it does not fit. */
+static int rectify_setup(int32_t w, int32_t h)
+{
+    size_t ws = 0;
+    negobs_status_t st;
+    if (w != calib_info.width || h != calib_info.height) {
+        logmsg(LOG_ERROR, "calib: size mismatch: the table is for %ldx%ld, "
+                          "the camera delivers %ldx%ld",
+               (long)calib_info.width, (long)calib_info.height, (long)w,
+               (long)h);
+        return -1;
+    }
+    negobs_rectify_config_default(&rect_cfg, w, h);
+    rect_cfg.table = calib_table;
+    rect_cfg.table_bytes = calib_bytes;
+    st = negobs_rectify_workspace_size(&rect_cfg, &ws);
+    if (st == NEGOBS_OK && ws > sizeof rect_ws) {
+        st = NEGOBS_ERR_NOSPACE;
+    }
+    if (st == NEGOBS_OK) {
+        st = negobs_rectify_init(&rect_ctx, &rect_cfg, rect_ws, ws);
+    }
+    if (st != NEGOBS_OK) {
+        logmsg(LOG_ERROR, "calib: cannot set up rectification: %s",
+               negobs_status_str(st));
+        return -1;
+    }
+    rect_ready = true;
+    return 0;
+}
+
+/* ---- alert ---------------------------------------------------------- */
+
+/* Advance the library's alert state machine (NULL: no new verdict) and
+ * hand the motor thread what it should play from now on. */
+static void alert_post(const negobs_alert_input_t *in)
+{
+    negobs_motor_schedule_t sched;
+    negobs_alert_pattern_t before = app_alert_pattern(&alert_sm);
+    uint32_t now = (uint32_t)negobs_clock_now_ms();
+    negobs_alert_input_t v;
+    if (in != NULL) {
+        v = *in;
+        v.verdict_ms = now;
+        in = &v;
+    }
+    if (app_alert_step(&alert_sm, now, in, &sched) != NEGOBS_OK) {
+        return; /* cannot happen after a successful init */
+    }
+    negobs_motor_thread_post(&motor, &sched);
+    if (app_alert_pattern(&alert_sm) != before) {
+        logmsg(LOG_INFO, "pattern %s -> %s", app_alert_pattern_name(before),
+               app_alert_pattern_name(app_alert_pattern(&alert_sm)));
+    }
+}
+
 /* ---- signals -------------------------------------------------------- */
 
 static volatile sig_atomic_t stop_requested;
@@ -627,7 +877,7 @@ static void status_line(run_status_t *st, uint64_t now)
     logmsg(LOG_INFO,
            "status fps=%lu.%lu latency_ms=%lu.%lu max=%lu dropped=%lu "
            "timeouts=%lu reopens=%lu verdict=%s reason=%s mean=%ld/%ld "
-           "texture=%ld/%ld watchdog=%lu",
+           "texture=%ld/%ld watchdog=%lu pattern=%s",
            fps10 / 10u, fps10 % 10u, lat / 10u, lat % 10u,
            (unsigned long)(st->lat_max_us / 1000u),
            (unsigned long)cs.dropped_pairs, (unsigned long)cs.timeouts,
@@ -636,7 +886,8 @@ static void status_line(run_status_t *st, uint64_t now)
            (long)pipeline.last.mean[0], (long)pipeline.last.mean[1],
            (long)pipeline.last.texture_permille[0],
            (long)pipeline.last.texture_permille[1],
-           (unsigned long)negobs_motor_thread_watchdog_fires(&motor));
+           (unsigned long)negobs_motor_thread_watchdog_fires(&motor),
+           app_alert_pattern_name(app_alert_pattern(&alert_sm)));
     st->window_start_ms = now;
     st->next_ms = now + (uint64_t)S.status_interval_ms;
     st->pairs = 0;
@@ -663,6 +914,11 @@ static int run_loop(void)
         if (rc == NEGOBS_OK) {
             app_verdict_t v;
             uint64_t lat_us;
+            negobs_alert_input_t in;
+            const negobs_image_u8_t *img_l = &pair.left.y;
+            const negobs_image_u8_t *img_r = &pair.right.y;
+            negobs_image_u8_t rect_l;
+            negobs_image_u8_t rect_r;
             if (S.record[0] != '\0' && !recording &&
                 negobs_recorder_open(&recorder, S.record, pair.left.y.width,
                                      pair.left.y.height) == NEGOBS_OK) {
@@ -677,11 +933,36 @@ static int run_loop(void)
                 negobs_camera_release(&camera, &pair);
                 return EXIT_RUNTIME;
             }
+            if (calib_bytes > 0) {
+                /* Record raw, judge rectified (a recorded session can be
+                 * replayed with the same table). */
+                int32_t w = img_l->width;
+                int32_t h = img_l->height;
+                if (!rect_ready && rectify_setup(w, h) != 0) {
+                    negobs_camera_release(&camera, &pair);
+                    return EXIT_CALIB;
+                }
+                rect_l.data = rect_buf;
+                rect_r.data = rect_buf + (size_t)w * (size_t)h;
+                rect_l.width = rect_r.width = w;
+                rect_l.height = rect_r.height = h;
+                rect_l.stride = rect_r.stride = w;
+                if (negobs_rectify_process(&rect_ctx, img_l, img_r, &rect_l,
+                                           &rect_r, NULL) != NEGOBS_OK) {
+                    logmsg(LOG_ERROR, "calib: cannot rectify a %ldx%ld pair",
+                           (long)w, (long)h);
+                    negobs_camera_release(&camera, &pair);
+                    return EXIT_CALIB;
+                }
+                img_l = &rect_l;
+                img_r = &rect_r;
+            }
             v = app_process_pair_at(
-                &pipeline, &pair.left.y, &pair.right.y,
+                &pipeline, img_l, img_r,
                 (uint32_t)(pair.left.ts_ns / 1000000u),
                 (uint32_t)(pair.right.ts_ns / 1000000u), (uint32_t)now);
-            negobs_motor_thread_post(&motor, app_pattern_for(v));
+            app_alert_input(v, &pipeline.last, 0u, &in);
+            alert_post(&in);
             lat_us = (negobs_clock_now_ns() - pair.left.ts_ns) / 1000u;
             negobs_camera_release(&camera, &pair);
             if (v != st.verdict) {
@@ -719,9 +1000,11 @@ static int run_loop(void)
             continue; /* signal: the loop condition decides */
         } else if (rc == NEGOBS_ERR_TIMEOUT || rc == NEGOBS_ERR_NODEV ||
                    rc == NEGOBS_ERR_IO) {
-            /* No data: say so at once rather than wait for the watchdog. */
-            negobs_motor_thread_post(&motor,
-                                     app_pattern_for(APP_VERDICT_NO_INFO));
+            /* No data: say so at once rather than wait for the watchdog
+             * (the library keeps a recent IMMINENT for its hold time). */
+            negobs_alert_input_t in;
+            app_alert_input(APP_VERDICT_NO_INFO, NULL, 0u, &in);
+            alert_post(&in);
             if (rc != last_err) {
                 logmsg(LOG_WARN, "camera: %s%s%s",
                        negobs_status_str((negobs_status_t)rc),
@@ -765,6 +1048,7 @@ static int run_loop(void)
 int main(int argc, char **argv)
 {
     run_args_t args;
+    negobs_motor_schedule_t noinfo_sched;
     int rc;
 
     log_t0_ms = negobs_clock_now_ms();
@@ -782,36 +1066,61 @@ int main(int argc, char **argv)
     if (rc != 0) {
         return rc;
     }
+    if (S.calib[0] != '\0') {
+        rc = load_calib(S.calib);
+        if (rc >= 0) {
+            return rc;
+        }
+    }
     /* The detector must accept every pair the capture layer pairs. */
     S.app.sync_tol_ms = S.pair_tol_ms;
     if (app_pipeline_init(&pipeline, &S.app) != NEGOBS_OK) {
+        if (calib_bytes > 0) {
+            fprintf(stderr, "negobs_run: calibration table %s refused: its "
+                            "geometry is outside the detector's range\n",
+                    S.calib);
+            return EXIT_CALIB;
+        }
         fprintf(stderr, "negobs_run: bad image-quality thresholds\n");
         return EXIT_CONFIG;
     }
+    /* One staleness limit: the library's and the watchdog's. */
+    S.alert_cfg.stale_ms = S.watchdog_ms;
+    S.alert_cfg.binary_mode = alert_binary_flag ? 1 : 0;
+    if (app_alert_init(&alert_sm, &S.alert_cfg) != NEGOBS_OK ||
+        app_alert_noinfo_schedule(&S.alert_cfg, APP_WDOG_MARGIN_MS,
+                                  &noinfo_sched) != NEGOBS_OK) {
+        fprintf(stderr, "negobs_run: bad alert settings (caution_mid_mm "
+                        "must not exceed caution_far_mm)\n");
+        return EXIT_CONFIG;
+    }
     install_signals();
+    if (calib_bytes > 0) {
+        log_calib(S.calib);
+    }
 
     if (open_alert(S.alert) != 0) {
         return EXIT_ALERT;
     }
-    if (negobs_motor_thread_start(&motor, &alert,
-                                  app_pattern_for(APP_VERDICT_NO_INFO),
-                                  (uint32_t)S.watchdog_ms) != NEGOBS_OK) {
+    if (negobs_motor_thread_start(&motor, &alert, &noinfo_sched,
+                                  (uint32_t)S.watchdog_ms +
+                                      APP_WDOG_MARGIN_MS) != NEGOBS_OK) {
         logmsg(LOG_ERROR, "cannot start the motor thread");
         negobs_alert_close(&alert);
         return EXIT_ALERT;
     }
-    /* READY: let the start-up pulses finish before verdicts replace it
-     * (a post of a different pattern restarts the motor schedule). */
+    /* READY: the library plays it first; posting keeps the motor
+     * thread's watchdog from cutting it while it plays. */
     {
-        /* Re-posting the same pattern keeps it playing and feeds the
-         * watchdog, which would otherwise cut in during the wait. */
         uint32_t waited;
-        for (waited = 0; waited < APP_READY_MS; waited += 40u) {
-            negobs_motor_thread_post(&motor, app_pattern_ready());
+        for (waited = 0; waited < APP_READY_MAX_MS; waited += 40u) {
+            alert_post(NULL);
+            if (app_alert_pattern(&alert_sm) != NEGOBS_PATTERN_READY) {
+                break;
+            }
             negobs_clock_sleep_ms(40u);
         }
     }
-    negobs_motor_thread_post(&motor, app_pattern_for(APP_VERDICT_NO_INFO));
 
     if (open_camera(&args) != 0) {
         negobs_motor_thread_stop(&motor);
