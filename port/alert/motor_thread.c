@@ -24,6 +24,35 @@ static void abs_deadline(struct timespec *ts, uint64_t deadline_ms)
     ts->tv_nsec = (long)((deadline_ms % 1000u) * 1000000u);
 }
 
+/*
+ * A failed write leaves the executor's level unknown, so its next tick
+ * writes again; this makes that tick come soon. While failing, the motor
+ * is told "no information" so that the first pattern the user feels once
+ * the output is back is that one, held long enough to be noticed.
+ * Returns the delay to the next wake-up wanted (ms), or `next` unchanged.
+ */
+static int64_t output_health(negobs_motor_thread_t *t, uint64_t now,
+                             int64_t next)
+{
+    if (t->exec.last_status != NEGOBS_OK) {
+        if (!t->out_failing) {
+            t->out_failing = true;
+            t->out_faults++;
+            t->stale_playing = true;
+            (void)negobs_motor_exec_start(&t->exec, &t->stale, now);
+        }
+        return (int64_t)NEGOBS_MOTOR_RETRY_MS;
+    }
+    if (t->out_failing) {
+        t->out_failing = false;
+        t->stale_playing = true;
+        (void)negobs_motor_exec_start(&t->exec, &t->stale, now);
+        t->hold_until_ms = now + NEGOBS_MOTOR_RECOVER_HOLD_MS;
+        next = (int64_t)NEGOBS_MOTOR_RECOVER_HOLD_MS;
+    }
+    return next;
+}
+
 static void *motor_main(void *arg)
 {
     negobs_motor_thread_t *t = arg;
@@ -34,7 +63,7 @@ static void *motor_main(void *arg)
         int64_t next;
         struct timespec ts;
 
-        if (t->have_pending) {
+        if (t->have_pending && !t->out_failing && now >= t->hold_until_ms) {
             t->have_pending = false;
             t->stale_playing = false;
             if (!t->exec.active ||
@@ -42,8 +71,8 @@ static void *motor_main(void *arg)
                 (void)negobs_motor_exec_start(&t->exec, &t->pending, now);
             }
         }
-        if (t->watchdog_ms > 0 && !t->stale_playing &&
-            now - t->last_post_ms >= t->watchdog_ms) {
+        if (t->watchdog_ms > 0 && !t->stale_playing && !t->out_failing &&
+            now >= t->hold_until_ms && now - t->last_post_ms >= t->watchdog_ms) {
             /* No fresh verdict: whatever played is no longer backed by
              * data, so say "no information" instead. */
             t->stale_playing = true;
@@ -51,9 +80,13 @@ static void *motor_main(void *arg)
             (void)negobs_motor_exec_start(&t->exec, &t->stale, now);
         }
         next = negobs_motor_exec_tick(&t->exec, now);
+        next = output_health(t, now, next);
         wake_at = now + 1000u;
         if (next >= 0 && now + (uint64_t)next < wake_at) {
             wake_at = now + (uint64_t)next;
+        }
+        if (now < t->hold_until_ms && t->hold_until_ms < wake_at) {
+            wake_at = t->hold_until_ms;
         }
         if (t->watchdog_ms > 0 && !t->stale_playing &&
             t->last_post_ms + t->watchdog_ms < wake_at) {
@@ -127,6 +160,19 @@ void negobs_motor_thread_post(negobs_motor_thread_t *t,
     t->last_post_ms = negobs_clock_now_ms();
     (void)pthread_cond_signal(&t->wake);
     (void)pthread_mutex_unlock(&t->lock);
+}
+
+uint32_t negobs_motor_thread_output_faults(negobs_motor_thread_t *t,
+                                           bool *failing)
+{
+    uint32_t n;
+    (void)pthread_mutex_lock(&t->lock);
+    n = t->out_faults;
+    if (failing != NULL) {
+        *failing = t->out_failing;
+    }
+    (void)pthread_mutex_unlock(&t->lock);
+    return n;
 }
 
 uint32_t negobs_motor_thread_watchdog_fires(negobs_motor_thread_t *t)

@@ -9,6 +9,7 @@
 #include <fcntl.h>
 #include <stdarg.h>
 #include <string.h>
+#include <time.h>
 
 #include <linux/gpio.h>
 
@@ -29,6 +30,7 @@ static struct {
     int value;     /* last value written, -1 none */
     int writes;
     bool no_v2;    /* an old kernel: v2 ioctls are ENOTTY */
+    int set_errno; /* value writes fail with this (chip gone: ENODEV) */
     struct gpiohandle_request req_v1;
 } fake;
 
@@ -117,6 +119,10 @@ int __wrap_ioctl(int fd, unsigned long req, ...)
     }
     if (fd == LINE_FD && req == GPIO_V2_LINE_SET_VALUES_IOCTL) {
         struct gpio_v2_line_values *v = arg;
+        if (fake.set_errno != 0) {
+            errno = fake.set_errno;
+            return -1;
+        }
         assert_int_equal(v->mask, 1);
         fake.value = (int)(v->bits & 1u);
         fake.writes++;
@@ -229,6 +235,56 @@ static void test_gpio_falls_back_to_uapi_v1_on_old_kernels(void **state)
     assert_int_equal(fake.line_open, 0);
 }
 
+static void sleep_ms(long ms)
+{
+    struct timespec ts;
+    ts.tv_sec = ms / 1000;
+    ts.tv_nsec = (ms % 1000) * 1000000L;
+    (void)nanosleep(&ts, NULL);
+}
+
+static void test_gpio_chip_gone_is_requested_again_with_backoff(void **state)
+{
+    negobs_alert_gpio_t st;
+    negobs_motor_out_t out;
+    (void)state;
+    assert_int_equal(negobs_alert_gpio_open(&st, "/dev/gpiochip1", 0, false,
+                                            &out),
+                     NEGOBS_OK);
+    assert_int_equal(negobs_alert_set(&out, 1000), NEGOBS_OK);
+    assert_int_equal(fake.requests, 1);
+    /* The chip goes away (driver unbound): the write fails for good on
+     * these descriptors, which are released. */
+    fake.set_errno = ENODEV;
+    assert_int_equal(negobs_alert_set(&out, 0), NEGOBS_ERR_NODEV);
+    assert_non_null(strstr(st.errmsg, "/dev/gpiochip1"));
+    assert_int_equal(fake.line_open, 0);
+    assert_int_equal(fake.chip_open, 0);
+    /* Within the back-off: no new request. */
+    assert_int_equal(negobs_alert_set(&out, 0), NEGOBS_ERR_NODEV);
+    assert_int_equal(fake.requests, 1);
+    /* Still gone after the back-off: one try, then the back-off doubles. */
+    fake.open_errno = ENOENT;
+    sleep_ms((long)NEGOBS_GPIO_RETRY_MIN_MS + 30);
+    assert_int_equal(negobs_alert_set(&out, 0), NEGOBS_ERR_NODEV);
+    assert_int_equal(st.backoff_ms, 2u * NEGOBS_GPIO_RETRY_MIN_MS);
+    assert_int_equal(fake.requests, 1);
+    /* Back: the next write after the back-off requests the line from the
+     * same path (motor off first) and drives it. */
+    fake.open_errno = 0;
+    fake.set_errno = 0;
+    sleep_ms(2L * NEGOBS_GPIO_RETRY_MIN_MS + 30);
+    assert_int_equal(negobs_alert_set(&out, 1000), NEGOBS_OK);
+    assert_int_equal(fake.requests, 2);
+    assert_string_equal(fake.opened, "/dev/gpiochip1");
+    assert_int_equal(fake.req.config.attrs[0].attr.values, 0);
+    assert_int_equal(fake.value, 1);
+    assert_int_equal(st.reopens, 1);
+    negobs_alert_close(&out);
+    assert_int_equal(fake.value, 0);
+    assert_int_equal(fake.line_open, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -236,6 +292,8 @@ int main(void)
         cmocka_unit_test_setup(
             test_gpio_levels_switch_line_and_close_turns_off, reset),
         cmocka_unit_test_setup(test_gpio_errors_are_reported, reset),
+        cmocka_unit_test_setup(
+            test_gpio_chip_gone_is_requested_again_with_backoff, reset),
         cmocka_unit_test_setup(
             test_gpio_falls_back_to_uapi_v1_on_old_kernels, reset),
     };

@@ -12,11 +12,15 @@ typedef struct rec_out {
     uint16_t levels[64];
     uint32_t n;
     int fail_next; /* make the next N writes fail */
+    volatile int down; /* every write fails while set (output gone) */
 } rec_out_t;
 
 static negobs_status_t rec_set(void *ctx, uint16_t duty)
 {
     rec_out_t *r = ctx;
+    if (r->down) {
+        return NEGOBS_ERR_NODEV;
+    }
     if (r->fail_next > 0) {
         r->fail_next--;
         return NEGOBS_ERR_IO;
@@ -230,6 +234,59 @@ static void test_thread_watchdog_plays_stale_pattern(void **state)
     assert_int_equal(r.levels[r.n - 1], 0);    /* off after stop */
 }
 
+static void test_thread_output_fault_retries_then_holds_no_info(void **state)
+{
+    static const uint16_t stale[] = {500, 30000};
+    static const uint16_t p7[] = {700, 30000};
+    static const uint16_t p3[] = {300, 30000};
+    rec_out_t r;
+    negobs_motor_out_t out = {&rec_ops, &r};
+    negobs_motor_thread_t t;
+    negobs_motor_schedule_t st = make(stale, 1, 0);
+    negobs_motor_schedule_t a = make(p7, 1, 0);
+    negobs_motor_schedule_t b = make(p3, 1, 0);
+    bool failing = true;
+    uint32_t n_down;
+    int i;
+    (void)state;
+    memset(&r, 0, sizeof r);
+    /* No watchdog: only the output fault may switch to `stale`. */
+    assert_int_equal(negobs_motor_thread_start(&t, &out, &st, 0), NEGOBS_OK);
+    negobs_motor_thread_post(&t, &a);
+    sleep_ms(100);
+    assert_int_equal(last_level(&r), 700);
+    assert_int_equal(negobs_motor_thread_output_faults(&t, &failing), 0);
+    assert_false(failing);
+    /* The output goes away while a new pattern is asked for. */
+    r.down = 1;
+    negobs_motor_thread_post(&t, &b);
+    sleep_ms(400);
+    assert_int_equal(negobs_motor_thread_output_faults(&t, &failing), 1);
+    assert_true(failing);
+    assert_true(t.exec.set_errors >= 2); /* retried, not given up */
+    n_down = r.n;
+    /* Back: within a retry period `stale` is written, and it holds for
+     * NEGOBS_MOTOR_RECOVER_HOLD_MS although `b` is posted all along. */
+    r.down = 0;
+    for (i = 0; i < 30; i++) {
+        negobs_motor_thread_post(&t, &b);
+        sleep_ms(10);
+    }
+    assert_int_equal(negobs_motor_thread_output_faults(&t, &failing), 1);
+    assert_false(failing);
+    assert_true(r.n > n_down);
+    assert_int_equal(r.levels[n_down], 500);
+    assert_int_equal(last_level(&r), 500);
+    /* After the hold, the posted pattern resumes by itself. */
+    for (i = 0; i < (int)(NEGOBS_MOTOR_RECOVER_HOLD_MS / 50u) + 20; i++) {
+        negobs_motor_thread_post(&t, &b);
+        sleep_ms(50);
+    }
+    assert_int_equal(last_level(&r), 300);
+    negobs_motor_thread_stop(&t);
+    assert_int_equal(last_level(&r), 0);
+}
+
 #endif
 
 int main(void)
@@ -243,6 +300,7 @@ int main(void)
         cmocka_unit_test(test_schedule_equal_compares_content),
 #ifdef NEGOBS_TEST_THREADS
         cmocka_unit_test(test_thread_watchdog_plays_stale_pattern),
+        cmocka_unit_test(test_thread_output_fault_retries_then_holds_no_info),
 #endif
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -9,6 +9,12 @@
  * The line is requested as an output with initial value 0 (motor off)
  * and held until close; the kernel drops the request, and the line keeps
  * its last value, if the process dies, so close/off paths set 0 first.
+ *
+ * A chip can go away under a running program (an unbound driver, an
+ * unplugged expander): writes then fail with ENODEV for good on the old
+ * descriptors. The line is released and requested again from the same
+ * path, with back-off, from the following writes: the motor thread keeps
+ * writing, so recovery needs no timer of its own.
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -23,6 +29,7 @@
 #include <linux/gpio.h>
 
 #include "negobs_port/alert.h"
+#include "negobs_port/clock.h"
 
 static void gpio_error(negobs_alert_gpio_t *st, int err, const char *fmt, ...)
 {
@@ -86,6 +93,28 @@ static int request_v1(negobs_alert_gpio_t *st, uint32_t line,
     return 0;
 }
 
+static negobs_status_t request_line(negobs_alert_gpio_t *st);
+static void release_line(negobs_alert_gpio_t *st);
+
+/* Lost line: request it again once the back-off has passed. */
+static negobs_status_t retry_request(negobs_alert_gpio_t *st)
+{
+    uint64_t now = negobs_clock_now_ms();
+    if (now < st->retry_at_ms) {
+        return NEGOBS_ERR_NODEV;
+    }
+    if (request_line(st) != NEGOBS_OK) {
+        st->backoff_ms = st->backoff_ms >= NEGOBS_GPIO_RETRY_MAX_MS / 2u
+                             ? NEGOBS_GPIO_RETRY_MAX_MS
+                             : st->backoff_ms * 2u;
+        st->retry_at_ms = now + st->backoff_ms;
+        return NEGOBS_ERR_NODEV;
+    }
+    st->lost = false;
+    st->reopens++;
+    return NEGOBS_OK;
+}
+
 static negobs_status_t gpio_set(void *ctx, uint16_t permille)
 {
     negobs_alert_gpio_t *st = ctx;
@@ -93,12 +122,24 @@ static negobs_status_t gpio_set(void *ctx, uint16_t permille)
     if (permille > NEGOBS_MOTOR_FULL) {
         return NEGOBS_ERR_INVAL;
     }
+    if (st->lost && retry_request(st) != NEGOBS_OK) {
+        return NEGOBS_ERR_NODEV;
+    }
     if (st->line_fd < 0) {
         return NEGOBS_ERR_STATE;
     }
     if (set_line(st, on) != 0) {
-        gpio_error(st, errno, "set line %u", (unsigned)st->line);
-        return errno == ENODEV ? NEGOBS_ERR_NODEV : NEGOBS_ERR_IO;
+        int e = errno;
+        gpio_error(st, e, "set line %u on %s", (unsigned)st->line, st->path);
+        if (e == ENODEV || e == ENXIO || e == EIO) {
+            /* The chip is gone: these descriptors stay dead. */
+            release_line(st);
+            st->lost = true;
+            st->backoff_ms = NEGOBS_GPIO_RETRY_MIN_MS;
+            st->retry_at_ms = negobs_clock_now_ms() + st->backoff_ms;
+            return NEGOBS_ERR_NODEV;
+        }
+        return NEGOBS_ERR_IO;
     }
     st->value = on;
     return NEGOBS_OK;
@@ -117,55 +158,30 @@ static void gpio_close(void *ctx)
     negobs_alert_gpio_t *st = ctx;
     if (st->line_fd >= 0) {
         (void)set_line(st, 0);
-        (void)close(st->line_fd);
-        st->line_fd = -1;
     }
-    if (st->chip_fd >= 0) {
-        (void)close(st->chip_fd);
-        st->chip_fd = -1;
-    }
+    release_line(st);
+    st->lost = false;
 }
 
 static const negobs_alert_ops_t gpio_ops = {
     "gpio", gpio_set, gpio_off_async, gpio_close,
 };
 
-negobs_status_t negobs_alert_gpio_open(negobs_alert_gpio_t *st,
-                                       const char *chip, uint32_t line,
-                                       bool active_low,
-                                       negobs_motor_out_t *alert)
+/* Open the chip and request the line (motor off); fds in st on success. */
+static negobs_status_t request_line(negobs_alert_gpio_t *st)
 {
-    char path[128];
     struct gpio_v2_line_request req;
-    int n;
-    if (st == NULL || chip == NULL || alert == NULL) {
-        return NEGOBS_ERR_INVAL;
-    }
-    memset(st, 0, sizeof *st);
-    st->chip_fd = -1;
-    st->line_fd = -1;
-    st->line = line;
-    if (chip[0] == '/') {
-        n = snprintf(path, sizeof path, "%s", chip);
-    } else if (chip[0] >= '0' && chip[0] <= '9') {
-        n = snprintf(path, sizeof path, "/dev/gpiochip%s", chip);
-    } else {
-        n = snprintf(path, sizeof path, "/dev/%s", chip);
-    }
-    if (n < 0 || (size_t)n >= sizeof path) {
-        return NEGOBS_ERR_INVAL;
-    }
-    st->chip_fd = open(path, O_RDWR | O_CLOEXEC);
+    st->chip_fd = open(st->path, O_RDWR | O_CLOEXEC);
     if (st->chip_fd < 0) {
-        gpio_error(st, errno, "open %s", path);
+        gpio_error(st, errno, "open %s", st->path);
         return NEGOBS_ERR_NODEV;
     }
     memset(&req, 0, sizeof req);
-    req.offsets[0] = line;
+    req.offsets[0] = st->line;
     req.num_lines = 1;
     (void)snprintf(req.consumer, sizeof req.consumer, "negobs-motor");
     req.config.flags = GPIO_V2_LINE_FLAG_OUTPUT;
-    if (active_low) {
+    if (st->active_low) {
         req.config.flags |= GPIO_V2_LINE_FLAG_ACTIVE_LOW;
     }
     req.config.num_attrs = 1;
@@ -175,14 +191,59 @@ negobs_status_t negobs_alert_gpio_open(negobs_alert_gpio_t *st,
     if (ioctl(st->chip_fd, GPIO_V2_GET_LINE_IOCTL, &req) == 0) {
         st->line_fd = req.fd;
     } else if ((errno == ENOTTY || errno == EINVAL) &&
-               request_v1(st, line, active_low) == 0) {
+               request_v1(st, st->line, st->active_low) == 0) {
         /* Kernel without uAPI v2 (< 5.10): v1 handle obtained. */
     } else {
         int e = errno;
-        gpio_error(st, e, "request line %u on %s", (unsigned)line, path);
+        gpio_error(st, e, "request line %u on %s", (unsigned)st->line,
+                   st->path);
         (void)close(st->chip_fd);
         st->chip_fd = -1;
         return e == EINVAL ? NEGOBS_ERR_INVAL : NEGOBS_ERR_IO;
+    }
+    return NEGOBS_OK;
+}
+
+static void release_line(negobs_alert_gpio_t *st)
+{
+    if (st->line_fd >= 0) {
+        (void)close(st->line_fd);
+        st->line_fd = -1;
+    }
+    if (st->chip_fd >= 0) {
+        (void)close(st->chip_fd);
+        st->chip_fd = -1;
+    }
+}
+
+negobs_status_t negobs_alert_gpio_open(negobs_alert_gpio_t *st,
+                                       const char *chip, uint32_t line,
+                                       bool active_low,
+                                       negobs_motor_out_t *alert)
+{
+    int n;
+    negobs_status_t s;
+    if (st == NULL || chip == NULL || alert == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    memset(st, 0, sizeof *st);
+    st->chip_fd = -1;
+    st->line_fd = -1;
+    st->line = line;
+    st->active_low = active_low;
+    if (chip[0] == '/') {
+        n = snprintf(st->path, sizeof st->path, "%s", chip);
+    } else if (chip[0] >= '0' && chip[0] <= '9') {
+        n = snprintf(st->path, sizeof st->path, "/dev/gpiochip%s", chip);
+    } else {
+        n = snprintf(st->path, sizeof st->path, "/dev/%s", chip);
+    }
+    if (n < 0 || (size_t)n >= sizeof st->path) {
+        return NEGOBS_ERR_INVAL;
+    }
+    s = request_line(st);
+    if (s != NEGOBS_OK) {
+        return s;
     }
     alert->ops = &gpio_ops;
     alert->ctx = st;

@@ -134,6 +134,10 @@ negobs_status_t negobs_alert_pwm_open(negobs_alert_pwm_t *st,
                                       uint32_t channel, uint32_t period_ns,
                                       negobs_motor_out_t *alert);
 
+/** Re-request back-off of a lost GPIO line (ms), doubled per failure. */
+#define NEGOBS_GPIO_RETRY_MIN_MS 100u
+#define NEGOBS_GPIO_RETRY_MAX_MS 2000u
+
 /** GPIO character-device backend state (fields private). */
 typedef struct negobs_alert_gpio {
     int chip_fd;
@@ -141,6 +145,12 @@ typedef struct negobs_alert_gpio {
     uint32_t line;
     int value;
     bool uapi_v1;       /**< kernel < 5.10: line held through uAPI v1 */
+    bool active_low;
+    char path[128];     /**< chip device, kept to request the line again */
+    bool lost;          /**< a write failed: line released, re-request  */
+    uint64_t retry_at_ms;
+    uint32_t backoff_ms;
+    uint32_t reopens;   /**< successful re-requests                     */
     int last_errno;
     char errmsg[NEGOBS_PORT_ERRMSG_LEN];
 } negobs_alert_gpio_t;
@@ -153,6 +163,11 @@ typedef struct negobs_alert_gpio {
  * @param active_low  drive the line low for "motor on"
  * @return NEGOBS_OK, NEGOBS_ERR_NODEV (no chip), NEGOBS_ERR_IO (request
  *         refused, e.g. line busy; see st->errmsg), NEGOBS_ERR_INVAL.
+ *
+ * A write that fails later (the chip was unbound or unplugged: ENODEV)
+ * releases the line; the following writes request it again from the same
+ * chip path with back-off (NEGOBS_GPIO_RETRY_MIN_MS doubling to _MAX_MS)
+ * and return NEGOBS_ERR_NODEV until it is back.
  */
 negobs_status_t negobs_alert_gpio_open(negobs_alert_gpio_t *st,
                                        const char *chip, uint32_t line,
@@ -218,11 +233,23 @@ void negobs_motor_exec_stop(negobs_motor_exec_t *ex);
 /* ------------------------------------------------------------------ */
 /* Motor thread with watchdog                                          */
 
+/** While output writes fail, they are retried this often (ms). */
+#define NEGOBS_MOTOR_RETRY_MS 100u
+/** After the output comes back, `stale` plays this long before the main
+ *  loop's pattern again (ms): the no-information entry burst. */
+#define NEGOBS_MOTOR_RECOVER_HOLD_MS 2000u
+
 /**
  * A POSIX thread that runs an executor against the monotonic clock and
  * doubles as the watchdog: when negobs_motor_thread_post() has not been
  * called for `watchdog_ms`, it plays `stale` (the no-information pattern)
  * on its own, whatever the main loop is stuck in.
+ *
+ * Output faults: when a write to the backend fails, the thread switches to
+ * `stale` and retries every NEGOBS_MOTOR_RETRY_MS (backends such as gpio
+ * reopen their device from those writes). The user felt nothing, or a
+ * stuck level, meanwhile; so when a write succeeds again, `stale` plays
+ * for NEGOBS_MOTOR_RECOVER_HOLD_MS before posted patterns resume.
  * The struct is caller-owned; its fields are private.
  */
 typedef struct negobs_motor_thread {
@@ -235,6 +262,9 @@ typedef struct negobs_motor_thread {
     bool stale_playing;
     bool running;
     uint32_t watchdog_fires;
+    bool out_failing;       /**< the last output write failed          */
+    uint32_t out_faults;    /**< times the output started failing       */
+    uint64_t hold_until_ms; /**< stale forced until then (recovery)     */
     pthread_mutex_t lock;
     pthread_cond_t wake;
     pthread_t thread;
@@ -262,6 +292,16 @@ void negobs_motor_thread_post(negobs_motor_thread_t *t,
 
 /** @brief Number of times the watchdog took over. */
 uint32_t negobs_motor_thread_watchdog_fires(negobs_motor_thread_t *t);
+
+/**
+ * @brief Output health, for logs.
+ * @param failing  set to true while writes to the backend fail (may be
+ *                 NULL); the backend's errmsg says why
+ * @return Times the output started failing since start; failed writes in
+ *         total are in the executor's set_errors.
+ */
+uint32_t negobs_motor_thread_output_faults(negobs_motor_thread_t *t,
+                                           bool *failing);
 
 /** @brief Stop and join the thread; the motor is off afterwards. */
 void negobs_motor_thread_stop(negobs_motor_thread_t *t);
