@@ -12,7 +12,7 @@
  * always works on the freshest pair instead of a growing backlog.
  *
  * Frozen content. A driver or ISP that hangs may keep handing out the same
- * image; every paired frame's sampled signature is compared with that
+ * image; every dequeued frame's sampled signature is compared with that
  * node's previous one, and while frozen_frames frames in a row were
  * identical the pair is requeued and get_pair returns NEGOBS_ERR_IO
  * ("frozen: ..."), so the caller plays no-information instead of judging a
@@ -479,6 +479,22 @@ static void try_reopen(negobs_v4l2_t *st, negobs_v4l2_dev_t *d, uint64_t now)
     d->retry_at_ms = now + d->backoff_ms;
 }
 
+/* Every dequeued frame counts, not only those paired: the check then runs
+ * at the camera's rate, whatever the pipeline's. The raw bytes of the
+ * first plane are sampled (rows of bytesperline): any pixel format's bytes
+ * change with sensor noise. */
+static bool frame_frozen(negobs_v4l2_t *st, negobs_v4l2_dev_t *d,
+                         uint32_t idx)
+{
+    negobs_image_u8_t raw;
+    raw.data = d->buf[idx].start;
+    raw.width = (int32_t)d->bytesperline;
+    raw.height = d->height;
+    raw.stride = (int32_t)d->bytesperline;
+    return negobs_frozen_update(&d->frozen, negobs_frame_signature(&raw),
+                                st->cfg.frozen_frames);
+}
+
 /* Dequeue everything ready on a node, keeping only the newest frame. */
 static void drain(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
 {
@@ -509,6 +525,7 @@ static void drain(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
             (void)dev_queue(d, d->pend_idx);
         }
         d->pending = true;
+        d->pend_frozen = frame_frozen(st, d, b.index);
         d->pend_idx = b.index;
         d->pend_bytes = b.bytesused;
         d->pend_seq = b.sequence;
@@ -557,17 +574,13 @@ static void v_release(void *ctx, negobs_frame_pair_t *pair)
 }
 
 /* True when either side is frozen (its errmsg set). */
-static bool frozen_check(negobs_v4l2_t *st, const negobs_frame_pair_t *pair)
+static bool frozen_check(negobs_v4l2_t *st)
 {
-    const negobs_frame_t *f[2];
     bool frozen = false;
     int i;
-    f[0] = &pair->left;
-    f[1] = &pair->right;
     for (i = 0; i < 2; i++) {
         negobs_v4l2_dev_t *d = &st->dev[i];
-        if (negobs_frozen_update(&d->frozen, negobs_frame_signature(&f[i]->y),
-                                 st->cfg.frozen_frames)) {
+        if (d->pend_frozen) {
             v_error(st, 0, "frozen: %s image unchanged for %lu frames",
                     d->path, (unsigned long)d->frozen.repeats + 1u);
             frozen = true;
@@ -652,7 +665,7 @@ static int v_get_pair(void *ctx, negobs_frame_pair_t *pair,
                     (void)dev_queue(r, r->pend_idx);
                     continue;
                 }
-                if (frozen_check(st, pair)) {
+                if (frozen_check(st)) {
                     (void)dev_queue(l, l->pend_idx);
                     (void)dev_queue(r, r->pend_idx);
                     st->stats.frozen_pairs++;

@@ -11,7 +11,7 @@
  * that fails (ENODEV, EIO, POLLERR, or 3 timeouts in a row) is closed and
  * reopened with exponential back-off (100 ms .. 2 s).
  * A node whose content stops changing (frozen_frames identical frames in a
- * row, negobs_frozen_update) has its pairs withheld with NEGOBS_ERR_IO and
+ * row as dequeued, negobs_frozen_update) has its pairs withheld with NEGOBS_ERR_IO and
  * "frozen: ..." until the content changes again.
  */
 #ifndef NEGOBS_PORT_CAMERA_V4L2_H
@@ -72,6 +72,7 @@ typedef struct negobs_v4l2_dev {
     bool has_exposure;
     bool has_gain;
     negobs_frozen_t frozen;
+    bool pend_frozen;      /**< the pending frame ends a frozen run    */
 } negobs_v4l2_dev_t;
 
 /** State of a stereo V4L2 source (caller-owned, fields private). */

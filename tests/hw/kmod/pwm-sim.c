@@ -9,6 +9,11 @@
  * /sys/kernel/debug/pwm is the real PWM core's behaviour (export/unexport,
  * EINVAL for duty_cycle > period, EBUSY, ...) on top of a recorded state.
  * Every applied state is also logged (pr_info) so the serial log shows it.
+ *
+ * Fault injection: while /sys/module/pwm_sim/parameters/fail_apply is 1,
+ * .apply refuses every state with -EIO and keeps the old one, as a PWM
+ * block whose bus write fails would; writes to duty_cycle then fail with
+ * EIO in user space.
  */
 #include <linux/err.h>
 #include <linux/module.h>
@@ -19,6 +24,10 @@
 static unsigned int npwm = 2;
 module_param(npwm, uint, 0444);
 MODULE_PARM_DESC(npwm, "number of PWM channels (default 2)");
+
+static bool fail_apply;
+module_param(fail_apply, bool, 0644);
+MODULE_PARM_DESC(fail_apply, "1: every .apply fails with -EIO (fault injection)");
 
 struct pwm_sim {
 	struct pwm_chip chip;
@@ -37,6 +46,10 @@ static int pwm_sim_apply(struct pwm_chip *chip, struct pwm_device *pwm,
 {
 	struct pwm_sim *sim = to_pwm_sim(chip);
 
+	if (READ_ONCE(fail_apply)) {
+		pr_info("pwm-sim: ch%u apply refused (fail_apply)\n", pwm->hwpwm);
+		return -EIO;
+	}
 	sim->state[pwm->hwpwm] = *state;
 	pr_info("pwm-sim: ch%u period=%llu duty=%llu polarity=%s enabled=%d\n",
 		pwm->hwpwm, state->period, state->duty_cycle,
