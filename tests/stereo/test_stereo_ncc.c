@@ -180,6 +180,72 @@ static void test_frac_q14_saturates_and_rounds_toward_zero(void **state)
     assert_int_equal(stx_frac_q14(-20000000, 20000000), -16384);
 }
 
+/* The dispatching stx_cross5 (SIMD where the target has it) against the
+ * plain C reference and the definition, at every window position of a
+ * tight image (stride == width, buffer ends with the last row) so a load
+ * past the window edge shows under the sanitizer / valgrind. */
+static uint8_t ta[H * W];
+static uint8_t tb[H * W];
+
+static void check_cross5_all_positions(void)
+{
+    negobs_image_u8_t l;
+    negobs_image_u8_t r;
+    int32_t y;
+    int32_t u;
+    int32_t ur;
+    l.data = ta;
+    l.width = W;
+    l.height = H;
+    l.stride = W;
+    r = l;
+    r.data = tb;
+    for (y = STX_WIN_R; y < H - STX_WIN_R; y++) {
+        for (u = STX_WIN_R; u < W - STX_WIN_R; u++) {
+            for (ur = STX_WIN_R; ur <= u; ur++) {
+                int32_t yr = (y + 1 < H - STX_WIN_R) ? y + 1 : y;
+                uint32_t want = 0;
+                int32_t i;
+                int32_t j;
+                for (i = -STX_WIN_R; i <= STX_WIN_R; i++) {
+                    for (j = -STX_WIN_R; j <= STX_WIN_R; j++) {
+                        want += (uint32_t)ta[(y + i) * W + u + j] *
+                                tb[(yr + i) * W + ur + j];
+                    }
+                }
+                assert_int_equal(stx_cross5(&l, u, y, &r, ur, yr), want);
+                assert_int_equal(
+                    stx_cross5_ref(ta + (y - 2) * W + u - 2, W,
+                                   tb + (yr - 2) * W + ur - 2, W),
+                    want);
+            }
+        }
+    }
+}
+
+static void test_cross5_variants_are_bit_exact(void **state)
+{
+    uint32_t seed = 99u;
+    int32_t i;
+    (void)state;
+    for (i = 0; i < H * W; i++) {
+        ta[i] = (uint8_t)test_lcg_next(&seed);
+        tb[i] = (uint8_t)test_lcg_next(&seed);
+    }
+    check_cross5_all_positions();
+    /* largest products: every lane at 255 (sum 1 625 625) */
+    memset(ta, 255, sizeof ta);
+    memset(tb, 255, sizeof tb);
+    check_cross5_all_positions();
+    assert_int_equal(stx_cross5_ref(ta, W, tb, W), 25u * 255u * 255u);
+    /* bytes beyond the 5 columns must not leak into the sum */
+    for (i = 0; i < H * W; i++) {
+        ta[i] = (uint8_t)(((i % W) % 8 < 5) ? 1 : 200);
+        tb[i] = (uint8_t)(255 - (i % 7));
+    }
+    check_cross5_all_positions();
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -187,6 +253,7 @@ int main(void)
         cmocka_unit_test(test_mncc_matches_reference_within_one_lsb),
         cmocka_unit_test(test_mncc_flat_and_inverted_windows),
         cmocka_unit_test(test_frac_q14_saturates_and_rounds_toward_zero),
+        cmocka_unit_test(test_cross5_variants_are_bit_exact),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -24,6 +24,10 @@
 #include <stdint.h>
 
 #include "arena.h"
+
+#if defined(__SSE2__) && !defined(NEGOBS_NO_SIMD)
+#include <emmintrin.h>
+#endif
 #include "negobs/stereo.h"
 
 #define STX_WIN_R 2                 /* 5x5 window                      */
@@ -178,22 +182,88 @@ static inline int stx_mncc_num_den(uint32_t sum_lr, uint32_t sl, uint32_t vl, ui
     return 1;
 }
 
-/* Raw 5x5 cross sum at left (u, yl) and right (ur, yr). */
-static inline uint32_t stx_cross5(const negobs_image_u8_t *l, int32_t u, int32_t yl,
-                    const negobs_image_u8_t *r, int32_t ur, int32_t yr)
+/* Raw 5x5 cross sum of the windows at a (left) and b (right), pointers to
+ * their top-left pixels: the plain C reference of every variant below. */
+static inline uint32_t stx_cross5_ref(const uint8_t *a, ptrdiff_t sa,
+                                      const uint8_t *b, ptrdiff_t sb)
 {
     uint32_t acc = 0;
     int32_t k;
-    const uint8_t *a = negobs_image_u8_row(l, yl - STX_WIN_R) + u - STX_WIN_R;
-    const uint8_t *b = negobs_image_u8_row(r, yr - STX_WIN_R) + ur - STX_WIN_R;
     for (k = 0; k < 5; k++) {
         acc += (uint32_t)a[0] * b[0] + (uint32_t)a[1] * b[1] +
                (uint32_t)a[2] * b[2] + (uint32_t)a[3] * b[3] +
                (uint32_t)a[4] * b[4];
-        a += l->stride;
-        b += r->stride;
+        a += sa;
+        b += sb;
     }
     return acc;
+}
+
+#if defined(__SSE2__) && !defined(NEGOBS_NO_SIMD)
+#define STX_CROSS5_SIMD 1
+/* SSE2 form of stx_cross5_ref (bit-exact: integer sums in any order).
+ * Each row is an 8-byte load whose last 3 left bytes are masked to zero, so
+ * it reads 3 bytes past the window on the right: the caller guarantees
+ * they are inside the row. Two rows share one register; PMADDWD of the
+ * zero-extended bytes gives pairs of products (<= 130 050, no overflow). */
+static inline uint32_t stx_cross5_simd(const uint8_t *a, ptrdiff_t sa,
+                                       const uint8_t *b, ptrdiff_t sb)
+{
+    const __m128i z = _mm_setzero_si128();
+    const __m128i m5 = _mm_set_epi32(0xFF, -1, 0xFF, -1);
+    __m128i x;
+    __m128i y;
+    __m128i acc;
+    x = _mm_and_si128(_mm_unpacklo_epi64(_mm_loadl_epi64((const __m128i *)a),
+                                         _mm_loadl_epi64((const __m128i *)(a + sa))),
+                      m5);
+    y = _mm_unpacklo_epi64(_mm_loadl_epi64((const __m128i *)b),
+                           _mm_loadl_epi64((const __m128i *)(b + sb)));
+    acc = _mm_add_epi32(
+        _mm_madd_epi16(_mm_unpacklo_epi8(x, z), _mm_unpacklo_epi8(y, z)),
+        _mm_madd_epi16(_mm_unpackhi_epi8(x, z), _mm_unpackhi_epi8(y, z)));
+    a += 2 * sa;
+    b += 2 * sb;
+    x = _mm_and_si128(_mm_unpacklo_epi64(_mm_loadl_epi64((const __m128i *)a),
+                                         _mm_loadl_epi64((const __m128i *)(a + sa))),
+                      m5);
+    y = _mm_unpacklo_epi64(_mm_loadl_epi64((const __m128i *)b),
+                           _mm_loadl_epi64((const __m128i *)(b + sb)));
+    acc = _mm_add_epi32(
+        acc,
+        _mm_madd_epi16(_mm_unpacklo_epi8(x, z), _mm_unpacklo_epi8(y, z)));
+    acc = _mm_add_epi32(
+        acc,
+        _mm_madd_epi16(_mm_unpackhi_epi8(x, z), _mm_unpackhi_epi8(y, z)));
+    a += 2 * sa;
+    b += 2 * sb;
+    x = _mm_and_si128(_mm_loadl_epi64((const __m128i *)a), m5);
+    y = _mm_loadl_epi64((const __m128i *)b);
+    acc = _mm_add_epi32(
+        acc,
+        _mm_madd_epi16(_mm_unpacklo_epi8(x, z), _mm_unpacklo_epi8(y, z)));
+    acc = _mm_add_epi32(acc, _mm_shuffle_epi32(acc, 0x4E));
+    acc = _mm_add_epi32(acc, _mm_shuffle_epi32(acc, 0xB1));
+    return (uint32_t)_mm_cvtsi128_si32(acc);
+}
+#else
+#define STX_CROSS5_SIMD 0
+#endif
+
+/* Raw 5x5 cross sum at left (u, yl) and right (ur, yr); both windows
+ * inside their images, ur <= u. */
+static inline uint32_t stx_cross5(const negobs_image_u8_t *l, int32_t u, int32_t yl,
+                    const negobs_image_u8_t *r, int32_t ur, int32_t yr)
+{
+    const uint8_t *a = negobs_image_u8_row(l, yl - STX_WIN_R) + u - STX_WIN_R;
+    const uint8_t *b = negobs_image_u8_row(r, yr - STX_WIN_R) + ur - STX_WIN_R;
+#if STX_CROSS5_SIMD
+    /* the 8-byte loads end at column x + 5: inside the row for both */
+    if (u + 5 < l->width && ur + 5 < r->width) {
+        return stx_cross5_simd(a, l->stride, b, r->stride);
+    }
+#endif
+    return stx_cross5_ref(a, l->stride, b, r->stride);
 }
 
 /* Strip-statistics MNCC as a fraction; 0 when out of bounds or flat. */
