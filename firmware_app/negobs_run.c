@@ -96,6 +96,7 @@ typedef struct run_settings {
     char record[256];
     char log_level[16];
     int32_t pair_tol_ms;
+    int32_t frozen_frames;
     int32_t watchdog_ms;
     int32_t exposure;
     int32_t gain;
@@ -130,6 +131,9 @@ static const negobs_cfg_key_t config_keys[] = {
      "error | warn | info | debug (default info)"},
     {"pair_tolerance_ms", NEGOBS_CFG_INT, &S.pair_tol_ms, 0, 1000,
      "max left/right timestamp difference of a pair (default 10)"},
+    {"frozen_frames", NEGOBS_CFG_INT, &S.frozen_frames, 0, 10000,
+     "identical frames in a row after which a V4L2 camera counts as "
+     "frozen -> no-info; 0 = off (default 10)"},
     {"watchdog_ms", NEGOBS_CFG_INT, &S.watchdog_ms, 50, 10000,
      "no fresh pair for this long -> no-info pattern (default 300)"},
     {"exposure", NEGOBS_CFG_INT, &S.exposure, -1, INT32_MAX,
@@ -198,6 +202,7 @@ static void settings_default(void)
     S.fps = 30;
     (void)snprintf(S.log_level, sizeof S.log_level, "info");
     S.pair_tol_ms = NEGOBS_CAMERA_PAIR_TOL_MS_DEFAULT;
+    S.frozen_frames = NEGOBS_CAMERA_FROZEN_FRAMES_DEFAULT;
     S.watchdog_ms = 300;
     S.exposure = -1;
     S.gain = -1;
@@ -573,6 +578,7 @@ static int open_camera(const run_args_t *a)
     cfg.height = S.height;
     cfg.fps = S.fps;
     cfg.pair_tol_ms = S.pair_tol_ms;
+    cfg.frozen_frames = S.frozen_frames;
     cfg.exposure = S.exposure;
     cfg.gain = S.gain;
     cfg.loop = S.replay_loop;
@@ -895,6 +901,25 @@ static void status_line(run_status_t *st, uint64_t now)
     st->lat_max_us = 0;
 }
 
+/* Motor output faults (the motor thread retries and plays no-info;
+ * port/alert): say when writes start failing and when they work again. */
+static void check_motor_output(bool *was_failing)
+{
+    bool failing = false;
+    uint32_t faults = negobs_motor_thread_output_faults(&motor, &failing);
+    const char *why = alert.ctx == (void *)&alert_gpio ? alert_gpio.errmsg
+                      : alert.ctx == (void *)&alert_pwm ? alert_pwm.errmsg
+                                                        : "";
+    if (failing && !*was_failing) {
+        logmsg(LOG_WARN, "motor: output failing (%s), retrying; no-info "
+               "once it is back (fault %lu)", why, (unsigned long)faults);
+    } else if (!failing && *was_failing) {
+        logmsg(LOG_INFO, "motor: output back, no-info for %u ms",
+               (unsigned)NEGOBS_MOTOR_RECOVER_HOLD_MS);
+    }
+    *was_failing = failing;
+}
+
 static int run_loop(void)
 {
     run_status_t st;
@@ -902,6 +927,7 @@ static int run_loop(void)
     uint32_t done = 0;
     int last_err = NEGOBS_OK;
     bool recording = false;
+    bool motor_failing = false;
     memset(&st, 0, sizeof st);
     st.window_start_ms = negobs_clock_now_ms();
     st.next_ms = st.window_start_ms + (uint64_t)S.status_interval_ms;
@@ -1023,6 +1049,7 @@ static int run_loop(void)
                    negobs_camera_errmsg(&camera));
             return EXIT_RUNTIME;
         }
+        check_motor_output(&motor_failing);
         if (now >= st.next_ms) {
             status_line(&st, now);
         }
