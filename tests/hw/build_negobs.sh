@@ -81,5 +81,9 @@ baseline_mm = 120
 cam_height_mm = 1200
 cam_pitch_mdeg = 20000
 max_disp = 63
+# a synthetic frame held for a second is pixel-identical frame to frame,
+# which no sensor is: the frozen-stream check is off here and on (with
+# injected sensor noise) in run-fault-frozen
+frozen_frames = 0
 EOF
 echo "negobs: $(du -sk "$OUT" | cut -f1) KiB in $OUT"
