@@ -34,6 +34,13 @@ static void abs_deadline(struct timespec *ts, uint64_t deadline_ms)
 static int64_t output_health(negobs_motor_thread_t *t, uint64_t now,
                              int64_t next)
 {
+    /* A silent pattern writes nothing, so a dead output would go unseen
+     * until the next pulse: write the current level again now and then. */
+    if (now - t->last_refresh_ms >= NEGOBS_MOTOR_REFRESH_MS) {
+        t->last_refresh_ms = now;
+        t->exec.level = -1;
+        next = negobs_motor_exec_tick(&t->exec, now);
+    }
     if (t->exec.last_status != NEGOBS_OK) {
         if (!t->out_failing) {
             t->out_failing = true;
@@ -81,7 +88,7 @@ static void *motor_main(void *arg)
         }
         next = negobs_motor_exec_tick(&t->exec, now);
         next = output_health(t, now, next);
-        wake_at = now + 1000u;
+        wake_at = now + NEGOBS_MOTOR_REFRESH_MS;
         if (next >= 0 && now + (uint64_t)next < wake_at) {
             wake_at = now + (uint64_t)next;
         }

@@ -287,6 +287,31 @@ static void test_thread_output_fault_retries_then_holds_no_info(void **state)
     assert_int_equal(last_level(&r), 0);
 }
 
+static void test_thread_dead_output_is_seen_during_silence(void **state)
+{
+    static const uint16_t stale[] = {500, 30000};
+    static const uint16_t quiet[] = {0, 30000};
+    rec_out_t r;
+    negobs_motor_out_t out = {&rec_ops, &r};
+    negobs_motor_thread_t t;
+    negobs_motor_schedule_t st = make(stale, 1, 0);
+    negobs_motor_schedule_t q = make(quiet, 1, 0);
+    bool failing = false;
+    (void)state;
+    memset(&r, 0, sizeof r);
+    assert_int_equal(negobs_motor_thread_start(&t, &out, &st, 0), NEGOBS_OK);
+    negobs_motor_thread_post(&t, &q);
+    sleep_ms(100);
+    /* Silence writes nothing new; the refresh still finds the output
+     * gone within NEGOBS_MOTOR_REFRESH_MS (+ slack for loaded machines). */
+    r.down = 1;
+    sleep_ms((long)NEGOBS_MOTOR_REFRESH_MS + 400);
+    assert_int_equal(negobs_motor_thread_output_faults(&t, &failing), 1);
+    assert_true(failing);
+    r.down = 0;
+    negobs_motor_thread_stop(&t);
+}
+
 #endif
 
 int main(void)
@@ -301,6 +326,7 @@ int main(void)
 #ifdef NEGOBS_TEST_THREADS
         cmocka_unit_test(test_thread_watchdog_plays_stale_pattern),
         cmocka_unit_test(test_thread_output_fault_retries_then_holds_no_info),
+        cmocka_unit_test(test_thread_dead_output_is_seen_during_silence),
 #endif
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

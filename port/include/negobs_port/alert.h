@@ -233,6 +233,9 @@ void negobs_motor_exec_stop(negobs_motor_exec_t *ex);
 /* ------------------------------------------------------------------ */
 /* Motor thread with watchdog                                          */
 
+/** The current level is written again this often (ms), so that an output
+ *  that died during a silent pattern is noticed. */
+#define NEGOBS_MOTOR_REFRESH_MS 1000u
 /** While output writes fail, they are retried this often (ms). */
 #define NEGOBS_MOTOR_RETRY_MS 100u
 /** After the output comes back, `stale` plays this long before the main
@@ -245,7 +248,9 @@ void negobs_motor_exec_stop(negobs_motor_exec_t *ex);
  * called for `watchdog_ms`, it plays `stale` (the no-information pattern)
  * on its own, whatever the main loop is stuck in.
  *
- * Output faults: when a write to the backend fails, the thread switches to
+ * Output faults: the level is written again every NEGOBS_MOTOR_REFRESH_MS
+ * even when it does not change, so a dead output is seen during silence
+ * too. When a write to the backend fails, the thread switches to
  * `stale` and retries every NEGOBS_MOTOR_RETRY_MS (backends such as gpio
  * reopen their device from those writes). The user felt nothing, or a
  * stuck level, meanwhile; so when a write succeeds again, `stale` plays
@@ -265,6 +270,7 @@ typedef struct negobs_motor_thread {
     bool out_failing;       /**< the last output write failed          */
     uint32_t out_faults;    /**< times the output started failing       */
     uint64_t hold_until_ms; /**< stale forced until then (recovery)     */
+    uint64_t last_refresh_ms;
     pthread_mutex_t lock;
     pthread_cond_t wake;
     pthread_t thread;
