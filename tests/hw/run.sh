@@ -12,6 +12,8 @@
 #                    through the channel's sysfs duty_cycle
 #   run-camera-loss  the real negobs_run: right camera stops, no-info
 #                    pattern on the line, frames return, verdicts resume
+#   libcamera-vimc   one vimc camera through negobs' libcamera backend
+#                    (Debian's arm64 libcamera 0.0.3, lc_capture)
 #   payload  /payload/run.sh from --payload DIR (drop-in for negobs_run)
 #
 # usage: bash tests/hw/run.sh [--sections vivid,gpio,pwm,run-curb,run-camera-loss,run-curb-pwm[,payload]]
@@ -38,7 +40,7 @@ set -u -o pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 HW=$ROOT/tests/hw
 WORK=${NEGOBS_HW_WORK:-$ROOT/build/hw}
-SECTIONS="vivid gpio pwm run-curb run-camera-loss run-curb-pwm"
+SECTIONS="vivid gpio pwm run-curb run-camera-loss run-curb-pwm libcamera-vimc"
 PAYLOAD=""
 PAYLOAD_FILES=()
 GPIO_SIM=1
@@ -313,12 +315,30 @@ if [[ " $SECTIONS " == *" run-"* ]]; then
   esac
 fi
 
+# ---- libcamera-vimc: vimc.ko, lc_capture + Debian's arm64 libcamera -----------
+LC_OK=0 LC_WHY=""
+if [[ " $SECTIONS " == *" libcamera-vimc "* ]]; then
+  step "building vimc.ko + lc_capture against arm64 libcamera (tests/hw/build_libcamera.sh)"
+  bash "$HW/build_libcamera.sh" "$WORK" "$KVER" "$KPKGVER" >> "$LOG" 2>&1
+  case $? in
+    0) LC_OK=1 ;;
+    77) LC_WHY=$(tail -n 1 "$LOG") ;;
+    *) LC_WHY="tests/hw/build_libcamera.sh failed (log: $LOG)"; tail -n 15 "$LOG" | sed 's/^/hw:   /' ;;
+  esac
+fi
+
 # decide which sections can run; the others are skipped with a reason
 RUN=""
 for s in $SECTIONS; do
   case $s in
     pwm) [[ $KMOD_OK = 1 ]] || { RESULT[$s]=SKIPPED; REASON[$s]="pwm-sim.ko could not be built (log: $LOG)"; continue; } ;;
     vivid|gpio|payload) ;;
+    libcamera-vimc)
+      if [[ $LC_OK != 1 ]]; then
+        if [[ $LC_WHY == *build_libcamera.sh\ failed* ]]; then RESULT[$s]=FAIL; REASON[$s]="($LC_WHY)"
+        else RESULT[$s]=SKIPPED; REASON[$s]="libcamera/vimc not available: $LC_WHY"; fi
+        continue
+      fi ;;
     run-curb|run-camera-loss|run-curb-pwm)
       if [[ $s == run-curb-pwm && $KMOD_OK != 1 ]]; then
         RESULT[$s]=SKIPPED; REASON[$s]="pwm-sim.ko could not be built (log: $LOG)"; continue
@@ -347,6 +367,7 @@ mkdir -p "$MODROOT/extra"
 rm -f "$MODROOT/extra/"*.ko
 [[ $KMOD_OK = 1 ]] && cp "$WORK/kmod/pwm-sim/pwm-sim.ko" "$MODROOT/extra/"
 [[ $GPIOSIM_OK = 1 ]] && cp "$WORK/kmod/gpio-sim/"{irqsim,gpio-sim}.ko "$MODROOT/extra/"
+[[ $LC_OK = 1 ]] && cp "$WORK/libcamera/vimc.ko" "$MODROOT/extra/"
 depmod -b "$KROOT" "$KVER" || skip_all "depmod on the unpacked kernel failed"
 IR=$WORK/initramfs
 rm -rf "$IR"
@@ -362,9 +383,13 @@ if [[ " $RUN " == *" run-"* ]]; then
   cp "$WORK/negobs/flat/"*.{raw,md5} "$IR/negobs/flat/"
 fi
 cp "$GB/"* "$IR/bin/"
+cp "$HW/guest/libcamera-vimc.sh" "$IR/tests/"
+# lc_capture, its libraries (/lib/aarch64-linux-gnu) and the vimc IPA
+[[ $LC_OK = 1 && " $RUN " == *" libcamera-vimc "* ]] && cp -a "$WORK/libcamera/root/." "$IR/"
 MODS=(vivid configfs)
 [[ $KMOD_OK = 1 ]] && MODS+=(pwm-sim)
 [[ $GPIOSIM_OK = 1 ]] && MODS+=(gpio-sim)
+[[ $LC_OK = 1 ]] && MODS+=(vimc)
 for m in "${MODS[@]}"; do
   modprobe -d "$KROOT" -S "$KVER" --show-depends "$m" 2>>"$LOG" | awk '$1 == "insmod" { print $2 }'
 done | sort -u | while read -r ko; do
