@@ -78,7 +78,8 @@ typedef struct negobs_libcamera {
  * @param scratch  2 * width * height bytes, used only when a camera offers
  *                 no format with a Y plane (packed YUV, RGB); may be NULL.
  * @return NEGOBS_OK; NEGOBS_ERR_INVAL (NULL st or cam);
- *         NEGOBS_ERR_UNSUPPORTED when built without libcamera.
+ *         NEGOBS_ERR_UNSUPPORTED when built without libcamera (the handle
+ *         is still filled: its errmsg() says why, its ops refuse).
  */
 negobs_status_t negobs_libcamera_init(negobs_libcamera_t *st,
                                       uint8_t *scratch, size_t scratch_bytes,
