@@ -2,6 +2,7 @@
  * negobs_run: the device program.
  *
  *   negobs_run [options] LEFT RIGHT      LEFT/RIGHT: /dev/videoN or replay:DIR
+ *                                        or libcamera:N / libcamera:ID
  *
  * Main loop, top to bottom:
  *   1. settings: defaults <- --config FILE <- command-line options
@@ -44,6 +45,7 @@
 #include "negobs_port/alert.h"
 #include "negobs_port/camera.h"
 #include "negobs_port/camera_replay.h"
+#include "negobs_port/camera_libcamera.h"
 #include "negobs_port/camera_v4l2.h"
 #include "negobs_port/clock.h"
 #include "negobs_port/config.h"
@@ -261,7 +263,8 @@ static void usage(FILE *out)
 "\n"
 "Warns of drop-offs ahead through a vibration motor, from a stereo pair.\n"
 "LEFT/RIGHT: /dev/videoN (V4L2) or replay:DIR (a folder of left_NNNN.pgm /\n"
-"right_NNNN.pgm pairs or a session recorded with --record). A bare name uses\n"
+"right_NNNN.pgm pairs or a session recorded with --record) or libcamera:N /\n"
+"libcamera:ID (index or id of a libcamera camera). A bare name uses\n"
 "the build's default camera backend (" NEGOBS_RUN_DEFAULT_CAMERA ").\n"
 "\n"
 "Each pair passes an image-quality gate (too dark, saturated, textureless ->\n"
@@ -415,6 +418,7 @@ static negobs_alert_gpio_t alert_gpio;
 static negobs_capture_t camera;
 static negobs_replay_t replay_state;
 static negobs_v4l2_t v4l2_state;
+static negobs_libcamera_t libcamera_state;
 /* Replay pixels or packed-format luma: one pair at the largest size. */
 static uint8_t frame_buf[2u * NEGOBS_RUN_MAX_W * NEGOBS_RUN_MAX_H];
 
@@ -541,6 +545,10 @@ static const char *camera_kind(const char *arg)
     if (strncmp(arg, "v4l2:", 5) == 0 || strncmp(arg, "/dev/", 5) == 0) {
         return "v4l2";
     }
+    if (strncmp(arg, NEGOBS_LIBCAMERA_PREFIX,
+                sizeof NEGOBS_LIBCAMERA_PREFIX - 1u) == 0) {
+        return "libcamera";
+    }
     return NEGOBS_RUN_DEFAULT_CAMERA;
 }
 
@@ -561,6 +569,13 @@ static int check_camera_args(const run_args_t *a)
         if (strcmp(camera_kind(a->right), "v4l2") != 0) {
             return usage_error("RIGHT '%s' must be a V4L2 device too",
                                a->right);
+        }
+        return 0;
+    }
+    if (strcmp(k, "libcamera") == 0) {
+        if (a->right == NULL || strcmp(camera_kind(a->right), k) != 0) {
+            return usage_error("%s", "RIGHT must be a libcamera camera too "
+                                     "(libcamera:N or libcamera:ID)");
         }
         return 0;
     }
@@ -589,6 +604,9 @@ static int open_camera(const run_args_t *a)
         }
         s = negobs_replay_init(&replay_state, frame_buf, sizeof frame_buf,
                                &camera);
+    } else if (strcmp(camera_kind(a->left), "libcamera") == 0) {
+        s = negobs_libcamera_init(&libcamera_state, frame_buf,
+                                  sizeof frame_buf, &camera);
     } else {
         s = negobs_v4l2_init(&v4l2_state, frame_buf, sizeof frame_buf,
                              &camera);
