@@ -13,6 +13,7 @@
 #include <stdarg.h>
 #include <stdbool.h>
 #include <string.h>
+#include <time.h>
 #include <sys/mman.h>
 #include <sys/types.h>
 
@@ -498,6 +499,32 @@ static void test_v4l2_frozen_camera_withholds_pairs_until_it_changes(
     negobs_camera_close(&cam);
 }
 
+static void test_v4l2_frame_waiting_too_long_is_dropped(void **state)
+{
+    /* Right's clock runs 4 s ahead: its frame is always the newer one and
+     * would wait for a partner forever, hiding the node from poll. */
+    static const uint32_t l[] = {1000};
+    static const uint32_t r[] = {5000};
+    negobs_frame_pair_t p;
+    negobs_camera_stats_t s;
+    struct timespec ts = {0, (long)(NEGOBS_V4L2_PENDING_MAX_MS + 100u) *
+                                 1000000L};
+    (void)state;
+    script(0, l, 1);
+    script(1, r, 1);
+    assert_int_equal(open_cam(-1), NEGOBS_OK);
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 50), NEGOBS_ERR_TIMEOUT);
+    assert_true(st.dev[1].pending);
+    assert_int_equal(st.dev[1].timeouts_in_row, 0);
+    (void)nanosleep(&ts, NULL);
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 50), NEGOBS_ERR_TIMEOUT);
+    assert_false(st.dev[1].pending);
+    assert_int_equal(st.dev[1].timeouts_in_row, 1); /* polled again */
+    negobs_camera_get_stats(&cam, &s);
+    assert_int_equal(s.dropped_pairs, 2);
+    negobs_camera_close(&cam);
+}
+
 static void test_v4l2_frozen_check_off_delivers_repeats(void **state)
 {
     static const uint32_t ts[] = {1000, 1033, 1066, 1100};
@@ -665,6 +692,7 @@ int main(void)
         T(test_v4l2_pairs_by_timestamp_and_counts_drops),
         T(test_v4l2_frozen_camera_withholds_pairs_until_it_changes),
         T(test_v4l2_frozen_check_off_delivers_repeats),
+        T(test_v4l2_frame_waiting_too_long_is_dropped),
         T(test_v4l2_drift_beyond_tolerance_times_out_as_out_of_sync),
         T(test_v4l2_device_loss_reopens_with_backoff),
         T(test_v4l2_repeated_timeouts_mark_node_lost),

@@ -525,6 +525,7 @@ static void drain(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
             (void)dev_queue(d, d->pend_idx);
         }
         d->pending = true;
+        d->pend_at_ms = negobs_clock_now_ms();
         d->pend_frozen = frame_frozen(st, d, b.index);
         d->pend_idx = b.index;
         d->pend_bytes = b.bytesused;
@@ -647,6 +648,21 @@ static int v_get_pair(void *ctx, negobs_frame_pair_t *pair,
                 negobs_clock_sleep_ms((uint32_t)(wake - now));
             }
             return NEGOBS_ERR_NODEV;
+        }
+
+        for (i = 0; i < 2; i++) {
+            negobs_v4l2_dev_t *d = &st->dev[i];
+            /* A frame newer than anything the other side delivers waits
+             * for a partner; one that waited this long is too old to be
+             * judged, and keeping it would stop this node being polled
+             * (so its silence would never be noticed). */
+            if (d->pending && !st->dev[1 - i].pending &&
+                now - d->pend_at_ms > NEGOBS_V4L2_PENDING_MAX_MS) {
+                d->pending = false;
+                (void)dev_queue(d, d->pend_idx);
+                st->stats.dropped_pairs++;
+                drops++;
+            }
         }
 
         if (st->dev[0].pending && st->dev[1].pending) {

@@ -38,6 +38,8 @@ extern "C" {
 #define NEGOBS_V4L2_TIMEOUTS_BEFORE_REOPEN 3
 #define NEGOBS_V4L2_BACKOFF_MIN_MS 100u
 #define NEGOBS_V4L2_BACKOFF_MAX_MS 2000u
+/** A frame that waited this long for a partner is dropped (ms). */
+#define NEGOBS_V4L2_PENDING_MAX_MS 500u
 
 /** Four-character code as V4L2 builds it. */
 #define NEGOBS_FOURCC(a, b, c, d)                                             \
@@ -64,6 +66,7 @@ typedef struct negobs_v4l2_dev {
     uint32_t pend_bytes;
     uint32_t pend_seq;
     uint64_t pend_ts;
+    uint64_t pend_at_ms;   /**< when the pending frame was dequeued    */
     int32_t held_idx;      /**< buffer lent to the app, -1 if none     */
     bool lost;
     uint64_t retry_at_ms;
