@@ -62,19 +62,6 @@ static void table_update(uint8_t *bd, uint8_t *bc, uint8_t *c2, int32_t d,
     }
 }
 
-/* Is (u, v, d) already in the matching table? (u, d checked by caller) */
-static int in_table(const stx_t *s, int32_t u, int32_t v, int32_t d)
-{
-    size_t bit;
-    if (u < 0 || u >= s->w || v < s->y0 || v >= s->y1 || d < s->gdmin ||
-        d > s->gdmax) {
-        return 1; /* outside: never a candidate */
-    }
-    bit = ((size_t)(v - s->y0) * (size_t)s->w + (size_t)u) *
-              (size_t)s->ndisp + (size_t)(d - s->dmin);
-    return (int)(((uint32_t)s->tbits[bit >> 3] >> (bit & 7u)) & 1u);
-}
-
 /* Try to accept candidate (u, v, d) with score c; push it when accepted. */
 static int try_accept(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t c)
 {
@@ -112,35 +99,6 @@ static int try_accept(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t c)
     return 1;
 }
 
-/* Numerator / denominator of a candidate for comparisons without division.
- * Returns 0 when the cell is out of range or flat. */
-static int frac(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t *num,
-                int32_t *den)
-{
-    uint32_t key;
-    stx_cache_entry_t *e;
-    int ok;
-    if (d < s->gdmin || d > s->gdmax || u < 0 || u >= s->w || v < s->y0 ||
-        v >= s->y1) {
-        return 0;
-    }
-    /* neighbouring seeds share most of their 16-neighbourhoods: a small
-     * direct-mapped cache catches about a quarter of the correlations */
-    key = stx_pack(u, v - s->y0, d - s->dmin) + 1u;
-    e = &s->cache[(key * 2654435761u) >> (32 - STX_CACHE_BITS)];
-    if (e->key == key) {
-        *num = e->num2;
-        *den = e->den;
-        return e->den != 0;
-    }
-    s->st.visited_cells++;
-    ok = stx_mncc_frac(s, u, v, d, num, den);
-    e->key = key;
-    e->num2 = ok ? *num : 0;
-    e->den = ok ? *den : 0;
-    return ok;
-}
-
 static int32_t eval(stx_t *s, int32_t u, int32_t v, int32_t d)
 {
     if (d < s->gdmin || d > s->gdmax) {
@@ -152,21 +110,145 @@ static int32_t eval(stx_t *s, int32_t u, int32_t v, int32_t d)
 
 /* Neighbourhood sets as (du, dd, dv); dd = du - du'. */
 static const int8_t nb_set[4][5][3] = {
-    {{-1, 0, 0}, {-2, -1, 0}, {-1, 1, 0}, {0, 0, 99}, {0, 0, 99}},
-    {{1, 0, 0}, {2, 1, 0}, {1, -1, 0}, {0, 0, 99}, {0, 0, 99}},
+    {{-1, 0, 0}, {-2, -1, 0}, {-1, 1, 0}, {0, 0, 0}, {0, 0, 0}},
+    {{1, 0, 0}, {2, 1, 0}, {1, -1, 0}, {0, 0, 0}, {0, 0, 0}},
     {{0, 0, -1}, {1, 1, -1}, {-1, -1, -1}, {0, -1, -1}, {0, 1, -1}},
     {{0, 0, 1}, {1, 1, 1}, {-1, -1, 1}, {0, -1, 1}, {0, 1, 1}},
 };
+static const int nb_count[4] = {3, 3, 5, 5};
+
+/* Everything the growing loop reads per cell, hoisted out of stx_t once per
+ * strip: strip-relative rows (vr) and disparities (dr = d - dmin). */
+typedef struct grow_ctx {
+    int32_t w, ny, nd, dmin;
+    int32_t drlo, drhi;      /* global range, relative to dmin            */
+    uint32_t tex_min;
+    const uint16_t *sl, *sr;
+    const uint32_t *vl, *vr;
+    const uint8_t *tbits;
+    stx_cache_entry_t *cache;
+    const uint8_t *lrow;     /* left pixel (0, y0 - 2)                   */
+    const uint8_t *rrow;     /* right pixel (0, y0 + voff - 2)           */
+    ptrdiff_t ls, rs;        /* strides                                  */
+    int simd_ok_below;       /* u + 5 < this: 8-byte loads stay in rows  */
+    uint32_t visited;
+} grow_ctx_t;
+
+/* Cell inside the strip and the global range? (outside: never a candidate,
+ * never scored) */
+static inline int cell_inside(const grow_ctx_t *g, int32_t u, int32_t vr,
+                              int32_t dr)
+{
+    return (uint32_t)u < (uint32_t)g->w && (uint32_t)vr < (uint32_t)g->ny &&
+           dr >= g->drlo && dr <= g->drhi;
+}
+
+static inline int cell_in_table(const grow_ctx_t *g, int32_t u, int32_t vr,
+                                int32_t dr)
+{
+    size_t bit = ((size_t)vr * (size_t)g->w + (size_t)u) * (size_t)g->nd +
+                 (size_t)dr;
+    return (int)(((uint32_t)g->tbits[bit >> 3] >> (bit & 7u)) & 1u);
+}
+
+/* MNCC fraction of an inside cell, uncached (stx_mncc_frac on the hoisted
+ * context); 0 when the windows leave the image or are flat. */
+static inline int cell_score(const grow_ctx_t *g, int32_t u, int32_t vr,
+                             int32_t dr, int32_t *num, int32_t *den)
+{
+    int32_t d = dr + g->dmin;
+    int32_t ur = u - d;
+    ptrdiff_t il;
+    ptrdiff_t ir;
+    uint32_t vl;
+    uint32_t vrr;
+    uint32_t x;
+    const uint8_t *a;
+    const uint8_t *b;
+    if (u < STX_WIN_R || u >= g->w - STX_WIN_R || ur < STX_WIN_R ||
+        ur >= g->w - STX_WIN_R) {
+        return 0;
+    }
+    il = (ptrdiff_t)vr * g->w + u;
+    ir = il - d;
+    vl = g->vl[il];
+    vrr = g->vr[ir];
+    if (vl == 0u || vrr == 0u) {
+        return 0;
+    }
+    a = g->lrow + (ptrdiff_t)vr * g->ls + (u - STX_WIN_R);
+    b = g->rrow + (ptrdiff_t)vr * g->rs + (ur - STX_WIN_R);
+#if STX_CROSS5_SIMD
+    if (u < g->simd_ok_below) {
+        x = stx_cross5_simd(a, g->ls, b, g->rs);
+    } else {
+        x = stx_cross5_ref(a, g->ls, b, g->rs);
+    }
+#else
+    x = stx_cross5_ref(a, g->ls, b, g->rs);
+#endif
+    return stx_mncc_num_den(x, g->sl[il], vl, g->sr[ir], vrr, g->tex_min,
+                            num, den);
+}
+
+/* Cached fraction of an inside cell. Neighbouring seeds share most of
+ * their 16-neighbourhoods: a small direct-mapped cache catches about a
+ * quarter of the correlations; `visited` counts the misses. */
+static inline int cell_frac(grow_ctx_t *g, int32_t u, int32_t vr, int32_t dr,
+                            int32_t *num, int32_t *den)
+{
+    uint32_t key = stx_pack(u, vr, dr) + 1u;
+    stx_cache_entry_t *e =
+        &g->cache[(key * 2654435761u) >> (32 - STX_CACHE_BITS)];
+    int ok;
+    if (e->key == key) {
+        *num = e->num2;
+        *den = e->den;
+        return e->den != 0;
+    }
+    g->visited++;
+    ok = cell_score(g, u, vr, dr, num, den);
+    e->key = key;
+    e->num2 = ok ? *num : 0;
+    e->den = ok ? *den : 0;
+    return ok;
+}
 
 static void grow(stx_t *s)
 {
+    grow_ctx_t g;
     uint32_t item;
+
+    g.w = s->w;
+    g.ny = s->y1 - s->y0;
+    g.nd = s->ndisp;
+    g.dmin = s->dmin;
+    g.drlo = s->gdmin - s->dmin;
+    g.drhi = s->gdmax - s->dmin;
+    g.tex_min = (uint32_t)s->cfg.texture_min;
+    g.sl = s->sl;
+    g.sr = s->sr;
+    g.vl = s->vl;
+    g.vr = s->vr;
+    g.tbits = s->tbits;
+    g.cache = s->cache;
+    g.ls = s->left->stride;
+    g.rs = s->right->stride;
+    /* row pointers of strip row 0 minus the window radius; only ever
+     * offset to rows inside the image (cell_score checks the windows) */
+    g.lrow = s->left->data + ((ptrdiff_t)s->y0 - STX_WIN_R) * g.ls;
+    g.rrow = s->right->data + ((ptrdiff_t)s->y0 + s->voff - STX_WIN_R) * g.rs;
+    g.simd_ok_below = s->w - 5; /* ur <= u, same width: covers the right */
+    g.visited = 0;
+
     while (stx_queue_pop(&s->q, &item)) {
         int32_t u = stx_unpack_u(item);
-        int32_t v = stx_unpack_v(item) + s->y0;
-        int32_t d = stx_unpack_d(item) + s->dmin;
+        int32_t vr = stx_unpack_v(item);
+        int32_t dr = stx_unpack_d(item);
         int k;
         for (k = 0; k < 4; k++) {
+            const int8_t(*set)[3] = nb_set[k];
+            int n = nb_count[k];
             int32_t bn = 0;
             int32_t bden = 0;
             int32_t bu = 0;
@@ -176,9 +258,12 @@ static void grow(stx_t *s)
             int fresh = 0;
             /* a set whose members are all in the table (or outside) can
              * accept nothing: skip its correlations (exact pruning) */
-            for (m = 0; m < 5 && nb_set[k][m][2] != 99; m++) {
-                if (!in_table(s, u + nb_set[k][m][0], v + nb_set[k][m][2],
-                              d + nb_set[k][m][1])) {
+            for (m = 0; m < n; m++) {
+                int32_t qu = u + set[m][0];
+                int32_t qd = dr + set[m][1];
+                int32_t qv = vr + set[m][2];
+                if (cell_inside(&g, qu, qv, qd) &&
+                    !cell_in_table(&g, qu, qv, qd)) {
                     fresh = 1;
                     break;
                 }
@@ -186,19 +271,14 @@ static void grow(stx_t *s)
             if (!fresh) {
                 continue;
             }
-            for (m = 0; m < 5; m++) {
-                int32_t qu;
-                int32_t qv;
-                int32_t qd;
+            for (m = 0; m < n; m++) {
+                int32_t qu = u + set[m][0];
+                int32_t qd = dr + set[m][1];
+                int32_t qv = vr + set[m][2];
                 int32_t nn;
                 int32_t dn;
-                if (nb_set[k][m][2] == 99) {
-                    break;
-                }
-                qu = u + nb_set[k][m][0];
-                qd = d + nb_set[k][m][1];
-                qv = v + nb_set[k][m][2];
-                if (!frac(s, qu, qv, qd, &nn, &dn)) {
+                if (!cell_inside(&g, qu, qv, qd) ||
+                    !cell_frac(&g, qu, qv, qd, &nn, &dn)) {
                     continue;
                 }
                 /* nn/dn > bn/bden, both dens > 0 (products < 2^50) */
@@ -212,10 +292,12 @@ static void grow(stx_t *s)
                 }
             }
             if (bden != 0) {
-                (void)try_accept(s, bu, bv, bd, stx_frac_q14(bn, bden));
+                (void)try_accept(s, bu, bv + s->y0, bd + s->dmin,
+                                 stx_frac_q14(bn, bden));
             }
         }
     }
+    s->st.visited_cells += g.visited;
 }
 
 static void seed_edges(stx_t *s)
