@@ -12,11 +12,16 @@
 #                    through the channel's sysfs duty_cycle
 #   run-camera-loss  the real negobs_run: right camera stops, no-info
 #                    pattern on the line, frames return, verdicts resume
+#   run-fault-frozen / -drift / -gpio / -pwm  the real negobs_run under the
+#                    other runtime faults of issue 6 (frozen stream, left/
+#                    right drift beyond pair_tolerance_ms, motor GPIO chip
+#                    gone, PWM writes failing): logged, no-info on the
+#                    line, recovered without a restart
 #   libcamera-vimc   one vimc camera through negobs' libcamera backend
 #                    (Debian's arm64 libcamera 0.0.3, lc_capture)
 #   payload  /payload/run.sh from --payload DIR (drop-in for negobs_run)
 #
-# usage: bash tests/hw/run.sh [--sections vivid,gpio,pwm,run-curb,run-camera-loss,run-curb-pwm[,payload]]
+# usage: bash tests/hw/run.sh [--sections vivid,gpio,pwm,run-curb,run-camera-loss,run-curb-pwm,run-fault-frozen,...[,payload]]
 #          [--payload DIR] [--payload-file FILE]... [--no-gpio-sim]
 #          [--timeout S] [--clean]
 # --payload DIR / --payload-file FILE (repeatable) copy into the guest's
@@ -40,7 +45,7 @@ set -u -o pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 HW=$ROOT/tests/hw
 WORK=${NEGOBS_HW_WORK:-$ROOT/build/hw}
-SECTIONS="vivid gpio pwm run-curb run-camera-loss run-curb-pwm libcamera-vimc"
+SECTIONS="vivid gpio pwm run-curb run-camera-loss run-curb-pwm run-fault-frozen run-fault-drift run-fault-gpio run-fault-pwm libcamera-vimc"
 PAYLOAD=""
 PAYLOAD_FILES=()
 GPIO_SIM=1
@@ -339,8 +344,8 @@ for s in $SECTIONS; do
         else RESULT[$s]=SKIPPED; REASON[$s]="libcamera/vimc not available: $LC_WHY"; fi
         continue
       fi ;;
-    run-curb|run-camera-loss|run-curb-pwm)
-      if [[ $s == run-curb-pwm && $KMOD_OK != 1 ]]; then
+    run-curb|run-camera-loss|run-curb-pwm|run-fault-frozen|run-fault-drift|run-fault-gpio|run-fault-pwm)
+      if [[ ($s == run-curb-pwm || $s == run-fault-pwm) && $KMOD_OK != 1 ]]; then
         RESULT[$s]=SKIPPED; REASON[$s]="pwm-sim.ko could not be built (log: $LOG)"; continue
       fi
       if [[ $NEGOBS_OK != 1 ]]; then
@@ -349,7 +354,7 @@ for s in $SECTIONS; do
         else RESULT[$s]=SKIPPED; REASON[$s]="negobs_run/negobs_synth not buildable: $NEGOBS_WHY"; fi
         continue
       fi
-      [[ $GPIOSIM_OK = 1 || $s == run-curb-pwm ]] || { RESULT[$s]=SKIPPED; REASON[$s]="gpio-sim.ko not built (--no-gpio-sim or build failure): no outside motor observer"; continue; } ;;
+      [[ $GPIOSIM_OK = 1 || $s == run-curb-pwm || $s == run-fault-pwm ]] || { RESULT[$s]=SKIPPED; REASON[$s]="gpio-sim.ko not built (--no-gpio-sim or build failure): no outside motor observer"; continue; } ;;
     *) RESULT[$s]=FAIL; REASON[$s]="(unknown section)"; continue ;;
   esac
   RUN="$RUN $s"
@@ -375,7 +380,7 @@ mkdir -p "$IR"/{bin,sbin,proc,sys,dev,tmp,tests,payload,usr/bin,lib/modules/"$KV
 cp "$BB/bin/busybox" "$IR/bin/busybox"
 cp "$HW/guest/init.sh" "$IR/init" && chmod 755 "$IR/init"
 sed -i '1s|.*|#!/bin/busybox sh|' "$IR/init"
-cp "$HW/guest/"{lib,vivid,gpio,pwm,payload,negobs_lib,run-curb,run-camera-loss,run-curb-pwm}.sh "$IR/tests/"
+cp "$HW/guest/"{lib,vivid,gpio,pwm,payload,negobs_lib,run-curb,run-camera-loss,run-curb-pwm}.sh "$HW/guest/"run-fault-*.sh "$IR/tests/"
 if [[ " $RUN " == *" run-"* ]]; then
   mkdir -p "$IR/negobs/curb" "$IR/negobs/flat"
   cp "$WORK/negobs/"{negobs_run,rig.conf} "$IR/negobs/"

@@ -1,0 +1,62 @@
+# Section run-fault-gpio: the motor's GPIO chip disappears under the running
+# negobs_run and comes back: gpio-sim's configfs "live" goes to 0 (the chip
+# is unregistered; writes on the held line fail with ENODEV) and, HOLD_S
+# later, to 1 (a new chip, same /dev/gpiochipN).  negobs_run's motor thread
+# rewrites the current level every second, so the loss is seen while the
+# motor is silent (verdict clear).
+# Pass: a first clear verdict; "motor: output failing" logged within
+# FAIL_LIMIT_S of the removal; "motor: output back" within BACK_LIMIT_S of the
+# return (the line requested again, with back-off); the line then plays the
+# no-information entry burst (400 ms pulses) and nothing else, and falls
+# silent again (clear) without a restart; exit 0 on SIGINT.
+set -u
+SECTION=run-fault-gpio
+. /tests/lib.sh
+. /tests/negobs_lib.sh
+. /tests/run-fault-lib.sh
+negobs_prereq
+FAIL_LIMIT_S=10
+HOLD_S=3
+BACK_LIMIT_S=15
+negobs_vivid_load || exit 1
+hw_gpio_sim_setup negobs-gfault 8 || { echo "gpio-sim not in the image: no motor observer"; exit 77; }
+fault_conf /tmp/gfault.conf
+fault_start /tmp/gfault.conf "gpio:$HW_GPIOCHIP:0" "$HW_GPIO_SIM/sim_gpio0/value" || exit 1
+TC=$(wait_clear 0 60)
+TF="" TL="" TB="" TK=""
+if [ -z "$TC" ]; then
+    fail "no clear verdict within 60 s"
+else
+    sleep 2
+    TF=$(now); echo 0 > "$G/live" || fail "cannot take the chip down"
+    say "gpio chip removed at boot $TF (negobs_run $(sec_of $TF)s); /dev: $(ls /dev | grep gpiochip | tr '\n' ' ')"
+    TL=$(wait_log 'motor: output failing' "$(sec_of $TF)" $FAIL_LIMIT_S)
+    sleep $HOLD_S
+    TB=$(now); echo 1 > "$G/live" || fail "cannot bring the chip back"
+    chip=$(cat "$G/bank0/chip_name")
+    say "gpio chip back at boot $TB as /dev/$chip (negobs_run $(sec_of $TB)s)"
+    [ "/dev/$chip" = "$HW_GPIOCHIP" ] || say "note: the chip came back under another name"
+    TK=$(wait_log 'motor: output back' "$(sec_of $TB)" $BACK_LIMIT_S)
+    # let the no-info hold (2 s) and a few pairs pass
+    sleep 9
+fi
+fault_end
+[ -n "$TC" ] || exit 1
+if [ -z "$TL" ]; then
+    fail "no 'motor: output failing' within $FAIL_LIMIT_S s of the removal"
+else
+    say "failure logged $(awk -v l="$TL" -v f="$(sec_of $TF)" 'BEGIN { printf "%.1f", l - f }') s after the removal: $(grep -m1 'motor: output failing' /tmp/negobs.log | sed 's/^.*warn: //')"
+fi
+if [ -z "$TK" ]; then
+    fail "no 'motor: output back' within $BACK_LIMIT_S s of the return"
+else
+    say "recovery logged $(awk -v k="$TK" -v b="$(sec_of $TB)" 'BEGIN { printf "%.1f", k - b }') s after the return"
+    # the motor thread plays no-info from the first write that works
+    # (negobs_run logs it at its next loop turn, seconds later under TCG):
+    # from the return on, the entry burst and nothing but no-info
+    check_noinfo_only "$TB" "$(awk -v b="$TB" 'BEGIN { printf "%.3f", b + 8 }')"
+    FP=$(pulses | awk -v b="$TB" '$1 >= b && NF == 2 { print; exit }')
+    say "first pulse after the return: ${FP:-none} (boot start, ms): $(awk -v p="${FP%% *}" -v b="$TB" 'BEGIN { printf "%.0f", (p - b) * 1000 }') ms after it"
+fi
+[ "$NEGOBS_RC" -eq 0 ] || fail "negobs_run exit status $NEGOBS_RC"
+exit $RC

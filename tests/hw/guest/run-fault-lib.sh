@@ -1,0 +1,71 @@
+# Helpers of the run-fault-* sections (issue 6: runtime faults).  Source
+# after /tests/lib.sh and /tests/negobs_lib.sh.  Each section runs the real
+# negobs_run on one flat-ground pair (verdict clear = motor silent), waits
+# for a first "clear", injects one fault, checks that negobs_run logs it and
+# that the motor line (read from outside, motor_watch) carries only the
+# no-information pattern while it lasts, removes the fault and checks that
+# pairs are judged clear again without a restart; exit 0 on SIGINT.
+
+# 300 ms is the product's watchdog; under TCG a pair takes 1-5 s to judge,
+# so the sections use a limit above that (docs/EMULATION_TESTS.md)
+WDOG_MS=${WDOG_MS:-4000}
+TOL_MS=80
+RC=0
+fail() { echo "$SECTION: FAIL: $*"; RC=1; }
+say() { echo "$SECTION: $*"; }
+sec_of() { awk -v a="$1" -v s="$T_START" 'BEGIN { printf "%.3f", a - s }'; }  # boot -> negobs time
+boot_of() { awk -v a="$1" -v s="$T_START" 'BEGIN { printf "%.3f", s + a }'; } # negobs -> boot
+
+# fault_conf FILE [key = value lines]: the rig, the emulator's watchdog and
+# frame age, pair_tolerance_ms 20 (two vivid instances, own clocks), extras
+fault_conf() {
+    f=$1; shift
+    { cat $NEGOBS/rig.conf; echo "watchdog_ms = $WDOG_MS"; echo "max_frame_age_ms = $WDOG_MS"
+      echo "pair_tolerance_ms = 20"; for l in "$@"; do echo "$l"; done; } > "$f"
+}
+
+# wait_log PATTERN AFTER LIMIT_S: negobs time of the first log line matching
+# PATTERN at or after AFTER (negobs seconds), waiting up to LIMIT_S
+wait_log() {
+    n=0
+    while [ -z "$(log_time "$1" "$2")" ] && [ $n -lt $(($3 * 2)) ] && kill -0 $NEGOBS_PID 2>/dev/null; do
+        sleep 0.5; n=$((n + 1))
+    done
+    log_time "$1" "$2"
+}
+
+# is_noinfo WIDTH_MS: a no-information pulse (400 entry / 600 repeat)
+noinfo_awk='function ni(w) { return (w >= 400 - t && w <= 400 + t) || (w >= 600 - t && w <= 600 + t) }'
+
+# check_noinfo_only A B: pulses starting in [A, B) (boot clock): at least
+# one, all no-information
+check_noinfo_only() {
+    P=$(pulses | awk -v a="$1" -v b="$2" '$1 >= a && $1 < b')
+    NI=$(echo "$P" | awk -v t="$TOL_MS" "$noinfo_awk"' NF == 2 && ni($2)' | wc -l)
+    OT=$(echo "$P" | awk -v t="$TOL_MS" "$noinfo_awk"' NF == 2 && !ni($2)' | wc -l)
+    say "line during the fault (boot $1 .. $2): $NI no-info pulses, $OT others"
+    [ "$NI" -ge 1 ] || fail "no no-info pulse on the line during the fault"
+    [ "$OT" -eq 0 ] || fail "$OT pulses of another pattern during the fault"
+}
+
+# wait_clear AFTER LIMIT_S: a clear verdict after AFTER (negobs seconds)
+wait_clear() { wait_log 'verdict .* -> clear' "$1" "$2"; }
+
+# fault_start CONF ALERT OBSERVER [inject options]: observer, injector
+# (flat pair), negobs_run; then waits for the first clear verdict (TC)
+fault_start() {
+    conf=$1 alert=$2 obs=$3; shift 3
+    negobs_watch_start "$obs"
+    hw_inject_start -f GREY -W 640 -H 480 -L $NEGOBS/flat/left.raw -R $NEGOBS/flat/right.raw "$@" || return 1
+    negobs_start "$conf" "$alert"
+}
+
+# fault_end: stop everything, print the log and the pulses, final checks
+fault_end() {
+    negobs_stop || fail "negobs_run did not end cleanly (or was restarted)"
+    negobs_watch_stop
+    hw_inject_stop
+    say "motor pulses (boot clock, width ms):"
+    pulses | tr '\n' ';' | sed "s/^/$SECTION:   /"; echo
+    grep 'summary ' /tmp/negobs.log | sed "s/^/$SECTION: /"
+}

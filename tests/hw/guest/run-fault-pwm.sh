@@ -1,0 +1,60 @@
+# Section run-fault-pwm: every PWM write fails for a while: pwm-sim's
+# fail_apply parameter makes its .apply return -EIO, so negobs_run's writes
+# to duty_cycle fail with EIO (the PWM core keeps the old state).  The motor
+# thread rewrites the level every second, so the failure is seen while the
+# motor is silent (verdict clear).  The observer reads the channel's sysfs
+# duty_cycle (> 0 = on).
+# Pass: a first clear verdict; "motor: output failing" logged within
+# FAIL_LIMIT_S; after fail_apply goes back to 0, "motor: output back" within
+# BACK_LIMIT_S, then the no-information entry burst on the channel and
+# nothing else; no restart; exit 0 on SIGINT.
+set -u
+SECTION=run-fault-pwm
+. /tests/lib.sh
+. /tests/negobs_lib.sh
+. /tests/run-fault-lib.sh
+negobs_prereq
+FAIL_LIMIT_S=10
+HOLD_S=3
+BACK_LIMIT_S=10
+KNOB=/sys/module/pwm_sim/parameters/fail_apply
+negobs_vivid_load || exit 1
+hw_pwm_sim_load 2 || { echo "pwm-sim not in the image"; exit 77; }
+[ -w $KNOB ] || { echo "pwm-sim has no fail_apply parameter"; exit 1; }
+fault_conf /tmp/pfault.conf
+fault_start /tmp/pfault.conf "pwm:$HW_PWMCHIP:0" "/sys/class/pwm/pwmchip$HW_PWMCHIP/pwm0/duty_cycle" || exit 1
+TC=$(wait_clear 0 60)
+TF="" TL="" TB="" TK=""
+if [ -z "$TC" ]; then
+    fail "no clear verdict within 60 s"
+else
+    sleep 2
+    TF=$(now); echo 1 > $KNOB
+    say "PWM writes failing from boot $TF (negobs_run $(sec_of $TF)s)"
+    TL=$(wait_log 'motor: output failing' "$(sec_of $TF)" $FAIL_LIMIT_S)
+    sleep $HOLD_S
+    TB=$(now); echo 0 > $KNOB
+    say "PWM writes work again from boot $TB (negobs_run $(sec_of $TB)s)"
+    TK=$(wait_log 'motor: output back' "$(sec_of $TB)" $BACK_LIMIT_S)
+    sleep 9
+fi
+fault_end
+[ -n "$TC" ] || exit 1
+if [ -z "$TL" ]; then
+    fail "no 'motor: output failing' within $FAIL_LIMIT_S s"
+else
+    say "failure logged $(awk -v l="$TL" -v f="$(sec_of $TF)" 'BEGIN { printf "%.1f", l - f }') s after the knob: $(grep -m1 'motor: output failing' /tmp/negobs.log | sed 's/^.*warn: //')"
+fi
+if [ -z "$TK" ]; then
+    fail "no 'motor: output back' within $BACK_LIMIT_S s"
+else
+    say "recovery logged $(awk -v k="$TK" -v b="$(sec_of $TB)" 'BEGIN { printf "%.1f", k - b }') s after the knob was cleared"
+    # the motor thread plays no-info from the first write that works
+    # (negobs_run logs it at its next loop turn, seconds later under TCG):
+    # from the return on, the entry burst and nothing but no-info
+    check_noinfo_only "$TB" "$(awk -v b="$TB" 'BEGIN { printf "%.3f", b + 8 }')"
+    FP=$(pulses | awk -v b="$TB" '$1 >= b && NF == 2 { print; exit }')
+    say "first pulse after the return: ${FP:-none} (boot start, ms): $(awk -v p="${FP%% *}" -v b="$TB" 'BEGIN { printf "%.0f", (p - b) * 1000 }') ms after it"
+fi
+[ "$NEGOBS_RC" -eq 0 ] || fail "negobs_run exit status $NEGOBS_RC"
+exit $RC
