@@ -113,6 +113,7 @@ need_tools() {
   local missing=() t
   for t in qemu-system-aarch64:qemu-system-arm aarch64-linux-gnu-gcc:gcc-aarch64-linux-gnu \
            aarch64-linux-gnu-gcc-12:gcc-12-aarch64-linux-gnu cpio:cpio depmod:kmod \
+           aarch64-linux-gnu-g++:g++-aarch64-linux-gnu \
            modprobe:kmod xz:xz-utils make:make gzip:gzip dpkg-deb:dpkg apt-get:apt; do
     command -v "${t%%:*}" > /dev/null 2>&1 || missing+=("${t#*:}")
   done
