@@ -4,13 +4,15 @@
  * libcamera-vimc. Cross-built by tests/hw/build_libcamera.sh against
  * Debian's arm64 libcamera, dynamically linked.
  *
- * usage: lc_capture [-n FRAMES] [-w W] [-h H] [-T FIRST_TIMEOUT_MS]
+ * usage: lc_capture [-n FRAMES] [-w W] [-h H] [-T FIRST_TIMEOUT_MS] [-R]
  *                   libcamera:N | libcamera:ID
  *
  * Opens the camera alone (single-camera mode: RIGHT empty), captures
  * FRAMES frames and checks each one: the requested size, a stride of at
  * least the width, a capture time and a sequence number later than the
- * previous frame's, and content that is not one flat value. Prints one
+ * previous frame's, and content that is not one flat value. -R stops and
+ * starts the camera again after half the frames (the stop must be clean
+ * and the stream must resume). Prints one
  * line per frame and a summary; exit 0 when every check passed, 1 when
  * one failed, 2 on bad usage.
  */
@@ -55,16 +57,18 @@ int main(int argc, char **argv)
     uint64_t t_open;
     uint64_t t_first = 0;
     int bad = 0;
+    int restart = 0;
     int c;
     long i;
     negobs_status_t s;
 
-    while ((c = getopt(argc, argv, "n:w:h:T:")) != -1) {
+    while ((c = getopt(argc, argv, "n:w:h:T:R")) != -1) {
         switch (c) {
         case 'n': frames = strtol(optarg, NULL, 10); break;
         case 'w': w = strtol(optarg, NULL, 10); break;
         case 'h': h = strtol(optarg, NULL, 10); break;
         case 'T': first_timeout_ms = strtol(optarg, NULL, 10); break;
+        case 'R': restart = 1; break;
         default: return 2;
         }
     }
@@ -102,9 +106,20 @@ int main(int argc, char **argv)
         uint32_t lo = 255;
         uint32_t hi = 0;
         uint64_t sum = 0;
-        int rc = negobs_camera_get_pair(&cam, &pair,
-                                        i == 0 ? (int32_t)first_timeout_ms
-                                               : 5000);
+        int rc;
+        if (restart && i == frames / 2) {
+            negobs_camera_stop(&cam);
+            s = negobs_camera_start(&cam);
+            printf("lc_capture: stopped and started again: status %d\n",
+                   (int)s);
+            if (s != NEGOBS_OK) {
+                bad = fail("restart", &cam);
+                break;
+            }
+        }
+        rc = negobs_camera_get_pair(&cam, &pair,
+                                    i == 0 ? (int32_t)first_timeout_ms
+                                           : 5000);
         if (rc != NEGOBS_OK) {
             printf("lc_capture: frame %ld: get_pair status %d\n", i, rc);
             bad = fail("get_pair", &cam);
@@ -139,7 +154,9 @@ int main(int argc, char **argv)
         } else if (pair.left.ts_ns == 0 ||
                    (i > 0 && pair.left.ts_ns <= prev_ts)) {
             bad = fail("timestamp did not advance", NULL);
-        } else if (i > 0 && pair.left.sequence <= prev_seq) {
+        } else if (i > 0 && pair.left.sequence <= prev_seq &&
+                   !(restart && i == frames / 2)) {
+            /* a restart begins a new stream: sequences start over */
             bad = fail("sequence did not advance", NULL);
         } else if (lo == hi) {
             bad = fail("flat frame (one value everywhere)", NULL);

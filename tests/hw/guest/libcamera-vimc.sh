@@ -3,12 +3,12 @@
 # 0.0.3 with its vimc pipeline handler and IPA sees one camera on it
 # ('Sensor B'; libcamera cannot pair two, so this is single-camera
 # capture). lc_capture (tests/hw/guest/lc_capture.c, linked with
-# port/camera/libcamera) opens it by index and then by id and checks N
-# frames: requested size, advancing timestamps and sequence numbers,
-# content that is not flat. Sizes are ones vimc's pipeline handler keeps
-# as asked (it rounds 640 down to 636: the scaler multiplies by 3 and the
-# capture wants widths in steps of 4); the backend hands on whatever
-# libcamera configured, so an adjusted size would fail the check.
+# port/camera/libcamera) opens it by index (stopping and starting it once
+# halfway) and then by id, and checks N frames: requested size, advancing
+# timestamps and sequence numbers, content that is not flat. The sizes are
+# ones vimc's pipeline handler keeps as asked (asked for 640x480 it
+# configured 636x480); the backend hands on what libcamera configured, so
+# an adjusted size fails the check rather than passing unnoticed.
 # Exit 0 pass, 77 skip (reason on the last line), else fail.
 set -e
 [ -x /bin/lc_capture ] || { echo "lc_capture not in the initramfs"; exit 77; }
@@ -19,6 +19,6 @@ while [ ! -e /dev/media0 ] && [ $n -lt 50 ]; do sleep 0.1; n=$((n + 1)); done
 echo "vimc: $(ls /dev | grep -c '^video') video nodes, $(ls /dev | grep -c '^v4l-subdev') sub-devices"
 export LD_LIBRARY_PATH=/lib/aarch64-linux-gnu
 export LIBCAMERA_LOG_LEVELS='*:ERROR'
-lc_capture -n 8 -w 636 -h 480 -T 30000 libcamera:0
+lc_capture -n 8 -w 636 -h 480 -T 30000 -R libcamera:0
 # the same camera by its id, as `cam -l` names it
 lc_capture -n 3 -w 480 -h 360 -T 30000 'libcamera:platform/vimc.0 Sensor B'
