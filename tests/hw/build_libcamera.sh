@@ -102,6 +102,13 @@ LCSO=$(ls "$SYS"/usr/lib/$ML/libcamera.so.0.0.* 2>/dev/null | head -n 1)
 [[ -n $LCSO ]] || { echo "no libcamera.so in the unpacked packages"; exit 1; }
 
 # ---- 3. lc_capture, cross-built with the backend -------------------------
+LC_SRC=("$ROOT/port/camera/libcamera" "$ROOT/port/include" "$ROOT/port/camera/camera_common.c"
+        "$ROOT/port/clock/clock_posix.c" "$ROOT/lib/include" "$HW/guest/lc_capture.c" "${BASH_SOURCE[0]}")
+if [[ -x $LR/bin/lc_capture && -f $LR/lib/$ML/libudev.so.1 &&
+      -z $(find "${LC_SRC[@]}" "$SYS/.done" -newer "$LR/bin/lc_capture" 2>/dev/null | head -n 1) ]]; then
+  echo "lc_capture and the overlay are up to date"
+  exit 0
+fi
 rm -rf "$LR" && mkdir -p "$LR/bin" "$LR/lib/$ML" "$OUT/obj"
 CF=(-O2 -Wall -Wextra -I"$ROOT/port/include" -I"$ROOT/lib/include")
 echo "cross-compiling lc_capture (aarch64, libcamera $(basename "$LCSO"))"
