@@ -223,8 +223,14 @@ negobs_status_t negobs_alert_pwm_open(negobs_alert_pwm_t *st,
             return NEGOBS_ERR_NODEV;
         }
     }
-    /* duty 0 first: a new period shorter than the old duty is refused. */
+    /* duty 0 first: a new period shorter than the old duty is refused.
+     * On a channel never configured (period 0) the kernel refuses that
+     * write itself (EINVAL, any state needs a period), and there is no old
+     * duty to clear: go on, the period write decides. */
     s = write_leaf(st, "duty_cycle", 0);
+    if (s != NEGOBS_OK && st->last_errno == EINVAL) {
+        s = NEGOBS_OK;
+    }
     if (s == NEGOBS_OK) {
         s = write_leaf(st, "period", period_ns);
     }

@@ -29,6 +29,7 @@ fault_conf /tmp/drift.conf
 negobs_watch_start "$HW_GPIO_SIM/sim_gpio0/value"
 hw_inject_start -f GREY -W 640 -H 480 -L $NEGOBS/flat/left.raw -R $NEGOBS/flat/right.raw || exit 1
 v4l2_loop ctrl /dev/video1 "Wrap Timestamp" 2 || { fail "cannot set Wrap Timestamp"; exit 1; }
+rm -f /tmp/negobs.log
 negobs_start /tmp/drift.conf "gpio:$HW_GPIOCHIP:0"
 TL=$(wait_log 'out of sync' 0 $DRIFT_LIMIT_S)
 TE="" TO="" TR=""
