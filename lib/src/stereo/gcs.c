@@ -108,162 +108,92 @@ static int32_t eval(stx_t *s, int32_t u, int32_t v, int32_t d)
     return stx_mncc_strip(s, u, v, d);
 }
 
-/* Neighbourhood sets as (du, dd, dv); dd = du - du'. */
-static const int8_t nb_set[4][5][3] = {
-    {{-1, 0, 0}, {-2, -1, 0}, {-1, 1, 0}, {0, 0, 0}, {0, 0, 0}},
-    {{1, 0, 0}, {2, 1, 0}, {1, -1, 0}, {0, 0, 0}, {0, 0, 0}},
-    {{0, 0, -1}, {1, 1, -1}, {-1, -1, -1}, {0, -1, -1}, {0, 1, -1}},
-    {{0, 0, 1}, {1, 1, 1}, {-1, -1, 1}, {0, -1, 1}, {0, 1, 1}},
+/* The 16-point neighbourhood as (du, dd, dv), dd = du - du', grouped in
+ * the sets N1 (left, 3), N2 (right, 3), N3 (up, 5), N4 (down, 5). */
+static const int8_t nb_cell[16][3] = {
+    {-1, 0, 0}, {-2, -1, 0}, {-1, 1, 0},
+    {1, 0, 0}, {2, 1, 0}, {1, -1, 0},
+    {0, 0, -1}, {1, 1, -1}, {-1, -1, -1}, {0, -1, -1}, {0, 1, -1},
+    {0, 0, 1}, {1, 1, 1}, {-1, -1, 1}, {0, -1, 1}, {0, 1, 1},
 };
-static const int nb_count[4] = {3, 3, 5, 5};
+static const int nb_first[5] = {0, 3, 6, 11, 16};
 
-/* Everything the growing loop reads per cell, hoisted out of stx_t once per
- * strip: strip-relative rows (vr) and disparities (dr = d - dmin). */
-typedef struct grow_ctx {
-    int32_t w, ny, nd, dmin;
-    int32_t drlo, drhi;      /* global range, relative to dmin            */
-    uint32_t tex_min;
-    const uint16_t *sl, *sr;
-    const uint32_t *vl, *vr;
-    const uint8_t *tbits;
-    stx_cache_entry_t *cache;
-    const uint8_t *lrow;     /* left pixel (0, y0 - 2)                   */
-    const uint8_t *rrow;     /* right pixel (0, y0 + voff - 2)           */
-    ptrdiff_t ls, rs;        /* strides                                  */
-    int simd_ok_below;       /* u + 5 < this: 8-byte loads stay in rows  */
-    uint32_t visited;
-} grow_ctx_t;
-
-/* Cell inside the strip and the global range? (outside: never a candidate,
- * never scored) */
-static inline int cell_inside(const grow_ctx_t *g, int32_t u, int32_t vr,
-                              int32_t dr)
-{
-    return (uint32_t)u < (uint32_t)g->w && (uint32_t)vr < (uint32_t)g->ny &&
-           dr >= g->drlo && dr <= g->drhi;
-}
-
-static inline int cell_in_table(const grow_ctx_t *g, int32_t u, int32_t vr,
-                                int32_t dr)
-{
-    size_t bit = ((size_t)vr * (size_t)g->w + (size_t)u) * (size_t)g->nd +
-                 (size_t)dr;
-    return (int)(((uint32_t)g->tbits[bit >> 3] >> (bit & 7u)) & 1u);
-}
-
-/* MNCC fraction of an inside cell, uncached (stx_mncc_frac on the hoisted
- * context); 0 when the windows leave the image or are flat. */
-static inline int cell_score(const grow_ctx_t *g, int32_t u, int32_t vr,
-                             int32_t dr, int32_t *num, int32_t *den)
-{
-    int32_t d = dr + g->dmin;
-    int32_t ur = u - d;
-    ptrdiff_t il;
-    ptrdiff_t ir;
-    uint32_t vl;
-    uint32_t vrr;
-    uint32_t x;
-    const uint8_t *a;
-    const uint8_t *b;
-    if (u < STX_WIN_R || u >= g->w - STX_WIN_R || ur < STX_WIN_R ||
-        ur >= g->w - STX_WIN_R) {
-        return 0;
-    }
-    il = (ptrdiff_t)vr * g->w + u;
-    ir = il - d;
-    vl = g->vl[il];
-    vrr = g->vr[ir];
-    if (vl == 0u || vrr == 0u) {
-        return 0;
-    }
-    a = g->lrow + (ptrdiff_t)vr * g->ls + (u - STX_WIN_R);
-    b = g->rrow + (ptrdiff_t)vr * g->rs + (ur - STX_WIN_R);
-#if STX_CROSS5_SIMD
-    if (u < g->simd_ok_below) {
-        x = stx_cross5_simd(a, g->ls, b, g->rs);
-    } else {
-        x = stx_cross5_ref(a, g->ls, b, g->rs);
-    }
-#else
-    x = stx_cross5_ref(a, g->ls, b, g->rs);
-#endif
-    return stx_mncc_num_den(x, g->sl[il], vl, g->sr[ir], vrr, g->tex_min,
-                            num, den);
-}
-
-/* Cached fraction of an inside cell. Neighbouring seeds share most of
- * their 16-neighbourhoods: a small direct-mapped cache catches about a
- * quarter of the correlations; `visited` counts the misses. */
-static inline int cell_frac(grow_ctx_t *g, int32_t u, int32_t vr, int32_t dr,
-                            int32_t *num, int32_t *den)
-{
-    uint32_t key = stx_pack(u, vr, dr) + 1u;
-    stx_cache_entry_t *e =
-        &g->cache[(key * 2654435761u) >> (32 - STX_CACHE_BITS)];
-    int ok;
-    if (e->key == key) {
-        *num = e->num2;
-        *den = e->den;
-        return e->den != 0;
-    }
-    g->visited++;
-    ok = cell_score(g, u, vr, dr, num, den);
-    e->key = key;
-    e->num2 = ok ? *num : 0;
-    e->den = ok ? *den : 0;
-    return ok;
-}
+/* Per-strip offsets of a neighbour relative to the popped cell, in every
+ * index space the growing loop touches, so a cell costs additions only. */
+typedef struct nb_off {
+    int32_t du, dd, dv;
+    ptrdiff_t pix;   /* strip pixel index (left window statistics)      */
+    ptrdiff_t bit;   /* matching-table bit                               */
+    ptrdiff_t lp;    /* left image pointer                               */
+    ptrdiff_t rp;    /* right image pointer                              */
+    uint32_t key;    /* packed cache key (fields never borrow: checked) */
+} nb_off_t;
 
 static void grow(stx_t *s)
 {
-    grow_ctx_t g;
+    const int32_t w = s->w;
+    const int32_t ny = s->y1 - s->y0;
+    const int32_t nd = s->ndisp;
+    const int32_t dmin = s->dmin;
+    const int32_t drlo = s->gdmin - s->dmin;
+    const int32_t drhi = s->gdmax - s->dmin;
+    const uint32_t tex_min = (uint32_t)s->cfg.texture_min;
+    const uint16_t *sl = s->sl;
+    const uint16_t *sr = s->sr;
+    const uint32_t *vlt = s->vl;
+    const uint32_t *vrt = s->vr;
+    const uint8_t *tbits = s->tbits;
+    stx_cache_entry_t *cache = s->cache;
+    const ptrdiff_t ls = s->left->stride;
+    const ptrdiff_t rs = s->right->stride;
+    /* pixel (0, y0) of each image; offset only to windows inside it */
+    const uint8_t *lrow = s->left->data + (ptrdiff_t)s->y0 * ls;
+    const uint8_t *rrow = s->right->data + ((ptrdiff_t)s->y0 + s->voff) * rs;
+    uint32_t visited = 0;
+    nb_off_t nb[16];
     uint32_t item;
+    int m;
 
-    g.w = s->w;
-    g.ny = s->y1 - s->y0;
-    g.nd = s->ndisp;
-    g.dmin = s->dmin;
-    g.drlo = s->gdmin - s->dmin;
-    g.drhi = s->gdmax - s->dmin;
-    g.tex_min = (uint32_t)s->cfg.texture_min;
-    g.sl = s->sl;
-    g.sr = s->sr;
-    g.vl = s->vl;
-    g.vr = s->vr;
-    g.tbits = s->tbits;
-    g.cache = s->cache;
-    g.ls = s->left->stride;
-    g.rs = s->right->stride;
-    /* row pointers of strip row 0 minus the window radius; only ever
-     * offset to rows inside the image (cell_score checks the windows) */
-    g.lrow = s->left->data + ((ptrdiff_t)s->y0 - STX_WIN_R) * g.ls;
-    g.rrow = s->right->data + ((ptrdiff_t)s->y0 + s->voff - STX_WIN_R) * g.rs;
-    g.simd_ok_below = s->w - 5; /* ur <= u, same width: covers the right */
-    g.visited = 0;
+    for (m = 0; m < 16; m++) {
+        int32_t du = nb_cell[m][0];
+        int32_t dd = nb_cell[m][1];
+        int32_t dv = nb_cell[m][2];
+        nb[m].du = du;
+        nb[m].dd = dd;
+        nb[m].dv = dv;
+        nb[m].pix = (ptrdiff_t)dv * w + du;
+        nb[m].bit = nb[m].pix * nd + dd;
+        nb[m].lp = (ptrdiff_t)dv * ls + du;
+        nb[m].rp = (ptrdiff_t)dv * rs + (du - dd);
+        /* added (mod 2^32) to a packed key: a sum, not stx_pack's OR */
+        nb[m].key = ((uint32_t)du << 20) + ((uint32_t)dv << 8) + (uint32_t)dd;
+    }
 
     while (stx_queue_pop(&s->q, &item)) {
-        int32_t u = stx_unpack_u(item);
-        int32_t vr = stx_unpack_v(item);
-        int32_t dr = stx_unpack_d(item);
+        const int32_t u = stx_unpack_u(item);
+        const int32_t vr = stx_unpack_v(item);
+        const int32_t dr = stx_unpack_d(item);
+        const int32_t ur = u - (dr + dmin);
+        const ptrdiff_t pix = (ptrdiff_t)vr * w + u;
+        const ptrdiff_t bit0 = pix * nd + dr;
+        const uint8_t *la = lrow + (ptrdiff_t)vr * ls + u;
+        const uint8_t *rb = rrow + (ptrdiff_t)vr * rs + ur;
+        const uint32_t key0 = item + 1u;
         int k;
         for (k = 0; k < 4; k++) {
-            const int8_t(*set)[3] = nb_set[k];
-            int n = nb_count[k];
             int32_t bn = 0;
             int32_t bden = 0;
-            int32_t bu = 0;
-            int32_t bv = 0;
-            int32_t bd = 0;
-            int m;
+            int bm = -1;
             int fresh = 0;
             /* a set whose members are all in the table (or outside) can
              * accept nothing: skip its correlations (exact pruning) */
-            for (m = 0; m < n; m++) {
-                int32_t qu = u + set[m][0];
-                int32_t qd = dr + set[m][1];
-                int32_t qv = vr + set[m][2];
-                if (cell_inside(&g, qu, qv, qd) &&
-                    !cell_in_table(&g, qu, qv, qd)) {
+            for (m = nb_first[k]; m < nb_first[k + 1]; m++) {
+                const nb_off_t *o = &nb[m];
+                ptrdiff_t bit = bit0 + o->bit;
+                if ((uint32_t)(u + o->du) < (uint32_t)w &&
+                    (uint32_t)(vr + o->dv) < (uint32_t)ny &&
+                    dr + o->dd >= drlo && dr + o->dd <= drhi &&
+                    !((tbits[bit >> 3] >> (bit & 7)) & 1)) {
                     fresh = 1;
                     break;
                 }
@@ -271,33 +201,80 @@ static void grow(stx_t *s)
             if (!fresh) {
                 continue;
             }
-            for (m = 0; m < n; m++) {
-                int32_t qu = u + set[m][0];
-                int32_t qd = dr + set[m][1];
-                int32_t qv = vr + set[m][2];
+            for (m = nb_first[k]; m < nb_first[k + 1]; m++) {
+                const nb_off_t *o = &nb[m];
+                int32_t qu = u + o->du;
+                int32_t qur = ur + o->du - o->dd;
+                uint32_t key;
+                stx_cache_entry_t *e;
                 int32_t nn;
                 int32_t dn;
-                if (!cell_inside(&g, qu, qv, qd) ||
-                    !cell_frac(&g, qu, qv, qd, &nn, &dn)) {
-                    continue;
+                if ((uint32_t)qu >= (uint32_t)w ||
+                    (uint32_t)(vr + o->dv) >= (uint32_t)ny ||
+                    dr + o->dd < drlo || dr + o->dd > drhi) {
+                    continue; /* outside: never scored */
+                }
+                /* neighbouring seeds share most of their neighbourhoods:
+                 * a small direct-mapped cache catches about a quarter of
+                 * the correlations; `visited` counts the misses */
+                key = key0 + o->key;
+                e = &cache[(key * 2654435761u) >> (32 - STX_CACHE_BITS)];
+                if (e->key == key) {
+                    nn = e->num2;
+                    dn = e->den;
+                } else {
+                    int ok = 0;
+                    visited++;
+                    if (qu >= STX_WIN_R && qu < w - STX_WIN_R &&
+                        qur >= STX_WIN_R && qur < w - STX_WIN_R) {
+                        ptrdiff_t il = pix + o->pix;
+                        ptrdiff_t ir = il + (qur - qu);
+                        uint32_t vl = vlt[il];
+                        uint32_t vrr = vrt[ir];
+                        if (vl != 0u && vrr != 0u) {
+                            const uint8_t *a =
+                                la + o->lp - STX_WIN_R * ls - STX_WIN_R;
+                            const uint8_t *b =
+                                rb + o->rp - STX_WIN_R * rs - STX_WIN_R;
+                            uint32_t x;
+#if STX_CROSS5_SIMD
+                            /* the 8-byte loads end at column qu + 5 (the
+                             * right one at qur + 5 <= qu + 5) */
+                            x = (qu + 5 < w) ? stx_cross5_simd(a, ls, b, rs)
+                                             : stx_cross5_ref(a, ls, b, rs);
+#else
+                            x = stx_cross5_ref(a, ls, b, rs);
+#endif
+                            ok = stx_mncc_num_den(x, sl[il], vl, sr[ir], vrr,
+                                                  tex_min, &nn, &dn);
+                        }
+                    }
+                    if (!ok) {
+                        nn = 0;
+                        dn = 0;
+                    }
+                    e->key = key;
+                    e->num2 = nn;
+                    e->den = dn;
+                }
+                if (dn == 0) {
+                    continue; /* window outside the image or flat */
                 }
                 /* nn/dn > bn/bden, both dens > 0 (products < 2^50) */
-                if (bden == 0 ||
-                    (int64_t)nn * bden > (int64_t)bn * dn) {
+                if (bden == 0 || (int64_t)nn * bden > (int64_t)bn * dn) {
                     bn = nn;
                     bden = dn;
-                    bu = qu;
-                    bv = qv;
-                    bd = qd;
+                    bm = m;
                 }
             }
             if (bden != 0) {
-                (void)try_accept(s, bu, bv + s->y0, bd + s->dmin,
+                (void)try_accept(s, u + nb[bm].du, vr + nb[bm].dv + s->y0,
+                                 dr + nb[bm].dd + dmin,
                                  stx_frac_q14(bn, bden));
             }
         }
     }
-    s->st.visited_cells += g.visited;
+    s->st.visited_cells += visited;
 }
 
 static void seed_edges(stx_t *s)
