@@ -13,10 +13,17 @@
 set -e
 [ -x /bin/lc_capture ] || { echo "lc_capture not in the initramfs"; exit 77; }
 modprobe vimc || { echo "modprobe vimc failed"; exit 1; }
+# vivid (earlier sections) has media devices too: wait for vimc's own,
+# the one whose parent is the vimc.0 platform device
+vimc_media() {
+    for m in /sys/bus/media/devices/media*; do
+        case "$(readlink -f "$m")" in */vimc.0/media*) echo "${m##*/}"; return ;; esac
+    done
+}
 n=0
-while [ ! -e /dev/media0 ] && [ $n -lt 50 ]; do sleep 0.1; n=$((n + 1)); done
-[ -e /dev/media0 ] || { echo "vimc: /dev/media0 did not appear"; exit 1; }
-echo "vimc: $(ls /dev | grep -c '^video') video nodes, $(ls /dev | grep -c '^v4l-subdev') sub-devices"
+while [ -z "$(vimc_media)" ] && [ $n -lt 100 ]; do sleep 0.1; n=$((n + 1)); done
+[ -n "$(vimc_media)" ] || { echo "vimc: no media device under vimc.0"; ls -l /sys/bus/media/devices/; exit 1; }
+echo "vimc: /dev/$(vimc_media), $(ls /dev | grep -c '^v4l-subdev') sub-devices in /dev"
 export LD_LIBRARY_PATH=/lib/aarch64-linux-gnu
 export LIBCAMERA_LOG_LEVELS='*:ERROR'
 lc_capture -n 8 -w 636 -h 480 -T 30000 -R libcamera:0
