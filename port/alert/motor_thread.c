@@ -50,14 +50,22 @@ static int64_t output_health(negobs_motor_thread_t *t, uint64_t now,
         }
         return (int64_t)NEGOBS_MOTOR_RETRY_MS;
     }
-    if (t->out_failing) {
-        t->out_failing = false;
-        t->stale_playing = true;
-        (void)negobs_motor_exec_start(&t->exec, &t->stale, now);
-        t->hold_until_ms = now + NEGOBS_MOTOR_RECOVER_HOLD_MS;
-        next = (int64_t)NEGOBS_MOTOR_RECOVER_HOLD_MS;
+    if (!t->out_failing) {
+        t->ok_level = t->exec.level; /* confirmed by a write that worked */
+        return next;
     }
-    return next;
+    /* Failing, and this write worked. Writing the level the output already
+     * had proves nothing (the PWM core skips such a write without touching
+     * the hardware): only a changed level counts as back. */
+    if (t->exec.level < 0 || t->exec.level == t->ok_level) {
+        return next;
+    }
+    t->out_failing = false;
+    t->stale_playing = true;
+    (void)negobs_motor_exec_start(&t->exec, &t->stale, now);
+    t->hold_until_ms = now + NEGOBS_MOTOR_RECOVER_HOLD_MS;
+    t->ok_level = t->exec.level;
+    return (int64_t)NEGOBS_MOTOR_RECOVER_HOLD_MS;
 }
 
 static void *motor_main(void *arg)
@@ -125,6 +133,7 @@ negobs_status_t negobs_motor_thread_start(negobs_motor_thread_t *t,
     t->stale = *stale;
     t->watchdog_ms = watchdog_ms;
     t->last_post_ms = negobs_clock_now_ms();
+    t->ok_level = -1;
     t->running = true;
     if (pthread_mutex_init(&t->lock, NULL) != 0) {
         return NEGOBS_ERR_IO;

@@ -31,6 +31,8 @@ static struct {
     int writes;
     bool no_v2;    /* an old kernel: v2 ioctls are ENOTTY */
     int set_errno; /* value writes fail with this (chip gone: ENODEV) */
+    char gone[64]; /* this chip path does not exist (ENOENT)            */
+    char ours[64]; /* only this path has our label; "" = every path     */
     struct gpiohandle_request req_v1;
 } fake;
 
@@ -54,6 +56,10 @@ int __wrap_open64(const char *path, int flags, ...)
         return __real_open64(path, flags, mode);
     }
     (void)snprintf(fake.opened, sizeof fake.opened, "%s", path);
+    if (strcmp(path, fake.gone) == 0) {
+        errno = ENOENT;
+        return -1;
+    }
     if (fake.open_errno != 0) {
         errno = fake.open_errno;
         return -1;
@@ -86,6 +92,16 @@ int __wrap_ioctl(int fd, unsigned long req, ...)
                        req == GPIO_V2_LINE_SET_VALUES_IOCTL)) {
         errno = ENOTTY;
         return -1;
+    }
+    if (fd == CHIP_FD && req == GPIO_GET_CHIPINFO_IOCTL) {
+        struct gpiochip_info *ci = arg;
+        memset(ci, 0, sizeof *ci);
+        (void)snprintf(ci->label, sizeof ci->label, "%s",
+                       fake.ours[0] == '\0' ||
+                               strcmp(fake.opened, fake.ours) == 0
+                           ? "motor-chip"
+                           : "other-chip");
+        return 0;
     }
     if (fd == CHIP_FD && req == GPIO_GET_LINEHANDLE_IOCTL) {
         struct gpiohandle_request *r = arg;
@@ -285,6 +301,30 @@ static void test_gpio_chip_gone_is_requested_again_with_backoff(void **state)
     assert_int_equal(fake.line_open, 0);
 }
 
+static void test_gpio_chip_back_under_another_number_is_found_by_label(
+    void **state)
+{
+    negobs_alert_gpio_t st;
+    negobs_motor_out_t out;
+    (void)state;
+    assert_int_equal(negobs_alert_gpio_open(&st, "/dev/gpiochip3", 0, false,
+                                            &out),
+                     NEGOBS_OK);
+    assert_string_equal(st.label, "motor-chip");
+    fake.set_errno = ENODEV;
+    assert_int_equal(negobs_alert_set(&out, 1000), NEGOBS_ERR_NODEV);
+    /* Back as gpiochip4; gpiochip0..2 are other chips, 3 is gone. */
+    fake.set_errno = 0;
+    (void)snprintf(fake.gone, sizeof fake.gone, "/dev/gpiochip3");
+    (void)snprintf(fake.ours, sizeof fake.ours, "/dev/gpiochip4");
+    sleep_ms((long)NEGOBS_GPIO_RETRY_MIN_MS + 30);
+    assert_int_equal(negobs_alert_set(&out, 1000), NEGOBS_OK);
+    assert_string_equal(st.path, "/dev/gpiochip4");
+    assert_int_equal(fake.requests, 2);
+    assert_int_equal(fake.value, 1);
+    negobs_alert_close(&out);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -294,6 +334,9 @@ int main(void)
         cmocka_unit_test_setup(test_gpio_errors_are_reported, reset),
         cmocka_unit_test_setup(
             test_gpio_chip_gone_is_requested_again_with_backoff, reset),
+        cmocka_unit_test_setup(
+            test_gpio_chip_back_under_another_number_is_found_by_label,
+            reset),
         cmocka_unit_test_setup(
             test_gpio_falls_back_to_uapi_v1_on_old_kernels, reset),
     };

@@ -13,6 +13,8 @@ typedef struct rec_out {
     uint32_t n;
     int fail_next; /* make the next N writes fail */
     volatile int down; /* every write fails while set (output gone) */
+    volatile int stuck; /* writes fail unless they repeat the last level
+                           written (a PWM chip refusing new states) */
 } rec_out_t;
 
 static negobs_status_t rec_set(void *ctx, uint16_t duty)
@@ -20,6 +22,9 @@ static negobs_status_t rec_set(void *ctx, uint16_t duty)
     rec_out_t *r = ctx;
     if (r->down) {
         return NEGOBS_ERR_NODEV;
+    }
+    if (r->stuck && (r->n == 0 || r->levels[(r->n - 1) % 64] != duty)) {
+        return NEGOBS_ERR_IO;
     }
     if (r->fail_next > 0) {
         r->fail_next--;
@@ -287,6 +292,41 @@ static void test_thread_output_fault_retries_then_holds_no_info(void **state)
     assert_int_equal(last_level(&r), 0);
 }
 
+static void test_thread_rewrite_of_the_held_level_is_not_recovery(
+    void **state)
+{
+    /* The no-info stand-in pulses 500 / 0: while only 0 (the level held)
+     * can be written, the output is still failing. */
+    static const uint16_t stale[] = {500, 100, 0, 100};
+    static const uint16_t quiet[] = {0, 30000};
+    static const uint16_t loud[] = {700, 30000};
+    rec_out_t r;
+    negobs_motor_out_t out = {&rec_ops, &r};
+    negobs_motor_thread_t t;
+    negobs_motor_schedule_t st = make(stale, 2, 0);
+    negobs_motor_schedule_t q = make(quiet, 1, 0);
+    negobs_motor_schedule_t l = make(loud, 1, 0);
+    bool failing = false;
+    int i;
+    (void)state;
+    memset(&r, 0, sizeof r);
+    assert_int_equal(negobs_motor_thread_start(&t, &out, &st, 0), NEGOBS_OK);
+    negobs_motor_thread_post(&t, &q);
+    sleep_ms(100);
+    r.stuck = 1;
+    negobs_motor_thread_post(&t, &l);
+    for (i = 0; i < 8; i++) {
+        sleep_ms(100);
+        assert_int_equal(negobs_motor_thread_output_faults(&t, &failing), 1);
+        assert_true(failing);
+    }
+    r.stuck = 0;
+    sleep_ms(400);
+    assert_int_equal(negobs_motor_thread_output_faults(&t, &failing), 1);
+    assert_false(failing);
+    negobs_motor_thread_stop(&t);
+}
+
 static void test_thread_dead_output_is_seen_during_silence(void **state)
 {
     static const uint16_t stale[] = {500, 30000};
@@ -327,6 +367,7 @@ int main(void)
         cmocka_unit_test(test_thread_watchdog_plays_stale_pattern),
         cmocka_unit_test(test_thread_output_fault_retries_then_holds_no_info),
         cmocka_unit_test(test_thread_dead_output_is_seen_during_silence),
+        cmocka_unit_test(test_thread_rewrite_of_the_held_level_is_not_recovery),
 #endif
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

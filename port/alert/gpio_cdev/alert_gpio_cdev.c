@@ -12,9 +12,10 @@
  *
  * A chip can go away under a running program (an unbound driver, an
  * unplugged expander): writes then fail with ENODEV for good on the old
- * descriptors. The line is released and requested again from the same
- * path, with back-off, from the following writes: the motor thread keeps
- * writing, so recovery needs no timer of its own.
+ * descriptors. The line is released and requested again, with back-off,
+ * from the following writes (the motor thread keeps writing, so recovery
+ * needs no timer of its own): from the same path, or from the chip with
+ * the same label when it came back under another number.
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -94,16 +95,48 @@ static int request_v1(negobs_alert_gpio_t *st, uint32_t line,
 }
 
 static negobs_status_t request_line(negobs_alert_gpio_t *st);
+static negobs_status_t find_by_label(negobs_alert_gpio_t *st);
+static void chip_label(int fd, char *out, size_t len);
 static void release_line(negobs_alert_gpio_t *st);
+
+/* A chip that comes back may get another number (an expander plugged in
+ * again, a driver rebound while the old device is still referenced): look
+ * for its label among /dev/gpiochip0..63. */
+static negobs_status_t find_by_label(negobs_alert_gpio_t *st)
+{
+    char path[sizeof st->path];
+    char label[sizeof st->label];
+    int i;
+    for (i = 0; i < 64; i++) {
+        int fd;
+        (void)snprintf(path, sizeof path, "/dev/gpiochip%d", i);
+        fd = open(path, O_RDWR | O_CLOEXEC);
+        if (fd < 0) {
+            continue;
+        }
+        chip_label(fd, label, sizeof label);
+        (void)close(fd);
+        if (label[0] != '\0' && strcmp(label, st->label) == 0) {
+            memcpy(st->path, path, sizeof path);
+            return request_line(st);
+        }
+    }
+    return NEGOBS_ERR_NODEV;
+}
 
 /* Lost line: request it again once the back-off has passed. */
 static negobs_status_t retry_request(negobs_alert_gpio_t *st)
 {
     uint64_t now = negobs_clock_now_ms();
+    negobs_status_t s;
     if (now < st->retry_at_ms) {
         return NEGOBS_ERR_NODEV;
     }
-    if (request_line(st) != NEGOBS_OK) {
+    s = request_line(st);
+    if (s != NEGOBS_OK && st->label[0] != '\0') {
+        s = find_by_label(st);
+    }
+    if (s != NEGOBS_OK) {
         st->backoff_ms = st->backoff_ms >= NEGOBS_GPIO_RETRY_MAX_MS / 2u
                              ? NEGOBS_GPIO_RETRY_MAX_MS
                              : st->backoff_ms * 2u;
@@ -167,13 +200,37 @@ static const negobs_alert_ops_t gpio_ops = {
     "gpio", gpio_set, gpio_off_async, gpio_close,
 };
 
-/* Open the chip and request the line (motor off); fds in st on success. */
+/* Label of an open chip ("" when the kernel does not say). */
+static void chip_label(int fd, char *out, size_t len)
+{
+    struct gpiochip_info info;
+    memset(&info, 0, sizeof info);
+    out[0] = '\0';
+    if (ioctl(fd, GPIO_GET_CHIPINFO_IOCTL, &info) == 0) {
+        info.label[sizeof info.label - 1] = '\0';
+        (void)snprintf(out, len, "%s", info.label);
+    }
+}
+
+/* Open the chip and request the line (motor off); fds in st on success.
+ * The first time the chip's label is kept; later, a chip at that path
+ * with another label is not ours. */
 static negobs_status_t request_line(negobs_alert_gpio_t *st)
 {
     struct gpio_v2_line_request req;
+    char label[sizeof st->label];
     st->chip_fd = open(st->path, O_RDWR | O_CLOEXEC);
     if (st->chip_fd < 0) {
         gpio_error(st, errno, "open %s", st->path);
+        return NEGOBS_ERR_NODEV;
+    }
+    chip_label(st->chip_fd, label, sizeof label);
+    if (st->label[0] == '\0') {
+        (void)snprintf(st->label, sizeof st->label, "%s", label);
+    } else if (strcmp(label, st->label) != 0) {
+        gpio_error(st, 0, "%s is '%s', not '%s'", st->path, label, st->label);
+        (void)close(st->chip_fd);
+        st->chip_fd = -1;
         return NEGOBS_ERR_NODEV;
     }
     memset(&req, 0, sizeof req);

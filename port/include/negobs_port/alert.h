@@ -147,6 +147,7 @@ typedef struct negobs_alert_gpio {
     bool uapi_v1;       /**< kernel < 5.10: line held through uAPI v1 */
     bool active_low;
     char path[128];     /**< chip device, kept to request the line again */
+    char label[32];     /**< chip label, to find it again if renumbered */
     bool lost;          /**< a write failed: line released, re-request  */
     uint64_t retry_at_ms;
     uint32_t backoff_ms;
@@ -165,9 +166,10 @@ typedef struct negobs_alert_gpio {
  *         refused, e.g. line busy; see st->errmsg), NEGOBS_ERR_INVAL.
  *
  * A write that fails later (the chip was unbound or unplugged: ENODEV)
- * releases the line; the following writes request it again from the same
- * chip path with back-off (NEGOBS_GPIO_RETRY_MIN_MS doubling to _MAX_MS)
- * and return NEGOBS_ERR_NODEV until it is back.
+ * releases the line; the following writes request it again with back-off
+ * (NEGOBS_GPIO_RETRY_MIN_MS doubling to _MAX_MS) from the same chip path,
+ * or from the /dev/gpiochipN with the same label when the chip came back
+ * under another number, and return NEGOBS_ERR_NODEV until it is back.
  */
 negobs_status_t negobs_alert_gpio_open(negobs_alert_gpio_t *st,
                                        const char *chip, uint32_t line,
@@ -253,8 +255,11 @@ void negobs_motor_exec_stop(negobs_motor_exec_t *ex);
  * too. When a write to the backend fails, the thread switches to
  * `stale` and retries every NEGOBS_MOTOR_RETRY_MS (backends such as gpio
  * reopen their device from those writes). The user felt nothing, or a
- * stuck level, meanwhile; so when a write succeeds again, `stale` plays
- * for NEGOBS_MOTOR_RECOVER_HOLD_MS before posted patterns resume.
+ * stuck level, meanwhile; so when a write of a changed level succeeds
+ * again (rewriting the level the output holds proves nothing: the PWM core
+ * skips such writes, which also means a PWM fault is only seen at the next
+ * level change), `stale` plays for NEGOBS_MOTOR_RECOVER_HOLD_MS before
+ * posted patterns resume.
  * The struct is caller-owned; its fields are private.
  */
 typedef struct negobs_motor_thread {
@@ -271,6 +276,7 @@ typedef struct negobs_motor_thread {
     uint32_t out_faults;    /**< times the output started failing       */
     uint64_t hold_until_ms; /**< stale forced until then (recovery)     */
     uint64_t last_refresh_ms;
+    int32_t ok_level;       /**< last level a write confirmed, -1 none  */
     pthread_mutex_t lock;
     pthread_cond_t wake;
     pthread_t thread;
