@@ -317,6 +317,54 @@ static int32_t score_at(stx_t *s, int32_t x, int32_t y, int32_t d)
     }
 }
 
+/* score_at(d - 1), score_at(d), score_at(d + 1) without dp_rescore, in
+ * one go: the left window, its statistics and the bounds are shared. Same
+ * values and visited count as three stx_mncc_strip() calls. */
+static void score3(stx_t *s, int32_t x, int32_t y, int32_t d, int32_t c[3])
+{
+    int32_t w = s->w;
+    int32_t j;
+    ptrdiff_t il = (ptrdiff_t)(y - s->y0) * w + x;
+    int left_ok = x >= STX_WIN_R && x < w - STX_WIN_R && y >= s->y0 &&
+                  y < s->y1 && s->vl[il] != 0u;
+    const uint8_t *a = NULL;
+    if (left_ok) {
+        a = negobs_image_u8_row(s->left, y - STX_WIN_R) + x - STX_WIN_R;
+    }
+    for (j = 0; j < 3; j++) {
+        int32_t dj = d - 1 + j;
+        int32_t ur = x - dj;
+        int32_t n2;
+        int32_t den;
+        const uint8_t *b;
+        uint32_t xs;
+        c[j] = STX_FLAT;
+        if (dj < s->gdmin || dj > s->gdmax) {
+            continue;
+        }
+        s->st.visited_cells++;
+        if (!left_ok || ur < STX_WIN_R || ur >= w - STX_WIN_R ||
+            s->vr[il - dj] == 0u) {
+            continue;
+        }
+        b = negobs_image_u8_row(s->right, y + s->voff - STX_WIN_R) + ur -
+            STX_WIN_R;
+#if STX_CROSS5_SIMD
+        xs = (x + 5 < w) ? stx_cross5_simd(a, s->left->stride, b,
+                                           s->right->stride)
+                         : stx_cross5_ref(a, s->left->stride, b,
+                                          s->right->stride);
+#else
+        xs = stx_cross5_ref(a, s->left->stride, b, s->right->stride);
+#endif
+        if (stx_mncc_num_den(xs, s->sl[il], s->vl[il], s->sr[il - dj],
+                             s->vr[il - dj], (uint32_t)s->cfg.texture_min,
+                             &n2, &den)) {
+            c[j] = stx_frac_q14(n2, den);
+        }
+    }
+}
+
 void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
                 int16_t *outrow, uint8_t *confrow)
 {
@@ -370,9 +418,20 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
     /* stage 5a: sub-pixel refinement and confidence */
     for (x = 0; x < w; x++) {
         int32_t di = outrow[x];
-        int32_t c0 = score_at(s, x, y, di);
-        int32_t cm = score_at(s, x, y, di - 1);
-        int32_t cp = score_at(s, x, y, di + 1);
+        int32_t c0;
+        int32_t cm;
+        int32_t cp;
+        if (s->cfg.dp_rescore) {
+            c0 = score_at(s, x, y, di);
+            cm = score_at(s, x, y, di - 1);
+            cp = score_at(s, x, y, di + 1);
+        } else {
+            int32_t c3[3];
+            score3(s, x, y, di, c3);
+            cm = c3[0];
+            c0 = c3[1];
+            cp = c3[2];
+        }
         int32_t off = 0;
         int32_t conf = 0;
         if (c0 != STX_FLAT && cm != STX_FLAT && cp != STX_FLAT) {
