@@ -105,6 +105,66 @@ static void test_temporal_degraded_frames_do_not_clear(void **state)
     assert_int_equal(report(out, 3400), 0);
 }
 
+static void test_temporal_degraded_frames_never_confirm(void **state)
+{
+    negobs_hazard_t c = cand(3000, 0);
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    uint32_t t;
+    (void)state;
+    setup_cfg();
+    /* The same deficit on every degraded frame: still no hazard. */
+    for (t = 1; t <= 20; t++) {
+        temporal_update(&tp, &c, 1, 0, 2000, t * 100u);
+        assert_int_equal(report(out, t * 100u), 0);
+    }
+    /* Two clean sightings are not three: the degraded ones did not count. */
+    temporal_update(&tp, &c, 1, 1, 2000, 2100);
+    temporal_update(&tp, &c, 1, 1, 2000, 2200);
+    assert_int_equal(report(out, 2200), 0);
+    temporal_update(&tp, &c, 1, 1, 2000, 2300);
+    assert_int_equal(report(out, 2300), 1);
+}
+
+static void test_temporal_degraded_frames_refresh_confirmed(void **state)
+{
+    negobs_hazard_t c = cand(3500, 0);
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    uint32_t t;
+    (void)state;
+    setup_cfg();
+    for (t = 1; t <= 3; t++) {
+        temporal_update(&tp, &c, 1, 1, 2000, t * 100u);
+    }
+    /* Degraded frames that still see it keep it alive past hold_ms and
+     * update its range. */
+    for (t = 4; t <= 40; t++) {
+        c.range_mm = 3500 - (int32_t)(t - 3u) * 20;
+        temporal_update(&tp, &c, 1, 0, 2000, t * 100u);
+    }
+    assert_int_equal(report(out, 4000), 1);
+    assert_int_equal(out[0].range_mm, c.range_mm);
+}
+
+static void test_temporal_unseen_track_is_dead_reckoned(void **state)
+{
+    negobs_hazard_t c = cand(3500, 0);
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    uint32_t t;
+    (void)state;
+    setup_cfg();
+    for (t = 1; t <= 3; t++) {
+        temporal_update(&tp, &c, 1, 1, 2000, t * 100u);
+    }
+    /* One second without evidence (degraded): it is reported where the
+     * walker would have brought it, not at the old 3.5 m. */
+    for (t = 4; t <= 13; t++) {
+        temporal_update(&tp, NULL, 0, 0, 2000, t * 100u);
+    }
+    assert_int_equal(report(out, 1300), 1);
+    assert_int_equal(out[0].range_mm,
+                     3500 - cfg.hold_speed_mm_s * 1000 / 1000);
+}
+
 static void test_temporal_hold_when_edge_leaves_image(void **state)
 {
     negobs_hazard_t c = cand(2200, 0);
@@ -270,6 +330,9 @@ int main(void)
         cmocka_unit_test(test_temporal_sparse_hits_never_confirm),
         cmocka_unit_test(test_temporal_clears_after_m_clean_frames),
         cmocka_unit_test(test_temporal_degraded_frames_do_not_clear),
+        cmocka_unit_test(test_temporal_degraded_frames_never_confirm),
+        cmocka_unit_test(test_temporal_degraded_frames_refresh_confirmed),
+        cmocka_unit_test(test_temporal_unseen_track_is_dead_reckoned),
         cmocka_unit_test(test_temporal_hold_when_edge_leaves_image),
         cmocka_unit_test(test_temporal_far_track_lost_is_not_held),
         cmocka_unit_test(test_temporal_association_follows_walking),

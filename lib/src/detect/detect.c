@@ -82,7 +82,12 @@ void negobs_detect_config_default(negobs_detect_config_t *cfg, int32_t width,
     cfg->cam_pitch_tol_mdeg = 15000;
     cfg->cam_roll_tol_mdeg = 12000;
     cfg->max_disp_q4 = 64 * 16;
-    cfg->min_confidence = 1;
+    /* Stereo confidence is 255 * NCC, halved where the DP filled a pixel
+     * the seed growing did not reach. Deficits on filled or weakly
+     * matched pixels are mostly the matcher carrying a disparity across
+     * a bland region (a painted stripe read ~1 px low was confirmed as a
+     * hole): only grown pixels with NCC >= 0.47 vote. */
+    cfg->min_confidence = 120;
     cfg->fit_rows_pct = 25;
     cfg->fit_step_px = 2;
     cfg->ground_min_valid_pct = 25;

@@ -9,8 +9,8 @@
  *
  * A track is confirmed when it was seen in confirm_k of the last confirm_n
  * frames, and then stays confirmed until clear_m consecutive clean frames.
- * Frames that are not "observed" (degraded) add evidence but never count
- * as clean. When a confirmed track is lost close to the bottom of the
+ * Frames that are not "observed" (degraded) never count as clean, and
+ * their candidates only refresh tracks that are already confirmed. When a confirmed track is lost close to the bottom of the
  * image it is held: its range is dead-reckoned at hold_speed_mm_s and it
  * keeps alerting for hold_ms.
  */
@@ -123,6 +123,12 @@ void temporal_update(temporal_t *t, const negobs_hazard_t *cands, uint32_t n,
                 best_err = err;
                 best = k;
             }
+        }
+        if (!observed && (best < 0 || !t->tracks[best].confirmed)) {
+            /* A degraded frame's candidate may refresh a hazard that clean
+             * frames confirmed, but never starts or confirms one: on such
+             * frames the deficits are as likely to be matching noise. */
+            continue;
         }
         if (best < 0) {
             /* New track: an unused slot, else the weakest unconfirmed one. */
@@ -240,8 +246,11 @@ uint32_t temporal_report(const temporal_t *t, negobs_hazard_t *out,
         h.flags |= NEGOBS_HAZARD_F_CONFIRMED;
         if (tr->held) {
             h.flags |= NEGOBS_HAZARD_F_HELD;
-            h.range_mm = held_range(cfg, tr, now_ms);
         }
+        /* Not seen this frame (missed, degraded or held): the walker may
+         * have gone on, so report it where it would be by now, never at
+         * the last range seen. */
+        h.range_mm = held_range(cfg, tr, now_ms);
         if (tr->held || h.range_mm <= cfg->range_imminent_mm ||
             (tr->speed_mm_s >= 300 &&
              ((int64_t)h.range_mm * 1000) / tr->speed_mm_s <

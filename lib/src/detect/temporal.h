@@ -35,7 +35,8 @@ void temporal_reset(temporal_t *t, const negobs_detect_config_t *cfg);
 /*
  * Feed one frame's candidates (any order). observed != 0 means the frame
  * was fully usable, so a missing track counts as a clean frame; otherwise
- * candidates still add evidence but nothing is cleared. A confirmed track
+ * nothing is cleared and candidates only refresh confirmed tracks (they
+ * never start or confirm one). A confirmed track
  * lost with range <= hold_range_mm is held (dead-reckoned) for hold_ms.
  */
 void temporal_update(temporal_t *t, const negobs_hazard_t *cands, uint32_t n,
