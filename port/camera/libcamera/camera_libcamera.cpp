@@ -158,6 +158,8 @@ struct Side {
     uint64_t pend_ts = 0;
     uint32_t pend_seq = 0;
     size_t pend_bytes = 0;
+    bool pend_frozen = false;
+    negobs_frozen_t frozen{};
     Request *held = nullptr;
     bool lost = false;
     uint64_t retry_at_ms = 0;
@@ -288,6 +290,7 @@ void side_teardown(Impl &im, Side &s)
     }
     s.pending = nullptr;
     s.held = nullptr;
+    s.frozen = negobs_frozen_t{};
     s.requests.clear(); /* before the buffers they point to */
     unmap_all(s);
     s.alloc.reset();
@@ -540,6 +543,40 @@ void try_reopen(Impl &im, Side &s, uint64_t now)
     s.retry_at_ms = now + s.backoff_ms;
 }
 
+/* Every completed frame counts, not only those paired, as in the V4L2
+ * source: the raw bytes of plane 0 (rows of `stride` bytes, whatever the
+ * format) change with sensor noise; a repeated buffer does not. */
+bool frame_frozen(Impl &im, Side &s, Request *r)
+{
+    const Mapping &m = s.maps[r->cookie()];
+    negobs_image_u8_t raw;
+    size_t rows = s.stride > 0 ? s.pend_bytes / s.stride : 0;
+    raw.data = m.y;
+    raw.width = static_cast<int32_t>(s.stride);
+    raw.height = static_cast<int32_t>(
+        std::min(rows, static_cast<size_t>(s.height)));
+    raw.stride = raw.width;
+    return negobs_frozen_update(&s.frozen, negobs_frame_signature(&raw),
+                                im.cfg.frozen_frames);
+}
+
+/* True when a side about to be delivered is frozen (errmsg set). */
+bool frozen_check(Impl &im)
+{
+    bool frozen = false;
+    for (int i = 0; i < im.nsides; i++) {
+        Side &s = im.side[i];
+        if (s.pend_frozen) {
+            set_error(im.st, "frozen: libcamera %s image unchanged for %lu "
+                             "frames",
+                      s.id.c_str(),
+                      static_cast<unsigned long>(s.frozen.repeats) + 1u);
+            frozen = true;
+        }
+    }
+    return frozen;
+}
+
 /* Take what libcamera completed; keep only the newest good frame. */
 void drain(Impl &im, Side &s)
 {
@@ -570,6 +607,7 @@ void drain(Impl &im, Side &s)
         }
         s.pending = r;
         s.pend_bytes = b->metadata().planes()[0].bytesused;
+        s.pend_frozen = frame_frozen(im, s, r);
         s.pend_seq = b->metadata().sequence;
         /* SensorTimestamp: start of exposure, CLOCK_MONOTONIC; the
          * buffer's timestamp is the same clock where it is missing. */
@@ -665,14 +703,19 @@ negobs_status_t open_impl(negobs_libcamera_t *st,
             im->cm = nullptr;
         }
     }
+    if (s == NEGOBS_OK && im->nsides == 2) {
+        /* before acquire(), which would call the second one "in use" */
+        size_t n = 0;
+        std::shared_ptr<Camera> a = find_camera(*im, im->side[0], &n);
+        std::shared_ptr<Camera> b = find_camera(*im, im->side[1], &n);
+        if (a && b && a->id() == b->id()) {
+            set_error(st, "libcamera: left and right are the same camera "
+                          "('%s')", a->id().c_str());
+            s = NEGOBS_ERR_INVAL;
+        }
+    }
     for (int i = 0; i < im->nsides && s == NEGOBS_OK; i++) {
         s = side_setup(*im, im->side[i]);
-    }
-    if (s == NEGOBS_OK && im->nsides == 2 &&
-        im->side[0].id == im->side[1].id) {
-        /* caught by acquire() already; say it plainly */
-        set_error(st, "libcamera: left and right are the same camera");
-        s = NEGOBS_ERR_INVAL;
     }
     if (s == NEGOBS_OK && im->nsides == 2 &&
         (im->side[0].width != im->side[1].width ||
@@ -774,6 +817,11 @@ int get_pair_impl(Impl &im, negobs_frame_pair_t *pair, int32_t timeout_ms)
                 requeue(l, p);
                 continue;
             }
+            if (frozen_check(im)) {
+                requeue(l, p);
+                st->stats.frozen_pairs++;
+                return NEGOBS_ERR_IO;
+            }
             l.held = p;
             pair->right = pair->left;
             pair->index = st->stats.pairs++;
@@ -794,6 +842,12 @@ int get_pair_impl(Impl &im, negobs_frame_pair_t *pair, int32_t timeout_ms)
                     requeue(l, pl);
                     requeue(r, pr);
                     continue;
+                }
+                if (frozen_check(im)) {
+                    requeue(l, pl);
+                    requeue(r, pr);
+                    st->stats.frozen_pairs++;
+                    return NEGOBS_ERR_IO;
                 }
                 l.held = pl;
                 r.held = pr;

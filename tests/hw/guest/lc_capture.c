@@ -5,7 +5,7 @@
  * Debian's arm64 libcamera, dynamically linked.
  *
  * usage: lc_capture [-n FRAMES] [-w W] [-h H] [-T FIRST_TIMEOUT_MS] [-R]
- *                   libcamera:N | libcamera:ID
+ *                   [-r RIGHT] [-E STATUS] libcamera:N | libcamera:ID
  *
  * Opens the camera alone (single-camera mode: RIGHT empty), captures
  * FRAMES frames and checks each one: the requested size, a stride of at
@@ -15,6 +15,12 @@
  * and the stream must resume). Prints one
  * line per frame and a summary; exit 0 when every check passed, 1 when
  * one failed, 2 on bad usage.
+ *
+ * -r RIGHT opens a stereo pair instead. -E STATUS expects open() to fail
+ * with that status (e.g. -8, NEGOBS_ERR_NODEV) and passes when it does.
+ * The default config is used, so frozen-stream detection is on (10
+ * identical frames): a run of more frames also shows it does not fire on a
+ * live stream.
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -58,17 +64,25 @@ int main(int argc, char **argv)
     uint64_t t_first = 0;
     int bad = 0;
     int restart = 0;
+    int expect_open = 0;
+    int have_expect_open = 0;
+    const char *right = NULL;
     int c;
     long i;
     negobs_status_t s;
 
-    while ((c = getopt(argc, argv, "n:w:h:T:R")) != -1) {
+    while ((c = getopt(argc, argv, "n:w:h:T:Rr:E:")) != -1) {
         switch (c) {
         case 'n': frames = strtol(optarg, NULL, 10); break;
         case 'w': w = strtol(optarg, NULL, 10); break;
         case 'h': h = strtol(optarg, NULL, 10); break;
         case 'T': first_timeout_ms = strtol(optarg, NULL, 10); break;
         case 'R': restart = 1; break;
+        case 'r': right = optarg; break;
+        case 'E':
+            expect_open = (int)strtol(optarg, NULL, 10);
+            have_expect_open = 1;
+            break;
         default: return 2;
         }
     }
@@ -84,11 +98,20 @@ int main(int argc, char **argv)
     }
     negobs_camera_config_default(&cfg);
     cfg.left = argv[optind];
-    cfg.right = NULL; /* one camera: libcamera sees a single vimc sensor */
+    cfg.right = right; /* NULL: one camera (vimc gives libcamera one) */
     cfg.width = (int32_t)w;
     cfg.height = (int32_t)h;
     t_open = negobs_clock_now_ms();
     s = negobs_camera_open(&cam, &cfg);
+    if (have_expect_open) {
+        printf("lc_capture: open %s%s%s: status %d (expected %d): %s\n",
+               cfg.left, right != NULL ? " + " : "", right != NULL ? right : "",
+               (int)s, expect_open, negobs_camera_errmsg(&cam));
+        if (s == NEGOBS_OK) {
+            negobs_camera_close(&cam);
+        }
+        return (int)s == expect_open ? 0 : 1;
+    }
     if (s != NEGOBS_OK) {
         printf("lc_capture: open status %d\n", (int)s);
         return fail("open", &cam);

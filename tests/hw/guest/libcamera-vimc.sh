@@ -29,3 +29,12 @@ export LIBCAMERA_LOG_LEVELS='*:ERROR'
 lc_capture -n 8 -w 636 -h 480 -T 30000 -R libcamera:0
 # the same camera by its id, as `cam -l` names it
 lc_capture -n 3 -w 480 -h 360 -T 30000 'libcamera:platform/vimc.0 Sensor B'
+# more frames than the frozen-stream limit (10 identical frames): vimc's
+# frames differ from one to the next, so a live stream must not be called
+# frozen
+lc_capture -n 14 -w 480 -h 360 -T 30000 libcamera:0
+# errors on the real camera list: an absent index, a stereo pair where
+# libcamera has one camera, and the same camera twice
+lc_capture -E -8 libcamera:5
+lc_capture -E -8 -r libcamera:1 libcamera:0
+lc_capture -E -1 -r 'libcamera:platform/vimc.0 Sensor B' libcamera:0
