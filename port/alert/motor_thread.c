@@ -65,7 +65,9 @@ static int64_t output_health(negobs_motor_thread_t *t, uint64_t now,
     (void)negobs_motor_exec_start(&t->exec, &t->stale, now);
     t->hold_until_ms = now + NEGOBS_MOTOR_RECOVER_HOLD_MS;
     t->ok_level = t->exec.level;
-    return (int64_t)NEGOBS_MOTOR_RECOVER_HOLD_MS;
+    /* the schedule's own next boundary (the caller also wakes for the end
+     * of the hold) */
+    return negobs_motor_exec_tick(&t->exec, now);
 }
 
 static void *motor_main(void *arg)

@@ -35,7 +35,11 @@ else
     TB=$(now); echo 1 > "$G/live" || fail "cannot bring the chip back"
     chip=$(cat "$G/bank0/chip_name")
     say "gpio chip back at boot $TB as /dev/$chip (negobs_run $(sec_of $TB)s)"
-    [ "/dev/$chip" = "$HW_GPIOCHIP" ] || say "note: the chip came back under another name"
+    [ "/dev/$chip" = "$HW_GPIOCHIP" ] || say "note: the chip came back under another name (negobs_run finds it by its label)"
+    # the observer follows the new chip's simulated pin (same edge file)
+    kill "$WATCH_PID" 2>/dev/null; wait "$WATCH_PID" 2>/dev/null
+    motor_watch -i 5 "/sys/devices/platform/$(cat "$G/dev_name")/$chip/sim_gpio0/value" >> /tmp/edges &
+    WATCH_PID=$!
     TK=$(wait_log 'motor: output back' "$(sec_of $TB)" $BACK_LIMIT_S)
     # let the no-info hold (2 s) and a few pairs pass
     sleep 9

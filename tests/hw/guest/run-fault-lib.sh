@@ -20,7 +20,7 @@ boot_of() { awk -v a="$1" -v s="$T_START" 'BEGIN { printf "%.3f", s + a }'; } # 
 # frame age, pair_tolerance_ms 20 (two vivid instances, own clocks), extras
 fault_conf() {
     f=$1; shift
-    { cat $NEGOBS/rig.conf; echo "watchdog_ms = $WDOG_MS"; echo "max_frame_age_ms = $WDOG_MS"
+    { cat $NEGOBS/rig.conf; echo "watchdog_ms = $WDOG_MS"; echo "max_frame_age_ms = ${AGE_MS:-$WDOG_MS}"
       echo "pair_tolerance_ms = 20"; for l in "$@"; do echo "$l"; done; } > "$f"
 }
 

@@ -2,8 +2,12 @@
 # fail_apply parameter makes its .apply return -EIO, so negobs_run's writes
 # to duty_cycle fail with EIO (the PWM core keeps the old state).  The motor
 # thread rewrites the level every second, so the failure is seen while the
-# motor is silent (verdict clear).  The observer reads the channel's sysfs
-# duty_cycle (> 0 = on).
+# motor is silent (verdict clear) - for GPIO.  The PWM core skips a write
+# that changes nothing, so a PWM fault shows at the next level change: the
+# section runs with watchdog_ms 1500 (below the emulated pair time: the
+# watchdog's no-info pulses change the level every few seconds; frames may
+# still be 4 s old).  The observer reads the channel's sysfs duty_cycle
+# (> 0 = on).
 # Pass: a first clear verdict; "motor: output failing" logged within
 # FAIL_LIMIT_S; after fail_apply goes back to 0, "motor: output back" within
 # BACK_LIMIT_S, then the no-information entry burst on the channel and
@@ -12,9 +16,10 @@ set -u
 SECTION=run-fault-pwm
 . /tests/lib.sh
 . /tests/negobs_lib.sh
+WDOG_MS=1500 AGE_MS=4000
 . /tests/run-fault-lib.sh
 negobs_prereq
-FAIL_LIMIT_S=10
+FAIL_LIMIT_S=20
 HOLD_S=3
 BACK_LIMIT_S=10
 KNOB=/sys/module/pwm_sim/parameters/fail_apply
