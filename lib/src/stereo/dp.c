@@ -90,8 +90,10 @@ static int row_bands(stx_t *s, const int16_t *g)
     return 1;
 }
 
-/* Stage 1 forward pass; returns the index (d - dmin) of the best end. */
-static int32_t stage1(stx_t *s, int32_t y, int keep)
+/* Stage 1 forward pass; returns the index (d - dmin) of the best end.
+ * `keep` is a literal at both call sites, so the compiler can drop the
+ * pointer stores of the feeding pass. */
+static inline int32_t stage1_run(stx_t *s, int32_t y, int keep)
 {
     int32_t w = s->w;
     int32_t nd = s->ndisp;
@@ -107,6 +109,8 @@ static int32_t stage1(stx_t *s, int32_t y, int keep)
     int32_t argp = 0;
     int32_t plo = 0;
     int32_t phi = -1;  /* band of yc's stale content (column x-2) */
+    int32_t qlo = 0;   /* band of yp's content (column x-1)          */
+    int32_t qhi = -1;
     int32_t lo;
     int32_t hi;
 
@@ -120,6 +124,9 @@ static int32_t stage1(stx_t *s, int32_t y, int keep)
         int scored = s->bscored[x];
         int16_t *crow = s->cost + (ptrdiff_t)x * nd;
         uint8_t *prow = s->p1 + (ptrdiff_t)x * nd;
+        /* without rescoring the band is neutral but for the GCS cell */
+        int32_t gi = (scored && !rescore) ? s->gcs_cur[x] - dmin : -2;
+        int32_t cjump = bestp - jump;
         lo = s->blo[x] - dmin;
         hi = s->bhi[x] - dmin;
         for (i = plo; i <= phi; i++) {
@@ -129,11 +136,9 @@ static int32_t stage1(stx_t *s, int32_t y, int keep)
             int32_t c = neutral;
             int32_t m;
             int32_t t;
-            if (scored && !rescore) {
-                /* the GCS-selected cell carries the match, the rest of the
-                 * band is unvisited */
-                c = (i + dmin == s->gcs_cur[x]) ? STX_ONE_Q14 : neutral;
-            } else if (scored) {
+            if (i == gi) {
+                c = STX_ONE_Q14;
+            } else if (scored && rescore) {
                 s->st.visited_cells++;
                 c = stx_mncc_strip(s, x, y, i + dmin);
                 if (c == STX_FLAT) {
@@ -154,8 +159,8 @@ static int32_t stage1(stx_t *s, int32_t y, int keep)
                     m = yp[i + 1];
                     t = 2;
                 }
-                if (bestp - jump > m) {
-                    m = bestp - jump;
+                if (cjump > m) {
+                    m = cjump;
                     t = 3;
                 }
             }
@@ -178,12 +183,10 @@ static int32_t stage1(stx_t *s, int32_t y, int keep)
             yc = tmp;
         }
         /* yc now holds column x-1: its band is the previous lo/hi */
-        plo = (x == 0) ? 0 : s->blo[x - 1] - dmin;
-        phi = (x == 0) ? -1 : s->bhi[x - 1] - dmin;
-        if (x == 0) {
-            plo = 0;
-            phi = -1;
-        }
+        plo = qlo;
+        phi = qhi;
+        qlo = lo;
+        qhi = hi;
         bestp = bcur;
         argp = acur;
     }
@@ -192,6 +195,11 @@ static int32_t stage1(stx_t *s, int32_t y, int keep)
         memcpy(s->yprev, s->ycur, (size_t)(nd + 2) * sizeof *s->yprev);
     }
     return argp;
+}
+
+static int32_t stage1(stx_t *s, int32_t y, int keep)
+{
+    return keep ? stage1_run(s, y, 1) : stage1_run(s, y, 0);
 }
 
 void stx_dp_stage2_reset(stx_t *s)
