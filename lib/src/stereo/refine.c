@@ -156,6 +156,16 @@ void stx_speckle(stx_t *s, negobs_image_s16_t *disp)
     }
 }
 
+/* sd / sw rounded half away from zero (negobs_div_round_s64 in 32 bits:
+ * |sd| <= 9 * 64 * 32767 < 2^25, sw > 0). */
+static inline int32_t div_round_pos(int32_t sd, int32_t sw)
+{
+    if (sd >= 0) {
+        return (sd + sw / 2) / sw;
+    }
+    return -((-sd + sw / 2) / sw);
+}
+
 /* One line of the adaptive mean: in -> out, n samples. */
 static void amean_line(const int16_t *in, int16_t *out, int32_t n)
 {
@@ -166,14 +176,12 @@ static void amean_line(const int16_t *in, int16_t *out, int32_t n)
         if (c != NEGOBS_DISP_INVALID) {
             int32_t sw = 0;
             int32_t sd = 0;
-            for (k = -4; k <= 4; k++) {
-                int32_t j = i + k;
-                int32_t v;
+            int32_t jlo = (i >= 4) ? i - 4 : 0;
+            int32_t jhi = (i + 4 < n) ? i + 4 : n - 1;
+            int32_t j;
+            for (j = jlo; j <= jhi; j++) {
+                int32_t v = in[j];
                 int32_t wt;
-                if (j < 0 || j >= n) {
-                    continue;
-                }
-                v = in[j];
                 if (v == NEGOBS_DISP_INVALID) {
                     continue;
                 }
@@ -183,7 +191,7 @@ static void amean_line(const int16_t *in, int16_t *out, int32_t n)
                     sd += wt * v;
                 }
             }
-            out[i] = (int16_t)negobs_div_round_s64(sd, sw);
+            out[i] = (int16_t)div_round_pos(sd, sw);
         } else {
             int32_t a = NEGOBS_DISP_INVALID;
             int32_t b = NEGOBS_DISP_INVALID;
