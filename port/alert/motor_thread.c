@@ -83,7 +83,7 @@ static void *motor_main(void *arg)
         if (t->have_pending && !t->out_failing && now >= t->hold_until_ms) {
             t->have_pending = false;
             t->stale_playing = false;
-            if (!t->exec.active ||
+            if (!t->exec.active || t->pending_restart ||
                 !negobs_motor_schedule_equal(&t->pending, &t->exec.sched)) {
                 (void)negobs_motor_exec_start(&t->exec, &t->pending, now);
             }
@@ -175,6 +175,19 @@ void negobs_motor_thread_post(negobs_motor_thread_t *t,
     (void)pthread_mutex_lock(&t->lock);
     t->pending = *s;
     t->have_pending = true;
+    t->pending_restart = false;
+    t->last_post_ms = negobs_clock_now_ms();
+    (void)pthread_cond_signal(&t->wake);
+    (void)pthread_mutex_unlock(&t->lock);
+}
+
+void negobs_motor_thread_post_restart(negobs_motor_thread_t *t,
+                                      const negobs_motor_schedule_t *s)
+{
+    (void)pthread_mutex_lock(&t->lock);
+    t->pending = *s;
+    t->have_pending = true;
+    t->pending_restart = true;
     t->last_post_ms = negobs_clock_now_ms();
     (void)pthread_cond_signal(&t->wake);
     (void)pthread_mutex_unlock(&t->lock);

@@ -269,6 +269,7 @@ typedef struct negobs_motor_thread {
     uint32_t watchdog_ms;
     uint64_t last_post_ms;
     bool have_pending;
+    bool pending_restart; /**< start `pending` anew even if equal       */
     bool stale_playing;
     bool running;
     uint32_t watchdog_fires;
@@ -301,6 +302,16 @@ negobs_status_t negobs_motor_thread_start(negobs_motor_thread_t *t,
  */
 void negobs_motor_thread_post(negobs_motor_thread_t *t,
                               const negobs_motor_schedule_t *s);
+
+/**
+ * @brief negobs_motor_thread_post(), but `s` always starts again from its
+ *        first segment, even when it equals the one playing: for
+ *        schedules computed relative to the moment of the post (firmware_app
+ *        turns the core library's alert state machine into such
+ *        schedules; the same schedule posted later is a later pattern).
+ */
+void negobs_motor_thread_post_restart(negobs_motor_thread_t *t,
+                                      const negobs_motor_schedule_t *s);
 
 /** @brief Number of times the watchdog took over. */
 uint32_t negobs_motor_thread_watchdog_fires(negobs_motor_thread_t *t);
