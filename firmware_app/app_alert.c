@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "app_alert.h"
+#include "negobs_port/clock.h"
 
 /* Segments collected before giving up on finding the looped tail. */
 #define APP_ALERT_MAX_SEG NEGOBS_MOTOR_MAX_SEGMENTS
@@ -168,6 +169,35 @@ negobs_status_t app_alert_step(app_alert_t *a, uint32_t now_ms,
     sim = a->lib;
     look_ahead(&sim, &a->cmd, now_ms, sched);
     return NEGOBS_OK;
+}
+
+negobs_status_t app_alert_post(app_alert_t *a, negobs_motor_thread_t *motor,
+                               const negobs_alert_input_t *in,
+                               negobs_alert_pattern_t *before)
+{
+    negobs_motor_schedule_t sched;
+    negobs_alert_input_t v;
+    uint32_t now;
+    negobs_status_t st;
+    if (a == NULL || motor == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (before != NULL) {
+        *before = a->cmd.pattern;
+    }
+    now = (uint32_t)negobs_clock_now_ms();
+    if (in != NULL) {
+        v = *in;
+        v.verdict_ms = now;
+        in = &v;
+    }
+    st = app_alert_step(a, now, in, &sched);
+    if (st == NEGOBS_OK) {
+        /* The schedule starts now: an equal one posted earlier started
+         * earlier, so it must start again (not keep playing). */
+        negobs_motor_thread_post_restart(motor, &sched);
+    }
+    return st;
 }
 
 negobs_status_t app_alert_noinfo_schedule(const negobs_alert_config_t *cfg,

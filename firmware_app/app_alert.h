@@ -60,6 +60,19 @@ negobs_status_t app_alert_step(app_alert_t *a, uint32_t now_ms,
                                negobs_motor_schedule_t *sched);
 
 /**
+ * @brief What negobs_run does with each verdict: app_alert_step() at the
+ *        monotonic clock (negobs_clock_now_ms(), the motor thread's), with
+ *        the verdict stamped now, then the schedule posted to `motor`
+ *        (which also feeds its watchdog).
+ * @param in      verdict or NULL (no new verdict); verdict_ms is ignored
+ * @param before  pattern before this step; may be NULL
+ * @return as app_alert_step().
+ */
+negobs_status_t app_alert_post(app_alert_t *a, negobs_motor_thread_t *motor,
+                               const negobs_alert_input_t *in,
+                               negobs_alert_pattern_t *before);
+
+/**
  * @brief The library's no-information pattern (entry burst, then the
  *        repeating pulse) as a schedule, for the motor thread's own
  *        watchdog. The first pulse is shortened by `lead_ms` (>= 0, the

@@ -815,19 +815,10 @@ static int rectify_setup(int32_t w, int32_t h)
  * hand the motor thread what it should play from now on. */
 static void alert_post(const negobs_alert_input_t *in)
 {
-    negobs_motor_schedule_t sched;
-    negobs_alert_pattern_t before = app_alert_pattern(&alert_sm);
-    uint32_t now = (uint32_t)negobs_clock_now_ms();
-    negobs_alert_input_t v;
-    if (in != NULL) {
-        v = *in;
-        v.verdict_ms = now;
-        in = &v;
-    }
-    if (app_alert_step(&alert_sm, now, in, &sched) != NEGOBS_OK) {
+    negobs_alert_pattern_t before = NEGOBS_PATTERN_NONE;
+    if (app_alert_post(&alert_sm, &motor, in, &before) != NEGOBS_OK) {
         return; /* cannot happen after a successful init */
     }
-    negobs_motor_thread_post(&motor, &sched);
     if (app_alert_pattern(&alert_sm) != before) {
         logmsg(LOG_INFO, "pattern %s -> %s", app_alert_pattern_name(before),
                app_alert_pattern_name(app_alert_pattern(&alert_sm)));
