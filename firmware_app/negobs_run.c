@@ -998,6 +998,8 @@ static int run_loop(void)
                 (uint32_t)(pair.right.ts_ns / 1000000u), (uint32_t)now);
             app_alert_input(v, &pipeline.last, 0u, &in);
             alert_post(&in);
+            logmsg(LOG_DEBUG, "pair %lu verdict %s", (unsigned long)done,
+                   app_verdict_name(v));
             lat_us = (negobs_clock_now_ns() - pair.left.ts_ns) / 1000u;
             negobs_camera_release(&camera, &pair);
             if (v != st.verdict) {

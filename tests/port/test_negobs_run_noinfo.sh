@@ -1,0 +1,38 @@
+#!/bin/sh
+# End-to-end: the real negobs_run, a replay whose left.y is a FIFO that
+# stops delivering (tests/port/app_noinfo_run.c); the no-information
+# pattern must start watchdog_ms (300) after the last fresh verdict, within
+# a scheduling tolerance. The frames are a flat walk from negobs_synth
+# (224x168, judged "clear"); without negobs_synth (tools/ not built) the
+# test is skipped (exit 77).
+# Usage: test_negobs_run_noinfo.sh NEGOBS_RUN APP_NOINFO_RUN NEGOBS_SYNTH PNG2RAW [STALLS] [TOL_MS]
+set -u
+RUN=$1
+HARNESS=$2
+SYNTH=$3
+PNG2RAW=$4
+STALLS=${5:-8}
+TOL_MS=${6:-50}
+if [ ! -x "$SYNTH" ]; then
+    echo "SKIP: $SYNTH not built (tools/ needs OpenCV)"; exit 77
+fi
+T=$(mktemp -d "${TMPDIR:-/tmp}/negobs-noinfo-run-XXXXXX")
+trap 'rm -rf "$T"' EXIT
+# 224x168 keeps one pair well under 300 ms in a debug build; the flat
+# ground is judged "clear", so the motor is silent before each stall.
+"$SYNTH" --scene flat --frames 10 --speed 1.2 --fps 10 --bob-mm 0 \
+    --sway-deg 0 --roll-sway-deg 0 --f 175 --baseline-mm 120 \
+    --height-mm 1200 --pitch-deg 20 --width 224 --height 168 --seed 7 \
+    --out "$T/png" >/dev/null || { echo "FAIL: negobs_synth"; exit 1; }
+python3 "$PNG2RAW" "$T/png" "$T/raw" >/dev/null || { echo "FAIL: png2raw"; exit 1; }
+cat >"$T/rig.conf" <<CONF
+# negobs_synth's rig at 224x168
+focal_px = 175
+baseline_mm = 120
+cam_height_mm = 1200
+cam_pitch_mdeg = 20000
+max_disp = 23
+watchdog_ms = 300
+CONF
+echo "== $HARNESS $RUN $T/rig.conf $T/raw 224 168 10 $STALLS $TOL_MS"
+"$HARNESS" "$RUN" "$T/rig.conf" "$T/raw" 224 168 10 "$STALLS" "$TOL_MS"
