@@ -80,7 +80,7 @@ pulses() {
 }
 
 # patterns T0 T1: classifies the pulses starting in [T0, T1) (boot clock) by
-# the pattern table of firmware_app/app_patterns.c, one "CLASS START" line
+# the library's alert patterns (lib/src/alert/alert.c), one "CLASS START" line
 # per recognised pair of pulses (TOL_MS of slack on every width and gap for
 # the emulator's scheduling):
 #   caution  two ~80 ms pulses 160 ms apart (start to start)

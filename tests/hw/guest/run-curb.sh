@@ -3,7 +3,7 @@
 # vivid's loopback, and drives a gpio-sim line; the line is observed from
 # outside (gpio-sim's sim_gpio0/value, 5 ms sampling, motor_watch).
 # Pass: negobs_run logs a hazard verdict (caution or imminent), the motor
-# line shows that hazard's pattern (app_patterns.c) within HAZARD_LAG_S of
+# line shows that hazard's pattern (lib/src/alert/alert.c) within HAZARD_LAG_S of
 # the logged change, no hazard pattern appears before the first hazard
 # verdict, the first hazard comes before the walk ends (edge >= 1.24 m), and
 # negobs_run exits 0 on SIGINT.
