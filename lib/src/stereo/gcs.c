@@ -277,6 +277,57 @@ static void grow(stx_t *s)
     s->st.visited_cells += visited;
 }
 
+/* eval(s, u, v, d) for d = lo .. hi into sc[d - lo] (lo, hi inside the
+ * global range, hi <= u - STX_WIN_R): the left window, its statistics and
+ * bounds are looked up once for the whole range. */
+static void seed_scores(stx_t *s, int32_t u, int32_t v, int32_t lo,
+                        int32_t hi, int32_t *sc)
+{
+    int32_t w = s->w;
+    ptrdiff_t il = (ptrdiff_t)(v - s->y0) * w + u;
+    uint32_t vl = s->vl[il];
+    uint32_t sl = s->sl[il];
+    uint32_t tex = (uint32_t)s->cfg.texture_min;
+    ptrdiff_t ls = s->left->stride;
+    ptrdiff_t rs = s->right->stride;
+    int32_t yr = v + s->voff;
+    /* vl != 0: the left window is inside the image; the right rows are
+     * checked too, so no pointer is ever formed outside the images */
+    int ok_left = u >= STX_WIN_R && u < w - STX_WIN_R && vl != 0u &&
+                  yr >= STX_WIN_R && yr < s->h - STX_WIN_R;
+    const uint8_t *a = NULL;
+    const uint8_t *rrow = NULL;
+    int32_t d;
+    if (ok_left) {
+        a = negobs_image_u8_row(s->left, v - STX_WIN_R) + u - STX_WIN_R;
+        rrow = negobs_image_u8_row(s->right, yr - STX_WIN_R);
+    }
+    for (d = lo; d <= hi; d++) {
+        int32_t ur = u - d;
+        int32_t n2;
+        int32_t den;
+        uint32_t x;
+        const uint8_t *b;
+        sc[d - lo] = STX_FLAT;
+        s->st.visited_cells++;
+        if (!ok_left || ur < STX_WIN_R || ur >= w - STX_WIN_R ||
+            s->vr[il - d] == 0u) {
+            continue;
+        }
+        b = rrow + ur - STX_WIN_R;
+#if STX_CROSS5_SIMD
+        x = (u + 5 < w) ? stx_cross5_simd(a, ls, b, rs)
+                        : stx_cross5_ref(a, ls, b, rs);
+#else
+        x = stx_cross5_ref(a, ls, b, rs);
+#endif
+        if (stx_mncc_num_den(x, sl, vl, s->sr[il - d], s->vr[il - d], tex,
+                             &n2, &den)) {
+            sc[d - lo] = stx_frac_q14(n2, den);
+        }
+    }
+}
+
 static void seed_edges(stx_t *s)
 {
     int32_t w = s->w;
@@ -303,9 +354,10 @@ static void seed_edges(stx_t *s)
             stx_tile_range(s, u, v, &lo, &hi);
             lo = (lo < s->gdmin) ? s->gdmin : lo;
             hi = (hi > s->gdmax) ? s->gdmax : hi;
+            seed_scores(s, u, v, lo,
+                        (hi < u - STX_WIN_R) ? hi : u - STX_WIN_R, sc);
             for (d = lo; d <= hi && d <= u - STX_WIN_R; d++) {
-                int32_t c = eval(s, u, v, d);
-                sc[d - lo] = c;
+                int32_t c = sc[d - lo];
                 if (c != STX_FLAT && (best == STX_FLAT || c > best)) {
                     best = c;
                     bestd = d;
