@@ -14,8 +14,9 @@
  * last pair of a batch - that pair's line. A stall counts only when the
  * motor was off and the pattern "off" at that pair (a clear verdict, no
  * pulse running); the watchdog is watchdog_ms in CONF.
- * Exit 0 when every counted stall gives watchdog_ms - 1 .. watchdog_ms +
- * TOL_MS and at least half of the stalls count (77, skipped, when fewer
+ * Exit 0 when every counted stall gives watchdog_ms +- TOL_MS (the
+ * stamps are taken here, on arrival, so scheduling jitter of this
+ * harness counts both ways; test_app_noinfo.c measures in-process) and at least half of the stalls count (77, skipped, when fewer
  * count: pairs slower than watchdog_ms leave nothing to measure); prints
  * every latency.
  */
@@ -373,7 +374,10 @@ int main(int argc, char **argv)
                (unsigned long long)(lat[(size_t)n_lat - 1u] % 1000u));
     }
     for (i = 0; i < n_lat; i++) {
-        if (lat[(size_t)i] + 1000u < (uint64_t)wdog_ms * 1000u ||
+        /* Both ends are stamped on arrival here, so the harness's own
+         * scheduling shows in both directions: +-TOL_MS. */
+        if (lat[(size_t)i] + (uint64_t)tol_ms * 1000u <
+                (uint64_t)wdog_ms * 1000u ||
             lat[(size_t)i] > (uint64_t)(wdog_ms + tol_ms) * 1000u) {
             bad++;
         }
