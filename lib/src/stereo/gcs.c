@@ -179,6 +179,12 @@ static void grow(stx_t *s)
         const uint8_t *la = lrow + (ptrdiff_t)vr * ls + u;
         const uint8_t *rb = rrow + (ptrdiff_t)vr * rs + ur;
         const uint32_t key0 = item + 1u;
+        /* every neighbour inside the strip and range, and every window
+         * (and 8-byte SIMD load) inside the image: the usual case, where
+         * the per-cell bounds tests can be skipped */
+        const int interior = u >= 2 * STX_WIN_R && u + 8 < w &&
+                             ur >= 2 * STX_WIN_R && vr >= 1 && vr + 1 < ny &&
+                             dr - 1 >= drlo && dr + 1 <= drhi;
         int k;
         for (k = 0; k < 4; k++) {
             int32_t bn = 0;
@@ -190,9 +196,10 @@ static void grow(stx_t *s)
             for (m = nb_first[k]; m < nb_first[k + 1]; m++) {
                 const nb_off_t *o = &nb[m];
                 ptrdiff_t bit = bit0 + o->bit;
-                if ((uint32_t)(u + o->du) < (uint32_t)w &&
-                    (uint32_t)(vr + o->dv) < (uint32_t)ny &&
-                    dr + o->dd >= drlo && dr + o->dd <= drhi &&
+                if ((interior ||
+                     ((uint32_t)(u + o->du) < (uint32_t)w &&
+                      (uint32_t)(vr + o->dv) < (uint32_t)ny &&
+                      dr + o->dd >= drlo && dr + o->dd <= drhi)) &&
                     !((tbits[bit >> 3] >> (bit & 7)) & 1)) {
                     fresh = 1;
                     break;
@@ -209,9 +216,10 @@ static void grow(stx_t *s)
                 stx_cache_entry_t *e;
                 int32_t nn;
                 int32_t dn;
-                if ((uint32_t)qu >= (uint32_t)w ||
-                    (uint32_t)(vr + o->dv) >= (uint32_t)ny ||
-                    dr + o->dd < drlo || dr + o->dd > drhi) {
+                if (!interior &&
+                    ((uint32_t)qu >= (uint32_t)w ||
+                     (uint32_t)(vr + o->dv) >= (uint32_t)ny ||
+                     dr + o->dd < drlo || dr + o->dd > drhi)) {
                     continue; /* outside: never scored */
                 }
                 /* neighbouring seeds share most of their neighbourhoods:
@@ -225,8 +233,9 @@ static void grow(stx_t *s)
                 } else {
                     int ok = 0;
                     visited++;
-                    if (qu >= STX_WIN_R && qu < w - STX_WIN_R &&
-                        qur >= STX_WIN_R && qur < w - STX_WIN_R) {
+                    if (interior ||
+                        (qu >= STX_WIN_R && qu < w - STX_WIN_R &&
+                         qur >= STX_WIN_R && qur < w - STX_WIN_R)) {
                         ptrdiff_t il = pix + o->pix;
                         ptrdiff_t ir = il + (qur - qu);
                         uint32_t vl = vlt[il];
@@ -240,8 +249,9 @@ static void grow(stx_t *s)
 #if STX_CROSS5_SIMD
                             /* the 8-byte loads end at column qu + 5 (the
                              * right one at qur + 5 <= qu + 5) */
-                            x = (qu + 5 < w) ? stx_cross5_simd(a, ls, b, rs)
-                                             : stx_cross5_ref(a, ls, b, rs);
+                            x = (interior || qu + 5 < w)
+                                    ? stx_cross5_simd(a, ls, b, rs)
+                                    : stx_cross5_ref(a, ls, b, rs);
 #else
                             x = stx_cross5_ref(a, ls, b, rs);
 #endif
