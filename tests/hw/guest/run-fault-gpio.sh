@@ -58,7 +58,7 @@ else
     # the motor thread plays no-info from the first write that works
     # (negobs_run logs it at its next loop turn, seconds later under TCG):
     # from the return on, the entry burst and nothing but no-info
-    check_noinfo_only "$TB" "$(awk -v b="$TB" 'BEGIN { printf "%.3f", b + 8 }')"
+    check_noinfo_only "$TB" "$(awk -v b="$TB" 'BEGIN { printf "%.3f", b + 8 }')" "in the 8 s after the return"
     FP=$(pulses | awk -v b="$TB" '$1 >= b && NF == 2 { print; exit }')
     say "first pulse after the return: ${FP:-none} (boot start, ms): $(awk -v p="${FP%% *}" -v b="$TB" 'BEGIN { printf "%.0f", (p - b) * 1000 }') ms after it"
 fi

@@ -36,7 +36,7 @@ wait_log() {
     echo "$t"
 }
 
-# check_noinfo_only A B: the line in [A, B) (boot clock) carries the
+# check_noinfo_only A B [WHAT]: the line in [A, B) (boot clock) carries the
 # no-information pattern and nothing else: at least one long pulse (>= 330
 # ms: no-info's 400 / 600 ms) and no caution or imminent pattern
 # (patterns() of negobs_lib.sh).  Single short fragments are not counted:
@@ -46,9 +46,10 @@ wait_log() {
 check_noinfo_only() {
     NI=$(pulses | awk -v a="$1" -v b="$2" '$1 >= a && $1 < b && $2 >= 330' | wc -l)
     HZ=$(patterns "$1" "$2" | grep -cE '^(caution|imminent) ')
-    say "line during the fault (boot $1 .. $2): $NI no-info pulses, $HZ caution/imminent patterns; $(pulses | awk -v a="$1" -v b="$2" '$1 >= a && $1 < b { printf "%s/%s ", $1, $2 }')"
-    [ "$NI" -ge 1 ] || fail "no no-info pulse on the line during the fault"
-    [ "$HZ" -eq 0 ] || fail "$HZ hazard patterns on the line during the fault"
+    what=${3:-during the fault}
+    say "line $what (boot $1 .. $2): $NI no-info pulses, $HZ caution/imminent patterns; $(pulses | awk -v a="$1" -v b="$2" '$1 >= a && $1 < b { printf "%s/%s ", $1, $2 }')"
+    [ "$NI" -ge 1 ] || fail "no no-info pulse on the line $what"
+    [ "$HZ" -eq 0 ] || fail "$HZ hazard patterns on the line $what"
 }
 
 # wait_clear AFTER LIMIT_S: a clear verdict after AFTER (negobs seconds)
