@@ -625,6 +625,52 @@ static void test_detect_confidence_image_masks_pixels(void **state)
     rig_teardown(&rig);
 }
 
+/* Weakly matched pixels carry the ground fit but never vote for a drop. */
+static void test_detect_weak_confidence_fits_ground_but_does_not_vote(
+    void **state)
+{
+    static uint8_t conf[RIG_W * RIG_H];
+    negobs_image_u8_t cimg = {conf, RIG_W, RIG_H, RIG_W};
+    synth_scene_t s;
+    uint32_t t;
+    int with_cand = 0;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.25, 1);
+    synth_step(&s, 2.5, -0.20);
+    synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+    rig.frame.disp_q4 = &rig.img;
+    rig.frame.confidence = &cimg;
+    rig.frame.left_stats = &rig.stats;
+    /* Just below min_confidence (a DP-filled or poorly matched map). */
+    memset(conf, (int)(rig.cfg.min_confidence - 1), sizeof conf);
+    for (t = 0; t < 5; t++) {
+        rig.frame.now_ms = 1000u + 100u * t;
+        rig.frame.t_left_ms = rig.frame.now_ms - 10u;
+        rig.frame.t_right_ms = rig.frame.now_ms - 10u;
+        assert_int_equal(negobs_detect_process(&rig.det, &rig.frame, &rig.res),
+                         NEGOBS_OK);
+        assert_true(rig.res.ground_valid);
+        assert_int_equal(rig.res.reasons & NEGOBS_DEGRADED_FEW_GROUND, 0);
+        with_cand += rig.res.n_candidates > 0u;
+    }
+    assert_int_equal(with_cand, 0);
+    assert_int_equal(rig.res.n_hazards, 0);
+    /* The same map matched with confidence: the 20 cm drop is found. */
+    memset(conf, (int)rig.cfg.min_confidence, sizeof conf);
+    for (t = 5; t < 10; t++) {
+        rig.frame.now_ms = 1000u + 100u * t;
+        rig.frame.t_left_ms = rig.frame.now_ms - 10u;
+        rig.frame.t_right_ms = rig.frame.now_ms - 10u;
+        assert_int_equal(negobs_detect_process(&rig.det, &rig.frame, &rig.res),
+                         NEGOBS_OK);
+        with_cand += rig.res.n_candidates > 0u;
+    }
+    assert_true(with_cand >= 4);
+    assert_true(rig.res.n_hazards >= 1u);
+    rig_teardown(&rig);
+}
+
 static void test_detect_left_image_stats_used(void **state)
 {
     static uint8_t px[RIG_W * RIG_H];
@@ -759,6 +805,7 @@ int main(void)
         cmocka_unit_test(test_detect_walking_oscillation_no_candidates),
         cmocka_unit_test(test_detect_edge_in_fit_rows_does_not_drag_ground),
         cmocka_unit_test(test_detect_confidence_image_masks_pixels),
+        cmocka_unit_test(test_detect_weak_confidence_fits_ground_but_does_not_vote),
         cmocka_unit_test(test_detect_left_image_stats_used),
         cmocka_unit_test(test_detect_canny_supports_a_clear_drop),
         cmocka_unit_test(test_detect_far_noise_raises_noisy),

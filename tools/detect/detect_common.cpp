@@ -207,6 +207,12 @@ bool Runner::init(int width, int height, const CamParams &cam,
         cfg_.stereo.max_disp = cam.max_disp;
         cfg_.detect.max_disp_q4 = (cam.max_disp + 1) * NEGOBS_DISP_ONE;
     }
+    if (cam.range_warn_mm > 0) {
+        cfg_.detect.range_warn_mm = cam.range_warn_mm;
+    }
+    if (cam.range_max_mm > 0) {
+        cfg_.detect.range_max_mm = cam.range_max_mm;
+    }
     if (cam.vshift_set) {
         cfg_.stereo.vertical_search = 0;
         cfg_.stereo.vertical_offset = cam.vshift;

@@ -28,6 +28,8 @@ struct CamParams {
     int max_disp = -1;      // < 0: library default
     bool vshift_set = false; // false: the matcher estimates it
     int vshift = 0;          // rows: left y matches right y + vshift
+    int range_warn_mm = -1;  // alert zones; < 0: library default
+    int range_max_mm = -1;
 };
 
 // One frame of negobs_synth's gt.json (docs/SYNTH.md).

@@ -277,6 +277,7 @@ struct Options {
     std::string surdis_dir;
     std::string img_dir;
     double surdis_f = 380, surdis_B = 30, surdis_H = 1300, surdis_pitch = 10;
+    double surdis_range_warn = -1, surdis_range_max = -1; // < 0: library default
     int surdis_vshift = 2; // < -16: let the matcher estimate it
     int surdis_first = 18, surdis_last = 100;
 };
@@ -842,6 +843,8 @@ int evaluate_surdis(const Options &opt)
     cam.baseline_mm = opt.surdis_B;
     cam.height_mm = opt.surdis_H;
     cam.pitch_deg = opt.surdis_pitch;
+    cam.range_warn_mm = static_cast<int>(opt.surdis_range_warn);
+    cam.range_max_mm = static_cast<int>(opt.surdis_range_max);
     if (opt.surdis_vshift >= -16) {
         cam.vshift_set = true;
         cam.vshift = opt.surdis_vshift;
@@ -858,7 +861,16 @@ int evaluate_surdis(const Options &opt)
              fmtd("%.0f", cam.f) + " px, cx, cy = image centre, B = " +
              fmtd("%.0f", cam.baseline_mm) + " mm, H = " +
              fmtd("%.0f", cam.height_mm) + " mm, pitch = " +
-             fmtd("%.0f", cam.pitch_deg) + " deg; frames at 10 fps.");
+             fmtd("%.0f", cam.pitch_deg) + " deg; frames at 10 fps" +
+             (cam.range_warn_mm > 0 || cam.range_max_mm > 0
+                  ? "; alert zones: warning " +
+                        (cam.range_warn_mm > 0 ? std::to_string(cam.range_warn_mm) + " mm"
+                                               : std::string("default")) +
+                        ", scan limit " +
+                        (cam.range_max_mm > 0 ? std::to_string(cam.range_max_mm) + " mm"
+                                              : std::string("default"))
+                  : std::string("")) +
+             ".");
     rep.both("");
     int scored = 0, hit = 0, hit_warned = 0, frames = 0, noinfo = 0, hazard_frames = 0;
     std::vector<std::string> missed, hits;
@@ -1032,6 +1044,7 @@ void usage(FILE *f)
         "                          [--surdis-f PX] [--surdis-baseline-mm B]\n"
         "                          [--surdis-height-mm H] [--surdis-pitch-deg P]\n"
         "                          [--surdis-vshift ROWS|auto] [--surdis-frames A-B]\n"
+        "                          [--surdis-range-warn-mm R] [--surdis-range-max-mm R]\n"
         "Synthetic suite (default, ~230 sequences; --quick ~20): renders each\n"
         "sequence with negobs_synth into --work (default /tmp/negobs_detect_eval),\n"
         "runs the pipeline, deletes the images unless --keep (kept ones are\n"
@@ -1123,6 +1136,10 @@ int main(int argc, char **argv)
                  opt.surdis_first <= opt.surdis_last;
         } else if (a == "--surdis-pitch-deg") {
             ok = num(opt.surdis_pitch, -10, 80);
+        } else if (a == "--surdis-range-warn-mm") {
+            ok = num(opt.surdis_range_warn, 1000, 10000);
+        } else if (a == "--surdis-range-max-mm") {
+            ok = num(opt.surdis_range_max, 1000, 10000);
         } else {
             std::fprintf(stderr, "negobs_detect_eval: error: unknown argument %s\n",
                          a.c_str());

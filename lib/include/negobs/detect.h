@@ -134,8 +134,11 @@ typedef struct negobs_detect_config {
     int32_t cam_pitch_tol_mdeg;/**< accepted deviation (default 15000) */
     int32_t cam_roll_tol_mdeg; /**< accepted |roll| (default 12000)    */
     int32_t max_disp_q4;       /**< largest disparity (default 64*16)  */
-    int32_t min_confidence;    /**< confidence below: invalid (def. 120,
-                                    i.e. grown pixels with NCC >= 0.47) */
+    int32_t min_confidence;    /**< deficit test: confidence below is
+                                    not a vote (def. 120, i.e. grown
+                                    pixels with NCC >= 0.47)           */
+    int32_t ground_min_confidence; /**< ground fit and its validity share:
+                                    confidence below: unused (def. 1)  */
 
     /* Ground model. */
     int32_t fit_rows_pct;      /**< bottom rows used for the fit (25 %) */

@@ -88,6 +88,10 @@ void negobs_detect_config_default(negobs_detect_config_t *cfg, int32_t width,
      * a bland region (a painted stripe read ~1 px low was confirmed as a
      * hole): only grown pixels with NCC >= 0.47 vote. */
     cfg->min_confidence = 120;
+    /* The ground fit is robust (Hough, then gated least squares) and on
+     * real frames most ground pixels are DP-filled (SurDis: only ~15 % of
+     * them grown with NCC >= 0.63), so it keeps every valid pixel. */
+    cfg->ground_min_confidence = 1;
     cfg->fit_rows_pct = 25;
     cfg->fit_step_px = 2;
     cfg->ground_min_valid_pct = 25;
@@ -183,6 +187,7 @@ static negobs_status_t config_check(const negobs_detect_config_t *c)
         !in_range(c->cam_roll_tol_mdeg, 0, 45000) ||
         !in_range(c->max_disp_q4, 16, 512 * 16) ||
         !in_range(c->min_confidence, 0, 255) ||
+        !in_range(c->ground_min_confidence, 0, 255) ||
         !in_range(c->fit_rows_pct, 10, 100) ||
         !in_range(c->fit_step_px, 1, 16) ||
         !in_range(c->ground_min_valid_pct, 0, 100) ||

@@ -280,7 +280,7 @@ static int32_t refine_step(const gfit_t *g, const negobs_image_s16_t *disp,
             int32_t r;
             int64_t x;
             int64_t y;
-            if (!sample_valid(conf, g->cfg->min_confidence, u, v, d)) {
+            if (!sample_valid(conf, g->cfg->ground_min_confidence, u, v, d)) {
                 continue;
             }
             r = d - (int32_t)geom_rshift_round_s64(
@@ -373,7 +373,7 @@ static int32_t noise_sigma(gfit_t *g, const negobs_image_s16_t *disp,
         for (u = g->step / 2; u < cam->width; u += g->step) {
             int32_t d = row[u];
             int32_t r;
-            if (!sample_valid(conf, g->cfg->min_confidence, u, v, d)) {
+            if (!sample_valid(conf, g->cfg->ground_min_confidence, u, v, d)) {
                 continue;
             }
             r = d - (int32_t)geom_rshift_round_s64(
@@ -464,7 +464,7 @@ void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
         for (u = g->step / 2; u < cam->width; u += g->step) {
             int32_t d = row[u];
             samples++;
-            if (!sample_valid(conf, cfg->min_confidence, u, v, d)) {
+            if (!sample_valid(conf, cfg->ground_min_confidence, u, v, d)) {
                 continue;
             }
             valid++;
