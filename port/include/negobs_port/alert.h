@@ -30,8 +30,10 @@
 extern "C" {
 #endif
 
-/** Largest number of segments in one schedule. */
-#define NEGOBS_MOTOR_MAX_SEGMENTS 16
+/** Largest number of segments in one schedule (64: firmware_app plays
+ *  the core's alert patterns for up to several seconds ahead, e.g. 5 s of
+ *  10-segment-per-second caution, then the no-information loop). */
+#define NEGOBS_MOTOR_MAX_SEGMENTS 64
 /** `loop_start` value for a schedule that is played once and then stops. */
 #define NEGOBS_MOTOR_NO_LOOP 0xFFu
 /** Highest drive level (per-mille). */
