@@ -286,6 +286,28 @@ void stx_tile_range(const stx_t *s, int32_t x, int32_t y, int32_t *lo,
     *hi = s->tile_hi[ty * s->tw + tx];
 }
 
+/* Add (sign 1) or remove (sign -1) column x of rows y-2 .. y+2 to a
+ * running window sum and sum of squares (unsigned, exact mod 2^32). */
+static void col5(const negobs_image_u8_t *img, int32_t x, int32_t y,
+                 uint32_t *sum, uint32_t *sq, int sign)
+{
+    uint32_t a = 0;
+    uint32_t q = 0;
+    int32_t k;
+    for (k = -STX_WIN_R; k <= STX_WIN_R; k++) {
+        uint32_t g = negobs_image_u8_row(img, y + k)[x];
+        a += g;
+        q += g * g;
+    }
+    if (sign > 0) {
+        *sum += a;
+        *sq += q;
+    } else {
+        *sum -= a;
+        *sq -= q;
+    }
+}
+
 int32_t stx_vertical_estimate(stx_t *s, int32_t n)
 {
     int32_t sx = s->w / 12;
@@ -322,11 +344,25 @@ int32_t stx_vertical_estimate(stx_t *s, int32_t n)
                 if (vl == 0u) {
                     continue;
                 }
+                /* right window sums slide left one column per d: add
+                 * the new left column, drop the old right one (the same
+                 * integers stx_sums5 adds up) */
+                uint32_t rs = 0;
+                uint32_t rq = 0;
+                if (s->dmin <= dmax && s->dmin <= x - 2) {
+                    int32_t j;
+                    for (j = -STX_WIN_R; j <= STX_WIN_R; j++) {
+                        col5(s->right, x - s->dmin + j, yr, &rs, &rq, 1);
+                    }
+                }
                 for (d = s->dmin; d <= dmax && d <= x - 2; d++) {
-                    uint32_t sr;
-                    uint32_t vr;
+                    uint32_t sr = rs;
+                    uint32_t vr = (uint32_t)STX_WIN_N * rq - rs * rs;
                     int32_t c;
-                    stx_sums5(s->right, x - d, yr, &sr, &vr);
+                    if (d + 1 <= dmax && d + 1 <= x - 2) {
+                        col5(s->right, x - d + STX_WIN_R, yr, &rs, &rq, -1);
+                        col5(s->right, x - d - 1 - STX_WIN_R, yr, &rs, &rq, 1);
+                    }
                     if (vr == 0u) {
                         continue;
                     }
