@@ -33,30 +33,6 @@ static uint16_t duty_of(const negobs_motor_cmd_t *c)
     return c->on ? (uint16_t)c->duty_permille : 0u;
 }
 
-static int seg_same(const sim_seg_t *a, const sim_seg_t *b)
-{
-    return a->duty == b->duty && a->dur_ms == b->dur_ms && a->pat == b->pat;
-}
-
-/* Smallest period p such that the last p complete segments repeat the p
- * before them (segment 0 is partial: it starts at `now`, so it is left
- * out). Returns the loop start or -1. */
-static int32_t find_loop(const sim_seg_t *s, int32_t n)
-{
-    int32_t p;
-    int32_t k;
-    for (p = 1; 2 * p <= n - 1; p++) {
-        int ok = 1;
-        for (k = n - p; k < n && ok; k++) {
-            ok = seg_same(&s[k], &s[k - p]);
-        }
-        if (ok) {
-            return n - p;
-        }
-    }
-    return -1;
-}
-
 static void to_schedule(const sim_seg_t *s, int32_t n, int32_t loop,
                         negobs_motor_schedule_t *out)
 {
@@ -73,15 +49,13 @@ static void to_schedule(const sim_seg_t *s, int32_t n, int32_t loop,
 
 /*
  * Run `sim` (a copy) forward from `now`, where it commanded `c0`, with no
- * new verdict. Stops at the settled no-information pulse (loop of its
- * on + off), at a repeating tail once the segment budget is spent, or at
- * the horizon (then the schedule ends and the motor thread's watchdog is
- * the backstop).
+ * new verdict, until the settled no-information pulse (then its on + off
+ * is the loop). Returns the number of complete segments in s, *loop the
+ * loop start or -1 when the budget or the horizon ran out first.
  */
-static void look_ahead(negobs_alert_t *sim, const negobs_motor_cmd_t *c0,
-                       uint32_t now, negobs_motor_schedule_t *out)
+static int32_t simulate(negobs_alert_t *sim, const negobs_motor_cmd_t *c0,
+                        uint32_t now, sim_seg_t *s, int32_t *loop_out)
 {
-    sim_seg_t s[APP_ALERT_MAX_SEG + 1];
     negobs_motor_cmd_t c = *c0;
     int32_t n = 0; /* complete segments */
     int32_t loop = -1;
@@ -106,7 +80,6 @@ static void look_ahead(negobs_alert_t *sim, const negobs_motor_cmd_t *c0,
             break;
         }
         if (n == APP_ALERT_MAX_SEG) {
-            loop = find_loop(s, n);
             break;
         }
         s[n].start_ms = t;
@@ -118,13 +91,46 @@ static void look_ahead(negobs_alert_t *sim, const negobs_motor_cmd_t *c0,
             noinfo_on = n;
         }
     }
-    if (n == 0) {
-        /* Nothing changes within the horizon: hold the level. */
-        s[0].dur_ms = APP_ALERT_HORIZON_MS;
-        n = 1;
-        loop = 0;
+    *loop_out = loop;
+    return n;
+}
+
+static void look_ahead(negobs_alert_t *sim, const negobs_motor_cmd_t *c0,
+                       uint32_t now, negobs_motor_schedule_t *out)
+{
+    sim_seg_t s[APP_ALERT_MAX_SEG + 1];
+    negobs_alert_config_t cfg = sim->cfg;
+    negobs_motor_schedule_t tail;
+    int32_t loop = -1;
+    int32_t n = simulate(sim, c0, now, s, &loop);
+    int32_t i;
+    if (loop >= 0) {
+        to_schedule(s, n, loop, out);
+        return;
     }
-    to_schedule(s, n, loop, out);
+    /*
+     * The library would still be playing its current pattern at the end
+     * of the segment budget (a stale_ms of several seconds): play what
+     * fits, then the no-information pattern at once. Earlier than the
+     * library would say it, but never silent and never a hazard pattern
+     * that outlives its verdict; the next verdict replaces it anyway.
+     */
+    if (app_alert_noinfo_schedule(&cfg, 0u, &tail) != NEGOBS_OK) {
+        tail.count = 0; /* cannot happen: cfg passed negobs_alert_init */
+    }
+    if (n > APP_ALERT_MAX_SEG - (int32_t)tail.count) {
+        n = APP_ALERT_MAX_SEG - (int32_t)tail.count;
+    }
+    while (n > 0 && s[n - 1].duty > 0) {
+        n--; /* end on a gap: the tail starts with a pulse */
+    }
+    to_schedule(s, n, -1, out);
+    for (i = 0; i < (int32_t)tail.count; i++) {
+        out->seg[n + i] = tail.seg[i];
+    }
+    out->count = (uint8_t)(n + (int32_t)tail.count);
+    out->loop_start = tail.count > 0 ? (uint8_t)(n + tail.loop_start)
+                                     : NEGOBS_MOTOR_NO_LOOP;
 }
 
 negobs_status_t app_alert_init(app_alert_t *a,
@@ -220,9 +226,14 @@ negobs_status_t app_alert_noinfo_schedule(const negobs_alert_config_t *cfg,
         !cmd.on) {
         return NEGOBS_ERR_INVAL;
     }
-    look_ahead(&sim, &cmd, 0u, sched);
-    if (sched->count == 0 || sched->loop_start == NEGOBS_MOTOR_NO_LOOP) {
-        return NEGOBS_ERR_INVAL;
+    {
+        sim_seg_t s[APP_ALERT_MAX_SEG + 1];
+        int32_t loop = -1;
+        int32_t n = simulate(&sim, &cmd, 0u, s, &loop);
+        if (loop < 0) {
+            return NEGOBS_ERR_INVAL; /* the pattern table changed shape */
+        }
+        to_schedule(s, n, loop, sched);
     }
     if (sched->seg[0].duration_ms >= lead_ms + (uint32_t)c.min_pulse_ms) {
         sched->seg[0].duration_ms =

@@ -18,8 +18,8 @@
  *
  * No fresh verdict within watchdog_ms -> no-information pattern: the
  * schedule handed to the motor thread already switches to it at that time
- * (app_alert.h), and the motor thread's own watchdog backs that up when
- * the main loop stops posting (APP_WDOG_MARGIN_MS later).
+ * (app_alert.h), whether the main loop is alive or not; the motor
+ * thread's own watchdog is a last resort (backstop_ms()).
  *
  * All buffers are static and sized by NEGOBS_RUN_MAX_W/H. Each usable
  * pair runs the library's whole pipeline (see app_pipeline.h): stereo,
@@ -58,11 +58,15 @@
 #endif
 /* Longest wait for the library's READY pattern before the cameras open. */
 #define APP_READY_MAX_MS 1000u
-/* The motor thread's watchdog fires this long after the library's own
- * stale deadline, so that a main loop that is alive (it posts when
- * get_pair times out, at watchdog_ms) never races it; it only takes over
- * from a hung main loop. */
-#define APP_WDOG_MARGIN_MS 20u
+/* The motor thread's own watchdog is a last resort: every posted schedule
+ * already switches to no-information watchdog_ms after the last verdict
+ * and then loops it (app_alert.h), on the motor thread's clock. It fires
+ * after twice that (at least 1 s more), so that it never cuts into what
+ * the library plays while a slow pair is being judged. */
+static uint32_t backstop_ms(uint32_t watchdog_ms)
+{
+    return watchdog_ms < 1000u ? watchdog_ms + 1000u : 2u * watchdog_ms;
+}
 /* Largest calibration table read (grid shift >= 1 at 1280 x 800). */
 #define APP_CALIB_MAX_BYTES (6u * 1024u * 1024u)
 
@@ -1126,8 +1130,8 @@ int main(int argc, char **argv)
     S.alert_cfg.stale_ms = S.watchdog_ms;
     S.alert_cfg.binary_mode = alert_binary_flag ? 1 : 0;
     if (app_alert_init(&alert_sm, &S.alert_cfg) != NEGOBS_OK ||
-        app_alert_noinfo_schedule(&S.alert_cfg, APP_WDOG_MARGIN_MS,
-                                  &noinfo_sched) != NEGOBS_OK) {
+        app_alert_noinfo_schedule(&S.alert_cfg, 0u, &noinfo_sched) !=
+            NEGOBS_OK) {
         fprintf(stderr, "negobs_run: bad alert settings (caution_mid_mm "
                         "must not exceed caution_far_mm)\n");
         return EXIT_CONFIG;
@@ -1141,8 +1145,8 @@ int main(int argc, char **argv)
         return EXIT_ALERT;
     }
     if (negobs_motor_thread_start(&motor, &alert, &noinfo_sched,
-                                  (uint32_t)S.watchdog_ms +
-                                      APP_WDOG_MARGIN_MS) != NEGOBS_OK) {
+                                  backstop_ms((uint32_t)S.watchdog_ms)) !=
+        NEGOBS_OK) {
         logmsg(LOG_ERROR, "cannot start the motor thread");
         negobs_alert_close(&alert);
         return EXIT_ALERT;

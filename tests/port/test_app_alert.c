@@ -179,7 +179,7 @@ static uint32_t lcg(uint32_t *s)
  * library's output depends slightly on when it is called, e.g. the
  * IMMINENT hold restarts at every call made while the verdict is fresh.)
  */
-static void test_schedules_follow_the_library_every_ms(void **state)
+static void follow_the_library(int32_t stale_ms)
 {
     negobs_alert_config_t c = cfg_default();
     app_alert_t a;
@@ -198,7 +198,7 @@ static void test_schedules_follow_the_library_every_ms(void **state)
     uint32_t t;
     uint32_t ref_next = 0;
     int32_t ref_on = 0;
-    (void)state;
+    c.stale_ms = stale_ms;
     memset(&fo, 0, sizeof fo);
     fo.now = &now;
     out.ops = &fake_ops;
@@ -227,7 +227,7 @@ static void test_schedules_follow_the_library_every_ms(void **state)
             /* mostly frames 33..400 ms apart, sometimes a long stall */
             next_verdict = t + 33u + lcg(&seed) % 370u;
             if (lcg(&seed) % 20u == 0u) {
-                next_verdict += 4000u;
+                next_verdict += (uint32_t)stale_ms + 4000u;
             }
         } else {
             (void)negobs_motor_exec_tick(&ex, now);
@@ -252,7 +252,75 @@ static void test_schedules_follow_the_library_every_ms(void **state)
         }
     }
     assert_int_equal(mismatches, 0);
-    assert_true(pulses > 200); /* the run really exercised the motor */
+    print_message("stale_ms %d: %u pulses\n", (int)stale_ms, (unsigned)pulses);
+    assert_true(pulses > 100); /* the run really exercised the motor */
+}
+
+static void test_schedules_follow_the_library_every_ms(void **state)
+{
+    (void)state;
+    follow_the_library(300);  /* the product's watchdog_ms */
+    follow_the_library(4000); /* the emulated-hardware sections' */
+}
+
+/*
+ * Every schedule ends in the library's repeating no-information pulse
+ * (so the motor thread never runs out of pattern), and for stale_ms up to
+ * 5 s it holds the current pattern until then: no no-information pulse
+ * starts before stale_ms. Beyond what 64 segments hold (stale_ms 10 s of
+ * the fastest caution) no-information comes early rather than never.
+ */
+static void test_schedules_are_complete(void **state)
+{
+    static const int32_t stales[] = {300, 1000, 4000, 5000, 10000};
+    static const struct {
+        app_verdict_t v;
+        int32_t range_mm;
+    } vs[] = {
+        {APP_VERDICT_CLEAR, -1},     {APP_VERDICT_CAUTION, 3500},
+        {APP_VERDICT_CAUTION, 2500}, {APP_VERDICT_CAUTION, 1500},
+        {APP_VERDICT_IMMINENT, 800}, {APP_VERDICT_NO_INFO, -1},
+    };
+    size_t i;
+    size_t j;
+    (void)state;
+    for (i = 0; i < sizeof stales / sizeof stales[0]; i++) {
+        for (j = 0; j < sizeof vs / sizeof vs[0]; j++) {
+            app_alert_t a;
+            negobs_alert_config_t c = cfg_default();
+            negobs_motor_schedule_t s;
+            negobs_alert_input_t in;
+            uint32_t k;
+            uint32_t t = 0;
+            uint32_t first_long = 0xFFFFFFFFu;
+            c.ready_on_start = 0;
+            c.stale_ms = stales[i];
+            assert_int_equal(app_alert_init(&a, &c), NEGOBS_OK);
+            in = verdict(vs[j].v, vs[j].range_mm, 1000u);
+            assert_int_equal(app_alert_step(&a, 1000u, &in, &s), NEGOBS_OK);
+            assert_int_equal(negobs_motor_schedule_check(&s), NEGOBS_OK);
+            assert_int_not_equal(s.loop_start, NEGOBS_MOTOR_NO_LOOP);
+            assert_int_equal(s.count - s.loop_start, 2);
+            assert_int_equal(s.seg[s.loop_start].duration_ms, 600);
+            assert_int_equal(s.seg[s.loop_start + 1].duration_ms, 2400);
+            /* the first no-information pulse (>= 400 ms on) */
+            for (k = 0; k < s.count; k++) {
+                if (s.seg[k].duty_permille > 0 &&
+                    s.seg[k].duration_ms >= 400) {
+                    first_long = t;
+                    break;
+                }
+                t += s.seg[k].duration_ms;
+            }
+            if (vs[j].v == APP_VERDICT_NO_INFO) {
+                assert_int_equal(first_long, 0);
+            } else if (stales[i] <= 5000) {
+                assert_true(first_long >= (uint32_t)stales[i]);
+            } else {
+                assert_true(first_long < 0xFFFFFFFFu);
+            }
+        }
+    }
 }
 
 /* IMMINENT is not replaced by no-information when verdicts stop: it
@@ -314,6 +382,7 @@ int main(void)
         cmocka_unit_test(test_clear_then_noinfo_after_stale_ms),
         cmocka_unit_test(test_caution_bands_and_imminent),
         cmocka_unit_test(test_schedules_follow_the_library_every_ms),
+        cmocka_unit_test(test_schedules_are_complete),
         cmocka_unit_test(test_imminent_hold_outlives_stale),
         cmocka_unit_test(test_arguments),
     };
