@@ -116,7 +116,6 @@ static const int8_t nb_cell[16][3] = {
     {0, 0, -1}, {1, 1, -1}, {-1, -1, -1}, {0, -1, -1}, {0, 1, -1},
     {0, 0, 1}, {1, 1, 1}, {-1, -1, 1}, {0, -1, 1}, {0, 1, 1},
 };
-static const int nb_first[5] = {0, 3, 6, 11, 16};
 
 /* Per-strip offsets of a neighbour relative to the popped cell, in every
  * index space the growing loop touches, so a cell costs additions only. */
@@ -129,157 +128,207 @@ typedef struct nb_off {
     uint32_t key;    /* packed cache key (fields never borrow: checked) */
 } nb_off_t;
 
+/* What the growing loop reads: hoisted from stx_t once per strip, plus the
+ * popped cell (strip-relative row vr, disparity dr = d - dmin). */
+typedef struct grow_env {
+    int32_t w, ny, drlo, drhi;
+    uint32_t tex_min;
+    const uint16_t *sl, *sr;
+    const uint32_t *vl, *vr;
+    const uint8_t *tbits;
+    stx_cache_entry_t *cache;
+    ptrdiff_t ls, rs;
+    nb_off_t nb[16];
+    /* popped cell */
+    int32_t u, vrow, dr, ur;
+    ptrdiff_t pix, bit0;
+    const uint8_t *la, *rb;
+    uint32_t key0;
+    int interior;
+} grow_env_t;
+
+/* Best member of the set nb[first .. end) as a fraction; returns its index
+ * or -1 (no member scored, or the set cannot accept anything). Inline with
+ * literal bounds at each call, so the compiler unrolls the set. */
+static inline int set_best(const grow_env_t *g, int first, int end,
+                           int32_t *bn_out, int32_t *bden_out,
+                           uint32_t *visited)
+{
+    int32_t bn = 0;
+    int32_t bden = 0;
+    int bm = -1;
+    int fresh = 0;
+    int m;
+    /* a set whose members are all in the table (or outside) can accept
+     * nothing: skip its correlations (exact pruning) */
+    for (m = first; m < end; m++) {
+        const nb_off_t *o = &g->nb[m];
+        ptrdiff_t bit = g->bit0 + o->bit;
+        if ((g->interior ||
+             ((uint32_t)(g->u + o->du) < (uint32_t)g->w &&
+              (uint32_t)(g->vrow + o->dv) < (uint32_t)g->ny &&
+              g->dr + o->dd >= g->drlo && g->dr + o->dd <= g->drhi)) &&
+            !((g->tbits[bit >> 3] >> (bit & 7)) & 1)) {
+            fresh = 1;
+            break;
+        }
+    }
+    if (!fresh) {
+        return -1;
+    }
+    for (m = first; m < end; m++) {
+        const nb_off_t *o = &g->nb[m];
+        int32_t qu = g->u + o->du;
+        int32_t qur = g->ur + o->du - o->dd;
+        uint32_t key;
+        stx_cache_entry_t *e;
+        int32_t nn;
+        int32_t dn;
+        if (!g->interior &&
+            ((uint32_t)qu >= (uint32_t)g->w ||
+             (uint32_t)(g->vrow + o->dv) >= (uint32_t)g->ny ||
+             g->dr + o->dd < g->drlo || g->dr + o->dd > g->drhi)) {
+            continue; /* outside: never scored */
+        }
+        /* neighbouring seeds share most of their neighbourhoods: a small
+         * direct-mapped cache catches about a quarter of the correlations;
+         * `visited` counts the misses */
+        key = g->key0 + o->key;
+        e = &g->cache[(key * 2654435761u) >> (32 - STX_CACHE_BITS)];
+        if (e->key == key) {
+            nn = e->num2;
+            dn = e->den;
+        } else {
+            int ok = 0;
+            (*visited)++;
+            if (g->interior ||
+                (qu >= STX_WIN_R && qu < g->w - STX_WIN_R &&
+                 qur >= STX_WIN_R && qur < g->w - STX_WIN_R)) {
+                ptrdiff_t il = g->pix + o->pix;
+                ptrdiff_t ir = il + (qur - qu);
+                uint32_t vl = g->vl[il];
+                uint32_t vrr = g->vr[ir];
+                if (vl != 0u && vrr != 0u) {
+                    const uint8_t *a =
+                        g->la + o->lp - STX_WIN_R * g->ls - STX_WIN_R;
+                    const uint8_t *b =
+                        g->rb + o->rp - STX_WIN_R * g->rs - STX_WIN_R;
+                    uint32_t x;
+#if STX_CROSS5_SIMD
+                    /* the 8-byte loads end at column qu + 5 (the right one
+                     * at qur + 5 <= qu + 5) */
+                    x = (g->interior || qu + 5 < g->w)
+                            ? stx_cross5_simd(a, g->ls, b, g->rs)
+                            : stx_cross5_ref(a, g->ls, b, g->rs);
+#else
+                    x = stx_cross5_ref(a, g->ls, b, g->rs);
+#endif
+                    ok = stx_mncc_num_den(x, g->sl[il], vl, g->sr[ir], vrr,
+                                          g->tex_min, &nn, &dn);
+                }
+            }
+            if (!ok) {
+                nn = 0;
+                dn = 0;
+            }
+            e->key = key;
+            e->num2 = nn;
+            e->den = dn;
+        }
+        if (dn == 0) {
+            continue; /* window outside the image or flat */
+        }
+        /* nn/dn > bn/bden, both dens > 0 (products < 2^50) */
+        if (bden == 0 || (int64_t)nn * bden > (int64_t)bn * dn) {
+            bn = nn;
+            bden = dn;
+            bm = m;
+        }
+    }
+    *bn_out = bn;
+    *bden_out = bden;
+    return bm;
+}
+
 static void grow(stx_t *s)
 {
-    const int32_t w = s->w;
-    const int32_t ny = s->y1 - s->y0;
     const int32_t nd = s->ndisp;
     const int32_t dmin = s->dmin;
-    const int32_t drlo = s->gdmin - s->dmin;
-    const int32_t drhi = s->gdmax - s->dmin;
-    const uint32_t tex_min = (uint32_t)s->cfg.texture_min;
-    const uint16_t *sl = s->sl;
-    const uint16_t *sr = s->sr;
-    const uint32_t *vlt = s->vl;
-    const uint32_t *vrt = s->vr;
-    const uint8_t *tbits = s->tbits;
-    stx_cache_entry_t *cache = s->cache;
-    const ptrdiff_t ls = s->left->stride;
-    const ptrdiff_t rs = s->right->stride;
     /* pixel (0, y0) of each image; offset only to windows inside it */
-    const uint8_t *lrow = s->left->data + (ptrdiff_t)s->y0 * ls;
-    const uint8_t *rrow = s->right->data + ((ptrdiff_t)s->y0 + s->voff) * rs;
+    const uint8_t *lrow;
+    const uint8_t *rrow;
     uint32_t visited = 0;
-    nb_off_t nb[16];
+    grow_env_t g;
     uint32_t item;
     int m;
 
+    g.w = s->w;
+    g.ny = s->y1 - s->y0;
+    g.drlo = s->gdmin - s->dmin;
+    g.drhi = s->gdmax - s->dmin;
+    g.tex_min = (uint32_t)s->cfg.texture_min;
+    g.sl = s->sl;
+    g.sr = s->sr;
+    g.vl = s->vl;
+    g.vr = s->vr;
+    g.tbits = s->tbits;
+    g.cache = s->cache;
+    g.ls = s->left->stride;
+    g.rs = s->right->stride;
+    lrow = s->left->data + (ptrdiff_t)s->y0 * g.ls;
+    rrow = s->right->data + ((ptrdiff_t)s->y0 + s->voff) * g.rs;
     for (m = 0; m < 16; m++) {
         int32_t du = nb_cell[m][0];
         int32_t dd = nb_cell[m][1];
         int32_t dv = nb_cell[m][2];
-        nb[m].du = du;
-        nb[m].dd = dd;
-        nb[m].dv = dv;
-        nb[m].pix = (ptrdiff_t)dv * w + du;
-        nb[m].bit = nb[m].pix * nd + dd;
-        nb[m].lp = (ptrdiff_t)dv * ls + du;
-        nb[m].rp = (ptrdiff_t)dv * rs + (du - dd);
+        nb_off_t *o = &g.nb[m];
+        o->du = du;
+        o->dd = dd;
+        o->dv = dv;
+        o->pix = (ptrdiff_t)dv * g.w + du;
+        o->bit = o->pix * nd + dd;
+        o->lp = (ptrdiff_t)dv * g.ls + du;
+        o->rp = (ptrdiff_t)dv * g.rs + (du - dd);
         /* added (mod 2^32) to a packed key: a sum, not stx_pack's OR */
-        nb[m].key = ((uint32_t)du << 20) + ((uint32_t)dv << 8) + (uint32_t)dd;
+        o->key = ((uint32_t)du << 20) + ((uint32_t)dv << 8) + (uint32_t)dd;
     }
 
     while (stx_queue_pop(&s->q, &item)) {
-        const int32_t u = stx_unpack_u(item);
-        const int32_t vr = stx_unpack_v(item);
-        const int32_t dr = stx_unpack_d(item);
-        const int32_t ur = u - (dr + dmin);
-        const ptrdiff_t pix = (ptrdiff_t)vr * w + u;
-        const ptrdiff_t bit0 = pix * nd + dr;
-        const uint8_t *la = lrow + (ptrdiff_t)vr * ls + u;
-        const uint8_t *rb = rrow + (ptrdiff_t)vr * rs + ur;
-        const uint32_t key0 = item + 1u;
+        int k;
+        g.u = stx_unpack_u(item);
+        g.vrow = stx_unpack_v(item);
+        g.dr = stx_unpack_d(item);
+        g.ur = g.u - (g.dr + dmin);
+        g.pix = (ptrdiff_t)g.vrow * g.w + g.u;
+        g.bit0 = g.pix * nd + g.dr;
+        g.la = lrow + (ptrdiff_t)g.vrow * g.ls + g.u;
+        g.rb = rrow + (ptrdiff_t)g.vrow * g.rs + g.ur;
+        g.key0 = item + 1u;
         /* every neighbour inside the strip and range, and every window
          * (and 8-byte SIMD load) inside the image: the usual case, where
          * the per-cell bounds tests can be skipped */
-        const int interior = u >= 2 * STX_WIN_R && u + 8 < w &&
-                             ur >= 2 * STX_WIN_R && vr >= 1 && vr + 1 < ny &&
-                             dr - 1 >= drlo && dr + 1 <= drhi;
-        int k;
+        g.interior = g.u >= 2 * STX_WIN_R && g.u + 8 < g.w &&
+                     g.ur >= 2 * STX_WIN_R && g.vrow >= 1 &&
+                     g.vrow + 1 < g.ny && g.dr - 1 >= g.drlo &&
+                     g.dr + 1 <= g.drhi;
         for (k = 0; k < 4; k++) {
             int32_t bn = 0;
             int32_t bden = 0;
-            int bm = -1;
-            int fresh = 0;
-            /* a set whose members are all in the table (or outside) can
-             * accept nothing: skip its correlations (exact pruning) */
-            for (m = nb_first[k]; m < nb_first[k + 1]; m++) {
-                const nb_off_t *o = &nb[m];
-                ptrdiff_t bit = bit0 + o->bit;
-                if ((interior ||
-                     ((uint32_t)(u + o->du) < (uint32_t)w &&
-                      (uint32_t)(vr + o->dv) < (uint32_t)ny &&
-                      dr + o->dd >= drlo && dr + o->dd <= drhi)) &&
-                    !((tbits[bit >> 3] >> (bit & 7)) & 1)) {
-                    fresh = 1;
-                    break;
-                }
+            int bm;
+            /* literal bounds per set (N1, N2: 3 members; N3, N4: 5) */
+            if (k == 0) {
+                bm = set_best(&g, 0, 3, &bn, &bden, &visited);
+            } else if (k == 1) {
+                bm = set_best(&g, 3, 6, &bn, &bden, &visited);
+            } else if (k == 2) {
+                bm = set_best(&g, 6, 11, &bn, &bden, &visited);
+            } else {
+                bm = set_best(&g, 11, 16, &bn, &bden, &visited);
             }
-            if (!fresh) {
-                continue;
-            }
-            for (m = nb_first[k]; m < nb_first[k + 1]; m++) {
-                const nb_off_t *o = &nb[m];
-                int32_t qu = u + o->du;
-                int32_t qur = ur + o->du - o->dd;
-                uint32_t key;
-                stx_cache_entry_t *e;
-                int32_t nn;
-                int32_t dn;
-                if (!interior &&
-                    ((uint32_t)qu >= (uint32_t)w ||
-                     (uint32_t)(vr + o->dv) >= (uint32_t)ny ||
-                     dr + o->dd < drlo || dr + o->dd > drhi)) {
-                    continue; /* outside: never scored */
-                }
-                /* neighbouring seeds share most of their neighbourhoods:
-                 * a small direct-mapped cache catches about a quarter of
-                 * the correlations; `visited` counts the misses */
-                key = key0 + o->key;
-                e = &cache[(key * 2654435761u) >> (32 - STX_CACHE_BITS)];
-                if (e->key == key) {
-                    nn = e->num2;
-                    dn = e->den;
-                } else {
-                    int ok = 0;
-                    visited++;
-                    if (interior ||
-                        (qu >= STX_WIN_R && qu < w - STX_WIN_R &&
-                         qur >= STX_WIN_R && qur < w - STX_WIN_R)) {
-                        ptrdiff_t il = pix + o->pix;
-                        ptrdiff_t ir = il + (qur - qu);
-                        uint32_t vl = vlt[il];
-                        uint32_t vrr = vrt[ir];
-                        if (vl != 0u && vrr != 0u) {
-                            const uint8_t *a =
-                                la + o->lp - STX_WIN_R * ls - STX_WIN_R;
-                            const uint8_t *b =
-                                rb + o->rp - STX_WIN_R * rs - STX_WIN_R;
-                            uint32_t x;
-#if STX_CROSS5_SIMD
-                            /* the 8-byte loads end at column qu + 5 (the
-                             * right one at qur + 5 <= qu + 5) */
-                            x = (interior || qu + 5 < w)
-                                    ? stx_cross5_simd(a, ls, b, rs)
-                                    : stx_cross5_ref(a, ls, b, rs);
-#else
-                            x = stx_cross5_ref(a, ls, b, rs);
-#endif
-                            ok = stx_mncc_num_den(x, sl[il], vl, sr[ir], vrr,
-                                                  tex_min, &nn, &dn);
-                        }
-                    }
-                    if (!ok) {
-                        nn = 0;
-                        dn = 0;
-                    }
-                    e->key = key;
-                    e->num2 = nn;
-                    e->den = dn;
-                }
-                if (dn == 0) {
-                    continue; /* window outside the image or flat */
-                }
-                /* nn/dn > bn/bden, both dens > 0 (products < 2^50) */
-                if (bden == 0 || (int64_t)nn * bden > (int64_t)bn * dn) {
-                    bn = nn;
-                    bden = dn;
-                    bm = m;
-                }
-            }
-            if (bden != 0) {
-                (void)try_accept(s, u + nb[bm].du, vr + nb[bm].dv + s->y0,
-                                 dr + nb[bm].dd + dmin,
+            if (bm >= 0 && bden != 0) {
+                (void)try_accept(s, g.u + g.nb[bm].du,
+                                 g.vrow + g.nb[bm].dv + s->y0,
+                                 g.dr + g.nb[bm].dd + dmin,
                                  stx_frac_q14(bn, bden));
             }
         }
