@@ -179,17 +179,16 @@ static void amean_line(const int16_t *in, int16_t *out, int32_t n)
             int32_t jlo = (i >= 4) ? i - 4 : 0;
             int32_t jhi = (i + 4 < n) ? i + 4 : n - 1;
             int32_t j;
+            /* an invalid neighbour (INT16_MIN) is > 32 000 Q4 away from
+             * any valid centre (>= -8, i.e. min_disp 0 minus half a
+             * pixel), so its weight is 0 like that of any neighbour more
+             * than 4 px away: no separate test needed */
             for (j = jlo; j <= jhi; j++) {
                 int32_t v = in[j];
-                int32_t wt;
-                if (v == NEGOBS_DISP_INVALID) {
-                    continue;
-                }
-                wt = 64 - negobs_abs_s32(v - c);
-                if (wt > 0) {
-                    sw += wt;
-                    sd += wt * v;
-                }
+                int32_t wt = 64 - negobs_abs_s32(v - c);
+                wt = (wt > 0) ? wt : 0;
+                sw += wt;
+                sd += wt * v;
             }
             out[i] = (int16_t)div_round_pos(sd, sw);
         } else {
