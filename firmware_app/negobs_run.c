@@ -920,9 +920,14 @@ static void check_motor_output(bool *was_failing)
 {
     bool failing = false;
     uint32_t faults = negobs_motor_thread_output_faults(&motor, &failing);
-    const char *why = alert.ctx == (void *)&alert_gpio ? alert_gpio.errmsg
-                      : alert.ctx == (void *)&alert_pwm ? alert_pwm.errmsg
-                                                        : "";
+    char why[NEGOBS_PORT_ERRMSG_LEN];
+    /* the motor thread writes the backend's message: copy under its lock */
+    negobs_motor_thread_copy_msg(
+        &motor,
+        alert.ctx == (void *)&alert_gpio  ? alert_gpio.errmsg
+        : alert.ctx == (void *)&alert_pwm ? alert_pwm.errmsg
+                                          : "",
+        why, sizeof why);
     if (failing && !*was_failing) {
         logmsg(LOG_WARN, "motor: output failing (%s), retrying; no-info "
                "once it is back (fault %lu)", why, (unsigned long)faults);

@@ -12,6 +12,7 @@
 
 #include <errno.h>
 #include <signal.h>
+#include <stdio.h>
 #include <string.h>
 #include <time.h>
 
@@ -204,6 +205,17 @@ uint32_t negobs_motor_thread_output_faults(negobs_motor_thread_t *t,
     }
     (void)pthread_mutex_unlock(&t->lock);
     return n;
+}
+
+void negobs_motor_thread_copy_msg(negobs_motor_thread_t *t, const char *msg,
+                                  char *buf, size_t len)
+{
+    if (buf == NULL || len == 0) {
+        return;
+    }
+    (void)pthread_mutex_lock(&t->lock);
+    (void)snprintf(buf, len, "%s", msg != NULL ? msg : "");
+    (void)pthread_mutex_unlock(&t->lock);
 }
 
 uint32_t negobs_motor_thread_watchdog_fires(negobs_motor_thread_t *t)

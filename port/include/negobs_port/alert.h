@@ -328,6 +328,15 @@ uint32_t negobs_motor_thread_watchdog_fires(negobs_motor_thread_t *t);
 uint32_t negobs_motor_thread_output_faults(negobs_motor_thread_t *t,
                                            bool *failing);
 
+/**
+ * @brief Copy a backend's errmsg into `buf` (NUL-terminated) under the
+ *        thread's lock: the thread writes it (from the backend's set()),
+ *        so reading it elsewhere without the lock could see it half
+ *        rewritten.
+ */
+void negobs_motor_thread_copy_msg(negobs_motor_thread_t *t, const char *msg,
+                                  char *buf, size_t len);
+
 /** @brief Stop and join the thread; the motor is off afterwards. */
 void negobs_motor_thread_stop(negobs_motor_thread_t *t);
 
