@@ -63,11 +63,11 @@ typedef struct negobs_stereo_config {
     int32_t seed_margin_q14; /**< best minus 2nd best (|dd| >= 2) (819)   */
 
     /* growing (stage 3) */
-    int32_t ncc_tau_q14;  /**< growing MNCC threshold tau (0.6 = 9830)   */
+    int32_t ncc_tau_q14;  /**< growing MNCC threshold tau (0.5 = 8192)   */
     int32_t ncc_mu_q14;   /**< growth margin mu (0.1 = 1638)             */
     int32_t ssk_beta_q8;  /**< stable-matching margin, share of c (0)    */
     int32_t zonegap;      /**< d difference that does not inhibit (1)    */
-    int32_t texture_min;  /**< VL+VR floor, n^2 x variance units (2500)  */
+    int32_t texture_min;  /**< VL+VR floor, n^2 x variance units (100)   */
     int32_t queue_capacity; /**< seed queue entries (8192)               */
     int32_t strip_rows;   /**< rows per processing strip, 8..255 (32)    */
 

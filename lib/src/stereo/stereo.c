@@ -26,11 +26,11 @@ void negobs_stereo_config_default(negobs_stereo_config_t *cfg, int32_t width,
     cfg->seed_step = 4;
     cfg->seed_tau_q14 = 13107;   /* 0.8 */
     cfg->seed_margin_q14 = 819;  /* 0.05 */
-    cfg->ncc_tau_q14 = 9830;     /* 0.6 */
+    cfg->ncc_tau_q14 = 8192;     /* 0.5 */
     cfg->ncc_mu_q14 = 1638;      /* 0.1 */
     cfg->ssk_beta_q8 = 0;        /* plain stable matching; DP fills */
     cfg->zonegap = 1;
-    cfg->texture_min = 2500;
+    cfg->texture_min = 100;
     cfg->queue_capacity = 8192;
     cfg->strip_rows = 32;
     cfg->band = 2;
