@@ -83,6 +83,8 @@ typedef struct negobs_stereo_config {
     int32_t speckle_size; /**< regions below this many px removed, 0..256 (100) */
     int32_t speckle_diff_q4; /**< largest step inside a region (16)     */
     int32_t adaptive_mean; /**< 1: adaptive mean filter (1)              */
+    int32_t gap_fill;     /**< row gaps up to this many px filled from
+                               their ends, 0 = off, 0..1024 (64)          */
 } negobs_stereo_config_t;
 
 /** Largest disparity range (max_disp - min_disp + 1). */
@@ -126,6 +128,7 @@ typedef struct negobs_stereo_stats {
     uint32_t valid;           /**< valid output pixels             */
     uint32_t lr_rejected;     /**< pixels dropped by the LR check  */
     uint32_t speckles_removed; /**< pixels dropped as speckles     */
+    uint32_t gap_filled;      /**< pixels filled by the gap fill   */
     int32_t range_min;        /**< search range used (pixels)      */
     int32_t range_max;
     int32_t vertical_offset;  /**< rows: left y matches right y+off */

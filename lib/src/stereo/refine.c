@@ -16,6 +16,9 @@
  * overflowed region touches a kept pixel, so no part of a large region is
  * ever removed.
  *
+ * Gap fill (after the speckles): short invalid runs of a row are filled
+ * from their ends, see gap_fill_row().
+ *
  * Adaptive mean (libelas `adaptiveMean`, ALGORITHMS.md 3.7): separable,
  * horizontal then vertical, 9 taps; the weight of a neighbour is
  * max(0, 64 - |d_i - d_centre|) in Q4 (4 px triangle). A hole whose two
@@ -153,6 +156,74 @@ void stx_speckle(stx_t *s, negobs_image_s16_t *disp)
                 s->st.speckles_removed += (uint32_t)n;
             }
         }
+    }
+}
+
+/*
+ * Gap fill: the invalid runs of a row that are at most cfg.gap_fill px long
+ * get a value from their two ends. Ends that agree to 1 px are joined
+ * linearly (a slanted surface without texture, or a few pixels the LR check
+ * or the speckle filter dropped); otherwise the run gets the smaller end,
+ * the background: a run between a near and a far surface is mostly the far
+ * surface, hidden from the right camera. A run touching the left or right
+ * border takes its only end (the left border strip has no match at all).
+ * Filled pixels get confidence STX_CONF_FILLED, below any matched pixel, so
+ * consumers that threshold the confidence (detection's deficit test)
+ * ignore them.
+ */
+static uint32_t gap_fill_row(int16_t *row, uint8_t *crow, int32_t w,
+                             int32_t max_len)
+{
+    uint32_t filled = 0;
+    int32_t x = 0;
+    while (x < w) {
+        int32_t x0;
+        int32_t a;
+        int32_t b;
+        int32_t n;
+        int32_t k;
+        if (row[x] != NEGOBS_DISP_INVALID) {
+            x++;
+            continue;
+        }
+        x0 = x;
+        while (x < w && row[x] == NEGOBS_DISP_INVALID) {
+            x++;
+        }
+        n = x - x0;
+        if (n > max_len || (x0 == 0 && x == w)) {
+            continue; /* too long, or a row without any value */
+        }
+        a = (x0 > 0) ? row[x0 - 1] : row[x];
+        b = (x < w) ? row[x] : a;
+        for (k = 0; k < n; k++) {
+            int32_t d;
+            if (negobs_abs_s32(a - b) <= NEGOBS_DISP_ONE) {
+                /* |b - a| <= 16 and n <= 1024: no overflow */
+                d = a + (int32_t)negobs_div_round_s64(
+                            (int64_t)(b - a) * (k + 1), n + 1);
+            } else {
+                d = (a < b) ? a : b;
+            }
+            row[x0 + k] = (int16_t)d;
+            if (crow != NULL) {
+                crow[x0 + k] = STX_CONF_FILLED;
+            }
+        }
+        filled += (uint32_t)n;
+    }
+    return filled;
+}
+
+void stx_gap_fill(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                  int32_t conf_stride)
+{
+    int32_t y;
+    for (y = 0; y < s->h; y++) {
+        s->st.gap_filled += gap_fill_row(
+            negobs_image_s16_row(disp, y),
+            (conf != NULL) ? conf + (ptrdiff_t)y * conf_stride : NULL, s->w,
+            s->cfg.gap_fill);
     }
 }
 

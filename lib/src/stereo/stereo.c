@@ -41,6 +41,7 @@ void negobs_stereo_config_default(negobs_stereo_config_t *cfg, int32_t width,
     cfg->speckle_size = 100;
     cfg->speckle_diff_q4 = 16;
     cfg->adaptive_mean = 1;
+    cfg->gap_fill = 64;
 }
 
 static negobs_status_t check_config(const negobs_stereo_config_t *c)
@@ -89,7 +90,8 @@ static negobs_status_t check_config(const negobs_stereo_config_t *c)
         return NEGOBS_ERR_INVAL;
     }
     if (c->speckle_size < 0 || c->speckle_size > 65536 ||
-        c->speckle_diff_q4 < 0 || c->speckle_diff_q4 > 4096) {
+        c->speckle_diff_q4 < 0 || c->speckle_diff_q4 > 4096 ||
+        c->gap_fill < 0 || c->gap_fill > 1024) {
         return NEGOBS_ERR_INVAL;
     }
     return NEGOBS_OK;
@@ -326,6 +328,10 @@ negobs_status_t negobs_stereo_process(negobs_stereo_t *ctx,
                      confidence ? confidence->stride : 0);
     }
     stx_speckle(s, disp_q4);
+    if (s->cfg.gap_fill > 0) {
+        stx_gap_fill(s, disp_q4, confidence ? confidence->data : NULL,
+                     confidence ? confidence->stride : 0);
+    }
     if (s->cfg.adaptive_mean) {
         stx_adaptive_mean(s, disp_q4);
     }

@@ -1,0 +1,170 @@
+/* Gap fill (stage 5b): which runs are filled, with what, and their
+ * confidence. */
+#include <string.h>
+
+#include "cmocka_all.h"
+#include "negobs/stereo.h"
+#include "stereo/stereo_int.h"
+
+#define W 64
+#define H 16
+#define INV NEGOBS_DISP_INVALID
+
+static int16_t disp[H * W];
+static uint8_t conf[H * W];
+static uint8_t ws[NEGOBS_STEREO_WORKSPACE_MAX(W, H, 31)]
+    __attribute__((aligned(16)));
+static negobs_image_s16_t di;
+
+static stx_t *setup(int32_t gap_fill)
+{
+    static negobs_stereo_t ctx;
+    negobs_stereo_config_t cfg;
+    int32_t i;
+    negobs_stereo_config_default(&cfg, W, H);
+    cfg.max_disp = 31;
+    cfg.gap_fill = gap_fill;
+    assert_int_equal(negobs_stereo_init(&ctx, &cfg, ws, sizeof ws), NEGOBS_OK);
+    for (i = 0; i < W * H; i++) {
+        disp[i] = 10 * 16;
+        conf[i] = 200;
+    }
+    di.data = disp;
+    di.width = W;
+    di.height = H;
+    di.stride = W;
+    return (stx_t *)ctx.priv;
+}
+
+static void hole(int32_t y, int32_t x0, int32_t x1)
+{
+    int32_t x;
+    for (x = x0; x < x1; x++) {
+        disp[y * W + x] = INV;
+        conf[y * W + x] = 0;
+    }
+}
+
+static void test_gap_between_agreeing_ends_is_interpolated(void **state)
+{
+    stx_t *s = setup(8);
+    int32_t x;
+    (void)state;
+    /* ends 10 px and 10 15/16 px: a slanted surface, joined linearly */
+    disp[3 * W + 19] = 10 * 16 + 15;
+    hole(3, 20, 25);
+    disp[3 * W + 25] = 10 * 16;
+    stx_gap_fill(s, &di, conf, W);
+    for (x = 20; x < 25; x++) {
+        int32_t k = x - 19;
+        int32_t want = 10 * 16 + 15 + (int32_t)negobs_div_round_s64(-15 * k, 6);
+        assert_int_equal(disp[3 * W + x], want);
+        assert_int_equal(conf[3 * W + x], STX_CONF_FILLED);
+    }
+    /* strictly between the ends and decreasing: a ramp, not a step */
+    for (x = 20; x < 25; x++) {
+        assert_true(disp[3 * W + x] < disp[3 * W + x - 1]);
+        assert_true(disp[3 * W + x] > 10 * 16);
+    }
+    assert_int_equal(s->st.gap_filled, 5);
+}
+
+static void test_gap_between_near_and_far_gets_the_far_end(void **state)
+{
+    stx_t *s = setup(8);
+    int32_t x;
+    (void)state;
+    /* near object (20 px) on the right of the hole: background (10) */
+    for (x = 30; x < W; x++) {
+        disp[5 * W + x] = 20 * 16;
+    }
+    hole(5, 24, 30);
+    stx_gap_fill(s, &di, conf, W);
+    for (x = 24; x < 30; x++) {
+        assert_int_equal(disp[5 * W + x], 10 * 16);
+    }
+}
+
+static void test_long_gap_and_empty_row_stay_invalid(void **state)
+{
+    stx_t *s = setup(8);
+    int32_t x;
+    (void)state;
+    hole(2, 10, 19); /* 9 px > gap_fill */
+    hole(7, 0, W);   /* no value at all on the row */
+    stx_gap_fill(s, &di, conf, W);
+    for (x = 10; x < 19; x++) {
+        assert_int_equal(disp[2 * W + x], INV);
+        assert_int_equal(conf[2 * W + x], 0);
+    }
+    for (x = 0; x < W; x++) {
+        assert_int_equal(disp[7 * W + x], INV);
+    }
+    assert_int_equal(s->st.gap_filled, 0);
+}
+
+static void test_border_run_takes_its_only_end(void **state)
+{
+    stx_t *s = setup(8);
+    int32_t x;
+    (void)state;
+    hole(9, 0, 6);
+    disp[9 * W + 6] = 12 * 16;
+    hole(9, W - 3, W);
+    disp[9 * W + W - 4] = 7 * 16;
+    stx_gap_fill(s, &di, conf, W);
+    for (x = 0; x < 6; x++) {
+        assert_int_equal(disp[9 * W + x], 12 * 16);
+    }
+    for (x = W - 3; x < W; x++) {
+        assert_int_equal(disp[9 * W + x], 7 * 16);
+    }
+    assert_int_equal(s->st.gap_filled, 9);
+}
+
+static void test_flat_frame_stays_invalid_and_range_is_checked(void **state)
+{
+    /* through the public API: a frame without texture stays all-invalid
+     * whatever gap_fill says (no end to fill from) */
+    static uint8_t flat[W * H];
+    negobs_stereo_t ctx;
+    negobs_stereo_config_t cfg;
+    negobs_image_u8_t im;
+    negobs_stereo_stats_t st;
+    int32_t i;
+    (void)state;
+    memset(flat, 128, sizeof flat);
+    im.data = flat;
+    im.width = W;
+    im.height = H;
+    im.stride = W;
+    negobs_stereo_config_default(&cfg, W, H);
+    cfg.max_disp = 31;
+    assert_int_equal(cfg.gap_fill, 64);
+    assert_int_equal(negobs_stereo_init(&ctx, &cfg, ws, sizeof ws), NEGOBS_OK);
+    di.data = disp;
+    di.width = W;
+    di.height = H;
+    di.stride = W;
+    assert_int_equal(negobs_stereo_process(&ctx, &im, &im, &di, NULL, &st),
+                     NEGOBS_OK);
+    for (i = 0; i < W * H; i++) {
+        assert_int_equal(disp[i], INV);
+    }
+    assert_int_equal(st.gap_filled, 0);
+    cfg.gap_fill = 1025;
+    assert_int_equal(negobs_stereo_init(&ctx, &cfg, ws, sizeof ws),
+                     NEGOBS_ERR_INVAL);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_gap_between_agreeing_ends_is_interpolated),
+        cmocka_unit_test(test_gap_between_near_and_far_gets_the_far_end),
+        cmocka_unit_test(test_long_gap_and_empty_row_stay_invalid),
+        cmocka_unit_test(test_border_run_takes_its_only_end),
+        cmocka_unit_test(test_flat_frame_stays_invalid_and_range_is_checked),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
