@@ -81,7 +81,7 @@ typedef struct negobs_stereo_config {
     /* refinement (stage 5) */
     int32_t lr_check;     /**< 1: drop pixels occluded in the right view (1) */
     int32_t speckle_size; /**< regions below this many px removed, 0..256 (100) */
-    int32_t speckle_diff_q4; /**< largest step inside a region (16)     */
+    int32_t speckle_diff_q4; /**< largest step inside a region (12)     */
     int32_t adaptive_mean; /**< 1: adaptive mean filter (1)              */
     int32_t gap_fill;     /**< row gaps up to this many px filled from
                                their ends, 0 = off, 0..1024 (64)          */

@@ -39,7 +39,7 @@ void negobs_stereo_config_default(negobs_stereo_config_t *cfg, int32_t width,
     cfg->dp_rescore = 0;
     cfg->lr_check = 1;
     cfg->speckle_size = 100;
-    cfg->speckle_diff_q4 = 16;
+    cfg->speckle_diff_q4 = 12;
     cfg->adaptive_mean = 1;
     cfg->gap_fill = 64;
 }
