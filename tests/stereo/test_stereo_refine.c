@@ -79,10 +79,29 @@ static void test_gap_between_near_and_far_gets_the_far_end(void **state)
         disp[5 * W + x] = 20 * 16;
     }
     hole(5, 24, 30);
+    /* mirror: near object (20 px) on the left of a hole in row 6 */
+    for (x = 0; x < 40; x++) {
+        disp[6 * W + x] = 20 * 16;
+    }
+    hole(6, 40, 44);
     stx_gap_fill(s, &di, conf, W);
     for (x = 24; x < 30; x++) {
         assert_int_equal(disp[5 * W + x], 10 * 16);
+        assert_int_equal(conf[5 * W + x], STX_CONF_FILLED);
     }
+    /* the near surface's first pixel goes to the background too, only it */
+    assert_int_equal(disp[5 * W + 30], 10 * 16);
+    assert_int_equal(conf[5 * W + 30], STX_CONF_FILLED);
+    assert_int_equal(disp[5 * W + 31], 20 * 16);
+    assert_int_equal(conf[5 * W + 31], 200);
+    /* mirror: the hole gets the background, the near side is untouched */
+    for (x = 40; x < 44; x++) {
+        assert_int_equal(disp[6 * W + x], 10 * 16);
+    }
+    assert_int_equal(disp[6 * W + 39], 20 * 16);
+    assert_int_equal(disp[6 * W + 44], 10 * 16);
+    assert_int_equal(conf[6 * W + 39], 200);
+    assert_int_equal(s->st.gap_filled, 6 + 1 + 4);
 }
 
 static void test_long_gap_and_empty_row_stay_invalid(void **state)
