@@ -138,7 +138,7 @@ typedef struct negobs_detect_config {
                                     not a vote (def. 120, i.e. grown
                                     pixels with NCC >= 0.47)           */
     int32_t ground_min_confidence; /**< ground fit and its validity share:
-                                    confidence below: unused (def. 1)  */
+                                    confidence below: unused (def. 64) */
 
     /* Ground model. */
     int32_t fit_rows_pct;      /**< bottom rows used for the fit (25 %) */
