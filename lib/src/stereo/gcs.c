@@ -110,7 +110,7 @@ static int32_t eval(stx_t *s, int32_t u, int32_t v, int32_t d)
 
 /* The 16-point neighbourhood as (du, dd, dv), dd = du - du', grouped in
  * the sets N1 (left, 3), N2 (right, 3), N3 (up, 5), N4 (down, 5). */
-static const int8_t nb_cell[16][3] = {
+static const int16_t nb_cell[16][3] = {
     {-1, 0, 0}, {-2, -1, 0}, {-1, 1, 0},
     {1, 0, 0}, {2, 1, 0}, {1, -1, 0},
     {0, 0, -1}, {1, 1, -1}, {-1, -1, -1}, {0, -1, -1}, {0, 1, -1},

@@ -275,7 +275,8 @@ static void amean_line(const int16_t *in, int16_t *out, int32_t n)
                 sw += wt;
                 sd += wt * v;
             }
-            out[i] = (int16_t)div_round_pos(sd, sw);
+            /* sw >= 64: the centre is its own neighbour (j == i) */
+            out[i] = (int16_t)((sw > 0) ? div_round_pos(sd, sw) : c);
         } else {
             int32_t a = NEGOBS_DISP_INVALID;
             int32_t b = NEGOBS_DISP_INVALID;
