@@ -4,10 +4,12 @@
 # thread rewrites the level every second, so the failure is seen while the
 # motor is silent (verdict clear) - for GPIO.  The PWM core skips a write
 # that changes nothing, so a PWM fault shows at the next level change: the
-# section runs with watchdog_ms 1500 (below the emulated pair time: the
-# watchdog's no-info pulses change the level every few seconds; frames may
-# still be 4 s old).  The observer reads the channel's sysfs duty_cycle
-# (> 0 = on).
+# section runs with the product's watchdog_ms 300, far below the emulated
+# pair time (0.5-1.7 s), so the no-information switch 300 ms after each
+# verdict changes the level between every two pairs (1500 left the motor
+# silent for a whole run when the host happened to be fast enough; frames
+# may still be 4 s old).  The observer reads the channel's sysfs
+# duty_cycle (> 0 = on).
 # Pass: a first clear verdict; "motor: output failing" logged within
 # FAIL_LIMIT_S; after fail_apply goes back to 0, "motor: output back" within
 # BACK_LIMIT_S, then the no-information entry burst on the channel and
@@ -16,7 +18,7 @@ set -u
 SECTION=run-fault-pwm
 . /tests/lib.sh
 . /tests/negobs_lib.sh
-WDOG_MS=1500 AGE_MS=4000
+WDOG_MS=300 AGE_MS=4000
 . /tests/run-fault-lib.sh
 negobs_prereq
 FAIL_LIMIT_S=20
