@@ -30,8 +30,17 @@ for s in $SECTIONS; do
         result=FAIL
         continue
     fi
-    sh "/tests/$s.sh" > "/tmp/$s.log" 2>&1
+    # A section that hangs must not take the later ones down with it (the
+    # whole guest would otherwise run into qemu's timeout with no output):
+    # it gets SECTION_LIMIT_S, then it and whatever it started are killed
+    # and it fails with the log it wrote so far.
+    timeout -s KILL "${SECTION_LIMIT_S:-150}" sh "/tests/$s.sh" > "/tmp/$s.log" 2>&1
     rc=$?
+    if [ $rc -eq 137 ] || [ $rc -eq 124 ]; then
+        echo "section did not finish within ${SECTION_LIMIT_S:-150} s: killed" >> "/tmp/$s.log"
+        killall -KILL negobs_run v4l2_loop motor_watch lc_capture gpio_test pwm_test 2>/dev/null
+        sleep 1
+    fi
     sed "s/^/[$s] /" "/tmp/$s.log"
     t=$(cut -d' ' -f1 /proc/uptime)
     if [ $rc -eq 0 ]; then

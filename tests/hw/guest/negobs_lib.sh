@@ -48,9 +48,20 @@ negobs_start() {
     NEGOBS_PID=$!
     echo "negobs_run started at boot clock $T_START: --config $1 --alert $2"
 }
-# negobs_stop: SIGINT; returns 0 when it ended cleanly (exit 0)
+# negobs_stop: SIGINT; returns 0 when it ended cleanly (exit 0). A
+# negobs_run that has not exited STOP_LIMIT_S after SIGINT is a failure of
+# its own (a hang on shutdown): it is killed, so the section fails with its
+# log instead of the whole guest hanging until qemu's timeout.
 negobs_stop() {
+    local n=0
     kill -INT "$NEGOBS_PID" 2>/dev/null
+    while kill -0 "$NEGOBS_PID" 2>/dev/null && [ $n -lt $((${STOP_LIMIT_S:-20} * 10)) ]; do
+        sleep 0.1; n=$((n + 1))
+    done
+    if kill -0 "$NEGOBS_PID" 2>/dev/null; then
+        echo "negobs_run: FAIL: still running ${STOP_LIMIT_S:-20} s after SIGINT; killed"
+        kill -KILL "$NEGOBS_PID" 2>/dev/null
+    fi
     wait "$NEGOBS_PID"
     NEGOBS_RC=$?
     sed 's/^/negobs_run| /' /tmp/negobs.log
