@@ -95,12 +95,7 @@ static int try_accept(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t c)
     table_update(&s->rd[ir], &s->rc[ir], &s->rc2[ir], dr, c8,
                  s->cfg.zonegap);
     s->st.grown++;
-    /* priority in steps of 1/8 correlation, not the queue's 1/256: each
-     * bucket is LIFO, so growth runs depth-first along a surface and the
-     * score cache sees its neighbourhoods again while they are still in it
-     * (Cones: 29 % fewer correlations, 8 % fewer instructions; accuracy
-     * within 0.1 point on every set, docs/DISPARITY.md "Speed") */
-    stx_queue_push(&s->q, stx_pack(u, vr, dr), (c >> 6) & ~STX_PRIO_MASK);
+    stx_queue_push(&s->q, stx_pack(u, vr, dr), c >> 6);
     return 1;
 }
 
@@ -196,19 +191,13 @@ static inline int set_best(const grow_env_t *g, int first, int end,
             continue; /* outside: never scored */
         }
         /* neighbouring seeds share most of their neighbourhoods: a small
-         * direct-mapped cache catches a third of the correlations (with
-         * the coarse growth priority); `visited` counts the misses */
+         * direct-mapped cache catches about a quarter of the correlations;
+         * `visited` counts the misses */
         key = g->key0 + o->key;
         e = &g->cache[(key * 2654435761u) >> (32 - STX_CACHE_BITS)];
         if (e->key == key) {
             nn = e->num2;
-            /* the denominator VL + VR is two loads away: not stored */
-            if (nn == STX_NOSCORE) {
-                dn = 0;
-            } else {
-                ptrdiff_t il = g->pix + o->pix;
-                dn = (int32_t)(g->vl[il] + g->vr[il + (qur - qu)]);
-            }
+            dn = e->den;
         } else {
             int ok = 0;
             (*visited)++;
@@ -243,7 +232,8 @@ static inline int set_best(const grow_env_t *g, int first, int end,
                 dn = 0;
             }
             e->key = key;
-            e->num2 = ok ? nn : STX_NOSCORE;
+            e->num2 = nn;
+            e->den = dn;
         }
         if (dn == 0) {
             continue; /* window outside the image or flat */

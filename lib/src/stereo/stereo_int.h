@@ -37,16 +37,13 @@
 #define STX_LOWRES 4                /* elementary map scale (1/4)      */
 #define STX_NBUCKET 257             /* bucket queue: c_q14 >> 6        */
 #define STX_NONE8 0xFFu             /* empty u8 disparity slot         */
-#define STX_CACHE_BITS 12           /* growth score cache: 4096 entries */
-#define STX_NOSCORE INT32_MIN       /* cached: flat / window outside   */
-#define STX_PRIO_MASK 31            /* growth priority: 1/8 correlation */
+#define STX_CACHE_BITS 11           /* growth score cache: 2048 entries */
 
-/* One cached correlation of the growth stage (key 0 = empty). Only the
- * MNCC numerator is kept: the denominator VL + VR is re-read from the
- * strip statistics: 4096 entries in 32 KB (was 2048 in 24 KB). */
+/* One cached correlation of the growth stage (key 0 = empty). */
 typedef struct stx_cache_entry {
     uint32_t key;   /* stx_pack(u, v - y0, d - dmin) + 1                 */
-    int32_t num2;   /* 2 num of the MNCC, STX_NOSCORE: flat / no score   */
+    int32_t num2;   /* MNCC fraction, den == 0: flat / no score          */
+    int32_t den;
 } stx_cache_entry_t;
 
 /* ---- bounded bucket queue (queue.c) ---------------------------------- */
