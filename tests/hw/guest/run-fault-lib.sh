@@ -74,3 +74,29 @@ fault_end() {
     pulses | tr '\n' ';' | sed "s/^/$SECTION:   /"; echo
     grep 'summary ' /tmp/negobs.log | sed "s/^/$SECTION: /"
 }
+
+# motor_fault_report FAIL_EVENT BACK_EVENT: the verdict of a motor-output
+# fault section (run-fault-gpio, run-fault-pwm) from TF/TL (fault injected,
+# failure logged), TB/TK (fault removed, recovery logged) and
+# FAIL_LIMIT_S/BACK_LIMIT_S; FAIL_EVENT/BACK_EVENT name the two moments in
+# the messages ("the removal", "the return"). Exits with the section's rc.
+motor_fault_report() {
+    if [ -z "$TL" ]; then
+        fail "no 'motor: output failing' within $FAIL_LIMIT_S s of $1"
+    else
+        say "failure logged $(awk -v l="$TL" -v f="$(sec_of $TF)" 'BEGIN { printf "%.1f", l - f }') s after $1: $(grep -m1 'motor: output failing' /tmp/negobs.log | sed 's/^.*warn: //')"
+    fi
+    if [ -z "$TK" ]; then
+        fail "no 'motor: output back' within $BACK_LIMIT_S s of $2"
+    else
+        say "recovery logged $(awk -v k="$TK" -v b="$(sec_of $TB)" 'BEGIN { printf "%.1f", k - b }') s after $2"
+        # the motor thread plays no-info from the first write that works
+        # (negobs_run logs it at its next loop turn, seconds later under
+        # TCG): from the return on, the entry burst and nothing but no-info
+        check_noinfo_only "$TB" "$(awk -v b="$TB" 'BEGIN { printf "%.3f", b + 8 }')" "in the 8 s after the return"
+        FP=$(pulses | awk -v b="$TB" '$1 >= b && NF == 2 { print; exit }')
+        say "first pulse after the return: ${FP:-none} (boot start, ms): $(awk -v p="${FP%% *}" -v b="$TB" 'BEGIN { printf "%.0f", (p - b) * 1000 }') ms after it"
+    fi
+    [ "$NEGOBS_RC" -eq 0 ] || fail "negobs_run exit status $NEGOBS_RC"
+    exit $RC
+}

@@ -47,21 +47,4 @@ else
 fi
 fault_end
 [ -n "$TC" ] || exit 1
-if [ -z "$TL" ]; then
-    fail "no 'motor: output failing' within $FAIL_LIMIT_S s"
-else
-    say "failure logged $(awk -v l="$TL" -v f="$(sec_of $TF)" 'BEGIN { printf "%.1f", l - f }') s after the knob: $(grep -m1 'motor: output failing' /tmp/negobs.log | sed 's/^.*warn: //')"
-fi
-if [ -z "$TK" ]; then
-    fail "no 'motor: output back' within $BACK_LIMIT_S s"
-else
-    say "recovery logged $(awk -v k="$TK" -v b="$(sec_of $TB)" 'BEGIN { printf "%.1f", k - b }') s after the knob was cleared"
-    # the motor thread plays no-info from the first write that works
-    # (negobs_run logs it at its next loop turn, seconds later under TCG):
-    # from the return on, the entry burst and nothing but no-info
-    check_noinfo_only "$TB" "$(awk -v b="$TB" 'BEGIN { printf "%.3f", b + 8 }')" "in the 8 s after the return"
-    FP=$(pulses | awk -v b="$TB" '$1 >= b && NF == 2 { print; exit }')
-    say "first pulse after the return: ${FP:-none} (boot start, ms): $(awk -v p="${FP%% *}" -v b="$TB" 'BEGIN { printf "%.0f", (p - b) * 1000 }') ms after it"
-fi
-[ "$NEGOBS_RC" -eq 0 ] || fail "negobs_run exit status $NEGOBS_RC"
-exit $RC
+motor_fault_report "the knob" "the knob was cleared"
