@@ -19,6 +19,7 @@
 
 #include "negobs/negobs.h"
 #include "negobs/stereo.h"
+#include "negobs/valign.h"
 
 #include "../stereo/synth.h"
 
@@ -43,6 +44,7 @@ static uint8_t s_occ[SW * SH];
 static int16_t s_gt[SW * SH];
 static int16_t s_disp[SW * SH];
 static uint8_t s_conf[SW * SH];
+static uint8_t s_vws[8192] __attribute__((aligned(16)));
 static uint8_t s_ws[NEGOBS_STEREO_WORKSPACE_MAX(SW, SH, SDMAX)]
     __attribute__((aligned(16)));
 
@@ -163,6 +165,30 @@ static uint64_t run(int perturb)
         feed_u32(&d, (uint32_t)st.vertical_offset);
         feed_u32(&d, (uint32_t)st.range_min);
         feed_u32(&d, (uint32_t)st.range_max);
+        /* vertical alignment: the model estimated on the same pair (rows
+         * off by 2) and the resampled right image */
+        {
+            negobs_valign_config_t vc;
+            negobs_valign_t vctx;
+            negobs_valign_stats_t vs;
+            negobs_image_u8_t oi = li;
+            size_t vn = 0;
+            oi.data = s_tex; /* free after the render */
+            negobs_valign_config_default(&vc, SW, SH);
+            vc.max_disp = SDMAX;
+            if (negobs_valign_workspace_size(&vc, &vn) != NEGOBS_OK ||
+                vn > sizeof s_vws ||
+                negobs_valign_init(&vctx, &vc, s_vws, vn) != NEGOBS_OK ||
+                negobs_valign_process(&vctx, &li, &ri, &oi, &vs) !=
+                    NEGOBS_OK) {
+                return 0;
+            }
+            feed_u32(&d, (uint32_t)vs.model.offset_q16);
+            feed_u32(&d, (uint32_t)vs.model.slope_y_q16);
+            feed_u32(&d, (uint32_t)vs.model.slope_x_q16);
+            feed_u32(&d, (uint32_t)vs.tiles_used);
+            feed(&d, s_tex, sizeof s_tex);
+        }
     }
     for (x = -3000; x < 3000; x += 7) {
         feed_u32(&d, (uint32_t)negobs_rshift_round_s32(x * 977, 5));

@@ -13,6 +13,7 @@
 #include "negobs/detect.h"
 #include "negobs/alert.h"
 #include "negobs/rectify.h"
+#include "negobs/valign.h"
 #include "negobs/pipeline.h"
 
 #endif /* NEGOBS_NEGOBS_H */
