@@ -8,6 +8,7 @@
 
 #include "cmocka_all.h"
 #include "negobs/pipeline.h"
+#include "../valign/gen.h"
 
 #define W 160
 #define H 120
@@ -59,6 +60,75 @@ static void test_pipeline_rejects_mismatched_stage_sizes(void **state)
                      NEGOBS_ERR_INVAL);
     assert_int_equal(negobs_pipeline_workspace_size(NULL, &bytes),
                      NEGOBS_ERR_INVAL);
+}
+
+/* valign.enable: its workspace and the aligned image are part of the exact
+ * size, the stage runs before the matcher, the matcher's integer search
+ * is off. */
+static void test_pipeline_runs_alignment_stage(void **state)
+{
+    static uint8_t gl[GEN_W * GEN_H];
+    static uint8_t gr[GEN_W * GEN_H];
+    negobs_pipeline_config_t cfg;
+    negobs_pipeline_t *ctx = malloc(sizeof *ctx);
+    negobs_pipeline_result_t *res = malloc(sizeof *res);
+    negobs_pipeline_frame_t fr;
+    negobs_image_u8_t l;
+    negobs_image_u8_t r;
+    gen_model_t t = {98304, -200, 0}; /* 1.5 rows at the centre */
+    size_t off_bytes = 0;
+    size_t bytes = 0;
+    void *raw;
+    void *ws;
+    (void)state;
+    assert_non_null(ctx);
+    assert_non_null(res);
+    negobs_pipeline_config_default(&cfg, GEN_W, GEN_H);
+    assert_int_equal(cfg.valign.enable, 0);
+    assert_int_equal(cfg.valign.max_disp, cfg.stereo.max_disp);
+    assert_int_equal(negobs_pipeline_workspace_size(&cfg, &off_bytes),
+                     NEGOBS_OK);
+    cfg.valign.enable = 1;
+    cfg.valign.width = GEN_W + 1;
+    assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes),
+                     NEGOBS_ERR_INVAL);
+    cfg.valign.width = GEN_W;
+    assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes), NEGOBS_OK);
+    assert_true(bytes >= off_bytes + (size_t)GEN_W * GEN_H);
+    ws = aligned_ws(bytes, &raw);
+    assert_int_equal(negobs_pipeline_init(ctx, &cfg, ws, bytes - 1),
+                     NEGOBS_ERR_NOSPACE);
+    assert_int_equal(negobs_pipeline_init(ctx, &cfg, ws, bytes), NEGOBS_OK);
+
+    gen_texture(11u);
+    gen_pair(&t, 4, 20, gl, gr);
+    l.data = gl;
+    l.width = GEN_W;
+    l.height = GEN_H;
+    l.stride = GEN_W;
+    r = l;
+    r.data = gr;
+    memset(&fr, 0, sizeof fr);
+    fr.left = &l;
+    fr.right = &r;
+    fr.t_left_ms = fr.t_right_ms = fr.now_ms = 1000;
+    assert_int_equal(negobs_pipeline_process(ctx, &fr, res), NEGOBS_OK);
+    assert_int_equal(res->stereo_status, NEGOBS_OK);
+    assert_int_equal(res->valign.accepted, 1);
+    assert_true(abs(res->valign.model.offset_q16 - t.off_q16) <= 5243);
+    assert_true(abs(res->valign.model.slope_y_q16 - t.slope_y_q16) <= 40);
+    assert_int_equal(res->stereo.vertical_offset, 0);
+    assert_true(res->stereo.valid > (uint32_t)(GEN_W * GEN_H / 2));
+    /* the caller's right image is not touched */
+    {
+        static uint8_t again[GEN_W * GEN_H];
+        static uint8_t dummy[GEN_W * GEN_H];
+        gen_pair(&t, 4, 20, dummy, again);
+        assert_memory_equal(again, gr, sizeof again);
+    }
+    free(raw);
+    free(res);
+    free(ctx);
 }
 
 static void test_pipeline_lost_camera_gives_no_info_pattern(void **state)
@@ -172,6 +242,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_pipeline_workspace_is_exact),
         cmocka_unit_test(test_pipeline_rejects_mismatched_stage_sizes),
+        cmocka_unit_test(test_pipeline_runs_alignment_stage),
         cmocka_unit_test(test_pipeline_lost_camera_gives_no_info_pattern),
         cmocka_unit_test(test_pipeline_flat_grey_frames_are_not_clear),
         cmocka_unit_test(test_pipeline_tick_without_frames_falls_to_no_info),

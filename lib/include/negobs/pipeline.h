@@ -19,6 +19,7 @@
 #include "negobs/image.h"
 #include "negobs/status.h"
 #include "negobs/stereo.h"
+#include "negobs/valign.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -26,6 +27,11 @@ extern "C" {
 
 /** Configuration of every stage; keep sizes consistent (see default). */
 typedef struct negobs_pipeline_config {
+    /** Vertical alignment before the matcher (off by default). With
+     *  valign.enable = 1 the right image is resampled to the left one's
+     *  rows by the tracked sub-pixel model, and the matcher's own integer
+     *  vertical search and offset are not used (init zeroes them). */
+    negobs_valign_config_t valign;
     negobs_stereo_config_t stereo;
     negobs_detect_config_t detect;
     negobs_alert_config_t alert;
@@ -44,6 +50,7 @@ typedef struct negobs_pipeline_frame {
 /** What one frame produced. */
 typedef struct negobs_pipeline_result {
     negobs_status_t stereo_status;  /**< NEGOBS_OK or why no disparity */
+    negobs_valign_stats_t valign;   /**< alignment (valign.enable)     */
     negobs_stereo_stats_t stereo;   /**< matcher statistics            */
     negobs_detect_result_t detect;  /**< state, reasons, hazards       */
     negobs_motor_cmd_t motor;       /**< what the motor does now/next  */
@@ -52,6 +59,8 @@ typedef struct negobs_pipeline_result {
 /** Context; fields are private. */
 typedef struct negobs_pipeline {
     negobs_pipeline_config_t cfg;
+    negobs_valign_t valign;
+    negobs_image_u8_t right_aligned; /* valign.enable: the matcher's right */
     negobs_stereo_t stereo;
     negobs_detect_t detect;
     negobs_alert_t alert;

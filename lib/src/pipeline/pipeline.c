@@ -11,6 +11,9 @@ void negobs_pipeline_config_default(negobs_pipeline_config_t *cfg,
 {
     memset(cfg, 0, sizeof *cfg);
     negobs_stereo_config_default(&cfg->stereo, width, height);
+    negobs_valign_config_default(&cfg->valign, width, height);
+    cfg->valign.min_disp = cfg->stereo.min_disp;
+    cfg->valign.max_disp = cfg->stereo.max_disp;
     negobs_detect_config_default(&cfg->detect, width, height);
     negobs_alert_config_default(&cfg->alert);
     cfg->detect.max_disp_q4 = (cfg->stereo.max_disp + 1) * NEGOBS_DISP_ONE;
@@ -25,6 +28,9 @@ void negobs_pipeline_config_default(negobs_pipeline_config_t *cfg,
 }
 
 typedef struct carve_out {
+    void *valign_ws;
+    size_t valign_bytes;
+    uint8_t *aligned;
     void *stereo_ws;
     size_t stereo_bytes;
     void *detect_ws;
@@ -54,6 +60,17 @@ static negobs_status_t carve(negobs_arena_t *a,
         return st;
     }
     npix = (size_t)cfg->stereo.width * (size_t)cfg->stereo.height;
+    out->valign_bytes = 0;
+    out->valign_ws = NULL;
+    out->aligned = NULL;
+    if (cfg->valign.enable) {
+        st = negobs_valign_workspace_size(&cfg->valign, &out->valign_bytes);
+        if (st != NEGOBS_OK) {
+            return st;
+        }
+        out->valign_ws = negobs_arena_take(a, out->valign_bytes);
+        out->aligned = (uint8_t *)negobs_arena_take(a, npix);
+    }
     out->stereo_ws = negobs_arena_take(a, out->stereo_bytes);
     out->detect_ws = negobs_arena_take(a, out->detect_bytes);
     out->disp = (int16_t *)negobs_arena_take(a, npix * sizeof(int16_t));
@@ -69,6 +86,11 @@ static negobs_status_t check_config(const negobs_pipeline_config_t *cfg)
     /* The detector must describe the same frames the matcher produces. */
     if (cfg->detect.cam.width != cfg->stereo.width ||
         cfg->detect.cam.height != cfg->stereo.height) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (cfg->valign.enable &&
+        (cfg->valign.width != cfg->stereo.width ||
+         cfg->valign.height != cfg->stereo.height)) {
         return NEGOBS_ERR_INVAL;
     }
     return NEGOBS_OK;
@@ -122,6 +144,21 @@ negobs_status_t negobs_pipeline_init(negobs_pipeline_t *ctx,
         return st;
     }
     ctx->cfg = *cfg;
+    if (cfg->valign.enable) {
+        /* the rows are aligned before matching: an integer search on top
+         * would only add noise to an already sub-pixel alignment */
+        ctx->cfg.stereo.vertical_search = 0;
+        ctx->cfg.stereo.vertical_offset = 0;
+        st = negobs_valign_init(&ctx->valign, &ctx->cfg.valign, c.valign_ws,
+                                c.valign_bytes);
+        if (st != NEGOBS_OK) {
+            return st;
+        }
+        ctx->right_aligned.data = c.aligned;
+        ctx->right_aligned.width = cfg->stereo.width;
+        ctx->right_aligned.height = cfg->stereo.height;
+        ctx->right_aligned.stride = cfg->stereo.width;
+    }
     st = negobs_stereo_init(&ctx->stereo, &ctx->cfg.stereo, c.stereo_ws,
                             c.stereo_bytes);
     if (st != NEGOBS_OK) {
@@ -179,9 +216,18 @@ negobs_status_t negobs_pipeline_process(negobs_pipeline_t *ctx,
     if (frame->left == NULL || frame->right == NULL) {
         st = NEGOBS_ERR_INVAL;
     } else {
-        st = negobs_stereo_process(&ctx->stereo, frame->left, frame->right,
-                                   &ctx->disp_q4, &ctx->confidence,
-                                   &result->stereo);
+        const negobs_image_u8_t *right = frame->right;
+        st = NEGOBS_OK;
+        if (ctx->cfg.valign.enable) {
+            st = negobs_valign_process(&ctx->valign, frame->left, right,
+                                       &ctx->right_aligned, &result->valign);
+            right = &ctx->right_aligned;
+        }
+        if (st == NEGOBS_OK) {
+            st = negobs_stereo_process(&ctx->stereo, frame->left, right,
+                                       &ctx->disp_q4, &ctx->confidence,
+                                       &result->stereo);
+        }
     }
     result->stereo_status = st;
     if (st == NEGOBS_OK) {
