@@ -217,6 +217,10 @@ bool Runner::init(int width, int height, const CamParams &cam,
         cfg_.stereo.vertical_search = 0;
         cfg_.stereo.vertical_offset = cam.vshift;
     }
+    if (cam.valign) {
+        cfg_.valign.enable = 1;
+        cfg_.valign.max_disp = cfg_.stereo.max_disp;
+    }
     size_t bytes = 0;
     negobs_status_t st = negobs_pipeline_workspace_size(&cfg_, &bytes);
     if (st != NEGOBS_OK) {
@@ -270,8 +274,18 @@ bool Runner::process(const cv::Mat &left, const cv::Mat &right, uint32_t t_ms,
     } else {
         // Same steps as negobs_pipeline_process, on its own stage contexts.
         std::memset(res, 0, sizeof *res);
-        st = negobs_stereo_process(&ctx_.stereo, &l, &r, &ctx_.disp_q4,
-                                   &ctx_.confidence, &res->stereo);
+        const negobs_image_u8_t *rr = &r;
+        st = NEGOBS_OK;
+        if (cfg_.valign.enable) {
+            // counted in the stereo time: it is part of getting a disparity
+            st = negobs_valign_process(&ctx_.valign, &l, &r, &ctx_.right_aligned,
+                                       &res->valign);
+            rr = &ctx_.right_aligned;
+        }
+        if (st == NEGOBS_OK) {
+            st = negobs_stereo_process(&ctx_.stereo, &l, rr, &ctx_.disp_q4,
+                                       &ctx_.confidence, &res->stereo);
+        }
         res->stereo_status = st;
         const double t1 = thread_cpu_ms();
         out.stereo_ms = t1 - t0;

@@ -28,6 +28,7 @@ struct CamParams {
     int max_disp = -1;      // < 0: library default
     bool vshift_set = false; // false: the matcher estimates it
     int vshift = 0;          // rows: left y matches right y + vshift
+    bool valign = false;     // true: sub-pixel alignment stage (valign.h)
     int range_warn_mm = -1;  // alert zones; < 0: library default
     int range_max_mm = -1;
 };

@@ -278,8 +278,11 @@ struct Options {
     std::string img_dir;
     double surdis_f = 380, surdis_B = 30, surdis_H = 1300, surdis_pitch = 10;
     double surdis_range_warn = -1, surdis_range_max = -1; // < 0: library default
-    int surdis_vshift = 2; // < -16: let the matcher estimate it
+    int surdis_vshift = -200; // rows; -100: the matcher's integer search;
+                              // -200: the alignment stage (valign.h)
     int surdis_first = 18, surdis_last = 100;
+    // f * B / Z at 0.75 m with the assumed rig: 15.2 px (SOURCES.md sees 0-9 px)
+    int surdis_max_disp = 15;
 };
 
 bool run_seq(const Options &opt, const Seq &q, int idx, std::vector<Rec> &out,
@@ -849,14 +852,18 @@ int evaluate_surdis(const Options &opt)
         cam.vshift_set = true;
         cam.vshift = opt.surdis_vshift;
     }
+    cam.valign = opt.surdis_vshift == -200;
+    cam.max_disp = opt.surdis_max_disp;
     Runner runner;
     bool inited = false;
     Report rep;
     rep.both(std::string("SurDis sequence 21 (752x480): left = r_img, right = l_img; ") +
              (cam.vshift_set ? "vertical offset fixed at " + std::to_string(cam.vshift) +
-                                   " rows (SOURCES.md: measured 1.7-2.0)"
-                             : std::string("the matcher estimates the vertical offset "
-                                           "(vertical_search 4)")) +
+                                   " rows"
+              : cam.valign ? std::string("the alignment stage estimates the vertical "
+                                         "misalignment (offset and slopes, sub-pixel)")
+                           : std::string("the matcher estimates the vertical offset "
+                                         "(vertical_search 4)")) +
              ". Assumed camera: f = " +
              fmtd("%.0f", cam.f) + " px, cx, cy = image centre, B = " +
              fmtd("%.0f", cam.baseline_mm) + " mm, H = " +
@@ -912,7 +919,20 @@ int evaluate_surdis(const Options &opt)
                        " mm, pitch " + fmtd("%.1f", d.pose.pitch_mdeg / 1000.0) +
                        " deg, sigma " + fmtd("%.2f", d.sigma_q4 / 16.0) + " px, valid " +
                        fmtd("%.0f %%", 100.0 * o.res.stereo.valid / (L.cols * L.rows)) +
-                       ", vertical offset " + std::to_string(o.res.stereo.vertical_offset);
+                       (cam.valign
+                            ? ", vertical misalignment " +
+                                  fmtd("%.2f", o.res.valign.model.offset_q16 / 65536.0) +
+                                  " px at the centre, " +
+                                  fmtd("%.2f", (o.res.valign.model.offset_q16 -
+                                                240.0 * o.res.valign.model.slope_y_q16) /
+                                                   65536.0) +
+                                  " at the top row, " +
+                                  fmtd("%.2f", (o.res.valign.model.offset_q16 +
+                                                239.0 * o.res.valign.model.slope_y_q16) /
+                                                   65536.0) +
+                                  " at the bottom row"
+                            : ", vertical offset " +
+                                  std::to_string(o.res.stereo.vertical_offset));
         }
         std::vector<Box> boxes;
         read_voc(ap, "down_steps", boxes);
@@ -1043,8 +1063,9 @@ void usage(FILE *f)
         "       negobs_detect_eval --surdis [DIR] [--img-dir DIR] [--markdown FILE]\n"
         "                          [--surdis-f PX] [--surdis-baseline-mm B]\n"
         "                          [--surdis-height-mm H] [--surdis-pitch-deg P]\n"
-        "                          [--surdis-vshift ROWS|auto] [--surdis-frames A-B]\n"
+        "                          [--surdis-vshift ROWS|auto|model] [--surdis-frames A-B]\n"
         "                          [--surdis-range-warn-mm R] [--surdis-range-max-mm R]\n"
+        "                          [--surdis-max-disp N (15)]\n"
         "Synthetic suite (default, ~230 sequences; --quick ~20): renders each\n"
         "sequence with negobs_synth into --work (default /tmp/negobs_detect_eval),\n"
         "runs the pipeline, deletes the images unless --keep (kept ones are\n"
@@ -1053,7 +1074,9 @@ void usage(FILE *f)
         "per target. --synth defaults to negobs_synth next to this binary\n"
         "(../synth/negobs_synth).\n"
         "--surdis: SurDis sequence 21 from DIR (default $NEGOBS_DATA/surdis,\n"
-        "else <repo>/../shared/data/surdis); exit 77 if absent.\n"
+        "else <repo>/../shared/data/surdis); exit 77 if absent. --surdis-vshift:\n"
+        "model (default) runs the sub-pixel alignment stage; ROWS fixes an integer\n"
+        "shift; auto lets the matcher search whole rows.\n"
         "Exit: 0 ran, 1 error, 2 bad command line, 77 SurDis data absent.\n");
 }
 
@@ -1116,11 +1139,17 @@ int main(int argc, char **argv)
             ok = num(opt.surdis_B, 5, 500);
         } else if (a == "--surdis-height-mm") {
             ok = num(opt.surdis_H, 300, 3000);
+        } else if (a == "--surdis-max-disp") {
+            double x = 0;
+            ok = num(x, 8, 255);
+            opt.surdis_max_disp = static_cast<int>(x);
         } else if (a == "--surdis-vshift") {
             std::string v;
             ok = val(v);
             if (ok && v == "auto") {
                 opt.surdis_vshift = -100;
+            } else if (ok && v == "model") {
+                opt.surdis_vshift = -200;
             } else if (ok) {
                 double x = 0;
                 char *end = nullptr;
