@@ -271,6 +271,7 @@ struct Options {
     std::string markdown;
     std::string frames_json;
     bool quick = false;
+    bool valign = false; // synthetic suite: run the alignment stage
     bool keep = false;
     int jobs = 2;
     bool surdis = false;
@@ -316,7 +317,9 @@ bool run_seq(const Options &opt, const Seq &q, int idx, std::vector<Rec> &out,
         }
     }
     Runner runner;
-    if (!runner.init(gt.width, gt.height, gt.cam, err)) {
+    CamParams cam = gt.cam;
+    cam.valign = opt.valign;
+    if (!runner.init(gt.width, gt.height, cam, err)) {
         return false;
     }
     for (size_t k = 0; k < gt.frames.size(); ++k) {
@@ -1058,7 +1061,7 @@ void usage(FILE *f)
 {
     std::fprintf(
         f,
-        "usage: negobs_detect_eval [--quick] [--jobs N] [--work DIR] [--keep]\n"
+        "usage: negobs_detect_eval [--quick] [--valign] [--jobs N] [--work DIR] [--keep]\n"
         "                          [--synth PATH] [--markdown FILE] [--frames-json FILE]\n"
         "       negobs_detect_eval --surdis [DIR] [--img-dir DIR] [--markdown FILE]\n"
         "                          [--surdis-f PX] [--surdis-baseline-mm B]\n"
@@ -1073,6 +1076,7 @@ void usage(FILE *f)
         "range/drop error, false alerts, degraded time, stage cost and PASS/MISS\n"
         "per target. --synth defaults to negobs_synth next to this binary\n"
         "(../synth/negobs_synth).\n"
+        "--valign: the synthetic suite runs the alignment stage (valign.h).\n"
         "--surdis: SurDis sequence 21 from DIR (default $NEGOBS_DATA/surdis,\n"
         "else <repo>/../shared/data/surdis); exit 77 if absent. --surdis-vshift:\n"
         "model (default) runs the sub-pixel alignment stage; ROWS fixes an integer\n"
@@ -1112,6 +1116,8 @@ int main(int argc, char **argv)
             return 0;
         } else if (a == "--quick") {
             opt.quick = true;
+        } else if (a == "--valign") {
+            opt.valign = true;
         } else if (a == "--keep") {
             opt.keep = true;
         } else if (a == "--jobs") {
