@@ -51,6 +51,7 @@ void app_pipeline_config_default(app_pipeline_config_t *cfg)
     cfg->cam_height_mm = 1200;
     cfg->cam_pitch_mdeg = 20000;
     cfg->max_disp = 63;
+    cfg->vertical_align = 0;
     cfg->focal_q4 = 0;
     cfg->baseline_um = 0;
     cfg->cx_q4 = -1;
@@ -73,6 +74,7 @@ negobs_status_t app_pipeline_init(app_pipeline_t *p,
         cfg->cam_height_mm > 3000 || cfg->cam_pitch_mdeg < 0 ||
         cfg->cam_pitch_mdeg > 60000 || cfg->max_disp < 8 ||
         cfg->max_disp > 255 || cfg->sync_tol_ms < 0 ||
+        cfg->vertical_align < 0 || cfg->vertical_align > 1 ||
         cfg->sync_tol_ms > 1000 || cfg->max_frame_age_ms < 1 ||
         cfg->max_frame_age_ms > 60000 || cfg->focal_q4 < 0 ||
         cfg->focal_q4 > 4000 * 16 || cfg->baseline_um < 0 ||
@@ -164,6 +166,8 @@ static negobs_status_t lib_setup(const app_pipeline_config_t *c, int32_t w,
     /* The matcher refuses a range wider than half the frame. */
     pc.stereo.max_disp = (c->max_disp < w / 2) ? c->max_disp : w / 2 - 1;
     pc.detect.max_disp_q4 = (pc.stereo.max_disp + 1) * NEGOBS_DISP_ONE;
+    pc.valign.enable = c->vertical_align;
+    pc.valign.max_disp = pc.stereo.max_disp;
     /* The focal length is given for the frame the camera delivers. */
     pc.detect.cam.focal_q4 = c->focal_q4 > 0 ? c->focal_q4
                                              : c->focal_px * NEGOBS_DISP_ONE;

@@ -48,6 +48,9 @@ typedef struct app_pipeline_config {
     int32_t cam_height_mm;        /**< camera height above ground [1200]   */
     int32_t cam_pitch_mdeg;       /**< downward pitch, 1/1000 deg [20000]  */
     int32_t max_disp;             /**< largest disparity searched [63]     */
+    int32_t vertical_align;       /**< 1: sub-pixel vertical alignment stage
+                                       before the matcher, for rigs without
+                                       a calibration table [0]             */
     /* Exact geometry from a calibration table (negobs_run --calib); they
      * take precedence over focal_px / baseline_mm when set. */
     int32_t focal_q4;             /**< focal, 1/16 px; 0 = focal_px [0]    */

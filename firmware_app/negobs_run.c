@@ -119,6 +119,7 @@ typedef struct run_settings {
 static run_settings_t S;
 static bool size_given;
 static bool alert_binary_flag;
+static bool vertical_align_flag;
 
 static const negobs_cfg_key_t config_keys[] = {
     {"alert", NEGOBS_CFG_STRING, S.alert, 0, sizeof S.alert,
@@ -177,6 +178,10 @@ static const negobs_cfg_key_t config_keys[] = {
      "downward pitch, 1/1000 degree (default 20000)"},
     {"max_disp", NEGOBS_CFG_INT, &S.app.max_disp, 8, 255,
      "largest disparity searched, pixels (default 63)"},
+    {"vertical_align", NEGOBS_CFG_BOOL, &vertical_align_flag, 0, 1,
+     "estimate and remove a sub-pixel, row-varying vertical misalignment "
+     "before matching, for rigs without a calibration table (default "
+     "false)"},
     {"calib", NEGOBS_CFG_STRING, S.calib, 0, sizeof S.calib,
      "rectification table from negobs_calib; its f, B, cx, cy replace "
      "focal_px and baseline_mm (default: none, frames are rectified)"},
@@ -1121,6 +1126,7 @@ int main(int argc, char **argv)
     }
     /* The detector must accept every pair the capture layer pairs. */
     S.app.sync_tol_ms = S.pair_tol_ms;
+    S.app.vertical_align = vertical_align_flag ? 1 : 0;
     if (app_pipeline_init(&pipeline, &S.app) != NEGOBS_OK) {
         if (calib_bytes > 0) {
             fprintf(stderr, "negobs_run: calibration table %s refused: its "
@@ -1144,6 +1150,10 @@ int main(int argc, char **argv)
     install_signals();
     if (calib_bytes > 0) {
         log_calib(S.calib);
+    }
+    if (S.app.vertical_align) {
+        logmsg(LOG_INFO, "vertical alignment stage on (sub-pixel, "
+                         "row-varying model estimated from the frames)");
     }
 
     if (open_alert(S.alert) != 0) {

@@ -61,6 +61,11 @@ expect "config typo names its line" 3 "line 2: unknown key 'watchdgo_ms'" --conf
 expect "missing replay folder" 4 "no left_0000.pgm" --alert none replay:"$T/none"
 expect "missing V4L2 device" 4 "open /nonexistent" --alert none v4l2:/nonexistent/v0 v4l2:/nonexistent/v1
 expect "replay runs to the end" 0 "end of replay after 4 pairs" --fps 0 --alert none replay:"$T/rp"
+printf 'vertical_align = true\n' >"$T/va.conf"
+expect "vertical alignment stage runs" 0 "vertical alignment stage on" --config "$T/va.conf" --fps 0 --alert none replay:"$T/rp"
+expect "vertical alignment replay ends" 0 "end of replay after 4 pairs" --config "$T/va.conf" --fps 0 --alert none replay:"$T/rp"
+printf 'vertical_align = maybe\n' >"$T/vabad.conf"
+expect "vertical_align wants a boolean" 3 "vertical_align" --config "$T/vabad.conf" replay:"$T/rp"
 expect "frames N stops early" 0 "2 pairs processed" --fps 0 --frames 2 --alert none replay:"$T/rp" replay:"$T/rp"
 # Unrelated random images pass the quality gate, but no ground is seen:
 # the detector, not the gate, must answer no-info (never "clear").

@@ -42,7 +42,9 @@ void usage(FILE *f)
         "  --pitch-deg P     camera pitch down (20)\n"
         "  --max-disp D      largest disparity searched (library default 63)\n"
         "  --vshift ROWS     left row y matches right row y+ROWS (default:\n"
-        "                    the matcher estimates it)\n"
+        "                    the matcher estimates whole rows)\n"
+        "  --vshift model    sub-pixel, row-varying alignment stage before the\n"
+        "                    matcher (negobs/valign.h; uncalibrated rigs)\n"
         "Options given on the command line override gt.json.\n"
         "  --fps F           frame rate for timestamps (10, or gt.json's)\n"
         "  --repeat N        single pair: feed it N times (confirmation needs\n"
@@ -104,6 +106,7 @@ int main(int argc, char **argv)
     double overlay_scale = 1.0;
     double f = -1, B = -1, cx = -1, cy = -1, H = -1, pitch = -1e9, fps = -1;
     int max_disp = -1, vshift = 0, repeat = 1, first = 0, count = -1;
+    bool valign = false;
     bool vshift_set = false, overlay_on = true, summary = false, quiet = false,
          whole = false;
     for (int i = 1; i < argc; ++i) {
@@ -152,8 +155,12 @@ int main(int argc, char **argv)
             } else if (a == "--max-disp") {
                 ok = parse_int(v, max_disp) && max_disp >= 8 && max_disp <= 255;
             } else if (a == "--vshift") {
-                ok = parse_int(v, vshift) && vshift >= -16 && vshift <= 16;
-                vshift_set = true;
+                if (std::string(v) == "model") {
+                    valign = true;
+                } else {
+                    ok = parse_int(v, vshift) && vshift >= -16 && vshift <= 16;
+                    vshift_set = true;
+                }
             } else if (a == "--fps") {
                 ok = parse_double(v, fps) && fps > 0 && fps <= 1000;
             } else if (a == "--repeat") {
@@ -260,6 +267,7 @@ int main(int argc, char **argv)
     cam.max_disp = max_disp;
     cam.vshift_set = vshift_set;
     cam.vshift = vshift;
+    cam.valign = valign;
     if (fps <= 0) {
         fps = have_gt ? gt.fps : 10.0;
     }
