@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,10 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "stereo_common.hpp"
+
+extern "C" {
+#include "negobs/valign.h"
+}
 
 namespace {
 
@@ -32,7 +37,7 @@ enum Exit {
 
 const char *const kHelp =
     "usage: negobs_stereo LEFT RIGHT OUT.png [--max-disp N] [--min-disp N]\n"
-    "                     [--color PICTURE.png]\n"
+    "                     [--color PICTURE.png] [--align] [--stats]\n"
     "\n"
     "Computes the disparity of the rectified pair LEFT (reference) / RIGHT\n"
     "with the negobs fixed-point engine and writes OUT.png.\n"
@@ -56,6 +61,10 @@ const char *const kHelp =
     "                 0 <= N < max-disp\n"
     "  --color FILE   also write a colour picture (TURBO map over\n"
     "                 [min-disp, max-disp], black = no value)\n"
+    "  --align        estimate the vertical misalignment (sub-pixel offset,\n"
+    "                 row and column slopes; negobs/valign.h) and resample\n"
+    "                 RIGHT to LEFT's rows before matching: for pairs that\n"
+    "                 are not rectified (e.g. the SurDis wearable)\n"
     "  --stats        print the engine statistics and timing to stderr\n"
     "  -h, --help     this text\n"
     "\n"
@@ -90,12 +99,67 @@ bool write_png(const std::string &path, const cv::Mat &img)
     }
 }
 
+// The library's alignment stage on one pair: estimate, then resample.
+bool align_right(const cv::Mat &left, const cv::Mat &right,
+                 const negobs_tools::Range &range, cv::Mat &aligned,
+                 std::string &text, std::string &err)
+{
+    negobs_valign_config_t cfg;
+    negobs_valign_config_default(&cfg, left.cols, left.rows);
+    cfg.min_disp = range.min_disp;
+    cfg.max_disp = range.max_disp < left.cols ? range.max_disp : left.cols - 1;
+    if (cfg.max_disp - cfg.min_disp > 255) {
+        cfg.max_disp = cfg.min_disp + 255;
+    }
+    size_t bytes = 0;
+    negobs_status_t st = negobs_valign_workspace_size(&cfg, &bytes);
+    if (st != NEGOBS_OK) {
+        err = std::string("alignment stage refused the size: ") +
+              negobs_status_str(st);
+        return false;
+    }
+    std::vector<unsigned char> raw(bytes + 16);
+    void *p = raw.data();
+    size_t space = raw.size();
+    void *ws = std::align(16, bytes, p, space);
+    negobs_valign_t ctx;
+    st = negobs_valign_init(&ctx, &cfg, ws, bytes);
+    aligned.create(right.size(), CV_8UC1);
+    negobs_image_u8_t l{const_cast<uint8_t *>(left.ptr<uint8_t>(0)), left.cols,
+                        left.rows, static_cast<int32_t>(left.step1())};
+    negobs_image_u8_t r{const_cast<uint8_t *>(right.ptr<uint8_t>(0)),
+                        right.cols, right.rows,
+                        static_cast<int32_t>(right.step1())};
+    negobs_image_u8_t o{aligned.ptr<uint8_t>(0), aligned.cols, aligned.rows,
+                        static_cast<int32_t>(aligned.step1())};
+    negobs_valign_stats_t vs;
+    if (st == NEGOBS_OK) {
+        st = negobs_valign_process(&ctx, &l, &r, &o, &vs);
+    }
+    if (st != NEGOBS_OK) {
+        err = std::string("alignment stage: ") + negobs_status_str(st);
+        return false;
+    }
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "alignment %s: right row = left row + %.3f %+.5f (y - %d) "
+                  "%+.5f (x - %d) px; %d tiles, residual %.3f px",
+                  vs.accepted ? "estimated" : "not estimated (too little "
+                                              "texture), rows unchanged",
+                  vs.model.offset_q16 / 65536.0, vs.model.slope_y_q16 / 65536.0,
+                  left.rows / 2, vs.model.slope_x_q16 / 65536.0, left.cols / 2,
+                  vs.tiles_used, vs.resid_q4 / 16.0);
+    text = buf;
+    return true;
+}
+
 int run(int argc, char **argv)
 {
     std::vector<std::string> pos;
     negobs_tools::Range range;
     std::string colour_path;
     bool stats = false;
+    bool align = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "-h" || a == "--help") {
@@ -120,6 +184,8 @@ int run(int argc, char **argv)
             colour_path = argv[++i];
         } else if (a == "--stats") {
             stats = true;
+        } else if (a == "--align") {
+            align = true;
         } else if (a.size() > 1 && a[0] == '-') {
             std::fprintf(stderr, "negobs_stereo: unknown option '%s' (see "
                                  "--help)\n",
@@ -194,6 +260,15 @@ int run(int argc, char **argv)
     }
     cv::Mat disp_q4, conf;
     const int64 t0 = cv::getTickCount();
+    std::string align_text;
+    if (align) {
+        cv::Mat aligned;
+        if (!align_right(left, right, range, aligned, align_text, err)) {
+            std::fprintf(stderr, "negobs_stereo: %s\n", err.c_str());
+            return EXIT_LIBRARY;
+        }
+        right = aligned;
+    }
     if (!m.process(left, right, disp_q4, conf, err)) {
         std::fprintf(stderr, "negobs_stereo: %s\n", err.c_str());
         return EXIT_LIBRARY;
@@ -206,6 +281,9 @@ int run(int argc, char **argv)
                      "workspace %zu bytes, %s\n",
                      left.cols, left.rows, range.min_disp, range.max_disp, ms,
                      m.workspace_bytes(), m.last_stats().c_str());
+        if (align) {
+            std::fprintf(stderr, "negobs_stereo: %s\n", align_text.c_str());
+        }
     }
 
     if (!write_png(out, negobs_tools::negobs_q4_to_png16(disp_q4))) {
