@@ -286,6 +286,10 @@ bool Runner::process(const cv::Mat &left, const cv::Mat &right, uint32_t t_ms,
             st = negobs_stereo_process(&ctx_.stereo, &l, rr, &ctx_.disp_q4,
                                        &ctx_.confidence, &res->stereo);
         }
+        if (st == NEGOBS_OK && cfg_.valign.enable) {
+            (void)negobs_valign_set_disp_range(&ctx_.valign, res->stereo.range_min,
+                                               res->stereo.range_max);
+        }
         res->stereo_status = st;
         const double t1 = thread_cpu_ms();
         out.stereo_ms = t1 - t0;

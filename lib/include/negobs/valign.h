@@ -116,6 +116,8 @@ typedef struct negobs_valign {
     negobs_valign_config_t cfg;
     negobs_valign_model_t model; /* tracked model                       */
     int32_t have_model;          /* 0 until a frame was accepted        */
+    int32_t misses;              /* residual searches failed in a row   */
+    int32_t dmin, dmax;          /* horizontal search of the estimate   */
     int32_t *tile_sum;           /* tiles * (2 * max_offset + 1) scores */
     int32_t *tile_n;             /* samples per tile                    */
     int32_t *tile_off_q4;        /* per-tile offset, or INT32_MIN       */
@@ -162,8 +164,11 @@ negobs_status_t negobs_valign_estimate(negobs_valign_t *ctx,
  * @brief Estimate, blend into the tracked model (smooth_q15), and write
  *        the right image aligned to the left one into `out`.
  *
- * A frame with too little texture keeps the tracked model (zero before the
- * first accepted frame). `out` must not overlap `right`.
+ * The first frame (and one after 4 frames in a row that gave nothing) gets
+ * the full two-pass estimate; later frames only measure what the tracked
+ * model leaves, over +-2 rows on the pair warped by it, which costs about a
+ * third. A frame with too little texture keeps the tracked model (zero
+ * before the first accepted frame). `out` must not overlap `right`.
  * @return as negobs_valign_estimate().
  */
 negobs_status_t negobs_valign_process(negobs_valign_t *ctx,
@@ -182,6 +187,17 @@ negobs_status_t negobs_valign_process(negobs_valign_t *ctx,
 negobs_status_t negobs_valign_warp(const negobs_valign_model_t *model,
                                    const negobs_image_u8_t *right,
                                    negobs_image_u8_t *out);
+
+/**
+ * @brief Narrow the horizontal search of later estimates to [min_disp,
+ *        max_disp], clamped into the configured range (the pipeline
+ *        passes the matcher's range of the previous frame: the estimate's
+ *        cost is proportional to it, and chance matches grow with it).
+ * @return NEGOBS_OK, NEGOBS_ERR_INVAL (min > max), NEGOBS_ERR_STATE.
+ */
+negobs_status_t negobs_valign_set_disp_range(negobs_valign_t *ctx,
+                                             int32_t min_disp,
+                                             int32_t max_disp);
 
 /** @brief The tracked model (zero before the first accepted frame). */
 negobs_valign_model_t negobs_valign_model(const negobs_valign_t *ctx);

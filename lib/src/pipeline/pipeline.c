@@ -228,6 +228,12 @@ negobs_status_t negobs_pipeline_process(negobs_pipeline_t *ctx,
                                        &ctx->disp_q4, &ctx->confidence,
                                        &result->stereo);
         }
+        if (st == NEGOBS_OK && ctx->cfg.valign.enable) {
+            /* the next estimate searches the range the matcher used */
+            (void)negobs_valign_set_disp_range(&ctx->valign,
+                                               result->stereo.range_min,
+                                               result->stereo.range_max);
+        }
     }
     result->stereo_status = st;
     if (st == NEGOBS_OK) {

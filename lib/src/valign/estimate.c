@@ -113,7 +113,24 @@ negobs_status_t negobs_valign_init(negobs_valign_t *ctx,
         return negobs_arena_status(&a);
     }
     ctx->cfg = *cfg;
+    ctx->dmin = cfg->min_disp;
+    ctx->dmax = cfg->max_disp;
     ctx->ready = VALIGN_READY;
+    return NEGOBS_OK;
+}
+
+negobs_status_t negobs_valign_set_disp_range(negobs_valign_t *ctx,
+                                             int32_t min_disp,
+                                             int32_t max_disp)
+{
+    if (ctx == NULL || ctx->ready != VALIGN_READY) {
+        return NEGOBS_ERR_STATE;
+    }
+    if (min_disp > max_disp) {
+        return NEGOBS_ERR_INVAL;
+    }
+    ctx->dmin = negobs_clamp_s32(min_disp, ctx->cfg.min_disp, ctx->cfg.max_disp);
+    ctx->dmax = negobs_clamp_s32(max_disp, ctx->dmin, ctx->cfg.max_disp);
     return NEGOBS_OK;
 }
 
@@ -224,7 +241,7 @@ static int32_t score_tiles(negobs_valign_t *ctx, const negobs_image_u8_t *l,
                     for (k = -n; k <= n; k++) {
                         int32_t b = 0;
                         int32_t d;
-                        for (d = c->min_disp; d <= c->max_disp; d++) {
+                        for (d = ctx->dmin; d <= ctx->dmax; d++) {
                             int32_t xr = x - d;
                             int32_t s;
                             if (xr - VALIGN_WIN_R < 0) {
@@ -595,12 +612,42 @@ negobs_status_t negobs_valign_process(negobs_valign_t *ctx,
     negobs_valign_stats_t st;
     negobs_valign_model_t m;
     negobs_status_t rc;
+    int32_t n2;
 
-    rc = negobs_valign_estimate(ctx, left, right, out, &m, &st);
+    if (ctx == NULL || ctx->ready != VALIGN_READY) {
+        return NEGOBS_ERR_STATE;
+    }
+    rc = check_images(ctx, left, right, out);
     if (rc != NEGOBS_OK) {
         return rc;
     }
+    memset(&st, 0, sizeof st);
+    memset(&m, 0, sizeof m);
+    n2 = (ctx->cfg.max_offset < 2) ? ctx->cfg.max_offset : 2;
+    if (ctx->have_model && ctx->misses < VALIGN_REACQUIRE) {
+        /* steady state: only what the tracked model leaves, over +-2 rows
+         * (5 offsets instead of 2 passes over 9 + 5) */
+        rc = negobs_valign_warp(&ctx->model, right, out);
+        if (rc != NEGOBS_OK) {
+            return rc;
+        }
+        st.accepted = estimate_pass(ctx, left, out, n2, &m, &st);
+        if (st.accepted) {
+            m.offset_q16 = add_sat(ctx->model.offset_q16, m.offset_q16,
+                                   VALIGN_OFFSET_LIMIT_Q16);
+            m.slope_y_q16 = add_sat(ctx->model.slope_y_q16, m.slope_y_q16,
+                                    NEGOBS_VALIGN_SLOPE_LIMIT_Q16);
+            m.slope_x_q16 = add_sat(ctx->model.slope_x_q16, m.slope_x_q16,
+                                    NEGOBS_VALIGN_SLOPE_LIMIT_Q16);
+        }
+    } else {
+        rc = negobs_valign_estimate(ctx, left, right, out, &m, &st);
+        if (rc != NEGOBS_OK) {
+            return rc;
+        }
+    }
     if (st.accepted) {
+        ctx->misses = 0;
         if (!ctx->have_model) {
             ctx->model = m;
             ctx->have_model = 1;
@@ -613,7 +660,13 @@ negobs_status_t negobs_valign_process(negobs_valign_t *ctx,
             ctx->model.slope_x_q16 =
                 blend_q15(ctx->model.slope_x_q16, m.slope_x_q16, g);
         }
+    } else if (ctx->have_model && ctx->misses < VALIGN_REACQUIRE) {
+        /* a run of frames the residual search cannot place (a jolt moved
+         * the cameras by more than it covers, or no texture) ends in a
+         * full search */
+        ctx->misses++;
     }
+    st.frame = m;
     st.model = ctx->model;
     rc = negobs_valign_warp(&ctx->model, right, out);
     if (stats != NULL) {

@@ -17,6 +17,9 @@
  * (0.01): flatter peaks say nothing about the offset. */
 #define VALIGN_CURV_MIN_Q14 164
 
+/* Frames in a row whose residual search fails before a full search. */
+#define VALIGN_REACQUIRE 4
+
 /* 1 if every field is within the limits negobs_valign_warp() accepts. */
 int valign_model_ok(const negobs_valign_model_t *m);
 

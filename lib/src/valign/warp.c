@@ -86,16 +86,35 @@ negobs_status_t negobs_valign_warp(const negobs_valign_model_t *model,
             }
             continue;
         }
-        for (x = 0; x < w; x++) {
-            int32_t q4 = negobs_rshift_round_s32(
-                base + model->slope_x_q16 * x, 12);
+        /* The Q16 offset grows by slope_x per column; the Q4 value (and
+         * with it the two source rows and the weight) only changes when
+         * the offset leaves [q4 * 4096 - 2048, q4 * 4096 + 2048), so it is
+         * recomputed at those crossings only. Same result as rounding at
+         * every pixel. */
+        {
+            int32_t o = base;
+            int32_t q4 = negobs_rshift_round_s32(o, 12);
+            int32_t lo = q4 * 4096 - 2048;
             int32_t k = floor_div16(q4);
             int32_t f = q4 - 16 * k;
             const uint8_t *r0 = negobs_image_u8_row(
                 right, negobs_clamp_s32(y + k, 0, h - 1));
             const uint8_t *r1 = negobs_image_u8_row(
                 right, negobs_clamp_s32(y + k + 1, 0, h - 1));
-            dst[x] = blend(r0, r1, x, f);
+            for (x = 0; x < w; x++) {
+                if (o < lo || o >= lo + 4096) {
+                    q4 = negobs_rshift_round_s32(o, 12);
+                    lo = q4 * 4096 - 2048;
+                    k = floor_div16(q4);
+                    f = q4 - 16 * k;
+                    r0 = negobs_image_u8_row(
+                        right, negobs_clamp_s32(y + k, 0, h - 1));
+                    r1 = negobs_image_u8_row(
+                        right, negobs_clamp_s32(y + k + 1, 0, h - 1));
+                }
+                dst[x] = blend(r0, r1, x, f);
+                o += model->slope_x_q16;
+            }
         }
     }
     return NEGOBS_OK;
