@@ -269,6 +269,47 @@ static void test_tracking_and_textureless_frames(void **state)
     assert_int_equal(negobs_valign_model(&ctx).offset_q16, m.offset_q16);
 }
 
+/* The cameras jolt by 3.5 rows, beyond the +-2 rows the steady state
+ * searches around its model: frames fail until the full search takes over
+ * (after 4), then the model follows. */
+static void test_reacquires_after_a_jolt(void **state)
+{
+    negobs_valign_config_t cfg;
+    negobs_valign_t ctx;
+    negobs_valign_stats_t st;
+    negobs_image_u8_t l = img(g_left);
+    negobs_image_u8_t r = img(g_right);
+    negobs_image_u8_t o = img(g_out);
+    gen_model_t zero = {0, 0, 0};
+    gen_model_t jolt = {229376, 0, 0}; /* 3.5 rows */
+    int32_t i;
+    int32_t failed = 0;
+    (void)state;
+    default_cfg(&cfg);
+    cfg.smooth_q15 = 32768; /* no memory: the jump shows at once */
+    setup_ctx(&ctx, &cfg);
+    gen_texture(404u);
+    gen_pair(&zero, 4, 20, g_left, g_right);
+    assert_int_equal(negobs_valign_process(&ctx, &l, &r, &o, &st), NEGOBS_OK);
+    assert_int_equal(st.accepted, 1);
+    assert_true(abs(st.model.offset_q16) <= TOL_Q16);
+    gen_pair(&jolt, 4, 20, g_left, g_right);
+    /* run until accepted (at most 4 failures, then the full search) */
+    for (i = 0; i < 6; i++) {
+        assert_int_equal(negobs_valign_process(&ctx, &l, &r, &o, &st),
+                         NEGOBS_OK);
+        if (st.accepted) {
+            break;
+        }
+        failed++;
+    }
+    printf("jolt of 3.5 rows: %d frames without an estimate, then %.3f\n",
+           failed, st.model.offset_q16 / 65536.0);
+    assert_true(st.accepted);
+    assert_true(failed <= 4);
+    assert_true(abs(st.model.offset_q16 - jolt.off_q16) <= TOL_Q16);
+}
+
 static void test_bad_input(void **state)
 {
     negobs_valign_config_t cfg;
@@ -454,6 +495,7 @@ int main(void)
         cmocka_unit_test(test_warp_matches_reference),
         cmocka_unit_test(test_warp_honours_stride),
         cmocka_unit_test(test_tracking_and_textureless_frames),
+        cmocka_unit_test(test_reacquires_after_a_jolt),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_noise_and_saturation),
         cmocka_unit_test(test_matcher_gains_from_alignment),
