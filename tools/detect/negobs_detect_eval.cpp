@@ -277,7 +277,8 @@ struct Options {
     bool surdis = false;
     std::string surdis_dir;
     std::string img_dir;
-    double surdis_f = 380, surdis_B = 30, surdis_H = 1300, surdis_pitch = 10;
+    // the assumptions of docs/DETECTION.md 12.3 (no calibration is published)
+    double surdis_f = 380, surdis_B = 30, surdis_H = 1100, surdis_pitch = 20;
     double surdis_range_warn = -1, surdis_range_max = -1; // < 0: library default
     int surdis_vshift = -200; // rows; -100: the matcher's integer search;
                               // -200: the alignment stage (valign.h)
