@@ -276,6 +276,7 @@ struct Options {
     bool surdis = false;
     std::string surdis_dir;
     std::string img_dir;
+    std::string dump_dir; // --surdis-dump: raw maps + plane per frame
     double surdis_f = 380, surdis_B = 30, surdis_H = 1300, surdis_pitch = 10;
     double surdis_range_warn = -1, surdis_range_max = -1; // < 0: library default
     int surdis_vshift = 2; // < -16: let the matcher estimate it
@@ -873,6 +874,7 @@ int evaluate_surdis(const Options &opt)
              ".");
     rep.both("");
     int scored = 0, hit = 0, hit_warned = 0, frames = 0, noinfo = 0, hazard_frames = 0;
+    int clear_on_label = 0; // the worst outcome: CLEAR with the steps in view
     std::vector<std::string> missed, hits;
     std::vector<int> pics = {30, 60, 80, 95};
     double st_sum = 0, dt_sum = 0;
@@ -912,7 +914,10 @@ int evaluate_surdis(const Options &opt)
                        " mm, pitch " + fmtd("%.1f", d.pose.pitch_mdeg / 1000.0) +
                        " deg, sigma " + fmtd("%.2f", d.sigma_q4 / 16.0) + " px, valid " +
                        fmtd("%.0f %%", 100.0 * o.res.stereo.valid / (L.cols * L.rows)) +
-                       ", vertical offset " + std::to_string(o.res.stereo.vertical_offset);
+                       ", vertical offset " + std::to_string(o.res.stereo.vertical_offset) +
+                       "; at the warning range: strip-median spread " +
+                       fmtd("%.2f", d.sigma_strip_warn_q8 / 256.0) + " px, offset " +
+                       fmtd("%+.2f", d.offset_strip_warn_q8 / 256.0) + " px";
         }
         std::vector<Box> boxes;
         read_voc(ap, "down_steps", boxes);
@@ -949,6 +954,7 @@ int evaluate_surdis(const Options &opt)
         }
         if (in_corr) {
             ++scored;
+            clear_on_label += d.state == NEGOBS_DETECT_CLEAR;
             hit += ok ? 1 : 0;
             hit_warned += (ok && d.state == NEGOBS_DETECT_HAZARD) ? 1 : 0;
             if (!ok) {
@@ -980,6 +986,37 @@ int evaluate_surdis(const Options &opt)
                                  " |");
             }
         }
+        if (!opt.dump_dir.empty()) {
+            // Raw maps for offline analysis: disparity (int16 q4, host
+            // order), confidence (u8), and one text line per frame with
+            // the plane (q20) and the detector's verdict.
+            const cv::Mat dm = runner.disparity();
+            const negobs_image_u8_t *cm = runner.confidence();
+            const std::string base =
+                (fs::path(opt.dump_dir) / ("f" + std::to_string(n))).string();
+            if (FILE *fp = std::fopen((base + ".disp").c_str(), "wb")) {
+                for (int y = 0; y < dm.rows; ++y) {
+                    std::fwrite(dm.ptr<int16_t>(y), 2, static_cast<size_t>(dm.cols), fp);
+                }
+                std::fclose(fp);
+            }
+            if (FILE *fp = std::fopen((base + ".conf").c_str(), "wb")) {
+                for (int y = 0; cm != nullptr && y < cm->height; ++y) {
+                    std::fwrite(cm->data + static_cast<size_t>(y) * cm->stride, 1,
+                                static_cast<size_t>(cm->width), fp);
+                }
+                std::fclose(fp);
+            }
+            if (FILE *fp = std::fopen((base + ".txt").c_str(), "w")) {
+                std::fprintf(fp, "%d %d %d %d %d %d %d %d %d %d %u %d %d %d %u\n", n,
+                             dm.cols, dm.rows, d.ground_valid, d.plane.a_q20,
+                             d.plane.b_q20, d.plane.c_q20, d.pose.height_mm, d.sigma_q4,
+                             d.sigma_warn_q4, static_cast<unsigned>(d.reasons),
+                             d.sigma_strip_warn_q8, d.offset_strip_warn_q8,
+                             static_cast<int>(d.state), d.n_candidates);
+                std::fclose(fp);
+            }
+        }
         if (!opt.img_dir.empty() &&
             std::find(pics.begin(), pics.end(), n) != pics.end()) {
             std::vector<cv::Rect> lab;
@@ -1000,11 +1037,13 @@ int evaluate_surdis(const Options &opt)
     rep.both(est_pose + ".");
     rep.both("");
     rep.both("| frames | down_steps label in the corridor | confirmed drop on the label | "
-             "... with verdict HAZARD | HAZARD frames | NO_INFO frames | stereo ms | detect ms |");
-    rep.both("|---|---|---|---|---|---|---|---|");
+             "... with verdict HAZARD | HAZARD frames | NO_INFO frames | "
+             "CLEAR with the label in the corridor | stereo ms | detect ms |");
+    rep.both("|---|---|---|---|---|---|---|---|---|");
     rep.both("| " + std::to_string(frames) + " | " + std::to_string(scored) + " | " +
              pct(hit, scored) + " | " + pct(hit_warned, scored) + " | " + std::to_string(hazard_frames) + " | " +
-             std::to_string(noinfo) + " | " + fmtd("%.1f", st_sum / frames) + " | " +
+             std::to_string(noinfo) + " | " + std::to_string(clear_on_label) + " | " +
+             fmtd("%.1f", st_sum / frames) + " | " +
              fmtd("%.2f", dt_sum / frames) + " |");
     rep.both("");
     if (!hits.empty()) {
@@ -1045,6 +1084,7 @@ void usage(FILE *f)
         "                          [--surdis-height-mm H] [--surdis-pitch-deg P]\n"
         "                          [--surdis-vshift ROWS|auto] [--surdis-frames A-B]\n"
         "                          [--surdis-range-warn-mm R] [--surdis-range-max-mm R]\n"
+        "                          [--surdis-dump DIR]\n"
         "Synthetic suite (default, ~230 sequences; --quick ~20): renders each\n"
         "sequence with negobs_synth into --work (default /tmp/negobs_detect_eval),\n"
         "runs the pipeline, deletes the images unless --keep (kept ones are\n"
@@ -1053,7 +1093,10 @@ void usage(FILE *f)
         "per target. --synth defaults to negobs_synth next to this binary\n"
         "(../synth/negobs_synth).\n"
         "--surdis: SurDis sequence 21 from DIR (default $NEGOBS_DATA/surdis,\n"
-        "else <repo>/../shared/data/surdis); exit 77 if absent.\n"
+        "else <repo>/../shared/data/surdis); exit 77 if absent. --surdis-dump\n"
+        "writes fN.disp (int16 q4), fN.conf (u8) and fN.txt (frame, size, ground\n"
+        "valid, plane a b c q20, H, sigma q4, sigma_warn q4, reasons, strip\n"
+        "sigma q8, strip offset q8, state, candidates) per frame into DIR.\n"
         "Exit: 0 ran, 1 error, 2 bad command line, 77 SurDis data absent.\n");
 }
 
@@ -1110,6 +1153,8 @@ int main(int argc, char **argv)
             if (i + 1 < argc && argv[i + 1][0] != '-') {
                 opt.surdis_dir = argv[++i];
             }
+        } else if (a == "--surdis-dump") {
+            ok = val(opt.dump_dir);
         } else if (a == "--surdis-f") {
             ok = num(opt.surdis_f, 50, 5000);
         } else if (a == "--surdis-baseline-mm") {
