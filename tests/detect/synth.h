@@ -48,6 +48,7 @@ typedef struct synth_scene {
     double noise_row_px;  /* sigma of the row-correlated offset (px)  */
     int noise_row_len_px; /* its block length along a row (px)        */
     int noise_row_rows;   /* its block height (rows)                  */
+    int noise_row_v0;     /* only rows >= this get it (0: all)        */
     uint32_t seed;
 } synth_scene_t;
 
@@ -202,7 +203,7 @@ static inline void synth_render(const synth_scene_t *s,
             } else if (s->noise_px > 0.0) {
                 d += s->noise_px * synth_gauss(&st);
             }
-            if (s->noise_row_px > 0.0) {
+            if (s->noise_row_px > 0.0 && v >= s->noise_row_v0) {
                 d += synth_row_offset(s, u, v);
             }
             if (d < 0.0) {

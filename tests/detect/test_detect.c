@@ -876,6 +876,34 @@ static void test_detect_strip_noise_measured_not_assumed(void **state)
     rig_teardown(&rig);
 }
 
+/* Row-correlated noise of 0.4 px only in the 60 rows nearest the feet
+ * (1.2-1.7 m), clean beyond: the warning range (4 m) is fine, but a
+ * 50 mm drop near the user (h_min_near, deficit ~0.8 px there) is not
+ * visible at 3 sigma of the strip median. Checking only the warning range
+ * passed it as CLEAR, and so did the old per-pixel formula (it passes up
+ * to sigma 9 q4: 3 * 1.25 * 9/16 / 4 = 0.53 < 0.58 px). */
+static void test_detect_near_rows_are_checked_too(void **state)
+{
+    synth_scene_t s;
+    int i;
+    (void)state;
+    rig_setup(&rig, NULL);
+    for (i = 0; i < 4; i++) {
+        row_scene(&s, 0.1, 0.4, (uint32_t)i + 91u);
+        s.noise_row_v0 = RIG_H - 60;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        print_message("near row noise 0.4: sigma %d q4, warn strip %d/256 "
+                      "px, reasons %u\n",
+                      rig.res.sigma_q4, rig.res.sigma_strip_warn_q8,
+                      rig.res.reasons);
+        assert_true(rig.res.ground_valid);
+        assert_true(rig.res.sigma_warn_q4 <= 9);
+        assert_true(rig.res.reasons & NEGOBS_DEGRADED_NOISY);
+        assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+    }
+    rig_teardown(&rig);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -911,6 +939,7 @@ int main(void)
         cmocka_unit_test(test_detect_row_correlated_noise_is_noisy),
         cmocka_unit_test(test_detect_row_correlated_noise_drop_never_clear),
         cmocka_unit_test(test_detect_strip_noise_measured_not_assumed),
+        cmocka_unit_test(test_detect_near_rows_are_checked_too),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
