@@ -14,6 +14,11 @@
  * surface if that lies inside the segment. Depth is t, disparity f*B/t.
  * A profile may be limited laterally (holes); outside it the ground is
  * flat. Noise is the sum of four uniforms (close to Gaussian, sigma given).
+ * Optional row-correlated noise adds one offset per block of
+ * noise_row_len_px columns x noise_row_rows rows (blocks staggered from row
+ * to row of blocks), like a matcher whose errors are shared by its window
+ * and by its DP along the row: averaging the columns of a strip does not
+ * reduce it. It has its own generator, so maps without it are unchanged.
  */
 #ifndef NEGOBS_TEST_SYNTH_H
 #define NEGOBS_TEST_SYNTH_H
@@ -40,6 +45,10 @@ typedef struct synth_scene {
                             at 1 m depth to this at 5 m              */
     double dropout;    /* share of pixels made invalid at random     */
     int inv_u0, inv_v0, inv_u1, inv_v1; /* invalid box (u1 > u0)     */
+    double noise_row_px;  /* sigma of the row-correlated offset (px)  */
+    int noise_row_len_px; /* its block length along a row (px)        */
+    int noise_row_rows;   /* its block height (rows)                  */
+    int noise_row_v0;     /* only rows >= this get it (0: all)        */
     uint32_t seed;
 } synth_scene_t;
 
@@ -76,6 +85,23 @@ static inline double synth_gauss(uint32_t *st)
     double a = synth_uniform(st) + synth_uniform(st) + synth_uniform(st) +
                synth_uniform(st);
     return (a - 2.0) * 1.7320508075688772;
+}
+
+/* Row-correlated offset (px) of pixel (u, v): one Gaussian per block,
+ * from a hash of the block and the seed. */
+static inline double synth_row_offset(const synth_scene_t *s, int32_t u,
+                                      int32_t v)
+{
+    int len = (s->noise_row_len_px > 0) ? s->noise_row_len_px : 1;
+    int rows = (s->noise_row_rows > 0) ? s->noise_row_rows : 1;
+    uint32_t bv = (uint32_t)(v / rows);
+    uint32_t bu = (uint32_t)((u + (int32_t)((bv * 37u) % (uint32_t)len)) /
+                             len);
+    uint32_t st = (s->seed + 7u) * 2246822519u ^ (bv * 3266489917u) ^
+                  (bu * 668265263u);
+    st ^= st >> 15;
+    st *= 2654435761u;
+    return s->noise_row_px * synth_gauss(&st);
 }
 
 /* Depth t (m) of the first surface hit by the ray, <= 0 for none. */
@@ -176,6 +202,9 @@ static inline void synth_render(const synth_scene_t *s,
                      synth_gauss(&st);
             } else if (s->noise_px > 0.0) {
                 d += s->noise_px * synth_gauss(&st);
+            }
+            if (s->noise_row_px > 0.0 && v >= s->noise_row_v0) {
+                d += synth_row_offset(s, u, v);
             }
             if (d < 0.0) {
                 d = 0.0;

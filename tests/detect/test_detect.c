@@ -778,6 +778,132 @@ static void test_detect_oblique_edge_angle(void **state)
     rig_teardown(&rig);
 }
 
+/*
+ * Row-correlated noise (DETECTION.md 12.4 item 6). Each block of 48
+ * columns x 4 rows shares one offset, like matcher errors shared by the
+ * window and the DP along the row. The median of a 16-px strip row then
+ * keeps the offset's full sigma, where the old self-check assumed it falls
+ * as 1.25 * sigma / sqrt(16).
+ */
+static void row_scene(synth_scene_t *s, double pix, double row, uint32_t seed)
+{
+    scene(s, pix, seed);
+    s->noise_row_px = row;
+    s->noise_row_len_px = 48;
+    s->noise_row_rows = 4;
+}
+
+/* 0.35 px of row-correlated noise (0.36 px per pixel) on flat ground: the
+ * per-pixel figure passes the old test (3 * 1.25 * 0.36 / 4 = 0.34 px is
+ * less than the 0.58 px deficit of 100 mm at 4 m), but the strip median
+ * is as noisy as a pixel, so 100 mm at 4 m cannot be vouched for. */
+static void test_detect_row_correlated_noise_is_noisy(void **state)
+{
+    synth_scene_t s;
+    int i;
+    (void)state;
+    rig_setup(&rig, NULL);
+    for (i = 0; i < 6; i++) {
+        row_scene(&s, 0.1, 0.35, (uint32_t)i + 31u);
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        print_message("row noise 0.35: sigma %d q4, warn %d q4, strip %d/256 "
+                      "px, reasons %u\n",
+                      rig.res.sigma_q4, rig.res.sigma_warn_q4,
+                      rig.res.sigma_strip_warn_q8, rig.res.reasons);
+        assert_true(rig.res.ground_valid);
+        assert_true(rig.res.reasons & NEGOBS_DEGRADED_NOISY);
+        assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+        /* The per-pixel noise alone would pass. */
+        assert_true(rig.res.sigma_warn_q4 <= rig.cfg.sigma_max_q4);
+        /* The measured strip noise is far above the independent-pixel
+         * figure 1.25 * 0.36 / 4 = 0.11 px (few blocks per band near
+         * 4 m, so it scatters around the block sigma). */
+        assert_true(rig.res.sigma_strip_warn_q8 >= (int32_t)(0.15 * 256));
+        assert_true(rig.res.sigma_strip_warn_q8 <= (int32_t)(0.60 * 256));
+    }
+    rig_teardown(&rig);
+}
+
+/* A 100 mm drop approached from 4.5 m under the same noise: whether or not
+ * the rule finds it, no frame may say CLEAR (the worst outcome: a missed
+ * drop presented as "all clear"). */
+static void test_detect_row_correlated_noise_drop_never_clear(void **state)
+{
+    synth_scene_t s;
+    int i;
+    int clear = 0;
+    (void)state;
+    rig_setup(&rig, NULL);
+    for (i = 0; i < 20; i++) {
+        row_scene(&s, 0.1, 0.35, (uint32_t)i + 51u);
+        synth_step(&s, 4.5 - 0.1 * i, -0.10);
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        clear += rig.res.state == NEGOBS_DETECT_CLEAR;
+    }
+    print_message("100 mm drop, row noise 0.35 px: %d/20 frames CLEAR\n",
+                  clear);
+    assert_int_equal(clear, 0);
+    rig_teardown(&rig);
+}
+
+/* The measured figure is not a blanket penalty: independent 0.25 px noise
+ * (strip median ~0.08 px) and a little row-correlated noise stay clear,
+ * and the measurement tracks the strip median's real spread. */
+static void test_detect_strip_noise_measured_not_assumed(void **state)
+{
+    synth_scene_t s;
+    int i;
+    (void)state;
+    rig_setup(&rig, NULL);
+    for (i = 0; i < 4; i++) {
+        scene(&s, 0.25, (uint32_t)i + 71u);
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        print_message("independent 0.25: strip %d/256 px\n",
+                      rig.res.sigma_strip_warn_q8);
+        assert_int_equal(rig.res.reasons, 0);
+        assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+        assert_true(rig.res.sigma_strip_warn_q8 >= (int32_t)(0.05 * 256));
+        assert_true(rig.res.sigma_strip_warn_q8 <= (int32_t)(0.14 * 256));
+    }
+    for (i = 0; i < 4; i++) {
+        row_scene(&s, 0.25, 0.08, (uint32_t)i + 81u);
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        print_message("independent 0.25 + row 0.08: strip %d/256 px\n",
+                      rig.res.sigma_strip_warn_q8);
+        assert_int_equal(rig.res.reasons, 0);
+        assert_true(rig.res.sigma_strip_warn_q8 >= (int32_t)(0.08 * 256));
+    }
+    rig_teardown(&rig);
+}
+
+/* Row-correlated noise of 0.4 px only in the 60 rows nearest the feet
+ * (1.2-1.7 m), clean beyond: the warning range (4 m) is fine, but a
+ * 50 mm drop near the user (h_min_near, deficit ~0.8 px there) is not
+ * visible at 3 sigma of the strip median. Checking only the warning range
+ * passed it as CLEAR, and so did the old per-pixel formula (it passes up
+ * to sigma 9 q4: 3 * 1.25 * 9/16 / 4 = 0.53 < 0.58 px). */
+static void test_detect_near_rows_are_checked_too(void **state)
+{
+    synth_scene_t s;
+    int i;
+    (void)state;
+    rig_setup(&rig, NULL);
+    for (i = 0; i < 4; i++) {
+        row_scene(&s, 0.1, 0.4, (uint32_t)i + 91u);
+        s.noise_row_v0 = RIG_H - 60;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        print_message("near row noise 0.4: sigma %d q4, warn strip %d/256 "
+                      "px, reasons %u\n",
+                      rig.res.sigma_q4, rig.res.sigma_strip_warn_q8,
+                      rig.res.reasons);
+        assert_true(rig.res.ground_valid);
+        assert_true(rig.res.sigma_warn_q4 <= 9);
+        assert_true(rig.res.reasons & NEGOBS_DEGRADED_NOISY);
+        assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+    }
+    rig_teardown(&rig);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -810,6 +936,10 @@ int main(void)
         cmocka_unit_test(test_detect_canny_supports_a_clear_drop),
         cmocka_unit_test(test_detect_far_noise_raises_noisy),
         cmocka_unit_test(test_detect_oblique_edge_angle),
+        cmocka_unit_test(test_detect_row_correlated_noise_is_noisy),
+        cmocka_unit_test(test_detect_row_correlated_noise_drop_never_clear),
+        cmocka_unit_test(test_detect_strip_noise_measured_not_assumed),
+        cmocka_unit_test(test_detect_near_rows_are_checked_too),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -277,6 +277,7 @@ struct Options {
     bool surdis = false;
     std::string surdis_dir;
     std::string img_dir;
+    std::string dump_dir; // --surdis-dump: raw maps + plane per frame
     // the assumptions of docs/DETECTION.md 12.3 (no calibration is published)
     double surdis_f = 380, surdis_B = 30, surdis_H = 1100, surdis_pitch = 20;
     double surdis_range_warn = -1, surdis_range_max = -1; // < 0: library default
@@ -884,6 +885,7 @@ int evaluate_surdis(const Options &opt)
              ".");
     rep.both("");
     int scored = 0, hit = 0, hit_warned = 0, frames = 0, noinfo = 0, hazard_frames = 0;
+    int clear_on_label = 0; // the worst outcome: CLEAR with the steps in view
     std::vector<std::string> missed, hits;
     std::vector<int> pics = {30, 60, 80, 95};
     double st_sum = 0, dt_sum = 0;
@@ -936,7 +938,10 @@ int evaluate_surdis(const Options &opt)
                                                    65536.0) +
                                   " at the bottom row"
                             : ", vertical offset " +
-                                  std::to_string(o.res.stereo.vertical_offset));
+                                  std::to_string(o.res.stereo.vertical_offset)) +
+                       "; at the warning range: strip-median spread " +
+                       fmtd("%.2f", d.sigma_strip_warn_q8 / 256.0) + " px, offset " +
+                       fmtd("%+.2f", d.offset_strip_warn_q8 / 256.0) + " px";
         }
         std::vector<Box> boxes;
         read_voc(ap, "down_steps", boxes);
@@ -973,6 +978,7 @@ int evaluate_surdis(const Options &opt)
         }
         if (in_corr) {
             ++scored;
+            clear_on_label += d.state == NEGOBS_DETECT_CLEAR;
             hit += ok ? 1 : 0;
             hit_warned += (ok && d.state == NEGOBS_DETECT_HAZARD) ? 1 : 0;
             if (!ok) {
@@ -1004,6 +1010,37 @@ int evaluate_surdis(const Options &opt)
                                  " |");
             }
         }
+        if (!opt.dump_dir.empty()) {
+            // Raw maps for offline analysis: disparity (int16 q4, host
+            // order), confidence (u8), and one text line per frame with
+            // the plane (q20) and the detector's verdict.
+            const cv::Mat dm = runner.disparity();
+            const negobs_image_u8_t *cm = runner.confidence();
+            const std::string base =
+                (fs::path(opt.dump_dir) / ("f" + std::to_string(n))).string();
+            if (FILE *fp = std::fopen((base + ".disp").c_str(), "wb")) {
+                for (int y = 0; y < dm.rows; ++y) {
+                    std::fwrite(dm.ptr<int16_t>(y), 2, static_cast<size_t>(dm.cols), fp);
+                }
+                std::fclose(fp);
+            }
+            if (FILE *fp = std::fopen((base + ".conf").c_str(), "wb")) {
+                for (int y = 0; cm != nullptr && y < cm->height; ++y) {
+                    std::fwrite(cm->data + static_cast<size_t>(y) * cm->stride, 1,
+                                static_cast<size_t>(cm->width), fp);
+                }
+                std::fclose(fp);
+            }
+            if (FILE *fp = std::fopen((base + ".txt").c_str(), "w")) {
+                std::fprintf(fp, "%d %d %d %d %d %d %d %d %d %d %u %d %d %d %u\n", n,
+                             dm.cols, dm.rows, d.ground_valid, d.plane.a_q20,
+                             d.plane.b_q20, d.plane.c_q20, d.pose.height_mm, d.sigma_q4,
+                             d.sigma_warn_q4, static_cast<unsigned>(d.reasons),
+                             d.sigma_strip_warn_q8, d.offset_strip_warn_q8,
+                             static_cast<int>(d.state), d.n_candidates);
+                std::fclose(fp);
+            }
+        }
         if (!opt.img_dir.empty() &&
             std::find(pics.begin(), pics.end(), n) != pics.end()) {
             std::vector<cv::Rect> lab;
@@ -1024,11 +1061,13 @@ int evaluate_surdis(const Options &opt)
     rep.both(est_pose + ".");
     rep.both("");
     rep.both("| frames | down_steps label in the corridor | confirmed drop on the label | "
-             "... with verdict HAZARD | HAZARD frames | NO_INFO frames | stereo ms | detect ms |");
-    rep.both("|---|---|---|---|---|---|---|---|");
+             "... with verdict HAZARD | HAZARD frames | NO_INFO frames | "
+             "CLEAR with the label in the corridor | stereo ms | detect ms |");
+    rep.both("|---|---|---|---|---|---|---|---|---|");
     rep.both("| " + std::to_string(frames) + " | " + std::to_string(scored) + " | " +
              pct(hit, scored) + " | " + pct(hit_warned, scored) + " | " + std::to_string(hazard_frames) + " | " +
-             std::to_string(noinfo) + " | " + fmtd("%.1f", st_sum / frames) + " | " +
+             std::to_string(noinfo) + " | " + std::to_string(clear_on_label) + " | " +
+             fmtd("%.1f", st_sum / frames) + " | " +
              fmtd("%.2f", dt_sum / frames) + " |");
     rep.both("");
     if (!hits.empty()) {
@@ -1069,7 +1108,7 @@ void usage(FILE *f)
         "                          [--surdis-height-mm H] [--surdis-pitch-deg P]\n"
         "                          [--surdis-vshift ROWS|auto|model] [--surdis-frames A-B]\n"
         "                          [--surdis-range-warn-mm R] [--surdis-range-max-mm R]\n"
-        "                          [--surdis-max-disp N (15)]\n"
+        "                          [--surdis-max-disp N (15)] [--surdis-dump DIR]\n"
         "Synthetic suite (default, ~230 sequences; --quick ~20): renders each\n"
         "sequence with negobs_synth into --work (default /tmp/negobs_detect_eval),\n"
         "runs the pipeline, deletes the images unless --keep (kept ones are\n"
@@ -1081,7 +1120,10 @@ void usage(FILE *f)
         "--surdis: SurDis sequence 21 from DIR (default $NEGOBS_DATA/surdis,\n"
         "else <repo>/../shared/data/surdis); exit 77 if absent. --surdis-vshift:\n"
         "model (default) runs the sub-pixel alignment stage; ROWS fixes an integer\n"
-        "shift; auto lets the matcher search whole rows.\n"
+        "shift; auto lets the matcher search whole rows. --surdis-dump\n"
+        "writes fN.disp (int16 q4), fN.conf (u8) and fN.txt (frame, size, ground\n"
+        "valid, plane a b c q20, H, sigma q4, sigma_warn q4, reasons, strip\n"
+        "sigma q8, strip offset q8, state, candidates) per frame into DIR.\n"
         "Exit: 0 ran, 1 error, 2 bad command line, 77 SurDis data absent.\n");
 }
 
@@ -1140,6 +1182,8 @@ int main(int argc, char **argv)
             if (i + 1 < argc && argv[i + 1][0] != '-') {
                 opt.surdis_dir = argv[++i];
             }
+        } else if (a == "--surdis-dump") {
+            ok = val(opt.dump_dir);
         } else if (a == "--surdis-f") {
             ok = num(opt.surdis_f, 50, 5000);
         } else if (a == "--surdis-baseline-mm") {

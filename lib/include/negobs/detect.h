@@ -42,11 +42,11 @@ extern "C" {
  * for static buffers: any valid config with this width, height and
  * max_disp_q4 <= 16 * max_disp_px fits. (Context and tracks < 8 KiB,
  * v-disparity histogram <= h x (2 max_disp + 2) x 2 bytes, Hough 16 KiB,
- * strips <= w/4 x 64 bytes, noise bands 2 KiB, plus arena guards.)
+ * strips <= w/4 x 64 bytes, noise bands 2 + 2 KiB, plus arena guards.)
  */
 #define NEGOBS_DETECT_WORKSPACE_MAX(w, h, max_disp_px)                      \
     ((size_t)8192u + (size_t)(h) * ((size_t)(max_disp_px) * 2u + 2u) * 2u + \
-     (size_t)16640u + ((size_t)(w) / 4u + 1u) * 64u + (size_t)2368u)
+     (size_t)16640u + ((size_t)(w) / 4u + 1u) * 64u + (size_t)4480u)
 
 /** Why the detector cannot vouch for "no hazard" (bitmask). */
 typedef enum negobs_degraded_reason {
@@ -223,6 +223,12 @@ typedef struct negobs_detect_result {
     negobs_ground_pose_t pose;     /**< its camera pose                 */
     int32_t sigma_q4;              /**< disparity noise, ground (q4)    */
     int32_t sigma_warn_q4;         /**< noise at the warning range (q4) */
+    int32_t sigma_strip_warn_q8;   /**< measured noise of a strip's median
+                                        residual there (1/256 px): what the
+                                        self-check compares (step 6)    */
+    int32_t offset_strip_warn_q8;  /**< median of that residual there: the
+                                        ground model's offset (1/256 px);
+                                        > 0 hides drops                 */
     int32_t ground_valid_permille; /**< valid share in the fit ROI      */
     int32_t ground_inliers;        /**< plane-fit inliers               */
     negobs_photo_stats_t stats;    /**< left stats used (or zero)       */
