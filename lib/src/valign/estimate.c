@@ -71,7 +71,7 @@ static void carve(negobs_arena_t *a, const negobs_valign_config_t *c,
                   negobs_valign_t *ctx)
 {
     size_t tiles = (size_t)c->tiles_x * (size_t)c->tiles_y;
-    size_t nk = (size_t)(2 * c->max_offset + 1);
+    size_t nk = (size_t)c->max_offset * 2u + 1u;
     int32_t *sum = negobs_arena_take(a, tiles * nk * sizeof(int32_t));
     int32_t *n = negobs_arena_take(a, tiles * sizeof(int32_t));
     int32_t *off = negobs_arena_take(a, tiles * sizeof(int32_t));
@@ -213,7 +213,7 @@ static int32_t score_tiles(negobs_valign_t *ctx, const negobs_image_u8_t *l,
             int32_t x0 = tx * w / c->tiles_x;
             int32_t x1 = (tx + 1) * w / c->tiles_x;
             int32_t t = ty * c->tiles_x + tx;
-            int32_t *sum = ctx->tile_sum + t * nk;
+            int32_t *sum = ctx->tile_sum + (size_t)t * (size_t)nk;
             int32_t sj;
             memset(sum, 0, (size_t)nk * sizeof *sum);
             ctx->tile_n[t] = 0;
@@ -226,7 +226,7 @@ static int32_t score_tiles(negobs_valign_t *ctx, const negobs_image_u8_t *l,
                 for (si = 0; si < c->samples; si++) {
                     int32_t x =
                         x0 + (2 * si + 1) * (x1 - x0) / (2 * c->samples);
-                    int32_t best[2 * NEGOBS_VALIGN_MAX_OFFSET + 1];
+                    int32_t best[2 * NEGOBS_VALIGN_MAX_OFFSET + 1] = {0};
                     int32_t top = INT32_MIN;
                     int32_t sl;
                     int32_t vl;
@@ -279,7 +279,7 @@ static void tile_offsets(negobs_valign_t *ctx, int32_t n)
     int32_t nk = 2 * n + 1;
     int32_t t;
     for (t = 0; t < c->tiles_x * c->tiles_y; t++) {
-        const int32_t *sum = ctx->tile_sum + t * nk;
+        const int32_t *sum = ctx->tile_sum + (size_t)t * (size_t)nk;
         int32_t kb = 0;
         int32_t k;
         int32_t den;
@@ -297,7 +297,7 @@ static void tile_offsets(negobs_valign_t *ctx, int32_t n)
             continue; /* peak at the search limit: no vertex to place */
         }
         den = sum[kb - 1] - 2 * sum[kb] + sum[kb + 1];
-        if (-den < ctx->tile_n[t] * VALIGN_CURV_MIN_Q14) {
+        if (den >= 0 || -den < ctx->tile_n[t] * VALIGN_CURV_MIN_Q14) {
             continue;
         }
         dq4 = (int32_t)negobs_div_round_s64(
@@ -338,6 +338,9 @@ static inline int32_t half_v(const negobs_valign_config_t *c, int32_t ty)
 /* Model value at a tile, Q4 (rounded). */
 static int32_t fit_eval_q4(const fit_t *f, int32_t u, int32_t v)
 {
+    if (f->det <= 0) {
+        return 0; /* no fit: callers only pass fits with tiles */
+    }
     return (int32_t)negobs_div_round_s64(f->num[0] + f->num[1] * v +
                                              f->num[2] * u,
                                          f->det);
@@ -452,8 +455,14 @@ static int32_t fit_mad_q4(const negobs_valign_t *ctx, const fit_t *f,
 static void fit_model(const negobs_valign_config_t *c, const fit_t *f,
                       negobs_valign_model_t *m)
 {
-    int64_t cv_q16 = negobs_div_round_s64(f->num[1] * 4096, f->det);
-    int64_t cu_q16 = negobs_div_round_s64(f->num[2] * 4096, f->det);
+    int64_t cv_q16;
+    int64_t cu_q16;
+    memset(m, 0, sizeof *m);
+    if (f->det <= 0) {
+        return; /* no fit: the zero model */
+    }
+    cv_q16 = negobs_div_round_s64(f->num[1] * 4096, f->det);
+    cu_q16 = negobs_div_round_s64(f->num[2] * 4096, f->det);
     /* one half-tile unit is h / (2 * tiles_y) rows */
     m->offset_q16 = (int32_t)negobs_div_round_s64(f->num[0] * 4096, f->det);
     m->slope_y_q16 =
