@@ -959,6 +959,39 @@ static void test_detect_near_rows_are_checked_too(void **state)
     rig_teardown(&rig);
 }
 
+/* A drop seen for the first time (a candidate, not yet confirmed) while
+ * the rows near the user cannot be vouched for: the frame must not be
+ * CLEAR. It is NO_INFO until the hazard confirms, and the candidate still
+ * counts towards confirmation. (SurDis, 1.5 m warning range, frame 89:
+ * CLEAR with a HOLE candidate on the steps.) */
+static void test_detect_unconfirmed_candidate_with_noisy_near_rows(void **state)
+{
+    synth_scene_t s;
+    int i;
+    int hazard = 0;
+    (void)state;
+    rig_setup(&rig, NULL);
+    for (i = 0; i < 6; i++) {
+        row_scene(&s, 0.1, 0.25, (uint32_t)i + 601u);
+        s.noise_row_v0 = RIG_H - 40;
+        synth_step(&s, 2.5 - 0.05 * i, -0.20);
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        print_message("frame %d: state %d, candidates %u, hazards %u, "
+                      "reasons %u\n",
+                      i, (int)rig.res.state, rig.res.n_candidates,
+                      rig.res.n_hazards, rig.res.reasons);
+        if (i == 0) {
+            assert_true(rig.res.n_candidates > 0u);
+            assert_int_equal(rig.res.n_hazards, 0u);
+        }
+        assert_true(rig.res.state != NEGOBS_DETECT_CLEAR);
+        hazard += rig.res.state == NEGOBS_DETECT_HAZARD;
+    }
+    /* the pending frames did not stop the confirmation */
+    assert_true(hazard > 0);
+    rig_teardown(&rig);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -974,6 +1007,7 @@ int main(void)
         cmocka_unit_test(test_detect_no_false_hazard_on_wall),
         cmocka_unit_test(test_detect_wall_before_warning_range_is_clear),
         cmocka_unit_test(test_detect_small_rise_does_not_close_the_path),
+        cmocka_unit_test(test_detect_unconfirmed_candidate_with_noisy_near_rows),
         cmocka_unit_test(test_detect_no_false_hazard_with_dropout_and_roll),
         cmocka_unit_test(test_detect_drop_with_roll),
         cmocka_unit_test(test_detect_descending_stairs),

@@ -1270,6 +1270,7 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
     detect_priv_t *p;
     const negobs_detect_config_t *cfg;
     uint32_t reasons = 0;
+    int32_t pending_noisy = 0; /* unconfirmed candidate, near bands noisy */
     negobs_photo_stats_t ls;
     gfit_out_t g;
     uint32_t i;
@@ -1474,6 +1475,15 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
                 }
                 if (near_noisy && res->n_candidates == 0u) {
                     reasons |= NEGOBS_DEGRADED_NOISY;
+                } else if (near_noisy) {
+                    /* A candidate that is not confirmed yet: the frame
+                     * still feeds the tracker as a clean one (else a drop
+                     * filling the near bands could never confirm), but
+                     * unless a hazard is confirmed the user is not told
+                     * CLEAR (below). On SurDis with a 1.5 m warning range
+                     * frame 89 was CLEAR with a HOLE candidate on the
+                     * steps. */
+                    pending_noisy = 1;
                 }
             }
         }
@@ -1533,6 +1543,9 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
             res->level = res->hazards[i].level;
             res->nearest_range_mm = res->hazards[i].range_mm;
         }
+    }
+    if (pending_noisy && res->n_hazards == 0u) {
+        reasons |= NEGOBS_DEGRADED_NOISY;
     }
     res->reasons = reasons;
     if (reasons != 0u) {
