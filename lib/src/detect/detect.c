@@ -629,6 +629,9 @@ static void scan_strip(const scan_ctx_t *s, int32_t u0, int32_t u1,
     int32_t back = 0;
     int32_t deeper = 0;
     int32_t range = 0;
+    int32_t settle = 0;  /* rows after the edge run, before classifying */
+    int64_t s2dg = 0;
+    int64_t s2d = 0;
 
     memset(hit, 0, sizeof *hit);
     hit->u0 = u0;
@@ -651,6 +654,32 @@ static void scan_strip(const scan_ctx_t *s, int32_t u0, int32_t u1,
             hit->top_v = v;
             if (range - hit->range_mm > cfg->max_hole_mm + 500) {
                 break;
+            }
+            if (settle < cfg->min_edge_rows) {
+                /* The first deficit rows past an edge are blurred by the
+                 * matcher's windows and DP, so the plateau they give is
+                 * too shallow: a plain curb then looked "deeper" a few
+                 * rows on (typed STAIRS) and its height read low (15 cm
+                 * curbs at 9-11 cm). The next min_edge_rows rows measure
+                 * it again; the deeper of the two plateaus is kept and
+                 * classification starts after them. */
+                settle++;
+                if (rc == ROW_DEFICIT) {
+                    s2dg += st.sum_dg_def;
+                    s2d += st.sum_d_def;
+                }
+                if (settle == cfg->min_edge_rows && s2d > 0 && s2dg > s2d) {
+                    int32_t rho2 = (int32_t)(((s2dg - s2d) * 32768) / s2dg);
+                    if (rho2 > rho1) {
+                        rho1 = rho2;
+                        hit->rho1_q15 = rho1;
+                        hit->drop_mm = (int32_t)geom_clamp_s64(
+                            ((int64_t)s->frame->height_mm * (s2dg - s2d)) /
+                                s2d,
+                            0, 100000);
+                    }
+                }
+                continue;
             }
             if ((rc == ROW_GROUND || rc == ROW_POSITIVE) &&
                 st.n_up * 2 > st.n) {
