@@ -552,6 +552,18 @@ static inline int32_t add_sat(int32_t a, int32_t b, int32_t lim)
     return negobs_clamp_s32(a + b, -lim, lim);
 }
 
+/* acc += residual, each term kept within the limits a model may carry. */
+static void model_add(negobs_valign_model_t *acc,
+                      const negobs_valign_model_t *residual)
+{
+    acc->offset_q16 = add_sat(acc->offset_q16, residual->offset_q16,
+                              VALIGN_OFFSET_LIMIT_Q16);
+    acc->slope_y_q16 = add_sat(acc->slope_y_q16, residual->slope_y_q16,
+                               NEGOBS_VALIGN_SLOPE_LIMIT_Q16);
+    acc->slope_x_q16 = add_sat(acc->slope_x_q16, residual->slope_x_q16,
+                               NEGOBS_VALIGN_SLOPE_LIMIT_Q16);
+}
+
 negobs_status_t negobs_valign_estimate(negobs_valign_t *ctx,
                                        const negobs_image_u8_t *left,
                                        const negobs_image_u8_t *right,
@@ -589,12 +601,7 @@ negobs_status_t negobs_valign_estimate(negobs_valign_t *ctx,
         }
         n2 = (ctx->cfg.max_offset < 2) ? ctx->cfg.max_offset : 2;
         if (estimate_pass(ctx, left, scratch, n2, &m2, &st2)) {
-            m1.offset_q16 =
-                add_sat(m1.offset_q16, m2.offset_q16, VALIGN_OFFSET_LIMIT_Q16);
-            m1.slope_y_q16 = add_sat(m1.slope_y_q16, m2.slope_y_q16,
-                                     NEGOBS_VALIGN_SLOPE_LIMIT_Q16);
-            m1.slope_x_q16 = add_sat(m1.slope_x_q16, m2.slope_x_q16,
-                                     NEGOBS_VALIGN_SLOPE_LIMIT_Q16);
+            model_add(&m1, &m2);
         }
         *model = m1;
     }
@@ -622,6 +629,7 @@ negobs_status_t negobs_valign_process(negobs_valign_t *ctx,
     negobs_valign_model_t m;
     negobs_status_t rc;
     int32_t n2;
+    int32_t warped = 0;
 
     if (ctx == NULL || ctx->ready != VALIGN_READY) {
         return NEGOBS_ERR_STATE;
@@ -642,12 +650,12 @@ negobs_status_t negobs_valign_process(negobs_valign_t *ctx,
         }
         st.accepted = estimate_pass(ctx, left, out, n2, &m, &st);
         if (st.accepted) {
-            m.offset_q16 = add_sat(ctx->model.offset_q16, m.offset_q16,
-                                   VALIGN_OFFSET_LIMIT_Q16);
-            m.slope_y_q16 = add_sat(ctx->model.slope_y_q16, m.slope_y_q16,
-                                    NEGOBS_VALIGN_SLOPE_LIMIT_Q16);
-            m.slope_x_q16 = add_sat(ctx->model.slope_x_q16, m.slope_x_q16,
-                                    NEGOBS_VALIGN_SLOPE_LIMIT_Q16);
+            negobs_valign_model_t residual = m;
+            m = ctx->model;
+            model_add(&m, &residual);
+        } else {
+            /* out already holds right warped by the unchanged model */
+            warped = 1;
         }
     } else {
         rc = negobs_valign_estimate(ctx, left, right, out, &m, &st);
@@ -677,7 +685,9 @@ negobs_status_t negobs_valign_process(negobs_valign_t *ctx,
     }
     st.frame = m;
     st.model = ctx->model;
-    rc = negobs_valign_warp(&ctx->model, right, out);
+    if (!warped) {
+        rc = negobs_valign_warp(&ctx->model, right, out);
+    }
     if (stats != NULL) {
         *stats = st;
     }

@@ -20,6 +20,19 @@ static inline int32_t floor_div16(int32_t a)
     return (a >= 0) ? a / 16 : -((15 - a) / 16);
 }
 
+/* The two source rows and the weight of an offset of q4/16 rows at row y
+ * (rows clamped to the image). */
+static inline void row_pair(const negobs_image_u8_t *right, int32_t y,
+                            int32_t q4, const uint8_t **r0,
+                            const uint8_t **r1, int32_t *f)
+{
+    int32_t k = floor_div16(q4);
+    int32_t h = right->height;
+    *f = q4 - 16 * k;
+    *r0 = negobs_image_u8_row(right, negobs_clamp_s32(y + k, 0, h - 1));
+    *r1 = negobs_image_u8_row(right, negobs_clamp_s32(y + k + 1, 0, h - 1));
+}
+
 static inline uint8_t blend(const uint8_t *r0, const uint8_t *r1, int32_t x,
                             int32_t f)
 {
@@ -70,13 +83,11 @@ negobs_status_t negobs_valign_warp(const negobs_valign_model_t *model,
                        model->slope_x_q16 * (w / 2);
         int32_t x;
         if (model->slope_x_q16 == 0) {
-            int32_t q4 = negobs_rshift_round_s32(base, 12);
-            int32_t k = floor_div16(q4);
-            int32_t f = q4 - 16 * k;
-            const uint8_t *r0 = negobs_image_u8_row(
-                right, negobs_clamp_s32(y + k, 0, h - 1));
-            const uint8_t *r1 = negobs_image_u8_row(
-                right, negobs_clamp_s32(y + k + 1, 0, h - 1));
+            const uint8_t *r0;
+            const uint8_t *r1;
+            int32_t f;
+            row_pair(right, y, negobs_rshift_round_s32(base, 12), &r0, &r1,
+                     &f);
             if (f == 0) {
                 memcpy(dst, r0, (size_t)w);
                 continue;
@@ -95,22 +106,15 @@ negobs_status_t negobs_valign_warp(const negobs_valign_model_t *model,
             int32_t o = base;
             int32_t q4 = negobs_rshift_round_s32(o, 12);
             int32_t lo = q4 * 4096 - 2048;
-            int32_t k = floor_div16(q4);
-            int32_t f = q4 - 16 * k;
-            const uint8_t *r0 = negobs_image_u8_row(
-                right, negobs_clamp_s32(y + k, 0, h - 1));
-            const uint8_t *r1 = negobs_image_u8_row(
-                right, negobs_clamp_s32(y + k + 1, 0, h - 1));
+            const uint8_t *r0;
+            const uint8_t *r1;
+            int32_t f;
+            row_pair(right, y, q4, &r0, &r1, &f);
             for (x = 0; x < w; x++) {
                 if (o < lo || o >= lo + 4096) {
                     q4 = negobs_rshift_round_s32(o, 12);
                     lo = q4 * 4096 - 2048;
-                    k = floor_div16(q4);
-                    f = q4 - 16 * k;
-                    r0 = negobs_image_u8_row(
-                        right, negobs_clamp_s32(y + k, 0, h - 1));
-                    r1 = negobs_image_u8_row(
-                        right, negobs_clamp_s32(y + k + 1, 0, h - 1));
+                    row_pair(right, y, q4, &r0, &r1, &f);
                 }
                 dst[x] = blend(r0, r1, x, f);
                 o += model->slope_x_q16;
