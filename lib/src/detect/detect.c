@@ -982,6 +982,19 @@ static int strip_row_e(const scan_ctx_t *s, const detect_priv_t *p,
     return 1;
 }
 
+/* Count e (1/32 px) in the histogram of row v's band. */
+static void strip_hist_add(const scan_ctx_t *s, uint16_t *hist, int32_t v,
+                           int32_t e)
+{
+    uint16_t *hb = hist + (size_t)geom_min_s32((v - s->band_v0) / s->band_rows,
+                                               NOISE_BANDS - 1) *
+                              STRIP_BINS;
+    e = negobs_clamp_s32(e + STRIP_BINS / 2, 0, STRIP_BINS - 1);
+    if (hb[e] < 0xFFFFu) {
+        hb[e]++;
+    }
+}
+
 static void strip_noise(scan_ctx_t *s, detect_priv_t *p, uint16_t *hist)
 {
     const int32_t h = s->cfg->cam.height;
@@ -997,11 +1010,15 @@ static void strip_noise(scan_ctx_t *s, detect_priv_t *p, uint16_t *hist)
      * row below a quarter of the threshold), so the ramp up the face of
      * a wall is not measured as ground noise either. */
     int32_t any_candidate = 0;
+    int32_t any_closed = 0;
     for (si = 0; si < p->n_strips; si++) {
         p->hits[si].blocked_v = -1;
         p->hits[si].pos_run = 0;
         any_candidate |= p->hits[si].reported;
     }
+    /* Pass 1 also fills the histogram; it is complete unless a strip
+     * closed (its rise was counted) or pass 1 did not run. */
+    memset(hist, 0, (size_t)NOISE_BANDS * STRIP_BINS * sizeof(uint16_t));
     for (si = 0; si < p->n_strips && !any_candidate; si++) {
         /* Only on frames without a candidate: a drop's far wall or rim
          * is positive too, and on SurDis (1.5 m warning range) closing
@@ -1015,35 +1032,32 @@ static void strip_noise(scan_ctx_t *s, detect_priv_t *p, uint16_t *hist)
             if (!strip_row_e(s, p, v, si, rr, &e)) {
                 continue;
             }
+            strip_hist_add(s, hist, v, e);
             if (e * 4 < thr) {
                 foot = v - 1;
             }
             if (e >= thr) {
                 if (++hs->pos_run >= BLOCK_ROWS) {
                     hs->blocked_v = (foot >= 0) ? foot : v;
+                    any_closed = 1;
                 }
             } else {
                 hs->pos_run = 0;
             }
         }
     }
-    /* Pass 2: the histogram of e per band, rows before any closure. */
-    memset(hist, 0, (size_t)NOISE_BANDS * STRIP_BINS * sizeof(uint16_t));
-    for (v = h - 1; v >= s->band_v0; v--) {
-        uint16_t *hb = hist + (size_t)geom_min_s32(
-                                  (v - s->band_v0) / s->band_rows,
-                                  NOISE_BANDS - 1) *
-                                  STRIP_BINS;
+    /* Pass 2, only when needed: the histogram of rows before any closure. */
+    if (any_candidate || any_closed) {
+        memset(hist, 0, (size_t)NOISE_BANDS * STRIP_BINS * sizeof(uint16_t));
+    }
+    for (v = h - 1; v >= s->band_v0 && (any_candidate || any_closed); v--) {
         for (si = 0; si < p->n_strips; si++) {
             int32_t e;
             if (v <= p->hits[si].blocked_v ||
                 !strip_row_e(s, p, v, si, rr, &e)) {
                 continue; /* beyond a wall: nothing to vouch for there */
             }
-            e = negobs_clamp_s32(e + STRIP_BINS / 2, 0, STRIP_BINS - 1);
-            if (hb[e] < 0xFFFFu) {
-                hb[e]++;
-            }
+            strip_hist_add(s, hist, v, e);
         }
     }
     for (b = 0; b < NOISE_BANDS; b++) {
