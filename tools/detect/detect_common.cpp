@@ -323,6 +323,15 @@ bool Runner::process(const cv::Mat &left, const cv::Mat &right, uint32_t t_ms,
     return true;
 }
 
+cv::Mat Runner::aligned_right() const
+{
+    const negobs_image_u8_t &r = ctx_.right_aligned;
+    if (!ready_ || !cfg_.valign.enable || r.data == nullptr) {
+        return cv::Mat();
+    }
+    return cv::Mat(r.height, r.width, CV_8UC1, r.data, static_cast<size_t>(r.stride));
+}
+
 cv::Mat Runner::disparity() const
 {
     const negobs_image_s16_t *d = negobs_pipeline_disparity(&ctx_);

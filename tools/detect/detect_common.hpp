@@ -98,6 +98,9 @@ public:
 
     // Last disparity (CV_16S, disp*16, INT16_MIN invalid), a view.
     cv::Mat disparity() const;
+    // Right image as the matcher saw it: the alignment stage's output when
+    // it is on (a view), else empty.
+    cv::Mat aligned_right() const;
     // Last stereo confidence map (the pipeline's own buffer).
     const negobs_image_u8_t *confidence() const { return &ctx_.confidence; }
     const negobs_pipeline_config_t &config() const { return cfg_; }

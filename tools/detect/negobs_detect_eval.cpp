@@ -27,7 +27,10 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <opencv2/calib3d.hpp>
+
 #include "detect_common.hpp"
+#include "profile_jump.hpp"
 
 namespace fs = std::filesystem;
 using namespace negobs_detect_tools;
@@ -836,6 +839,54 @@ bool overlaps(const Box &a, int u0, int v0, int u1, int v1)
     return !(u1 < a.x0 || u0 > a.x1 || v1 < a.y0 || v0 > a.y1);
 }
 
+// How far the labelled edge stands out of the noise on the corridor
+// profile (profile_jump.hpp): a bound for any rule that reads one map.
+void report_separability(Report &rep, const std::vector<JumpStats> (&sep)[2])
+{
+    const char *names[2] = {"negobs", "OpenCV SGBM, same aligned pair"};
+    rep.both("Separability of the labelled edge on the corridor profile (median residual "
+             "per row over the corridor columns; jump = median of the 10 rows nearer minus "
+             "the 10 rows farther; the label's jump is the largest within 20 rows of its "
+             "nearest row; z = jump in units of the frame's own spread of the jump, "
+             "tools/detect/profile_jump.hpp):");
+    rep.both("");
+    rep.both("| disparity map | frames | median jump spread px | median jump at the label px "
+             "| ... relative to d_ground | median z at the label | z >= 3 at the label | "
+             "label is the frame's largest jump | both | median largest z elsewhere |");
+    rep.both("|---|---|---|---|---|---|---|---|---|---|");
+    for (int m = 0; m < 2; ++m) {
+        std::vector<double> sg, lj, rel, lz, oz;
+        int z3 = 0, top = 0, both = 0, n = 0;
+        for (const JumpStats &j : sep[m]) {
+            if (!j.ok || j.label_v < 0) {
+                continue;
+            }
+            ++n;
+            sg.push_back(j.sigma);
+            lj.push_back(j.label_j);
+            rel.push_back(j.label_rel);
+            lz.push_back(j.label_z);
+            oz.push_back(j.other_z);
+            z3 += j.label_z >= 3.0;
+            top += j.label_j > j.other_j;
+            both += j.label_z >= 3.0 && j.label_j > j.other_j;
+        }
+        if (n == 0) {
+            continue;
+        }
+        auto med = [](std::vector<double> v) {
+            std::sort(v.begin(), v.end());
+            return v[v.size() / 2];
+        };
+        rep.both(std::string("| ") + names[m] + " | " + std::to_string(n) + " | " +
+                 fmtd("%.2f", med(sg)) + " | " + fmtd("%.2f", med(lj)) + " | " +
+                 fmtd("%.3f", med(rel)) + " | " + fmtd("%.1f", med(lz)) + " | " +
+                 pct(z3, n) + " | " + pct(top, n) + " | " + pct(both, n) + " | " +
+                 fmtd("%.1f", med(oz)) + " |");
+    }
+    rep.both("");
+}
+
 int evaluate_surdis(const Options &opt)
 {
     const fs::path root(opt.surdis_dir);
@@ -890,6 +941,16 @@ int evaluate_surdis(const Options &opt)
     std::vector<int> pics = {30, 60, 80, 95};
     double st_sum = 0, dt_sum = 0;
     std::string est_pose;
+    // Separability of the labelled edge on the corridor profile
+    // (profile_jump.hpp), for negobs and for OpenCV SGBM on the same
+    // aligned pair: [0] negobs, [1] SGBM.
+    std::vector<JumpStats> sep[2];
+    cv::Ptr<cv::StereoSGBM> sgbm;
+    if (cam.valign) {
+        const int nd = ((cam.max_disp + 1 + 15) / 16) * 16;
+        sgbm = cv::StereoSGBM::create(0, nd, 5, 8 * 25, 32 * 25, 1, 63, 10, 100, 32,
+                                      cv::StereoSGBM::MODE_SGBM);
+    }
     for (int n = opt.surdis_first; n <= opt.surdis_last; ++n) {
         const std::string lp = (root / "right_21" / ("r_img_" + std::to_string(n) + ".bmp")).string();
         const std::string rp = (root / "left_21" / ("l_img_" + std::to_string(n) + ".bmp")).string();
@@ -1010,6 +1071,18 @@ int evaluate_surdis(const Options &opt)
                                  " |");
             }
         }
+        if (in_corr && d.ground_valid) {
+            int label_v = -1;
+            for (const Box &b : boxes) {
+                label_v = std::max(label_v, std::min(b.y1, L.rows - 1));
+            }
+            sep[0].push_back(profile_jump(runner.disparity(), d.plane, cu0, cu1, cv0, label_v));
+            if (sgbm) {
+                cv::Mat sd;
+                sgbm->compute(L, runner.aligned_right(), sd);
+                sep[1].push_back(profile_jump(sd, d.plane, cu0, cu1, cv0, label_v));
+            }
+        }
         if (!opt.dump_dir.empty()) {
             // Raw maps for offline analysis: disparity (int16 q4, host
             // order), confidence (u8), and one text line per frame with
@@ -1089,6 +1162,7 @@ int evaluate_surdis(const Options &opt)
         }
         rep.both("");
     }
+    report_separability(rep, sep);
     std::fputs(rep.text.c_str(), stdout);
     if (!opt.markdown.empty()) {
         std::ofstream md(opt.markdown);
