@@ -125,7 +125,7 @@ static std::string status_text(const char *what, negobs_status_t st)
 }
 
 bool NegobsMatcher::init(int width, int height, const Range &r,
-                         std::string &err)
+                         std::string &err, int gap_fill)
 {
     impl_.reset(new Impl());
     std::memset(&impl_->ctx, 0, sizeof impl_->ctx);
@@ -134,6 +134,9 @@ bool NegobsMatcher::init(int width, int height, const Range &r,
     negobs_stereo_config_default(&cfg, width, height);
     cfg.min_disp = r.min_disp;
     cfg.max_disp = r.max_disp;
+    if (gap_fill >= 0) {
+        cfg.gap_fill = gap_fill;
+    }
     size_t bytes = 0;
     negobs_status_t st = negobs_stereo_workspace_size(&cfg, &bytes);
     if (st != NEGOBS_OK) {
