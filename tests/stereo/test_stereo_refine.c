@@ -59,7 +59,7 @@ static void test_gap_between_agreeing_ends_is_interpolated(void **state)
         int32_t k = x - 19;
         int32_t want = 10 * 16 + 15 + (int32_t)negobs_div_round_s64(-15 * k, 6);
         assert_int_equal(disp[3 * W + x], want);
-        assert_int_equal(conf[3 * W + x], STX_CONF_FILLED);
+        assert_int_equal(conf[3 * W + x], NEGOBS_STEREO_CONF_FILLED);
     }
     /* strictly between the ends and decreasing: a ramp, not a step */
     for (x = 20; x < 25; x++) {
@@ -87,11 +87,11 @@ static void test_gap_between_near_and_far_gets_the_far_end(void **state)
     stx_gap_fill(s, &di, conf, W);
     for (x = 24; x < 30; x++) {
         assert_int_equal(disp[5 * W + x], 10 * 16);
-        assert_int_equal(conf[5 * W + x], STX_CONF_FILLED);
+        assert_int_equal(conf[5 * W + x], NEGOBS_STEREO_CONF_FILLED);
     }
     /* the near surface's first pixel goes to the background too, only it */
     assert_int_equal(disp[5 * W + 30], 10 * 16);
-    assert_int_equal(conf[5 * W + 30], STX_CONF_FILLED);
+    assert_int_equal(conf[5 * W + 30], NEGOBS_STEREO_CONF_FILLED);
     assert_int_equal(disp[5 * W + 31], 20 * 16);
     assert_int_equal(conf[5 * W + 31], 200);
     /* mirror: the hole gets the background, the near side is untouched */
@@ -141,6 +141,31 @@ static void test_border_run_takes_its_only_end(void **state)
     assert_int_equal(s->st.gap_filled, 9);
 }
 
+static void test_adaptive_mean_marks_the_holes_it_fills(void **state)
+{
+    /* a one-pixel hole between agreeing neighbours (row 2, the row pass)
+     * and a hole too wide for the row pass (rows 6-7, x 34-46) that the
+     * column pass fills at x 40: the mean fills both; their confidence was left
+     * stale (200) by whatever removed the value, and must become FILLED.
+     * Untouched pixels keep theirs. */
+    stx_t *s = setup(64);
+    (void)state;
+    disp[2 * W + 20] = INV;
+    hole(6, 34, 47);
+    hole(7, 34, 47);
+    conf[2 * W + 20] = 200;
+    conf[6 * W + 40] = 200;
+    conf[7 * W + 40] = 200;
+    stx_adaptive_mean(s, &di, conf, W);
+    assert_int_equal(disp[2 * W + 20], 10 * 16);
+    assert_int_equal(conf[2 * W + 20], NEGOBS_STEREO_CONF_FILLED);
+    assert_int_equal(disp[6 * W + 40], 10 * 16);
+    assert_int_equal(conf[6 * W + 40], NEGOBS_STEREO_CONF_FILLED);
+    assert_int_equal(conf[7 * W + 40], NEGOBS_STEREO_CONF_FILLED);
+    assert_int_equal(conf[2 * W + 21], 200);
+    assert_int_equal(conf[5 * W + 40], 200);
+}
+
 static void test_flat_frame_stays_invalid_and_range_is_checked(void **state)
 {
     /* through the public API: a frame without texture stays all-invalid
@@ -183,6 +208,7 @@ int main(void)
         cmocka_unit_test(test_gap_between_near_and_far_gets_the_far_end),
         cmocka_unit_test(test_long_gap_and_empty_row_stay_invalid),
         cmocka_unit_test(test_border_run_takes_its_only_end),
+        cmocka_unit_test(test_adaptive_mean_marks_the_holes_it_fills),
         cmocka_unit_test(test_flat_frame_stays_invalid_and_range_is_checked),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

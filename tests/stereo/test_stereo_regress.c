@@ -37,7 +37,30 @@ typedef struct result {
     negobs_stereo_stats_t st;
 } result_t;
 
-static int g_flat_scene; /* 1: constant disparity 20 px, no drop, no box */
+static int g_flat_scene;
+
+/* The confidence scale of negobs/stereo.h: 0 exactly where there is no
+ * value; a value is filled (2), textureless (4) or matched (8..255). Run
+ * on every scene, the negative control included. */
+static void check_confidence_scale(void)
+{
+    int32_t i;
+    int32_t filled = 0;
+    int32_t matched = 0;
+    for (i = 0; i < W * H; i++) {
+        if (disp[i] == NEGOBS_DISP_INVALID) {
+            assert_int_equal(conf[i], NEGOBS_STEREO_CONF_NONE);
+            continue;
+        }
+        assert_true(conf[i] == NEGOBS_STEREO_CONF_FILLED ||
+                    conf[i] == NEGOBS_STEREO_CONF_FLAT ||
+                    conf[i] >= NEGOBS_STEREO_CONF_MATCHED_MIN);
+        filled += conf[i] == NEGOBS_STEREO_CONF_FILLED;
+        matched += conf[i] >= NEGOBS_STEREO_CONF_MATCHED_MIN;
+    }
+    printf("# confidence: %d matched, %d filled\n", (int)matched,
+           (int)filled);
+} /* 1: constant disparity 20 px, no drop, no box */
 
 static result_t run(int32_t voff, int32_t vsearch, int32_t fixed_off)
 {
@@ -88,6 +111,7 @@ static result_t run(int32_t voff, int32_t vsearch, int32_t fixed_off)
     di.stride = W;
     assert_int_equal(negobs_stereo_process(&ctx, &li, &ri, &di, &ci, &r.st),
                      NEGOBS_OK);
+    check_confidence_scale();
     synth_score(&sc, disp, gt, occ, 6, 16, &r.bad1, &r.dens);
     synth_score(&sc, disp, gt, occ, 6, 8, &r.bad05, &r.dens);
     printf("# voff=%d search=%d: bad1=%d.%d%% bad0.5=%d.%d%% density=%d.%d%% "

@@ -89,6 +89,24 @@ typedef struct negobs_stereo_config {
 
 /** Largest disparity range (max_disp - min_disp + 1). */
 #define NEGOBS_STEREO_MAX_RANGE 256
+
+/*
+ * Confidence map values (negobs_stereo_process). 0 means "no value" and
+ * is used exactly where disp_q4 is NEGOBS_DISP_INVALID; every pixel with a
+ * value has a confidence of at least NEGOBS_STEREO_CONF_FILLED. Consumers
+ * that only want measured disparities threshold at
+ * NEGOBS_STEREO_CONF_MATCHED_MIN or above.
+ */
+/** No value. */
+#define NEGOBS_STEREO_CONF_NONE 0
+/** Interpolated from neighbouring values (row gap fill, adaptive mean):
+ *  not measured at this pixel. */
+#define NEGOBS_STEREO_CONF_FILLED 2
+/** Chosen by the DP through a window without texture. */
+#define NEGOBS_STEREO_CONF_FLAT 4
+/** Matched pixels: 255 * MNCC of the chosen disparity, halved where the
+ *  DP left the GCS band, and never below this floor (8 .. 255). */
+#define NEGOBS_STEREO_CONF_MATCHED_MIN 8
 /** Smallest frame accepted (pixels). */
 #define NEGOBS_STEREO_MIN_WIDTH 32
 #define NEGOBS_STEREO_MIN_HEIGHT 16
@@ -161,7 +179,9 @@ negobs_status_t negobs_stereo_init(negobs_stereo_t *ctx,
  * @param[in]  left, right rectified grey images of cfg width x height
  * @param[out] disp_q4    width x height, disparity * 16 or
  *                        NEGOBS_DISP_INVALID
- * @param[out] confidence width x height, 0 (none) .. 255; may be NULL
+ * @param[out] confidence width x height, NEGOBS_STEREO_CONF_* scale (0 =
+ *                        no value, 2 filled, 4 textureless, 8..255
+ *                        matched); may be NULL
  * @param[out] stats      may be NULL
  * @return NEGOBS_OK (also for textureless input: the map is then invalid),
  *         NEGOBS_ERR_INVAL for mismatched or bad images, NEGOBS_ERR_STATE

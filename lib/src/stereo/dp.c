@@ -450,13 +450,18 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
                 off = (int32_t)((o > 8) ? 8 : ((o < -8) ? -8 : o));
             }
         }
-        if (c0 != STX_FLAT && c0 > 0) {
-            conf = (c0 * 255) >> 14;
+        if (c0 != STX_FLAT) {
+            conf = (c0 > 0) ? (c0 * 255) >> 14 : 0;
             if (!s->bscored[x]) {
                 conf >>= 1;
             }
-        } else if (c0 == STX_FLAT) {
-            conf = 4;
+            /* a measured value, however weak, stays above the fill and
+             * textureless codes (negobs/stereo.h) */
+            conf = (conf > NEGOBS_STEREO_CONF_MATCHED_MIN)
+                       ? conf
+                       : NEGOBS_STEREO_CONF_MATCHED_MIN;
+        } else {
+            conf = NEGOBS_STEREO_CONF_FLAT;
         }
         outrow[x] = (int16_t)(di * NEGOBS_DISP_ONE + off);
         if (confrow != NULL) {

@@ -167,7 +167,7 @@ void stx_speckle(stx_t *s, negobs_image_s16_t *disp)
  * the background: a run between a near and a far surface is mostly the far
  * surface, hidden from the right camera. A run touching the left or right
  * border takes its only end (the left border strip has no match at all).
- * Filled pixels get confidence STX_CONF_FILLED, below any matched pixel, so
+ * Filled pixels get confidence NEGOBS_STEREO_CONF_FILLED, below any matched pixel, so
  * consumers that threshold the confidence (detection's deficit test)
  * ignore them.
  */
@@ -207,7 +207,7 @@ static uint32_t gap_fill_row(int16_t *row, uint8_t *crow, int32_t w,
             }
             row[x0 + k] = (int16_t)d;
             if (crow != NULL) {
-                crow[x0 + k] = STX_CONF_FILLED;
+                crow[x0 + k] = NEGOBS_STEREO_CONF_FILLED;
             }
         }
         filled += (uint32_t)n;
@@ -220,7 +220,7 @@ static uint32_t gap_fill_row(int16_t *row, uint8_t *crow, int32_t w,
         if (x0 > 0 && x < w && b - a > NEGOBS_DISP_ONE) {
             row[x] = (int16_t)a;
             if (crow != NULL) {
-                crow[x] = STX_CONF_FILLED;
+                crow[x] = NEGOBS_STEREO_CONF_FILLED;
             }
             filled++;
             x++;
@@ -299,16 +299,27 @@ static void amean_line(const int16_t *in, int16_t *out, int32_t n)
     }
 }
 
-void stx_adaptive_mean(stx_t *s, negobs_image_s16_t *disp)
+void stx_adaptive_mean(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                       int32_t conf_stride)
 {
     int32_t w = s->w;
     int32_t h = s->h;
     int32_t x;
     int32_t y;
+    /* a hole the mean fills was not measured there: it is marked like the
+     * gap fill's pixels, not left with the confidence it had before the
+     * LR check or the speckle filter removed its value */
     for (y = 0; y < h; y++) {
         int16_t *row = negobs_image_s16_row(disp, y);
         memcpy(s->line, row, (size_t)w * sizeof *row);
         amean_line(s->line, row, w);
+        for (x = 0; conf != NULL && x < w; x++) {
+            if (s->line[x] == NEGOBS_DISP_INVALID &&
+                row[x] != NEGOBS_DISP_INVALID) {
+                conf[(ptrdiff_t)y * conf_stride + x] =
+                    NEGOBS_STEREO_CONF_FILLED;
+            }
+        }
     }
     for (x = 0; x < w; x++) {
         for (y = 0; y < h; y++) {
@@ -317,6 +328,11 @@ void stx_adaptive_mean(stx_t *s, negobs_image_s16_t *disp)
         amean_line(s->line, s->line2, h);
         for (y = 0; y < h; y++) {
             negobs_image_s16_row(disp, y)[x] = s->line2[y];
+            if (conf != NULL && s->line[y] == NEGOBS_DISP_INVALID &&
+                s->line2[y] != NEGOBS_DISP_INVALID) {
+                conf[(ptrdiff_t)y * conf_stride + x] =
+                    NEGOBS_STEREO_CONF_FILLED;
+            }
         }
     }
 }

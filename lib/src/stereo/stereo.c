@@ -333,7 +333,8 @@ negobs_status_t negobs_stereo_process(negobs_stereo_t *ctx,
                      confidence ? confidence->stride : 0);
     }
     if (s->cfg.adaptive_mean) {
-        stx_adaptive_mean(s, disp_q4);
+        stx_adaptive_mean(s, disp_q4, confidence ? confidence->data : NULL,
+                          confidence ? confidence->stride : 0);
     }
     for (y = 0; y < s->h; y++) {
         const int16_t *row = negobs_image_s16_row(disp_q4, y);

@@ -324,11 +324,10 @@ void stx_dp_stage2_finish(stx_t *s);
 void stx_lr_check(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
                   int32_t conf_stride);
 void stx_speckle(stx_t *s, negobs_image_s16_t *disp);
-/* Confidence of a gap-filled pixel: below every matched one (DP-filled
- * holes get half their NCC, flat ones 4). */
-#define STX_CONF_FILLED 2
+/* Filled pixels get NEGOBS_STEREO_CONF_FILLED (negobs/stereo.h). */
 void stx_gap_fill(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
                   int32_t conf_stride);
-void stx_adaptive_mean(stx_t *s, negobs_image_s16_t *disp);
+void stx_adaptive_mean(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                       int32_t conf_stride);
 
 #endif /* NEGOBS_STEREO_INT_H */
