@@ -146,33 +146,6 @@ bool read_gt(const std::string &path, GtSeq &gt, std::string &err)
     return true;
 }
 
-bool load_grey(const std::string &path, cv::Mat &grey, std::string &err)
-{
-    cv::Mat m = cv::imread(path, cv::IMREAD_UNCHANGED);
-    if (m.empty()) {
-        err = "cannot read image " + path;
-        return false;
-    }
-    if (m.depth() == CV_16U) {
-        m.convertTo(m, CV_8U, 1.0 / 257.0);
-    }
-    if (m.channels() == 3) {
-        cv::cvtColor(m, grey, cv::COLOR_BGR2GRAY);
-    } else if (m.channels() == 4) {
-        cv::cvtColor(m, grey, cv::COLOR_BGRA2GRAY);
-    } else {
-        grey = m;
-    }
-    if (grey.type() != CV_8UC1) {
-        err = "unsupported image format " + path;
-        return false;
-    }
-    if (!grey.isContinuous()) {
-        grey = grey.clone();
-    }
-    return true;
-}
-
 double thread_cpu_ms()
 {
     timespec ts{};

@@ -11,6 +11,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "stereo_common.hpp"
+
 extern "C" {
 #include "negobs/negobs.h"
 }
@@ -61,7 +63,9 @@ struct GtSeq {
 bool read_gt(const std::string &path, GtSeq &gt, std::string &err);
 
 // Reads an 8-bit grey image (colour converted). false + err if unreadable.
-bool load_grey(const std::string &path, cv::Mat &grey, std::string &err);
+// The stereo tools' loader, the one the image fuzzer drives
+// (tests/fuzz/fuzz_image.cpp).
+using negobs_tools::load_grey;
 
 // Thread CPU time in ms (robust against other load on the machine).
 double thread_cpu_ms();
