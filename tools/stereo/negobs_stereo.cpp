@@ -21,6 +21,7 @@
 #include "stereo_common.hpp"
 
 extern "C" {
+#include "negobs/stereo.h"
 #include "negobs/valign.h"
 }
 
@@ -37,7 +38,8 @@ enum Exit {
 
 const char *const kHelp =
     "usage: negobs_stereo LEFT RIGHT OUT.png [--max-disp N] [--min-disp N]\n"
-    "                     [--color PICTURE.png] [--align] [--stats]\n"
+    "                     [--color PICTURE.png] [--confidence CONF.png]\n"
+    "                     [--align] [--stats]\n"
     "\n"
     "Computes the disparity of the rectified pair LEFT (reference) / RIGHT\n"
     "with the negobs fixed-point engine and writes OUT.png.\n"
@@ -61,6 +63,10 @@ const char *const kHelp =
     "                 0 <= N < max-disp\n"
     "  --color FILE   also write a colour picture (TURBO map over\n"
     "                 [min-disp, max-disp], black = no value)\n"
+    "  --confidence FILE  also write the engine's confidence map as an 8-bit\n"
+    "                 grey PNG: 0 = no value, 2 = filled from neighbours,\n"
+    "                 4 = textureless, 8..255 = matched (~255 x NCC);\n"
+    "                 negobs/stereo.h, NEGOBS_STEREO_CONF_*\n"
     "  --align        estimate the vertical misalignment (sub-pixel offset,\n"
     "                 row and column slopes; negobs/valign.h) and resample\n"
     "                 RIGHT to LEFT's rows before matching: for pairs that\n"
@@ -158,6 +164,7 @@ int run(int argc, char **argv)
     std::vector<std::string> pos;
     negobs_tools::Range range;
     std::string colour_path;
+    std::string conf_path;
     bool stats = false;
     bool align = false;
     for (int i = 1; i < argc; ++i) {
@@ -182,6 +189,13 @@ int run(int argc, char **argv)
                 return EXIT_USAGE;
             }
             colour_path = argv[++i];
+        } else if (a == "--confidence") {
+            if (i + 1 >= argc) {
+                std::fprintf(stderr, "negobs_stereo: %s needs a file name\n",
+                             a.c_str());
+                return EXIT_USAGE;
+            }
+            conf_path = argv[++i];
         } else if (a == "--stats") {
             stats = true;
         } else if (a == "--align") {
@@ -211,11 +225,13 @@ int run(int argc, char **argv)
         return t == e;
     };
     if (!has_ext(out, ".png") ||
+        (!conf_path.empty() && !has_ext(conf_path, ".png")) ||
         (!colour_path.empty() && !has_ext(colour_path, ".png") &&
          !has_ext(colour_path, ".jpg") && !has_ext(colour_path, ".ppm") &&
          !has_ext(colour_path, ".bmp"))) {
-        std::fprintf(stderr, "negobs_stereo: OUT must end in .png (16-bit "
-                             "output); --color in .png/.jpg/.ppm/.bmp\n");
+        std::fprintf(stderr, "negobs_stereo: OUT and --confidence must end "
+                             "in .png (lossless); --color in "
+                             ".png/.jpg/.ppm/.bmp\n");
         return EXIT_USAGE;
     }
     std::string err = negobs_tools::check_range(range, 0);
@@ -284,11 +300,37 @@ int run(int argc, char **argv)
         if (align) {
             std::fprintf(stderr, "negobs_stereo: %s\n", align_text.c_str());
         }
+        // the confidence scale of negobs/stereo.h, counted
+        long n_none = 0, n_filled = 0, n_flat = 0, n_matched = 0, n_other = 0;
+        for (int y = 0; y < conf.rows; ++y) {
+            const uint8_t *c = conf.ptr<uint8_t>(y);
+            for (int x = 0; x < conf.cols; ++x) {
+                if (c[x] == NEGOBS_STEREO_CONF_NONE)
+                    ++n_none;
+                else if (c[x] == NEGOBS_STEREO_CONF_FILLED)
+                    ++n_filled;
+                else if (c[x] == NEGOBS_STEREO_CONF_FLAT)
+                    ++n_flat;
+                else if (c[x] >= NEGOBS_STEREO_CONF_MATCHED_MIN)
+                    ++n_matched;
+                else
+                    ++n_other;
+            }
+        }
+        std::fprintf(stderr,
+                     "negobs_stereo: confidence: %ld matched, %ld filled, "
+                     "%ld textureless, %ld no value, %ld other\n",
+                     n_matched, n_filled, n_flat, n_none, n_other);
     }
 
     if (!write_png(out, negobs_tools::negobs_q4_to_png16(disp_q4))) {
         std::fprintf(stderr, "negobs_stereo: cannot write '%s'\n",
                      out.c_str());
+        return EXIT_OUTPUT;
+    }
+    if (!conf_path.empty() && !write_png(conf_path, conf)) {
+        std::fprintf(stderr, "negobs_stereo: cannot write '%s'\n",
+                     conf_path.c_str());
         return EXIT_OUTPUT;
     }
     if (!colour_path.empty()) {
