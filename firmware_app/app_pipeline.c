@@ -58,6 +58,7 @@ void app_pipeline_config_default(app_pipeline_config_t *cfg)
     cfg->cy_q4 = -1;
     cfg->sync_tol_ms = 10;
     cfg->max_frame_age_ms = 150;
+    cfg->latency_budget_ms = 250;
 }
 
 negobs_status_t app_pipeline_init(app_pipeline_t *p,
@@ -76,7 +77,8 @@ negobs_status_t app_pipeline_init(app_pipeline_t *p,
         cfg->max_disp > 255 || cfg->sync_tol_ms < 0 ||
         cfg->vertical_align < 0 || cfg->vertical_align > 1 ||
         cfg->sync_tol_ms > 1000 || cfg->max_frame_age_ms < 1 ||
-        cfg->max_frame_age_ms > 60000 || cfg->focal_q4 < 0 ||
+        cfg->max_frame_age_ms > 60000 || cfg->latency_budget_ms < 0 ||
+        cfg->latency_budget_ms > 60000 || cfg->focal_q4 < 0 ||
         cfg->focal_q4 > 4000 * 16 || cfg->baseline_um < 0 ||
         cfg->baseline_um > 1000000 || cfg->cx_q4 < -1 || cfg->cy_q4 < -1) {
         return NEGOBS_ERR_INVAL;
@@ -241,6 +243,7 @@ app_verdict_t app_process_pair_at(app_pipeline_t *p,
     img[0] = left;
     img[1] = right;
     memset(st, 0, sizeof *st);
+    st->latency_ms = -1;
     if (left == NULL || right == NULL || left->width != right->width ||
         left->height != right->height) {
         st->reason = APP_REASON_BAD_INPUT;
@@ -303,6 +306,24 @@ app_verdict_t app_process_pair_at(app_pipeline_t *p,
     }
 }
 
+app_verdict_t app_pipeline_latency_gate(app_pipeline_t *p, app_verdict_t v,
+                                        int32_t latency_ms)
+{
+    if (p == NULL) {
+        return APP_VERDICT_NO_INFO;
+    }
+    if (latency_ms < 0) {
+        latency_ms = 0;
+    }
+    p->last.latency_ms = latency_ms;
+    if (v == APP_VERDICT_CLEAR && p->cfg.latency_budget_ms > 0 &&
+        latency_ms > p->cfg.latency_budget_ms) {
+        p->last.reason = APP_REASON_LATE;
+        return APP_VERDICT_NO_INFO;
+    }
+    return v;
+}
+
 const char *app_verdict_name(app_verdict_t v)
 {
     switch (v) {
@@ -324,6 +345,7 @@ const char *app_reason_name(app_reason_t r)
     case APP_REASON_TEXTURELESS: return "textureless";
     case APP_REASON_DETECTOR: return "detector";
     case APP_REASON_MISMATCH: return "lr-mismatch";
+    case APP_REASON_LATE: return "late";
     default: return "?";
     }
 }

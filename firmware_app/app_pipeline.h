@@ -32,7 +32,9 @@ typedef enum app_reason {
     APP_REASON_SATURATED,   /**< too many pixels at >= 250                */
     APP_REASON_TEXTURELESS, /**< too few windows with local contrast      */
     APP_REASON_MISMATCH,    /**< left and right brightness far apart      */
-    APP_REASON_DETECTOR     /**< the detector cannot see (detect_reasons) */
+    APP_REASON_DETECTOR,    /**< the detector cannot see (detect_reasons) */
+    APP_REASON_LATE         /**< "clear" judged a view older than the
+                                 latency budget (app_pipeline_latency_gate) */
 } app_reason_t;
 
 /** Thresholds (all integers; defaults in brackets). */
@@ -61,6 +63,9 @@ typedef struct app_pipeline_config {
     int32_t sync_tol_ms;          /**< L/R capture skew the detector accepts;
                                        negobs_run sets its pairing limit [10] */
     int32_t max_frame_age_ms;     /**< older frames are stale: no-info [150] */
+    int32_t latency_budget_ms;    /**< capture-to-verdict time above which a
+                                       "clear" is not trusted: no-info;
+                                       0 = off [250]                       */
 } app_pipeline_config_t;
 
 /** Statistics of the last pair, per image (0 = left, 1 = right). */
@@ -73,6 +78,8 @@ typedef struct app_frame_stats {
     int32_t nearest_range_mm; /**< nearest confirmed hazard, -1 if none  */
     uint32_t hazards;         /**< confirmed or held hazards             */
     int32_t valid_permille;   /**< share of pixels with a disparity      */
+    int32_t latency_ms;       /**< capture to verdict (latency gate), or
+                                   -1 when not measured                  */
 } app_frame_stats_t;
 
 typedef struct app_pipeline {
@@ -102,6 +109,19 @@ app_verdict_t app_process_pair_at(app_pipeline_t *p,
 app_verdict_t app_process_pair(app_pipeline_t *p,
                                const negobs_image_u8_t *left,
                                const negobs_image_u8_t *right);
+
+/**
+ * @brief Real-time guard (DOMAIN.md: latency budget), applied once the
+ * verdict of a pair is known. A "clear" says the path was clear when the
+ * pair was captured; if that was more than cfg.latency_budget_ms ago (a
+ * processor that cannot keep up: slow part, thermal throttling, an
+ * overloaded system) it is not trusted and becomes NO_INFO with reason
+ * APP_REASON_LATE. Hazard verdicts pass unchanged: a late warning is still
+ * a warning. latency_ms < 0 (clock went backwards) counts as 0.
+ * Records latency_ms in p->last. Budget 0 turns the guard off.
+ */
+app_verdict_t app_pipeline_latency_gate(app_pipeline_t *p, app_verdict_t v,
+                                        int32_t latency_ms);
 
 const char *app_verdict_name(app_verdict_t v);
 const char *app_reason_name(app_reason_t r);

@@ -199,8 +199,11 @@ static const negobs_cfg_key_t config_keys[] = {
      5000, "imminent keeps playing this long after its last verdict "
      "(default 1000)"},
     {"max_frame_age_ms", NEGOBS_CFG_INT, &S.app.max_frame_age_ms, 1, 60000,
-     "capture-to-verdict age above which a pair is stale -> no-info "
-     "(default 150; raise only for slow emulators)"},
+     "age of a pair when its processing starts above which it is stale -> "
+     "no-info (default 150; raise only for slow emulators)"},
+    {"latency_budget_ms", NEGOBS_CFG_INT, &S.app.latency_budget_ms, 0, 60000,
+     "capture-to-verdict time above which a clear verdict is not trusted "
+     "-> no-info; warnings pass (default 250; 0 = off)"},
 };
 #define N_KEYS (sizeof config_keys / sizeof config_keys[0])
 
@@ -1010,6 +1013,17 @@ static int run_loop(void)
                 &pipeline, img_l, img_r,
                 (uint32_t)(pair.left.ts_ns / 1000000u),
                 (uint32_t)(pair.right.ts_ns / 1000000u), (uint32_t)now);
+            {
+                /* the verdict is about the moment of capture: a clear one
+                 * that took too long to reach is not trusted */
+                uint64_t t_done = negobs_clock_now_ns();
+                uint64_t age_ms = (t_done > pair.left.ts_ns)
+                                      ? (t_done - pair.left.ts_ns) / 1000000u
+                                      : 0u;
+                v = app_pipeline_latency_gate(
+                    &pipeline, v,
+                    (int32_t)((age_ms > 600000u) ? 600000u : age_ms));
+            }
             app_alert_input(v, &pipeline.last, 0u, &in);
             alert_post(&in);
             logmsg(LOG_DEBUG, "pair %lu verdict %s", (unsigned long)done,

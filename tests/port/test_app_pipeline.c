@@ -122,6 +122,46 @@ static void test_large_frames_are_subsampled(void **state)
     assert_in_range(p.last.mean[0], 110, 130);
 }
 
+static void test_late_clear_is_not_trusted(void **state)
+{
+    /* The budget (250 ms by default) applies to "clear" only: one over
+     * it is no-info with reason "late"; warnings pass however late; at
+     * the budget, or with the guard off, nothing changes. */
+    app_pipeline_t p = pipe_init();
+    app_pipeline_config_t c;
+    (void)state;
+    assert_int_equal(p.cfg.latency_budget_ms, 250);
+    assert_int_equal(app_pipeline_latency_gate(&p, APP_VERDICT_CLEAR, 250),
+                     APP_VERDICT_CLEAR);
+    assert_int_equal(p.last.latency_ms, 250);
+    assert_int_equal(app_pipeline_latency_gate(&p, APP_VERDICT_CLEAR, 251),
+                     APP_VERDICT_NO_INFO);
+    assert_int_equal(p.last.reason, APP_REASON_LATE);
+    assert_string_equal(app_reason_name(p.last.reason), "late");
+    assert_int_equal(app_pipeline_latency_gate(&p, APP_VERDICT_CAUTION, 5000),
+                     APP_VERDICT_CAUTION);
+    assert_int_equal(
+        app_pipeline_latency_gate(&p, APP_VERDICT_IMMINENT, 5000),
+        APP_VERDICT_IMMINENT);
+    assert_int_equal(app_pipeline_latency_gate(&p, APP_VERDICT_NO_INFO, 5000),
+                     APP_VERDICT_NO_INFO);
+    /* a clock that went backwards is not "late" */
+    assert_int_equal(app_pipeline_latency_gate(&p, APP_VERDICT_CLEAR, -40),
+                     APP_VERDICT_CLEAR);
+    assert_int_equal(p.last.latency_ms, 0);
+    app_pipeline_config_default(&c);
+    c.latency_budget_ms = 0;
+    assert_int_equal(app_pipeline_init(&p, &c), NEGOBS_OK);
+    assert_int_equal(app_pipeline_latency_gate(&p, APP_VERDICT_CLEAR, 60000),
+                     APP_VERDICT_CLEAR);
+    c.latency_budget_ms = -1;
+    assert_int_equal(app_pipeline_init(&p, &c), NEGOBS_ERR_INVAL);
+    c.latency_budget_ms = 60001;
+    assert_int_equal(app_pipeline_init(&p, &c), NEGOBS_ERR_INVAL);
+    assert_int_equal(app_pipeline_latency_gate(NULL, APP_VERDICT_CLEAR, 0),
+                     APP_VERDICT_NO_INFO);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -129,6 +169,7 @@ int main(void)
         cmocka_unit_test(test_unusable_images_give_no_info_with_reason),
         cmocka_unit_test(test_bad_input_gives_no_info),
         cmocka_unit_test(test_large_frames_are_subsampled),
+        cmocka_unit_test(test_late_clear_is_not_trusted),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
