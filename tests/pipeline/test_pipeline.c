@@ -3,6 +3,7 @@
  * fail-safe path (a lost camera or a refused frame becomes the
  * no-information pattern, never silence).
  */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -131,6 +132,82 @@ static void test_pipeline_runs_alignment_stage(void **state)
     free(ctx);
 }
 
+/* stereo_roi: the first row the next frame needs, from a ground model */
+static void test_pipeline_roi_first_row_follows_the_ground(void **state)
+{
+    negobs_pipeline_config_t cfg;
+    negobs_detect_result_t det;
+    negobs_ground_pose_t pose = {1200, 20000, 0};
+    int32_t top;
+    int32_t top_roll;
+    int32_t top_down;
+    int32_t d_far;
+    int32_t v;
+    (void)state;
+    negobs_pipeline_config_default(&cfg, 320, 240);
+    assert_int_equal(cfg.stereo_roi, 1);
+    assert_int_equal(cfg.roi_margin_rows, 30);
+    memset(&det, 0, sizeof det);
+    /* no ground model: every row */
+    assert_int_equal(negobs_pipeline_roi_first_row(&cfg, &det), 0);
+    det.ground_valid = 1;
+    assert_int_equal(negobs_ground_plane_from_pose(&cfg.detect.cam, &pose,
+                                                   &det.plane),
+                     NEGOBS_OK);
+    top = negobs_pipeline_roi_first_row(&cfg, &det);
+    /* the row 30 below the top is still nearer than range_max on the
+     * model, the row 30 above the top (if any) no longer */
+    d_far = negobs_disp_q4_from_depth_mm(&cfg.detect.cam,
+                                         cfg.detect.range_max_mm);
+    v = top + cfg.roi_margin_rows;
+    assert_true(negobs_ground_disp_q4(&det.plane, 160, v) >= d_far);
+    assert_true(negobs_ground_disp_q4(&det.plane, 160, v - 2) < d_far);
+    printf("# first row %d of 240 (5 m ground row %d)\n", (int)top, (int)v);
+    assert_true(top > 40 && top < 120);
+    /* roll: the higher edge decides, so the crop starts higher */
+    pose.roll_mdeg = 5000;
+    assert_int_equal(negobs_ground_plane_from_pose(&cfg.detect.cam, &pose,
+                                                   &det.plane),
+                     NEGOBS_OK);
+    top_roll = negobs_pipeline_roi_first_row(&cfg, &det);
+    assert_true(top_roll < top);
+    /* pitched far down (looking at the feet): every row is near ground */
+    pose.roll_mdeg = 0;
+    pose.pitch_mdeg = 60000;
+    assert_int_equal(negobs_ground_plane_from_pose(&cfg.detect.cam, &pose,
+                                                   &det.plane),
+                     NEGOBS_OK);
+    top_down = negobs_pipeline_roi_first_row(&cfg, &det);
+    assert_int_equal(top_down, 0);
+    /* pitched up: the crop never reaches into the ground fit's rows */
+    pose.pitch_mdeg = 2000;
+    assert_int_equal(negobs_ground_plane_from_pose(&cfg.detect.cam, &pose,
+                                                   &det.plane),
+                     NEGOBS_OK);
+    assert_true(negobs_pipeline_roi_first_row(&cfg, &det) <=
+                240 - 240 * cfg.detect.fit_rows_pct / 100 -
+                    cfg.roi_margin_rows);
+    /* off, or a plane that does not descend: every row */
+    cfg.stereo_roi = 0;
+    assert_int_equal(negobs_pipeline_roi_first_row(&cfg, &det), 0);
+    cfg.stereo_roi = 1;
+    det.plane.b_q20 = -det.plane.b_q20;
+    assert_int_equal(negobs_pipeline_roi_first_row(&cfg, &det), 0);
+    assert_int_equal(negobs_pipeline_roi_first_row(NULL, &det), 0);
+    assert_int_equal(negobs_pipeline_roi_first_row(&cfg, NULL), 0);
+    /* the config is checked */
+    {
+        size_t bytes;
+        cfg.roi_margin_rows = -1;
+        assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes),
+                         NEGOBS_ERR_INVAL);
+        cfg.roi_margin_rows = 30;
+        cfg.stereo_roi = 2;
+        assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes),
+                         NEGOBS_ERR_INVAL);
+    }
+}
+
 static void test_pipeline_lost_camera_gives_no_info_pattern(void **state)
 {
     negobs_pipeline_config_t cfg;
@@ -243,6 +320,7 @@ int main(void)
         cmocka_unit_test(test_pipeline_workspace_is_exact),
         cmocka_unit_test(test_pipeline_rejects_mismatched_stage_sizes),
         cmocka_unit_test(test_pipeline_runs_alignment_stage),
+        cmocka_unit_test(test_pipeline_roi_first_row_follows_the_ground),
         cmocka_unit_test(test_pipeline_lost_camera_gives_no_info_pattern),
         cmocka_unit_test(test_pipeline_flat_grey_frames_are_not_clear),
         cmocka_unit_test(test_pipeline_tick_without_frames_falls_to_no_info),

@@ -38,6 +38,7 @@ typedef struct result {
 } result_t;
 
 static int g_flat_scene;
+static int32_t g_first_row; /* negobs_stereo_set_first_row before a run */
 
 /* The confidence scale of negobs/stereo.h: 0 exactly where there is no
  * value; a value is filled (2), textureless (4) or matched (8..255). Run
@@ -97,6 +98,8 @@ static result_t run(int32_t voff, int32_t vsearch, int32_t fixed_off)
     assert_int_equal(negobs_stereo_workspace_size(&cfg, &need), NEGOBS_OK);
     assert_true(need <= sizeof ws);
     assert_int_equal(negobs_stereo_init(&ctx, &cfg, ws, sizeof ws), NEGOBS_OK);
+    assert_int_equal(negobs_stereo_set_first_row(&ctx, g_first_row),
+                     NEGOBS_OK);
     li.data = left;
     li.width = W;
     li.height = H;
@@ -122,6 +125,78 @@ static result_t run(int32_t voff, int32_t vsearch, int32_t fixed_off)
            (int)r.st.vertical_offset, (int)r.st.range_min,
            (int)r.st.range_max);
     return r;
+}
+
+/* bad1 (permille) and density over rows [y0, H - 6) only */
+static void score_rows(int32_t y0, int32_t *bad1, int32_t *dens)
+{
+    synth_scene_t sc;
+    static int16_t d2[W * H];
+    static uint8_t o2[W * H];
+    int32_t i;
+    memset(&sc, 0, sizeof sc);
+    sc.w = W;
+    sc.h = H;
+    /* rows above y0 are marked occluded, i.e. not scored */
+    for (i = 0; i < W * H; i++) {
+        d2[i] = disp[i];
+        o2[i] = (uint8_t)(occ[i] || i / W < y0);
+    }
+    synth_score(&sc, d2, gt, o2, 6, 16, bad1, dens);
+}
+
+static void test_regress_first_row_crop(void **state)
+{
+    /* Matching only rows [40, 120): nothing above, the same quality below
+     * the crop's border, and fewer cells visited. */
+    result_t full;
+    result_t crop;
+    int32_t bad1;
+    int32_t dens;
+    int32_t i;
+    negobs_stereo_t none;
+    (void)state;
+    full = run(0, 4, 0);
+    g_first_row = 40;
+    crop = run(0, 4, 0);
+    g_first_row = 0;
+    assert_int_equal(crop.st.first_row, 40);
+    assert_int_equal(full.st.first_row, 0);
+    for (i = 0; i < 40 * W; i++) {
+        assert_int_equal(disp[i], NEGOBS_DISP_INVALID);
+        assert_int_equal(conf[i], NEGOBS_STEREO_CONF_NONE);
+    }
+    /* like the frame's own border, the crop's first rows are not scored:
+     * the 5x5 window does not fit there */
+    score_rows(40 + 6, &bad1, &dens);
+    printf("# first row 40: bad1 %d permille, density %d permille, visited "
+           "%u (full frame %u)\n",
+           (int)bad1, (int)dens, (unsigned)crop.st.visited_cells,
+           (unsigned)full.st.visited_cells);
+    assert_true(bad1 <= BAD1_MAX_PERMILLE);
+    assert_true(dens >= DENS_MIN_PERMILLE);
+    assert_true((uint64_t)crop.st.visited_cells * 100u <
+                (uint64_t)full.st.visited_cells * 80u);
+    /* bounds: a crop must keep the engine's smallest frame */
+    none.priv = NULL;
+    assert_int_equal(negobs_stereo_set_first_row(&none, 0), NEGOBS_ERR_STATE);
+    assert_int_equal(negobs_stereo_set_first_row(NULL, 0), NEGOBS_ERR_STATE);
+    {
+        negobs_stereo_t ctx;
+        negobs_stereo_config_t cfg;
+        negobs_stereo_config_default(&cfg, W, H);
+        cfg.max_disp = 47;
+        assert_int_equal(negobs_stereo_init(&ctx, &cfg, ws, sizeof ws),
+                         NEGOBS_OK);
+        assert_int_equal(negobs_stereo_set_first_row(&ctx, -1),
+                         NEGOBS_ERR_INVAL);
+        assert_int_equal(
+            negobs_stereo_set_first_row(&ctx, H - NEGOBS_STEREO_MIN_HEIGHT + 1),
+            NEGOBS_ERR_INVAL);
+        assert_int_equal(
+            negobs_stereo_set_first_row(&ctx, H - NEGOBS_STEREO_MIN_HEIGHT),
+            NEGOBS_OK);
+    }
 }
 
 static void test_regress_rectified_pair(void **state)
@@ -195,6 +270,7 @@ int main(void)
         cmocka_unit_test(test_regress_uncompensated_offset_fails),
         cmocka_unit_test(test_regress_fixed_offset),
         cmocka_unit_test(test_regress_range_narrows_on_constant_scene),
+        cmocka_unit_test(test_regress_first_row_crop),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -284,6 +284,10 @@ bool Runner::process(const cv::Mat &left, const cv::Mat &right, uint32_t t_ms,
             res->detect.reasons = NEGOBS_DEGRADED_BAD_INPUT;
             res->detect.nearest_range_mm = -1;
         }
+        (void)negobs_stereo_set_first_row(
+            &ctx_.stereo, (st == NEGOBS_OK)
+                              ? negobs_pipeline_roi_first_row(&ctx_.cfg, &res->detect)
+                              : 0);
         negobs_alert_input_t in{};
         negobs_alert_input_from_result(&res->detect, 0, t_ms, &in);
         st = negobs_alert_update(&ctx_.alert, t_ms, &in, &res->motor);
@@ -452,6 +456,7 @@ std::string json_line(int frame, const std::string &name, const FrameOut &o,
       << ",\"seeds\":" << o.res.stereo.seeds << ",\"range\":["
       << o.res.stereo.range_min << "," << o.res.stereo.range_max
       << "],\"vertical_offset\":" << o.res.stereo.vertical_offset
+      << ",\"first_row\":" << o.res.stereo.first_row
       << "},\"ground\":{\"valid\":" << d.ground_valid
       << ",\"valid_permille\":" << d.ground_valid_permille
       << ",\"inliers\":" << d.ground_inliers << ",\"sigma_px\":"

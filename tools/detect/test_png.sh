@@ -68,6 +68,15 @@ if [ "$med" -lt 120 ] || [ "$med" -gt 180 ]; then
     exit 1
 fi
 echo "curb: typed DROP, median drop height $med mm (truth 150)"
+# stereo_roi: the first frame matches every row; once the ground is known
+# the matcher starts lower (rows above the 5 m ground are not matched)
+rows=$(sed 's/.*"first_row":\([0-9]*\).*/\1/' "$work/curb.jsonl" | tr '\n' ' ')
+echo "curb: first matched row per frame: $rows"
+set -- $rows
+if [ "$1" -ne 0 ] || [ "$(echo "$rows" | awk '{n = 0; for (i = 2; i <= NF; i++) if ($i > 0) n++; print n}')" -lt $(( $# - 2 )) ]; then
+    echo "FAIL: the matcher does not skip the rows above the ground's far range"
+    exit 1
+fi
 
 "$synth" --scene flat --frames 8 --fps 10 --speed 1.2 --noise 2 --blur 0.5 \
     --seed 12 --threads 1 --quiet --out "$work/flat"

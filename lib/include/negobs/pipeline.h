@@ -35,6 +35,16 @@ typedef struct negobs_pipeline_config {
     negobs_stereo_config_t stereo;
     negobs_detect_config_t detect;
     negobs_alert_config_t alert;
+    /** 1: match only the rows the detector reads. After a frame with a
+     *  ground model, the next frame's matcher starts roi_margin_rows
+     *  above the highest row where that ground is still nearer than
+     *  detect.range_max_mm (negobs_stereo_set_first_row); without a
+     *  model it matches every row. Never above the ground fit's rows.
+     *  [1] */
+    int32_t stereo_roi;
+    /** Rows kept above that row, for pitch changes between two frames
+     *  (default height / 8: 30 rows at 240, about 6.8 deg at f 250). */
+    int32_t roi_margin_rows;
 } negobs_pipeline_config_t;
 
 /** One frame pair with its capture times (ms, caller's monotonic clock). */
@@ -68,6 +78,17 @@ typedef struct negobs_pipeline {
     negobs_image_u8_t confidence;
     uint32_t magic;
 } negobs_pipeline_t;
+
+/**
+ * @brief The first row the matcher needs for the next frame (stereo_roi):
+ * roi_margin_rows above the highest row where this frame's ground model
+ * is nearer than detect.range_max_mm, never below the ground fit's rows.
+ * 0 (every row) when stereo_roi is off or det has no ground model.
+ * negobs_pipeline_process applies it itself; exported for tools that run
+ * the stages one by one.
+ */
+int32_t negobs_pipeline_roi_first_row(const negobs_pipeline_config_t *cfg,
+                                      const negobs_detect_result_t *det);
 
 /**
  * @brief Defaults of every stage for a width x height frame, with the

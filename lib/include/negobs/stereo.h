@@ -150,6 +150,7 @@ typedef struct negobs_stereo_stats {
     int32_t range_min;        /**< search range used (pixels)      */
     int32_t range_max;
     int32_t vertical_offset;  /**< rows: left y matches right y+off */
+    int32_t first_row;        /**< first row matched (set_first_row) */
 } negobs_stereo_stats_t;
 
 /** Context; place it anywhere (static is fine). Fields are private. */
@@ -175,6 +176,21 @@ negobs_status_t negobs_stereo_workspace_size(const negobs_stereo_config_t *cfg,
 negobs_status_t negobs_stereo_init(negobs_stereo_t *ctx,
                                    const negobs_stereo_config_t *cfg,
                                    void *workspace, size_t workspace_bytes);
+/**
+ * @brief Match only rows [first_row, height) from the next frame on; rows
+ * above get NEGOBS_DISP_INVALID and confidence 0. The engine then runs
+ * on that crop as on a smaller frame (no copy), so the time falls with
+ * the rows skipped. For consumers that need no disparity above a known
+ * row, e.g. the detector above the ground at its farthest range
+ * (negobs/pipeline.h, stereo_roi). 0 (the state after init) matches
+ * every row. The crop's first rows are matched without the rows above
+ * them, so they can differ from a full-frame run.
+ * @return NEGOBS_OK; NEGOBS_ERR_INVAL unless 0 <= first_row <= height -
+ *         NEGOBS_STEREO_MIN_HEIGHT; NEGOBS_ERR_STATE without init.
+ */
+negobs_status_t negobs_stereo_set_first_row(negobs_stereo_t *ctx,
+                                            int32_t first_row);
+
 /**
  * @param[in]  left, right rectified grey images of cfg width x height
  * @param[out] disp_q4    width x height, disparity * 16 or

@@ -25,6 +25,54 @@ void negobs_pipeline_config_default(negobs_pipeline_config_t *cfg,
      * pipeline keeps the stricter floor and tau (DETECTION.md 12.4). */
     cfg->stereo.texture_min = 2500;
     cfg->stereo.ncc_tau_q14 = 9830; /* 0.6 */
+    cfg->stereo_roi = 1;
+    cfg->roi_margin_rows = height / 8;
+}
+
+/*
+ * negobs_pipeline_roi_first_row: roi_margin_rows above the highest
+ * row (over both image edges, so roll is covered) where the ground model
+ * is still nearer than range_max, the detector's scan limit; never below
+ * the top of the ground fit's rows. 0 when the plane does not descend
+ * towards the bottom of the image (no usable model).
+ */
+int32_t negobs_pipeline_roi_first_row(const negobs_pipeline_config_t *cfg,
+                                      const negobs_detect_result_t *det)
+{
+    const negobs_detect_config_t *d;
+    const negobs_ground_plane_t *plane;
+    int32_t h;
+    int32_t w;
+    int32_t d_far;
+    int32_t fit_top;
+    int32_t v;
+    int32_t top;
+    if (cfg == NULL || det == NULL || !cfg->stereo_roi ||
+        !det->ground_valid) {
+        return 0;
+    }
+    d = &cfg->detect;
+    plane = &det->plane;
+    h = d->cam.height;
+    w = d->cam.width;
+    d_far = negobs_disp_q4_from_depth_mm(&d->cam, d->range_max_mm);
+    fit_top = h - (h * d->fit_rows_pct) / 100;
+    v = h - 1;
+    if (plane->b_q20 <= 0 || d_far <= 0) {
+        return 0;
+    }
+    while (v > 0 && (negobs_ground_disp_q4(plane, 0, v - 1) >= d_far ||
+                     negobs_ground_disp_q4(plane, w - 1, v - 1) >= d_far)) {
+        v--;
+    }
+    top = v - cfg->roi_margin_rows;
+    if (top > fit_top - cfg->roi_margin_rows) {
+        top = fit_top - cfg->roi_margin_rows;
+    }
+    if (top > h - NEGOBS_STEREO_MIN_HEIGHT) {
+        top = h - NEGOBS_STEREO_MIN_HEIGHT;
+    }
+    return (top > 0) ? top : 0;
 }
 
 typedef struct carve_out {
@@ -91,6 +139,11 @@ static negobs_status_t check_config(const negobs_pipeline_config_t *cfg)
     if (cfg->valign.enable &&
         (cfg->valign.width != cfg->stereo.width ||
          cfg->valign.height != cfg->stereo.height)) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (cfg->stereo_roi < 0 || cfg->stereo_roi > 1 ||
+        cfg->roi_margin_rows < 0 ||
+        cfg->roi_margin_rows > cfg->stereo.height) {
         return NEGOBS_ERR_INVAL;
     }
     return NEGOBS_OK;
@@ -249,6 +302,13 @@ negobs_status_t negobs_pipeline_process(negobs_pipeline_t *ctx,
     if (st != NEGOBS_OK) {
         no_info_result(&result->detect);
     }
+    /* next frame: only the rows the detector will read, as far as this
+     * frame's ground model says; every row without one */
+    (void)negobs_stereo_set_first_row(
+        &ctx->stereo, (st == NEGOBS_OK)
+                          ? negobs_pipeline_roi_first_row(&ctx->cfg,
+                                                          &result->detect)
+                          : 0);
     negobs_alert_input_from_result(&result->detect, frame->battery_low,
                                    frame->now_ms, &in);
     return negobs_alert_update(&ctx->alert, frame->now_ms, &in,

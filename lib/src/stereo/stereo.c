@@ -262,26 +262,31 @@ static negobs_status_t check_frame(const stx_t *s,
     return NEGOBS_OK;
 }
 
-negobs_status_t negobs_stereo_process(negobs_stereo_t *ctx,
-                                      const negobs_image_u8_t *left,
-                                      const negobs_image_u8_t *right,
-                                      negobs_image_s16_t *disp_q4,
-                                      negobs_image_u8_t *confidence,
-                                      negobs_stereo_stats_t *stats)
+negobs_status_t negobs_stereo_set_first_row(negobs_stereo_t *ctx,
+                                            int32_t first_row)
 {
     stx_t *s;
-    negobs_status_t st;
-    int32_t y0;
-    int32_t y;
-
     if (ctx == NULL || ctx->priv == NULL) {
         return NEGOBS_ERR_STATE;
     }
     s = (stx_t *)ctx->priv;
-    st = check_frame(s, left, right, disp_q4, confidence);
-    if (st != NEGOBS_OK) {
-        return st;
+    if (first_row < 0 || first_row > s->cfg.height - NEGOBS_STEREO_MIN_HEIGHT) {
+        return NEGOBS_ERR_INVAL;
     }
+    s->first_row = first_row;
+    return NEGOBS_OK;
+}
+
+/* Every stage on the frame as s describes it (s->h rows; the descriptors
+ * may be a crop of the caller's images). */
+static void process_frame(stx_t *s, const negobs_image_u8_t *left,
+                          const negobs_image_u8_t *right,
+                          negobs_image_s16_t *disp_q4,
+                          negobs_image_u8_t *confidence)
+{
+    int32_t y0;
+    int32_t y;
+
     memset(&s->st, 0, sizeof s->st);
     s->left = left;
     s->right = right;
@@ -348,6 +353,76 @@ negobs_status_t negobs_stereo_process(negobs_stereo_t *ctx,
             }
         }
     }
+}
+
+/* A view of rows [top, h) of img (no copy: descriptors carry stride). */
+static negobs_image_u8_t crop_u8(const negobs_image_u8_t *img, int32_t top)
+{
+    negobs_image_u8_t c = *img;
+    c.data = img->data + (ptrdiff_t)top * img->stride;
+    c.height = img->height - top;
+    return c;
+}
+
+negobs_status_t negobs_stereo_process(negobs_stereo_t *ctx,
+                                      const negobs_image_u8_t *left,
+                                      const negobs_image_u8_t *right,
+                                      negobs_image_s16_t *disp_q4,
+                                      negobs_image_u8_t *confidence,
+                                      negobs_stereo_stats_t *stats)
+{
+    stx_t *s;
+    negobs_status_t st;
+    int32_t top;
+
+    if (ctx == NULL || ctx->priv == NULL) {
+        return NEGOBS_ERR_STATE;
+    }
+    s = (stx_t *)ctx->priv;
+    st = check_frame(s, left, right, disp_q4, confidence);
+    if (st != NEGOBS_OK) {
+        return st;
+    }
+    top = s->first_row;
+    if (top == 0) {
+        process_frame(s, left, right, disp_q4, confidence);
+    } else {
+        /* Rows above first_row are not matched: the engine runs on a crop
+         * of rows [top, h) with the geometry of that smaller frame (every
+         * buffer sized for the full frame is large enough), then restores
+         * its own. Rows above get no value and confidence 0. */
+        const int32_t h_full = s->h;
+        const int32_t lh_full = s->lh;
+        const int32_t th_full = s->th;
+        negobs_image_u8_t l2 = crop_u8(left, top);
+        negobs_image_u8_t r2 = crop_u8(right, top);
+        negobs_image_u8_t c2 = l2;
+        negobs_image_s16_t d2 = *disp_q4;
+        int32_t y;
+        d2.data = disp_q4->data + (ptrdiff_t)top * disp_q4->stride;
+        d2.height = disp_q4->height - top;
+        if (confidence != NULL) {
+            c2 = crop_u8(confidence, top);
+        }
+        s->h = h_full - top;
+        s->lh = s->h / STX_LOWRES;
+        s->th = (s->h + s->tile - 1) / s->tile;
+        process_frame(s, &l2, &r2, &d2, (confidence != NULL) ? &c2 : NULL);
+        s->h = h_full;
+        s->lh = lh_full;
+        s->th = th_full;
+        for (y = 0; y < top; y++) {
+            int16_t *row = negobs_image_s16_row(disp_q4, y);
+            int32_t x;
+            for (x = 0; x < s->w; x++) {
+                row[x] = NEGOBS_DISP_INVALID;
+            }
+            if (confidence != NULL) {
+                memset(negobs_image_u8_row(confidence, y), 0, (size_t)s->w);
+            }
+        }
+    }
+    s->st.first_row = top;
     if (stats != NULL) {
         *stats = s->st;
     }

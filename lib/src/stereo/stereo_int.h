@@ -81,7 +81,8 @@ static inline int32_t stx_unpack_d(uint32_t p) { return (int32_t)(p & 0xFFu); }
 /* ---- private state ---------------------------------------------------- */
 typedef struct stx {
     negobs_stereo_config_t cfg;
-    int32_t w, h;
+    int32_t w, h;          /* frame being matched (h: a crop's height)   */
+    int32_t first_row;     /* negobs_stereo_set_first_row (0 = all rows) */
     int32_t dmin, ndisp;   /* configured range: dmin .. dmin+ndisp-1     */
     int32_t sh;            /* strip rows                                 */
 
