@@ -185,6 +185,64 @@ static void test_detect_flat_ground_pose_and_no_hazard(void **state)
 }
 
 /*
+ * A frame whose matcher skipped the rows above first_row (the pipeline's
+ * crop) vouches for the warning range only if that range was matched: a
+ * crop starting below the warning row (the camera pitched down faster
+ * than the crop's margin) is FEW_GROUND / NO_INFO, never CLEAR; a crop
+ * above it changes nothing.
+ */
+static void test_detect_crop_below_warning_row_is_not_clear(void **state)
+{
+    synth_scene_t s;
+    int32_t d_w;
+    int32_t v_w = RIG_H - 1;
+    int32_t i;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.25, 1);
+    for (i = 0; i < 3; i++) {
+        s.seed = (uint32_t)i + 1u;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+    }
+    d_w = negobs_disp_q4_from_depth_mm(&rig.cfg.cam, rig.cfg.range_warn_mm);
+    while (v_w > 0 && negobs_ground_disp_q4(&rig.res.plane, RIG_W / 2, v_w) >
+                          d_w) {
+        v_w--;
+    }
+    /* crop 20 rows above the warning row: still clear */
+    s.seed = 10u;
+    rig.frame.first_row = v_w - 20;
+    synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+    for (i = 0; i < (v_w - 20) * RIG_W; i++) {
+        rig.disp[i] = NEGOBS_DISP_INVALID;
+    }
+    rig.now_ms += 100;
+    rig.frame.t_left_ms = rig.frame.t_right_ms = rig.now_ms - 40;
+    rig.frame.now_ms = rig.now_ms;
+    assert_int_equal(negobs_detect_process(&rig.det, &rig.frame, &rig.res),
+                     NEGOBS_OK);
+    assert_int_equal(rig.res.reasons, 0);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+    /* crop 10 rows below it: the warning range was not matched */
+    s.seed = 11u;
+    rig.frame.first_row = v_w + 10;
+    synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+    for (i = 0; i < (v_w + 10) * RIG_W; i++) {
+        rig.disp[i] = NEGOBS_DISP_INVALID;
+    }
+    rig.now_ms += 100;
+    rig.frame.t_left_ms = rig.frame.t_right_ms = rig.now_ms - 40;
+    rig.frame.now_ms = rig.now_ms;
+    assert_int_equal(negobs_detect_process(&rig.det, &rig.frame, &rig.res),
+                     NEGOBS_OK);
+    assert_true((rig.res.reasons & NEGOBS_DEGRADED_FEW_GROUND) != 0u);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+    rig.frame.first_row = 0;
+    rig_teardown(&rig);
+}
+
+/*
  * Range and height over the band the project measures (edge at 1.5-3 m,
  * drops >= 100 mm) plus 150 mm at 3.5-4 m. Every frame uses new noise.
  */
@@ -1001,6 +1059,7 @@ int main(void)
         cmocka_unit_test(test_detect_bad_input_reports_no_info),
         cmocka_unit_test(test_detect_all_invalid_is_no_info),
         cmocka_unit_test(test_detect_flat_ground_pose_and_no_hazard),
+        cmocka_unit_test(test_detect_crop_below_warning_row_is_not_clear),
         cmocka_unit_test(test_detect_drop_range_and_height_errors),
         cmocka_unit_test(test_detect_150mm_confirmed_beyond_3500),
         cmocka_unit_test(test_detect_no_false_hazard_on_upstep),

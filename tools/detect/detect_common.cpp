@@ -274,6 +274,7 @@ bool Runner::process(const cv::Mat &left, const cv::Mat &right, uint32_t t_ms,
             df.t_left_ms = t_ms;
             df.t_right_ms = t_ms;
             df.now_ms = t_ms;
+            df.first_row = res->stereo.first_row;
             st = negobs_detect_process(&ctx_.detect, &df, &res->detect);
         }
         const double t2 = thread_cpu_ms();

@@ -205,6 +205,10 @@ typedef struct negobs_detect_frame {
     uint32_t t_left_ms;  /**< capture time of the left image (ms)     */
     uint32_t t_right_ms; /**< capture time of the right image (ms)    */
     uint32_t now_ms;     /**< time of this call (ms, same clock)      */
+    int32_t first_row;   /**< rows above it were not matched
+                              (negobs_stereo_set_first_row); a frame
+                              whose warning-range row lies there cannot
+                              vouch for it: FEW_GROUND. 0 = all rows  */
 } negobs_detect_frame_t;
 
 /** Frame result. */

@@ -1442,6 +1442,17 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
                                                     v_w) > d_w) {
                 v_w--;
             }
+            /* The matcher may have been told to skip the rows above
+             * first_row (the pipeline's crop to the rows the scan reads,
+             * placed from the previous frame's ground). If the warning
+             * range lies up there now (the camera pitched down faster
+             * than the crop's margin), this frame did not look that far:
+             * it must not say CLEAR, nor count as a clean frame that
+             * clears tracks. The crop's first rows carry no value either
+             * (the matcher's window does not fit). */
+            if (frame->first_row > 0 && v_w < frame->first_row + 2) {
+                reasons |= NEGOBS_DEGRADED_FEW_GROUND;
+            }
             sw = sigma_at(&s, v_w);
             sm = strip_sigma_at(&s, v_w, &bias);
             res->sigma_warn_q4 = sw;

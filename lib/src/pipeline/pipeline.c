@@ -297,6 +297,7 @@ negobs_status_t negobs_pipeline_process(negobs_pipeline_t *ctx,
         df.t_left_ms = frame->t_left_ms;
         df.t_right_ms = frame->t_right_ms;
         df.now_ms = frame->now_ms;
+        df.first_row = result->stereo.first_row;
         st = negobs_detect_process(&ctx->detect, &df, &result->detect);
     }
     if (st != NEGOBS_OK) {
