@@ -185,11 +185,11 @@ static void test_detect_flat_ground_pose_and_no_hazard(void **state)
 }
 
 /*
- * A frame whose matcher skipped the rows above first_row (the pipeline's
- * crop) vouches for the warning range only if that range was matched: a
- * crop starting below the warning row (the camera pitched down faster
- * than the crop's margin) is FEW_GROUND / NO_INFO, never CLEAR; a crop
- * above it changes nothing.
+ * A frame vouches for the warning range only if that range was matched: a
+ * crop of the matcher starting below the warning row (the camera pitched
+ * down faster than the crop's margin), or no values there at all, is
+ * FEW_GROUND / NO_INFO, never CLEAR; a crop above it, or a sparse but
+ * measured far range, changes nothing.
  */
 static void test_detect_crop_below_warning_row_is_not_clear(void **state)
 {
@@ -238,7 +238,35 @@ static void test_detect_crop_below_warning_row_is_not_clear(void **state)
                      NEGOBS_OK);
     assert_true((rig.res.reasons & NEGOBS_DEGRADED_FEW_GROUND) != 0u);
     assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+    /* the same empty rows without being told (textureless or dark far
+     * ground, any matcher): the old code said CLEAR here */
+    s.seed = 12u;
     rig.frame.first_row = 0;
+    synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+    for (i = 0; i < (v_w + 10) * RIG_W; i++) {
+        rig.disp[i] = NEGOBS_DISP_INVALID;
+    }
+    rig.now_ms += 100;
+    rig.frame.t_left_ms = rig.frame.t_right_ms = rig.now_ms - 40;
+    rig.frame.now_ms = rig.now_ms;
+    assert_int_equal(negobs_detect_process(&rig.det, &rig.frame, &rig.res),
+                     NEGOBS_OK);
+    assert_true((rig.res.reasons & NEGOBS_DEGRADED_FEW_GROUND) != 0u);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+    /* and with most of them back (a sparse but measured far range) it is
+     * clear again */
+    s.seed = 13u;
+    synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+    for (i = 0; i < (v_w + 10) * RIG_W; i += 3) {
+        rig.disp[i] = NEGOBS_DISP_INVALID;
+    }
+    rig.now_ms += 100;
+    rig.frame.t_left_ms = rig.frame.t_right_ms = rig.now_ms - 40;
+    rig.frame.now_ms = rig.now_ms;
+    assert_int_equal(negobs_detect_process(&rig.det, &rig.frame, &rig.res),
+                     NEGOBS_OK);
+    assert_int_equal(rig.res.reasons, 0);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
     rig_teardown(&rig);
 }
 

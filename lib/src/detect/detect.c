@@ -28,6 +28,8 @@
 
 #include <string.h>
 
+#include "negobs/stereo.h" /* the confidence scale of the disparity map */
+
 #include "arena.h"
 #include "geom_internal.h"
 #include "ground_fit.h"
@@ -1306,6 +1308,48 @@ static void merge_strips(const scan_ctx_t *s, detect_priv_t *p,
     }
 }
 
+/* 1 when at least a quarter of the corridor pixels within 4 rows of v_w
+ * (the strips whose centre is in the corridor there) carry a matched
+ * disparity: valid and, with a confidence map, not filled or
+ * textureless. */
+static int warn_rows_measured(const scan_ctx_t *s, const detect_priv_t *p,
+                              int32_t v_w)
+{
+    const negobs_detect_config_t *cfg = s->cfg;
+    int32_t h = cfg->cam.height;
+    int32_t v0 = geom_max_s32(v_w - 4, 0);
+    int32_t v1 = geom_min_s32(v_w + 4, h - 1);
+    int32_t total = 0;
+    int32_t good = 0;
+    int32_t si;
+    for (si = 0; si < p->n_strips; si++) {
+        int32_t u0 = (cfg->cam.width - p->n_strips * cfg->strip_px) / 2 +
+                     si * cfg->strip_px;
+        int32_t uc = u0 + cfg->strip_px / 2;
+        int32_t dgc = negobs_ground_disp_q4(s->plane, uc, v_w);
+        int32_t v;
+        if (dgc <= 0 || !in_corridor(s, uc, dgc)) {
+            continue;
+        }
+        for (v = v0; v <= v1; v++) {
+            const int16_t *row = negobs_image_s16_row(s->disp, v);
+            const uint8_t *crow = (s->conf != NULL)
+                                      ? negobs_image_u8_row(s->conf, v)
+                                      : NULL;
+            int32_t u;
+            for (u = u0; u < u0 + cfg->strip_px; u++) {
+                total++;
+                if (row[u] != NEGOBS_DISP_INVALID &&
+                    (crow == NULL ||
+                     crow[u] >= NEGOBS_STEREO_CONF_MATCHED_MIN)) {
+                    good++;
+                }
+            }
+        }
+    }
+    return total == 0 || 4 * good >= total;
+}
+
 negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
                                       const negobs_detect_frame_t *frame,
                                       negobs_detect_result_t *res)
@@ -1314,6 +1358,7 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
     const negobs_detect_config_t *cfg;
     uint32_t reasons = 0;
     int32_t pending_noisy = 0; /* unconfirmed candidate, near bands noisy */
+    int32_t pending_sparse = 0; /* unconfirmed candidate, warning rows empty */
     negobs_photo_stats_t ls;
     gfit_out_t g;
     uint32_t i;
@@ -1481,6 +1526,25 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
                 }
                 blocked_path = seen > 0 && 4 * closed >= 3 * seen;
             }
+            /* Was the warning range measured at all? The noise test below
+             * reads a band of rows and falls back to the independent-
+             * pixel formula where the band has too few strip rows, so a
+             * frame whose matcher gave (almost) nothing around the
+             * warning row (textureless or dark far ground) could pass it
+             * and say CLEAR without having looked there. Fewer than a
+             * quarter of the corridor pixels within +-4 rows of the
+             * warning row with a matched value: FEW_GROUND. With a
+             * candidate in the frame (a drop's shadow can cover those
+             * rows) it only keeps the frame from saying CLEAR, as the
+             * near-band check does. */
+            if (!blocked_path &&
+                !warn_rows_measured(&s, p, v_w)) {
+                if (res->n_candidates == 0u) {
+                    reasons |= NEGOBS_DEGRADED_FEW_GROUND;
+                } else {
+                    pending_sparse = 1;
+                }
+            }
             /* k_q4/16 * sm/256 + max(bias, 0)/256 > d_w/16 * h/(H + h). */
             if (sw > cfg->sigma_max_q4 ||
                 (!blocked_path &&
@@ -1597,6 +1661,9 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
             res->level = res->hazards[i].level;
             res->nearest_range_mm = res->hazards[i].range_mm;
         }
+    }
+    if (pending_sparse && res->n_hazards == 0u) {
+        reasons |= NEGOBS_DEGRADED_FEW_GROUND;
     }
     if (pending_noisy && res->n_hazards == 0u) {
         reasons |= NEGOBS_DEGRADED_NOISY;
