@@ -606,6 +606,24 @@ static int in_corridor(const scan_ctx_t *s, int32_t uc, int32_t dg_q4)
            (int64_t)s->cfg->corridor_half_width_mm * 1000 * dg_q4;
 }
 
+/* First column of strip si (the strips are centred in the frame). */
+static int32_t strip_u0(const negobs_detect_config_t *cfg, int32_t n_strips,
+                        int32_t si)
+{
+    return (cfg->cam.width - n_strips * cfg->strip_px) / 2 +
+           si * cfg->strip_px;
+}
+
+/* 1 when the centre of strip si lies in the walking corridor at row v of
+ * the ground model. */
+static int strip_in_corridor(const scan_ctx_t *s, int32_t n_strips,
+                             int32_t si, int32_t v)
+{
+    int32_t uc = strip_u0(s->cfg, n_strips, si) + s->cfg->strip_px / 2;
+    int32_t dgc = negobs_ground_disp_q4(s->plane, uc, v);
+    return dgc > 0 && in_corridor(s, uc, dgc);
+}
+
 static void scan_strip(const scan_ctx_t *s, int32_t u0, int32_t u1,
                        strip_hit_t *hit)
 {
@@ -946,8 +964,7 @@ static int strip_row_e(const scan_ctx_t *s, const detect_priv_t *p,
     const int16_t *row = negobs_image_s16_row(s->disp, v);
     const uint8_t *crow =
         (s->conf != NULL) ? negobs_image_u8_row(s->conf, v) : NULL;
-    int32_t u0 = (cfg->cam.width - p->n_strips * cfg->strip_px) / 2 +
-                 si * cfg->strip_px;
+    int32_t u0 = strip_u0(cfg, p->n_strips, si);
     int32_t u1 = u0 + cfg->strip_px;
     int32_t uc = (u0 + u1) / 2;
     int32_t dgc = negobs_ground_disp_q4(s->plane, uc, v);
@@ -1323,12 +1340,9 @@ static int warn_rows_measured(const scan_ctx_t *s, const detect_priv_t *p,
     int32_t good = 0;
     int32_t si;
     for (si = 0; si < p->n_strips; si++) {
-        int32_t u0 = (cfg->cam.width - p->n_strips * cfg->strip_px) / 2 +
-                     si * cfg->strip_px;
-        int32_t uc = u0 + cfg->strip_px / 2;
-        int32_t dgc = negobs_ground_disp_q4(s->plane, uc, v_w);
+        int32_t u0 = strip_u0(cfg, p->n_strips, si);
         int32_t v;
-        if (dgc <= 0 || !in_corridor(s, uc, dgc)) {
+        if (!strip_in_corridor(s, p->n_strips, si, v_w)) {
             continue;
         }
         for (v = v0; v <= v1; v++) {
@@ -1458,8 +1472,7 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
 
         /* Step 2-3: per-strip scan, merge. */
         for (s_i = 0; s_i < p->n_strips; s_i++) {
-            int32_t u0 = (cfg->cam.width - p->n_strips * cfg->strip_px) / 2 +
-                         s_i * cfg->strip_px;
+            int32_t u0 = strip_u0(cfg, p->n_strips, s_i);
             scan_strip(&s, u0, u0 + cfg->strip_px, &p->hits[s_i]);
         }
         merge_strips(&s, p, res);
@@ -1513,12 +1526,10 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
                 int32_t closed = 0;
                 int32_t seen = 0;
                 for (i = 0; i < (uint32_t)p->n_strips; i++) {
-                    int32_t u0 = (cfg->cam.width -
-                                  p->n_strips * cfg->strip_px) / 2 +
-                                 (int32_t)i * cfg->strip_px;
-                    int32_t uc = u0 + cfg->strip_px / 2;
-                    int32_t dgc = negobs_ground_disp_q4(&g.plane, uc, v_w);
-                    if (dgc <= 0 || !in_corridor(&s, uc, dgc)) {
+                    /* s.plane is the model gfit_process returned as
+                     * g.plane */
+                    if (!strip_in_corridor(&s, p->n_strips, (int32_t)i,
+                                           v_w)) {
                         continue;
                     }
                     seen++;
