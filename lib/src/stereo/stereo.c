@@ -355,11 +355,20 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
     }
 }
 
-/* A view of rows [top, h) of img (no copy: descriptors carry stride). */
+/* Views of rows [top, h) (no copy: descriptors carry stride). */
 static negobs_image_u8_t crop_u8(const negobs_image_u8_t *img, int32_t top)
 {
     negobs_image_u8_t c = *img;
-    c.data = img->data + (ptrdiff_t)top * img->stride;
+    c.data = negobs_image_u8_row(img, top);
+    c.height = img->height - top;
+    return c;
+}
+
+static negobs_image_s16_t crop_s16(const negobs_image_s16_t *img,
+                                   int32_t top)
+{
+    negobs_image_s16_t c = *img;
+    c.data = negobs_image_s16_row(img, top);
     c.height = img->height - top;
     return c;
 }
@@ -396,18 +405,18 @@ negobs_status_t negobs_stereo_process(negobs_stereo_t *ctx,
         const int32_t th_full = s->th;
         negobs_image_u8_t l2 = crop_u8(left, top);
         negobs_image_u8_t r2 = crop_u8(right, top);
-        negobs_image_u8_t c2 = l2;
-        negobs_image_s16_t d2 = *disp_q4;
+        negobs_image_s16_t d2 = crop_s16(disp_q4, top);
+        negobs_image_u8_t c2;
+        negobs_image_u8_t *cp = NULL;
         int32_t y;
-        d2.data = disp_q4->data + (ptrdiff_t)top * disp_q4->stride;
-        d2.height = disp_q4->height - top;
         if (confidence != NULL) {
             c2 = crop_u8(confidence, top);
+            cp = &c2;
         }
         s->h = h_full - top;
         s->lh = s->h / STX_LOWRES;
         s->th = (s->h + s->tile - 1) / s->tile;
-        process_frame(s, &l2, &r2, &d2, (confidence != NULL) ? &c2 : NULL);
+        process_frame(s, &l2, &r2, &d2, cp);
         s->h = h_full;
         s->lh = lh_full;
         s->th = th_full;
