@@ -64,10 +64,10 @@ static inline void rig_teardown(rig_t *r)
     r->ws = NULL;
 }
 
-/* Render a scene and run one frame 100 ms after the previous one. */
-static inline negobs_status_t rig_frame(rig_t *r, const synth_scene_t *s)
+/* Run the detector on r->disp as one frame 100 ms after the previous one
+ * (for maps edited after rendering). */
+static inline negobs_status_t rig_run(rig_t *r)
 {
-    synth_render(s, &r->cfg.cam, r->disp, RIG_W);
     r->now_ms += 100;
     r->frame.disp_q4 = &r->img;
     r->frame.left_stats = &r->stats;
@@ -76,6 +76,13 @@ static inline negobs_status_t rig_frame(rig_t *r, const synth_scene_t *s)
     r->frame.t_right_ms = r->now_ms - 40;
     r->frame.now_ms = r->now_ms;
     return negobs_detect_process(&r->det, &r->frame, &r->res);
+}
+
+/* Render a scene and run one frame 100 ms after the previous one. */
+static inline negobs_status_t rig_frame(rig_t *r, const synth_scene_t *s)
+{
+    synth_render(s, &r->cfg.cam, r->disp, RIG_W);
+    return rig_run(r);
 }
 
 /* Nearest raw candidate of the last frame, or NULL. */
