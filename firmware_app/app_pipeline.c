@@ -52,6 +52,7 @@ void app_pipeline_config_default(app_pipeline_config_t *cfg)
     cfg->cam_pitch_mdeg = 20000;
     cfg->max_disp = 63;
     cfg->vertical_align = 0;
+    cfg->row_crop = 1;
     cfg->focal_q4 = 0;
     cfg->baseline_um = 0;
     cfg->cx_q4 = -1;
@@ -76,6 +77,7 @@ negobs_status_t app_pipeline_init(app_pipeline_t *p,
         cfg->cam_pitch_mdeg > 60000 || cfg->max_disp < 8 ||
         cfg->max_disp > 255 || cfg->sync_tol_ms < 0 ||
         cfg->vertical_align < 0 || cfg->vertical_align > 1 ||
+        cfg->row_crop < 0 || cfg->row_crop > 1 ||
         cfg->sync_tol_ms > 1000 || cfg->max_frame_age_ms < 1 ||
         cfg->max_frame_age_ms > 60000 || cfg->latency_budget_ms < 0 ||
         cfg->latency_budget_ms > 60000 || cfg->focal_q4 < 0 ||
@@ -169,6 +171,7 @@ static negobs_status_t lib_setup(const app_pipeline_config_t *c, int32_t w,
     pc.stereo.max_disp = (c->max_disp < w / 2) ? c->max_disp : w / 2 - 1;
     pc.detect.max_disp_q4 = (pc.stereo.max_disp + 1) * NEGOBS_DISP_ONE;
     pc.valign.enable = c->vertical_align;
+    pc.stereo_roi = c->row_crop;
     pc.valign.max_disp = pc.stereo.max_disp;
     /* The focal length is given for the frame the camera delivers. */
     pc.detect.cam.focal_q4 = c->focal_q4 > 0 ? c->focal_q4
@@ -302,6 +305,7 @@ app_verdict_t app_process_pair_at(app_pipeline_t *p,
         st->valid_permille = (int32_t)(
             (uint64_t)res.stereo.valid * 1000u /
             ((uint64_t)left->width * (uint64_t)left->height));
+        st->first_row = res.stereo.first_row;
         return verdict_of(&res, st);
     }
 }

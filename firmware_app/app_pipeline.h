@@ -53,6 +53,10 @@ typedef struct app_pipeline_config {
     int32_t vertical_align;       /**< 1: sub-pixel vertical alignment stage
                                        before the matcher, for rigs without
                                        a calibration table [0]             */
+    int32_t row_crop;             /**< 1: match only the rows from the top
+                                       of the warning range down (the
+                                       library's stereo_roi, following the
+                                       last ground model) [1]              */
     /* Exact geometry from a calibration table (negobs_run --calib); they
      * take precedence over focal_px / baseline_mm when set. */
     int32_t focal_q4;             /**< focal, 1/16 px; 0 = focal_px [0]    */
@@ -78,6 +82,8 @@ typedef struct app_frame_stats {
     int32_t nearest_range_mm; /**< nearest confirmed hazard, -1 if none  */
     uint32_t hazards;         /**< confirmed or held hazards             */
     int32_t valid_permille;   /**< share of pixels with a disparity      */
+    int32_t first_row;        /**< first image row the matcher read (0:
+                                   the whole frame; row_crop)            */
     int32_t latency_ms;       /**< capture to verdict (latency gate), or
                                    -1 when not measured                  */
 } app_frame_stats_t;

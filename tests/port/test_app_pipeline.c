@@ -106,6 +106,12 @@ static void test_bad_input_gives_no_info(void **state)
     app_pipeline_config_default(&c);
     c.sat_permille_max = 1001;
     assert_int_equal(app_pipeline_init(&p, &c), NEGOBS_ERR_INVAL);
+    app_pipeline_config_default(&c);
+    assert_int_equal(c.row_crop, 1);
+    c.row_crop = 2;
+    assert_int_equal(app_pipeline_init(&p, &c), NEGOBS_ERR_INVAL);
+    c.row_crop = 0;
+    assert_int_equal(app_pipeline_init(&p, &c), NEGOBS_OK);
 }
 
 static void test_large_frames_are_subsampled(void **state)

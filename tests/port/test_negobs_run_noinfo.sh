@@ -57,4 +57,20 @@ grep -q "summary .* clear=[1-9]" "$T/free.log" ||
 grep -q "summary .* clear=0 .*last_reason=late" "$T/late.log" ||
     { echo "FAIL: a clear verdict over the latency budget"; exit 1; }
 echo "latency gate: ok"
+
+# The row crop (config key row_crop, on by default): once the walk's ground
+# is known, the matcher starts below the top of the image; switched off, it
+# reads every row of every pair.
+{ cat "$T/rig.conf"; echo "row_crop = false"; } >"$T/nocrop.conf"
+"$RUN" --config "$T/rig.conf" --fps 0 --alert none --log-level debug \
+    replay:"$T/raw/pgm" >"$T/crop.log" 2>&1 || { echo "FAIL: negobs_run (crop)"; cat "$T/crop.log"; exit 1; }
+"$RUN" --config "$T/nocrop.conf" --fps 0 --alert none --log-level debug \
+    replay:"$T/raw/pgm" >"$T/nocrop.log" 2>&1 || { echo "FAIL: negobs_run (no crop)"; cat "$T/nocrop.log"; exit 1; }
+CROPPED=$(grep -c "verdict .* first_row [1-9]" "$T/crop.log")
+FULL=$(grep -c "verdict .* first_row 0$" "$T/nocrop.log")
+echo "row crop: $CROPPED of 10 pairs cropped with row_crop on; $FULL of 10 full with it off"
+[ "$CROPPED" -ge 8 ] || { echo "FAIL: row_crop on, but fewer than 8 of 10 pairs cropped"; exit 1; }
+[ "$FULL" -eq 10 ] || { echo "FAIL: row_crop = false, but a pair was cropped"; exit 1; }
+grep -q "summary .* clear=[1-9]" "$T/nocrop.log" ||
+    { echo "FAIL: the flat walk is never clear without the crop"; exit 1; }
 exit $RC
