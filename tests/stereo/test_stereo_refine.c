@@ -104,6 +104,42 @@ static void test_gap_between_near_and_far_gets_the_far_end(void **state)
     assert_int_equal(s->st.gap_filled, 6 + 1 + 4);
 }
 
+/* A run much wider than the disparity step between its ends is not an
+ * occlusion (that would be as wide as the step) but a surface without
+ * texture: it is joined linearly, and the near end keeps its value. */
+static void test_wide_gap_across_a_small_step_is_a_surface(void **state)
+{
+    stx_t *s = setup(32);
+    int32_t x;
+    (void)state;
+    /* row 4: ends 10 px and 12 px, 11 px apart: 11 > 3 * 2 + 4 */
+    for (x = 31; x < W; x++) {
+        disp[4 * W + x] = 12 * 16;
+    }
+    hole(4, 20, 31);
+    /* row 8: the same step, run of exactly 3 * 2 + 4 = 10 px: occlusion */
+    for (x = 30; x < W; x++) {
+        disp[8 * W + x] = 12 * 16;
+    }
+    hole(8, 20, 30);
+    stx_gap_fill(s, &di, conf, W);
+    for (x = 20; x < 31; x++) {
+        int32_t k = x - 19;
+        int32_t want = 10 * 16 + (int32_t)negobs_div_round_s64(32 * k, 12);
+        assert_int_equal(disp[4 * W + x], want);
+        assert_int_equal(conf[4 * W + x], NEGOBS_STEREO_CONF_FILLED);
+    }
+    assert_true(disp[4 * W + 20] > 10 * 16);
+    assert_true(disp[4 * W + 30] < 12 * 16);
+    assert_int_equal(disp[4 * W + 31], 12 * 16); /* not an occlusion edge */
+    assert_int_equal(conf[4 * W + 31], 200);
+    for (x = 20; x < 31; x++) {
+        assert_int_equal(disp[8 * W + x], 10 * 16); /* incl. the edge px */
+    }
+    assert_int_equal(disp[8 * W + 31], 12 * 16);
+    assert_int_equal(s->st.gap_filled, 11 + 10 + 1);
+}
+
 static void test_long_gap_and_empty_row_stay_invalid(void **state)
 {
     stx_t *s = setup(8);
@@ -206,6 +242,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_gap_between_agreeing_ends_is_interpolated),
         cmocka_unit_test(test_gap_between_near_and_far_gets_the_far_end),
+        cmocka_unit_test(test_wide_gap_across_a_small_step_is_a_surface),
         cmocka_unit_test(test_long_gap_and_empty_row_stay_invalid),
         cmocka_unit_test(test_border_run_takes_its_only_end),
         cmocka_unit_test(test_adaptive_mean_marks_the_holes_it_fills),
