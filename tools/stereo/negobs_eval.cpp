@@ -28,6 +28,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "occlusion.hpp"
 #include "stereo_common.hpp"
 
 #ifndef NEGOBS_SOURCE_ROOT
@@ -72,6 +73,11 @@ const char *const kHelp =
     "Evaluated pixels: inside the set's non-occlusion mask where it has one,\n"
     "else every pixel with known GT. All three matchers search the same range\n"
     "0..max_disp (manifest column; OpenCV's numDisparities rounded up to 16).\n"
+    "A second table scores the same maps on non-occluded pixels only, the\n"
+    "protocol of the paper's Table 5 (printed beside it): the set's mask, else\n"
+    "a mask derived from the right-view GT found beside the GT by Middlebury's\n"
+    "naming (disp1 for view1 -> disp5 for view5; disp2 -> disp6): a left pixel\n"
+    "with GT d counts when the right GT at x - d agrees within 1 px.\n"
     "\n"
     "Options:\n"
     "  --data DIR        data folder (default $NEGOBS_DATA, else\n"
@@ -144,6 +150,7 @@ bool parse_double(const char *s, double &out)
 struct SetSpec {
     std::string name;
     std::string left, right, gt, mask; // absolute paths; mask may be empty
+    std::string gt_right; // right-view GT beside gt ("" if none)
     double gt_scale = 1.0;
     int max_disp = 0; // 0: derive from the GT
     std::string origin;
@@ -209,6 +216,7 @@ bool read_manifest(const std::string &dir, std::vector<SetSpec> &sets,
         s.gt_scale = scale;
         s.max_disp = static_cast<int>(std::ceil(md));
         s.origin = "manifest";
+        s.gt_right = negobs_tools::right_gt_path(s.left, s.right, s.gt);
         sets.push_back(s);
     }
     return true;
@@ -267,6 +275,13 @@ struct SetResult {
     std::string skip_reason;
     Metrics m[M_COUNT];
     Metrics nofill; // negobs with gap_fill = 0 (scores only, not timed)
+    // The same maps scored on non-occluded pixels only (the protocol of
+    // the paper's Table 5): the set's mask, else one derived from its
+    // right-view GT; nonocc_from is "" when neither exists.
+    Metrics nonocc[M_COUNT];
+    std::string nonocc_from;
+    long nonocc_px = 0;
+    double mask_agree = -1.0; // derived vs the set's own mask, % of known
     cv::Mat gt, gt_valid;
 };
 
@@ -350,11 +365,12 @@ struct Options {
     std::string command_line;
 };
 
-bool load_gt(const SetSpec &s, cv::Mat &gt, cv::Mat &known, std::string &err)
+bool load_gt(const SetSpec &s, const std::string &path, cv::Mat &gt,
+             cv::Mat &known, std::string &err)
 {
-    cv::Mat raw = cv::imread(s.gt, cv::IMREAD_UNCHANGED);
+    cv::Mat raw = cv::imread(path, cv::IMREAD_UNCHANGED);
     if (raw.empty()) {
-        err = "cannot read GT '" + s.gt + "'";
+        err = "cannot read GT '" + path + "'";
         return false;
     }
     if (raw.channels() == 3)
@@ -362,7 +378,7 @@ bool load_gt(const SetSpec &s, cv::Mat &gt, cv::Mat &known, std::string &err)
     else if (raw.channels() == 4)
         cv::cvtColor(raw, raw, cv::COLOR_BGRA2GRAY);
     if (raw.channels() != 1 || (raw.depth() != CV_8U && raw.depth() != CV_16U)) {
-        err = "GT '" + s.gt + "': unsupported pixel type";
+        err = "GT '" + path + "': unsupported pixel type";
         return false;
     }
     raw.convertTo(gt, CV_32F, 1.0 / s.gt_scale);
@@ -445,7 +461,7 @@ int evaluate(const Options &opt, const SetSpec &spec, SetResult &res)
         return EXIT_DATA;
     }
     cv::Mat known;
-    if (!load_gt(spec, res.gt, known, err)) {
+    if (!load_gt(spec, spec.gt, res.gt, known, err)) {
         std::fprintf(stderr, "negobs_eval: %s: %s\n", spec.name.c_str(),
                      err.c_str());
         return EXIT_DATA;
@@ -468,6 +484,41 @@ int evaluate(const Options &opt, const SetSpec &spec, SetResult &res)
             return EXIT_DATA;
         }
         eval_mask &= (mask == 255);
+    }
+    // Non-occluded pixels for the paper's protocol. A derived mask is
+    // checked against the set's own where both exist (Cones: 98.5 % of
+    // the known pixels agree).
+    cv::Mat nonocc;
+    if (!spec.gt_right.empty()) {
+        cv::Mat gt_r, known_r;
+        if (!load_gt(spec, spec.gt_right, gt_r, known_r, err) ||
+            gt_r.size() != res.gt.size()) {
+            std::fprintf(stderr, "negobs_eval: %s: right-view GT: %s\n",
+                         spec.name.c_str(),
+                         err.empty() ? "size differs" : err.c_str());
+            return EXIT_DATA;
+        }
+        nonocc = negobs_tools::nonocc_from_right_gt(res.gt, known, gt_r,
+                                                    known_r);
+        if (!spec.mask.empty()) {
+            const long n = cv::countNonZero(known);
+            const long differ = cv::countNonZero(
+                ((nonocc != 0) != (eval_mask != 0)) & known);
+            res.mask_agree = n ? 100.0 * double(n - differ) / double(n) : 0;
+            std::printf("  [%s] non-occlusion mask derived from %s agrees "
+                        "with the set's mask on %.1f %% of the known pixels\n",
+                        spec.name.c_str(), spec.gt_right.c_str(),
+                        res.mask_agree);
+        } else {
+            res.nonocc_from = "derived from the right-view GT (" +
+                              spec.gt_right.substr(
+                                  spec.gt_right.find_last_of('/') + 1) +
+                              ")";
+        }
+    }
+    if (!spec.mask.empty()) {
+        nonocc = eval_mask;
+        res.nonocc_from = "the set's mask";
     }
     res.gt_valid = known;
     res.width = left.cols;
@@ -529,7 +580,32 @@ int evaluate(const Options &opt, const SetSpec &spec, SetResult &res)
         score(m.disp, m.valid, res.gt, eval_mask, m);
         m.ran = true;
     }
+    if (!res.nonocc_from.empty()) {
+        res.nonocc_px = cv::countNonZero(nonocc);
+        for (int id = 0; id < M_COUNT; ++id) {
+            if (res.m[id].ran) {
+                score(res.m[id].disp, res.m[id].valid, res.gt, nonocc,
+                      res.nonocc[id]);
+                res.nonocc[id].ran = true;
+            }
+        }
+    }
     return EXIT_OK;
+}
+
+// bad1 (%) of the paper's Table 5 (Fazli et al. 2011) for its four sets;
+// < 0 for the others.
+double paper_bad1(const std::string &set)
+{
+    if (set == "middlebury2003_cones")
+        return 5.0;
+    if (set == "middlebury2001_poster")
+        return 4.47;
+    if (set == "middlebury2006_Aloe_half")
+        return 5.3;
+    if (set == "middlebury2006_Flowerpots_half")
+        return 5.53;
+    return -1.0;
 }
 
 // ------------------------------------------------------------------ output
@@ -569,6 +645,51 @@ void print_table(const std::vector<SetResult> &res)
                         id == M_NEGOBS ? ratio(r, M_SGBM).c_str() : "");
         }
     }
+}
+
+// density / bad1 of each matcher on non-occluded pixels, against the
+// paper's bad1. Console and Markdown share the rows.
+std::vector<std::vector<std::string>> nonocc_rows(const std::vector<SetResult> &res)
+{
+    std::vector<std::vector<std::string>> rows;
+    for (const SetResult &r : res) {
+        if (r.nonocc_from.empty())
+            continue;
+        std::vector<std::string> row = {r.spec.name, r.nonocc_from,
+                                        std::to_string(r.nonocc_px)};
+        for (int id = 0; id < M_COUNT; ++id) {
+            const Metrics &m = r.nonocc[id];
+            row.push_back(m.ran ? fmt("%.1f", m.density) : "-");
+            row.push_back(m.ran ? fmt("%.1f", m.bad1) : "-");
+        }
+        const double pb = paper_bad1(r.spec.name);
+        row.push_back(pb >= 0 ? fmt("%.2f", pb) : "-");
+        rows.push_back(row);
+    }
+    return rows;
+}
+
+const char *const kNonoccHead[] = {
+    "set", "non-occluded pixels from", "px", "negobs density %",
+    "negobs bad1 %", "BM density %", "BM bad1 %", "SGBM density %",
+    "SGBM bad1 %", "paper bad1 %"};
+
+void print_nonocc(const std::vector<SetResult> &res)
+{
+    const auto rows = nonocc_rows(res);
+    if (rows.empty())
+        return;
+    std::printf("\nNon-occluded pixels only (the paper's Table 5 protocol):\n");
+    // columns of nonocc_rows: set, from, px, then density and bad1 of
+    // negobs, BM, SGBM, then the paper's bad1
+    std::printf("%-32s %8s %8s %8s %8s %8s %8s %8s %6s\n", "set", "px",
+                "neg dens", "neg bad1", "BM dens", "BM bad1", "SGBM dns",
+                "SGBM b1", "paper");
+    for (const auto &r : rows)
+        std::printf("%-32s %8s %7s%% %7s%% %7s%% %7s%% %7s%% %7s%% %6s\n",
+                    r[0].c_str(), r[2].c_str(), r[3].c_str(), r[4].c_str(),
+                    r[5].c_str(), r[6].c_str(), r[7].c_str(), r[8].c_str(),
+                    r[9].c_str());
 }
 
 // Mean over the sets where the matcher ran.
@@ -656,6 +777,24 @@ bool write_markdown(const std::string &path, const Options &opt,
           << fmt("%.1f", r.nofill.bad1all) << " | "
           << fmt("%.1f", r.m[M_NEGOBS].density) << " | "
           << fmt("%.1f", r.m[M_NEGOBS].bad1) << " |\n";
+    }
+    const auto nrows = nonocc_rows(res);
+    if (!nrows.empty()) {
+        o << "\nThe same maps scored on non-occluded pixels only, the "
+             "protocol of the paper's Table 5: the set's own mask where it "
+             "has one (the table above then already is this), else a mask "
+             "derived from its right-view GT (a left pixel with GT d is "
+             "non-occluded when the right GT at x - d agrees within 1 px; "
+             "the left border strip is excluded):\n\n|";
+        for (const char *h : kNonoccHead)
+            o << " " << h << " |";
+        o << "\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+        for (const auto &r : nrows) {
+            o << "|";
+            for (const std::string &c : r)
+                o << " " << c << " |";
+            o << "\n";
+        }
     }
     o << "\nMean over sets (time: sum):\n\n";
     o << "| matcher | sets | density % | bad1 % | bad1all % | bad2 % | RMS px "
@@ -1084,6 +1223,7 @@ int run(int argc, char **argv)
         results.push_back(r);
     }
     print_table(results);
+    print_nonocc(results);
 
     int rc = EXIT_OK;
     for (const std::string *d : {&opt.plots, &opt.pictures})
