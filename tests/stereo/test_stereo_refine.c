@@ -15,6 +15,10 @@ static uint8_t conf[H * W];
 static uint8_t ws[NEGOBS_STEREO_WORKSPACE_MAX(W, H, 31)]
     __attribute__((aligned(16)));
 static negobs_image_s16_t di;
+/* The left image the fill reads grey-level steps from: flat unless a test
+ * draws an object border into it. */
+static uint8_t grey[H * W];
+static negobs_image_u8_t gi;
 
 static stx_t *setup(int32_t gap_fill)
 {
@@ -33,6 +37,12 @@ static stx_t *setup(int32_t gap_fill)
     di.width = W;
     di.height = H;
     di.stride = W;
+    memset(grey, 100, sizeof grey);
+    gi.data = grey;
+    gi.width = W;
+    gi.height = H;
+    gi.stride = W;
+    ((stx_t *)ctx.priv)->left = &gi;
     return (stx_t *)ctx.priv;
 }
 
@@ -140,6 +150,50 @@ static void test_wide_gap_across_a_small_step_is_a_surface(void **state)
     assert_int_equal(s->st.gap_filled, 11 + 10 + 1);
 }
 
+/* Where the left image shows the object's border, the fill puts the
+ * depth edge there: inside a run with the near surface on its left, and
+ * among the first pixels of a near surface after an occlusion run. */
+static void test_grey_level_step_places_the_depth_edge(void **state)
+{
+    stx_t *s = setup(8);
+    int32_t x;
+    (void)state;
+    /* row 6: near object (20 px) up to column 41 in the image, its value
+     * measured up to 39, hole 40..43, background from 44 */
+    for (x = 0; x < 40; x++) {
+        disp[6 * W + x] = 20 * 16;
+        grey[6 * W + x] = 180;
+    }
+    grey[6 * W + 40] = 180;
+    grey[6 * W + 41] = 180; /* border between 41 and 42 */
+    hole(6, 40, 44);
+    /* row 5: occlusion run 24..29 (background 10 px on the left), near
+     * surface (20 px) measured from 30, but its border in the image lies
+     * between 31 and 32: 30 and 31 are fattened background */
+    for (x = 30; x < W; x++) {
+        disp[5 * W + x] = 20 * 16;
+    }
+    for (x = 32; x < W; x++) {
+        grey[5 * W + x] = 30;
+    }
+    hole(5, 24, 30);
+    stx_gap_fill(s, &di, conf, W);
+    assert_int_equal(disp[6 * W + 40], 20 * 16);
+    assert_int_equal(disp[6 * W + 41], 20 * 16);
+    assert_int_equal(disp[6 * W + 42], 10 * 16);
+    assert_int_equal(disp[6 * W + 43], 10 * 16);
+    for (x = 40; x < 44; x++) {
+        assert_int_equal(conf[6 * W + x], NEGOBS_STEREO_CONF_FILLED);
+    }
+    for (x = 24; x < 32; x++) {
+        assert_int_equal(disp[5 * W + x], 10 * 16);
+        assert_int_equal(conf[5 * W + x], NEGOBS_STEREO_CONF_FILLED);
+    }
+    assert_int_equal(disp[5 * W + 32], 20 * 16);
+    assert_int_equal(conf[5 * W + 32], 200);
+    assert_int_equal(s->st.gap_filled, 4 + 6 + 2);
+}
+
 static void test_long_gap_and_empty_row_stay_invalid(void **state)
 {
     stx_t *s = setup(8);
@@ -243,6 +297,7 @@ int main(void)
         cmocka_unit_test(test_gap_between_agreeing_ends_is_interpolated),
         cmocka_unit_test(test_gap_between_near_and_far_gets_the_far_end),
         cmocka_unit_test(test_wide_gap_across_a_small_step_is_a_surface),
+        cmocka_unit_test(test_grey_level_step_places_the_depth_edge),
         cmocka_unit_test(test_long_gap_and_empty_row_stay_invalid),
         cmocka_unit_test(test_border_run_takes_its_only_end),
         cmocka_unit_test(test_adaptive_mean_marks_the_holes_it_fills),
