@@ -46,6 +46,15 @@ static stx_t *setup(int32_t gap_fill)
     return (stx_t *)ctx.priv;
 }
 
+/* Row y, columns [x0, x1): a measured surface at d_px whole pixels. */
+static void span(int32_t y, int32_t x0, int32_t x1, int32_t d_px)
+{
+    int32_t x;
+    for (x = x0; x < x1; x++) {
+        disp[y * W + x] = (int16_t)(d_px * 16);
+    }
+}
+
 static void hole(int32_t y, int32_t x0, int32_t x1)
 {
     int32_t x;
@@ -85,14 +94,10 @@ static void test_gap_between_near_and_far_gets_the_far_end(void **state)
     int32_t x;
     (void)state;
     /* near object (20 px) on the right of the hole: background (10) */
-    for (x = 30; x < W; x++) {
-        disp[5 * W + x] = 20 * 16;
-    }
+    span(5, 30, W, 20);
     hole(5, 24, 30);
     /* mirror: near object (20 px) on the left of a hole in row 6 */
-    for (x = 0; x < 40; x++) {
-        disp[6 * W + x] = 20 * 16;
-    }
+    span(6, 0, 40, 20);
     hole(6, 40, 44);
     stx_gap_fill(s, &di, conf, W);
     for (x = 24; x < 30; x++) {
@@ -123,14 +128,10 @@ static void test_wide_gap_across_a_small_step_is_a_surface(void **state)
     int32_t x;
     (void)state;
     /* row 4: ends 10 px and 12 px, 11 px apart: 11 > 3 * 2 + 4 */
-    for (x = 31; x < W; x++) {
-        disp[4 * W + x] = 12 * 16;
-    }
+    span(4, 31, W, 12);
     hole(4, 20, 31);
     /* row 8: the same step, run of exactly 3 * 2 + 4 = 10 px: occlusion */
-    for (x = 30; x < W; x++) {
-        disp[8 * W + x] = 12 * 16;
-    }
+    span(8, 30, W, 12);
     hole(8, 20, 30);
     stx_gap_fill(s, &di, conf, W);
     for (x = 20; x < 31; x++) {
@@ -170,9 +171,7 @@ static void test_grey_level_step_places_the_depth_edge(void **state)
     /* row 5: occlusion run 24..29 (background 10 px on the left), near
      * surface (20 px) measured from 30, but its border in the image lies
      * between 31 and 32: 30 and 31 are fattened background */
-    for (x = 30; x < W; x++) {
-        disp[5 * W + x] = 20 * 16;
-    }
+    span(5, 30, W, 20);
     for (x = 32; x < W; x++) {
         grey[5 * W + x] = 30;
     }

@@ -164,12 +164,15 @@ void stx_speckle(stx_t *s, negobs_image_s16_t *disp)
  * get a value from their two ends. A run between a far surface and a nearer
  * one is the background hidden from the right camera only if it is about
  * as wide as the disparity step: an occlusion next to a step of J px is J
- * px wide. Such a run gets the smaller end, the background. Any other run
- * (ends that agree to 1 px, or a run much wider than the step between its
- * ends: a slanted surface without texture, or pixels the LR check or the
- * speckle filter dropped) is joined linearly. A run touching the left or
- * right border takes its only end (the left border strip has no match at
- * all). Filled pixels get confidence NEGOBS_STEREO_CONF_FILLED, below any
+ * px wide. Such a run gets the smaller end, the background; a run with
+ * the nearer surface on its left is split where the left image has its
+ * edge (details at the two places below). Any other run (ends that agree
+ * to 1 px, or a run much wider than the step between its ends: a slanted
+ * surface without texture, or pixels the LR check or the speckle filter
+ * dropped) is joined linearly. A run touching the left or right border
+ * takes its only end (the left border strip has no match at all); with one
+ * end only, a == b, so such a run always counts as a surface. Filled
+ * pixels get confidence NEGOBS_STEREO_CONF_FILLED, below any
  * matched pixel, so consumers that threshold the confidence (detection's
  * deficit test) ignore them.
  */
@@ -254,7 +257,7 @@ static uint32_t gap_fill_row(int16_t *row, uint8_t *crow,
          * border is somewhere in the run, at its strongest grey-level
          * step. Left of it the near end, right of it the background. */
         split = x0;
-        if (!surface && x0 > 0 && x < w && a > b) {
+        if (!surface && a > b) {
             split = strongest_step(img, x0, x + 1);
         }
         for (k = 0; k < n; k++) {
@@ -282,7 +285,7 @@ static uint32_t gap_fill_row(int16_t *row, uint8_t *crow,
          * px (at least its first pixel), where the object's border is.
          * A fixed 1 px was the best blind choice; 2-3 blind pixels helped
          * Poster but cost Flowerpots 0.5-0.9 point. */
-        if (!surface && x0 > 0 && x < w && b - a > NEGOBS_DISP_ONE) {
+        if (!surface && b > a) {
             int32_t e = near_edge_column(row, img, w, x, a);
             for (; x < e; x++) {
                 row[x] = (int16_t)a;
