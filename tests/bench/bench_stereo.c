@@ -7,7 +7,9 @@
  *    large textureless area), and the worst/typical factors, so the effect
  *    of the queue bound and the DP band on the worst case is visible;
  *  - detection time as a share of the disparity time (target < 15 %);
- *  - Middlebury Cones (450x375, range 0-63) from $NEGOBS_DATA when present.
+ *  - Middlebury Cones (450x375, range 0-63) from $NEGOBS_DATA when present;
+ *  - the time of every matcher stage (negobs_stereo_set_clock) on the
+ *    typical frame and on Cones.
  * `bench_stereo --once` runs one QVGA frame only (for callgrind).
  */
 #define _POSIX_C_SOURCE 200809L
@@ -40,8 +42,27 @@ static double now_ms(void)
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec / 1e6;
 }
 
+/* Profiling clock for the matcher: thread CPU time in ns, modulo 2^32
+ * (the library takes differences, so the wrap every 4.3 s is harmless). */
+static uint32_t clock_ns(void *user)
+{
+    struct timespec ts;
+    (void)user;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return (uint32_t)((uint64_t)ts.tv_sec * 1000000000u +
+                      (uint64_t)ts.tv_nsec);
+}
+
+static const char *const stage_name[NEGOBS_STEREO_STAGE_COUNT] = {
+    "vertical offset (6)", "1/4 map + ranges (1)", "window sums",
+    "Canny (2)",           "GCS seeds + growth (3)", "DP + sub-pixel (4)",
+    "LR check (5)",        "speckles (5)",         "gap fill (5)",
+    "adaptive mean (5)",   "output",
+};
+
 typedef struct figures {
     double stereo_ms;
+    double stage_ms[NEGOBS_STEREO_STAGE_COUNT]; /* best of the runs each */
     double detect_ms;
     negobs_stereo_stats_t st;
     negobs_detect_state_t state; /* detector verdict on the frame */
@@ -82,9 +103,14 @@ static int measure(int32_t w, int32_t h, int32_t max_disp, int reps,
     if (negobs_pipeline_init(ctx, &cfg, ws, bytes) != NEGOBS_OK) {
         return -1;
     }
+    (void)negobs_stereo_set_clock(&ctx->stereo, clock_ns, NULL);
     fig->stereo_ms = 1e30;
     fig->detect_ms = 1e30;
+    for (i = 0; i < NEGOBS_STEREO_STAGE_COUNT; i++) {
+        fig->stage_ms[i] = 1e30;
+    }
     for (i = 0; i < reps; i++) {
+        int k;
         double t0 = now_ms();
         double t1;
         double t2;
@@ -102,6 +128,10 @@ static int measure(int32_t w, int32_t h, int32_t max_disp, int reps,
         df.t_right_ms = df.now_ms;
         (void)negobs_detect_process(&ctx->detect, &df, &res);
         t2 = now_ms();
+        for (k = 0; k < NEGOBS_STEREO_STAGE_COUNT; k++) {
+            double ms = (double)fig->st.stage_ticks[k] / 1e6;
+            if (ms < fig->stage_ms[k]) fig->stage_ms[k] = ms;
+        }
         if (t1 - t0 < fig->stereo_ms) fig->stereo_ms = t1 - t0;
         if (t2 - t1 < fig->detect_ms) fig->detect_ms = t2 - t1;
         fig->state = res.state;
@@ -257,6 +287,22 @@ static void bench_valign(void)
     free(raw);
 }
 
+/* Per-stage lines of one measurement. */
+static void print_stages(const char *what, const figures_t *fig)
+{
+    double sum = 0.0;
+    int k;
+    for (k = 0; k < NEGOBS_STEREO_STAGE_COUNT; k++) {
+        sum += fig->stage_ms[k];
+    }
+    printf("  per stage on %s (thread CPU ms, best of %d each; sum %.2f ms):\n",
+           what, REPS, sum);
+    for (k = 0; k < NEGOBS_STEREO_STAGE_COUNT; k++) {
+        printf("    %-24s %8.2f ms %5.1f %%\n", stage_name[k], fig->stage_ms[k],
+               sum > 0.0 ? 100.0 * fig->stage_ms[k] / sum : 0.0);
+    }
+}
+
 /* Middlebury Cones (450x375, range 0-63) when $NEGOBS_DATA has it. */
 static void bench_cones(void)
 {
@@ -288,6 +334,7 @@ static void bench_cones(void)
            (int)w, (int)h, REPS, fig.stereo_ms, (unsigned)fig.st.visited_cells,
            (unsigned)fig.st.queue_peak, (unsigned)fig.st.queue_overflows,
            (unsigned)fig.st.seeds);
+    print_stages("Cones", &fig);
 }
 
 int main(int argc, char **argv)
@@ -353,6 +400,7 @@ int main(int argc, char **argv)
            " this generated scene is not a walking-camera view, so see\n"
            "  negobs_detect_eval for the figure on rendered walks)\n",
            100.0 * typ.detect_ms / typ.stereo_ms);
+    print_stages("the typical 320x240 frame", &typ);
     make(TYPICAL, QW, QH);
     bench_valign();
     bench_cones();

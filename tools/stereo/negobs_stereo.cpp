@@ -71,7 +71,8 @@ const char *const kHelp =
     "                 row and column slopes; negobs/valign.h) and resample\n"
     "                 RIGHT to LEFT's rows before matching: for pairs that\n"
     "                 are not rectified (e.g. the SurDis wearable)\n"
-    "  --stats        print the engine statistics and timing to stderr\n"
+    "  --stats        print the engine statistics and timing (total and per\n"
+    "                 stage, thread CPU time) to stderr\n"
     "  -h, --help     this text\n"
     "\n"
     "Exit codes:\n"
@@ -274,6 +275,7 @@ int run(int argc, char **argv)
                      range.max_disp);
         return EXIT_LIBRARY;
     }
+    m.profile_stages(stats);
     cv::Mat disp_q4, conf;
     const int64 t0 = cv::getTickCount();
     std::string align_text;

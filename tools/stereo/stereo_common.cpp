@@ -1,6 +1,8 @@
 #include "stereo_common.hpp"
 
+#include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
@@ -160,6 +162,24 @@ bool NegobsMatcher::init(int width, int height, const Range &r,
     return true;
 }
 
+// Thread CPU time in ns modulo 2^32 (the engine takes differences).
+static uint32_t thread_clock_ns(void *)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return static_cast<uint32_t>(static_cast<uint64_t>(ts.tv_sec) *
+                                     1000000000u +
+                                 static_cast<uint64_t>(ts.tv_nsec));
+}
+
+void NegobsMatcher::profile_stages(bool on)
+{
+    profile_ = on;
+    if (impl_)
+        (void)negobs_stereo_set_clock(&impl_->ctx,
+                                      on ? thread_clock_ns : nullptr, nullptr);
+}
+
 bool NegobsMatcher::process(const cv::Mat &left, const cv::Mat &right,
                             cv::Mat &disp_q4, cv::Mat &confidence,
                             std::string &err)
@@ -216,6 +236,18 @@ bool NegobsMatcher::process(const cv::Mat &left, const cv::Mat &right,
                    std::to_string(stats.range_max) + ", vertical offset " +
                    std::to_string(stats.vertical_offset);
 #endif
+    if (profile_) {
+        static const char *const names[NEGOBS_STEREO_STAGE_COUNT] = {
+            "vertical", "range", "windows", "canny", "gcs", "dp",
+            "lr", "speckle", "gap_fill", "mean", "output"};
+        char buf[64];
+        stats_text_ += "; stage ms:";
+        for (int k = 0; k < NEGOBS_STEREO_STAGE_COUNT; ++k) {
+            std::snprintf(buf, sizeof buf, " %s %.2f", names[k],
+                          static_cast<double>(stats.stage_ticks[k]) / 1e6);
+            stats_text_ += buf;
+        }
+    }
     return true;
 }
 #endif

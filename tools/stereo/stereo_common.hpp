@@ -60,6 +60,10 @@ public:
     bool process(const cv::Mat &left, const cv::Mat &right, cv::Mat &disp_q4,
                  cv::Mat &confidence, std::string &err);
 
+    // Times every engine stage (negobs_stereo_set_clock, thread CPU time)
+    // from the next process() on; last_stats() then lists them.
+    void profile_stages(bool on);
+
     std::size_t workspace_bytes() const { return bytes_; }
     // Statistics of the last process() call, formatted on one line.
     const std::string &last_stats() const { return stats_text_; }
@@ -69,6 +73,7 @@ private:
     std::unique_ptr<Impl> impl_;
     std::size_t bytes_ = 0;
     std::string stats_text_;
+    bool profile_ = false;
 };
 #endif
 

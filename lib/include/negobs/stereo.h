@@ -133,6 +133,36 @@ typedef struct negobs_stereo_config {
      ((size_t)(w) + (size_t)(h) + 16u) * 4u +                                \
      (size_t)(w) * (size_t)(h) / 4u + 257u * 4u + 8192u)
 
+/**
+ * Stages timed by the optional profiling clock (negobs_stereo_set_clock).
+ * Every tick between the clock reads at the start and the end of
+ * negobs_stereo_process() is attributed to exactly one of them.
+ */
+typedef enum negobs_stereo_stage {
+    NEGOBS_STEREO_STAGE_VERTICAL = 0, /**< vertical offset search (6)    */
+    NEGOBS_STEREO_STAGE_RANGE,        /**< 1/4-scale map, ranges (1)     */
+    NEGOBS_STEREO_STAGE_WINDOWS,      /**< 5x5 window sums, both passes  */
+    NEGOBS_STEREO_STAGE_CANNY,        /**< edges (2)                     */
+    NEGOBS_STEREO_STAGE_GCS,          /**< seeds, growth, selection (3)  */
+    NEGOBS_STEREO_STAGE_DP,           /**< both DP passes, sub-pixel (4) */
+    NEGOBS_STEREO_STAGE_LR,           /**< left-right check (5)          */
+    NEGOBS_STEREO_STAGE_SPECKLE,      /**< speckle removal (5)           */
+    NEGOBS_STEREO_STAGE_GAP_FILL,     /**< row gap fill (5)              */
+    NEGOBS_STEREO_STAGE_MEAN,         /**< adaptive mean (5)             */
+    NEGOBS_STEREO_STAGE_OUTPUT,       /**< counting, clearing the crop   */
+    NEGOBS_STEREO_STAGE_COUNT
+} negobs_stereo_stage_t;
+
+/**
+ * Caller's clock for per-stage profiling: any free-running 32-bit counter
+ * (microseconds, nanoseconds, CPU cycles, ...). Differences of successive
+ * reads are taken modulo 2^32, so the counter may wrap; only one interval
+ * (one stage on one strip, or one whole-frame stage) must stay below one
+ * period (4.29 s for a nanosecond counter). The per-stage sums are 64-bit.
+ * Read about 4 times per strip plus 8 times per frame.
+ */
+typedef uint32_t (*negobs_stereo_clock_fn)(void *user);
+
 /** Per-frame statistics. */
 typedef struct negobs_stereo_stats {
     uint32_t seeds;           /**< seeds accepted                  */
@@ -151,6 +181,9 @@ typedef struct negobs_stereo_stats {
     int32_t range_max;
     int32_t vertical_offset;  /**< rows: left y matches right y+off */
     int32_t first_row;        /**< first row matched (set_first_row) */
+    /** clock ticks per stage (negobs_stereo_set_clock); all 0 without a
+     *  clock. Not part of the output: timings differ from run to run. */
+    uint64_t stage_ticks[NEGOBS_STEREO_STAGE_COUNT];
 } negobs_stereo_stats_t;
 
 /** Context; place it anywhere (static is fine). Fields are private. */
@@ -190,6 +223,17 @@ negobs_status_t negobs_stereo_init(negobs_stereo_t *ctx,
  */
 negobs_status_t negobs_stereo_set_first_row(negobs_stereo_t *ctx,
                                             int32_t first_row);
+
+/**
+ * @brief Time every stage of the next frames with the caller's clock
+ * (stats.stage_ticks). NULL (the state after init) turns it off. The
+ * clock is only read, never waited on: the disparities and every other
+ * statistic are the same with and without it.
+ * @return NEGOBS_OK; NEGOBS_ERR_STATE without init.
+ */
+negobs_status_t negobs_stereo_set_clock(negobs_stereo_t *ctx,
+                                        negobs_stereo_clock_fn clock,
+                                        void *user);
 
 /**
  * @param[in]  left, right rectified grey images of cfg width x height

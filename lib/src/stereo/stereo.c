@@ -262,6 +262,20 @@ static negobs_status_t check_frame(const stx_t *s,
     return NEGOBS_OK;
 }
 
+negobs_status_t negobs_stereo_set_clock(negobs_stereo_t *ctx,
+                                        negobs_stereo_clock_fn clock,
+                                        void *user)
+{
+    stx_t *s;
+    if (ctx == NULL || ctx->priv == NULL) {
+        return NEGOBS_ERR_STATE;
+    }
+    s = (stx_t *)ctx->priv;
+    s->clock = clock;
+    s->clock_user = user;
+    return NEGOBS_OK;
+}
+
 negobs_status_t negobs_stereo_set_first_row(negobs_stereo_t *ctx,
                                             int32_t first_row)
 {
@@ -287,7 +301,6 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
     int32_t y0;
     int32_t y;
 
-    memset(&s->st, 0, sizeof s->st);
     s->left = left;
     s->right = right;
     s->st.band = s->cfg.band;
@@ -299,7 +312,9 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
     if (s->cfg.vertical_search > 0) {
         s->voff = stx_vertical_estimate(s, s->cfg.vertical_search);
     }
+    stx_lap(s, NEGOBS_STEREO_STAGE_VERTICAL);
     stx_lowres_range(s);
+    stx_lap(s, NEGOBS_STEREO_STAGE_RANGE);
     s->st.vertical_offset = s->voff;
     s->st.range_min = s->gdmin;
     s->st.range_max = s->gdmax;
@@ -309,17 +324,22 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
     for (y0 = 0; y0 < s->h; y0 += s->sh) {
         int32_t y1 = (y0 + s->sh < s->h) ? y0 + s->sh : s->h;
         stx_strip_stats(s, y0, y1);
+        stx_lap(s, NEGOBS_STEREO_STAGE_WINDOWS);
         s->st.edges += stx_canny_strip(s, y0, y1);
+        stx_lap(s, NEGOBS_STEREO_STAGE_CANNY);
         stx_gcs_strip(s, disp_q4);
+        stx_lap(s, NEGOBS_STEREO_STAGE_GCS);
         for (y = y0; y < y1; y++) {
             stx_dp_row(s, y, negobs_image_s16_row(disp_q4, y), 0, NULL, NULL);
         }
+        stx_lap(s, NEGOBS_STEREO_STAGE_DP);
     }
     stx_dp_stage2_finish(s);
     /* second DP pass: back-track, sub-pixel, confidence */
     for (y0 = 0; y0 < s->h; y0 += s->sh) {
         int32_t y1 = (y0 + s->sh < s->h) ? y0 + s->sh : s->h;
         stx_strip_stats(s, y0, y1);
+        stx_lap(s, NEGOBS_STEREO_STAGE_WINDOWS);
         for (y = y0; y < y1; y++) {
             int16_t *row = negobs_image_s16_row(disp_q4, y);
             memcpy(s->rowd, row, (size_t)s->w * sizeof *row);
@@ -327,19 +347,24 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
                        confidence ? negobs_image_u8_row(confidence, y)
                                   : NULL);
         }
+        stx_lap(s, NEGOBS_STEREO_STAGE_DP);
     }
     if (s->cfg.lr_check) {
         stx_lr_check(s, disp_q4, confidence ? confidence->data : NULL,
                      confidence ? confidence->stride : 0);
+        stx_lap(s, NEGOBS_STEREO_STAGE_LR);
     }
     stx_speckle(s, disp_q4);
+    stx_lap(s, NEGOBS_STEREO_STAGE_SPECKLE);
     if (s->cfg.gap_fill > 0) {
         stx_gap_fill(s, disp_q4, confidence ? confidence->data : NULL,
                      confidence ? confidence->stride : 0);
+        stx_lap(s, NEGOBS_STEREO_STAGE_GAP_FILL);
     }
     if (s->cfg.adaptive_mean) {
         stx_adaptive_mean(s, disp_q4, confidence ? confidence->data : NULL,
                           confidence ? confidence->stride : 0);
+        stx_lap(s, NEGOBS_STEREO_STAGE_MEAN);
     }
     for (y = 0; y < s->h; y++) {
         const int16_t *row = negobs_image_s16_row(disp_q4, y);
@@ -392,6 +417,10 @@ negobs_status_t negobs_stereo_process(negobs_stereo_t *ctx,
     if (st != NEGOBS_OK) {
         return st;
     }
+    memset(&s->st, 0, sizeof s->st);
+    if (s->clock != NULL) {
+        s->lap = s->clock(s->clock_user);
+    }
     top = s->first_row;
     if (top == 0) {
         process_frame(s, left, right, disp_q4, confidence);
@@ -432,6 +461,7 @@ negobs_status_t negobs_stereo_process(negobs_stereo_t *ctx,
         }
     }
     s->st.first_row = top;
+    stx_lap(s, NEGOBS_STEREO_STAGE_OUTPUT);
     if (stats != NULL) {
         *stats = s->st;
     }

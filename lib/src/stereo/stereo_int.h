@@ -138,9 +138,24 @@ typedef struct stx {
     uint8_t *keep;         /* w*h bits: speckle "big region"             */
     uint32_t *flood;       /* speckle_size + 1 entries                   */
 
+    /* optional profiling clock (negobs_stereo_set_clock) */
+    negobs_stereo_clock_fn clock;
+    void *clock_user;
+    uint32_t lap;          /* clock value at the end of the last stage   */
+
     negobs_stereo_stats_t st;
     negobs_arena_t arena;  /* the carve, for negobs_arena_check()        */
 } stx_t;
+
+/* Attribute the clock ticks since the last lap to `stage`. */
+static inline void stx_lap(stx_t *s, negobs_stereo_stage_t stage)
+{
+    if (s->clock != NULL) {
+        uint32_t now = s->clock(s->clock_user);
+        s->st.stage_ticks[stage] += (uint32_t)(now - s->lap);
+        s->lap = now;
+    }
+}
 
 /* ---- ncc.c ------------------------------------------------------------ */
 /* Window statistics of image rows [ya, ya+n): S and V per pixel; windows
