@@ -275,6 +275,14 @@ struct SetResult {
     std::string skip_reason;
     Metrics m[M_COUNT];
     Metrics nofill; // negobs with gap_fill = 0 (scores only, not timed)
+    // negobs' map after each stage (negobs_stereo_set_observer; one
+    // untimed run): scored on every known pixel and, where a mask exists,
+    // on non-occluded ones; the maps are dropped once scored
+    struct StageScore {
+        std::string name;
+        Metrics all, nonocc;
+    };
+    std::vector<StageScore> stages;
     // The same maps scored on non-occluded pixels only (the protocol of
     // the paper's Table 5): the set's mask, else one derived from its
     // right-view GT; nonocc_from is "" when neither exists.
@@ -437,6 +445,26 @@ int run_negobs(const Options &opt, const SetSpec &spec, const cv::Mat &left,
             res.nofill.ran = true;
         }
     }
+    {
+        // The map after every stage, to show what each one adds and costs.
+        negobs_tools::NegobsMatcher staged;
+        cv::Mat q4s, confs;
+        if (staged.init(left.cols, left.rows, res.range, err)) {
+            staged.keep_stages(true);
+            if (staged.process(left, right, q4s, confs, err)) {
+                for (const auto &sn : staged.stages()) {
+                    SetResult::StageScore sc;
+                    sc.name = sn.name;
+                    negobs_tools::negobs_q4_to_float(sn.disp_q4, sc.all.disp,
+                                                     sc.all.valid);
+                    score(sc.all.disp, sc.all.valid, res.gt, eval_mask,
+                          sc.all);
+                    sc.all.ran = true;
+                    res.stages.push_back(sc);
+                }
+            }
+        }
+    }
 #else
     (void)opt;
     (void)spec;
@@ -580,6 +608,14 @@ int evaluate(const Options &opt, const SetSpec &spec, SetResult &res)
         score(m.disp, m.valid, res.gt, eval_mask, m);
         m.ran = true;
     }
+    for (SetResult::StageScore &sc : res.stages) {
+        if (!res.nonocc_from.empty()) {
+            score(sc.all.disp, sc.all.valid, res.gt, nonocc, sc.nonocc);
+            sc.nonocc.ran = true;
+        }
+        sc.all.disp.release();
+        sc.all.valid.release();
+    }
     if (!res.nonocc_from.empty()) {
         res.nonocc_px = cv::countNonZero(nonocc);
         for (int id = 0; id < M_COUNT; ++id) {
@@ -692,6 +728,43 @@ void print_nonocc(const std::vector<SetResult> &res)
                     r[9].c_str());
 }
 
+// negobs after each stage: density and bad1 on every known pixel and on
+// non-occluded ones. Console and Markdown share the rows.
+std::vector<std::vector<std::string>> stage_rows(const std::vector<SetResult> &res)
+{
+    std::vector<std::vector<std::string>> rows;
+    for (const SetResult &r : res)
+        for (const SetResult::StageScore &sc : r.stages) {
+            rows.push_back({r.spec.name, sc.name, fmt("%.1f", sc.all.density),
+                            fmt("%.1f", sc.all.bad1),
+                            fmt("%.1f", sc.all.bad1all),
+                            sc.nonocc.ran ? fmt("%.1f", sc.nonocc.density)
+                                          : "-",
+                            sc.nonocc.ran ? fmt("%.1f", sc.nonocc.bad1)
+                                          : "-"});
+        }
+    return rows;
+}
+
+const char *const kStageHead[] = {
+    "set", "after stage", "density %", "bad1 %", "bad1all %",
+    "density % non-occluded", "bad1 % non-occluded"};
+
+void print_stages(const std::vector<SetResult> &res)
+{
+    const auto rows = stage_rows(res);
+    if (rows.empty())
+        return;
+    std::printf("\nnegobs after each stage (one untimed run; whole pixels "
+                "after GCS):\n");
+    std::printf("%-32s %-22s %8s %8s %8s %9s %9s\n", "set", "after stage",
+                "density", "bad1", "bad1all", "nocc dens", "nocc bad1");
+    for (const auto &r : rows)
+        std::printf("%-32s %-22s %7s%% %7s%% %7s%% %8s%% %8s%%\n",
+                    r[0].c_str(), r[1].c_str(), r[2].c_str(), r[3].c_str(),
+                    r[4].c_str(), r[5].c_str(), r[6].c_str());
+}
+
 // Mean over the sets where the matcher ran.
 struct Mean {
     int n = 0;
@@ -790,6 +863,22 @@ bool write_markdown(const std::string &path, const Options &opt,
             o << " " << h << " |";
         o << "\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
         for (const auto &r : nrows) {
+            o << "|";
+            for (const std::string &c : r)
+                o << " " << c << " |";
+            o << "\n";
+        }
+    }
+    const auto srows = stage_rows(res);
+    if (!srows.empty()) {
+        o << "\nnegobs after each stage (`negobs_stereo_set_observer`, one "
+             "untimed run with the defaults; after GCS the map holds the "
+             "grown and selected whole-pixel matches, so its bad1 counts "
+             "their quantisation too):\n\n|";
+        for (const char *h : kStageHead)
+            o << " " << h << " |";
+        o << "\n|---|---|---:|---:|---:|---:|---:|\n";
+        for (const auto &r : srows) {
             o << "|";
             for (const std::string &c : r)
                 o << " " << c << " |";
@@ -1224,6 +1313,7 @@ int run(int argc, char **argv)
     }
     print_table(results);
     print_nonocc(results);
+    print_stages(results);
 
     int rc = EXIT_OK;
     for (const std::string *d : {&opt.plots, &opt.pictures})

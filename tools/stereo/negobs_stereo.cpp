@@ -17,6 +17,7 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "stereo_common.hpp"
 
@@ -73,6 +74,10 @@ const char *const kHelp =
     "                 are not rectified (e.g. the SurDis wearable)\n"
     "  --stats        print the engine statistics and timing (total and per\n"
     "                 stage, thread CPU time) to stderr\n"
+    "  --stages FILE  also write one picture of the map after every stage\n"
+    "                 (GCS, DP, LR check, speckles, gap fill, adaptive\n"
+    "                 mean) beside LEFT, colours as --color, each tile\n"
+    "                 labelled with its density (.png/.jpg/.ppm/.bmp)\n"
     "  -h, --help     this text\n"
     "\n"
     "Exit codes:\n"
@@ -160,12 +165,54 @@ bool align_right(const cv::Mat &left, const cv::Mat &right,
     return true;
 }
 
+// LEFT and the map after every stage in one picture, two rows of tiles,
+// each under a caption with the stage and the share of pixels with a value.
+cv::Mat stage_montage(const cv::Mat &left,
+                      const std::vector<negobs_tools::NegobsMatcher::Snapshot>
+                          &snaps,
+                      const negobs_tools::Range &range)
+{
+    const int cap = 22;
+    const int w = left.cols;
+    const int h = left.rows;
+    const int tiles = static_cast<int>(snaps.size()) + 1;
+    const int cols = (tiles + 1) / 2;
+    cv::Mat out((h + cap) * 2, w * cols, CV_8UC3, cv::Scalar(255, 255, 255));
+    for (int t = 0; t < tiles; ++t) {
+        cv::Mat tile;
+        std::string label;
+        if (t == 0) {
+            cv::cvtColor(left, tile, cv::COLOR_GRAY2BGR);
+            label = "left image";
+        } else {
+            const auto &sn = snaps[static_cast<size_t>(t - 1)];
+            cv::Mat d, v;
+            negobs_tools::negobs_q4_to_float(sn.disp_q4, d, v);
+            tile = negobs_tools::colourise(d, v, range.min_disp,
+                                           range.max_disp);
+            char buf[96];
+            std::snprintf(buf, sizeof buf, "%d. after %s: %.1f %%", t,
+                          sn.name.c_str(),
+                          100.0 * cv::countNonZero(v) / double(w * h));
+            label = buf;
+        }
+        const int x0 = (t % cols) * w;
+        const int y0 = (t / cols) * (h + cap);
+        tile.copyTo(out(cv::Rect(x0, y0 + cap, w, h)));
+        cv::putText(out, label, cv::Point(x0 + 4, y0 + cap - 6),
+                    cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1,
+                    cv::LINE_AA);
+    }
+    return out;
+}
+
 int run(int argc, char **argv)
 {
     std::vector<std::string> pos;
     negobs_tools::Range range;
     std::string colour_path;
     std::string conf_path;
+    std::string stages_path;
     bool stats = false;
     bool align = false;
     for (int i = 1; i < argc; ++i) {
@@ -190,6 +237,13 @@ int run(int argc, char **argv)
                 return EXIT_USAGE;
             }
             colour_path = argv[++i];
+        } else if (a == "--stages") {
+            if (i + 1 >= argc) {
+                std::fprintf(stderr, "negobs_stereo: %s needs a file name\n",
+                             a.c_str());
+                return EXIT_USAGE;
+            }
+            stages_path = argv[++i];
         } else if (a == "--confidence") {
             if (i + 1 >= argc) {
                 std::fprintf(stderr, "negobs_stereo: %s needs a file name\n",
@@ -225,13 +279,15 @@ int run(int argc, char **argv)
             ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
         return t == e;
     };
+    auto picture_ext = [&](const std::string &p) {
+        return p.empty() || has_ext(p, ".png") || has_ext(p, ".jpg") ||
+               has_ext(p, ".ppm") || has_ext(p, ".bmp");
+    };
     if (!has_ext(out, ".png") ||
         (!conf_path.empty() && !has_ext(conf_path, ".png")) ||
-        (!colour_path.empty() && !has_ext(colour_path, ".png") &&
-         !has_ext(colour_path, ".jpg") && !has_ext(colour_path, ".ppm") &&
-         !has_ext(colour_path, ".bmp"))) {
+        !picture_ext(colour_path) || !picture_ext(stages_path)) {
         std::fprintf(stderr, "negobs_stereo: OUT and --confidence must end "
-                             "in .png (lossless); --color in "
+                             "in .png (lossless); --color and --stages in "
                              ".png/.jpg/.ppm/.bmp\n");
         return EXIT_USAGE;
     }
@@ -276,6 +332,7 @@ int run(int argc, char **argv)
         return EXIT_LIBRARY;
     }
     m.profile_stages(stats);
+    m.keep_stages(!stages_path.empty());
     cv::Mat disp_q4, conf;
     const int64 t0 = cv::getTickCount();
     std::string align_text;
@@ -345,6 +402,12 @@ int run(int argc, char **argv)
                          colour_path.c_str());
             return EXIT_OUTPUT;
         }
+    }
+    if (!stages_path.empty() &&
+        !write_png(stages_path, stage_montage(left, m.stages(), range))) {
+        std::fprintf(stderr, "negobs_stereo: cannot write '%s'\n",
+                     stages_path.c_str());
+        return EXIT_OUTPUT;
     }
     return EXIT_OK;
 }

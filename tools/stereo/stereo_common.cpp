@@ -114,6 +114,7 @@ struct NegobsMatcher::Impl {
     void *ws = nullptr;
     int width = 0;
     int height = 0;
+    std::vector<NegobsMatcher::Snapshot> snaps;
 };
 
 NegobsMatcher::NegobsMatcher() = default;
@@ -180,6 +181,47 @@ void NegobsMatcher::profile_stages(bool on)
                                       on ? thread_clock_ns : nullptr, nullptr);
 }
 
+// negobs_stereo_observer_fn: user is the matcher's Impl.
+static void observe_stage(void *user, negobs_stereo_stage_t stage,
+                          const negobs_image_s16_t *disp)
+{
+    static const char *const names[NEGOBS_STEREO_STAGE_COUNT] = {
+        "vertical", "range", "windows", "Canny", "GCS (seeds + growth)",
+        "DP", "LR check", "speckles", "gap fill", "adaptive mean",
+        "output"};
+    auto *impl = static_cast<NegobsMatcher::Impl *>(user);
+    // the view may be a crop of the frame's lower rows: place it
+    cv::Mat m(impl->height, impl->width, CV_16SC1,
+              cv::Scalar(NEGOBS_DISP_INVALID));
+    const int top = impl->height - disp->height;
+    for (int y = 0; y < disp->height; ++y) {
+        const int16_t *src = negobs_image_s16_row(disp, y);
+        int16_t *dst = m.ptr<int16_t>(top + y);
+        for (int x = 0; x < disp->width; ++x) {
+            const int16_t v = src[x];
+            dst[x] = (stage == NEGOBS_STEREO_STAGE_GCS &&
+                      v != NEGOBS_DISP_INVALID)
+                         ? static_cast<int16_t>(v * NEGOBS_DISP_ONE)
+                         : v;
+        }
+    }
+    impl->snaps.push_back(NegobsMatcher::Snapshot{names[stage], m});
+}
+
+void NegobsMatcher::keep_stages(bool on)
+{
+    if (impl_)
+        (void)negobs_stereo_set_observer(&impl_->ctx,
+                                         on ? observe_stage : nullptr,
+                                         impl_.get());
+}
+
+const std::vector<NegobsMatcher::Snapshot> &NegobsMatcher::stages() const
+{
+    static const std::vector<Snapshot> none;
+    return impl_ ? impl_->snaps : none;
+}
+
 bool NegobsMatcher::process(const cv::Mat &left, const cv::Mat &right,
                             cv::Mat &disp_q4, cv::Mat &confidence,
                             std::string &err)
@@ -215,6 +257,7 @@ bool NegobsMatcher::process(const cv::Mat &left, const cv::Mat &right,
     d.width = disp_q4.cols;
     d.height = disp_q4.rows;
     d.stride = static_cast<int32_t>(disp_q4.step1());
+    impl_->snaps.clear();
     negobs_stereo_stats_t stats;
     std::memset(&stats, 0, sizeof stats);
     negobs_status_t st =

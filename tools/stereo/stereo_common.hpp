@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -64,12 +65,24 @@ public:
     // from the next process() on; last_stats() then lists them.
     void profile_stages(bool on);
 
+    // Keeps a copy of the map after every stage the engine reports
+    // (negobs_stereo_set_observer) from the next process() on; stages()
+    // then returns them in order, as disparity * 16 (CV_16S, also after
+    // GCS, whose whole pixels are scaled here) with the stage's name.
+    void keep_stages(bool on);
+    struct Snapshot {
+        std::string name;
+        cv::Mat disp_q4;
+    };
+    const std::vector<Snapshot> &stages() const;
+
     std::size_t workspace_bytes() const { return bytes_; }
     // Statistics of the last process() call, formatted on one line.
     const std::string &last_stats() const { return stats_text_; }
 
+    struct Impl; // opaque; public only so the engine's callbacks can name it
+
 private:
-    struct Impl;
     std::unique_ptr<Impl> impl_;
     std::size_t bytes_ = 0;
     std::string stats_text_;

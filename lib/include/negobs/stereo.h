@@ -163,6 +163,21 @@ typedef enum negobs_stereo_stage {
  */
 typedef uint32_t (*negobs_stereo_clock_fn)(void *user);
 
+/**
+ * Observer of intermediate maps (tuning and documentation tools): called
+ * with the disparity map as it stands after a stage, in this order:
+ * NEGOBS_STEREO_STAGE_GCS (all strips grown and selected), _DP (both
+ * passes and sub-pixel), then _LR, _SPECKLE, _GAP_FILL and _MEAN for the
+ * refinements that are switched on. Values are disparity * 16 or
+ * NEGOBS_DISP_INVALID, except after _GCS, where they are whole pixels
+ * (the DP reads them as such). With negobs_stereo_set_first_row the map
+ * passed is the view of the rows being matched. The map must not be
+ * written; the observer's time is not counted in stage_ticks.
+ */
+typedef void (*negobs_stereo_observer_fn)(void *user,
+                                          negobs_stereo_stage_t stage,
+                                          const negobs_image_s16_t *disp);
+
 /** Per-frame statistics. */
 typedef struct negobs_stereo_stats {
     uint32_t seeds;           /**< seeds accepted                  */
@@ -234,6 +249,16 @@ negobs_status_t negobs_stereo_set_first_row(negobs_stereo_t *ctx,
 negobs_status_t negobs_stereo_set_clock(negobs_stereo_t *ctx,
                                         negobs_stereo_clock_fn clock,
                                         void *user);
+
+/**
+ * @brief Call `observer` after the stages listed at
+ * negobs_stereo_observer_fn on every following frame; NULL (the state
+ * after init) turns it off. The output does not depend on it.
+ * @return NEGOBS_OK; NEGOBS_ERR_STATE without init.
+ */
+negobs_status_t negobs_stereo_set_observer(negobs_stereo_t *ctx,
+                                           negobs_stereo_observer_fn observer,
+                                           void *user);
 
 /**
  * @param[in]  left, right rectified grey images of cfg width x height

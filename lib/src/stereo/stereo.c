@@ -276,6 +276,20 @@ negobs_status_t negobs_stereo_set_clock(negobs_stereo_t *ctx,
     return NEGOBS_OK;
 }
 
+negobs_status_t negobs_stereo_set_observer(negobs_stereo_t *ctx,
+                                           negobs_stereo_observer_fn observer,
+                                           void *user)
+{
+    stx_t *s;
+    if (ctx == NULL || ctx->priv == NULL) {
+        return NEGOBS_ERR_STATE;
+    }
+    s = (stx_t *)ctx->priv;
+    s->observer = observer;
+    s->observer_user = user;
+    return NEGOBS_OK;
+}
+
 negobs_status_t negobs_stereo_set_first_row(negobs_stereo_t *ctx,
                                             int32_t first_row)
 {
@@ -335,6 +349,8 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
         stx_lap(s, NEGOBS_STEREO_STAGE_DP);
     }
     stx_dp_stage2_finish(s);
+    stx_lap(s, NEGOBS_STEREO_STAGE_DP);
+    stx_observe(s, NEGOBS_STEREO_STAGE_GCS, disp_q4);
     /* second DP pass: back-track, sub-pixel, confidence */
     for (y0 = 0; y0 < s->h; y0 += s->sh) {
         int32_t y1 = (y0 + s->sh < s->h) ? y0 + s->sh : s->h;
@@ -349,22 +365,27 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
         }
         stx_lap(s, NEGOBS_STEREO_STAGE_DP);
     }
+    stx_observe(s, NEGOBS_STEREO_STAGE_DP, disp_q4);
     if (s->cfg.lr_check) {
         stx_lr_check(s, disp_q4, confidence ? confidence->data : NULL,
                      confidence ? confidence->stride : 0);
         stx_lap(s, NEGOBS_STEREO_STAGE_LR);
+        stx_observe(s, NEGOBS_STEREO_STAGE_LR, disp_q4);
     }
     stx_speckle(s, disp_q4);
     stx_lap(s, NEGOBS_STEREO_STAGE_SPECKLE);
+    stx_observe(s, NEGOBS_STEREO_STAGE_SPECKLE, disp_q4);
     if (s->cfg.gap_fill > 0) {
         stx_gap_fill(s, disp_q4, confidence ? confidence->data : NULL,
                      confidence ? confidence->stride : 0);
         stx_lap(s, NEGOBS_STEREO_STAGE_GAP_FILL);
+        stx_observe(s, NEGOBS_STEREO_STAGE_GAP_FILL, disp_q4);
     }
     if (s->cfg.adaptive_mean) {
         stx_adaptive_mean(s, disp_q4, confidence ? confidence->data : NULL,
                           confidence ? confidence->stride : 0);
         stx_lap(s, NEGOBS_STEREO_STAGE_MEAN);
+        stx_observe(s, NEGOBS_STEREO_STAGE_MEAN, disp_q4);
     }
     for (y = 0; y < s->h; y++) {
         const int16_t *row = negobs_image_s16_row(disp_q4, y);

@@ -142,10 +142,25 @@ typedef struct stx {
     negobs_stereo_clock_fn clock;
     void *clock_user;
     uint32_t lap;          /* clock value at the end of the last stage   */
+    /* optional observer of intermediate maps (negobs_stereo_set_observer) */
+    negobs_stereo_observer_fn observer;
+    void *observer_user;
 
     negobs_stereo_stats_t st;
     negobs_arena_t arena;  /* the carve, for negobs_arena_check()        */
 } stx_t;
+
+/* Show the map after `stage` to the observer; its time is not counted. */
+static inline void stx_observe(stx_t *s, negobs_stereo_stage_t stage,
+                               const negobs_image_s16_t *disp_q4)
+{
+    if (s->observer != NULL) {
+        s->observer(s->observer_user, stage, disp_q4);
+        if (s->clock != NULL) {
+            s->lap = s->clock(s->clock_user);
+        }
+    }
+}
 
 /* Attribute the clock ticks since the last lap to `stage`. */
 static inline void stx_lap(stx_t *s, negobs_stereo_stage_t stage)

@@ -1,8 +1,12 @@
 /*
- * Per-stage profiling clock (negobs_stereo_set_clock): a fake clock that
- * advances a fixed step per read shows which stage every read closes, so
- * the attribution is checked exactly; the output must not depend on the
- * clock; the counter may wrap.
+ * The engine's probes:
+ *  - per-stage profiling clock (negobs_stereo_set_clock): a fake clock
+ *    that advances a fixed step per read shows which stage every read
+ *    closes, so the attribution is checked exactly; the output must not
+ *    depend on the clock; the counter may wrap;
+ *  - observer of intermediate maps (negobs_stereo_set_observer): the
+ *    stages it reports, and each snapshot equals the final output of a
+ *    run with the later stages switched off.
  */
 #include <stdio.h>
 #include <string.h>
@@ -95,7 +99,7 @@ static void expected_laps(const negobs_stereo_config_t *cfg, int32_t rows,
     laps[NEGOBS_STEREO_STAGE_WINDOWS] = 2u * strips; /* both passes */
     laps[NEGOBS_STEREO_STAGE_CANNY] = strips;
     laps[NEGOBS_STEREO_STAGE_GCS] = strips;
-    laps[NEGOBS_STEREO_STAGE_DP] = 2u * strips;
+    laps[NEGOBS_STEREO_STAGE_DP] = 2u * strips + 1u; /* + stage 2 */
     laps[NEGOBS_STEREO_STAGE_LR] = cfg->lr_check ? 1u : 0u;
     laps[NEGOBS_STEREO_STAGE_SPECKLE] = 1u;
     laps[NEGOBS_STEREO_STAGE_GAP_FILL] = cfg->gap_fill > 0 ? 1u : 0u;
@@ -257,6 +261,167 @@ static void test_clock_without_init_is_a_state_error(void **state)
                      NEGOBS_ERR_STATE);
 }
 
+#define MAX_CALLS 16
+
+typedef struct observed {
+    int n;
+    negobs_stereo_stage_t stage[MAX_CALLS];
+    int32_t height[MAX_CALLS];
+    int16_t map[MAX_CALLS][W * H]; /* rows of the view passed */
+} observed_t;
+
+static observed_t g_obs;
+
+static void observe(void *user, negobs_stereo_stage_t stage,
+                    const negobs_image_s16_t *d)
+{
+    observed_t *o = (observed_t *)user;
+    int32_t y;
+    assert_true(o->n < MAX_CALLS);
+    assert_int_equal(d->width, W);
+    o->stage[o->n] = stage;
+    o->height[o->n] = d->height;
+    for (y = 0; y < d->height; y++) {
+        memcpy(&o->map[o->n][y * W], negobs_image_s16_row(d, y),
+               W * sizeof(int16_t));
+    }
+    o->n++;
+}
+
+/* Final map of a run with only the stages up to `last` switched on. */
+static void run_up_to(negobs_stereo_stage_t last, int16_t *out)
+{
+    negobs_stereo_config_t cfg;
+    negobs_stereo_t ctx;
+    negobs_stereo_stats_t st;
+    base_config(&cfg);
+    cfg.lr_check = last >= NEGOBS_STEREO_STAGE_LR;
+    cfg.speckle_size = (last >= NEGOBS_STEREO_STAGE_SPECKLE)
+                           ? cfg.speckle_size : 0;
+    cfg.gap_fill = (last >= NEGOBS_STEREO_STAGE_GAP_FILL) ? cfg.gap_fill : 0;
+    cfg.adaptive_mean = last >= NEGOBS_STEREO_STAGE_MEAN;
+    setup_ctx(&ctx, &cfg);
+    run(&ctx, out, conf_ref, &st);
+}
+
+static int32_t count_valid(const int16_t *m, int32_t n)
+{
+    int32_t i;
+    int32_t v = 0;
+    for (i = 0; i < n; i++) {
+        v += m[i] != NEGOBS_DISP_INVALID;
+    }
+    return v;
+}
+
+static void test_observer_sees_every_stage_in_order(void **state)
+{
+    static const negobs_stereo_stage_t want[] = {
+        NEGOBS_STEREO_STAGE_GCS,     NEGOBS_STEREO_STAGE_DP,
+        NEGOBS_STEREO_STAGE_LR,      NEGOBS_STEREO_STAGE_SPECKLE,
+        NEGOBS_STEREO_STAGE_GAP_FILL, NEGOBS_STEREO_STAGE_MEAN};
+    negobs_stereo_config_t cfg;
+    negobs_stereo_t ctx;
+    negobs_stereo_stats_t st;
+    int32_t i;
+    int32_t k;
+    int32_t gcs_valid;
+    int32_t gcs_bad = 0;
+    (void)state;
+    render();
+    base_config(&cfg);
+    setup_ctx(&ctx, &cfg);
+    memset(&g_obs, 0, sizeof g_obs);
+    assert_int_equal(negobs_stereo_set_observer(&ctx, observe, &g_obs),
+                     NEGOBS_OK);
+    run(&ctx, disp, conf, &st);
+    assert_int_equal(g_obs.n, 6);
+    for (k = 0; k < 6; k++) {
+        assert_int_equal(g_obs.stage[k], want[k]);
+        assert_int_equal(g_obs.height[k], H);
+    }
+    /* the last snapshot is the output */
+    assert_memory_equal(g_obs.map[5], disp, sizeof disp);
+    /* each refinement snapshot is what a run stopping there returns */
+    for (k = 1; k < 5; k++) {
+        run_up_to(want[k], disp_ref);
+        assert_memory_equal(g_obs.map[k], disp_ref, sizeof disp_ref);
+    }
+    /* after GCS: sparse whole-pixel matches, right where they exist
+     * (GT in 1/16 px; the generated pair's occluded strips excluded) */
+    gcs_valid = count_valid(g_obs.map[0], W * H);
+    for (i = 0; i < W * H; i++) {
+        int32_t d = g_obs.map[0][i];
+        if (d == NEGOBS_DISP_INVALID || occ[i]) {
+            continue;
+        }
+        assert_true(d >= 0 && d <= DMAX);
+        gcs_bad += (d * 16 - gt[i] > 16 || gt[i] - d * 16 > 16);
+    }
+    printf("# GCS %d valid, %d off by > 1 px; DP %d valid\n", (int)gcs_valid,
+           (int)gcs_bad, (int)count_valid(g_obs.map[1], W * H));
+    assert_true(gcs_valid > W * H / 4);
+    assert_true(gcs_bad * 100 <= gcs_valid); /* <= 1 % wrong */
+    assert_true(count_valid(g_obs.map[1], W * H) > gcs_valid);
+}
+
+static void test_observer_with_stages_off_crop_and_clock(void **state)
+{
+    negobs_stereo_config_t cfg;
+    negobs_stereo_t ctx;
+    negobs_stereo_stats_t st;
+    fake_clock_t fc = {0u, 5u, 0u};
+    uint32_t laps[NEGOBS_STEREO_STAGE_COUNT];
+    (void)state;
+    render();
+    base_config(&cfg);
+    cfg.lr_check = 0;
+    cfg.gap_fill = 0;
+    cfg.adaptive_mean = 0;
+    setup_ctx(&ctx, &cfg);
+    run(&ctx, disp_ref, conf_ref, &st); /* reference without probes */
+    memset(&g_obs, 0, sizeof g_obs);
+    assert_int_equal(negobs_stereo_set_observer(&ctx, observe, &g_obs),
+                     NEGOBS_OK);
+    assert_int_equal(negobs_stereo_set_clock(&ctx, fake_read, &fc),
+                     NEGOBS_OK);
+    run(&ctx, disp, conf, &st);
+    assert_memory_equal(disp, disp_ref, sizeof disp);
+    assert_int_equal(g_obs.n, 3);
+    assert_int_equal(g_obs.stage[0], NEGOBS_STEREO_STAGE_GCS);
+    assert_int_equal(g_obs.stage[1], NEGOBS_STEREO_STAGE_DP);
+    assert_int_equal(g_obs.stage[2], NEGOBS_STEREO_STAGE_SPECKLE);
+    /* one more clock read after each observer call; its time is in no
+     * stage, so the per-stage sums are as without the observer */
+    expected_laps(&cfg, H, laps);
+    {
+        uint32_t reads = fc.reads;
+        int k;
+        uint32_t total = 1u;
+        for (k = 0; k < NEGOBS_STEREO_STAGE_COUNT; k++) {
+            assert_int_equal(st.stage_ticks[k], (uint64_t)laps[k] * 5u);
+            total += laps[k];
+        }
+        assert_int_equal(reads, total + 3u);
+    }
+
+    /* a crop: the observer gets the view of the matched rows */
+    memset(&g_obs, 0, sizeof g_obs);
+    assert_int_equal(negobs_stereo_set_first_row(&ctx, 40), NEGOBS_OK);
+    run(&ctx, disp, conf, &st);
+    assert_int_equal(g_obs.n, 3);
+    assert_int_equal(g_obs.height[2], H - 40);
+    assert_memory_equal(g_obs.map[2], disp + 40 * W,
+                        (size_t)(H - 40) * W * sizeof(int16_t));
+
+    assert_int_equal(negobs_stereo_set_observer(&ctx, NULL, NULL), NEGOBS_OK);
+    memset(&g_obs, 0, sizeof g_obs);
+    run(&ctx, disp, conf, &st);
+    assert_int_equal(g_obs.n, 0);
+    assert_int_equal(negobs_stereo_set_observer(NULL, observe, &g_obs),
+                     NEGOBS_ERR_STATE);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -266,6 +431,8 @@ int main(void)
         cmocka_unit_test(test_stage_sums_beyond_32_bits),
         cmocka_unit_test(test_output_does_not_depend_on_the_clock),
         cmocka_unit_test(test_clock_without_init_is_a_state_error),
+        cmocka_unit_test(test_observer_sees_every_stage_in_order),
+        cmocka_unit_test(test_observer_with_stages_off_crop_and_clock),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
