@@ -91,6 +91,15 @@ negobs_status_t app_pipeline_init(app_pipeline_t *p,
     return NEGOBS_OK;
 }
 
+void app_pipeline_set_clock(app_pipeline_t *p, negobs_stereo_clock_fn now_ns,
+                            void *user)
+{
+    if (p != NULL) {
+        p->clock_ns = now_ns;
+        p->clock_user = user;
+    }
+}
+
 static int32_t ceil_div(int32_t a, int32_t b)
 {
     return (a + b - 1) / b;
@@ -294,6 +303,9 @@ app_verdict_t app_process_pair_at(app_pipeline_t *p,
         fr.t_left_ms = t_left_ms;
         fr.t_right_ms = t_right_ms;
         fr.now_ms = now_ms;
+        /* set on every pair: lib_setup may have initialised it again */
+        (void)negobs_stereo_set_clock(&lib_pipe.stereo, p->clock_ns,
+                                      p->clock_user);
         if (negobs_pipeline_process(&lib_pipe, &fr, &res) != NEGOBS_OK) {
             st->reason = APP_REASON_BAD_INPUT;
             return APP_VERDICT_NO_INFO;
@@ -306,6 +318,17 @@ app_verdict_t app_process_pair_at(app_pipeline_t *p,
             (uint64_t)res.stereo.valid * 1000u /
             ((uint64_t)left->width * (uint64_t)left->height));
         st->first_row = res.stereo.first_row;
+        {
+            int k;
+            uint64_t sum = 0;
+            for (k = 0; k < NEGOBS_STEREO_STAGE_COUNT; k++) {
+                uint64_t us = res.stereo.stage_ticks[k] / 1000u;
+                st->stage_us[k] = (uint32_t)((us > UINT32_MAX) ? UINT32_MAX
+                                                               : us);
+                sum += us;
+            }
+            st->stereo_us = (uint32_t)((sum > UINT32_MAX) ? UINT32_MAX : sum);
+        }
         return verdict_of(&res, st);
     }
 }

@@ -15,6 +15,7 @@
 
 #include "negobs/image.h"
 #include "negobs/status.h"
+#include "negobs/stereo.h"
 
 /** What the pair says about the path ahead (maps to a motor pattern). */
 typedef enum app_verdict {
@@ -86,11 +87,17 @@ typedef struct app_frame_stats {
                                    the whole frame; row_crop)            */
     int32_t latency_ms;       /**< capture to verdict (latency gate), or
                                    -1 when not measured                  */
+    uint32_t stereo_us;       /**< matcher time of this pair, the sum of
+                                   stage_us; 0 without app_pipeline_set_clock */
+    uint32_t stage_us[NEGOBS_STEREO_STAGE_COUNT]; /**< per matcher stage
+                                   (negobs_stereo_stage_t), microseconds */
 } app_frame_stats_t;
 
 typedef struct app_pipeline {
     app_pipeline_config_t cfg;
     app_frame_stats_t last;
+    negobs_stereo_clock_fn clock_ns; /**< app_pipeline_set_clock      */
+    void *clock_user;
 } app_pipeline_t;
 
 void app_pipeline_config_default(app_pipeline_config_t *cfg);
@@ -98,6 +105,15 @@ void app_pipeline_config_default(app_pipeline_config_t *cfg);
 /** @return NEGOBS_OK or NEGOBS_ERR_INVAL (thresholds out of range). */
 negobs_status_t app_pipeline_init(app_pipeline_t *p,
                                   const app_pipeline_config_t *cfg);
+
+/**
+ * @brief Time the matcher's stages of the following pairs with `now_ns`,
+ * a free-running nanosecond counter (modulo 2^32), into last.stage_us and
+ * last.stereo_us; NULL turns it off (then both stay 0). The verdicts do not
+ * depend on it. Call after app_pipeline_init(), which clears it.
+ */
+void app_pipeline_set_clock(app_pipeline_t *p, negobs_stereo_clock_fn now_ns,
+                            void *user);
 
 /**
  * @brief Process one synchronised pair (images are only read).

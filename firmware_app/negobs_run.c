@@ -255,6 +255,14 @@ static void logmsg(int level, const char *fmt, ...)
     fputc('\n', stderr);
 }
 
+/* The matcher's stage clock: monotonic ns modulo 2^32 (it takes
+ * differences of successive reads). */
+static uint32_t stage_clock_ns(void *user)
+{
+    (void)user;
+    return (uint32_t)negobs_clock_now_ns();
+}
+
 static int parse_log_level(const char *s)
 {
     static const char *const names[] = {"error", "warn", "info", "debug"};
@@ -1034,6 +1042,19 @@ static int run_loop(void)
             logmsg(LOG_DEBUG, "pair %lu verdict %s first_row %ld",
                    (unsigned long)done, app_verdict_name(v),
                    (long)pipeline.last.first_row);
+            if (log_level >= LOG_DEBUG && pipeline.last.stereo_us > 0u) {
+                const uint32_t *us = pipeline.last.stage_us;
+                logmsg(LOG_DEBUG,
+                       "stage times of pair %lu: stereo_us %lu (gcs %lu dp %lu "
+                       "other %lu)",
+                       (unsigned long)done,
+                       (unsigned long)pipeline.last.stereo_us,
+                       (unsigned long)us[NEGOBS_STEREO_STAGE_GCS],
+                       (unsigned long)us[NEGOBS_STEREO_STAGE_DP],
+                       (unsigned long)(pipeline.last.stereo_us -
+                                       us[NEGOBS_STEREO_STAGE_GCS] -
+                                       us[NEGOBS_STEREO_STAGE_DP]));
+            }
             lat_us = (negobs_clock_now_ns() - pair.left.ts_ns) / 1000u;
             negobs_camera_release(&camera, &pair);
             if (v != st.verdict) {
@@ -1157,6 +1178,10 @@ int main(int argc, char **argv)
         }
         fprintf(stderr, "negobs_run: bad image-quality thresholds\n");
         return EXIT_CONFIG;
+    }
+    if (log_level >= LOG_DEBUG) {
+        /* where the matcher's time goes, on the device itself */
+        app_pipeline_set_clock(&pipeline, stage_clock_ns, NULL);
     }
     /* One staleness limit: the library's and the watchdog's. */
     S.alert_cfg.stale_ms = S.watchdog_ms;

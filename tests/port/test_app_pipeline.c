@@ -168,6 +168,45 @@ static void test_late_clear_is_not_trusted(void **state)
                      APP_VERDICT_NO_INFO);
 }
 
+/* Fake nanosecond counter: 1000 ns (1 us) per read. */
+static uint32_t fake_ns(void *user)
+{
+    uint32_t *t = (uint32_t *)user;
+    *t += 1000u;
+    return *t;
+}
+
+static void test_stage_clock_fills_stage_times(void **state)
+{
+    app_pipeline_t p = pipe_init();
+    uint32_t t = 0;
+    uint32_t sum = 0;
+    app_verdict_t v0;
+    int k;
+    (void)state;
+    fill(left_px, W, H, S, 1, 40, 160);
+    fill(right_px, W, H, S, 2, 40, 160);
+    v0 = run(&p);
+    assert_int_equal(p.last.stereo_us, 0u); /* no clock: nothing timed */
+    assert_int_equal(p.last.stage_us[NEGOBS_STEREO_STAGE_GCS], 0u);
+
+    app_pipeline_set_clock(&p, fake_ns, &t);
+    assert_int_equal(run(&p), v0);
+    for (k = 0; k < NEGOBS_STEREO_STAGE_COUNT; k++) {
+        sum += p.last.stage_us[k];
+    }
+    /* every read after the first closes one stage: 1 us each */
+    assert_true(p.last.stage_us[NEGOBS_STEREO_STAGE_GCS] >= 1u);
+    assert_true(p.last.stage_us[NEGOBS_STEREO_STAGE_DP] >= 2u);
+    assert_int_equal(p.last.stereo_us, sum);
+    assert_int_equal(p.last.stereo_us, t / 1000u - 1u);
+
+    /* an init clears it */
+    p = pipe_init();
+    assert_int_equal(run(&p), v0);
+    assert_int_equal(p.last.stereo_us, 0u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -176,6 +215,7 @@ int main(void)
         cmocka_unit_test(test_bad_input_gives_no_info),
         cmocka_unit_test(test_large_frames_are_subsampled),
         cmocka_unit_test(test_late_clear_is_not_trusted),
+        cmocka_unit_test(test_stage_clock_fills_stage_times),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

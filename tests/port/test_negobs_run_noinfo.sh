@@ -71,6 +71,10 @@ FULL=$(grep -c "verdict .* first_row 0$" "$T/nocrop.log")
 echo "row crop: $CROPPED of 10 pairs cropped with row_crop on; $FULL of 10 full with it off"
 [ "$CROPPED" -ge 8 ] || { echo "FAIL: row_crop on, but fewer than 8 of 10 pairs cropped"; exit 1; }
 [ "$FULL" -eq 10 ] || { echo "FAIL: row_crop = false, but a pair was cropped"; exit 1; }
+# --log-level debug times the matcher's stages on the device (one line per
+# pair, microseconds; the growth is never free)
+TIMED=$(grep -c "stereo_us [1-9][0-9]* (gcs [1-9][0-9]* dp [0-9]* other [0-9]*)" "$T/crop.log")
+[ "$TIMED" -eq 10 ] || { echo "FAIL: $TIMED of 10 pairs have stage times in the debug log"; exit 1; }
 grep -q "summary .* clear=[1-9]" "$T/nocrop.log" ||
     { echo "FAIL: the flat walk is never clear without the crop"; exit 1; }
 exit $RC
