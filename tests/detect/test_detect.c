@@ -1059,6 +1059,117 @@ static void test_detect_unconfirmed_candidate_with_noisy_near_rows(void **state)
     rig_teardown(&rig);
 }
 
+/* Walk at 1.2 m/s (10 fps) towards a 150 mm drop first in view at
+ * start_m; returns the number of CLEAR frames with the edge nearer than
+ * 1.1 m and stores the level when the edge is at ~0.8 m. */
+static int walk_to_near_drop(double start_m, int32_t ground_drop_mm,
+                             negobs_alert_level_t *level_at_08,
+                             int *ground_drop_seen)
+{
+    synth_scene_t s;
+    negobs_detect_config_t c;
+    double edge = start_m;
+    int late_clear = 0;
+    int i;
+    negobs_detect_config_default(&c, RIG_W, RIG_H);
+    c.ground_drop_mm = ground_drop_mm;
+    rig_setup(&rig, &c);
+    scene(&s, 0.25, 1);
+    *level_at_08 = NEGOBS_LEVEL_NONE;
+    *ground_drop_seen = 0;
+    for (i = 0; i < 14 && edge > 0.1; i++) {
+        uint32_t k;
+        s.nseg = 0;
+        synth_step(&s, edge, -0.15);
+        s.seed = (uint32_t)i + 11u;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        for (k = 0; k < rig.res.n_hazards; k++) {
+            if (rig.res.hazards[k].flags & NEGOBS_HAZARD_F_GROUND_DROP) {
+                *ground_drop_seen = 1;
+            }
+        }
+        if (edge < 1.1 && rig.res.state == NEGOBS_DETECT_CLEAR) {
+            late_clear++;
+        }
+        if (edge < 0.85 && edge >= 0.73) {
+            *level_at_08 = rig.res.level;
+        }
+        edge -= 0.12;
+    }
+    rig_teardown(&rig);
+    return late_clear;
+}
+
+/* A drop first seen within ~1.6 m (after a corner) leaves the view
+ * before k of n frames confirm it; the ground fit then
+ * takes the lower surface as the ground. The ground-drop cue must keep the
+ * user from hearing CLEAR on the way to the edge; switched off, the old
+ * behaviour (CLEAR at the edge) shows that the test can fail. */
+static void test_detect_drop_first_seen_near_is_not_clear(void **state)
+{
+    negobs_alert_level_t lv;
+    int seen;
+    int late_clear;
+    (void)state;
+    late_clear = walk_to_near_drop(1.6, 100, &lv, &seen);
+    print_message("edge first at 1.6 m: %d late CLEAR frames, level %d at "
+                  "0.8 m, ground-drop hazard %d\n",
+                  late_clear, (int)lv, seen);
+    assert_int_equal(late_clear, 0);
+    assert_int_equal(lv, NEGOBS_LEVEL_IMMINENT);
+    assert_true(seen);
+    late_clear = walk_to_near_drop(1.6, 0, &lv, &seen);
+    print_message("cue off: %d late CLEAR frames\n", late_clear);
+    assert_true(late_clear > 0);
+    assert_false(seen);
+}
+
+/* The camera raised by 150 mm on flat ground looks like the same drop:
+ * it alerts, and after ground_drop_max_ms the new height is the reference
+ * and the way is clear again. A camera lowered by 150 mm never alerts. */
+static void test_detect_camera_raised_becomes_the_reference(void **state)
+{
+    synth_scene_t s;
+    negobs_detect_config_t c;
+    int i;
+    int hazard_frames = 0;
+    (void)state;
+    negobs_detect_config_default(&c, RIG_W, RIG_H);
+    c.ground_drop_max_ms = 2000;
+    rig_setup(&rig, &c);
+    scene(&s, 0.25, 1);
+    for (i = 0; i < 6; i++) {
+        s.seed = (uint32_t)i + 1u;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+    }
+    s.h_m = 1.35;
+    for (i = 0; i < 40; i++) {
+        s.seed = (uint32_t)i + 100u;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        hazard_frames += rig.res.state == NEGOBS_DETECT_HAZARD;
+    }
+    print_message("camera raised: %d hazard frames, last state %d\n",
+                  hazard_frames, (int)rig.res.state);
+    assert_true(hazard_frames >= 3);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+    rig_teardown(&rig);
+
+    rig_setup(&rig, &c);
+    scene(&s, 0.25, 1);
+    for (i = 0; i < 6; i++) {
+        s.seed = (uint32_t)i + 1u;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+    }
+    s.h_m = 1.05;
+    for (i = 0; i < 20; i++) {
+        s.seed = (uint32_t)i + 200u;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        assert_int_equal(rig.res.n_hazards, 0u);
+    }
+    rig_teardown(&rig);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1098,6 +1209,8 @@ int main(void)
         cmocka_unit_test(test_detect_row_correlated_noise_is_noisy),
         cmocka_unit_test(test_detect_row_correlated_noise_drop_never_clear),
         cmocka_unit_test(test_detect_strip_noise_measured_not_assumed),
+        cmocka_unit_test(test_detect_drop_first_seen_near_is_not_clear),
+        cmocka_unit_test(test_detect_camera_raised_becomes_the_reference),
         cmocka_unit_test(test_detect_near_rows_are_checked_too),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -97,6 +97,10 @@ typedef enum negobs_sensitivity {
 #define NEGOBS_HAZARD_F_HELD 2u      /**< below the image: dead-reckoned  */
 #define NEGOBS_HAZARD_F_H_LOWER 4u   /**< drop_mm is a lower bound        */
 #define NEGOBS_HAZARD_F_CANNY 8u     /**< disparity edges support it      */
+/** From the ground model alone: the ground in view lies drop_mm lower
+ *  than the ground under the feet, so an edge is nearer than the view's
+ *  bottom (range_mm, an upper bound); the edge itself is not seen. */
+#define NEGOBS_HAZARD_F_GROUND_DROP 16u
 
 /** One hazard (a candidate of this frame or a temporal track). */
 typedef struct negobs_hazard {
@@ -185,6 +189,14 @@ typedef struct negobs_detect_config {
     int32_t assoc_lateral_mm;  /**< association tolerance (600 mm)     */
     int32_t hold_bottom_rows;  /**< edge this close to the bottom row
                                     is held when lost (default 24 rows) */
+    int32_t ground_drop_mm;    /**< rise of the estimated camera height
+                                    over the height under the feet that
+                                    means the ground in view is lower:
+                                    a drop nearer than the view's bottom
+                                    (default 100 mm; 0 = off)           */
+    int32_t ground_drop_max_ms; /**< after this long the lower ground is
+                                    taken as the new reference (the
+                                    camera was moved; default 5000 ms)  */
 
     /* Gating. */
     int32_t sync_tol_ms;       /**< L/R timestamp skew (default 5 ms)  */

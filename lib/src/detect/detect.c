@@ -87,7 +87,18 @@ typedef struct detect_priv {
     int32_t n_strips;
     uint32_t *band_hist; /* NOISE_BANDS x NOISE_BINS |horizontal diff| */
     uint16_t *strip_hist; /* NOISE_BANDS x STRIP_BINS strip medians    */
+    /* ground-drop cue: the camera height and pitch over the ground under
+     * the feet, followed on clean frames only */
+    int32_t ref_ok;
+    int32_t ref_height_mm;
+    int32_t ref_pitch_mdeg;
+    uint32_t drop_since_ms; /* first frame of the current cue           */
+    int32_t drop_on;
 } detect_priv_t;
+
+/* The cue needs a steady pitch: a pitch change of more than this between
+ * the reference and the frame also moves the estimated height. */
+#define GROUND_DROP_PITCH_MDEG 3000
 
 void negobs_detect_config_default(negobs_detect_config_t *cfg, int32_t width,
                                   int32_t height)
@@ -148,6 +159,8 @@ void negobs_detect_config_default(negobs_detect_config_t *cfg, int32_t width,
     cfg->assoc_range_mm = 400;
     cfg->assoc_lateral_mm = 600;
     cfg->hold_bottom_rows = 24;
+    cfg->ground_drop_mm = 100;
+    cfg->ground_drop_max_ms = 5000;
     cfg->sync_tol_ms = 5;
     cfg->max_frame_age_ms = 150;
     cfg->dark_mean_min = 20;
@@ -248,6 +261,8 @@ static negobs_status_t config_check(const negobs_detect_config_t *c)
         !in_range(c->assoc_range_mm, 0, 5000) ||
         !in_range(c->assoc_lateral_mm, 0, 5000) ||
         !in_range(c->hold_bottom_rows, 0, c->cam.height) ||
+        !in_range(c->ground_drop_mm, 0, 2000) ||
+        !in_range(c->ground_drop_max_ms, 0, 600000) ||
         !in_range(c->sync_tol_ms, 0, 1000) ||
         !in_range(c->max_frame_age_ms, 1, 60000) ||
         !in_range(c->dark_mean_min, 0, 255) ||
@@ -1364,6 +1379,92 @@ static int warn_rows_measured(const scan_ctx_t *s, const detect_priv_t *p,
     return total == 0 || 4 * good >= total;
 }
 
+/*
+ * Ground-drop cue. The rule above needs the edge in view with ground
+ * before it; a drop first seen within ~1.6 m (after a corner) leaves the
+ * bottom of the image before k of n frames
+ * confirm it, and the ground fit then takes the lower surface as the
+ * ground: the estimated camera height rises by the drop (+150 mm on a
+ * 15 cm curb) and every later frame looked CLEAR until the user stepped
+ * off. So the camera height over the ground under the feet is kept as a
+ * reference, followed on clean frames only; a rise of ground_drop_mm or
+ * more at a steady pitch makes a DROP candidate at the nearest visible
+ * ground (the edge is nearer still), which the temporal logic confirms
+ * and holds like any other. After ground_drop_max_ms of a continuous cue
+ * the lower ground becomes the reference (the camera was raised, not
+ * walked to an edge). Limit: the first ground model sets the reference,
+ * so a device switched on with mostly the lower surface in its fit rows
+ * (an edge within ~1.4 m) takes that as the ground under the feet.
+ */
+static int ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
+                       const scan_ctx_t *s, const gfit_out_t *g,
+                       uint32_t now_ms, negobs_hazard_t *hz)
+{
+    int32_t dh;
+    int32_t dp;
+    int32_t vb = cfg->cam.height - 1;
+    int32_t dg;
+    int32_t range = 0;
+    int32_t depth = 0;
+    if (cfg->ground_drop_mm <= 0) {
+        return 0;
+    }
+    if (!p->ref_ok) {
+        p->ref_ok = 1;
+        p->ref_height_mm = g->pose.height_mm;
+        p->ref_pitch_mdeg = g->pose.pitch_mdeg;
+        p->drop_on = 0;
+        return 0;
+    }
+    dh = g->pose.height_mm - p->ref_height_mm;
+    dp = negobs_abs_s32(g->pose.pitch_mdeg - p->ref_pitch_mdeg);
+    if (dh < cfg->ground_drop_mm || dp > GROUND_DROP_PITCH_MDEG) {
+        p->drop_on = 0;
+        return 0;
+    }
+    if (!p->drop_on) {
+        p->drop_on = 1;
+        p->drop_since_ms = now_ms;
+    } else if ((int32_t)(now_ms - p->drop_since_ms) >
+               cfg->ground_drop_max_ms) {
+        p->ref_height_mm = g->pose.height_mm;
+        p->ref_pitch_mdeg = g->pose.pitch_mdeg;
+        p->drop_on = 0;
+        return 0;
+    }
+    dg = negobs_ground_disp_q4(&g->plane, cfg->cam.width / 2, vb);
+    model_point(s, cfg->cam.width / 2, vb, dg, &range, NULL, &depth);
+    memset(hz, 0, sizeof *hz);
+    hz->type = NEGOBS_HAZARD_DROP;
+    hz->level = NEGOBS_LEVEL_NONE;
+    hz->flags = NEGOBS_HAZARD_F_GROUND_DROP;
+    hz->range_mm = range;
+    hz->depth_mm = depth;
+    hz->drop_mm = dh;
+    hz->u0 = 0;
+    hz->u1 = (int16_t)(cfg->cam.width - 1);
+    hz->v0 = (int16_t)geom_max_s32(vb - cfg->hold_bottom_rows, 0);
+    hz->v1 = (int16_t)vb;
+    hz->conf_q15 = 16384;
+    return 1;
+}
+
+/* Follow the reference of the ground-drop cue on a clean frame whose
+ * height is near it (slow changes: posture, bobbing); a jump either way is
+ * a different surface in view, not the ground under the feet. */
+static void ground_ref_follow(detect_priv_t *p,
+                              const negobs_detect_config_t *cfg,
+                              const gfit_out_t *g)
+{
+    int32_t dh = g->pose.height_mm - p->ref_height_mm;
+    if (!p->ref_ok || p->drop_on ||
+        2 * negobs_abs_s32(dh) >= cfg->ground_drop_mm) {
+        return;
+    }
+    p->ref_height_mm += dh / 4;
+    p->ref_pitch_mdeg += (g->pose.pitch_mdeg - p->ref_pitch_mdeg) / 4;
+}
+
 negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
                                       const negobs_detect_frame_t *frame,
                                       negobs_detect_result_t *res)
@@ -1476,6 +1577,17 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
             scan_strip(&s, u0, u0 + cfg->strip_px, &p->hits[s_i]);
         }
         merge_strips(&s, p, res);
+        {
+            negobs_hazard_t hz;
+            /* A hazard already confirmed or held nearer than the view's
+             * bottom is this drop: the cue's range (an upper bound) would
+             * only pull its dead-reckoned range back. */
+            if (ground_drop(p, cfg, &s, &g, frame->now_ms, &hz) &&
+                !temporal_covers(&p->temporal, hz.range_mm, frame->now_ms) &&
+                res->n_candidates < NEGOBS_DETECT_MAX_HAZARDS) {
+                res->candidates[res->n_candidates++] = hz;
+            }
+        }
         /* Step 6 (self-check): can h_min_far still be seen at the warning
          * range? The rule tests the median residual of a strip row, so the
          * drop's deficit d_w * h / (H + h) must exceed k times the
@@ -1680,6 +1792,9 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
         reasons |= NEGOBS_DEGRADED_NOISY;
     }
     res->reasons = reasons;
+    if (g.ok && reasons == 0u) {
+        ground_ref_follow(p, cfg, &g);
+    }
     if (reasons != 0u) {
         res->state = NEGOBS_DETECT_NO_INFO;
     } else if (res->n_hazards > 0u) {

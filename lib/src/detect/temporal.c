@@ -223,6 +223,19 @@ void temporal_update(temporal_t *t, const negobs_hazard_t *cands, uint32_t n,
     t->have_last = 1;
 }
 
+int temporal_covers(const temporal_t *t, int32_t range_mm, uint32_t now_ms)
+{
+    int32_t k;
+    for (k = 0; k < NEGOBS_DETECT_MAX_TRACKS; k++) {
+        const tmp_track_t *tr = &t->tracks[k];
+        if (tr->active && (tr->confirmed || tr->held) &&
+            held_range(t->cfg, tr, now_ms) <= range_mm) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
 uint32_t temporal_report(const temporal_t *t, negobs_hazard_t *out,
                          uint32_t max, uint32_t now_ms)
 {

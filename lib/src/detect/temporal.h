@@ -50,4 +50,7 @@ void temporal_update(temporal_t *t, const negobs_hazard_t *cands, uint32_t n,
 uint32_t temporal_report(const temporal_t *t, negobs_hazard_t *out,
                          uint32_t max, uint32_t now_ms);
 
+/* 1 when a confirmed or held track is reported at range_mm or nearer. */
+int temporal_covers(const temporal_t *t, int32_t range_mm, uint32_t now_ms);
+
 #endif
