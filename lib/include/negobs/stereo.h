@@ -154,11 +154,12 @@ typedef enum negobs_stereo_stage {
 } negobs_stereo_stage_t;
 
 /**
- * Caller's clock for per-stage profiling: any free-running 32-bit counter
- * (microseconds, nanoseconds, CPU cycles, ...). Differences of successive
- * reads are taken modulo 2^32, so the counter may wrap; only one interval
- * (one stage on one strip, or one whole-frame stage) must stay below one
- * period (4.29 s for a nanosecond counter). The per-stage sums are 64-bit.
+ * Caller's clock for per-stage profiling: any 32-bit counter that keeps
+ * counting by itself (microseconds, nanoseconds, CPU cycles, ...).
+ * Differences of successive reads are taken modulo 2^32, so the counter
+ * may wrap; only one interval (one stage on one strip, or one whole-frame
+ * stage) must stay below one period (4.29 s for a nanosecond counter).
+ * The per-stage sums are 64-bit.
  * Read about 4 times per strip plus 8 times per frame.
  */
 typedef uint32_t (*negobs_stereo_clock_fn)(void *user);
