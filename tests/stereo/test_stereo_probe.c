@@ -127,6 +127,23 @@ static void check_attribution(const negobs_stereo_stats_t *st,
     assert_int_equal(sum, (uint64_t)(fc->reads - 1u) * step);
 }
 
+/* Init on cfg, crop to first_row, time one frame with fc and check that
+ * every read of fc went to the stage it closes. */
+static void timed_frame(negobs_stereo_t *ctx, const negobs_stereo_config_t *cfg,
+                        int32_t first_row, fake_clock_t *fc,
+                        negobs_stereo_stats_t *st)
+{
+    uint32_t laps[NEGOBS_STEREO_STAGE_COUNT];
+    negobs_stereo_config_t c = *cfg;
+    render();
+    setup_ctx(ctx, &c);
+    assert_int_equal(negobs_stereo_set_first_row(ctx, first_row), NEGOBS_OK);
+    assert_int_equal(negobs_stereo_set_clock(ctx, fake_read, fc), NEGOBS_OK);
+    run(ctx, disp, conf, st);
+    expected_laps(cfg, H - first_row, laps);
+    check_attribution(st, fc, fc->step, laps);
+}
+
 static void test_every_tick_goes_to_the_stage_that_ran(void **state)
 {
     negobs_stereo_config_t cfg;
@@ -135,18 +152,13 @@ static void test_every_tick_goes_to_the_stage_that_ran(void **state)
     fake_clock_t fc = {1000u, 7u, 0u};
     uint32_t laps[NEGOBS_STEREO_STAGE_COUNT];
     (void)state;
-    render();
     base_config(&cfg);
-    setup_ctx(&ctx, &cfg);
-    assert_int_equal(negobs_stereo_set_clock(&ctx, fake_read, &fc),
-                     NEGOBS_OK);
-    run(&ctx, disp, conf, &st);
-    expected_laps(&cfg, H, laps);
-    check_attribution(&st, &fc, 7u, laps);
+    timed_frame(&ctx, &cfg, 0, &fc, &st);
 
     /* a second frame starts from zero, not from the first frame's sums */
     fc.reads = 0;
     run(&ctx, disp, conf, &st);
+    expected_laps(&cfg, H, laps);
     check_attribution(&st, &fc, 7u, laps);
 }
 
@@ -156,20 +168,15 @@ static void test_stages_switched_off_get_no_ticks(void **state)
     negobs_stereo_t ctx;
     negobs_stereo_stats_t st;
     fake_clock_t fc = {0u, 1u, 0u};
-    uint32_t laps[NEGOBS_STEREO_STAGE_COUNT];
     (void)state;
-    render();
     base_config(&cfg);
     cfg.lr_check = 0;
     cfg.gap_fill = 0;
     cfg.adaptive_mean = 0;
-    setup_ctx(&ctx, &cfg);
-    assert_int_equal(negobs_stereo_set_clock(&ctx, fake_read, &fc),
-                     NEGOBS_OK);
-    run(&ctx, disp, conf, &st);
-    expected_laps(&cfg, H, laps);
-    assert_int_equal(laps[NEGOBS_STEREO_STAGE_LR], 0u);
-    check_attribution(&st, &fc, 1u, laps);
+    timed_frame(&ctx, &cfg, 0, &fc, &st);
+    assert_int_equal(st.stage_ticks[NEGOBS_STEREO_STAGE_LR], 0u);
+    assert_int_equal(st.stage_ticks[NEGOBS_STEREO_STAGE_GAP_FILL], 0u);
+    assert_int_equal(st.stage_ticks[NEGOBS_STEREO_STAGE_MEAN], 0u);
 }
 
 /* A crop matches fewer strips; clearing the rows above is OUTPUT. The
@@ -180,17 +187,9 @@ static void test_crop_and_wrapping_counter(void **state)
     negobs_stereo_t ctx;
     negobs_stereo_stats_t st;
     fake_clock_t fc = {0xFFFFFF00u, 13u, 0u};
-    uint32_t laps[NEGOBS_STEREO_STAGE_COUNT];
     (void)state;
-    render();
     base_config(&cfg);
-    setup_ctx(&ctx, &cfg);
-    assert_int_equal(negobs_stereo_set_first_row(&ctx, 50), NEGOBS_OK);
-    assert_int_equal(negobs_stereo_set_clock(&ctx, fake_read, &fc),
-                     NEGOBS_OK);
-    run(&ctx, disp, conf, &st);
-    expected_laps(&cfg, H - 50, laps);
-    check_attribution(&st, &fc, 13u, laps);
+    timed_frame(&ctx, &cfg, 50, &fc, &st);
     assert_true(fc.now < 0x1000u); /* it did wrap */
 }
 
@@ -203,16 +202,9 @@ static void test_stage_sums_beyond_32_bits(void **state)
     negobs_stereo_t ctx;
     negobs_stereo_stats_t st;
     fake_clock_t fc = {0u, 0x60000000u, 0u};
-    uint32_t laps[NEGOBS_STEREO_STAGE_COUNT];
     (void)state;
-    render();
     base_config(&cfg);
-    setup_ctx(&ctx, &cfg);
-    assert_int_equal(negobs_stereo_set_clock(&ctx, fake_read, &fc),
-                     NEGOBS_OK);
-    run(&ctx, disp, conf, &st);
-    expected_laps(&cfg, H, laps);
-    check_attribution(&st, &fc, 0x60000000u, laps);
+    timed_frame(&ctx, &cfg, 0, &fc, &st);
     assert_true(st.stage_ticks[NEGOBS_STEREO_STAGE_DP] > 0xFFFFFFFFull);
 }
 

@@ -150,28 +150,6 @@ typedef struct stx {
     negobs_arena_t arena;  /* the carve, for negobs_arena_check()        */
 } stx_t;
 
-/* Show the map after `stage` to the observer; its time is not counted. */
-static inline void stx_observe(stx_t *s, negobs_stereo_stage_t stage,
-                               const negobs_image_s16_t *disp_q4)
-{
-    if (s->observer != NULL) {
-        s->observer(s->observer_user, stage, disp_q4);
-        if (s->clock != NULL) {
-            s->lap = s->clock(s->clock_user);
-        }
-    }
-}
-
-/* Attribute the clock ticks since the last lap to `stage`. */
-static inline void stx_lap(stx_t *s, negobs_stereo_stage_t stage)
-{
-    if (s->clock != NULL) {
-        uint32_t now = s->clock(s->clock_user);
-        s->st.stage_ticks[stage] += (uint32_t)(now - s->lap);
-        s->lap = now;
-    }
-}
-
 /* ---- ncc.c ------------------------------------------------------------ */
 /* Window statistics of image rows [ya, ya+n): S and V per pixel; windows
  * leaving the image get V = 0 (no window). */
