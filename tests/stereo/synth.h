@@ -56,10 +56,16 @@ static inline int32_t synth_disp_q8(const synth_scene_t *sc, int32_t x,
  * Fill left, right (stride w) and gt_q4 (disparity * 16, rounded) and the
  * occlusion mask occ (1 = not visible in the right image).
  * tex is scratch of w*h bytes.
+ *
+ * fine_rows > 0 makes the texture of the bottom fine_rows rows (rounded
+ * down to whole 4x4 blocks of the left image) zero-mean in every 4x4
+ * block: as textured as elsewhere at full resolution, flat at 1/4 scale
+ * (a smooth floor whose grain only shows up close).
  */
-static inline void synth_render(const synth_scene_t *sc, uint8_t *left,
-                                uint8_t *right, int16_t *gt_q4, uint8_t *occ,
-                                uint8_t *tex)
+static inline void synth_render_fine(const synth_scene_t *sc,
+                                     int32_t fine_rows, uint8_t *left,
+                                     uint8_t *right, int16_t *gt_q4,
+                                     uint8_t *occ, uint8_t *tex)
 {
     int32_t w = sc->w;
     int32_t h = sc->h;
@@ -91,6 +97,25 @@ static inline void synth_render(const synth_scene_t *sc, uint8_t *left,
                 }
             }
             tex[y * w + x] = (uint8_t)((acc + 8) / 16);
+        }
+    }
+    if (fine_rows > 0) {
+        int32_t bx;
+        int32_t by;
+        int32_t y0 = ((h - fine_rows + 3) / 4) * 4;
+        for (by = y0; by + 4 <= h; by += 4) {
+            for (bx = 0; bx + 4 <= w; bx += 4) {
+                int32_t sum = 0;
+                int32_t k;
+                for (k = 0; k < 16; k++) {
+                    sum += tex[(by + k / 4) * w + bx + k % 4];
+                }
+                for (k = 0; k < 16; k++) {
+                    uint8_t *t = &tex[(by + k / 4) * w + bx + k % 4];
+                    int32_t v = 128 + 2 * (16 * (int32_t)*t - sum) / 16;
+                    *t = (uint8_t)((v < 0) ? 0 : ((v > 255) ? 255 : v));
+                }
+            }
         }
     }
     memcpy(left, tex, (size_t)w * (size_t)h);
@@ -151,6 +176,13 @@ static inline void synth_render(const synth_scene_t *sc, uint8_t *left,
             memcpy(right + y * w, rrow[src], (size_t)w);
         }
     }
+}
+
+static inline void synth_render(const synth_scene_t *sc, uint8_t *left,
+                                uint8_t *right, int16_t *gt_q4, uint8_t *occ,
+                                uint8_t *tex)
+{
+    synth_render_fine(sc, 0, left, right, gt_q4, occ, tex);
 }
 
 /* bad-pixel share (x1000) and density (x1000) over visible pixels inside a

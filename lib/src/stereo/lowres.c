@@ -13,7 +13,11 @@
  *   global range = [1st, 99th percentile] * 4, widened by range_margin and
  *                  clipped to the configured [min_disp, max_disp];
  *   tile range   = min/max over the tile and its 8 neighbours, same margin,
- *                  clipped to the global range (global when empty).
+ *                  clipped to the global range; a tile without a kept
+ *                  value of its own gets the configured range, and the
+ *                  global range (which bounds growth and the DP) is then
+ *                  the configured one too: no evidence is not a narrow
+ *                  range.
  * With fewer than 16 kept values the configured range is used unchanged.
  *
  * Vertical offset: up to 256 textured points on a grid are matched with
@@ -214,6 +218,7 @@ void stx_lowres_range(stx_t *s)
         int16_t *ohi = s->tile_hi + ntile;
         int32_t tx;
         int32_t ty;
+        int unknown = 0;
         for (i = 0; i < ntile; i++) {
             olo[i] = INT16_MAX;
             ohi[i] = INT16_MIN;
@@ -263,9 +268,14 @@ void stx_lowres_range(stx_t *s)
                     }
                 }
                 i = ty * s->tw + tx;
-                if (l > h) {
-                    s->tile_lo[i] = (int16_t)s->gdmin;
-                    s->tile_hi[i] = (int16_t)s->gdmax;
+                if (olo[i] > ohi[i]) {
+                    /* No value of its own: the neighbours say nothing
+                     * about what is here (a smooth near floor shows no
+                     * texture at 1/4 scale and has the largest
+                     * disparities of the frame), so search it all. */
+                    s->tile_lo[i] = (int16_t)dmin;
+                    s->tile_hi[i] = (int16_t)dmax;
+                    unknown = 1;
                 } else {
                     l = negobs_clamp_s32(l - 2 - margin, s->gdmin, s->gdmax);
                     h = negobs_clamp_s32(h + 2 + margin, l, s->gdmax);
@@ -273,6 +283,10 @@ void stx_lowres_range(stx_t *s)
                     s->tile_hi[i] = (int16_t)h;
                 }
             }
+        }
+        if (unknown) {
+            s->gdmin = dmin;
+            s->gdmax = dmax;
         }
     }
 }
