@@ -1061,7 +1061,12 @@ static void test_detect_unconfirmed_candidate_with_noisy_near_rows(void **state)
 
 /* Walk at 1.2 m/s (10 fps) towards a 150 mm drop first in view at
  * start_m; returns the number of CLEAR frames with the edge nearer than
- * 1.1 m and stores the level when the edge is at ~0.8 m. */
+ * 1.1 m and stores the level when the edge is at ~0.8 m. g_unverified
+ * counts the frames flagged NEGOBS_DEGRADED_GROUND_UNVERIFIED, g_clear
+ * all CLEAR frames. */
+static int g_unverified;
+static int g_clear;
+
 static int walk_to_near_drop(double start_m, int32_t ground_drop_mm,
                              negobs_alert_level_t *level_at_08,
                              int *ground_drop_seen)
@@ -1077,6 +1082,8 @@ static int walk_to_near_drop(double start_m, int32_t ground_drop_mm,
     scene(&s, 0.25, 1);
     *level_at_08 = NEGOBS_LEVEL_NONE;
     *ground_drop_seen = 0;
+    g_unverified = 0;
+    g_clear = 0;
     for (i = 0; i < 14 && edge > 0.1; i++) {
         uint32_t k;
         s.nseg = 0;
@@ -1091,6 +1098,9 @@ static int walk_to_near_drop(double start_m, int32_t ground_drop_mm,
         if (edge < 1.1 && rig.res.state == NEGOBS_DETECT_CLEAR) {
             late_clear++;
         }
+        g_clear += rig.res.state == NEGOBS_DETECT_CLEAR;
+        g_unverified +=
+            (rig.res.reasons & NEGOBS_DEGRADED_GROUND_UNVERIFIED) != 0u;
         if (edge < 0.85 && edge >= 0.73) {
             *level_at_08 = rig.res.level;
         }
@@ -1122,6 +1132,75 @@ static void test_detect_drop_first_seen_near_is_not_clear(void **state)
     print_message("cue off: %d late CLEAR frames\n", late_clear);
     assert_true(late_clear > 0);
     assert_false(seen);
+}
+
+/* Switched on within 1.4 m of a 150 mm drop, the lower surface fills the
+ * ground fit's rows from the first frame, so there is no reference for
+ * the ground under the feet: the view sits 150 mm lower than the
+ * configured camera height. Until this check that view became the
+ * reference and the walk to the edge was CLEAR on 8-9 frames; it must
+ * say "no information" instead. */
+static void test_detect_start_near_drop_is_not_clear(void **state)
+{
+    negobs_alert_level_t lv;
+    int seen;
+    int late_clear;
+    double start[2] = {1.3, 1.4};
+    int k;
+    (void)state;
+    for (k = 0; k < 2; k++) {
+        late_clear = walk_to_near_drop(start[k], 100, &lv, &seen);
+        print_message("switched on %.1f m from the edge: %d CLEAR frames "
+                      "(%d with the edge within 1.1 m), %d unverified\n",
+                      start[k], g_clear, late_clear, g_unverified);
+        assert_int_equal(g_clear, 0);
+        assert_true(g_unverified >= 8);
+    }
+    /* the same walk with the cue off shows what the check prevents */
+    late_clear = walk_to_near_drop(1.4, 0, &lv, &seen);
+    print_message("cue off: %d late CLEAR frames\n", late_clear);
+    assert_true(late_clear > 0);
+    assert_int_equal(g_unverified, 0);
+}
+
+/* A camera configured 150 mm too low on flat ground: NO_INFO, never a
+ * hazard, for ground_drop_max_ms; then the view is the reference and the
+ * way is CLEAR. Configured right, the first frame is CLEAR. */
+static void test_detect_wrong_height_is_unverified_then_accepted(
+    void **state)
+{
+    synth_scene_t s;
+    negobs_detect_config_t c;
+    int i;
+    int unverified = 0;
+    (void)state;
+    negobs_detect_config_default(&c, RIG_W, RIG_H);
+    c.ground_drop_max_ms = 1000;
+    c.cam_height_mm = 1050;
+    rig_setup(&rig, &c);
+    scene(&s, 0.25, 1);
+    for (i = 0; i < 20; i++) {
+        s.seed = (uint32_t)i + 300u;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        assert_int_equal(rig.res.n_hazards, 0u);
+        if (rig.res.reasons & NEGOBS_DEGRADED_GROUND_UNVERIFIED) {
+            assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+            assert_true(i <= 11); /* 1000 ms at 10 fps, then accepted */
+            unverified++;
+        }
+    }
+    print_message("configured 150 mm low: %d unverified frames, last state "
+                  "%d\n", unverified, (int)rig.res.state);
+    assert_true(unverified >= 10);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+    rig_teardown(&rig);
+
+    c.cam_height_mm = 1200;
+    rig_setup(&rig, &c);
+    s.seed = 300u;
+    assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+    rig_teardown(&rig);
 }
 
 /* The camera raised by 150 mm on flat ground looks like the same drop:
@@ -1210,6 +1289,8 @@ int main(void)
         cmocka_unit_test(test_detect_row_correlated_noise_drop_never_clear),
         cmocka_unit_test(test_detect_strip_noise_measured_not_assumed),
         cmocka_unit_test(test_detect_drop_first_seen_near_is_not_clear),
+        cmocka_unit_test(test_detect_start_near_drop_is_not_clear),
+        cmocka_unit_test(test_detect_wrong_height_is_unverified_then_accepted),
         cmocka_unit_test(test_detect_camera_raised_becomes_the_reference),
         cmocka_unit_test(test_detect_near_rows_are_checked_too),
     };

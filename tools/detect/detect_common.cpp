@@ -363,9 +363,10 @@ std::string reasons_string(uint32_t reasons, const char *sep)
 {
     static const char *const names[] = {
         "TOO_DARK", "SATURATED", "LOW_TEXTURE", "FEW_GROUND",
-        "GROUND_REJECTED", "STALE", "UNSYNCED", "NOISY", "BAD_INPUT"};
+        "GROUND_REJECTED", "STALE", "UNSYNCED", "NOISY", "BAD_INPUT",
+        "GROUND_UNVERIFIED"};
     std::string s;
-    for (unsigned b = 0; b < 9; ++b) {
+    for (unsigned b = 0; b < sizeof names / sizeof names[0]; ++b) {
         if (reasons & (1u << b)) {
             if (!s.empty()) {
                 s += sep;

@@ -707,7 +707,7 @@ int evaluate_synth(const Options &opt)
                 ++fr;
                 if (r.state == NEGOBS_DETECT_NO_INFO) {
                     ++ni;
-                    for (unsigned b = 0; b < 9; ++b) {
+                    for (unsigned b = 0; b < 32; ++b) {
                         if (r.reasons & (1u << b)) {
                             reasons_hist[1u << b]++;
                         }

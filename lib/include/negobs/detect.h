@@ -58,7 +58,12 @@ typedef enum negobs_degraded_reason {
     NEGOBS_DEGRADED_STALE = 1u << 5,        /**< frame too old / gap   */
     NEGOBS_DEGRADED_UNSYNCED = 1u << 6,     /**< L/R timestamps apart  */
     NEGOBS_DEGRADED_NOISY = 1u << 7,        /**< sigma_d too high for h_min */
-    NEGOBS_DEGRADED_BAD_INPUT = 1u << 8     /**< missing/unusable frame */
+    NEGOBS_DEGRADED_BAD_INPUT = 1u << 8,    /**< missing/unusable frame */
+    /** No reference yet for the ground under the feet, and the ground in
+     *  view lies ground_drop_mm or more below the configured height: an
+     *  edge nearer than the view, or a wrong cam_height_mm (at most
+     *  ground_drop_max_ms after the first ground model) */
+    NEGOBS_DEGRADED_GROUND_UNVERIFIED = 1u << 9
 } negobs_degraded_reason_t;
 
 typedef enum negobs_hazard_type {
@@ -196,7 +201,9 @@ typedef struct negobs_detect_config {
                                     (default 100 mm; 0 = off)           */
     int32_t ground_drop_max_ms; /**< after this long the lower ground is
                                     taken as the new reference (the
-                                    camera was moved; default 5000 ms)  */
+                                    camera was moved), and an unverified
+                                    start (GROUND_UNVERIFIED) is
+                                    accepted (default 5000 ms)          */
 
     /* Gating. */
     int32_t sync_tol_ms;       /**< L/R timestamp skew (default 5 ms)  */

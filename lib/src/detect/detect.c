@@ -94,6 +94,10 @@ typedef struct detect_priv {
     int32_t ref_pitch_mdeg;
     uint32_t drop_since_ms; /* first frame of the current cue           */
     int32_t drop_on;
+    /* before the reference: first frame whose ground lay ground_drop_mm
+     * or more below the configured height */
+    uint32_t unverified_since_ms;
+    int32_t unverified_on;
 } detect_priv_t;
 
 /* The cue needs a steady pitch: a pitch change of more than this between
@@ -1392,13 +1396,37 @@ static int warn_rows_measured(const scan_ctx_t *s, const detect_priv_t *p,
  * ground (the edge is nearer still), which the temporal logic confirms
  * and holds like any other. After ground_drop_max_ms of a continuous cue
  * the lower ground becomes the reference (the camera was raised, not
- * walked to an edge). Limit: the first ground model sets the reference,
- * so a device switched on with mostly the lower surface in its fit rows
- * (an edge within ~1.4 m) takes that as the ground under the feet.
+ * walked to an edge).
+ *
+ * The first ground model becomes the reference only when it lies within
+ * ground_drop_mm of the configured height. A device switched on within
+ * ~1.4 m of an edge has the lower surface in its fit rows and sees a
+ * camera ground_drop_mm or more too high; so does one whose cam_height_mm
+ * is set too low. The view cannot tell these apart, so such frames are
+ * NO_INFO (*unverified), never CLEAR, until a frame agrees with the
+ * configured height or ground_drop_max_ms have passed; then the view is
+ * taken as it is.
  */
+static int ground_unverified(detect_priv_t *p,
+                             const negobs_detect_config_t *cfg,
+                             const gfit_out_t *g, uint32_t now_ms)
+{
+    if (g->pose.height_mm - cfg->cam_height_mm < cfg->ground_drop_mm) {
+        p->unverified_on = 0;
+        return 0;
+    }
+    if (!p->unverified_on) {
+        p->unverified_on = 1;
+        p->unverified_since_ms = now_ms;
+    }
+    return (int32_t)(now_ms - p->unverified_since_ms) <=
+           cfg->ground_drop_max_ms;
+}
+
 static int ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
                        const scan_ctx_t *s, const gfit_out_t *g,
-                       uint32_t now_ms, negobs_hazard_t *hz)
+                       uint32_t now_ms, negobs_hazard_t *hz,
+                       int *unverified)
 {
     int32_t dh;
     int32_t dp;
@@ -1410,10 +1438,9 @@ static int ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
         return 0;
     }
     if (!p->ref_ok) {
-        p->ref_ok = 1;
-        p->ref_height_mm = g->pose.height_mm;
-        p->ref_pitch_mdeg = g->pose.pitch_mdeg;
-        p->drop_on = 0;
+        /* the reference itself is taken on a clean frame
+         * (ground_ref_follow) */
+        *unverified = ground_unverified(p, cfg, g, now_ms);
         return 0;
     }
     dh = g->pose.height_mm - p->ref_height_mm;
@@ -1449,15 +1476,29 @@ static int ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
     return 1;
 }
 
-/* Follow the reference of the ground-drop cue on a clean frame whose
- * height is near it (slow changes: posture, bobbing); a jump either way is
- * a different surface in view, not the ground under the feet. */
+/* Set the reference of the ground-drop cue on the first clean frame that
+ * is not unverified, then follow it on clean frames whose height is near
+ * it (slow changes: posture, bobbing); a jump either way is a different
+ * surface in view, not the ground under the feet. Only clean frames: the
+ * model of a NOISY frame can be far off (945 mm for a 1.2 m camera in
+ * test_detect_start_near_drop_is_not_clear), and as the reference it
+ * hid the drop. */
 static void ground_ref_follow(detect_priv_t *p,
                               const negobs_detect_config_t *cfg,
-                              const gfit_out_t *g)
+                              const gfit_out_t *g, uint32_t now_ms)
 {
     int32_t dh = g->pose.height_mm - p->ref_height_mm;
-    if (!p->ref_ok || p->drop_on ||
+    if (!p->ref_ok) {
+        if (cfg->ground_drop_mm > 0 &&
+            !ground_unverified(p, cfg, g, now_ms)) {
+            p->ref_ok = 1;
+            p->ref_height_mm = g->pose.height_mm;
+            p->ref_pitch_mdeg = g->pose.pitch_mdeg;
+            p->drop_on = 0;
+        }
+        return;
+    }
+    if (p->drop_on ||
         2 * negobs_abs_s32(dh) >= cfg->ground_drop_mm) {
         return;
     }
@@ -1473,6 +1514,7 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
     const negobs_detect_config_t *cfg;
     uint32_t reasons = 0;
     int32_t pending_noisy = 0; /* unconfirmed candidate, near bands noisy */
+    int unverified = 0;        /* no reference yet, ground lower than set */
     int32_t pending_sparse = 0; /* unconfirmed candidate, warning rows empty */
     negobs_photo_stats_t ls;
     gfit_out_t g;
@@ -1582,7 +1624,8 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
             /* A hazard already confirmed or held nearer than the view's
              * bottom is this drop: the cue's range (an upper bound) would
              * only pull its dead-reckoned range back. */
-            if (ground_drop(p, cfg, &s, &g, frame->now_ms, &hz) &&
+            if (ground_drop(p, cfg, &s, &g, frame->now_ms, &hz,
+                            &unverified) &&
                 !temporal_covers(&p->temporal, hz.range_mm, frame->now_ms) &&
                 res->n_candidates < NEGOBS_DETECT_MAX_HAZARDS) {
                 res->candidates[res->n_candidates++] = hz;
@@ -1791,9 +1834,14 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
     if (pending_noisy && res->n_hazards == 0u) {
         reasons |= NEGOBS_DEGRADED_NOISY;
     }
+    /* like the pending reasons: the frame still feeds the tracker, a
+     * hazard found by the rule is reported, but "clear" is not said */
+    if (unverified && res->n_hazards == 0u) {
+        reasons |= NEGOBS_DEGRADED_GROUND_UNVERIFIED;
+    }
     res->reasons = reasons;
     if (g.ok && reasons == 0u) {
-        ground_ref_follow(p, cfg, &g);
+        ground_ref_follow(p, cfg, &g, frame->now_ms);
     }
     if (reasons != 0u) {
         res->state = NEGOBS_DETECT_NO_INFO;
