@@ -1398,7 +1398,7 @@ static int warn_rows_measured(const scan_ctx_t *s, const detect_priv_t *p,
  * the lower ground becomes the reference (the camera was raised, not
  * walked to an edge).
  *
- * The first ground model becomes the reference only when it lies within
+ * The reference is the first clean frame's ground model that lies within
  * ground_drop_mm of the configured height. A device switched on within
  * ~1.4 m of an edge has the lower surface in its fit rows and sees a
  * camera ground_drop_mm or more too high; so does one whose cam_height_mm
