@@ -95,7 +95,11 @@ pulses() {
 # per recognised pair of pulses (TOL_MS of slack on every width and gap for
 # the emulator's scheduling):
 #   caution  two ~80 ms pulses 160 ms apart (start to start)
-#   imminent two ~300 ms pulses 400 ms apart
+#   imminent three ~300 ms pulses 400 ms apart (the pattern is continuous
+#            and held >= imminent_hold_ms = 1 s, so a real one always has
+#            three; two ~300-355 ms fragments 460 ms apart are what a no-info
+#            burst restarted mid-pulse left on a loaded TCG guest, and read
+#            as "imminent" they failed run-fault-pwm once)
 #   noinfo   a ~400 ms pulse followed 600 ms later by another (entry burst)
 #            or a ~600 ms pulse (the repeating part)
 patterns() {
@@ -105,9 +109,11 @@ patterns() {
         END {
             for (i = 1; i <= n; i++) {
                 g = (i < n) ? (s[i + 1] - s[i]) * 1000 : -1
+                g2 = (i + 1 < n) ? (s[i + 2] - s[i + 1]) * 1000 : -1
                 if (i < n && near(w[i], 80) && near(w[i + 1], 80) && near(g, 160))
                     print "caution", s[i]
-                else if (i < n && near(w[i], 300) && near(w[i + 1], 300) && near(g, 400))
+                else if (i + 1 < n && near(w[i], 300) && near(w[i + 1], 300) &&
+                         near(w[i + 2], 300) && near(g, 400) && near(g2, 400))
                     print "imminent", s[i]
                 else if ((i < n && near(w[i], 400) && near(g, 600)) || near(w[i], 600))
                     print "noinfo", s[i]
