@@ -40,7 +40,7 @@ else
     kill "$WATCH_PID" 2>/dev/null; wait "$WATCH_PID" 2>/dev/null
     motor_watch -i 5 "/sys/devices/platform/$(cat "$G/dev_name")/$chip/sim_gpio0/value" >> /tmp/edges &
     WATCH_PID=$!
-    TK=$(wait_log 'motor: output back' "$(sec_of $TB)" $BACK_LIMIT_S)
+    TK=$(wait_log 'motor: output back' "$(back_after $TB)" $BACK_LIMIT_S)
     # let the no-info hold (2 s) and a few pairs pass
     sleep 9
 fi

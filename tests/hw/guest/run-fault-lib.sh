@@ -52,6 +52,18 @@ check_noinfo_only() {
     [ "$HZ" -eq 0 ] || fail "$HZ hazard patterns on the line $what"
 }
 
+# back_after TB: where to look for the recovery line (negobs seconds).
+# T_START is taken just before negobs_run is started, so a boot time
+# converted with sec_of reads late by negobs_run's start-up time (tens to
+# hundreds of ms under TCG);
+# a write that works at once is then logged "before" the knob (run-fault-pwm
+# saw 7.604 s against 7.609 s and waited in vain). 0.5 s of slack, never
+# before the failure line TL: there is no "back" without a failure.
+back_after() {
+    awk -v b="$(sec_of "$1")" -v l="${TL:-0}" \
+        'BEGIN { a = b - 0.5; if (a < l) a = l; printf "%.3f", a }'
+}
+
 # wait_clear AFTER LIMIT_S: a clear verdict after AFTER (negobs seconds)
 wait_clear() { wait_log 'verdict .* -> clear' "$1" "$2"; }
 

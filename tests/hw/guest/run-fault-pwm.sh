@@ -42,7 +42,7 @@ else
     sleep $HOLD_S
     TB=$(now); echo 0 > $KNOB
     say "PWM writes work again from boot $TB (negobs_run $(sec_of $TB)s)"
-    TK=$(wait_log 'motor: output back' "$(sec_of $TB)" $BACK_LIMIT_S)
+    TK=$(wait_log 'motor: output back' "$(back_after $TB)" $BACK_LIMIT_S)
     sleep 9
 fi
 fault_end
