@@ -1407,6 +1407,15 @@ static int warn_rows_measured(const scan_ctx_t *s, const detect_priv_t *p,
  * configured height or ground_drop_max_ms have passed; then the view is
  * taken as it is.
  */
+/* The view's camera height and pitch become the reference. */
+static inline void ground_ref_take(detect_priv_t *p, const gfit_out_t *g)
+{
+    p->ref_ok = 1;
+    p->ref_height_mm = g->pose.height_mm;
+    p->ref_pitch_mdeg = g->pose.pitch_mdeg;
+    p->drop_on = 0;
+}
+
 static int ground_unverified(detect_priv_t *p,
                              const negobs_detect_config_t *cfg,
                              const gfit_out_t *g, uint32_t now_ms)
@@ -1454,9 +1463,7 @@ static int ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
         p->drop_since_ms = now_ms;
     } else if ((int32_t)(now_ms - p->drop_since_ms) >
                cfg->ground_drop_max_ms) {
-        p->ref_height_mm = g->pose.height_mm;
-        p->ref_pitch_mdeg = g->pose.pitch_mdeg;
-        p->drop_on = 0;
+        ground_ref_take(p, g);
         return 0;
     }
     dg = negobs_ground_disp_q4(&g->plane, cfg->cam.width / 2, vb);
@@ -1477,7 +1484,7 @@ static int ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
 }
 
 /* Set the reference of the ground-drop cue on the first clean frame that
- * is not unverified, then follow it on clean frames whose height is near
+ * ground_drop() did not find unverified, then follow it on clean frames whose height is near
  * it (slow changes: posture, bobbing); a jump either way is a different
  * surface in view, not the ground under the feet. Only clean frames: the
  * model of a NOISY frame can be far off (945 mm for a 1.2 m camera in
@@ -1485,16 +1492,12 @@ static int ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
  * hid the drop. */
 static void ground_ref_follow(detect_priv_t *p,
                               const negobs_detect_config_t *cfg,
-                              const gfit_out_t *g, uint32_t now_ms)
+                              const gfit_out_t *g, int unverified)
 {
     int32_t dh = g->pose.height_mm - p->ref_height_mm;
     if (!p->ref_ok) {
-        if (cfg->ground_drop_mm > 0 &&
-            !ground_unverified(p, cfg, g, now_ms)) {
-            p->ref_ok = 1;
-            p->ref_height_mm = g->pose.height_mm;
-            p->ref_pitch_mdeg = g->pose.pitch_mdeg;
-            p->drop_on = 0;
+        if (cfg->ground_drop_mm > 0 && !unverified) {
+            ground_ref_take(p, g);
         }
         return;
     }
@@ -1841,7 +1844,7 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
     }
     res->reasons = reasons;
     if (g.ok && reasons == 0u) {
-        ground_ref_follow(p, cfg, &g, frame->now_ms);
+        ground_ref_follow(p, cfg, &g, unverified);
     }
     if (reasons != 0u) {
         res->state = NEGOBS_DETECT_NO_INFO;
