@@ -180,6 +180,72 @@ static void test_frac_q14_saturates_and_rounds_toward_zero(void **state)
     assert_int_equal(stx_frac_q14(-20000000, 20000000), -16384);
 }
 
+/* stx_frac_q14 by its definition: shift both by one bit at a time. */
+static int32_t frac_q14_loop(int32_t num2, int32_t den)
+{
+    uint32_t na = (uint32_t)((num2 < 0) ? -num2 : num2);
+    uint32_t nd = (uint32_t)den;
+    uint32_t q;
+    while (nd >= (1u << 17)) {
+        nd >>= 1;
+        na >>= 1;
+    }
+    if (na > nd) {
+        na = nd;
+    }
+    q = (na << 14) / nd;
+    return (num2 < 0) ? -(int32_t)q : (int32_t)q;
+}
+
+static void check_frac(int32_t num2, int32_t den)
+{
+    static const int32_t taus[] = {-16384, -1, 0, 1, 8191, 8192, 8193,
+                                   13107, 16383, 16384};
+    int32_t want = frac_q14_loop(num2, den);
+    size_t i;
+    assert_int_equal(stx_frac_q14(num2, den), want);
+    for (i = 0; i < sizeof taus / sizeof taus[0]; i++) {
+        assert_int_equal(stx_frac_reaches(num2, den, taus[i]),
+                         want >= taus[i]);
+    }
+    /* the exact threshold of this fraction, from both sides */
+    assert_int_equal(stx_frac_reaches(num2, den, want), 1);
+    if (want < 16384) {
+        assert_int_equal(stx_frac_reaches(num2, den, want + 1), 0);
+    }
+}
+
+/* The stepped scaling and the division-free threshold test of the growth
+ * loop give exactly the loop's quotient and its comparisons, for every
+ * denominator bit length (den up to 2^31 - 1, beyond MNCC's 2^25) and at
+ * the rounding boundaries. */
+static void test_frac_scale_and_threshold_match_definition(void **state)
+{
+    uint32_t seed = 7u;
+    int32_t bits;
+    int32_t i;
+    (void)state;
+    for (bits = 1; bits <= 31; bits++) {
+        int32_t lo = (bits == 1) ? 1 : (int32_t)(1u << (bits - 1));
+        int32_t hi = (int32_t)((bits == 31) ? 0x7FFFFFFFu
+                                            : (1u << bits) - 1u);
+        check_frac(0, lo);
+        check_frac(lo, lo);
+        check_frac(-hi, hi);
+        check_frac(hi / 2, hi);
+        check_frac(hi / 2 + 1, hi);
+        check_frac(lo / 3, hi);
+        for (i = 0; i < 200; i++) {
+            uint32_t r = test_lcg_next(&seed) | (test_lcg_next(&seed) << 16);
+            int32_t den = lo + (int32_t)(r % (uint32_t)(hi - lo + 1));
+            int32_t num2 = (int32_t)(test_lcg_next(&seed) |
+                                     (test_lcg_next(&seed) << 16)) %
+                           den;
+            check_frac(num2, den);
+        }
+    }
+}
+
 /* The dispatching stx_cross5 (SIMD where the target has it) against the
  * plain C reference and the definition, at every window position of a
  * tight image (stride == width, buffer ends with the last row) so a load
@@ -253,6 +319,7 @@ int main(void)
         cmocka_unit_test(test_mncc_matches_reference_within_one_lsb),
         cmocka_unit_test(test_mncc_flat_and_inverted_windows),
         cmocka_unit_test(test_frac_q14_saturates_and_rounds_toward_zero),
+        cmocka_unit_test(test_frac_scale_and_threshold_match_definition),
         cmocka_unit_test(test_cross5_variants_are_bit_exact),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -62,26 +62,33 @@ static void table_update(uint8_t *bd, uint8_t *bc, uint8_t *c2, int32_t d,
     }
 }
 
-/* Try to accept candidate (u, v, d) with score c; push it when accepted. */
-static int try_accept(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t c)
+/* Matching-table bit of strip cell (u, vr, dr). */
+static inline size_t table_bit(const stx_t *s, int32_t u, int32_t vr,
+                               int32_t dr)
+{
+    return ((size_t)vr * (size_t)s->w + (size_t)u) * (size_t)s->ndisp +
+           (size_t)dr;
+}
+
+static inline int table_has(const stx_t *s, size_t bit)
+{
+    return (s->tbits[bit >> 3] >> (bit & 7u)) & 1u;
+}
+
+/* Accept candidate (u, v, d) with score c (>= tau, not in the table) when
+ * the margin rule holds; push it when accepted. */
+static int accept_scored(stx_t *s, int32_t u, int32_t v, int32_t d,
+                         int32_t c, size_t bit)
 {
     int32_t w = s->w;
     int32_t vr = v - s->y0;
     int32_t dr = d - s->dmin;
     int32_t ur = u - d;
-    size_t bit;
     ptrdiff_t il;
     ptrdiff_t ir;
     uint8_t c8;
     int32_t lim;
 
-    if (c == STX_FLAT || c < s->cfg.ncc_tau_q14) {
-        return 0;
-    }
-    bit = ((size_t)vr * (size_t)w + (size_t)u) * (size_t)s->ndisp + (size_t)dr;
-    if (s->tbits[bit >> 3] & (1u << (bit & 7u))) {
-        return 0;
-    }
     il = (ptrdiff_t)vr * w + u;
     ir = (ptrdiff_t)vr * w + ur;
     c8 = to_q8(c);
@@ -97,6 +104,36 @@ static int try_accept(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t c)
     s->st.grown++;
     stx_queue_push(&s->q, stx_pack(u, vr, dr), c >> 6);
     return 1;
+}
+
+/* Try to accept candidate (u, v, d) with score c; push it when accepted. */
+static int try_accept(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t c)
+{
+    size_t bit;
+    if (c == STX_FLAT || c < s->cfg.ncc_tau_q14) {
+        return 0;
+    }
+    bit = table_bit(s, u, v - s->y0, d - s->dmin);
+    if (table_has(s, bit)) {
+        return 0;
+    }
+    return accept_scored(s, u, v, d, c, bit);
+}
+
+/* try_accept for a score still held as the fraction num2 / den (den > 0):
+ * the table and tau are tested before the division, which most growth
+ * candidates never need. Same decisions as try_accept(stx_frac_q14()). */
+static int try_accept_frac(stx_t *s, int32_t u, int32_t v, int32_t d,
+                           int32_t num2, int32_t den)
+{
+    size_t bit = table_bit(s, u, v - s->y0, d - s->dmin);
+    int32_t c;
+    if (table_has(s, bit) ||
+        !stx_frac_reaches(num2, den, s->cfg.ncc_tau_q14)) {
+        return 0;
+    }
+    c = stx_frac_q14(num2, den);
+    return accept_scored(s, u, v, d, c, bit);
 }
 
 static int32_t eval(stx_t *s, int32_t u, int32_t v, int32_t d)
@@ -326,10 +363,9 @@ static void grow(stx_t *s)
                 bm = set_best(&g, 11, 16, &bn, &bden, &visited);
             }
             if (bm >= 0 && bden != 0) {
-                (void)try_accept(s, g.u + g.nb[bm].du,
-                                 g.vrow + g.nb[bm].dv + s->y0,
-                                 g.dr + g.nb[bm].dd + dmin,
-                                 stx_frac_q14(bn, bden));
+                (void)try_accept_frac(s, g.u + g.nb[bm].du,
+                                      g.vrow + g.nb[bm].dv + s->y0,
+                                      g.dr + g.nb[bm].dd + dmin, bn, bden);
             }
         }
     }

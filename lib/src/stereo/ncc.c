@@ -82,10 +82,7 @@ int32_t stx_frac_q14(int32_t num2, int32_t den)
     uint32_t a = (uint32_t)((num2 < 0) ? -num2 : num2);
     uint32_t d = (uint32_t)den;
     uint32_t q;
-    while (d >= (1u << 17)) {
-        d >>= 1;
-        a >>= 1;
-    }
+    stx_frac_scale(&a, &d);
     if (a > d) {
         a = d; /* cannot happen mathematically; keeps |c| <= 1 */
     }

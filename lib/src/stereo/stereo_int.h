@@ -161,6 +161,57 @@ int32_t stx_mncc_q14(uint32_t sum_lr, uint32_t sl, uint32_t vl, uint32_t sr,
                      uint32_t vr, uint32_t tex_min);
 /* num2 / den in Q14, rounded towards zero (den > 0, |num2| <= den). */
 int32_t stx_frac_q14(int32_t num2, int32_t den);
+
+/* The common scale of stx_frac_q14: |num2| and den shifted right together
+ * by the fewest bits that bring den below 2^17, in fixed steps of 8, 4, 2,
+ * 1, 1 instead of a loop. A step is taken only when den stays >= 2^17
+ * after it, so the total is the least shift; each step leaves den below
+ * the next step's bound, so the last one ends below 2^17 for any den. */
+static inline void stx_frac_scale(uint32_t *a, uint32_t *d)
+{
+    if (*d >= (1u << 25)) {
+        *d >>= 8;
+        *a >>= 8;
+    }
+    if (*d >= (1u << 21)) {
+        *d >>= 4;
+        *a >>= 4;
+    }
+    if (*d >= (1u << 19)) {
+        *d >>= 2;
+        *a >>= 2;
+    }
+    if (*d >= (1u << 18)) {
+        *d >>= 1;
+        *a >>= 1;
+    }
+    if (*d >= (1u << 17)) {
+        *d >>= 1;
+        *a >>= 1;
+    }
+}
+
+/* stx_frac_q14(num2, den) >= t_q14 without the division (den > 0,
+ * t_q14 <= 16384): the quotient is floored, so q >= t exactly when
+ * (a << 14) >= t d, and t d < 2^31 after the scaling. */
+static inline int stx_frac_reaches(int32_t num2, int32_t den, int32_t t_q14)
+{
+    uint32_t a;
+    uint32_t d;
+    if (t_q14 <= 0) {
+        return stx_frac_q14(num2, den) >= t_q14;
+    }
+    if (num2 <= 0) {
+        return 0; /* the fraction is <= 0 < t */
+    }
+    a = (uint32_t)num2;
+    d = (uint32_t)den;
+    stx_frac_scale(&a, &d);
+    if (a > d) {
+        a = d;
+    }
+    return (a << 14) >= (uint32_t)t_q14 * d;
+}
 /* MNCC of candidate (u, v, d) with statistics of the current strip; v is an
  * image row inside the strip. STX_FLAT when out of bounds or flat. */
 int32_t stx_mncc_strip(const stx_t *s, int32_t u, int32_t v, int32_t d);
