@@ -72,7 +72,7 @@ static inline size_t table_bit(const stx_t *s, int32_t u, int32_t vr,
 
 static inline int table_has(const stx_t *s, size_t bit)
 {
-    return (s->tbits[bit >> 3] >> (bit & 7u)) & 1u;
+    return (int)(((uint32_t)s->tbits[bit >> 3] >> (bit & 7u)) & 1u);
 }
 
 /* Accept candidate (u, v, d) with score c (>= tau, not in the table) when
