@@ -120,13 +120,13 @@ static int try_accept(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t c)
     return accept_scored(s, u, v, d, c, bit);
 }
 
-/* try_accept for a score still held as the fraction num2 / den (den > 0):
- * the table and tau are tested before the division, which most growth
- * candidates never need. Same decisions as try_accept(stx_frac_q14()). */
+/* try_accept for a score still held as the fraction num2 / den (den > 0)
+ * of the cell whose table bit the growth loop already has: the table and
+ * tau are tested before the division, which most growth candidates never
+ * need. Same decisions as try_accept(stx_frac_q14()). */
 static int try_accept_frac(stx_t *s, int32_t u, int32_t v, int32_t d,
-                           int32_t num2, int32_t den)
+                           int32_t num2, int32_t den, size_t bit)
 {
-    size_t bit = table_bit(s, u, v - s->y0, d - s->dmin);
     int32_t c;
     if (table_has(s, bit) ||
         !stx_frac_reaches(num2, den, s->cfg.ncc_tau_q14)) {
@@ -363,9 +363,10 @@ static void grow(stx_t *s)
                 bm = set_best(&g, 11, 16, &bn, &bden, &visited);
             }
             if (bm >= 0 && bden != 0) {
-                (void)try_accept_frac(s, g.u + g.nb[bm].du,
-                                      g.vrow + g.nb[bm].dv + s->y0,
-                                      g.dr + g.nb[bm].dd + dmin, bn, bden);
+                (void)try_accept_frac(
+                    s, g.u + g.nb[bm].du, g.vrow + g.nb[bm].dv + s->y0,
+                    g.dr + g.nb[bm].dd + dmin, bn, bden,
+                    (size_t)(g.bit0 + g.nb[bm].bit));
             }
         }
     }
