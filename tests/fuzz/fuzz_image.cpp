@@ -43,8 +43,9 @@ namespace {
 // 4.6 reads the size caps (OPENCV_IO_MAX_IMAGE_PIXELS, _WIDTH, _HEIGHT)
 // into statics when libopencv_imgcodecs loads, before this code runs, so
 // they are set by the runner (tools/negobs fuzz_run); a setenv here would
-// be too late. The two below are read on first use.
-void cap_decoder_sizes()
+// be too late. What is set here is read on first use: no OpenEXR, and no
+// decoder complaints in the log.
+void quiet_decoders()
 {
     setenv("OPENCV_IO_ENABLE_OPENEXR", "0", 0);
     setenv("OPENCV_LOG_LEVEL", "SILENT", 0); // decoders' complaints
@@ -74,7 +75,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    cap_decoder_sizes();
+    quiet_decoders();
     const std::string &path = scratch_path();
     FILE *f = std::fopen(path.c_str(), "wb");
     if (f == nullptr) {
@@ -150,7 +151,7 @@ extern "C" int LLVMFuzzerInitialize(int *argc, char ***argv)
 {
     static std::vector<char *> args;
     static std::string dir;
-    cap_decoder_sizes();
+    quiet_decoders();
     // Files on the command line mean "run these" (reproducing a finding):
     // then no corpus folder may be added.
     for (int i = 1; i < *argc; i++) {

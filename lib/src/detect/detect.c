@@ -1484,12 +1484,12 @@ static int ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
 }
 
 /* Set the reference of the ground-drop cue on the first clean frame that
- * ground_drop() did not find unverified, then follow it on clean frames whose height is near
- * it (slow changes: posture, bobbing); a jump either way is a different
- * surface in view, not the ground under the feet. Only clean frames: the
- * model of a NOISY frame can be far off (945 mm for a 1.2 m camera in
- * test_detect_start_near_drop_is_not_clear), and as the reference it
- * hid the drop. */
+ * ground_drop() did not find unverified, then follow it on clean frames
+ * whose height is near it (slow changes: posture, bobbing); a jump either
+ * way is a different surface in view, not the ground under the feet. Only
+ * clean frames: the model of a NOISY frame can be far off (945 mm for a
+ * 1.2 m camera in test_detect_start_near_drop_is_not_clear), and as the
+ * reference it hid the drop. */
 static void ground_ref_follow(detect_priv_t *p,
                               const negobs_detect_config_t *cfg,
                               const gfit_out_t *g, int unverified)
