@@ -42,11 +42,13 @@ extern "C" {
  * for static buffers: any valid config with this width, height and
  * max_disp_q4 <= 16 * max_disp_px fits. (Context and tracks < 8 KiB,
  * v-disparity histogram <= h x (2 max_disp + 2) x 2 bytes, Hough 16 KiB,
- * strips <= w/4 x 64 bytes, noise bands 2 + 2 KiB, plus arena guards.)
+ * strips <= w/4 x 64 bytes, noise bands 2 + 2 KiB, the disparity Canny
+ * window 3 x w x 2 + 16 x w bytes, plus arena guards.)
  */
 #define NEGOBS_DETECT_WORKSPACE_MAX(w, h, max_disp_px)                      \
     ((size_t)8192u + (size_t)(h) * ((size_t)(max_disp_px) * 2u + 2u) * 2u + \
-     (size_t)16640u + ((size_t)(w) / 4u + 1u) * 64u + (size_t)4480u)
+     (size_t)16640u + ((size_t)(w) / 4u + 1u) * 64u + (size_t)(w) * 22u + \
+     (size_t)4608u)
 
 /** Why the detector cannot vouch for "no hazard" (bitmask). */
 typedef enum negobs_degraded_reason {
@@ -182,6 +184,10 @@ typedef struct negobs_detect_config {
     int32_t missing_policy;    /**< negobs_missing_policy_t (CAUTION)  */
     int32_t canny_thresh_permille; /**< Canny high threshold, share of
                                     the largest gradient (default 70)   */
+    int32_t canny_low_permille;    /**< Canny low threshold, share of the
+                                    high one (default 400: the ratio
+                                    MATLAB's edge() takes for a scalar
+                                    threshold)                          */
 
     /* Temporal logic. */
     int32_t confirm_k;         /**< confirm when seen k ... (default 3) */

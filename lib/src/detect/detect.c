@@ -32,6 +32,7 @@
 
 #include "arena.h"
 #include "geom_internal.h"
+#include "disp_canny.h"
 #include "ground_fit.h"
 #include "temporal.h"
 
@@ -87,6 +88,7 @@ typedef struct detect_priv {
     int32_t n_strips;
     uint32_t *band_hist; /* NOISE_BANDS x NOISE_BINS |horizontal diff| */
     uint16_t *strip_hist; /* NOISE_BANDS x STRIP_BINS strip medians    */
+    dcanny_scratch_t canny; /* disparity Canny around a hazard's edge  */
     /* ground-drop cue: the camera height and pitch over the ground under
      * the feet, followed on clean frames only */
     int32_t ref_ok;
@@ -154,6 +156,7 @@ void negobs_detect_config_default(negobs_detect_config_t *cfg, int32_t width,
     cfg->min_strips = 2;
     cfg->missing_policy = NEGOBS_MISSING_CAUTION;
     cfg->canny_thresh_permille = 70;
+    cfg->canny_low_permille = 400;
     cfg->confirm_k = 3;
     cfg->confirm_n = 5;
     cfg->clear_m = 5;
@@ -254,7 +257,8 @@ static negobs_status_t config_check(const negobs_detect_config_t *c)
         !in_range(c->merge_range_mm, 0, 5000) ||
         !in_range(c->min_strips, 1, 64) ||
         !in_range(c->missing_policy, 0, 2) ||
-        !in_range(c->canny_thresh_permille, 1, 1000)) {
+        !in_range(c->canny_thresh_permille, 1, 1000) ||
+        !in_range(c->canny_low_permille, 0, 1000)) {
         return NEGOBS_ERR_INVAL;
     }
     if (!in_range(c->confirm_n, 1, 31) ||
@@ -300,6 +304,10 @@ static negobs_status_t carve(negobs_arena_t *ar,
         ar, (size_t)NOISE_BANDS * NOISE_BINS * sizeof(uint32_t));
     p->strip_hist = negobs_arena_take(
         ar, (size_t)NOISE_BANDS * STRIP_BINS * sizeof(uint16_t));
+    p->canny.mag = negobs_arena_take(ar, dcanny_mag_bytes(cfg->cam.width));
+    p->canny.label =
+        negobs_arena_take(ar, dcanny_label_bytes(cfg->cam.width));
+    p->canny.width = cfg->cam.width;
     *out = (p == &tmp) ? NULL : p;
     return negobs_arena_status(ar);
 }
@@ -1130,78 +1138,6 @@ static int32_t strip_sigma_at(const scan_ctx_t *s, int32_t v,
                          (uint32_t)s->cfg->strip_px * 256u));
 }
 
-/* Sobel magnitude (L1) of the disparity map at (u, v); 0 near invalid. */
-static int32_t disp_grad(const negobs_image_s16_t *d, int32_t u, int32_t v)
-{
-    const int16_t *r0 = negobs_image_s16_row(d, v - 1);
-    const int16_t *r1 = negobs_image_s16_row(d, v);
-    const int16_t *r2 = negobs_image_s16_row(d, v + 1);
-    int32_t gx;
-    int32_t gy;
-    int32_t i;
-    for (i = -1; i <= 1; i++) {
-        if (r0[u + i] == NEGOBS_DISP_INVALID ||
-            r1[u + i] == NEGOBS_DISP_INVALID ||
-            r2[u + i] == NEGOBS_DISP_INVALID) {
-            return 0;
-        }
-    }
-    gx = (r0[u + 1] + 2 * r1[u + 1] + r2[u + 1]) -
-         (r0[u - 1] + 2 * r1[u - 1] + r2[u - 1]);
-    gy = (r2[u - 1] + 2 * r2[u] + r2[u + 1]) -
-         (r0[u - 1] + 2 * r0[u] + r0[u + 1]);
-    return negobs_abs_s32(gx) + negobs_abs_s32(gy);
-}
-
-/*
- * Paper step 7 as a supporting cue: Canny-style edges of the disparity
- * map. The high threshold is canny_thresh_permille (0.07) of the largest
- * Sobel magnitude in the scanned band; an edge pixel must also be a local
- * maximum along the column (non-maximum suppression in the direction a
- * drop edge runs across). Returns edge pixels found within 2 rows of the
- * hazard's edge row over its columns.
- */
-static int32_t canny_support(const negobs_image_s16_t *d, int32_t gmax,
-                             int32_t thr_permille, const negobs_hazard_t *h)
-{
-    int32_t thr = (int32_t)(((int64_t)gmax * thr_permille) / 1000);
-    int32_t count = 0;
-    int32_t u;
-    int32_t v;
-    if (thr < 1) {
-        return 0;
-    }
-    for (v = h->v1 - 2; v <= h->v1 + 1; v++) {
-        if (v < 2 || v >= d->height - 2) {
-            continue;
-        }
-        for (u = geom_max_s32(h->u0, 1); u <= h->u1 && u < d->width - 1;
-             u++) {
-            int32_t g = disp_grad(d, u, v);
-            if (g >= thr && g >= disp_grad(d, u, v - 1) &&
-                g >= disp_grad(d, u, v + 1)) {
-                count++;
-            }
-        }
-    }
-    return count;
-}
-
-static int32_t band_grad_max(const negobs_image_s16_t *d, int32_t v_top)
-{
-    int32_t gmax = 0;
-    int32_t u;
-    int32_t v;
-    /* Every 2nd pixel of every 2nd row keeps this a small share of the
-     * frame cost. */
-    for (v = geom_max_s32(v_top, 1); v < d->height - 1; v += 2) {
-        for (u = 1; u < d->width - 1; u += 2) {
-            gmax = geom_max_s32(gmax, disp_grad(d, u, v));
-        }
-    }
-    return gmax;
-}
-
 static void fill_no_info(negobs_detect_result_t *res, uint32_t reasons)
 {
     memset(res, 0, sizeof *res);
@@ -1780,12 +1716,14 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
             for (i = 0; i < res->n_candidates; i++) {
                 vtop = geom_min_s32(vtop, res->candidates[i].v0);
             }
-            gmax = band_grad_max(frame->disp_q4, vtop);
+            gmax = dcanny_band_max(frame->disp_q4, vtop);
             for (i = 0; i < res->n_candidates; i++) {
                 negobs_hazard_t *hz = &res->candidates[i];
                 int32_t need = (hz->u1 - hz->u0 + 1) / 4;
-                if (canny_support(frame->disp_q4, gmax,
-                                  cfg->canny_thresh_permille, hz) >= need) {
+                if (dcanny_support(frame->disp_q4, gmax,
+                                   cfg->canny_thresh_permille,
+                                   cfg->canny_low_permille, hz->u0, hz->u1,
+                                   hz->v1, &p->canny) >= need) {
                     hz->flags |= NEGOBS_HAZARD_F_CANNY;
                     hz->conf_q15 = (int16_t)geom_min_s32(
                         32767, hz->conf_q15 + 4096);
