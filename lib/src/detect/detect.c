@@ -31,8 +31,8 @@
 #include "negobs/stereo.h" /* the confidence scale of the disparity map */
 
 #include "arena.h"
-#include "geom_internal.h"
 #include "disp_canny.h"
+#include "geom_internal.h"
 #include "ground_fit.h"
 #include "temporal.h"
 

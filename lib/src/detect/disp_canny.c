@@ -5,6 +5,7 @@
  */
 #include "disp_canny.h"
 
+#include "canny_core.h"
 #include "negobs/fixed.h"
 
 /* Passes of forward + backward raster sweeps for the hysteresis. One pair
@@ -45,7 +46,10 @@ static int sobel_q4(const negobs_image_s16_t *d, int32_t u, int32_t v,
     return 1;
 }
 
-int32_t dcanny_grad(const negobs_image_s16_t *d, int32_t u, int32_t v)
+/* L1 Sobel magnitude at (u, v), 1 <= u < width - 1, 1 <= v < height - 1;
+ * 0 near an invalid pixel, saturated at 65535. */
+static int32_t dcanny_grad(const negobs_image_s16_t *d, int32_t u,
+                           int32_t v)
 {
     int32_t gx;
     int32_t gy;
@@ -89,39 +93,6 @@ static void mag_row(const negobs_image_s16_t *d, int32_t v, int32_t c0,
 static inline int32_t clamp_i(int32_t x, int32_t lo, int32_t hi)
 {
     return (x < lo) ? lo : ((x > hi) ? hi : x);
-}
-
-/* Promote weak pixels (1) with an 8-neighbour edge (2) in one raster
- * sweep, forward or backward; returns the number promoted. */
-static int32_t hyst_sweep(uint8_t *lab, int32_t nr, int32_t nc, int backward)
-{
-    int32_t promoted = 0;
-    int32_t i;
-    int32_t total = nr * nc;
-    for (i = 0; i < total; i++) {
-        int32_t p = backward ? total - 1 - i : i;
-        int32_t r = p / nc;
-        int32_t c = p - r * nc;
-        int32_t dr;
-        if (lab[p] != 1u) {
-            continue;
-        }
-        for (dr = -1; dr <= 1 && lab[p] == 1u; dr++) {
-            int32_t dc;
-            if (r + dr < 0 || r + dr >= nr) {
-                continue;
-            }
-            for (dc = -1; dc <= 1; dc++) {
-                if (c + dc >= 0 && c + dc < nc &&
-                    lab[p + dr * nc + dc] == 2u) {
-                    lab[p] = 2u;
-                    promoted++;
-                    break;
-                }
-            }
-        }
-    }
-    return promoted;
 }
 
 int32_t dcanny_support(const negobs_image_s16_t *d, int32_t gmax,
@@ -179,40 +150,20 @@ int32_t dcanny_support(const negobs_image_s16_t *d, int32_t gmax,
             int32_t m = mc[c];
             int32_t gx = 0;
             int32_t gy = 0;
-            int32_t ax;
-            int32_t ay;
-            int32_t n1;
-            int32_t n2;
             lab[c] = 0u;
             if (m < lo || !sobel_q4(d, wc0 + c, wr0 + r, &gx, &gy)) {
                 continue;
             }
-            ax = negobs_abs_s32(gx);
-            ay = negobs_abs_s32(gy);
-            /* sectors by tan 22.5 deg = 0.414: across the edge */
-            if ((int64_t)ay * 1000 < (int64_t)ax * 414) {
-                n1 = mc[c - 1];
-                n2 = mc[c + 1];
-            } else if ((int64_t)ay * 414 > (int64_t)ax * 1000) {
-                n1 = mu[c];
-                n2 = md[c];
-            } else if ((gx > 0) == (gy > 0)) {
-                n1 = mu[c - 1];
-                n2 = md[c + 1];
-            } else {
-                n1 = mu[c + 1];
-                n2 = md[c - 1];
-            }
-            /* a plateau two pixels wide keeps its first pixel */
-            if (m >= n1 && m > n2) {
+            /* |gx|, |gy| <= 4 * 65535 < 2^21 */
+            if (canny_nms_keep(m, gx, gy, mu, mc, md, c)) {
                 lab[c] = (uint8_t)((m >= hi) ? 2u : 1u);
             }
         }
     }
 
     for (pass = 0; pass < DCANNY_HYST_PASSES; pass++) {
-        int32_t n = hyst_sweep(sc->label, nr, nc, 0);
-        n += hyst_sweep(sc->label, nr, nc, 1);
+        int32_t n = canny_hyst_sweep(sc->label, nr, nc, 0);
+        n += canny_hyst_sweep(sc->label, nr, nc, 1);
         if (n == 0) {
             break;
         }

@@ -38,10 +38,6 @@ typedef struct dcanny_scratch {
 size_t dcanny_mag_bytes(int32_t width);
 size_t dcanny_label_bytes(int32_t width);
 
-/* L1 Sobel magnitude of d at (u, v), 1 <= u < width - 1,
- * 1 <= v < height - 1; 0 near an invalid pixel, saturated at 65535. */
-int32_t dcanny_grad(const negobs_image_s16_t *d, int32_t u, int32_t v);
-
 /* Largest magnitude over rows [v_top, height - 1), sampled on every second
  * pixel of every second row (it only scales the thresholds). */
 int32_t dcanny_band_max(const negobs_image_s16_t *d, int32_t v_top);

@@ -12,6 +12,7 @@
  */
 #include <string.h>
 
+#include "canny_core.h"
 #include "stereo/stereo_int.h"
 
 static void sobel(const negobs_image_u8_t *img, int32_t x, int32_t y,
@@ -66,72 +67,24 @@ uint32_t stx_canny_strip(stx_t *s, int32_t y0, int32_t y1)
             int32_t m = mc[x];
             int32_t gx;
             int32_t gy;
-            int32_t ax;
-            int32_t ay;
-            int32_t n1;
-            int32_t n2;
             if (m < lo) {
                 continue;
             }
             sobel(img, x, y, &gx, &gy);
-            ax = negobs_abs_s32(gx);
-            ay = negobs_abs_s32(gy);
-            if (ay * 1000 < ax * 414) {
-                n1 = mc[x - 1];
-                n2 = mc[x + 1];
-            } else if (ay * 414 > ax * 1000) {
-                n1 = mu[x];
-                n2 = md[x];
-            } else if ((gx > 0) == (gy > 0)) {
-                n1 = mu[x - 1];
-                n2 = md[x + 1];
-            } else {
-                n1 = mu[x + 1];
-                n2 = md[x - 1];
-            }
-            /* ties: keep the first along the direction (>= / >) */
-            if (m >= n1 && m > n2) {
+            if (canny_nms_keep(m, gx, gy, mu, mc, md, x)) {
                 e[x] = (uint8_t)((m >= hi) ? 2u : 1u);
             }
         }
     }
-    /* hysteresis: forward then backward pass */
-    {
-        int pass;
-        for (pass = 0; pass < 2; pass++) {
-            int32_t i;
-            int32_t total = n * w;
-            for (i = 0; i < total; i++) {
-                int32_t p = pass ? total - 1 - i : i;
-                int32_t py = p / w;
-                int32_t px = p - py * w;
-                int32_t dy;
-                if (s->edge[p] != 1u) {
-                    continue;
-                }
-                for (dy = -1; dy <= 1; dy++) {
-                    int32_t dx;
-                    if (py + dy < 0 || py + dy >= n) {
-                        continue;
-                    }
-                    for (dx = -1; dx <= 1; dx++) {
-                        if (px + dx < 0 || px + dx >= w) {
-                            continue;
-                        }
-                        if (s->edge[p + dy * w + dx] == 2u) {
-                            s->edge[p] = 2u;
-                        }
-                    }
-                }
-            }
-        }
-        for (r = 0; r < n * w; r++) {
-            if (s->edge[r] == 2u) {
-                s->edge[r] = 1u;
-                count++;
-            } else {
-                s->edge[r] = 0u;
-            }
+    /* hysteresis: one forward and one backward sweep */
+    (void)canny_hyst_sweep(s->edge, n, w, 0);
+    (void)canny_hyst_sweep(s->edge, n, w, 1);
+    for (r = 0; r < n * w; r++) {
+        if (s->edge[r] == 2u) {
+            s->edge[r] = 1u;
+            count++;
+        } else {
+            s->edge[r] = 0u;
         }
     }
     return count;
