@@ -2,14 +2,32 @@
 # Source it: . /tests/lib.sh
 # Every helper prints what it set up and returns non-zero on failure.
 
+# Waits and holds are bounded by the guest's clock, never by counting
+# sleeps: under TCG a plain `sleep` can return early (the kernel logged
+# "schedule_timeout: wrong timeout value" once, and a 60 s wait made of
+# 120 x `sleep 0.5` ended after a few seconds, failing run-camera-loss).
+# hw_deadline S: the boot-clock time S seconds from now (/proc/uptime)
+hw_deadline() { awk -v s="$1" '{ printf "%.2f\n", $1 + s }' /proc/uptime; }
+# hw_before DEADLINE: true while the boot clock is before DEADLINE
+hw_before() { awk -v d="$1" '{ exit !($1 < d + 0) }' /proc/uptime; }
+# hw_sleep S: at least S seconds of the boot clock, however often sleep
+# returns early
+hw_sleep() {
+    local d r
+    d=$(hw_deadline "$1")
+    while r=$(awk -v d="$d" '{ if (d - $1 > 0) printf "%.2f\n", d - $1; else print 0 }' /proc/uptime) && [ "$r" != 0 ]; do
+        sleep "$r"
+    done
+}
+
 # hw_vivid_load: two vivid instances in loopback mode.
 #   /dev/video0 capture <- /dev/video2 output   (left eye)
 #   /dev/video1 capture <- /dev/video3 output   (right eye)
 hw_vivid_load() {
     modprobe vivid n_devs=2 node_types=0x101,0x101 vid_cap_nr=0,1 vid_out_nr=2,3 no_error_inj=1 || return 1
     for i in 0 1 2 3; do
-        n=0
-        while [ ! -e /dev/video$i ] && [ $n -lt 50 ]; do sleep 0.1; n=$((n + 1)); done
+        d=$(hw_deadline 5)
+        while [ ! -e /dev/video$i ] && hw_before "$d"; do sleep 0.1; done
         [ -e /dev/video$i ] || { echo "vivid: /dev/video$i did not appear"; return 1; }
     done
     echo "vivid: capture /dev/video0 /dev/video1, output /dev/video2 /dev/video3 (loopback)"
@@ -27,10 +45,10 @@ hw_inject_start() {
     export HW_INJECT_PID
     # the consumer must not start before the injector has configured the
     # capture nodes and started the output (TCG on a busy host is slow)
-    n=0
-    while [ ! -e /tmp/inject.ready ] && [ $n -lt 300 ]; do
+    d=$(hw_deadline 30)
+    while [ ! -e /tmp/inject.ready ] && hw_before "$d"; do
         kill -0 $HW_INJECT_PID 2>/dev/null || { echo "injector died"; return 1; }
-        sleep 0.1; n=$((n + 1))
+        sleep 0.1
     done
     [ -e /tmp/inject.ready ] || { echo "injector not ready after 30 s"; hw_inject_stop; return 1; }
 }

@@ -11,6 +11,7 @@
 # an adjusted size fails the check rather than passing unnoticed.
 # Exit 0 pass, 77 skip (reason on the last line), else fail.
 set -e
+. /tests/lib.sh
 [ -x /bin/lc_capture ] || { echo "lc_capture not in the initramfs"; exit 77; }
 modprobe vimc || { echo "modprobe vimc failed"; exit 1; }
 # vivid (earlier sections) has media devices too: wait for vimc's own,
@@ -20,8 +21,8 @@ vimc_media() {
         case "$(readlink -f "$m")" in */vimc.0/media*) echo "${m##*/}"; return ;; esac
     done
 }
-n=0
-while [ -z "$(vimc_media)" ] && [ $n -lt 100 ]; do sleep 0.1; n=$((n + 1)); done
+d=$(hw_deadline 10)
+while [ -z "$(vimc_media)" ] && hw_before "$d"; do sleep 0.1; done
 [ -n "$(vimc_media)" ] || { echo "vimc: no media device under vimc.0"; ls -l /sys/bus/media/devices/; exit 1; }
 echo "vimc: /dev/$(vimc_media), $(ls /dev | grep -c '^v4l-subdev') sub-devices in /dev"
 export LD_LIBRARY_PATH=/lib/aarch64-linux-gnu

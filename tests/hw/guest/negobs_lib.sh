@@ -21,8 +21,8 @@ negobs_vivid_load() {
     modprobe vivid n_devs=2 node_types=0x101,0x101 vid_cap_nr=0,1 vid_out_nr=2,3 \
         no_error_inj=0 ccs_cap_mode=7,7 ccs_out_mode=7,7 || return 1
     for i in 0 1 2 3; do
-        n=0
-        while [ ! -e /dev/video$i ] && [ $n -lt 50 ]; do sleep 0.1; n=$((n + 1)); done
+        d=$(hw_deadline 5)
+        while [ ! -e /dev/video$i ] && hw_before "$d"; do sleep 0.1; done
         [ -e /dev/video$i ] || { echo "vivid: /dev/video$i did not appear"; return 1; }
     done
     echo "vivid: loopback, error-injection controls on, capture scaler on"
@@ -53,10 +53,11 @@ negobs_start() {
 # its own (a hang on shutdown): it is killed, so the section fails with its
 # log instead of the whole guest hanging until qemu's timeout.
 negobs_stop() {
-    local n=0
+    local d
     kill -INT "$NEGOBS_PID" 2>/dev/null
-    while kill -0 "$NEGOBS_PID" 2>/dev/null && [ $n -lt $((${STOP_LIMIT_S:-20} * 10)) ]; do
-        sleep 0.1; n=$((n + 1))
+    d=$(hw_deadline "${STOP_LIMIT_S:-20}")
+    while kill -0 "$NEGOBS_PID" 2>/dev/null && hw_before "$d"; do
+        sleep 0.1
     done
     if kill -0 "$NEGOBS_PID" 2>/dev/null; then
         echo "negobs_run: FAIL: still running ${STOP_LIMIT_S:-20} s after SIGINT; killed"

@@ -37,33 +37,33 @@ fail() { echo "run-camera-loss: FAIL: $*"; rc=1; }
 sec_of() { awk -v a="$1" -v s="$T_START" 'BEGIN { printf "%.3f", a - s }'; }   # boot -> negobs time
 boot_of() { awk -v a="$1" -v s="$T_START" 'BEGIN { printf "%.3f", s + a }'; }  # negobs -> boot
 # 1. a verdict from real pairs
-n=0
-while [ -z "$(log_time 'verdict .* -> clear')" ] && [ $n -lt 120 ] && kill -0 $NEGOBS_PID 2>/dev/null; do
-    sleep 0.5; n=$((n + 1))
+d=$(hw_deadline 60)
+while [ -z "$(log_time 'verdict .* -> clear')" ] && hw_before "$d" && kill -0 $NEGOBS_PID 2>/dev/null; do
+    sleep 0.5
 done
 TC=$(log_time 'verdict .* -> clear')
 TO="" T_BACK=""
 if [ -z "$TC" ]; then
     fail "no clear verdict within 60 s"
 else
-    sleep 1
+    hw_sleep 1
     # 2. the right camera stops
     T_LOSS=$(now)
     v4l2_loop ctrl /dev/video1 "Percentage of Dropped Buffers" 100 || fail "cannot stop /dev/video1"
     echo "run-camera-loss: right camera stopped at boot $T_LOSS (negobs_run $(sec_of $T_LOSS)s)"
-    n=0
-    while [ -z "$(log_time 'camera: timed out' "$(sec_of $T_LOSS)")" ] && [ $n -lt 60 ]; do
-        sleep 0.5; n=$((n + 1))
+    d=$(hw_deadline 30)
+    while [ -z "$(log_time 'camera: timed out' "$(sec_of $T_LOSS)")" ] && hw_before "$d"; do
+        sleep 0.5
     done
     TO=$(log_time 'camera: timed out' "$(sec_of $T_LOSS)")
-    sleep $HOLD_S
+    hw_sleep $HOLD_S
     T_BACK=$(now)
     v4l2_loop ctrl /dev/video1 "Percentage of Dropped Buffers" 0 || fail "cannot restart /dev/video1"
     echo "run-camera-loss: right camera back at boot $T_BACK (negobs_run $(sec_of $T_BACK)s)"
     # 3. pairs judged again: a status line with fps > 0 after the return
-    n=0
-    while [ -z "$(awk -v a="$(sec_of $T_BACK)" 'match($0, /^\[ *[0-9]+\.[0-9]+\]/) && substr($0, 2, RLENGTH - 2) + 0 > a && / status fps=/ && !/ fps=0\.0 / { print; exit }' /tmp/negobs.log)" ] && [ $n -lt $((RESUME_LIMIT_S * 2)) ]; do
-        sleep 0.5; n=$((n + 1))
+    d=$(hw_deadline $RESUME_LIMIT_S)
+    while [ -z "$(awk -v a="$(sec_of $T_BACK)" 'match($0, /^\[ *[0-9]+\.[0-9]+\]/) && substr($0, 2, RLENGTH - 2) + 0 > a && / status fps=/ && !/ fps=0\.0 / { print; exit }' /tmp/negobs.log)" ] && hw_before "$d"; do
+        sleep 0.5
     done
 fi
 negobs_stop || fail "negobs_run did not end cleanly"

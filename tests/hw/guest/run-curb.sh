@@ -39,10 +39,11 @@ negobs_watch_start "$WATCH"
 hw_inject_start -f GREY -W 640 -H 480 -L $NEGOBS/curb/left.raw -R $NEGOBS/curb/right.raw -P "$HOLD_MS" || exit 1
 T_INJ=$(now)
 negobs_start /tmp/curb.conf "$ALERT"
-s=0 PWMSTATE=""
-while [ $s -lt $RUN_S ] && kill -0 $NEGOBS_PID 2>/dev/null; do
-    sleep 1; s=$((s + 1))
-    [ "$S" = pwm ] && [ $s -eq 5 ] && PWMSTATE="enable=$(cat $PWMD/enable 2>&1) period=$(cat $PWMD/period 2>&1)"
+PWMSTATE=""
+d5=$(hw_deadline 5) d=$(hw_deadline $RUN_S)
+while hw_before "$d" && kill -0 $NEGOBS_PID 2>/dev/null; do
+    sleep 1
+    [ "$S" = pwm ] && [ -z "$PWMSTATE" ] && ! hw_before "$d5" && PWMSTATE="enable=$(cat $PWMD/enable 2>&1) period=$(cat $PWMD/period 2>&1)"
 done
 rc=0
 if [ "$S" = pwm ]; then

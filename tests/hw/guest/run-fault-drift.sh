@@ -34,15 +34,15 @@ negobs_start /tmp/drift.conf "gpio:$HW_GPIOCHIP:0"
 TL=$(wait_log 'out of sync' 0 $DRIFT_LIMIT_S)
 TE="" TO="" TR=""
 if [ -n "$TL" ]; then
-    sleep $HOLD_S
+    hw_sleep $HOLD_S
     # end of the drift: clock back to normal, stream restarted by negobs_run
     TE=$(now)
     v4l2_loop ctrl /dev/video1 "Wrap Timestamp" 0 || fail "cannot clear Wrap Timestamp"
     v4l2_loop ctrl /dev/video1 "Percentage of Dropped Buffers" 100 || fail "cannot stop /dev/video1"
     say "drift ends at boot $TE (negobs_run $(sec_of $TE)s): right stream stopped until reopened"
-    n=0
-    while ! grep -q 'reopens=[1-9]' /tmp/negobs.log && [ $n -lt $((REOPEN_LIMIT_S * 2)) ]; do
-        sleep 0.5; n=$((n + 1))
+    d=$(hw_deadline $REOPEN_LIMIT_S)
+    while ! grep -q 'reopens=[1-9]' /tmp/negobs.log && hw_before "$d"; do
+        sleep 0.5
     done
     v4l2_loop ctrl /dev/video1 "Percentage of Dropped Buffers" 0 || fail "cannot restart /dev/video1"
     TO=$(now)

@@ -26,11 +26,11 @@ TF="" TL="" TB="" TR=""
 if [ -z "$TC" ]; then
     fail "no clear verdict within 60 s"
 else
-    sleep 1
+    hw_sleep 1
     TF=$(now); touch /tmp/noise.off
     say "stream frozen at boot $TF (negobs_run $(sec_of $TF)s)"
     TL=$(wait_log 'camera: .*frozen' "$(sec_of $TF)" $FROZEN_LIMIT_S)
-    [ -n "$TL" ] && sleep $HOLD_S
+    [ -n "$TL" ] && hw_sleep $HOLD_S
     TB=$(now); rm -f /tmp/noise.off
     say "stream alive again at boot $TB (negobs_run $(sec_of $TB)s)"
     TR=$(wait_clear "$(sec_of $TB)" $RESUME_LIMIT_S)

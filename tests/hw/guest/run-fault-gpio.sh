@@ -27,11 +27,11 @@ TF="" TL="" TB="" TK=""
 if [ -z "$TC" ]; then
     fail "no clear verdict within 60 s"
 else
-    sleep 2
+    hw_sleep 2
     TF=$(now); echo 0 > "$G/live" || fail "cannot take the chip down"
     say "gpio chip removed at boot $TF (negobs_run $(sec_of $TF)s); /dev: $(ls /dev | grep gpiochip | tr '\n' ' ')"
     TL=$(wait_log 'motor: output failing' "$(sec_of $TF)" $FAIL_LIMIT_S)
-    sleep $HOLD_S
+    hw_sleep $HOLD_S
     TB=$(now); echo 1 > "$G/live" || fail "cannot bring the chip back"
     chip=$(cat "$G/bank0/chip_name")
     say "gpio chip back at boot $TB as /dev/$chip (negobs_run $(sec_of $TB)s)"
@@ -42,7 +42,7 @@ else
     WATCH_PID=$!
     TK=$(wait_log 'motor: output back' "$(back_after $TB)" $BACK_LIMIT_S)
     # let the no-info hold (2 s) and a few pairs pass
-    sleep 9
+    hw_sleep 9
 fi
 fault_end
 [ -n "$TC" ] || exit 1

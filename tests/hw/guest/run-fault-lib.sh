@@ -27,10 +27,11 @@ fault_conf() {
 # wait_log PATTERN AFTER LIMIT_S: negobs time of the first log line matching
 # PATTERN at or after AFTER (negobs seconds), waiting up to LIMIT_S
 wait_log() {
-    n=0
+    local d
+    d=$(hw_deadline "$3")
     t=$(log_time "$1" "$2")
-    while [ -z "$t" ] && [ $n -lt $(($3 * 2)) ] && kill -0 $NEGOBS_PID 2>/dev/null; do
-        sleep 0.5; n=$((n + 1))
+    while [ -z "$t" ] && hw_before "$d" && kill -0 $NEGOBS_PID 2>/dev/null; do
+        sleep 0.5
         t=$(log_time "$1" "$2")
     done
     echo "$t"

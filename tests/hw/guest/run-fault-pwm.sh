@@ -35,15 +35,15 @@ TF="" TL="" TB="" TK=""
 if [ -z "$TC" ]; then
     fail "no clear verdict within 60 s"
 else
-    sleep 2
+    hw_sleep 2
     TF=$(now); echo 1 > $KNOB
     say "PWM writes failing from boot $TF (negobs_run $(sec_of $TF)s)"
     TL=$(wait_log 'motor: output failing' "$(sec_of $TF)" $FAIL_LIMIT_S)
-    sleep $HOLD_S
+    hw_sleep $HOLD_S
     TB=$(now); echo 0 > $KNOB
     say "PWM writes work again from boot $TB (negobs_run $(sec_of $TB)s)"
     TK=$(wait_log 'motor: output back' "$(back_after $TB)" $BACK_LIMIT_S)
-    sleep 9
+    hw_sleep 9
 fi
 fault_end
 [ -n "$TC" ] || exit 1
