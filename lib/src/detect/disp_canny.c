@@ -90,11 +90,6 @@ static void mag_row(const negobs_image_s16_t *d, int32_t v, int32_t c0,
     }
 }
 
-static inline int32_t clamp_i(int32_t x, int32_t lo, int32_t hi)
-{
-    return (x < lo) ? lo : ((x > hi) ? hi : x);
-}
-
 int32_t dcanny_support(const negobs_image_s16_t *d, int32_t gmax,
                        int32_t high_permille, int32_t low_permille,
                        int32_t u0, int32_t u1, int32_t edge_v,
@@ -121,12 +116,12 @@ int32_t dcanny_support(const negobs_image_s16_t *d, int32_t gmax,
         lo = 1; /* a zero magnitude (flat or next to a hole) is no edge */
     }
     /* window, inside the rows and columns where Sobel is defined */
-    wr0 = clamp_i(edge_v - DCANNY_ROWS_ABOVE - DCANNY_MARGIN, 1,
-                  d->height - 2);
-    wr1 = clamp_i(edge_v + DCANNY_ROWS_BELOW + DCANNY_MARGIN, 1,
-                  d->height - 2);
-    wc0 = clamp_i(u0 - DCANNY_MARGIN, 1, d->width - 2);
-    wc1 = clamp_i(u1 + DCANNY_MARGIN, 1, d->width - 2);
+    wr0 = negobs_clamp_s32(edge_v - DCANNY_ROWS_ABOVE - DCANNY_MARGIN, 1,
+                           d->height - 2);
+    wr1 = negobs_clamp_s32(edge_v + DCANNY_ROWS_BELOW + DCANNY_MARGIN, 1,
+                           d->height - 2);
+    wc0 = negobs_clamp_s32(u0 - DCANNY_MARGIN, 1, d->width - 2);
+    wc1 = negobs_clamp_s32(u1 + DCANNY_MARGIN, 1, d->width - 2);
     if (wr0 > wr1 || wc0 > wc1 || u0 > u1) {
         return 0;
     }
