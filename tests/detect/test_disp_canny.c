@@ -30,16 +30,22 @@ static void drop_map(int32_t edge, const int32_t *step_q4)
     }
 }
 
-static void test_straight_drop_gives_one_edge_row(void **state)
+/* drop_map with the same step in every column */
+static void uniform_drop_map(int32_t edge, int32_t step_q4)
 {
     int32_t step[W];
     int32_t u;
+    for (u = 0; u < W; u++) {
+        step[u] = step_q4;
+    }
+    drop_map(edge, step);
+}
+
+static void test_straight_drop_gives_one_edge_row(void **state)
+{
     int32_t gmax;
     (void)state;
-    for (u = 0; u < W; u++) {
-        step[u] = 3 * 16;
-    }
-    drop_map(30, step);
+    uniform_drop_map(30, 3 * 16);
     /* a row step of s (1/16 px) gives |gy| = 4 s on the two rows beside
      * it, so the band's largest magnitude is 4 * 48 */
     gmax = dcanny_band_max(&img, 2);
@@ -95,14 +101,10 @@ static void test_weak_part_joined_to_strong_part_counts(void **state)
  * missing-ground case, which has no measured far side. */
 static void test_invalid_far_side_gives_no_edge(void **state)
 {
-    int32_t step[W];
     int32_t u;
     int32_t v;
     (void)state;
-    for (u = 0; u < W; u++) {
-        step[u] = 48;
-    }
-    drop_map(30, step);
+    uniform_drop_map(30, 48);
     for (v = 0; v < 30; v++) {
         for (u = 0; u < W; u++) {
             map[v * W + u] = NEGOBS_DISP_INVALID;
