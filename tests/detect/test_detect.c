@@ -615,6 +615,43 @@ static void test_detect_small_drop_below_threshold_ignored(void **state)
     rig_teardown(&rig);
 }
 
+/* A drop a little below h_t (80 mm beyond h_near_range) shows its deficit
+ * on every row past the edge and clears tau only where noise adds to it,
+ * often far beyond the edge. When it is found, its range must still be the
+ * edge's: the rows between, read as ground, lie on the lower surface. */
+static void test_detect_shallow_drop_found_at_its_edge(void **state)
+{
+    synth_scene_t s;
+    int i;
+    int found = 0;
+    int worst_pm = 0;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.25, 1);
+    synth_step(&s, 2.5, -0.065);
+    for (i = 0; i < 24; i++) {
+        const negobs_hazard_t *h;
+        int err_pm;
+        s.seed = 500u + (uint32_t)i;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        h = rig_nearest(&rig);
+        if (h == NULL) {
+            continue;
+        }
+        found++;
+        err_pm = (int)((h->range_mm - 2500) * 1000 / 2500);
+        if (abs(err_pm) > abs(worst_pm)) {
+            worst_pm = err_pm;
+        }
+    }
+    print_message("65 mm drop at 2.5 m: candidates in %d/24 frames, worst "
+                  "range error %d permille\n",
+                  found, worst_pm);
+    assert_true(found >= 6);
+    assert_true(abs(worst_pm) <= 100);
+    rig_teardown(&rig);
+}
+
 /* Regression: a smoothed track lagged the walking pitch oscillation and
  * produced candidates on flat ground. */
 static void test_detect_walking_oscillation_no_candidates(void **state)
@@ -1277,6 +1314,7 @@ int main(void)
         cmocka_unit_test(test_detect_degraded_pose_and_noise),
         cmocka_unit_test(test_detect_presets),
         cmocka_unit_test(test_detect_small_drop_below_threshold_ignored),
+        cmocka_unit_test(test_detect_shallow_drop_found_at_its_edge),
         cmocka_unit_test(test_detect_walking_oscillation_no_candidates),
         cmocka_unit_test(test_detect_edge_in_fit_rows_does_not_drag_ground),
         cmocka_unit_test(test_detect_confidence_image_masks_pixels),
