@@ -480,6 +480,123 @@ static void test_detect_missing_ground(void **state)
     rig_teardown(&rig);
 }
 
+/* Left image for the missing-ground texture split: grey 128 plus hashed
+ * noise of +-amp_band above row v_split and +-amp_gnd from it down. */
+static void left_texture(uint8_t *px, int v_split, int amp_band, int amp_gnd)
+{
+    uint32_t h = 12345u;
+    int u;
+    int v;
+    for (v = 0; v < RIG_H; v++) {
+        int amp = (v < v_split) ? amp_band : amp_gnd;
+        for (u = 0; u < RIG_W; u++) {
+            h = h * 1664525u + 1013904223u;
+            px[v * RIG_W + u] =
+                (uint8_t)(128 + (int)((h >> 16) % (uint32_t)(2 * amp + 1)) -
+                          amp);
+        }
+    }
+}
+
+/* Run 3 frames of the missing-ground scene (no matches above row 150)
+ * with the given left image (NULL: none) and return the nearest candidate
+ * of the last. */
+static const negobs_hazard_t *missing_frames(const negobs_image_u8_t *left)
+{
+    synth_scene_t s;
+    int i;
+    scene(&s, 0.25, 1);
+    s.inv_u0 = 0;
+    s.inv_u1 = RIG_W;
+    s.inv_v0 = 0;
+    s.inv_v1 = 150;
+    rig.frame.left = left;
+    for (i = 0; i < 3; i++) {
+        s.seed = (uint32_t)i + 1u;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+    }
+    return rig_nearest(&rig);
+}
+
+/* DOMAIN step 2: a bland band is "unknown", one as textured as the matched
+ * ground before it is an occlusion/drop cue (NEGOBS_HAZARD_F_TEXTURED). */
+static void test_detect_missing_ground_texture_split(void **state)
+{
+    static uint8_t px[RIG_W * RIG_H];
+    static uint8_t small[(RIG_W / 2) * RIG_H];
+    negobs_image_u8_t left = {px, RIG_W, RIG_H, RIG_W};
+    negobs_image_u8_t left_small = {small, RIG_W / 2, RIG_H, RIG_W / 2};
+    const negobs_hazard_t *h;
+    int16_t conf_bland;
+    (void)state;
+
+    rig_setup(&rig, NULL);
+    left_texture(px, 150, 1, 40); /* bland band over textured ground */
+    h = missing_frames(&left);
+    assert_non_null(h);
+    assert_int_equal(h->type, NEGOBS_HAZARD_UNKNOWN);
+    assert_false(h->flags & NEGOBS_HAZARD_F_TEXTURED);
+    conf_bland = h->conf_q15;
+    rig_teardown(&rig);
+
+    rig_setup(&rig, NULL);
+    left_texture(px, 150, 30, 40); /* textured band, matched nothing */
+    h = missing_frames(&left);
+    assert_non_null(h);
+    assert_int_equal(h->type, NEGOBS_HAZARD_UNKNOWN);
+    assert_true(h->flags & NEGOBS_HAZARD_F_TEXTURED);
+    assert_true(h->conf_q15 > conf_bland);
+    rig_teardown(&rig);
+
+    /* No left image, or one of another size: no texture evidence. */
+    rig_setup(&rig, NULL);
+    h = missing_frames(NULL);
+    assert_non_null(h);
+    assert_false(h->flags & NEGOBS_HAZARD_F_TEXTURED);
+    rig_teardown(&rig);
+    rig_setup(&rig, NULL);
+    memset(small, 128, sizeof small);
+    h = missing_frames(&left_small);
+    assert_non_null(h);
+    assert_false(h->flags & NEGOBS_HAZARD_F_TEXTURED);
+    rig_teardown(&rig);
+}
+
+/* NEGOBS_MISSING_TEXTURED: a textured band may reach IMMINENT like a drop,
+ * a bland one stays at CAUTION; the default policy caps both. */
+static void test_detect_missing_policy_textured(void **state)
+{
+    static uint8_t px[RIG_W * RIG_H];
+    negobs_image_u8_t left = {px, RIG_W, RIG_H, RIG_W};
+    negobs_detect_config_t cfg;
+    (void)state;
+    negobs_detect_config_default(&cfg, RIG_W, RIG_H);
+    cfg.range_imminent_mm = 3000; /* the band starts at ~2.4 m */
+    cfg.missing_policy = NEGOBS_MISSING_TEXTURED;
+
+    rig_setup(&rig, &cfg);
+    left_texture(px, 150, 30, 40);
+    (void)missing_frames(&left);
+    assert_true(rig.res.n_hazards > 0u);
+    assert_int_equal(rig.res.level, NEGOBS_LEVEL_IMMINENT);
+    rig_teardown(&rig);
+
+    rig_setup(&rig, &cfg);
+    left_texture(px, 150, 1, 40);
+    (void)missing_frames(&left);
+    assert_true(rig.res.n_hazards > 0u);
+    assert_int_equal(rig.res.level, NEGOBS_LEVEL_CAUTION);
+    rig_teardown(&rig);
+
+    cfg.missing_policy = NEGOBS_MISSING_CAUTION;
+    rig_setup(&rig, &cfg);
+    left_texture(px, 150, 30, 40);
+    (void)missing_frames(&left);
+    assert_true(rig.res.n_hazards > 0u);
+    assert_int_equal(rig.res.level, NEGOBS_LEVEL_CAUTION);
+    rig_teardown(&rig);
+}
+
 static void test_detect_degraded_photometric(void **state)
 {
     synth_scene_t s;
@@ -1308,6 +1425,8 @@ int main(void)
         cmocka_unit_test(test_detect_descending_stairs),
         cmocka_unit_test(test_detect_hole),
         cmocka_unit_test(test_detect_missing_ground),
+        cmocka_unit_test(test_detect_missing_ground_texture_split),
+        cmocka_unit_test(test_detect_missing_policy_textured),
         cmocka_unit_test(test_detect_degraded_photometric),
         cmocka_unit_test(test_detect_photo_stats_from_image),
         cmocka_unit_test(test_detect_degraded_timing),

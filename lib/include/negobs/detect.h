@@ -90,7 +90,11 @@ typedef enum negobs_detect_state {
 typedef enum negobs_missing_policy {
     NEGOBS_MISSING_IGNORE = 0,
     NEGOBS_MISSING_CAUTION = 1, /**< default: may raise CAUTION only  */
-    NEGOBS_MISSING_DANGER = 2   /**< treated like a drop              */
+    NEGOBS_MISSING_DANGER = 2,  /**< treated like a drop              */
+    /** A band whose left image is textured (NEGOBS_HAZARD_F_TEXTURED) is
+     *  treated like a drop, a bland one (or without a left image) may
+     *  raise CAUTION only. */
+    NEGOBS_MISSING_TEXTURED = 3
 } negobs_missing_policy_t;
 
 typedef enum negobs_sensitivity {
@@ -108,6 +112,11 @@ typedef enum negobs_sensitivity {
  *  than the ground under the feet, so an edge is nearer than the view's
  *  bottom (range_mm, an upper bound); the edge itself is not seen. */
 #define NEGOBS_HAZARD_F_GROUND_DROP 16u
+/** Missing ground (type UNKNOWN) over a band whose left image has at least
+ *  half the texture of the matched ground before it: the matcher failed
+ *  where it should have matched, an occlusion / drop cue. Without it the
+ *  band is bland (or no left image was given): "unknown". */
+#define NEGOBS_HAZARD_F_TEXTURED 32u
 
 /** One hazard (a candidate of this frame or a temporal track). */
 typedef struct negobs_hazard {

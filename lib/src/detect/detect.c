@@ -59,6 +59,7 @@ typedef struct strip_hit {
     int32_t depth_mm;
     int32_t drop_mm;
     int32_t h_lower;
+    int32_t textured;  /* missing ground: 1 textured band, 0 bland/unknown */
     int32_t margin_q8; /* mean deficit / tau, Q8                     */
     int32_t rho1_q15;  /* relative deficit of the first plateau       */
     int32_t reported;  /* part of a candidate of this frame           */
@@ -256,7 +257,7 @@ static negobs_status_t config_check(const negobs_detect_config_t *c)
         !in_range(c->max_hole_mm, 0, 10000) ||
         !in_range(c->merge_range_mm, 0, 5000) ||
         !in_range(c->min_strips, 1, 64) ||
-        !in_range(c->missing_policy, 0, 2) ||
+        !in_range(c->missing_policy, 0, 3) ||
         !in_range(c->canny_thresh_permille, 1, 1000) ||
         !in_range(c->canny_low_permille, 0, 1000)) {
         return NEGOBS_ERR_INVAL;
@@ -418,6 +419,7 @@ typedef struct scan_ctx {
     const negobs_detect_config_t *cfg;
     const negobs_image_s16_t *disp;
     const negobs_image_u8_t *conf;
+    const negobs_image_u8_t *left; /* NULL: no texture check */
     const negobs_ground_plane_t *plane;
     const negobs_ground_frame_t *frame;
     int32_t sigma_q4;
@@ -649,6 +651,32 @@ static int strip_in_corridor(const scan_ctx_t *s, int32_t n_strips,
     int32_t uc = strip_u0(s->cfg, n_strips, si) + s->cfg->strip_px / 2;
     int32_t dgc = negobs_ground_disp_q4(s->plane, uc, v);
     return dgc > 0 && in_corridor(s, uc, dgc);
+}
+
+/*
+ * Mean absolute horizontal grey-level difference over columns u0..u1-1 and
+ * rows v0..v1-1 of img, in 1/16 grey level (the LOW_TEXTURE measure, on
+ * every pixel; 64-bit sum). -1 when the box holds no pixel pair.
+ */
+static int32_t box_texture_q4(const negobs_image_u8_t *img, int32_t u0,
+                              int32_t u1, int32_t v0, int32_t v1)
+{
+    int64_t sum = 0;
+    int64_t n = 0;
+    int32_t v;
+    u0 = negobs_clamp_s32(u0, 0, img->width - 1);
+    u1 = negobs_clamp_s32(u1, 0, img->width - 1); /* last pair: u1-1, u1 */
+    v0 = negobs_clamp_s32(v0, 0, img->height);
+    v1 = negobs_clamp_s32(v1, 0, img->height);
+    for (v = v0; v < v1; v++) {
+        const uint8_t *row = negobs_image_u8_row(img, v);
+        int32_t u;
+        for (u = u0; u < u1; u++) {
+            sum += negobs_abs_s32((int32_t)row[u + 1] - (int32_t)row[u]);
+            n++;
+        }
+    }
+    return (n > 0) ? (int32_t)((sum * 16) / n) : -1;
 }
 
 /*
@@ -928,6 +956,26 @@ missing:
                        : 0;
     hit->h_lower = 1;
     hit->margin_q8 = 256;
+    /* DOMAIN step 2: a bland band is "unknown" (nothing to match); a band
+     * as textured as the matched ground before it, at least half of its
+     * gradient, failed to match where it should have: an occlusion or
+     * drop cue. The reference is this frame's own ground, so the split
+     * does not depend on the camera's noise or the surface: synthetic
+     * noise alone gives 36/16 grey levels against 85-124 for its ground,
+     * SurDis pavement only 29-48. */
+    if (s->left != NULL && hit->edge_v > hit->top_v) {
+        int32_t rows = hit->edge_v - hit->top_v;
+        int32_t t_band = box_texture_q4(s->left, u0, u1, hit->top_v + 1,
+                                        hit->edge_v);
+        int32_t t_gnd = box_texture_q4(s->left, u0, u1, hit->edge_v,
+                                       hit->edge_v + rows);
+        if (t_band >= 0 && t_gnd > 0 && 2 * t_band >= t_gnd) {
+            hit->textured = 1;
+            hit->margin_q8 = 384;
+        } else {
+            hit->margin_q8 = 128;
+        }
+    }
 }
 
 /* Median of n (1..MAX_STRIP_PX) values, times 2 (the two middle values
@@ -1230,6 +1278,7 @@ static void merge_strips(const scan_ctx_t *s, detect_priv_t *p,
         int64_t drop_sum = 0;
         int32_t types[4] = {0, 0, 0, 0};
         int32_t margin = 0;
+        int32_t n_textured = 0;
         negobs_hazard_t h;
         if (!p->hits[i].found) {
             i++;
@@ -1281,6 +1330,10 @@ static void merge_strips(const scan_ctx_t *s, detect_priv_t *p,
             if (sh->h_lower) {
                 h.flags |= NEGOBS_HAZARD_F_H_LOWER;
             }
+            n_textured += sh->textured;
+        }
+        if (2 * n_textured > cnt) {
+            h.flags |= NEGOBS_HAZARD_F_TEXTURED;
         }
         h.type = NEGOBS_HAZARD_DROP;
         if (types[NEGOBS_HAZARD_UNKNOWN] == cnt) {
@@ -1604,6 +1657,11 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
         s.cfg = cfg;
         s.disp = frame->disp_q4;
         s.conf = frame->confidence;
+        s.left = (frame->left != NULL &&
+                  frame->left->width == cfg->cam.width &&
+                  frame->left->height == cfg->cam.height)
+                     ? frame->left
+                     : NULL;
         s.plane = &p->gfit.plane;
         s.frame = &g.frame;
         s.sigma_q4 = g.sigma_q4;

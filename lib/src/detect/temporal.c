@@ -275,7 +275,9 @@ uint32_t temporal_report(const temporal_t *t, negobs_hazard_t *out,
             lv = NEGOBS_LEVEL_CAUTION;
         }
         if (h.type == NEGOBS_HAZARD_UNKNOWN &&
-            cfg->missing_policy == NEGOBS_MISSING_CAUTION &&
+            (cfg->missing_policy == NEGOBS_MISSING_CAUTION ||
+             (cfg->missing_policy == NEGOBS_MISSING_TEXTURED &&
+              !(h.flags & NEGOBS_HAZARD_F_TEXTURED))) &&
             lv == NEGOBS_LEVEL_IMMINENT) {
             lv = NEGOBS_LEVEL_CAUTION;
         }
