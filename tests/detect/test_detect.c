@@ -1213,17 +1213,18 @@ static void test_detect_unconfirmed_candidate_with_noisy_near_rows(void **state)
     rig_teardown(&rig);
 }
 
-/* Walk at 1.2 m/s (10 fps) towards a 150 mm drop first in view at
- * start_m; returns the number of CLEAR frames with the edge nearer than
- * 1.1 m and stores the level when the edge is at ~0.8 m. g_unverified
- * counts the frames flagged NEGOBS_DEGRADED_GROUND_UNVERIFIED, g_clear
- * all CLEAR frames. */
+/* Walk at 1.2 m/s (10 fps) towards a drop of drop_mm first in view at
+ * start_m (ground_verify_mm: 0 = the default); returns the number of
+ * CLEAR frames with the edge nearer than 1.1 m and stores the level when
+ * the edge is at ~0.8 m. g_unverified counts the frames flagged
+ * NEGOBS_DEGRADED_GROUND_UNVERIFIED, g_clear all CLEAR frames. */
 static int g_unverified;
 static int g_clear;
 
-static int walk_to_near_drop(double start_m, int32_t ground_drop_mm,
-                             negobs_alert_level_t *level_at_08,
-                             int *ground_drop_seen)
+static int walk_to_drop(double start_m, int32_t drop_mm,
+                        int32_t ground_drop_mm, int32_t ground_verify_mm,
+                        negobs_alert_level_t *level_at_08,
+                        int *ground_drop_seen)
 {
     synth_scene_t s;
     negobs_detect_config_t c;
@@ -1232,6 +1233,9 @@ static int walk_to_near_drop(double start_m, int32_t ground_drop_mm,
     int i;
     negobs_detect_config_default(&c, RIG_W, RIG_H);
     c.ground_drop_mm = ground_drop_mm;
+    if (ground_verify_mm > 0) {
+        c.ground_verify_mm = ground_verify_mm;
+    }
     rig_setup(&rig, &c);
     scene(&s, 0.25, 1);
     *level_at_08 = NEGOBS_LEVEL_NONE;
@@ -1241,7 +1245,7 @@ static int walk_to_near_drop(double start_m, int32_t ground_drop_mm,
     for (i = 0; i < 14 && edge > 0.1; i++) {
         uint32_t k;
         s.nseg = 0;
-        synth_step(&s, edge, -0.15);
+        synth_step(&s, edge, -0.001 * drop_mm);
         s.seed = (uint32_t)i + 11u;
         assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
         for (k = 0; k < rig.res.n_hazards; k++) {
@@ -1262,6 +1266,15 @@ static int walk_to_near_drop(double start_m, int32_t ground_drop_mm,
     }
     rig_teardown(&rig);
     return late_clear;
+}
+
+/* The 150 mm walk with the default start check. */
+static int walk_to_near_drop(double start_m, int32_t ground_drop_mm,
+                             negobs_alert_level_t *level_at_08,
+                             int *ground_drop_seen)
+{
+    return walk_to_drop(start_m, 150, ground_drop_mm, 0, level_at_08,
+                        ground_drop_seen);
 }
 
 /* A drop first seen within ~1.6 m (after a corner) leaves the view
@@ -1315,6 +1328,33 @@ static void test_detect_start_near_drop_is_not_clear(void **state)
     print_message("cue off: %d late CLEAR frames\n", late_clear);
     assert_true(late_clear > 0);
     assert_int_equal(g_unverified, 0);
+}
+
+/* Switched on 1.2-1.4 m from a 100 mm drop: the fit rows see mostly the
+ * lower surface and read the camera 98-103 mm high, just under the cue's
+ * 100 mm, so with the start check at the cue's threshold (the old
+ * behaviour) the first such frame became the reference and the walk to
+ * the edge was CLEAR. At ground_verify_mm = 50 no frame is CLEAR. */
+static void test_detect_start_near_shallow_drop_is_not_clear(void **state)
+{
+    negobs_alert_level_t lv;
+    int seen;
+    int late_clear;
+    double start[3] = {1.2, 1.3, 1.4};
+    int k;
+    (void)state;
+    for (k = 0; k < 3; k++) {
+        late_clear = walk_to_drop(start[k], 100, 100, 0, &lv, &seen);
+        print_message("100 mm, switched on %.1f m from the edge: %d CLEAR "
+                      "frames (%d within 1.1 m), %d unverified\n",
+                      start[k], g_clear, late_clear, g_unverified);
+        assert_int_equal(g_clear, 0);
+        assert_true(g_unverified >= 8);
+        late_clear = walk_to_drop(start[k], 100, 100, 100, &lv, &seen);
+        print_message("  start check at 100 mm: %d late CLEAR frames\n",
+                      late_clear);
+        assert_true(late_clear >= 5);
+    }
 }
 
 /* A camera configured 150 mm too low on flat ground: NO_INFO, never a
@@ -1447,6 +1487,7 @@ int main(void)
         cmocka_unit_test(test_detect_strip_noise_measured_not_assumed),
         cmocka_unit_test(test_detect_drop_first_seen_near_is_not_clear),
         cmocka_unit_test(test_detect_start_near_drop_is_not_clear),
+        cmocka_unit_test(test_detect_start_near_shallow_drop_is_not_clear),
         cmocka_unit_test(test_detect_wrong_height_is_unverified_then_accepted),
         cmocka_unit_test(test_detect_camera_raised_becomes_the_reference),
         cmocka_unit_test(test_detect_near_rows_are_checked_too),

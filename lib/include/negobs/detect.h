@@ -62,7 +62,7 @@ typedef enum negobs_degraded_reason {
     NEGOBS_DEGRADED_NOISY = 1u << 7,        /**< sigma_d too high for h_min */
     NEGOBS_DEGRADED_BAD_INPUT = 1u << 8,    /**< missing/unusable frame */
     /** No reference yet for the ground under the feet, and the ground in
-     *  view lies ground_drop_mm or more below the configured height: an
+     *  view lies ground_verify_mm or more below the configured height: an
      *  edge nearer than the view, or a wrong cam_height_mm (at most
      *  ground_drop_max_ms after the first ground model) */
     NEGOBS_DEGRADED_GROUND_UNVERIFIED = 1u << 9
@@ -219,6 +219,13 @@ typedef struct negobs_detect_config {
                                     camera was moved), and an unverified
                                     start (GROUND_UNVERIFIED) is
                                     accepted (default 5000 ms)          */
+    int32_t ground_verify_mm;  /**< before the first reference: a fitted
+                                    camera height this much or more above
+                                    cam_height_mm is GROUND_UNVERIFIED,
+                                    never CLEAR (a drop of about this
+                                    height within ~1.4 m at switch-on;
+                                    default 50 mm, 1..2000; used while
+                                    ground_drop_mm > 0)                 */
 
     /* Gating. */
     int32_t sync_tol_ms;       /**< L/R timestamp skew (default 5 ms)  */

@@ -97,8 +97,8 @@ typedef struct detect_priv {
     int32_t ref_pitch_mdeg;
     uint32_t drop_since_ms; /* first frame of the current cue           */
     int32_t drop_on;
-    /* before the reference: first frame whose ground lay ground_drop_mm
-     * or more below the configured height */
+    /* before the reference: first frame whose ground lay
+     * ground_verify_mm or more below the configured height */
     uint32_t unverified_since_ms;
     int32_t unverified_on;
 } detect_priv_t;
@@ -169,6 +169,7 @@ void negobs_detect_config_default(negobs_detect_config_t *cfg, int32_t width,
     cfg->hold_bottom_rows = 24;
     cfg->ground_drop_mm = 100;
     cfg->ground_drop_max_ms = 5000;
+    cfg->ground_verify_mm = 50;
     cfg->sync_tol_ms = 5;
     cfg->max_frame_age_ms = 150;
     cfg->dark_mean_min = 20;
@@ -272,6 +273,7 @@ static negobs_status_t config_check(const negobs_detect_config_t *c)
         !in_range(c->hold_bottom_rows, 0, c->cam.height) ||
         !in_range(c->ground_drop_mm, 0, 2000) ||
         !in_range(c->ground_drop_max_ms, 0, 600000) ||
+        !in_range(c->ground_verify_mm, 1, 2000) ||
         !in_range(c->sync_tol_ms, 0, 1000) ||
         !in_range(c->max_frame_age_ms, 1, 60000) ||
         !in_range(c->dark_mean_min, 0, 255) ||
@@ -1456,14 +1458,16 @@ static int warn_rows_measured(const scan_ctx_t *s, const detect_priv_t *p,
  * the lower ground becomes the reference (the camera was raised, not
  * walked to an edge).
  *
- * The reference is the first clean frame's ground model that lies within
- * ground_drop_mm of the configured height. A device switched on within
- * ~1.4 m of an edge has the lower surface in its fit rows and sees a
- * camera ground_drop_mm or more too high; so does one whose cam_height_mm
- * is set too low. The view cannot tell these apart, so such frames are
- * NO_INFO (*unverified), never CLEAR, until a frame agrees with the
- * configured height or ground_drop_max_ms have passed; then the view is
- * taken as it is.
+ * The reference is the first clean frame's ground model that lies less
+ * than ground_verify_mm above the configured height. A device switched on
+ * within ~1.4 m of an edge has the lower surface in its fit rows and sees
+ * a camera about the drop too high; so does one whose cam_height_mm is set
+ * too low. The view cannot tell these apart, so such frames are NO_INFO
+ * (*unverified), never CLEAR, until a frame agrees with the configured
+ * height or ground_drop_max_ms have passed; then the view is taken as it
+ * is. The start check is tighter than the cue (50 against 100 mm): a
+ * 10 cm drop at switch-on reads 98-103 mm high, just under the cue's
+ * threshold, and the configured height is the only reference there is.
  */
 /* The view's camera height and pitch become the reference. */
 static inline void ground_ref_take(detect_priv_t *p, const gfit_out_t *g)
@@ -1478,7 +1482,7 @@ static int ground_unverified(detect_priv_t *p,
                              const negobs_detect_config_t *cfg,
                              const gfit_out_t *g, uint32_t now_ms)
 {
-    if (g->pose.height_mm - cfg->cam_height_mm < cfg->ground_drop_mm) {
+    if (g->pose.height_mm - cfg->cam_height_mm < cfg->ground_verify_mm) {
         p->unverified_on = 0;
         return 0;
     }
