@@ -1220,6 +1220,7 @@ static void test_detect_unconfirmed_candidate_with_noisy_near_rows(void **state)
  * NEGOBS_DEGRADED_GROUND_UNVERIFIED, g_clear all CLEAR frames. */
 static int g_unverified;
 static int g_clear;
+static int32_t g_corroborated_mm = -1; /* -1: the default */
 
 static int walk_to_drop(double start_m, int32_t drop_mm,
                         int32_t ground_drop_mm, int32_t ground_verify_mm,
@@ -1235,6 +1236,9 @@ static int walk_to_drop(double start_m, int32_t drop_mm,
     c.ground_drop_mm = ground_drop_mm;
     if (ground_verify_mm > 0) {
         c.ground_verify_mm = ground_verify_mm;
+    }
+    if (g_corroborated_mm >= 0) {
+        c.ground_drop_corroborated_mm = g_corroborated_mm;
     }
     rig_setup(&rig, &c);
     scene(&s, 0.25, 1);
@@ -1299,6 +1303,36 @@ static void test_detect_drop_first_seen_near_is_not_clear(void **state)
     print_message("cue off: %d late CLEAR frames\n", late_clear);
     assert_true(late_clear > 0);
     assert_false(seen);
+}
+
+/* A 100 mm drop first seen at 1.5-1.7 m: the rule finds it on a frame or
+ * two, then it leaves the view, and the fitted height rises by about
+ * 100 mm, across the cue's threshold. The rule's near candidate lets the
+ * cue fire at ground_drop_corroborated_mm. */
+static void test_detect_shallow_drop_first_seen_near_corroborated(
+    void **state)
+{
+    negobs_alert_level_t lv;
+    int seen;
+    double start[3] = {1.5, 1.6, 1.7};
+    int late_on[3];
+    int late_off[3];
+    int sum_off = 0;
+    int k;
+    (void)state;
+    for (k = 0; k < 3; k++) {
+        g_corroborated_mm = -1;
+        late_on[k] = walk_to_drop(start[k], 100, 100, 0, &lv, &seen);
+        g_corroborated_mm = 0;
+        late_off[k] = walk_to_drop(start[k], 100, 100, 0, &lv, &seen);
+        g_corroborated_mm = -1;
+        print_message("100 mm first at %.1f m: %d late CLEAR frames "
+                      "(corroboration off: %d)\n",
+                      start[k], late_on[k], late_off[k]);
+        assert_int_equal(late_on[k], 0);
+        sum_off += late_off[k];
+    }
+    assert_true(sum_off > 0);
 }
 
 /* Switched on within 1.4 m of a 150 mm drop, the lower surface fills the
@@ -1441,6 +1475,23 @@ static void test_detect_camera_raised_becomes_the_reference(void **state)
         assert_int_equal(rig.res.n_hazards, 0u);
     }
     rig_teardown(&rig);
+
+    /* raised by 80 mm: above ground_drop_corroborated_mm, but no rule
+     * candidate vouches for it, so it is no drop (posture) */
+    rig_setup(&rig, &c);
+    scene(&s, 0.25, 1);
+    for (i = 0; i < 6; i++) {
+        s.seed = (uint32_t)i + 1u;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+    }
+    s.h_m = 1.28;
+    for (i = 0; i < 20; i++) {
+        s.seed = (uint32_t)i + 300u;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        assert_int_equal(rig.res.n_candidates, 0u);
+        assert_int_equal(rig.res.n_hazards, 0u);
+    }
+    rig_teardown(&rig);
 }
 
 int main(void)
@@ -1486,6 +1537,7 @@ int main(void)
         cmocka_unit_test(test_detect_row_correlated_noise_drop_never_clear),
         cmocka_unit_test(test_detect_strip_noise_measured_not_assumed),
         cmocka_unit_test(test_detect_drop_first_seen_near_is_not_clear),
+        cmocka_unit_test(test_detect_shallow_drop_first_seen_near_corroborated),
         cmocka_unit_test(test_detect_start_near_drop_is_not_clear),
         cmocka_unit_test(test_detect_start_near_shallow_drop_is_not_clear),
         cmocka_unit_test(test_detect_wrong_height_is_unverified_then_accepted),

@@ -219,6 +219,11 @@ typedef struct negobs_detect_config {
                                     camera was moved), and an unverified
                                     start (GROUND_UNVERIFIED) is
                                     accepted (default 5000 ms)          */
+    int32_t ground_drop_corroborated_mm; /**< the rise that suffices
+                                    for hold_ms after a clean frame whose
+                                    rule found a drop within
+                                    h_near_range_mm (default 70 mm;
+                                    0 = off)                            */
     int32_t ground_verify_mm;  /**< before the first reference: a fitted
                                     camera height this much or more above
                                     cam_height_mm is GROUND_UNVERIFIED,

@@ -101,6 +101,10 @@ typedef struct detect_priv {
      * ground_verify_mm or more below the configured height */
     uint32_t unverified_since_ms;
     int32_t unverified_on;
+    /* last clean frame with a rule candidate within h_near_range_mm: it
+     * corroborates a smaller ground-drop rise for hold_ms */
+    uint32_t near_cand_ms;
+    int32_t near_cand_on;
 } detect_priv_t;
 
 /* The cue needs a steady pitch: a pitch change of more than this between
@@ -170,6 +174,7 @@ void negobs_detect_config_default(negobs_detect_config_t *cfg, int32_t width,
     cfg->ground_drop_mm = 100;
     cfg->ground_drop_max_ms = 5000;
     cfg->ground_verify_mm = 50;
+    cfg->ground_drop_corroborated_mm = 70;
     cfg->sync_tol_ms = 5;
     cfg->max_frame_age_ms = 150;
     cfg->dark_mean_min = 20;
@@ -274,6 +279,7 @@ static negobs_status_t config_check(const negobs_detect_config_t *c)
         !in_range(c->ground_drop_mm, 0, 2000) ||
         !in_range(c->ground_drop_max_ms, 0, 600000) ||
         !in_range(c->ground_verify_mm, 1, 2000) ||
+        !in_range(c->ground_drop_corroborated_mm, 0, 2000) ||
         !in_range(c->sync_tol_ms, 0, 1000) ||
         !in_range(c->max_frame_age_ms, 1, 60000) ||
         !in_range(c->dark_mean_min, 0, 255) ||
@@ -1494,6 +1500,46 @@ static int ground_unverified(detect_priv_t *p,
            cfg->ground_drop_max_ms;
 }
 
+/* The rise that makes a ground-drop candidate: ground_drop_mm, or the
+ * smaller ground_drop_corroborated_mm for hold_ms after a clean frame
+ * whose rule found a drop within h_near_range_mm. A 10 cm drop first seen
+ * at ~1.5 m is found by the rule on a frame or two, leaves the view
+ * before k of n confirm it, and then raises the fitted height by only
+ * 73-122 mm, across the plain threshold; the two cues together vouch for
+ * the smaller rise, which alone would also fire on posture changes. */
+static inline int32_t ground_drop_threshold(const detect_priv_t *p,
+                                            const negobs_detect_config_t *cfg,
+                                            uint32_t now_ms)
+{
+    int32_t t = cfg->ground_drop_mm;
+    if (p->near_cand_on && cfg->ground_drop_corroborated_mm > 0 &&
+        cfg->ground_drop_corroborated_mm < t &&
+        (int32_t)(now_ms - p->near_cand_ms) <= cfg->hold_ms) {
+        t = cfg->ground_drop_corroborated_mm;
+    }
+    return t;
+}
+
+/* Remember a clean frame whose rule (not the cue) found a drop, stairs
+ * or hole within h_near_range_mm. */
+static void near_candidate_note(detect_priv_t *p,
+                                const negobs_detect_config_t *cfg,
+                                const negobs_detect_result_t *res,
+                                uint32_t now_ms)
+{
+    uint32_t i;
+    for (i = 0; i < res->n_candidates; i++) {
+        const negobs_hazard_t *c = &res->candidates[i];
+        if (c->type != NEGOBS_HAZARD_UNKNOWN &&
+            (c->flags & NEGOBS_HAZARD_F_GROUND_DROP) == 0u &&
+            c->range_mm <= cfg->h_near_range_mm) {
+            p->near_cand_on = 1;
+            p->near_cand_ms = now_ms;
+            return;
+        }
+    }
+}
+
 static int ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
                        const scan_ctx_t *s, const gfit_out_t *g,
                        uint32_t now_ms, negobs_hazard_t *hz,
@@ -1516,7 +1562,8 @@ static int ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
     }
     dh = g->pose.height_mm - p->ref_height_mm;
     dp = negobs_abs_s32(g->pose.pitch_mdeg - p->ref_pitch_mdeg);
-    if (dh < cfg->ground_drop_mm || dp > GROUND_DROP_PITCH_MDEG) {
+    if (dh < ground_drop_threshold(p, cfg, now_ms) ||
+        dp > GROUND_DROP_PITCH_MDEG) {
         p->drop_on = 0;
         return 0;
     }
@@ -1914,6 +1961,7 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
     res->reasons = reasons;
     if (g.ok && reasons == 0u) {
         ground_ref_follow(p, cfg, &g, unverified);
+        near_candidate_note(p, cfg, res, frame->now_ms);
     }
     if (reasons != 0u) {
         res->state = NEGOBS_DETECT_NO_INFO;
