@@ -1214,16 +1214,16 @@ static void test_detect_unconfirmed_candidate_with_noisy_near_rows(void **state)
 }
 
 /* Walk at 1.2 m/s (10 fps) towards a drop of drop_mm first in view at
- * start_m (ground_verify_mm: 0 = the default); returns the number of
- * CLEAR frames with the edge nearer than 1.1 m and stores the level when
- * the edge is at ~0.8 m. g_unverified counts the frames flagged
- * NEGOBS_DEGRADED_GROUND_UNVERIFIED, g_clear all CLEAR frames. */
+ * start_m (ground_verify_mm, corroborated_mm: -1 = the default); returns
+ * the number of CLEAR frames with the edge nearer than 1.1 m and stores
+ * the level when the edge is at ~0.8 m. g_unverified counts the frames
+ * flagged NEGOBS_DEGRADED_GROUND_UNVERIFIED, g_clear all CLEAR frames. */
 static int g_unverified;
 static int g_clear;
-static int32_t g_corroborated_mm = -1; /* -1: the default */
 
 static int walk_to_drop(double start_m, int32_t drop_mm,
                         int32_t ground_drop_mm, int32_t ground_verify_mm,
+                        int32_t corroborated_mm,
                         negobs_alert_level_t *level_at_08,
                         int *ground_drop_seen)
 {
@@ -1234,11 +1234,11 @@ static int walk_to_drop(double start_m, int32_t drop_mm,
     int i;
     negobs_detect_config_default(&c, RIG_W, RIG_H);
     c.ground_drop_mm = ground_drop_mm;
-    if (ground_verify_mm > 0) {
+    if (ground_verify_mm >= 0) {
         c.ground_verify_mm = ground_verify_mm;
     }
-    if (g_corroborated_mm >= 0) {
-        c.ground_drop_corroborated_mm = g_corroborated_mm;
+    if (corroborated_mm >= 0) {
+        c.ground_drop_corroborated_mm = corroborated_mm;
     }
     rig_setup(&rig, &c);
     scene(&s, 0.25, 1);
@@ -1277,7 +1277,7 @@ static int walk_to_near_drop(double start_m, int32_t ground_drop_mm,
                              negobs_alert_level_t *level_at_08,
                              int *ground_drop_seen)
 {
-    return walk_to_drop(start_m, 150, ground_drop_mm, 0, level_at_08,
+    return walk_to_drop(start_m, 150, ground_drop_mm, -1, -1, level_at_08,
                         ground_drop_seen);
 }
 
@@ -1321,11 +1321,8 @@ static void test_detect_shallow_drop_first_seen_near_corroborated(
     int k;
     (void)state;
     for (k = 0; k < 3; k++) {
-        g_corroborated_mm = -1;
-        late_on[k] = walk_to_drop(start[k], 100, 100, 0, &lv, &seen);
-        g_corroborated_mm = 0;
-        late_off[k] = walk_to_drop(start[k], 100, 100, 0, &lv, &seen);
-        g_corroborated_mm = -1;
+        late_on[k] = walk_to_drop(start[k], 100, 100, -1, -1, &lv, &seen);
+        late_off[k] = walk_to_drop(start[k], 100, 100, -1, 0, &lv, &seen);
         print_message("100 mm first at %.1f m: %d late CLEAR frames "
                       "(corroboration off: %d)\n",
                       start[k], late_on[k], late_off[k]);
@@ -1378,13 +1375,13 @@ static void test_detect_start_near_shallow_drop_is_not_clear(void **state)
     int k;
     (void)state;
     for (k = 0; k < 3; k++) {
-        late_clear = walk_to_drop(start[k], 100, 100, 0, &lv, &seen);
+        late_clear = walk_to_drop(start[k], 100, 100, -1, -1, &lv, &seen);
         print_message("100 mm, switched on %.1f m from the edge: %d CLEAR "
                       "frames (%d within 1.1 m), %d unverified\n",
                       start[k], g_clear, late_clear, g_unverified);
         assert_int_equal(g_clear, 0);
         assert_true(g_unverified >= 8);
-        late_clear = walk_to_drop(start[k], 100, 100, 100, &lv, &seen);
+        late_clear = walk_to_drop(start[k], 100, 100, 100, -1, &lv, &seen);
         print_message("  start check at 100 mm: %d late CLEAR frames\n",
                       late_clear);
         assert_true(late_clear >= 5);
