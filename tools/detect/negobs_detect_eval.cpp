@@ -56,7 +56,7 @@ constexpr int kMainRig = 0;
 struct Seq {
     std::string name;
     int rig;
-    std::string scene; // curb stairs hole upstep wall flat
+    std::string scene; // curb stairs hole upstep wall flat ramp
     int drop_mm;
     double start_mm;
     int frames;
@@ -90,6 +90,18 @@ constexpr double kWarmFrames = 4; // first full k-of-n window (n = 5)
 constexpr double kMatchTol = 0.25;
 constexpr double kSpeed = 1.2;     // m/s
 constexpr int kClipFrames = 12;
+constexpr int kRampFrames = 45; // 5.4 m: past the slope change and onto it
+
+struct Ramp {
+    int grade_x10;    // grade in 0.1 %, + = downhill
+    const char *what; // report label
+    const char *args; // negobs_synth arguments
+};
+const Ramp kRamps[] = {
+    {83, "curb ramp down 1:12 (8.3 %, 1.8 m, 15 cm)", "--grade-pct 8.33 --ramp-mm 1800"},
+    {50, "slope down 5 % (does not end)", "--grade-pct 5 --ramp-mm 0"},
+    {-83, "ramp up 1:12 (8.3 %, 1.8 m, 15 cm)", "--grade-pct -8.33 --ramp-mm 1800"},
+};
 
 std::vector<Seq> build_suite(bool quick)
 {
@@ -184,6 +196,16 @@ std::vector<Seq> build_suite(bool quick)
                 add(rig, "upstep", 150, st, kClipFrames, 0, false);
                 add(rig, "wall", 0, st, kClipFrames, 0, false);
             }
+        }
+    }
+    // Ramps and slopes (DOMAIN 4.2 lists curb cuts and ramps as
+    // negatives): walks that cross the slope change and go on down (or up)
+    // the slope. Reported in a table of their own, outside the issue's
+    // targets. Appended last, so the seeds of the sequences above do not
+    // change. The "drop" field names the grade in 0.1 %.
+    for (const Ramp &rp : kRamps) {
+        for (double st : {3500.0, 5500.0}) {
+            add(kMainRig, "ramp", rp.grade_x10, st, kRampFrames, 0, false, rp.args);
         }
     }
     return s;
@@ -688,6 +710,59 @@ int evaluate_synth(const Options &opt)
         rep.both("");
     }
 
+    // 4b. Ramps and slopes: not in the targets, but what a user meets.
+    {
+        bool any = false;
+        for (const Seq &q : suite) {
+            any = any || q.scene == "ramp";
+        }
+        if (any) {
+            rep.both("### Ramps and slopes (target rig; DOMAIN 4.2 negatives, not a target "
+                     "of issue 4)");
+            rep.both("");
+            rep.both("Walks of 45 frames from 3.5 and 5.5 m before the slope change, "
+                     "past it and onto the slope. Alert episodes as above; \"first "
+                     "alert\" is the true distance to the slope change at the first "
+                     "frame with level CAUTION or IMMINENT.");
+            rep.both("");
+            rep.both("| slope | frames | alert episodes | first alert at | IMMINENT "
+                     "frames | no-info frames |");
+            rep.both("|---|---|---|---|---|---|");
+            for (const Ramp &rp : kRamps) {
+                int fr = 0, ep = 0, imm = 0, ni = 0;
+                std::string first;
+                for (size_t k = 0; k < suite.size(); ++k) {
+                    if (suite[k].scene != "ramp" || suite[k].drop_mm != rp.grade_x10) {
+                        continue;
+                    }
+                    int prev = NEGOBS_LEVEL_NONE;
+                    bool seen = false;
+                    for (const Rec &r : recs[k]) {
+                        ++fr;
+                        if (r.level != NEGOBS_LEVEL_NONE && prev == NEGOBS_LEVEL_NONE) {
+                            ++ep;
+                            if (!seen && r.gt_range) {
+                                first += (first.empty() ? "" : ", ") +
+                                         fmtd("%.2f m", r.gt_mm / 1000.0);
+                            }
+                            seen = true;
+                        }
+                        imm += r.level == NEGOBS_LEVEL_IMMINENT ? 1 : 0;
+                        ni += r.state == NEGOBS_DETECT_NO_INFO ? 1 : 0;
+                        prev = r.level;
+                    }
+                }
+                if (fr == 0) {
+                    continue;
+                }
+                rep.both(std::string("| ") + rp.what + " | " + std::to_string(fr) + " | " +
+                         std::to_string(ep) + " | " + (first.empty() ? "-" : first) +
+                         " | " + std::to_string(imm) + " | " + pct(ni, fr) + " |");
+            }
+            rep.both("");
+        }
+    }
+
     // 5. Degraded time and cost.
     rep.both("### Time in degraded state and stage cost (thread CPU time)");
     rep.both("");
@@ -700,8 +775,8 @@ int evaluate_synth(const Options &opt)
         int fr = 0, ni = 0;
         double st = 0, dt = 0;
         for (size_t k = 0; k < suite.size(); ++k) {
-            if (suite[k].rig != rig) {
-                continue;
+            if (suite[k].rig != rig || suite[k].scene == "ramp") {
+                continue; // ramps have a table of their own
             }
             for (const Rec &r : recs[k]) {
                 ++fr;
@@ -1187,8 +1262,10 @@ void usage(FILE *f)
         "sequence with negobs_synth into --work (default /tmp/negobs_detect_eval),\n"
         "runs the pipeline, deletes the images unless --keep (kept ones are\n"
         "reused), prints detection rate by drop and range, first-alert range,\n"
-        "range/drop error, false alerts, degraded time, stage cost and PASS/MISS\n"
-        "per target. --synth defaults to negobs_synth next to this binary\n"
+        "range/drop error, false alerts (flat, up-step, wall), degraded time,\n"
+        "stage cost and PASS/MISS per target, and alerts on ramps and slopes\n"
+        "(1:12 down and up, 5 %% down; outside the targets). --synth defaults to\n"
+        "negobs_synth next to this binary\n"
         "(../synth/negobs_synth).\n"
         "--valign: the synthetic suite runs the alignment stage (valign.h).\n"
         "--surdis: SurDis sequence 21 from DIR (default $NEGOBS_DATA/surdis,\n"

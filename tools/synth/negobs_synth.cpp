@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -67,7 +68,7 @@ void usage(FILE *fp, const char *argv0)
 "and ground truth (gt.json) by exact per-pixel ray casting.\n"
 "\n"
 "Scene:\n"
-"  --scene S            curb|stairs|hole|upstep|wall|flat (default curb)\n"
+"  --scene S            curb|stairs|hole|upstep|wall|flat|ramp (default curb)\n"
 "  --edge-mm D          horizontal distance from the start position to the\n"
 "                       hazard's near edge (default 4000)\n"
 "  --drop-mm H          curb/hole depth, up-step height (default 150)\n"
@@ -78,6 +79,13 @@ void usage(FILE *fp, const char *argv0)
 "  --hole-length-mm L   hole: size along the walking direction (default 800)\n"
 "  --hole-offset-mm X   hole: lateral centre, + = right (default 0)\n"
 "  --wall-height-mm H   wall height (default 2500)\n"
+"  --grade-pct G        ramp: fall of the ground beyond the edge, %% of the\n"
+"                       horizontal distance; negative = uphill (default\n"
+"                       8.33, a 1:12 curb cut)\n"
+"  --ramp-mm L          ramp: horizontal length of the slope, then level\n"
+"                       ground again; 0 = it never ends (default 1800)\n"
+"                       The walker follows the ground: on the ramp the\n"
+"                       camera stays --height-mm above the surface under it\n"
 "  --lower-shade K      brightness of surfaces below the near ground (0.9)\n"
 "  --distractors N      N random intensity-only distractors on the near\n"
 "                       ground: painted stripes, hard shadows, dark patches,\n"
@@ -247,7 +255,7 @@ int parse(int argc, char **argv, Options &o)
         if (arg == "--scene") {
             if (!synth::hazard_from_name(val, o.scene.hazard))
                 return fail(a0, "unknown scene '" + val +
-                                    "' (curb|stairs|hole|upstep|wall|flat)");
+                                    "' (curb|stairs|hole|upstep|wall|flat|ramp)");
         } else if (arg == "--edge-mm") {
             rc = num(mm, -1e6, 1e6);
             o.scene.edge_z = mm * 1e-3;
@@ -275,6 +283,13 @@ int parse(int argc, char **argv, Options &o)
         } else if (arg == "--wall-height-mm") {
             rc = num(mm, 1.0, 1e6);
             o.scene.wall_height = mm * 1e-3;
+        } else if (arg == "--grade-pct") {
+            double g = 0.0;
+            rc = num(g, -50.0, 50.0);
+            o.scene.ramp_grade = g * 1e-2;
+        } else if (arg == "--ramp-mm") {
+            rc = num(mm, 0.0, 1e6);
+            o.scene.ramp_length = mm > 0.0 ? mm * 1e-3 : std::numeric_limits<double>::infinity();
         } else if (arg == "--lower-shade") {
             rc = num(o.scene.lower_shade, 0.0, 2.0);
         } else if (arg == "--texture-kind") {
@@ -509,13 +524,16 @@ int main(int argc, char **argv)
                  "\"drop_mm\": %.6g, \"steps\": %d, \"rise_mm\": %.6g, \"run_mm\": %.6g, "
                  "\"hole_width_mm\": %.6g, \"hole_length_mm\": %.6g, "
                  "\"hole_offset_mm\": %.6g, \"wall_height_mm\": %.6g, "
+                 "\"ramp_grade_pct\": %.6g, \"ramp_mm\": %s, "
                  "\"texture\": \"%s\", \"texture_seed\": %llu, \"distractors\": [%s]},\n",
                  synth::hazard_name(sp.hazard),
                  (sp.hazard == synth::Hazard::Curb || sp.hazard == synth::Hazard::Stairs ||
                   sp.hazard == synth::Hazard::Hole) ? "true" : "false",
                  sp.edge_z * 1e3, sp.drop * 1e3, sp.steps, sp.rise * 1e3, sp.run * 1e3,
                  sp.hole_width * 1e3, sp.hole_length * 1e3, sp.hole_offset * 1e3,
-                 sp.wall_height * 1e3,
+                 sp.wall_height * 1e3, sp.ramp_grade * 1e2,
+                 std::isfinite(sp.ramp_length) ? fmt("%.6g", sp.ramp_length * 1e3).c_str()
+                                               : "null",
                  json_escape(o.texture_file.empty() ? o.texture_kind : o.texture_file).c_str(),
                  static_cast<unsigned long long>(o.texture_seed), dlist.c_str());
     std::fprintf(gt,
@@ -540,7 +558,8 @@ int main(int argc, char **argv)
         synth::Pose pose;
         pose.x = dist * std::sin(yaw);
         pose.z = dist * std::cos(yaw);
-        pose.y = o.height_mm * 1e-3 + o.bob_mm * 1e-3 * std::sin(w + ph_bob);
+        pose.y = o.height_mm * 1e-3 + o.bob_mm * 1e-3 * std::sin(w + ph_bob) +
+                 scene.ground_y(pose.z);
         pose.pitch = o.pitch_deg + o.sway_deg * std::sin(w + ph_pitch);
         pose.roll = o.roll_deg + o.roll_sway_deg * std::sin(0.5 * w + ph_roll);
         pose.yaw = o.yaw_deg;
@@ -631,14 +650,16 @@ int main(int argc, char **argv)
                      "\"drop_mm\": %.1f, \"total_drop_mm\": %.1f, \"edge_visible\": %s, "
                      "\"edge_cols\": %d, \"edge_rows\": %s, \"edge_box\": %s, \"edge_line\": %s, "
                      "\"edge_row_at_cx\": %s, \"H_mm\": %.2f, \"pitch\": %.4f, "
-                     "\"roll\": %.4f, \"yaw\": %.4f, \"cam_x_mm\": %.1f, \"cam_z_mm\": %.1f%s}%s\n",
+                     "\"roll\": %.4f, \"yaw\": %.4f, \"cam_x_mm\": %.1f, \"cam_z_mm\": %.1f, "
+                     "\"ground_y_mm\": %.1f%s}%s\n",
                      i, t, ln.c_str(), rn.c_str(),
                      o.gt_disparity ? ("\"" + dn + "\"").c_str() : "null",
                      synth::hazard_name(sp.hazard), edge.c_str(), drop * 1e3,
                      (sp.hazard == synth::Hazard::Stairs ? sp.rise * sp.steps : drop) * 1e3,
                      eg.visible ? "true" : "false", eg.cols_visible, rows.c_str(), box.c_str(), line.c_str(),
-                     rowc.c_str(), pose.y * 1e3, pose.pitch, pose.roll, pose.yaw,
-                     pose.x * 1e3, pose.z * 1e3, extra.c_str(), i + 1 < o.frames ? "," : "");
+                     rowc.c_str(), (pose.y - scene.ground_y(pose.z)) * 1e3, pose.pitch,
+                     pose.roll, pose.yaw, pose.x * 1e3, pose.z * 1e3,
+                     scene.ground_y(pose.z) * 1e3, extra.c_str(), i + 1 < o.frames ? "," : "");
     }
     std::fprintf(gt, "]\n}\n");
     if (std::fclose(gt) != 0)

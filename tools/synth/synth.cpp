@@ -67,6 +67,22 @@ Rect xface(double x, double y0, double y1, double z0, double z1, float shade,
     return make_rect(0, x, y0, y1, z0, z1, shade, off);
 }
 
+// Ramp surface: Y = y0 - grade * (Z - z0) for Z in [z0, z1].
+Rect ramp(double y0, double grade, double z0, double z1, float shade)
+{
+    Rect r = horiz(y0, -kInf, kInf, z0, z1, shade);
+    r.slope = -grade;
+    r.slope_z = z0;
+    return r;
+}
+
+// Component of v along the normal of r's plane (0, 1, -slope) for a tilted
+// horizontal rect, the plain axis component otherwise.
+double normal_comp(const Rect &r, const Vec3 &v)
+{
+    return r.slope != 0.0 ? v.y - r.slope * v.z : comp(v, r.axis);
+}
+
 constexpr float kRiserShade = 0.78f;
 constexpr float kSideShade = 0.62f;
 
@@ -104,6 +120,7 @@ const char *hazard_name(Hazard h)
     case Hazard::Upstep: return "upstep";
     case Hazard::Wall: return "wall";
     case Hazard::Flat: return "flat";
+    case Hazard::Ramp: return "ramp";
     }
     return "?";
 }
@@ -111,7 +128,8 @@ const char *hazard_name(Hazard h)
 bool hazard_from_name(const std::string &s, Hazard &out)
 {
     const Hazard all[] = {Hazard::Curb, Hazard::Stairs, Hazard::Hole,
-                          Hazard::Upstep, Hazard::Wall, Hazard::Flat};
+                          Hazard::Upstep, Hazard::Wall, Hazard::Flat,
+                          Hazard::Ramp};
     for (Hazard h : all) {
         if (s == hazard_name(h)) {
             out = h;
@@ -171,7 +189,24 @@ Scene::Scene(const SceneParams &p) : p_(p)
         rects_.push_back(horiz(0.0, -kInf, kInf, -kInf, ze, 1.0f));
         rects_.push_back(zface(ze, -kInf, kInf, 0.0, p.wall_height, kRiserShade, 3.3));
         break;
+    case Hazard::Ramp: {
+        // Same texture coordinates (X, Z) on all three parts, so the
+        // surface is continuous in the image: only its slope changes.
+        const double z1 = ze + p.ramp_length;
+        rects_.push_back(horiz(0.0, -kInf, kInf, -kInf, ze, 1.0f));
+        rects_.push_back(ramp(0.0, p.ramp_grade, ze, z1, 1.0f));
+        if (std::isfinite(z1))
+            rects_.push_back(horiz(-p.ramp_grade * p.ramp_length, -kInf, kInf, z1, kInf, 1.0f));
+        break;
     }
+    }
+}
+
+double Scene::ground_y(double z) const
+{
+    if (p_.hazard != Hazard::Ramp || z <= p_.edge_z)
+        return 0.0;
+    return -p_.ramp_grade * std::min(z - p_.edge_z, p_.ramp_length);
 }
 
 int Scene::intersect(const Vec3 &c, const Vec3 &d, double &t) const
@@ -183,10 +218,11 @@ int Scene::intersect(const Vec3 &c, const Vec3 &d, double &t) const
     const int n = static_cast<int>(rects_.size());
     for (int i = 0; i < n; ++i) {
         const Rect &r = rects_[static_cast<size_t>(i)];
-        const double den = dv[r.axis];
+        const double den = normal_comp(r, d);
         if (den == 0.0)
             continue;
-        const double tt = (r.pos - cv[r.axis]) / den;
+        // n.(c + t d) = n.p0 with n = (0, 1, -slope), p0 = (0, pos, slope_z)
+        const double tt = (r.pos - r.slope * r.slope_z - normal_comp(r, c)) / den;
         if (!(tt > 1e-9) || !(tt < tbest))
             continue;
         const int a = (r.axis + 1) % 3;
@@ -679,15 +715,15 @@ float shade_hit(const Texture &tex, const std::vector<Distractor> &ds, const Rec
                 const Vec3 &c, const Vec3 &d, double t, const Vec3 &du, const Vec3 &dv)
 {
     const Vec3 p = add(c, mul(d, t));
-    const double dn = comp(d, r.axis);
-    const double kdu = comp(du, r.axis) / dn, kdv = comp(dv, r.axis) / dn;
+    const double dn = normal_comp(r, d);
+    const double kdu = normal_comp(r, du) / dn, kdv = normal_comp(r, dv) / dn;
     const Vec3 fu = mul(sub(du, mul(d, kdu)), t);
     const Vec3 fv = mul(sub(dv, mul(d, kdv)), t);
     float v;
     switch (r.axis) {
     case 1: // horizontal: (X, Z)
         v = tex.sample(p.x, p.z, fu.x, fu.z, fv.x, fv.z);
-        if (r.pos == 0.0 && !ds.empty())
+        if (r.pos == 0.0 && r.slope == 0.0 && !ds.empty())
             v = distract(ds, p.x, p.z, 0.5 * (std::fabs(fu.x) + std::fabs(fv.x)),
                          0.5 * (std::fabs(fu.z) + std::fabs(fv.z)), v);
         break;

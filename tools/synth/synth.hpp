@@ -1,6 +1,6 @@
 // negobs_synth renderer: exact ray casting of rectified stereo pairs over
 // piecewise-planar pedestrian scenes (curb, stairs, hole, up-step, wall,
-// flat ground).  Host tool only; see docs/SYNTH.md for the geometry.
+// ramp, flat ground).  Host tool only; see docs/SYNTH.md for the geometry.
 //
 // World frame (metres): X right, Y up, Z forward (the walking direction at
 // yaw 0).  The near ground is the plane Y = 0.  Camera frame: x right,
@@ -43,7 +43,7 @@ struct Pose {
     double yaw = 0.0;    // deg, positive = heading turned to the right (+X)
 };
 
-enum class Hazard { Curb, Stairs, Hole, Upstep, Wall, Flat };
+enum class Hazard { Curb, Stairs, Hole, Upstep, Wall, Flat, Ramp };
 
 const char *hazard_name(Hazard h);
 bool hazard_from_name(const std::string &s, Hazard &out);
@@ -70,6 +70,11 @@ struct SceneParams {
     double hole_length = 0.8;   // m, along Z
     double hole_offset = 0.0;   // m, lateral centre of the hole
     double wall_height = 2.5;   // m
+    // Ramp (a curb cut, a sloped path): beyond edge_z the ground falls by
+    // ramp_grade metres per metre of Z (negative: rises) over ramp_length
+    // metres of Z, then continues level at -ramp_grade * ramp_length.
+    double ramp_grade = 1.0 / 12.0;
+    double ramp_length = 1.8;   // m along Z; infinity: a slope that never ends
     double lower_shade = 0.9;   // brightness factor of surfaces below Y = 0
     std::vector<Distractor> distractors;
 };
@@ -78,6 +83,11 @@ struct SceneParams {
 struct Rect {
     int axis = 1;               // 0: X = pos, 1: Y = pos, 2: Z = pos
     double pos = 0.0;
+    // Horizontal rects only (axis 1): the plane Y = pos + slope * (Z -
+    // slope_z), i.e. a surface tilted about the X axis (a ramp). Bounds
+    // stay on X and Z.
+    double slope = 0.0;
+    double slope_z = 0.0;
     double lo[3] = {0, 0, 0};   // bounds on the two other axes (index = axis)
     double hi[3] = {0, 0, 0};
     float shade = 1.0f;
@@ -94,6 +104,9 @@ public:
     // Edge line of the hazard (the near rim at ground level, Y = 0):
     // X range [x0, x1] at Z = edge_z.  Returns false for flat ground.
     bool edge_segment(double &x0, double &x1) const;
+    // World Y of the walking surface under (x, z): what a walker's feet
+    // follow (0 on the near ground; the ramp's surface on a ramp).
+    double ground_y(double z) const;
 
 private:
     SceneParams p_;

@@ -2,6 +2,9 @@
 //   flat_gt      GT disparity of flat ground equals the analytic v-disparity
 //                line (B/H)(f sin(theta) + cos(theta)(v - cy)); the CLI's
 //                16-bit disparity PNG and edge row agree with it.
+//   ramp_gt      every GT disparity of a ramp scene (down and up) puts its
+//                point on the analytic surface: level, sloped, level again;
+//                the walker's camera follows the surface (gt.json).
 //   warp         warping the right image onto the left with the GT
 //                disparity reproduces the left image (visible pixels).
 //   determinism  same seed -> identical bytes; another seed -> different.
@@ -13,6 +16,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -271,6 +275,9 @@ int test_warp()
         {synth::Hazard::Hole, 2.5, 0.5, 18.0, -2.0, -10.0, -1.0, 3, true, 0.0, 0},
         {synth::Hazard::Upstep, 3.0, 0.2, 20.0, 0.0, 0.0, 0.25, 2, false, 0.7, 0},
         {synth::Hazard::Wall, 3.0, 0.2, 15.0, 1.0, -5.0, 0.0, 1, false, 0.0, 0},
+        // A ramp (default 1:12 over 1.8 m): texture continuous over the
+        // sloped surface, seen from both cameras.
+        {synth::Hazard::Ramp, 2.5, 0.2, 16.0, 2.0, 5.0, 0.0, 2, false, 0.0, 0},
         {synth::Hazard::Flat, 3.0, 0.2, 25.0, 0.0, 0.0, 0.0, 2, false, 0.0, 0},
         // Painted stripes, shadows, patches, manholes: intensity only.
         {synth::Hazard::Flat, 3.0, 0.2, 22.0, 0.0, 0.0, 0.0, 2, false, 0.0, 12},
@@ -445,6 +452,103 @@ int test_determinism()
     return failures;
 }
 
+// ------------------------------------------------------------------ ramp_gt
+
+// World Y of the ramp scene's surface at Z: level before ze, falling by
+// grade per metre over len metres, level again after (written out here
+// rather than taken from Scene::ground_y, which is what is tested).
+double ramp_surface_y(double z, double ze, double grade, double len)
+{
+    if (z <= ze)
+        return 0.0;
+    return -grade * std::min(z - ze, len);
+}
+
+int test_ramp_gt()
+{
+    synth::Texture tex;
+    std::string err;
+    check(tex.make_procedural(5, "asphalt", err), "texture: " + err);
+    for (double grade : {1.0 / 12.0, -1.0 / 12.0, 0.05}) {
+        synth::SceneParams sp;
+        sp.hazard = synth::Hazard::Ramp;
+        sp.edge_z = 3.0;
+        sp.ramp_grade = grade;
+        sp.ramp_length = grade == 0.05 ? std::numeric_limits<double>::infinity() : 1.8;
+        const synth::Scene scene(sp);
+        synth::Rig rig;
+        synth::Pose pose;
+        pose.y = 1.2;
+        pose.pitch = 12.0; // see the far level part too
+        cv::Mat img, disp;
+        synth::render_view(scene, tex, rig, pose, 0, synth::RenderOptions{}, img, &disp);
+        const synth::CameraFrame cf = synth::camera_frame(rig, pose, 0);
+        double worst = 0.0;
+        int part[3] = {0, 0, 0};
+        for (int v = 0; v < rig.height; ++v) {
+            for (int u = 0; u < rig.width; u += 7) {
+                const double d = disp.at<float>(v, u);
+                if (d <= 0.0)
+                    continue;
+                // pixel_ray has z = 1 in the camera frame: scale by depth.
+                const synth::Vec3 r = synth::pixel_ray(rig, cf, 0, u, v);
+                const double depth = rig.f * rig.baseline / d;
+                const double px = cf.c.x + r.x * depth, py = cf.c.y + r.y * depth,
+                             pz = cf.c.z + r.z * depth;
+                (void)px;
+                const double want = ramp_surface_y(pz, sp.edge_z, grade, sp.ramp_length);
+                worst = std::max(worst, std::fabs(py - want));
+                part[pz <= sp.edge_z ? 0 : (pz <= sp.edge_z + sp.ramp_length ? 1 : 2)]++;
+            }
+        }
+        const std::string g = " (grade " + std::to_string(grade) + ")";
+        // The GT is float: 1e-7 relative of the depth.
+        check(worst < 1e-4, "ramp_gt: point off the surface by " + std::to_string(worst) +
+                                " m" + g);
+        check(part[0] > 100 && part[1] > 100, "ramp_gt: level and sloped parts seen" + g);
+        if (std::isfinite(sp.ramp_length))
+            check(part[2] > 20, "ramp_gt: level part after the slope seen" + g);
+        else
+            check(part[2] == 0, "ramp_gt: a slope that never ends" + g);
+        for (double z : {0.0, 2.9, 3.0, 3.9, 4.8, 9.0})
+            check(std::fabs(scene.ground_y(z) -
+                            ramp_surface_y(z, sp.edge_z, grade, sp.ramp_length)) < 1e-12,
+                  "ramp_gt: Scene::ground_y at " + std::to_string(z) + g);
+    }
+
+    // Through the CLI: the walker goes down the ramp, the camera stays
+    // --height-mm above the surface under it (no bobbing).
+    const fs::path seq = scratch("ramp_seq");
+    const int rs = run("--scene ramp --grade-pct 8 --ramp-mm 1500 --edge-mm 1000 --frames 12 "
+                       "--speed 1.0 --fps 4 --bob-mm 0 --sway-deg 0 --roll-sway-deg 0 --quiet "
+                       "--out '" + seq.string() + "'");
+    check(rs == 0, "ramp_gt: CLI ramp sequence run");
+    std::ifstream f(seq / "gt.json");
+    std::string line;
+    int frames = 0;
+    double lowest = 0.0;
+    while (std::getline(f, line)) {
+        if (line.rfind("{\"i\": ", 0) != 0)
+            continue;
+        double z = 0, gy = 0, h = 0;
+        check(json_number(line, "cam_z_mm", z) && json_number(line, "ground_y_mm", gy) &&
+                  json_number(line, "H_mm", h),
+              "ramp_gt: frame line has cam_z_mm, ground_y_mm, H_mm");
+        check(std::fabs(gy - 1e3 * ramp_surface_y(z / 1e3, 1.0, 0.08, 1.5)) < 0.06,
+              "ramp_gt: ground under the walker at z " + std::to_string(z));
+        check(std::fabs(h - 1200.0) < 0.01, "ramp_gt: camera height over the surface");
+        lowest = std::min(lowest, gy);
+        ++frames;
+    }
+    check(frames == 12, "ramp_gt: 12 frame lines");
+    check(std::fabs(lowest + 120.0) < 0.06, "ramp_gt: walked to the bottom (-120 mm)");
+    const std::string gt = slurp(seq / "gt.json");
+    check(gt.find("\"hazard\": \"ramp\", \"negative\": false") != std::string::npos,
+          "ramp_gt: a ramp is not a negative obstacle");
+    fs::remove_all(seq);
+    return failures;
+}
+
 // ------------------------------------------------------------------ bad_options
 
 int test_bad_options()
@@ -456,6 +560,7 @@ int test_bad_options()
         "--width",       "--single --frames 3", "--noise -1",    "--ss 9",
         "--seed -3",     "--pitch-deg 95",   "--texture /nonexistent/x.png",
         "--texture-kind marble", "--single=1", "stray",         "--drop-mm 1e400", "--threads 0",
+        "--grade-pct 60", "--grade-pct x", "--ramp-mm -1",
     };
     for (const char *args : bad) {
         std::string err;
@@ -477,7 +582,8 @@ int test_bad_options()
 int main(int argc, char **argv)
 {
     if (argc < 3) {
-        std::fprintf(stderr, "usage: %s flat_gt|warp|determinism|bad_options NEGOBS_SYNTH\n",
+        std::fprintf(stderr,
+                     "usage: %s flat_gt|ramp_gt|warp|determinism|bad_options NEGOBS_SYNTH\n",
                      argv[0]);
         return 2;
     }
@@ -485,6 +591,8 @@ int main(int argc, char **argv)
     g_exe = argv[2];
     if (mode == "flat_gt")
         test_flat_gt();
+    else if (mode == "ramp_gt")
+        test_ramp_gt();
     else if (mode == "warp")
         test_warp();
     else if (mode == "determinism")
