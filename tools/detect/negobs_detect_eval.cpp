@@ -101,6 +101,8 @@ const Ramp kRamps[] = {
     {83, "curb ramp down 1:12 (8.3 %, 1.8 m, 15 cm)", "--grade-pct 8.33 --ramp-mm 1800"},
     {50, "slope down 5 % (does not end)", "--grade-pct 5 --ramp-mm 0"},
     {-83, "ramp up 1:12 (8.3 %, 1.8 m, 15 cm)", "--grade-pct -8.33 --ramp-mm 1800"},
+    {30, "slope down 3 % (does not end)", "--grade-pct 3 --ramp-mm 0"},
+    {20, "slope down 2 % (does not end)", "--grade-pct 2 --ramp-mm 0"},
 };
 
 std::vector<Seq> build_suite(bool quick)
@@ -1264,7 +1266,7 @@ void usage(FILE *f)
         "reused), prints detection rate by drop and range, first-alert range,\n"
         "range/drop error, false alerts (flat, up-step, wall), degraded time,\n"
         "stage cost and PASS/MISS per target, and alerts on ramps and slopes\n"
-        "(1:12 down and up, 5 %% down; outside the targets). --synth defaults to\n"
+        "(1:12 down and up, 5/3/2 %% down; outside the targets). --synth defaults to\n"
         "negobs_synth next to this binary\n"
         "(../synth/negobs_synth).\n"
         "--valign: the synthetic suite runs the alignment stage (valign.h).\n"
