@@ -1042,11 +1042,13 @@ static void test_detect_wall_before_warning_range_is_clear(void **state)
     }
     print_message("wall / up-step before the warning range: %d/12 CLEAR\n",
                   clear);
-    /* measured: all walls; up-steps up to 3.3 m (at 3.5 m, half a metre
-     * before the warning range, the rise is not yet 4 rows above 1 px in
-     * enough strips and the frame stays NOISY: safe, noted in
-     * DETECTION.md) */
-    assert_true(clear >= 11);
+    /* measured: all walls; up-steps up to 3.1 m (at 3.3 and 3.5 m, under
+     * a metre before the warning range, the rise is not yet 4 rows above
+     * 1 px in enough strips and the frame stays NOISY: safe, noted in
+     * DETECTION.md; 3.3 m was CLEAR with the ground fit that read its
+     * rounding as slope). The old check made 55 of 96 such frames
+     * NO_INFO, about 5 of these 12. */
+    assert_true(clear >= 10);
     rig_teardown(&rig);
 }
 
@@ -1308,28 +1310,37 @@ static void test_detect_drop_first_seen_near_is_not_clear(void **state)
 /* A 100 mm drop first seen at 1.5-1.7 m: the rule finds it on a frame or
  * two, then it leaves the view, and the fitted height rises by about
  * 100 mm, across the cue's threshold. The rule's near candidate lets the
- * cue fire at ground_drop_corroborated_mm. */
+ * cue fire at ground_drop_corroborated_mm. Since the ground fit stopped
+ * reading its rounding as slope, the rise of a 100 mm drop reaches the
+ * plain threshold on these walks (0 late CLEAR frames without the
+ * corroboration too, 0/8/9 before); a 70 mm drop first seen at 1.7 m
+ * rises by less and still needs it (measured 1 late CLEAR frame with,
+ * 9 without). */
 static void test_detect_shallow_drop_first_seen_near_corroborated(
     void **state)
 {
     negobs_alert_level_t lv;
     int seen;
     double start[3] = {1.5, 1.6, 1.7};
-    int late_on[3];
-    int late_off[3];
-    int sum_off = 0;
+    int late_on;
+    int late_off;
     int k;
     (void)state;
     for (k = 0; k < 3; k++) {
-        late_on[k] = walk_to_drop(start[k], 100, 100, -1, -1, &lv, &seen);
-        late_off[k] = walk_to_drop(start[k], 100, 100, -1, 0, &lv, &seen);
+        late_on = walk_to_drop(start[k], 100, 100, -1, -1, &lv, &seen);
+        late_off = walk_to_drop(start[k], 100, 100, -1, 0, &lv, &seen);
         print_message("100 mm first at %.1f m: %d late CLEAR frames "
                       "(corroboration off: %d)\n",
-                      start[k], late_on[k], late_off[k]);
-        assert_int_equal(late_on[k], 0);
-        sum_off += late_off[k];
+                      start[k], late_on, late_off);
+        assert_int_equal(late_on, 0);
     }
-    assert_true(sum_off > 0);
+    late_on = walk_to_drop(1.7, 70, 100, -1, -1, &lv, &seen);
+    late_off = walk_to_drop(1.7, 70, 100, -1, 0, &lv, &seen);
+    print_message("70 mm first at 1.7 m: %d late CLEAR frames (corroboration "
+                  "off: %d)\n",
+                  late_on, late_off);
+    assert_true(late_on <= 1);
+    assert_true(late_off >= 5);
 }
 
 /* Switched on within 1.4 m of a 150 mm drop, the lower surface fills the
