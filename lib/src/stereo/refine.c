@@ -321,7 +321,25 @@ static inline int32_t div_round_pos(int32_t sd, int32_t sw)
     return -((-sd + sw / 2) / sw);
 }
 
-/* One line of the adaptive mean: in -> out, n samples. */
+/* Weight of a valid neighbour v for centre c: 64 - |v - c| in Q4, 0
+ * beyond 4 px (another surface). */
+static inline int32_t amean_weight(int32_t v, int32_t c)
+{
+    int32_t wt = 64 - negobs_abs_s32(v - c);
+    return (wt > 0) ? wt : 0;
+}
+
+/* One line of the adaptive mean: in -> out, n samples. The taps i - j and
+ * i + j count only together: where one of them lies beyond the frame
+ * border or in a hole, neither does. With both there, a linear profile
+ * (a slanted surface: the ground along a column) weighs them alike and
+ * keeps its centre value; with one side only it did not, and within 4 px
+ * of the border or a hole the mean pulled a ground map towards the side
+ * it saw: the last rows of a 320x240 ground map 0.07-0.17 px low (ground
+ * gradient 0.09 px per row), which tilted the ground fit, leaning on those
+ * rows, by 0.2 deg. Sharing the smaller weight of each pair as well
+ * removed the bias too but smoothed less beside depth edges (Cones bad1
+ * 4.52 -> 4.76 % against 4.64 % this way). */
 static void amean_line(const int16_t *in, int16_t *out, int32_t n)
 {
     int32_t i;
@@ -329,24 +347,25 @@ static void amean_line(const int16_t *in, int16_t *out, int32_t n)
         int32_t c = in[i];
         int32_t k;
         if (c != NEGOBS_DISP_INVALID) {
-            int32_t sw = 0;
-            int32_t sd = 0;
-            int32_t jlo = (i >= 4) ? i - 4 : 0;
-            int32_t jhi = (i + 4 < n) ? i + 4 : n - 1;
+            int32_t sw = 64; /* the centre is its own neighbour */
+            int32_t sd = 64 * c;
             int32_t j;
-            /* an invalid neighbour (INT16_MIN) is > 32 000 Q4 away from
-             * any valid centre (>= -8, i.e. min_disp 0 minus half a
-             * pixel), so its weight is 0 like that of any neighbour more
-             * than 4 px away: no separate test needed */
-            for (j = jlo; j <= jhi; j++) {
-                int32_t v = in[j];
-                int32_t wt = 64 - negobs_abs_s32(v - c);
-                wt = (wt > 0) ? wt : 0;
-                sw += wt;
-                sd += wt * v;
+            for (j = 1; j <= 4; j++) {
+                int32_t wl;
+                int32_t wr;
+                if (i - j < 0 || i + j >= n) {
+                    break; /* the border: no pair from here on */
+                }
+                if (in[i - j] == NEGOBS_DISP_INVALID ||
+                    in[i + j] == NEGOBS_DISP_INVALID) {
+                    continue; /* a hole on one side: neither tap counts */
+                }
+                wl = amean_weight(in[i - j], c);
+                wr = amean_weight(in[i + j], c);
+                sw += wl + wr;
+                sd += wl * (int32_t)in[i - j] + wr * (int32_t)in[i + j];
             }
-            /* sw >= 64: the centre is its own neighbour (j == i) */
-            out[i] = (int16_t)((sw > 0) ? div_round_pos(sd, sw) : c);
+            out[i] = (int16_t)div_round_pos(sd, sw);
         } else {
             int32_t a = NEGOBS_DISP_INVALID;
             int32_t b = NEGOBS_DISP_INVALID;
