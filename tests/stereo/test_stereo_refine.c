@@ -274,12 +274,9 @@ static void test_adaptive_mean_keeps_a_slanted_surface_at_borders_and_holes(
             disp[y * W + x] = (int16_t)(320 + 3 * y + x);
         }
     }
-    hole(8, 20, 30); /* too wide for either pass: its borders are tested */
-    for (y = 0; y < H; y++) {
-        for (x = 0; x < W; x++) {
-            conf[y * W + x] = 200;
-        }
-    }
+    /* too wide for the row pass; its borders are what is tested (the
+     * column pass may fill it: pixels that were holes are not compared) */
+    hole(8, 20, 30);
     {
         static int16_t before[H * W];
         memcpy(before, disp, sizeof disp);

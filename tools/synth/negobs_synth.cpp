@@ -558,8 +558,9 @@ int main(int argc, char **argv)
         synth::Pose pose;
         pose.x = dist * std::sin(yaw);
         pose.z = dist * std::cos(yaw);
-        pose.y = o.height_mm * 1e-3 + o.bob_mm * 1e-3 * std::sin(w + ph_bob) +
-                 scene.ground_y(pose.z);
+        // On a ramp the walker follows the surface under the camera.
+        const double ground_y = scene.ground_y(pose.z);
+        pose.y = o.height_mm * 1e-3 + o.bob_mm * 1e-3 * std::sin(w + ph_bob) + ground_y;
         pose.pitch = o.pitch_deg + o.sway_deg * std::sin(w + ph_pitch);
         pose.roll = o.roll_deg + o.roll_sway_deg * std::sin(0.5 * w + ph_roll);
         pose.yaw = o.yaw_deg;
@@ -657,9 +658,9 @@ int main(int argc, char **argv)
                      synth::hazard_name(sp.hazard), edge.c_str(), drop * 1e3,
                      (sp.hazard == synth::Hazard::Stairs ? sp.rise * sp.steps : drop) * 1e3,
                      eg.visible ? "true" : "false", eg.cols_visible, rows.c_str(), box.c_str(), line.c_str(),
-                     rowc.c_str(), (pose.y - scene.ground_y(pose.z)) * 1e3, pose.pitch,
-                     pose.roll, pose.yaw, pose.x * 1e3, pose.z * 1e3,
-                     scene.ground_y(pose.z) * 1e3, extra.c_str(), i + 1 < o.frames ? "," : "");
+                     rowc.c_str(), (pose.y - ground_y) * 1e3, pose.pitch, pose.roll,
+                     pose.yaw, pose.x * 1e3, pose.z * 1e3, ground_y * 1e3, extra.c_str(),
+                     i + 1 < o.frames ? "," : "");
     }
     std::fprintf(gt, "]\n}\n");
     if (std::fclose(gt) != 0)

@@ -251,12 +251,13 @@ static int64_t ratio_scaled(int64_t num, int64_t den, int32_t shift)
  *
  * The residual keeps 8 fractional bits of the model (1/4096 px): rounded
  * to whole q4 it carried the model's rounding error, which along a row of
- * a roll-free plane is one constant and drifts slowly from row to row, so
- * the fit read part of that sawtooth as slope, and a second step on the
- * same samples moved the plane again. On an exact flat 320x240 map (pitch
- * 20 deg, H 1.2 m, matcher noise 0.05 px) the fitted pitch was 0.58 deg
- * high and the plane 2 q4 (0.125 px) too high at 3-4 m, the deficit of a
- * 2-3 cm drop there (test_ground_fit_is_unbiased_on_a_clean_flat_map).
+ * a plane without roll is one constant and drifts slowly from row to row,
+ * so the fit read part of that sawtooth as slope, and a second step on
+ * the same samples moved the plane again. On the matched map of an exactly
+ * rendered flat 320x240 frame (pitch 20 deg, H 1.2 m) this alone tilted
+ * the fit by 0.2 deg (20.58 -> 20.38 deg; the rest was the matcher's
+ * border bias, stereo/refine.c); on generated maps the plane was 10/256 px
+ * off, 2/256 now (test_ground_fit_is_unbiased_on_a_clean_flat_map).
  *
  * Scaling: x, y centred, |x|, |y| < 2^12; residuals |r| <= gate < 2^8 q4,
  * so |r_q12| < 2^16; at most 2^15 samples, so n*Sxx < 2^54 and n*Sxr <
