@@ -145,6 +145,22 @@ typedef struct negobs_photo_stats {
     int32_t texture_q4;         /**< mean |horizontal gradient|, 1/16  */
 } negobs_photo_stats_t;
 
+/** Where the camera mounting used by a frame came from. */
+typedef enum negobs_mount_source {
+    NEGOBS_MOUNT_CONFIG = 0,    /**< nothing measured yet: the hint       */
+    NEGOBS_MOUNT_ESTIMATED = 1, /**< measured on this frame's floor       */
+    NEGOBS_MOUNT_HELD = 2       /**< this frame could not measure: the
+                                     last estimate, held                 */
+} negobs_mount_source_t;
+
+/** Camera mounting over the floor, as used by one frame. */
+typedef struct negobs_mount {
+    int32_t height_mm;  /**< camera centre above the floor (mm)        */
+    int32_t pitch_mdeg; /**< optical axis below horizontal (mdeg)      */
+    int32_t roll_mdeg;  /**< roll (mdeg), > 0: floor nearer on right   */
+    int32_t source;     /**< negobs_mount_source_t                     */
+} negobs_mount_t;
+
 /** Configuration. Zero it, call negobs_detect_config_default(). */
 typedef struct negobs_detect_config {
     negobs_camera_t cam;       /**< intrinsics (see negobs_camera_t)   */
@@ -282,6 +298,17 @@ typedef struct negobs_detect_result {
     int32_t ground_valid_permille; /**< valid share in the fit ROI      */
     int32_t ground_inliers;        /**< plane-fit inliers               */
     negobs_photo_stats_t stats;    /**< left stats used (or zero)       */
+    /** Farthest forward floor distance (mm) up to which the walking
+     *  corridor is vouched free of a minimum drop (5 cm within 1.5 m,
+     *  10 cm beyond) by this frame's measured noise. The vouched stretch
+     *  starts at the nearest ground row in view. In HAZARD it is at most
+     *  the nearest hazard's range; in NO_INFO it is still reported
+     *  (possibly 0). See docs/DETECTION.md, "Verdicts". */
+    int32_t clear_to_mm;
+    /** 1 when the state is CLEAR but clear_to_mm is below range_warn_mm
+     *  (short sight): the wearer gets the gentle short-sight pattern. */
+    int32_t short_sight;
+    negobs_mount_t mount;          /**< camera mounting used this frame */
 } negobs_detect_result_t;
 
 /** Context; place it anywhere. Fields are private. */
