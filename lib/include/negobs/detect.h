@@ -62,10 +62,11 @@ typedef enum negobs_degraded_reason {
     NEGOBS_DEGRADED_UNSYNCED = 1u << 6,     /**< L/R timestamps apart  */
     NEGOBS_DEGRADED_NOISY = 1u << 7,        /**< sigma_d too high for h_min */
     NEGOBS_DEGRADED_BAD_INPUT = 1u << 8,    /**< missing/unusable frame */
-    /** No reference yet for the ground under the feet, and the ground in
-     *  view lies ground_verify_mm or more below the height hint (or there
-     *  is no hint): an edge nearer than the view, or a wrong hint (at
-     *  most ground_drop_max_ms after the first ground model) */
+    /** No reference yet for the ground under the feet, and the camera
+     *  height fitted to the ground in view differs from the height hint
+     *  by ground_verify_mm or more (or there is no hint): an edge nearer
+     *  than the view, or a wrong hint (at most ground_drop_max_ms after
+     *  the first ground model) */
     NEGOBS_DEGRADED_GROUND_UNVERIFIED = 1u << 9
 } negobs_degraded_reason_t;
 
@@ -256,8 +257,8 @@ typedef struct negobs_detect_config {
                                     h_near_range_mm (default 70 mm;
                                     0 = off)                            */
     int32_t ground_verify_mm;  /**< before the first reference: a fitted
-                                    camera height this much or more above
-                                    cam_height_mm (any height when
+                                    camera height this much or more away
+                                    from cam_height_mm (any height when
                                     cam_height_mm is 0) is GROUND_UNVERIFIED,
                                     never CLEAR (a drop of about this
                                     height within ~1.4 m at switch-on;

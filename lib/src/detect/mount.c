@@ -93,7 +93,11 @@ int mount_height_unverified(const negobs_detect_config_t *cfg,
     if (cfg->cam_height_mm <= 0) {
         return 1;
     }
-    return fitted_height_mm - cfg->cam_height_mm >= cfg->ground_verify_mm;
+    /* Both ways: a hint set too high would otherwise vouch for the
+     * view of a lower floor beyond an edge at switch-on (a camera 1.2 m
+     * over the feet, hinted 1.5 m, sees 1.35 m in front of a 15 cm drop). */
+    return negobs_abs_s32(fitted_height_mm - cfg->cam_height_mm) >=
+           cfg->ground_verify_mm;
 }
 
 void mount_reset(mount_track_t *m)

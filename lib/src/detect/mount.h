@@ -43,7 +43,7 @@ int mount_pose_physical(const negobs_detect_config_t *cfg,
                         const negobs_ground_pose_t *pose);
 
 /* 1 if the fitted height must be verified before the view may say
- * CLEAR: ground_verify_mm or more above the hint, or no hint. */
+ * CLEAR: ground_verify_mm or more away from the hint, or no hint. */
 int mount_height_unverified(const negobs_detect_config_t *cfg,
                             int32_t fitted_height_mm);
 
