@@ -171,6 +171,74 @@ static void test_mount_switch_on_near_a_drop_is_no_info(void **state)
     }
 }
 
+/* Looking at the feet verifies the start without a hint: with the floor
+ * within 0.6 m of the feet in view, the fit rests on the ground under
+ * them. Switched on 1.3 m from a 15 cm drop, looking down first (pitch
+ * 40 deg: the view starts ~0.55 m ahead) and then ahead, the camera's true
+ * height is the reference, the lower floor shows as a ground drop, and no
+ * frame with the edge within 1.1 m is CLEAR. On flat ground the same
+ * look-down makes every later frame CLEAR at once, not after
+ * ground_drop_max_ms. With mount_verify_near_mm = 0 (the check off) the
+ * flat walk stays unverified: the test can fail. */
+static void test_mount_look_at_the_feet_verifies_the_start(void **state)
+{
+    negobs_detect_config_t c;
+    synth_scene_t s;
+    int off;
+    int i;
+    (void)state;
+    for (off = 0; off < 2; off++) {
+        int unverified = 0;
+        negobs_detect_config_default(&c, RIG_W, RIG_H);
+        c.cam_height_mm = 0;
+        c.mount_verify_near_mm = off ? 0 : 600;
+        rig_setup(&rig, &c);
+        for (i = 0; i < 20; i++) {
+            synth_flat(&s, 1.2, i < 3 ? 40.0 : 20.0);
+            s.noise_px = 0.25;
+            s.seed = (uint32_t)i + 40u;
+            assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+            unverified += (rig.res.reasons &
+                           NEGOBS_DEGRADED_GROUND_UNVERIFIED) != 0u;
+            /* (the frame of the 20 deg pitch change itself may be
+             * FEW_GROUND: the track keeps the old plane for a frame) */
+            if (!off && i >= 4) {
+                assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+            }
+        }
+        print_message("flat, no hint, looked down first (check %s): %d "
+                      "unverified frames of 20\n", off ? "off" : "on",
+                      unverified);
+        assert_true(off ? unverified == 20 : unverified == 0);
+        rig_teardown(&rig);
+    }
+    {
+        double edge = 1.3;
+        int late_clear = 0;
+        int hazard = 0;
+        negobs_detect_config_default(&c, RIG_W, RIG_H);
+        c.cam_height_mm = 0;
+        rig_setup(&rig, &c);
+        for (i = 0; i < 14 && edge > 0.1; i++) {
+            synth_flat(&s, 1.2, i < 3 ? 40.0 : 20.0);
+            s.noise_px = 0.25;
+            s.seed = (uint32_t)i + 11u;
+            synth_step(&s, edge, -0.150);
+            assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+            late_clear += edge < 1.1 && rig.res.state == NEGOBS_DETECT_CLEAR;
+            hazard += rig.res.state == NEGOBS_DETECT_HAZARD;
+            if (i >= 3) {
+                edge -= 0.12;
+            }
+        }
+        print_message("15 cm drop 1.3 m ahead, looked down first: %d late "
+                      "CLEAR, %d HAZARD frames\n", late_clear, hazard);
+        assert_int_equal(late_clear, 0);
+        assert_true(hazard >= 5);
+        rig_teardown(&rig);
+    }
+}
+
 /* The result reports the mounting: the hint before any fit (CONFIG), the
  * measurement (ESTIMATED: pitch per frame, height and roll tracked), the
  * last estimate while the floor is not seen (HELD), and a remounted camera
@@ -237,6 +305,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mount_wrong_or_no_hint_gives_the_same_verdicts),
         cmocka_unit_test(test_mount_switch_on_near_a_drop_is_no_info),
+        cmocka_unit_test(test_mount_look_at_the_feet_verifies_the_start),
         cmocka_unit_test(test_mount_reported_estimated_held_reacquired),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

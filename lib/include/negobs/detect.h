@@ -185,6 +185,11 @@ typedef struct negobs_detect_config {
     int32_t mount_reacquire_ms;/**< no measurement for this long: the
                                     next fits re-acquire the mounting
                                     from scratch (default 2000 ms)      */
+    int32_t mount_verify_near_mm; /**< a fit whose bottom row meets the
+                                    floor this near the feet saw the
+                                    ground under them: it verifies the
+                                    start ("look at your feet"; default
+                                    600 mm; 0 = off)                    */
     int32_t max_disp_q4;       /**< largest disparity (default 64*16)  */
     int32_t min_confidence;    /**< deficit test: confidence below is
                                     not a vote (def. 120, i.e. grown

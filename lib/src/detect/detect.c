@@ -1466,9 +1466,10 @@ static int warn_rows_measured(const scan_ctx_t *s, const detect_priv_t *p,
  * a camera about the drop too high; so does one whose hint is too low,
  * and a hint too high would take the lower floor for the right one. The
  * view cannot tell these apart, so such frames are NO_INFO
- * (*unverified), never CLEAR, until a frame agrees with the hint or
- * ground_drop_max_ms have passed; then the view is taken as it
- * is. The start check is tighter than the cue (50 against 100 mm): a
+ * (*unverified), never CLEAR, until a frame agrees with the hint, or its
+ * view reaches the floor within mount_verify_near_mm of the feet (the
+ * wearer looked down: mount.c), or ground_drop_max_ms have passed; then
+ * the view is taken as it is. The start check is tighter than the cue (50 against 100 mm): a
  * 10 cm drop at switch-on reads 98-103 mm high, just under the cue's
  * threshold, and the hint is the only reference there is.
  */
@@ -1485,7 +1486,8 @@ static int ground_unverified(detect_priv_t *p,
                              const negobs_detect_config_t *cfg,
                              const gfit_out_t *g, uint32_t now_ms)
 {
-    if (!mount_height_unverified(cfg, g->pose.height_mm)) {
+    if (!mount_height_unverified(cfg, g->pose.height_mm) ||
+        mount_sees_feet(cfg, &g->plane, &g->frame)) {
         p->unverified_on = 0;
         return 0;
     }

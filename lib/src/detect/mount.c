@@ -44,6 +44,9 @@ void mount_config_default(negobs_detect_config_t *cfg)
     /* Two seconds without a floor is a look-away (at the sky, a wall, the
      * own hand), longer than a stumble's few frames of lost ground. */
     cfg->mount_reacquire_ms = 2000;
+    /* About one step: nearer than that the cane has the floor, and a fit
+     * that reaches it rests on the ground under the feet. */
+    cfg->mount_verify_near_mm = 600;
 }
 
 static int mount_in(int32_t x, int32_t lo, int32_t hi)
@@ -63,7 +66,8 @@ negobs_status_t mount_config_check(const negobs_detect_config_t *c)
         !mount_in(c->mount_pitch_max_mdeg, c->mount_pitch_min_mdeg, 70000) ||
         !mount_in(c->mount_roll_max_mdeg, 0, 45000) ||
         !mount_in(c->mount_gain_q15, 1, 32768) ||
-        !mount_in(c->mount_reacquire_ms, 0, 600000)) {
+        !mount_in(c->mount_reacquire_ms, 0, 600000) ||
+        !mount_in(c->mount_verify_near_mm, 0, 5000)) {
         return NEGOBS_ERR_INVAL;
     }
     return NEGOBS_OK;
@@ -85,6 +89,23 @@ int mount_pose_physical(const negobs_detect_config_t *cfg,
            pose->pitch_mdeg >= cfg->mount_pitch_min_mdeg &&
            pose->pitch_mdeg <= cfg->mount_pitch_max_mdeg &&
            negobs_abs_s32(pose->roll_mdeg) <= cfg->mount_roll_max_mdeg;
+}
+
+int mount_sees_feet(const negobs_detect_config_t *cfg,
+                    const negobs_ground_plane_t *plane,
+                    const negobs_ground_frame_t *frame)
+{
+    const negobs_camera_t *cam = &cfg->cam;
+    int32_t u = cam->width / 2;
+    int32_t v = cam->height - 1;
+    int32_t z = negobs_depth_mm_from_disp_q4(cam,
+                                             negobs_ground_disp_q4(plane, u, v));
+    int32_t fwd = 0;
+    if (cfg->mount_verify_near_mm <= 0 || z <= 0) {
+        return 0;
+    }
+    negobs_ground_floor_point(cam, frame, u * 16, v * 16, z, &fwd, NULL);
+    return fwd <= cfg->mount_verify_near_mm;
 }
 
 int mount_height_unverified(const negobs_detect_config_t *cfg,

@@ -47,6 +47,18 @@ int mount_pose_physical(const negobs_detect_config_t *cfg,
 int mount_height_unverified(const negobs_detect_config_t *cfg,
                             int32_t fitted_height_mm);
 
+/*
+ * 1 if the fitted floor reaches within mount_verify_near_mm of the feet at
+ * the bottom row's centre. Such a fit's near rows are the floor under the
+ * feet, so its height needs no hint: a drop farther ahead lies in the
+ * upper fit rows, which the fit discounts (section 4), and one nearer is
+ * within the cane's reach. Computed with the fitted height: a fit of a
+ * lower floor reads the distance long, never short.
+ */
+int mount_sees_feet(const negobs_detect_config_t *cfg,
+                    const negobs_ground_plane_t *plane,
+                    const negobs_ground_frame_t *frame);
+
 void mount_reset(mount_track_t *m);
 
 /*
