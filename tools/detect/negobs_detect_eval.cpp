@@ -1022,6 +1022,8 @@ int evaluate_surdis(const Options &opt)
     std::string est_pose;
     // the mounting the detector measured, per frame that measured it
     std::vector<double> mount_h, mount_p, mount_r;
+    std::vector<double> fit_h, fit_p; // each frame's own accepted fit
+
     int mount_src[3] = {0, 0, 0};
     // Separability of the labelled edge on the corridor profile
     // (profile_jump.hpp), for negobs and for OpenCV SGBM on the same
@@ -1064,6 +1066,10 @@ int evaluate_surdis(const Options &opt)
         hazard_frames += d.state == NEGOBS_DETECT_HAZARD;
         if (d.mount.source >= 0 && d.mount.source < 3) {
             ++mount_src[d.mount.source];
+        }
+        if (d.ground_valid) {
+            fit_h.push_back(d.pose.height_mm);
+            fit_p.push_back(d.pose.pitch_mdeg / 1000.0);
         }
         if (d.mount.source == NEGOBS_MOUNT_ESTIMATED) {
             mount_h.push_back(d.mount.height_mm);
@@ -1236,7 +1242,14 @@ int evaluate_surdis(const Options &opt)
              fmtd("%.1f", percentile(mount_p, 0.9)) + " deg, roll " +
              fmtd("%.1f", percentile(mount_r, 0.1)) + "/" +
              fmtd("%.1f", percentile(mount_r, 0.5)) + "/" +
-             fmtd("%.1f", percentile(mount_r, 0.9)) + " deg.");
+             fmtd("%.1f", percentile(mount_r, 0.9)) + " deg (reported: height and roll " +
+             "tracked slowly); each frame's own fit: height " +
+             fmtd("%.0f", percentile(fit_h, 0.1)) + "/" +
+             fmtd("%.0f", percentile(fit_h, 0.5)) + "/" +
+             fmtd("%.0f", percentile(fit_h, 0.9)) + " mm, pitch " +
+             fmtd("%.1f", percentile(fit_p, 0.1)) + "/" +
+             fmtd("%.1f", percentile(fit_p, 0.5)) + "/" +
+             fmtd("%.1f", percentile(fit_p, 0.9)) + " deg.");
     rep.both("");
     rep.both("| frames | down_steps label in the corridor | confirmed drop on the label | "
              "... with verdict HAZARD | HAZARD frames | NO_INFO frames | "
