@@ -126,7 +126,8 @@ void mount_reset(mount_track_t *m)
     memset(m, 0, sizeof *m);
 }
 
-/* old + (now - old) * gain, gain in Q15. */
+/* old + (now - old) * gain, gain in Q15, rounded. |now - old| < 2^32 and
+ * gain <= 2^15, so the product stays below 2^47. */
 static int32_t mount_blend(int32_t old, int32_t now, int32_t gain_q15)
 {
     int64_t d = ((int64_t)now - old) * gain_q15;
