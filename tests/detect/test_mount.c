@@ -13,6 +13,8 @@ static rig_t rig;
 
 #define TRUE_H 1.35
 #define TRUE_P 25.0
+#define TRUE_H_MM 1350
+#define TRUE_P_MDEG 25000
 #define WALK_FRAMES 56
 /* Standing frames before the walk: 1.5 s, past the 1000 ms start check
  * the walks configure (ground_drop_max_ms). */
@@ -85,9 +87,9 @@ static int verdict_diffs(const walk_out_t *a, const walk_out_t *b)
 static void test_mount_wrong_or_no_hint_gives_the_same_verdicts(void **state)
 {
     static const int32_t hints[][2] = {
-        {TRUE_H * 1000 + 300, TRUE_P * 1000}, {TRUE_H * 1000 - 300, TRUE_P * 1000},
-        {TRUE_H * 1000, TRUE_P * 1000 + 10000}, {TRUE_H * 1000, TRUE_P * 1000 - 10000},
-        {1200, 20000}, {0, 20000}};
+        {TRUE_H_MM + 300, TRUE_P_MDEG},   {TRUE_H_MM - 300, TRUE_P_MDEG},
+        {TRUE_H_MM, TRUE_P_MDEG + 10000}, {TRUE_H_MM, TRUE_P_MDEG - 10000},
+        {1200, 20000},                    {0, 20000}};
     static const double rolls[] = {0.0, 10.0};
     static const int32_t drops[] = {0, 150};
     static walk_out_t ref;
@@ -102,7 +104,7 @@ static void test_mount_wrong_or_no_hint_gives_the_same_verdicts(void **state)
         for (d = 0; d < 2; d++) {
             int hazard = 0;
             int clear = 0;
-            hinted_config(&c, (int32_t)(TRUE_H * 1000), (int32_t)(TRUE_P * 1000));
+            hinted_config(&c, TRUE_H_MM, TRUE_P_MDEG);
             walk(&c, rolls[r], drops[d], &ref);
             for (i = STAND_FRAMES; i < WALK_FRAMES; i++) {
                 hazard += ref.state[i] == NEGOBS_DETECT_HAZARD;

@@ -1459,19 +1459,18 @@ static int warn_rows_measured(const scan_ctx_t *s, const detect_priv_t *p,
  * the lower ground becomes the reference (the camera was raised, not
  * walked to an edge).
  *
- * The reference is the first clean frame's ground model whose height lies
- * within ground_verify_mm of the height hint (mount.c; with no hint, none
- * does). A device switched on
- * within ~1.4 m of an edge has the lower surface in its fit rows and sees
- * a camera about the drop too high; so does one whose hint is too low,
- * and a hint too high would take the lower floor for the right one. The
- * view cannot tell these apart, so such frames are NO_INFO
- * (*unverified), never CLEAR, until a frame agrees with the hint, or its
- * view reaches the floor within mount_verify_near_mm of the feet (the
- * wearer looked down: mount.c), or ground_drop_max_ms have passed; then
- * the view is taken as it is. The start check is tighter than the cue (50 against 100 mm): a
- * 10 cm drop at switch-on reads 98-103 mm high, just under the cue's
- * threshold, and the hint is the only reference there is.
+ * The reference is the first clean frame's ground model that is verified:
+ * its height lies within ground_verify_mm of the height hint, or its view
+ * reaches the floor within mount_verify_near_mm of the feet (the wearer
+ * looked down; mount.c). A device switched on within ~1.4 m of an edge
+ * has the lower surface in its fit rows and sees a camera about the drop
+ * too high; so does one whose hint is too low, and a hint too high would
+ * take the lower floor for the right one. The view cannot tell these
+ * apart, so unverified frames are NO_INFO (*unverified), never CLEAR,
+ * until a frame is verified or ground_drop_max_ms have passed; then the
+ * view is taken as it is. The start check is tighter than the cue (50
+ * against 100 mm): a 10 cm drop at switch-on reads 98-103 mm high, just
+ * under the cue's threshold, and the hint is the only reference there is.
  */
 /* The view's camera height and pitch become the reference. */
 static inline void ground_ref_take(detect_priv_t *p, const gfit_out_t *g)

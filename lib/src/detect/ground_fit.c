@@ -6,9 +6,9 @@
  *    every fit_step-th pixel with a valid disparity is counted into a
  *    (row, disparity bin) histogram.
  * 2. Constrained Hough. A flat ground is the line d = s*(v - v_h) in that
- *    histogram. Only lines whose (H, pitch) lie inside the physical priors
- *    of a worn camera (mount.c) are searched: 32 slopes s = B*cos(p)/H between the
- *    extremes, and for each slope the intercept k = s*v_h over the horizon
+ *    histogram. Only lines whose (H, pitch) lie inside the physical
+ *    priors of a worn camera (mount.c) are searched: 32 slopes
+ *    s = B*cos(p)/H between the extremes, and for each slope the intercept k = s*v_h over the horizon
  *    rows the pitch range allows. A cell (v, d) votes k = s*v - d for every
  *    slope, weighted by its count: no divisions in the loop. The peak is
  *    taken on a 3-bin sum so noise that splits a line over two bins does
