@@ -608,10 +608,12 @@ cv::Mat overlay(const cv::Mat &left, const cv::Mat &disp_q4, int max_disp,
               " drop " + fmt("%.0fmm", gt->drop_mm);
     }
     std::snprintf(l2, sizeof l2,
-                  "valid %.0f%%  seeds %u  sigma %.2fpx  stereo %.1fms detect %.1fms%s",
+                  "valid %.0f%%  seeds %u  sigma %.2fpx  mount %.2fm %.1fdeg %s  "
+                  "stereo %.1fms detect %.1fms%s",
                   100.0 * o.res.stereo.valid / std::max(1, left.cols * left.rows),
-                  o.res.stereo.seeds, d.sigma_q4 / 16.0, o.stereo_ms,
-                  o.detect_ms, gts.c_str());
+                  o.res.stereo.seeds, d.sigma_q4 / 16.0, d.mount.height_mm / 1000.0,
+                  d.mount.pitch_mdeg / 1000.0, mount_source_name(d.mount.source),
+                  o.stereo_ms, o.detect_ms, gts.c_str());
     cv::putText(bar, l1, cv::Point(6, 16), font, fs, sc, 1, cv::LINE_AA);
     cv::putText(bar, l2, cv::Point(6, 34), font, fs, cv::Scalar(220, 220, 220),
                 1, cv::LINE_AA);
