@@ -234,12 +234,17 @@ static void test_ground_fit_ignores_drop_beyond_fit_rows(void **state)
  * accepted poses below were GROUND_REJECTED. */
 static void test_ground_fit_accepts_any_physical_mounting(void **state)
 {
-    static const double hs[] = {0.65, 0.8, 1.6, 1.95, 1.2, 1.0, 1.9};
-    static const double ps[] = {8.0, 45.0, 10.0, 35.0, 55.0, 20.0, 2.0};
-    static const double rs[] = {0.0, 5.0, -3.0, 0.0, 0.0, 16.0, 0.0};
+    /* the last three: roll near the prior's 20 deg, where a low camera's
+     * floor spreads over 17 px of disparity along a row */
+    static const double hs[] = {0.65, 0.8, 1.6, 1.95, 1.2, 1.0, 1.9,
+                                1.2,  0.7, 0.7};
+    static const double ps[] = {8.0,  45.0, 10.0, 35.0, 55.0, 20.0, 2.0,
+                                20.0, 10.0, 40.0};
+    static const double rs[] = {0.0,  5.0,  -3.0, 0.0,  0.0, 16.0, 0.0,
+                                19.0, 19.0, -19.0};
     int i;
     (void)state;
-    for (i = 0; i < 7; i++) {
+    for (i = 0; i < 10; i++) {
         synth_scene_t s;
         gfit_out_t o;
         synth_flat(&s, hs[i], ps[i]);
