@@ -72,7 +72,7 @@ negobs_status_t app_pipeline_init(app_pipeline_t *p,
         cfg->texture_permille_min > 1000 || cfg->lr_mean_diff_max < 0 ||
         cfg->lr_mean_diff_max > 255 || cfg->focal_px < 50 ||
         cfg->focal_px > 4000 || cfg->baseline_mm < 10 ||
-        cfg->baseline_mm > 1000 || cfg->cam_height_mm < 300 ||
+        cfg->baseline_mm > 1000 || (cfg->cam_height_mm != 0 && cfg->cam_height_mm < 300) ||
         cfg->cam_height_mm > 3000 || cfg->cam_pitch_mdeg < 0 ||
         cfg->cam_pitch_mdeg > 60000 || cfg->max_disp < 8 ||
         cfg->max_disp > 255 || cfg->sync_tol_ms < 0 ||
@@ -223,6 +223,7 @@ static app_verdict_t verdict_of(const negobs_pipeline_result_t *r,
     st->detect_reasons = d->reasons;
     st->nearest_range_mm = d->nearest_range_mm;
     st->hazards = d->n_hazards;
+    st->mount = d->mount;
     if (d->state == NEGOBS_DETECT_NO_INFO) {
         st->reason = APP_REASON_DETECTOR;
         return APP_VERDICT_NO_INFO;

@@ -13,6 +13,7 @@
 
 #include <stdint.h>
 
+#include "negobs/detect.h"
 #include "negobs/image.h"
 #include "negobs/status.h"
 #include "negobs/stereo.h"
@@ -48,7 +49,8 @@ typedef struct app_pipeline_config {
     /* Camera geometry for the detector (rectified pair). */
     int32_t focal_px;             /**< focal length, pixels [250]          */
     int32_t baseline_mm;          /**< stereo baseline [120]               */
-    int32_t cam_height_mm;        /**< camera height above ground [1200]   */
+    int32_t cam_height_mm;        /**< camera height hint [1200]; 0: none,
+                                       the detector measures it          */
     int32_t cam_pitch_mdeg;       /**< downward pitch, 1/1000 deg [20000]  */
     int32_t max_disp;             /**< largest disparity searched [63]     */
     int32_t vertical_align;       /**< 1: sub-pixel vertical alignment stage
@@ -82,6 +84,8 @@ typedef struct app_frame_stats {
     uint32_t detect_reasons;  /**< NEGOBS_DEGRADED_* of the detector     */
     int32_t nearest_range_mm; /**< nearest confirmed hazard, -1 if none  */
     uint32_t hazards;         /**< confirmed or held hazards             */
+    negobs_mount_t mount;     /**< camera mounting the detector used
+                                   (measured, held or the hint)          */
     int32_t valid_permille;   /**< share of pixels with a disparity      */
     int32_t first_row;        /**< first image row the matcher read (0:
                                    the whole frame; row_crop)            */

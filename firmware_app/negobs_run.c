@@ -173,10 +173,11 @@ static const negobs_cfg_key_t config_keys[] = {
      "focal length of the rectified frames, pixels (default 250)"},
     {"baseline_mm", NEGOBS_CFG_INT, &S.app.baseline_mm, 10, 1000,
      "stereo baseline, mm (default 120)"},
-    {"cam_height_mm", NEGOBS_CFG_INT, &S.app.cam_height_mm, 300, 3000,
-     "camera height above the ground, mm (default 1200)"},
+    {"cam_height_mm", NEGOBS_CFG_INT, &S.app.cam_height_mm, 0, 3000,
+     "camera height hint, mm (default 1200; 0: no hint); the detector "
+     "measures the mounting, the hint only verifies the start"},
     {"cam_pitch_mdeg", NEGOBS_CFG_INT, &S.app.cam_pitch_mdeg, 0, 60000,
-     "downward pitch, 1/1000 degree (default 20000)"},
+     "downward pitch hint, 1/1000 degree (default 20000)"},
     {"max_disp", NEGOBS_CFG_INT, &S.app.max_disp, 8, 255,
      "largest disparity searched, pixels (default 63)"},
     {"vertical_align", NEGOBS_CFG_BOOL, &vertical_align_flag, 0, 1,
@@ -297,8 +298,9 @@ static void usage(FILE *out)
 "detection; the library's alert state machine chooses the motor pattern\n"
 "(ready, caution by distance band, imminent, no-information); no fresh\n"
 "verdict for watchdog_ms (300) plays no-information.\n"
-"Set the camera geometry (focal_px, baseline_mm, cam_height_mm,\n"
-"cam_pitch_mdeg) in --config for a real rig: wrong values blind it.\n"
+"Set the camera geometry (focal_px, baseline_mm) in --config for a real\n"
+"rig: wrong values blind it. The mounting (height, pitch, roll) is measured\n"
+"on the floor; cam_height_mm / cam_pitch_mdeg are only hints.\n"
 "\n"
 "Options:\n"
 "  --config FILE        read key = value settings (applied before options)\n"
@@ -905,6 +907,13 @@ typedef struct run_status {
     uint32_t verdicts[4];  /* pairs per verdict over the whole run */
 } run_status_t;
 
+/* negobs_mount_source_t as the log writes it. */
+static const char *mount_source_name(int32_t source)
+{
+    static const char *const names[] = {"config", "estimated", "held"};
+    return (source >= 0 && source < 3) ? names[source] : "?";
+}
+
 static void status_line(run_status_t *st, uint64_t now)
 {
     negobs_camera_stats_t cs;
@@ -917,7 +926,7 @@ static void status_line(run_status_t *st, uint64_t now)
     logmsg(LOG_INFO,
            "status fps=%lu.%lu latency_ms=%lu.%lu max=%lu dropped=%lu "
            "timeouts=%lu reopens=%lu verdict=%s reason=%s mean=%ld/%ld "
-           "texture=%ld/%ld watchdog=%lu pattern=%s",
+           "texture=%ld/%ld watchdog=%lu pattern=%s mount=%ld/%ld/%ld/%s",
            fps10 / 10u, fps10 % 10u, lat / 10u, lat % 10u,
            (unsigned long)(st->lat_max_us / 1000u),
            (unsigned long)cs.dropped_pairs, (unsigned long)cs.timeouts,
@@ -927,7 +936,11 @@ static void status_line(run_status_t *st, uint64_t now)
            (long)pipeline.last.texture_permille[0],
            (long)pipeline.last.texture_permille[1],
            (unsigned long)negobs_motor_thread_watchdog_fires(&motor),
-           app_alert_pattern_name(app_alert_pattern(&alert_sm)));
+           app_alert_pattern_name(app_alert_pattern(&alert_sm)),
+           (long)pipeline.last.mount.height_mm,
+           (long)pipeline.last.mount.pitch_mdeg,
+           (long)pipeline.last.mount.roll_mdeg,
+           mount_source_name(pipeline.last.mount.source));
     st->window_start_ms = now;
     st->next_ms = now + (uint64_t)S.status_interval_ms;
     st->pairs = 0;

@@ -104,8 +104,8 @@ static void test_detect_workspace_max_macro_is_an_upper_bound(void **state)
             cfg.fit_rows_pct = 100;
             cfg.fit_step_px = 1;
             cfg.strip_px = 4;
-            cfg.cam_pitch_mdeg = 60000;
-            cfg.cam_pitch_tol_mdeg = 5000;
+            /* the most fit rows: horizon above the centre row */
+            cfg.mount_pitch_min_mdeg = -10000;
             assert_int_equal(negobs_detect_workspace_size(&cfg, &bytes),
                              NEGOBS_OK);
             assert_true(bytes <= NEGOBS_DETECT_WORKSPACE_MAX(
@@ -678,14 +678,14 @@ static void test_detect_degraded_pose_and_noise(void **state)
     synth_scene_t s;
     (void)state;
     rig_setup(&rig, NULL);
-    /* Looking far down (pitch 45 deg > 20 + 15): ground rejected. */
-    synth_flat(&s, 1.2, 45.0);
+    /* Looking down steeper than the 60 deg prior: no floor. */
+    synth_flat(&s, 1.2, 66.0);
     s.noise_px = 0.25;
     assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
     assert_true(rig.res.reasons & NEGOBS_DEGRADED_GROUND_REJECTED);
     assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
-    /* Camera at 2 m (tolerance 1.2 +- 0.3 m): rejected. */
-    synth_flat(&s, 2.0, 20.0);
+    /* A camera 2.5 m up (prior: at most 2.0 m): rejected. */
+    synth_flat(&s, 2.5, 20.0);
     s.noise_px = 0.25;
     assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
     assert_true(rig.res.reasons & NEGOBS_DEGRADED_GROUND_REJECTED);

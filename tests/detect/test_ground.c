@@ -227,18 +227,59 @@ static void test_ground_fit_ignores_drop_beyond_fit_rows(void **state)
     assert_true(abs(o.pose.pitch_mdeg - 20000) <= 800);
 }
 
-static void test_ground_fit_rejects_out_of_tolerance(void **state)
+/* Priors, not hints: a floor is accepted wherever a worn camera can be
+ * (0.6-2.0 m, 0-60 deg down, |roll| <= 20 deg), whatever cam_height_mm and
+ * cam_pitch_mdeg say, and rejected only outside them. With the old
+ * tolerance box around the hint (1.2 +- 0.3 m, 20 +- 15 deg, roll 12) the
+ * accepted poses below were GROUND_REJECTED. */
+static void test_ground_fit_accepts_any_physical_mounting(void **state)
+{
+    /* the last three: roll near the prior's 20 deg, where a low camera's
+     * floor spreads over 17 px of disparity along a row */
+    static const double hs[] = {0.65, 0.8, 1.6, 1.95, 1.2, 1.0, 1.9,
+                                1.2,  0.7, 0.7};
+    static const double ps[] = {8.0,  45.0, 10.0, 35.0, 55.0, 20.0, 2.0,
+                                20.0, 10.0, 40.0};
+    static const double rs[] = {0.0,  5.0,  -3.0, 0.0,  0.0, 16.0, 0.0,
+                                19.0, 19.0, -19.0};
+    int i;
+    (void)state;
+    for (i = 0; i < 10; i++) {
+        synth_scene_t s;
+        gfit_out_t o;
+        synth_flat(&s, hs[i], ps[i]);
+        s.roll_deg = rs[i];
+        s.noise_px = 0.25;
+        s.seed = (uint32_t)i + 70u;
+        fit_scene(&s, &o);
+        print_message("H %.2f m pitch %.0f roll %.0f: ok %d, %d mm %d mdeg "
+                      "roll %d\n", hs[i], ps[i], rs[i], o.ok,
+                      (int)o.pose.height_mm, (int)o.pose.pitch_mdeg,
+                      (int)o.pose.roll_mdeg);
+        assert_int_equal(o.ok, 1);
+        assert_true(abs(o.pose.height_mm - (int)(hs[i] * 1000)) <=
+                    (int)(hs[i] * 40));
+        assert_true(abs(o.pose.pitch_mdeg - (int)(ps[i] * 1000)) <= 800);
+        assert_true(abs(o.pose.roll_mdeg - (int)(rs[i] * 1000)) <= 800);
+    }
+}
+
+static void test_ground_fit_rejects_what_cannot_be_a_floor(void **state)
 {
     synth_scene_t s;
     gfit_out_t o;
     (void)state;
-    synth_flat(&s, 1.2, 42.0); /* nominal 20 +- 15 */
+    synth_flat(&s, 1.2, 66.0); /* prior: at most 60 deg down */
     s.noise_px = 0.25;
     fit_scene(&s, &o);
     assert_int_equal(o.ok, 0);
     assert_true(o.reasons & NEGOBS_DEGRADED_GROUND_REJECTED);
+    synth_flat(&s, 2.5, 20.0); /* prior: at most 2.0 m */
+    s.noise_px = 0.25;
+    fit_scene(&s, &o);
+    assert_int_equal(o.ok, 0);
     synth_flat(&s, 1.2, 20.0);
-    s.roll_deg = 20.0; /* roll tolerance 12 */
+    s.roll_deg = 26.0; /* prior: |roll| <= 20 */
     fit_scene(&s, &o);
     assert_int_equal(o.ok, 0);
     /* Mostly invalid: too few ground pixels. */
@@ -259,7 +300,8 @@ int main(void)
         cmocka_unit_test(test_ground_fit_recovers_pose_with_noise_and_roll),
         cmocka_unit_test(test_ground_fit_is_unbiased_on_a_clean_flat_map),
         cmocka_unit_test(test_ground_fit_ignores_drop_beyond_fit_rows),
-        cmocka_unit_test(test_ground_fit_rejects_out_of_tolerance),
+        cmocka_unit_test(test_ground_fit_accepts_any_physical_mounting),
+        cmocka_unit_test(test_ground_fit_rejects_what_cannot_be_a_floor),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

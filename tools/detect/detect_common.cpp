@@ -359,6 +359,16 @@ const char *type_name(int t)
     }
 }
 
+const char *mount_source_name(int s)
+{
+    switch (s) {
+    case NEGOBS_MOUNT_CONFIG: return "config";
+    case NEGOBS_MOUNT_ESTIMATED: return "estimated";
+    case NEGOBS_MOUNT_HELD: return "held";
+    default: return "?";
+    }
+}
+
 std::string reasons_string(uint32_t reasons, const char *sep)
 {
     static const char *const names[] = {
@@ -465,7 +475,11 @@ std::string json_line(int frame, const std::string &name, const FrameOut &o,
       << ",\"inliers\":" << d.ground_inliers << ",\"sigma_px\":"
       << fmt("%.3f", d.sigma_q4 / 16.0) << ",\"height_mm\":"
       << d.pose.height_mm << ",\"pitch_deg\":"
-      << fmt("%.2f", d.pose.pitch_mdeg / 1000.0) << "},\"ms\":{";
+      << fmt("%.2f", d.pose.pitch_mdeg / 1000.0)
+      << "},\"mount\":{\"height_mm\":" << d.mount.height_mm
+      << ",\"pitch_mdeg\":" << d.mount.pitch_mdeg
+      << ",\"roll_mdeg\":" << d.mount.roll_mdeg << ",\"source\":\""
+      << mount_source_name(d.mount.source) << "\"},\"ms\":{";
     if (o.stereo_ms >= 0) {
         s << "\"stereo\":" << fmt("%.2f", o.stereo_ms)
           << ",\"detect\":" << fmt("%.2f", o.detect_ms) << ",";
@@ -594,10 +608,12 @@ cv::Mat overlay(const cv::Mat &left, const cv::Mat &disp_q4, int max_disp,
               " drop " + fmt("%.0fmm", gt->drop_mm);
     }
     std::snprintf(l2, sizeof l2,
-                  "valid %.0f%%  seeds %u  sigma %.2fpx  stereo %.1fms detect %.1fms%s",
+                  "valid %.0f%%  seeds %u  sigma %.2fpx  mount %.2fm %.1fdeg %s  "
+                  "stereo %.1fms detect %.1fms%s",
                   100.0 * o.res.stereo.valid / std::max(1, left.cols * left.rows),
-                  o.res.stereo.seeds, d.sigma_q4 / 16.0, o.stereo_ms,
-                  o.detect_ms, gts.c_str());
+                  o.res.stereo.seeds, d.sigma_q4 / 16.0, d.mount.height_mm / 1000.0,
+                  d.mount.pitch_mdeg / 1000.0, mount_source_name(d.mount.source),
+                  o.stereo_ms, o.detect_ms, gts.c_str());
     cv::putText(bar, l1, cv::Point(6, 16), font, fs, sc, 1, cv::LINE_AA);
     cv::putText(bar, l2, cv::Point(6, 34), font, fs, cv::Scalar(220, 220, 220),
                 1, cv::LINE_AA);

@@ -120,6 +120,8 @@ private:
 // Names.
 const char *state_name(int state);
 const char *level_name(int level);
+// "config", "estimated" or "held" (negobs_mount_source_t).
+const char *mount_source_name(int source);
 const char *pattern_name(int pattern);
 const char *type_name(int type);
 std::string reasons_string(uint32_t reasons, const char *sep);

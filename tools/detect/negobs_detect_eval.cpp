@@ -306,7 +306,9 @@ struct Options {
     std::string img_dir;
     std::string dump_dir; // --surdis-dump: raw maps + plane per frame
     // the assumptions of docs/DETECTION.md 12.3 (no calibration is published)
-    double surdis_f = 380, surdis_B = 30, surdis_H = 1100, surdis_pitch = 20;
+    // the mounting is only a hint (the detector measures it): the library's
+    // generic 1.2 m / 20 deg unless told; --surdis-height-mm 0: no hint
+    double surdis_f = 380, surdis_B = 30, surdis_H = 1200, surdis_pitch = 20;
     double surdis_range_warn = -1, surdis_range_max = -1; // < 0: library default
     int surdis_vshift = -200; // rows; -100: the matcher's integer search;
                               // -200: the alignment stage (valign.h)
@@ -999,7 +1001,7 @@ int evaluate_surdis(const Options &opt)
                                          "(vertical_search 4)")) +
              ". Assumed camera: f = " +
              fmtd("%.0f", cam.f) + " px, cx, cy = image centre, B = " +
-             fmtd("%.0f", cam.baseline_mm) + " mm, H = " +
+             fmtd("%.0f", cam.baseline_mm) + " mm; mounting hint H = " +
              fmtd("%.0f", cam.height_mm) + " mm, pitch = " +
              fmtd("%.0f", cam.pitch_deg) + " deg; frames at 10 fps" +
              (cam.range_warn_mm > 0 || cam.range_max_mm > 0
@@ -1018,6 +1020,11 @@ int evaluate_surdis(const Options &opt)
     std::vector<int> pics = {30, 60, 80, 95};
     double st_sum = 0, dt_sum = 0;
     std::string est_pose;
+    // the mounting the detector measured, per frame that measured it
+    std::vector<double> mount_h, mount_p, mount_r;
+    std::vector<double> fit_h, fit_p; // each frame's own accepted fit
+
+    int mount_src[3] = {0, 0, 0};
     // Separability of the labelled edge on the corridor profile
     // (profile_jump.hpp), for negobs and for OpenCV SGBM on the same
     // aligned pair: [0] negobs, [1] SGBM.
@@ -1057,6 +1064,18 @@ int evaluate_surdis(const Options &opt)
         const negobs_detect_result_t &d = o.res.detect;
         noinfo += d.state == NEGOBS_DETECT_NO_INFO;
         hazard_frames += d.state == NEGOBS_DETECT_HAZARD;
+        if (d.mount.source >= 0 && d.mount.source < 3) {
+            ++mount_src[d.mount.source];
+        }
+        if (d.ground_valid) {
+            fit_h.push_back(d.pose.height_mm);
+            fit_p.push_back(d.pose.pitch_mdeg / 1000.0);
+        }
+        if (d.mount.source == NEGOBS_MOUNT_ESTIMATED) {
+            mount_h.push_back(d.mount.height_mm);
+            mount_p.push_back(d.mount.pitch_mdeg / 1000.0);
+            mount_r.push_back(d.mount.roll_mdeg / 1000.0);
+        }
         if (n == 60) {
             est_pose = "frame 60: ground " + std::string(d.ground_valid ? "valid" : "invalid") +
                        ", estimated H " + std::to_string(d.pose.height_mm) +
@@ -1209,6 +1228,28 @@ int evaluate_surdis(const Options &opt)
         }
     }
     rep.both(est_pose + ".");
+    rep.both("Mounting estimate (hint " + fmtd("%.0f", cam.height_mm) + " mm / " +
+             fmtd("%.0f", cam.pitch_deg) + " deg): estimated on " +
+             std::to_string(mount_src[NEGOBS_MOUNT_ESTIMATED]) + ", held on " +
+             std::to_string(mount_src[NEGOBS_MOUNT_HELD]) + ", hint on " +
+             std::to_string(mount_src[NEGOBS_MOUNT_CONFIG]) + " of " +
+             std::to_string(frames) + " frames; height p10/median/p90 " +
+             fmtd("%.0f", percentile(mount_h, 0.1)) + "/" +
+             fmtd("%.0f", percentile(mount_h, 0.5)) + "/" +
+             fmtd("%.0f", percentile(mount_h, 0.9)) + " mm, pitch " +
+             fmtd("%.1f", percentile(mount_p, 0.1)) + "/" +
+             fmtd("%.1f", percentile(mount_p, 0.5)) + "/" +
+             fmtd("%.1f", percentile(mount_p, 0.9)) + " deg, roll " +
+             fmtd("%.1f", percentile(mount_r, 0.1)) + "/" +
+             fmtd("%.1f", percentile(mount_r, 0.5)) + "/" +
+             fmtd("%.1f", percentile(mount_r, 0.9)) + " deg (reported: height and roll " +
+             "tracked slowly); each frame's own fit: height " +
+             fmtd("%.0f", percentile(fit_h, 0.1)) + "/" +
+             fmtd("%.0f", percentile(fit_h, 0.5)) + "/" +
+             fmtd("%.0f", percentile(fit_h, 0.9)) + " mm, pitch " +
+             fmtd("%.1f", percentile(fit_p, 0.1)) + "/" +
+             fmtd("%.1f", percentile(fit_p, 0.5)) + "/" +
+             fmtd("%.1f", percentile(fit_p, 0.9)) + " deg.");
     rep.both("");
     rep.both("| frames | down_steps label in the corridor | confirmed drop on the label | "
              "... with verdict HAZARD | HAZARD frames | NO_INFO frames | "
@@ -1273,7 +1314,9 @@ void usage(FILE *f)
         "--surdis: SurDis sequence 21 from DIR (default $NEGOBS_DATA/surdis,\n"
         "else <repo>/../shared/data/surdis); exit 77 if absent. --surdis-vshift:\n"
         "model (default) runs the sub-pixel alignment stage; ROWS fixes an integer\n"
-        "shift; auto lets the matcher search whole rows. --surdis-dump\n"
+        "shift; auto lets the matcher search whole rows. --surdis-height-mm,\n"
+        "--surdis-pitch-deg: the mounting hint (1200 mm / 20 deg; 0 mm: no hint);\n"
+        "the detector measures the mounting on the floor. --surdis-dump\n"
         "writes fN.disp (int16 q4), fN.conf (u8) and fN.txt (frame, size, ground\n"
         "valid, plane a b c q20, H, sigma q4, sigma_warn q4, reasons, strip\n"
         "sigma q8, strip offset q8, state, candidates) per frame into DIR.\n"
@@ -1342,7 +1385,8 @@ int main(int argc, char **argv)
         } else if (a == "--surdis-baseline-mm") {
             ok = num(opt.surdis_B, 5, 500);
         } else if (a == "--surdis-height-mm") {
-            ok = num(opt.surdis_H, 300, 3000);
+            ok = num(opt.surdis_H, 0, 3000) &&
+                 (opt.surdis_H == 0 || opt.surdis_H >= 300);
         } else if (a == "--surdis-max-disp") {
             double x = 0;
             ok = num(x, 8, 255);

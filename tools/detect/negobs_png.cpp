@@ -38,8 +38,10 @@ void usage(FILE *f)
         "  --f PX            focal length (250 at 320 px width, scaled)\n"
         "  --baseline-mm B   baseline (120)\n"
         "  --cx PX --cy PX   principal point (image centre)\n"
-        "  --height-mm H     camera height above ground (1200)\n"
-        "  --pitch-deg P     camera pitch down (20)\n"
+        "  --height-mm H     camera height hint (1200; 0: no hint). The detector\n"
+        "                    measures the mounting on the floor; the hint only\n"
+        "                    verifies the start (docs/DETECTION.md)\n"
+        "  --pitch-deg P     camera pitch hint, down (20)\n"
         "  --max-disp D      largest disparity searched (library default 63)\n"
         "  --vshift ROWS     left row y matches right row y+ROWS (default:\n"
         "                    the matcher estimates whole rows)\n"
@@ -149,7 +151,7 @@ int main(int argc, char **argv)
             } else if (a == "--cy") {
                 ok = parse_double(v, cy) && cy >= 0;
             } else if (a == "--height-mm") {
-                ok = parse_double(v, H) && H >= 200 && H <= 3000;
+                ok = parse_double(v, H) && (H == 0 || (H >= 200 && H <= 3000));
             } else if (a == "--pitch-deg") {
                 ok = parse_double(v, pitch) && pitch >= -10 && pitch <= 80;
             } else if (a == "--max-disp") {
@@ -262,7 +264,7 @@ int main(int argc, char **argv)
     if (B > 0) cam.baseline_mm = B;
     if (cx >= 0) cam.cx = cx;
     if (cy >= 0) cam.cy = cy;
-    if (H > 0) cam.height_mm = H;
+    if (H >= 0) cam.height_mm = H;
     if (pitch > -1e8) cam.pitch_deg = pitch;
     cam.max_disp = max_disp;
     cam.vshift_set = vshift_set;

@@ -56,15 +56,17 @@ typedef enum negobs_degraded_reason {
     NEGOBS_DEGRADED_SATURATED = 1u << 1,    /**< blown-out share       */
     NEGOBS_DEGRADED_LOW_TEXTURE = 1u << 2,  /**< mean gradient too low */
     NEGOBS_DEGRADED_FEW_GROUND = 1u << 3,   /**< valid ground pixels   */
-    NEGOBS_DEGRADED_GROUND_REJECTED = 1u << 4, /**< fit failed/out of tol */
+    NEGOBS_DEGRADED_GROUND_REJECTED = 1u << 4, /**< no planar support, or
+                                                 not a floor (priors) */
     NEGOBS_DEGRADED_STALE = 1u << 5,        /**< frame too old / gap   */
     NEGOBS_DEGRADED_UNSYNCED = 1u << 6,     /**< L/R timestamps apart  */
     NEGOBS_DEGRADED_NOISY = 1u << 7,        /**< sigma_d too high for h_min */
     NEGOBS_DEGRADED_BAD_INPUT = 1u << 8,    /**< missing/unusable frame */
-    /** No reference yet for the ground under the feet, and the ground in
-     *  view lies ground_verify_mm or more below the configured height: an
-     *  edge nearer than the view, or a wrong cam_height_mm (at most
-     *  ground_drop_max_ms after the first ground model) */
+    /** No reference yet for the ground under the feet, and the camera
+     *  height fitted to the ground in view differs from the height hint
+     *  by ground_verify_mm or more (or there is no hint): an edge nearer
+     *  than the view, or a wrong hint (at most ground_drop_max_ms after
+     *  the first ground model) */
     NEGOBS_DEGRADED_GROUND_UNVERIFIED = 1u << 9
 } negobs_degraded_reason_t;
 
@@ -164,11 +166,30 @@ typedef struct negobs_mount {
 /** Configuration. Zero it, call negobs_detect_config_default(). */
 typedef struct negobs_detect_config {
     negobs_camera_t cam;       /**< intrinsics (see negobs_camera_t)   */
-    int32_t cam_height_mm;     /**< nominal height (default 1200 mm)   */
-    int32_t cam_height_tol_mm; /**< accepted deviation (default 300)   */
-    int32_t cam_pitch_mdeg;    /**< nominal pitch (default 20000 mdeg) */
-    int32_t cam_pitch_tol_mdeg;/**< accepted deviation (default 15000) */
-    int32_t cam_roll_tol_mdeg; /**< accepted |roll| (default 12000)    */
+    /* Mounting: measured from the floor every frame (docs/DETECTION.md,
+     * "Mounting estimate"). The configured height and pitch are hints,
+     * never gates: a fit is rejected only outside the physical priors. */
+    int32_t cam_height_mm;     /**< height hint (default 1200 mm; 0 = no
+                                    hint: every start is verified by
+                                    time, see ground_verify_mm)         */
+    int32_t cam_pitch_mdeg;    /**< pitch hint (default 20000 mdeg),
+                                    reported until a fit measures it   */
+    int32_t mount_height_min_mm; /**< prior: lowest camera (600 mm)    */
+    int32_t mount_height_max_mm; /**< prior: highest camera (2000 mm)  */
+    int32_t mount_pitch_min_mdeg;/**< prior: least pitch down (0)      */
+    int32_t mount_pitch_max_mdeg;/**< prior: most pitch down (60000)   */
+    int32_t mount_roll_max_mdeg; /**< prior: largest |roll| (20000)    */
+    int32_t mount_gain_q15;    /**< slow height/roll track gain per
+                                    measuring frame (default 2048 =
+                                    1/16, ~1.6 s at 10 fps)             */
+    int32_t mount_reacquire_ms;/**< no measurement for this long: the
+                                    next fits re-acquire the mounting
+                                    from scratch (default 2000 ms)      */
+    int32_t mount_verify_near_mm; /**< a fit whose bottom row meets the
+                                    floor this near the feet saw the
+                                    ground under them: it verifies the
+                                    start ("look at your feet"; default
+                                    600 mm; 0 = off)                    */
     int32_t max_disp_q4;       /**< largest disparity (default 64*16)  */
     int32_t min_confidence;    /**< deficit test: confidence below is
                                     not a vote (def. 120, i.e. grown
@@ -241,8 +262,9 @@ typedef struct negobs_detect_config {
                                     h_near_range_mm (default 70 mm;
                                     0 = off)                            */
     int32_t ground_verify_mm;  /**< before the first reference: a fitted
-                                    camera height this much or more above
-                                    cam_height_mm is GROUND_UNVERIFIED,
+                                    camera height this much or more away
+                                    from cam_height_mm (any height when
+                                    cam_height_mm is 0) is GROUND_UNVERIFIED,
                                     never CLEAR (a drop of about this
                                     height within ~1.4 m at switch-on;
                                     default 50 mm, 1..2000; used while

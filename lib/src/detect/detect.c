@@ -34,6 +34,7 @@
 #include "disp_canny.h"
 #include "geom_internal.h"
 #include "ground_fit.h"
+#include "mount.h"
 #include "temporal.h"
 
 #define DETECT_MAGIC 0x4E474454u /* "NGDT" */
@@ -105,6 +106,7 @@ typedef struct detect_priv {
      * corroborates a smaller ground-drop rise for hold_ms */
     uint32_t near_cand_ms;
     int32_t near_cand_on;
+    mount_track_t mount; /* the mounting the results report (mount.c) */
 } detect_priv_t;
 
 /* The cue needs a steady pitch: a pitch change of more than this between
@@ -116,11 +118,7 @@ void negobs_detect_config_default(negobs_detect_config_t *cfg, int32_t width,
 {
     memset(cfg, 0, sizeof *cfg);
     negobs_camera_default(&cfg->cam, width, height);
-    cfg->cam_height_mm = 1200;
-    cfg->cam_height_tol_mm = 300;
-    cfg->cam_pitch_mdeg = 20000;
-    cfg->cam_pitch_tol_mdeg = 15000;
-    cfg->cam_roll_tol_mdeg = 12000;
+    mount_config_default(cfg);
     cfg->max_disp_q4 = 64 * 16;
     /* Stereo confidence is 255 * NCC, halved where the DP filled a pixel
      * the seed growing did not reach. Deficits on filled or weakly
@@ -227,11 +225,7 @@ static negobs_status_t config_check(const negobs_detect_config_t *c)
     if (c == NULL || negobs_camera_check(&c->cam) != NEGOBS_OK) {
         return NEGOBS_ERR_INVAL;
     }
-    if (!in_range(c->cam_height_mm, 200, 5000) ||
-        !in_range(c->cam_height_tol_mm, 0, c->cam_height_mm - 100) ||
-        !in_range(c->cam_pitch_mdeg, -10000, 70000) ||
-        !in_range(c->cam_pitch_tol_mdeg, 0, 45000) ||
-        !in_range(c->cam_roll_tol_mdeg, 0, 45000) ||
+    if (mount_config_check(c) != NEGOBS_OK ||
         !in_range(c->max_disp_q4, 16, 512 * 16) ||
         !in_range(c->min_confidence, 0, 255) ||
         !in_range(c->ground_min_confidence, 0, 255) ||
@@ -361,6 +355,7 @@ negobs_status_t negobs_detect_init(negobs_detect_t *ctx,
         return (st != NEGOBS_OK) ? st : NEGOBS_ERR_NOSPACE;
     }
     temporal_reset(&p->temporal, &ctx->cfg);
+    mount_reset(&p->mount);
     p->magic = DETECT_MAGIC;
     ctx->priv = p;
     return NEGOBS_OK;
@@ -1464,16 +1459,18 @@ static int warn_rows_measured(const scan_ctx_t *s, const detect_priv_t *p,
  * the lower ground becomes the reference (the camera was raised, not
  * walked to an edge).
  *
- * The reference is the first clean frame's ground model that lies less
- * than ground_verify_mm above the configured height. A device switched on
- * within ~1.4 m of an edge has the lower surface in its fit rows and sees
- * a camera about the drop too high; so does one whose cam_height_mm is set
- * too low. The view cannot tell these apart, so such frames are NO_INFO
- * (*unverified), never CLEAR, until a frame agrees with the configured
- * height or ground_drop_max_ms have passed; then the view is taken as it
- * is. The start check is tighter than the cue (50 against 100 mm): a
- * 10 cm drop at switch-on reads 98-103 mm high, just under the cue's
- * threshold, and the configured height is the only reference there is.
+ * The reference is the first clean frame's ground model that is verified:
+ * its height lies within ground_verify_mm of the height hint, or its view
+ * reaches the floor within mount_verify_near_mm of the feet (the wearer
+ * looked down; mount.c). A device switched on within ~1.4 m of an edge
+ * has the lower surface in its fit rows and sees a camera about the drop
+ * too high; so does one whose hint is too low, and a hint too high would
+ * take the lower floor for the right one. The view cannot tell these
+ * apart, so unverified frames are NO_INFO (*unverified), never CLEAR,
+ * until a frame is verified or ground_drop_max_ms have passed; then the
+ * view is taken as it is. The start check is tighter than the cue (50
+ * against 100 mm): a 10 cm drop at switch-on reads 98-103 mm high, just
+ * under the cue's threshold, and the hint is the only reference there is.
  */
 /* The view's camera height and pitch become the reference. */
 static inline void ground_ref_take(detect_priv_t *p, const gfit_out_t *g)
@@ -1488,7 +1485,8 @@ static int ground_unverified(detect_priv_t *p,
                              const negobs_detect_config_t *cfg,
                              const gfit_out_t *g, uint32_t now_ms)
 {
-    if (g->pose.height_mm - cfg->cam_height_mm < cfg->ground_verify_mm) {
+    if (!mount_height_unverified(cfg, g->pose.height_mm) ||
+        mount_sees_feet(cfg, &g->plane, &g->frame)) {
         p->unverified_on = 0;
         return 0;
     }
@@ -1654,6 +1652,7 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
         (frame->left != NULL &&
          negobs_image_u8_check(frame->left) != NEGOBS_OK)) {
         fill_no_info(res, NEGOBS_DEGRADED_BAD_INPUT);
+        mount_report(&p->mount, cfg, &res->mount);
         if (frame != NULL) {
             /* Evidence cannot clear tracks, but held ones keep ageing. */
             temporal_update(&p->temporal, NULL, 0, 0, 0, frame->now_ms);
@@ -1963,6 +1962,10 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
         ground_ref_follow(p, cfg, &g, unverified);
         near_candidate_note(p, cfg, res, frame->now_ms);
     }
+    /* height and roll follow only a view of the ground under the feet */
+    mount_update(&p->mount, cfg, g.ok ? &g.pose : NULL,
+                 g.ok && !unverified && !p->drop_on, frame->now_ms,
+                 &res->mount);
     if (reasons != 0u) {
         res->state = NEGOBS_DETECT_NO_INFO;
     } else if (res->n_hazards > 0u) {

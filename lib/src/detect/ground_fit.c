@@ -2,12 +2,13 @@
  * Ground model estimation: v-disparity -> Hough -> plane -> track.
  *
  * 1. v-disparity. Over the bottom fit_rows_pct of the image (and never above
- *    the lowest horizon the pose tolerances allow), every fit_step-th pixel
- *    with a valid disparity is counted into a (row, disparity bin) histogram.
+ *    the lowest horizon the priors allow: the principal row at pitch 0),
+ *    every fit_step-th pixel with a valid disparity is counted into a
+ *    (row, disparity bin) histogram.
  * 2. Constrained Hough. A flat ground is the line d = s*(v - v_h) in that
- *    histogram. Only lines whose (H, pitch) lie inside the configured
- *    tolerance box are searched: 32 slopes s = B*cos(p)/H between the
- *    extremes, and for each slope the intercept k = s*v_h over the horizon
+ *    histogram. Only lines whose (H, pitch) lie inside the physical
+ *    priors of a worn camera (mount.c) are searched: 32 slopes
+ *    s = B*cos(p)/H between the extremes, and for each slope the intercept k = s*v_h over the horizon
  *    rows the pitch range allows. A cell (v, d) votes k = s*v - d for every
  *    slope, weighted by its count: no divisions in the loop. The peak is
  *    taken on a 3-bin sum so noise that splits a line over two bins does
@@ -20,8 +21,9 @@
  * 4. Noise. sigma = 1.4826 * MAD of the residuals of the samples in the
  *    nearer half of the fit rows (an overflow bin keeps far outliers
  *    counted), floored at sigma_min.
- * 5. Acceptance and tracking. The pose of the plane must be inside the
- *    tolerances and enough samples must be inliers. An accepted fit is
+ * 5. Acceptance and tracking. The pose of the plane must be a possible
+ *    floor (mount_pose_physical: the priors, never the configured hint)
+ *    and enough samples must be inliers. An accepted fit is
  *    blended into the track when it agrees with it at three reference
  *    points, and replaces it after two frames of disagreement.
  *
@@ -33,6 +35,7 @@
 #include <string.h>
 
 #include "geom_internal.h"
+#include "mount.h"
 #include "negobs/fixed.h"
 
 /* Ground fit limits: at most this many samples, so sums stay bounded. */
@@ -47,11 +50,11 @@ negobs_status_t gfit_carve(gfit_t *g, negobs_arena_t *ar,
                            const negobs_detect_config_t *cfg)
 {
     const negobs_camera_t *cam = &cfg->cam;
-    int32_t pmin = clamp_pitch(cfg->cam_pitch_mdeg - cfg->cam_pitch_tol_mdeg);
-    int32_t pmax = clamp_pitch(cfg->cam_pitch_mdeg + cfg->cam_pitch_tol_mdeg);
-    int32_t hmin = geom_max_s32(cfg->cam_height_mm - cfg->cam_height_tol_mm,
-                                100);
-    int32_t hmax = cfg->cam_height_mm + cfg->cam_height_tol_mm;
+    mount_box_t box;
+    int32_t pmin;
+    int32_t pmax;
+    int32_t hmin;
+    int32_t hmax;
     int32_t smin;
     int32_t cosmax;
     int32_t cosmin;
@@ -66,6 +69,11 @@ negobs_status_t gfit_carve(gfit_t *g, negobs_arena_t *ar,
 
     memset(g, 0, sizeof *g);
     g->cfg = cfg;
+    mount_search_box(cfg, &box);
+    pmin = clamp_pitch(box.p_min_mdeg);
+    pmax = clamp_pitch(box.p_max_mdeg);
+    hmin = geom_max_s32(box.h_min_mm, 100);
+    hmax = geom_max_s32(box.h_max_mm, hmin);
 
     /* Extremes of cos(pitch) over the range (cos is largest nearest 0). */
     negobs_sincos_q30(pmin, &sn, &cs);
@@ -117,7 +125,7 @@ negobs_status_t gfit_carve(gfit_t *g, negobs_arena_t *ar,
     }
 
     /* Fit rows: bottom share, and at least 4 rows below the lowest
-     * horizon the tolerances allow. */
+     * horizon the priors allow. */
     fit_rows = (cam->height * cfg->fit_rows_pct) / 100;
     vh_floor = (int32_t)(vh_max_q4 / 16) + 4;
     g->v_lo = geom_max_s32(cam->height - fit_rows, vh_floor);
@@ -412,16 +420,6 @@ static int32_t noise_sigma(gfit_t *g, const negobs_image_s16_t *disp,
     return geom_max_s32((mad * 759 + 256 + 380) / 512, g->cfg->sigma_min_q4);
 }
 
-static int pose_in_tolerance(const negobs_detect_config_t *cfg,
-                             const negobs_ground_pose_t *p)
-{
-    return negobs_abs_s32(p->height_mm - cfg->cam_height_mm) <=
-               cfg->cam_height_tol_mm &&
-           negobs_abs_s32(p->pitch_mdeg - cfg->cam_pitch_mdeg) <=
-               cfg->cam_pitch_tol_mdeg &&
-           negobs_abs_s32(p->roll_mdeg) <= cfg->cam_roll_tol_mdeg;
-}
-
 /* Largest disparity difference of two planes at 3 reference points. */
 static int32_t plane_gap_q4(const gfit_t *g, const negobs_ground_plane_t *p,
                             const negobs_ground_plane_t *q, int32_t *ref_q4)
@@ -516,7 +514,7 @@ void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
             inl >= 64 &&
             negobs_ground_pose_from_plane(cam, &fit, &pose, NULL) ==
                 NEGOBS_OK &&
-            pose_in_tolerance(cfg, &pose)) {
+            mount_pose_physical(cfg, &pose)) {
             ok = 1;
         }
     }
