@@ -49,6 +49,7 @@
 #include "negobs_port/camera_v4l2.h"
 #include "negobs_port/clock.h"
 #include "negobs_port/config.h"
+#include "negobs_port/record_queue.h"
 
 #ifndef NEGOBS_RUN_DEFAULT_ALERT
 #define NEGOBS_RUN_DEFAULT_ALERT "console"
@@ -448,7 +449,6 @@ static negobs_libcamera_t libcamera_state;
 static uint8_t frame_buf[2u * NEGOBS_RUN_MAX_W * NEGOBS_RUN_MAX_H];
 
 static negobs_motor_thread_t motor;
-static negobs_recorder_t recorder;
 static app_pipeline_t pipeline;
 static app_alert_t alert_sm;
 
@@ -607,6 +607,21 @@ static int check_camera_args(const run_args_t *a)
     return usage_error("camera backend '%s' is not built into negobs_run", k);
 }
 
+/* What a camera or replay status means, for the log line after the
+ * backend's own message (which names the file or device). */
+static const char *camera_status_words(int rc)
+{
+    switch (rc) {
+    case NEGOBS_ERR_NODEV: return "not found";
+    case NEGOBS_ERR_IO: return "read error";
+    case NEGOBS_ERR_CORRUPT: return "damaged or malformed data";
+    case NEGOBS_ERR_NOSPACE: return "frames too large";
+    case NEGOBS_ERR_INVAL: return "invalid";
+    case NEGOBS_ERR_UNSUPPORTED: return "not supported";
+    default: return negobs_status_str((negobs_status_t)rc);
+    }
+}
+
 static int open_camera(const run_args_t *a)
 {
     negobs_camera_config_t cfg;
@@ -647,8 +662,12 @@ static int open_camera(const run_args_t *a)
     }
     if (s != NEGOBS_OK) {
         logmsg(LOG_ERROR, "camera %s: %s (%s)", a->left,
-               negobs_camera_errmsg(&camera), negobs_status_str(s));
+               negobs_camera_errmsg(&camera), camera_status_words(s));
         return -1;
+    }
+    if (strcmp(camera_kind(a->left), "replay") == 0 &&
+        negobs_replay_damage(&replay_state)[0] != '\0') {
+        logmsg(LOG_WARN, "replay: %s", negobs_replay_damage(&replay_state));
     }
     logmsg(LOG_INFO, "camera: %s backend, %s %s", camera.ops->name, cfg.left,
            cfg.right);
@@ -852,12 +871,40 @@ static void alert_post(const negobs_alert_input_t *in)
 
 /* ---- signals -------------------------------------------------------- */
 
+/* Every signal whose default action ends the process is caught, so no
+ * signal can stop negobs_run mid-pattern with the motor on:
+ *  - asked to stop (SIGINT, SIGTERM, SIGHUP, SIGQUIT): clean shutdown,
+ *    summary, motor off, exit 0;
+ *  - any other terminating signal (SIGUSR1/2, SIGALRM, SIGXCPU, SIGPWR,
+ *    SIGIO, real-time signals, ...): the same shutdown, exit 128 + the
+ *    signal number, so that a supervisor sees an abnormal end;
+ *  - SIGPIPE and SIGXFSZ that the kernel raises for one of our own writes
+ *    (a closed console pipe, the file size limit while recording) are
+ *    swallowed: that write fails with EPIPE / EFBIG and its owner handles
+ *    it (motor output fault, recording stopped) while the warnings go on.
+ *    Sent by another process they stop it like the signals above;
+ *  - faults (SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGSYS, SIGTRAP):
+ *    motor off with async-signal-safe calls, then the default action.
+ * SIGKILL and power loss cannot be caught: docs/RUNNING.md says what the
+ * hardware does then. */
 static volatile sig_atomic_t stop_requested;
+static volatile sig_atomic_t stop_signal;
 
 static void on_stop_signal(int sig)
 {
-    (void)sig;
+    stop_signal = sig;
     stop_requested = 1;
+}
+
+static void on_write_signal(int sig, siginfo_t *si, void *uctx)
+{
+    (void)uctx;
+    /* the kernel sends these for a write of ours as SI_USER from our own
+     * process id; anything else came from outside */
+    if (si != NULL && si->si_code == SI_USER && si->si_pid == getpid()) {
+        return;
+    }
+    on_stop_signal(sig);
 }
 
 /* Fatal signals: the motor must not keep running after a crash. Only
@@ -871,26 +918,80 @@ static void on_fatal_signal(int sig)
     (void)raise(sig);
 }
 
+/* SIGINT, SIGTERM, SIGHUP, SIGQUIT: a request to stop (exit 0). */
+static bool is_stop_request(int sig)
+{
+    return sig == SIGINT || sig == SIGTERM || sig == SIGHUP ||
+           sig == SIGQUIT;
+}
+
+static const char *signal_name(int sig)
+{
+    static const struct { int sig; const char *name; } names[] = {
+        {SIGINT, "SIGINT"},     {SIGTERM, "SIGTERM"}, {SIGHUP, "SIGHUP"},
+        {SIGQUIT, "SIGQUIT"},   {SIGUSR1, "SIGUSR1"}, {SIGUSR2, "SIGUSR2"},
+        {SIGALRM, "SIGALRM"},   {SIGXCPU, "SIGXCPU"}, {SIGXFSZ, "SIGXFSZ"},
+        {SIGPIPE, "SIGPIPE"},   {SIGVTALRM, "SIGVTALRM"},
+        {SIGPROF, "SIGPROF"},   {SIGPOLL, "SIGIO"},
+#ifdef SIGPWR
+        {SIGPWR, "SIGPWR"},
+#endif
+#ifdef SIGSTKFLT
+        {SIGSTKFLT, "SIGSTKFLT"},
+#endif
+    };
+    size_t i;
+    for (i = 0; i < sizeof names / sizeof names[0]; i++) {
+        if (names[i].sig == sig) {
+            return names[i].name;
+        }
+    }
+    return "a real-time signal";
+}
+
 static void install_signals(void)
 {
-    static const int stops[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
-    static const int fatal[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
+    static const int stops[] = {
+        SIGINT,  SIGTERM,   SIGHUP,  SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM,
+        SIGXCPU, SIGVTALRM, SIGPROF, SIGPOLL,
+#ifdef SIGPWR
+        SIGPWR,
+#endif
+#ifdef SIGSTKFLT
+        SIGSTKFLT,
+#endif
+    };
+    static const int fatal[] = {SIGSEGV, SIGBUS,  SIGFPE, SIGILL,
+                                SIGABRT, SIGSYS, SIGTRAP};
     struct sigaction sa;
     size_t i;
+    int rt;
     memset(&sa, 0, sizeof sa);
     (void)sigemptyset(&sa.sa_mask);
     sa.sa_handler = on_stop_signal; /* no SA_RESTART: waits return EINTR */
     for (i = 0; i < sizeof stops / sizeof stops[0]; i++) {
         (void)sigaction(stops[i], &sa, NULL);
     }
+#ifdef SIGRTMIN
+    /* their default action is to terminate too */
+    for (rt = SIGRTMIN; rt <= SIGRTMAX; rt++) {
+        (void)sigaction(rt, &sa, NULL);
+    }
+#else
+    (void)rt;
+#endif
+    sa.sa_handler = NULL;
+    sa.sa_sigaction = on_write_signal;
+    sa.sa_flags = SA_SIGINFO;
+    (void)sigaction(SIGPIPE, &sa, NULL);
+    (void)sigaction(SIGXFSZ, &sa, NULL);
+    memset(&sa, 0, sizeof sa);
+    (void)sigemptyset(&sa.sa_mask);
     sa.sa_handler = on_fatal_signal;
     sa.sa_flags = (int)SA_RESETHAND;
     for (i = 0; i < sizeof fatal / sizeof fatal[0]; i++) {
         (void)sigaction(fatal[i], &sa, NULL);
     }
-    sa.sa_handler = SIG_IGN;
-    sa.sa_flags = 0;
-    (void)sigaction(SIGPIPE, &sa, NULL);
 }
 
 /* ---- main loop ------------------------------------------------------ */
@@ -959,13 +1060,107 @@ static void check_motor_output(bool *was_failing)
     *was_failing = failing;
 }
 
+/* ---- recording ------------------------------------------------------ */
+
+/* Queued pairs for the writer thread (negobs_port/record_queue.h). 8
+ * slots absorb about 270 ms of card stall at 30 fps; beyond that the
+ * newest pairs are dropped (counted). At 640x480 they hold 4.9 MB. */
+#define APP_RECORD_SLOTS 8u
+static uint8_t rec_buf[APP_RECORD_SLOTS * 2u * NEGOBS_RUN_MAX_W *
+                       NEGOBS_RUN_MAX_H];
+static negobs_record_queue_t recq;
+static char record_refused[NEGOBS_PORT_ERRMSG_LEN];
+static bool record_fail_logged;
+
+/* Before anything runs: an existing session is never recorded over. The
+ * refusal stops the recording only; the device still warns. */
+static void record_start(void)
+{
+    char why[NEGOBS_PORT_ERRMSG_LEN];
+    if (S.record[0] == '\0') {
+        return;
+    }
+    if (negobs_recorder_check_dir(S.record, why, sizeof why) != NEGOBS_OK) {
+        (void)snprintf(record_refused, sizeof record_refused, "%s", why);
+        logmsg(LOG_ERROR, "record: %s; running without recording", why);
+        return;
+    }
+    if (negobs_recq_start(&recq, S.record, rec_buf,
+                          2u * NEGOBS_RUN_MAX_W * NEGOBS_RUN_MAX_H,
+                          APP_RECORD_SLOTS) != NEGOBS_OK) {
+        (void)snprintf(record_refused, sizeof record_refused,
+                       "cannot start the recording thread");
+        logmsg(LOG_ERROR, "record: %s; running without recording",
+               record_refused);
+        return;
+    }
+    logmsg(LOG_INFO, "recording to %s", S.record);
+}
+
+/* Hand the pair to the writer thread (never waits for the card); say
+ * once when the recording has stopped on an error. */
+static void record_pair(const negobs_frame_pair_t *pair)
+{
+    negobs_recq_stats_t rs;
+    if (!recq.running || record_fail_logged) {
+        return;
+    }
+    if (negobs_recq_push(&recq, pair) >= 0) {
+        return;
+    }
+    negobs_recq_stats(&recq, &rs);
+    if (rs.state == NEGOBS_RECQ_FAILED) {
+        record_fail_logged = true;
+        logmsg(LOG_ERROR, "record: stopped: %s (%lu pairs recorded); "
+               "detection and alerting go on",
+               rs.errmsg, (unsigned long)rs.written);
+    }
+}
+
+/* "record=off", "record=recording written=.. dropped=..", ... */
+static void record_summary(char *out, size_t len)
+{
+    negobs_recq_stats_t rs;
+    if (S.record[0] == '\0') {
+        (void)snprintf(out, len, "record=off");
+        return;
+    }
+    if (record_refused[0] != '\0') {
+        (void)snprintf(out, len, "record=refused (%s)", record_refused);
+        return;
+    }
+    negobs_recq_stats(&recq, &rs);
+    (void)snprintf(out, len, "record=%s written=%lu dropped=%lu%s%s%s",
+                   negobs_recq_state_name(rs.state),
+                   (unsigned long)rs.written,
+                   (unsigned long)(rs.dropped + rs.discarded),
+                   rs.state == NEGOBS_RECQ_FAILED ? " (" : "",
+                   rs.state == NEGOBS_RECQ_FAILED ? rs.errmsg : "",
+                   rs.state == NEGOBS_RECQ_FAILED ? ")" : "");
+}
+
+static void log_summary(uint32_t done, const run_status_t *st)
+{
+    negobs_camera_stats_t cs;
+    char rec[NEGOBS_PORT_ERRMSG_LEN + 64];
+    negobs_camera_get_stats(&camera, &cs);
+    record_summary(rec, sizeof rec);
+    logmsg(LOG_INFO,
+           "summary pairs=%lu no-info=%lu clear=%lu caution=%lu "
+           "imminent=%lu last_reason=%s dropped=%lu timeouts=%lu %s",
+           (unsigned long)done, (unsigned long)st->verdicts[0],
+           (unsigned long)st->verdicts[1], (unsigned long)st->verdicts[2],
+           (unsigned long)st->verdicts[3],
+           app_reason_name(pipeline.last.reason),
+           (unsigned long)cs.dropped_pairs, (unsigned long)cs.timeouts, rec);
+}
+
 static int run_loop(void)
 {
     run_status_t st;
     negobs_frame_pair_t pair;
     uint32_t done = 0;
     int last_err = NEGOBS_OK;
-    bool recording = false;
     bool motor_failing = false;
     memset(&st, 0, sizeof st);
     st.window_start_ms = negobs_clock_now_ms();
@@ -984,20 +1179,7 @@ static int run_loop(void)
             const negobs_image_u8_t *img_r = &pair.right.y;
             negobs_image_u8_t rect_l;
             negobs_image_u8_t rect_r;
-            if (S.record[0] != '\0' && !recording &&
-                negobs_recorder_open(&recorder, S.record, pair.left.y.width,
-                                     pair.left.y.height) == NEGOBS_OK) {
-                /* The session takes its frame size from the first pair. */
-                recording = true;
-                logmsg(LOG_INFO, "recording to %s", S.record);
-            }
-            if (S.record[0] != '\0' &&
-                (!recording ||
-                 negobs_recorder_write(&recorder, &pair) != NEGOBS_OK)) {
-                logmsg(LOG_ERROR, "record: %s", recorder.errmsg);
-                negobs_camera_release(&camera, &pair);
-                return EXIT_RUNTIME;
-            }
+            record_pair(&pair);
             if (calib_bytes > 0) {
                 /* Record raw, judge rectified (a recorded session can be
                  * replayed with the same table). */
@@ -1110,9 +1292,9 @@ static int run_loop(void)
             st.verdict = APP_VERDICT_NO_INFO;
             last_err = rc;
         } else {
-            logmsg(LOG_ERROR, "camera: %s (%s)",
-                   negobs_status_str((negobs_status_t)rc),
-                   negobs_camera_errmsg(&camera));
+            logmsg(LOG_ERROR, "camera: %s (%s)", negobs_camera_errmsg(&camera),
+                   camera_status_words(rc));
+            log_summary(done, &st);
             return EXIT_RUNTIME;
         }
         check_motor_output(&motor_failing);
@@ -1121,19 +1303,12 @@ static int run_loop(void)
         }
     }
     if (stop_requested) {
-        logmsg(LOG_INFO, "stop requested, shutting down");
+        logmsg(LOG_INFO, "stop requested (%s), shutting down",
+               signal_name((int)stop_signal));
     }
-    {
-        negobs_camera_stats_t cs;
-        negobs_camera_get_stats(&camera, &cs);
-        logmsg(LOG_INFO,
-               "summary pairs=%lu no-info=%lu clear=%lu caution=%lu "
-               "imminent=%lu last_reason=%s dropped=%lu timeouts=%lu",
-               (unsigned long)done, (unsigned long)st.verdicts[0],
-               (unsigned long)st.verdicts[1], (unsigned long)st.verdicts[2],
-               (unsigned long)st.verdicts[3],
-               app_reason_name(pipeline.last.reason),
-               (unsigned long)cs.dropped_pairs, (unsigned long)cs.timeouts);
+    log_summary(done, &st);
+    if (stop_requested && !is_stop_request((int)stop_signal)) {
+        return 128 + (int)stop_signal;
     }
     return EXIT_OK;
 }
@@ -1225,7 +1400,9 @@ int main(int argc, char **argv)
         }
     }
 
+    record_start();
     if (open_camera(&args) != 0) {
+        negobs_recq_stop(&recq);
         negobs_motor_thread_stop(&motor);
         negobs_alert_close(&alert);
         return EXIT_CAMERA;
@@ -1236,7 +1413,7 @@ int main(int argc, char **argv)
     /* Shutdown: camera first, then the motor (off), then the output. */
     negobs_camera_stop(&camera);
     negobs_camera_close(&camera);
-    negobs_recorder_close(&recorder);
+    negobs_recq_stop(&recq);
     negobs_motor_thread_stop(&motor);
     negobs_alert_close(&alert);
     logmsg(LOG_INFO, "exit %d", rc);

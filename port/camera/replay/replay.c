@@ -159,10 +159,93 @@ static negobs_status_t open_session_files(negobs_replay_t *st)
         }
         *slots[i] = fopen(path, i == 0 ? "r" : "rb");
         if (*slots[i] == NULL) {
-            rp_error(st, "%s: %s", path, strerror(errno));
+            int e = errno;
+            rp_error(st, "%s: %s", path, strerror(e));
             close_files(st);
-            return NEGOBS_ERR_CORRUPT;
+            return e == ENOENT ? NEGOBS_ERR_NODEV : NEGOBS_ERR_IO;
         }
+    }
+    return NEGOBS_OK;
+}
+
+/* Records in frames.txt (lines that are not comments or blank); a last
+ * line without its newline (cut by a crash or a full disk) is not one. */
+static uint32_t count_records(FILE *f, bool *torn)
+{
+    uint32_t n = 0;
+    int c;
+    bool start = true;
+    bool content = false;
+    *torn = false;
+    while ((c = getc(f)) != EOF) {
+        if (start) {
+            content = c != '#' && c != '\n';
+            start = false;
+        }
+        if (c == '\n') {
+            n += content ? 1u : 0u;
+            start = true;
+            content = false;
+        }
+    }
+    *torn = !start && content;
+    rewind(f);
+    return n;
+}
+
+static long file_bytes(FILE *f)
+{
+    struct stat sb;
+    return fstat(fileno(f), &sb) == 0 ? (long)sb.st_size : -1L;
+}
+
+/* A session cut short (crash, SIGKILL, full disk, power cut): frames.txt
+ * and the two pixel files may disagree. Replay the pairs whose pixels are
+ * complete in both files; past the last usable frames.txt record their
+ * timestamps are synthesised (one frame period apart). Say what was
+ * recovered; nothing at all is an error. */
+static negobs_status_t check_session_damage(negobs_replay_t *st)
+{
+    size_t frame = (size_t)st->width * (size_t)st->height;
+    long lb = file_bytes(st->left_f);
+    long rb = file_bytes(st->right_f);
+    uint32_t nl;
+    uint32_t nr;
+    bool torn = false;
+    int n;
+    st->damage[0] = '\0';
+    if (lb < 0 || rb < 0) {
+        rp_error(st, "%s: cannot stat left.y/right.y", st->dir);
+        return NEGOBS_ERR_IO;
+    }
+    nl = (uint32_t)((size_t)lb / frame);
+    nr = (uint32_t)((size_t)rb / frame);
+    st->n_index = count_records(st->frames_txt, &torn);
+    st->n_play = nl < nr ? nl : nr;
+    if (st->n_play == 0) {
+        rp_error(st, "%s: damaged session, no complete pair to replay "
+                 "(frames.txt lists %lu, left.y %ld bytes, right.y %ld "
+                 "bytes, %lu per frame)", st->dir,
+                 (unsigned long)st->n_index, lb, rb, (unsigned long)frame);
+        return NEGOBS_ERR_CORRUPT;
+    }
+    if (st->n_index == st->n_play && nl == nr && !torn &&
+        (size_t)lb % frame == 0 && (size_t)rb % frame == 0) {
+        return NEGOBS_OK;
+    }
+    n = snprintf(st->damage, sizeof st->damage,
+                 "damaged session %s: frames.txt lists %lu pairs%s, left.y "
+                 "holds %lu and right.y %lu complete frames (+%lu/+%lu "
+                 "bytes); replaying %lu pairs",
+                 st->dir, (unsigned long)st->n_index,
+                 torn ? " and a cut line" : "", (unsigned long)nl,
+                 (unsigned long)nr, (unsigned long)((size_t)lb % frame),
+                 (unsigned long)((size_t)rb % frame),
+                 (unsigned long)st->n_play);
+    if (n > 0 && st->n_index < st->n_play && (size_t)n < sizeof st->damage) {
+        (void)snprintf(st->damage + n, sizeof st->damage - (size_t)n,
+                       ", %lu with synthesised timestamps",
+                       (unsigned long)(st->n_play - st->n_index));
     }
     return NEGOBS_OK;
 }
@@ -193,6 +276,7 @@ static negobs_status_t rp_open(void *ctx, const negobs_camera_config_t *cfg)
     st->width = 0;
     st->height = 0;
     st->started = false;
+    st->damage[0] = '\0';
     memset(&st->stats, 0, sizeof st->stats);
 
     if (join(path, sizeof path, st->dir, "left_0000.pgm") != 0) {
@@ -226,7 +310,11 @@ static negobs_status_t rp_open(void *ctx, const negobs_camera_config_t *cfg)
             return NEGOBS_ERR_INVAL;
         }
         s = open_session_files(st);
+        if (s == NEGOBS_OK) {
+            s = check_session_damage(st);
+        }
         if (s != NEGOBS_OK) {
+            close_files(st);
             return s;
         }
     }
@@ -298,6 +386,23 @@ static int read_pgm_pair(negobs_replay_t *st, uint32_t idx, int32_t *w,
     return NEGOBS_OK;
 }
 
+/* Timestamps for pairs past the last usable frames.txt record: one frame
+ * period after the previous pair (the recording's mean interval, else the
+ * replay fps, else 30 fps). */
+static void synth_stamp(negobs_replay_t *st, uint64_t *tl, uint64_t *tr,
+                        uint32_t *seq)
+{
+    uint64_t period = 33333333u;
+    if (st->next > 1 && st->cur_tl > st->ts0_ns) {
+        period = (st->cur_tl - st->ts0_ns) / (st->next - 1u);
+    } else if (st->fps > 0) {
+        period = 1000000000u / (uint64_t)st->fps;
+    }
+    *tl = st->next > 0 ? st->cur_tl + period : 0;
+    *tr = *tl + (st->next > 0 ? st->cur_tr - st->cur_tl : 0);
+    *seq = st->next > 0 ? st->cur_seq + 1u : 0;
+}
+
 /* Read the next session record. */
 static int read_session_pair(negobs_replay_t *st, uint64_t *tl, uint64_t *tr,
                              uint32_t *seq)
@@ -305,22 +410,34 @@ static int read_session_pair(negobs_replay_t *st, uint64_t *tl, uint64_t *tr,
     char line[160];
     size_t frame = (size_t)st->width * (size_t)st->height;
     unsigned long long fld[4];
-    for (;;) {
-        if (fgets(line, sizeof line, st->frames_txt) == NULL) {
-            return NEGOBS_CAMERA_END;
-        }
-        if (line[0] != '#' && line[0] != '\n') {
-            break;
-        }
+    if (st->next >= st->n_play) {
+        return NEGOBS_CAMERA_END;
     }
-    if (strchr(line, '\n') == NULL && !feof(st->frames_txt)) {
-        rp_error(st, "%s/frames.txt: line too long", st->dir);
-        return NEGOBS_ERR_CORRUPT;
-    }
-    if (parse_fields(line, fld, 4) != 4 || fld[0] != st->next) {
-        rp_error(st, "%s/frames.txt: bad record for pair %u", st->dir,
-                 (unsigned)st->next);
-        return NEGOBS_ERR_CORRUPT;
+    if (st->next < st->n_index) {
+        for (;;) {
+            if (fgets(line, sizeof line, st->frames_txt) == NULL) {
+                rp_error(st, "%s/frames.txt: changed while replaying",
+                         st->dir);
+                return NEGOBS_ERR_CORRUPT;
+            }
+            if (line[0] != '#' && line[0] != '\n') {
+                break;
+            }
+        }
+        if (strchr(line, '\n') == NULL) {
+            rp_error(st, "%s/frames.txt: line too long", st->dir);
+            return NEGOBS_ERR_CORRUPT;
+        }
+        if (parse_fields(line, fld, 4) != 4 || fld[0] != st->next) {
+            rp_error(st, "%s/frames.txt: bad record for pair %u", st->dir,
+                     (unsigned)st->next);
+            return NEGOBS_ERR_CORRUPT;
+        }
+        *tl = (uint64_t)fld[1];
+        *tr = (uint64_t)fld[2];
+        *seq = (uint32_t)fld[3];
+    } else {
+        synth_stamp(st, tl, tr, seq);
     }
     if (fread(st->buf, 1, frame, st->left_f) != frame) {
         rp_error(st, "%s/left.y: truncated at pair %u", st->dir,
@@ -332,9 +449,6 @@ static int read_session_pair(negobs_replay_t *st, uint64_t *tl, uint64_t *tr,
                  (unsigned)st->next);
         return NEGOBS_ERR_CORRUPT;
     }
-    *tl = (uint64_t)fld[1];
-    *tr = (uint64_t)fld[2];
-    *seq = (uint32_t)fld[3];
     return NEGOBS_OK;
 }
 
@@ -385,6 +499,11 @@ static int rp_read_next(negobs_replay_t *st)
             continue;
         }
         break;
+    }
+    if (rc == NEGOBS_CAMERA_END && st->session && st->damage[0] != '\0') {
+        /* the end of a damaged session is not a clean end */
+        rp_error(st, "%s", st->damage);
+        return NEGOBS_ERR_CORRUPT;
     }
     if (rc != NEGOBS_OK) {
         return rc;
@@ -491,6 +610,11 @@ static void rp_stats(void *ctx, negobs_camera_stats_t *out)
 static const char *rp_errmsg(void *ctx)
 {
     return ((negobs_replay_t *)ctx)->errmsg;
+}
+
+const char *negobs_replay_damage(const negobs_replay_t *st)
+{
+    return st != NULL ? st->damage : "";
 }
 
 static const negobs_camera_ops_t replay_ops = {
