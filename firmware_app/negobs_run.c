@@ -286,6 +286,7 @@ static void usage(FILE *out)
     fprintf(out,
 "Usage: negobs_run [options] LEFT RIGHT\n"
 "       negobs_run [options] replay:DIR\n"
+"       negobs_run [--config FILE] --motor-off SPEC\n"
 "\n"
 "Warns of drop-offs ahead through a vibration motor, from a stereo pair.\n"
 "LEFT/RIGHT: /dev/videoN (V4L2) or replay:DIR (a folder of left_NNNN.pgm /\n"
@@ -313,17 +314,22 @@ static void usage(FILE *out)
 "  --frames N           stop after N pairs (default: run until stopped)\n"
 "  --record DIR         record every pair as a session (see docs/RUNNING.md)\n"
 "  --log-level LEVEL    error | warn | info | debug (default info)\n"
+"  --motor-off SPEC     switch the motor output SPEC off and exit (the\n"
+"                       service's ExecStopPost; no camera arguments)\n"
 "  --help               this text, then the config keys\n"
 "  --version            print the version\n"
 "\n"
-"Exit codes: 0 done or stopped by SIGINT/SIGTERM, 1 runtime failure,\n"
+"Exit codes: 0 done or stopped by SIGINT/SIGTERM/SIGHUP/SIGQUIT, 1 runtime\n"
+"failure (also the end of a damaged recorded session),\n"
 "2 usage error, 3 config error, 4 camera failure, 5 motor output failure,\n"
-"6 calibration table refused (unreadable, corrupt, truncated, other size).\n",
+"6 calibration table refused (unreadable, corrupt, truncated, other size),\n"
+"128+N stopped by another terminating signal N (motor off, summary logged).\n",
             NEGOBS_RUN_MAX_W, NEGOBS_RUN_MAX_H);
 }
 
 typedef struct run_args {
     const char *config;
+    const char *motor_off;  /* --motor-off SPEC: switch it off, exit */
     const char *left;
     const char *right;
 } run_args_t;
@@ -336,11 +342,32 @@ static int usage_error(const char *fmt, const char *arg)
     return EXIT_USAGE;
 }
 
+static int check_alert_spec(const char *spec);
+
+/* Values of the config file that the key table cannot vet: refused with
+ * the file's name and line (exit 3), like any other bad line. */
+static int check_config_value(void *user, const char *key, const char *value,
+                              char *why, size_t why_len)
+{
+    (void)user;
+    if (strcmp(key, "alert") == 0 && check_alert_spec(value) != 0) {
+        (void)snprintf(why, why_len, "bad alert '%s' (want gpio:CHIP:LINE, "
+                       "pwm:CHIP:CHANNEL, console or none)", value);
+        return -1;
+    }
+    if (strcmp(key, "log_level") == 0 && parse_log_level(value) < 0) {
+        (void)snprintf(why, why_len, "bad log level '%s' (want error, "
+                       "warn, info or debug)", value);
+        return -1;
+    }
+    return 0;
+}
+
 /* Returns -1 to continue, else an exit code. */
 static int parse_args(int argc, char **argv, run_args_t *a)
 {
     enum { O_CONFIG = 256, O_ALERT, O_WIDTH, O_HEIGHT, O_FPS, O_FRAMES,
-           O_RECORD, O_LOG, O_HELP, O_VERSION, O_CALIB };
+           O_RECORD, O_LOG, O_HELP, O_VERSION, O_CALIB, O_MOTOR_OFF };
     static const struct option opts[] = {
         {"config", required_argument, NULL, O_CONFIG},
         {"alert", required_argument, NULL, O_ALERT},
@@ -353,6 +380,7 @@ static int parse_args(int argc, char **argv, run_args_t *a)
         {"log-level", required_argument, NULL, O_LOG},
         {"help", no_argument, NULL, O_HELP},
         {"version", no_argument, NULL, O_VERSION},
+        {"motor-off", required_argument, NULL, O_MOTOR_OFF},
         {NULL, 0, NULL, 0},
     };
     negobs_cfg_error_t err;
@@ -383,8 +411,9 @@ static int parse_args(int argc, char **argv, run_args_t *a)
     }
     if (a->config != NULL) {
         memset(&err, 0, sizeof err);
-        if (negobs_config_parse_file(a->config, config_keys, N_KEYS, &err) !=
-            NEGOBS_OK) {
+        if (negobs_config_parse_file_checked(a->config, config_keys, N_KEYS,
+                                             check_config_value, NULL,
+                                             &err) != NEGOBS_OK) {
             fprintf(stderr, "negobs_run: %s: %s\n", a->config, err.msg);
             return EXIT_CONFIG;
         }
@@ -397,6 +426,7 @@ static int parse_args(int argc, char **argv, run_args_t *a)
         const char *key = NULL;
         switch (c) {
         case O_CONFIG: continue;
+        case O_MOTOR_OFF: a->motor_off = optarg; continue;
         case O_ALERT: key = "alert"; break;
         case O_WIDTH: key = "width"; size_given = true; break;
         case O_HEIGHT: key = "height"; size_given = true; break;
@@ -421,6 +451,13 @@ static int parse_args(int argc, char **argv, run_args_t *a)
         return usage_error("bad log level '%s'", S.log_level);
     }
     log_level = parse_log_level(S.log_level);
+    if (a->motor_off != NULL) {
+        if (optind < argc) {
+            return usage_error("--motor-off takes no camera argument ('%s')",
+                               argv[optind]);
+        }
+        return -1;
+    }
     if (optind >= argc) {
         return usage_error("%s", "missing camera arguments LEFT RIGHT");
     }
@@ -508,6 +545,9 @@ static int check_alert_spec(const char *spec)
     char f2[16];
     uint32_t u;
     int n = split_spec(spec, kind, sizeof kind, f1, sizeof f1, f2, sizeof f2);
+    if (n < 0) {
+        return -1; /* a field too long: kind/f1/f2 are not filled */
+    }
     if ((strcmp(kind, "console") == 0 || strcmp(kind, "none") == 0) &&
         n == 0) {
         return 0;
@@ -559,6 +599,29 @@ static int open_alert(const char *spec)
     }
     logmsg(LOG_INFO, "motor output: %s", spec);
     return 0;
+}
+
+/* negobs_run --motor-off SPEC: the systemd unit's ExecStopPost, run after
+ * negobs_run ended in any way (even SIGKILL): open the output, which
+ * drives it off (GPIO line low / inactive, PWM duty 0), and close it
+ * (PWM disabled, line released). */
+static int motor_off(const char *spec)
+{
+    if (check_alert_spec(spec) != 0) {
+        return usage_error("bad motor output '%s' (want gpio:CHIP:LINE, "
+                           "pwm:CHIP:CHANNEL, console or none)", spec);
+    }
+    if (open_alert(spec) != 0) {
+        return EXIT_ALERT;
+    }
+    if (negobs_alert_set(&alert, 0) != NEGOBS_OK) {
+        logmsg(LOG_ERROR, "motor output '%s': cannot switch it off", spec);
+        negobs_alert_close(&alert);
+        return EXIT_ALERT;
+    }
+    negobs_alert_close(&alert);
+    logmsg(LOG_INFO, "motor off: %s", spec);
+    return EXIT_OK;
 }
 
 /* Which backend an argument names: "replay", "v4l2", or the default. */
@@ -1325,6 +1388,9 @@ int main(int argc, char **argv)
     rc = parse_args(argc, argv, &args);
     if (rc >= 0) {
         return rc;
+    }
+    if (args.motor_off != NULL) {
+        return motor_off(args.motor_off);
     }
     if (check_alert_spec(S.alert) != 0) {
         return usage_error("bad alert '%s' (want gpio:CHIP:LINE, "

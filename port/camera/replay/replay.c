@@ -502,7 +502,11 @@ static int rp_read_next(negobs_replay_t *st)
     }
     if (rc == NEGOBS_CAMERA_END && st->session && st->damage[0] != '\0') {
         /* the end of a damaged session is not a clean end */
-        rp_error(st, "%s", st->damage);
+        rp_error(st, "damaged session: all %lu recoverable pairs replayed "
+                 "(%lu of them without a frames.txt record)",
+                 (unsigned long)st->n_play,
+                 (unsigned long)(st->n_play > st->n_index
+                                     ? st->n_play - st->n_index : 0u));
         return NEGOBS_ERR_CORRUPT;
     }
     if (rc != NEGOBS_OK) {
