@@ -204,6 +204,13 @@ static const negobs_cfg_key_t config_keys[] = {
     {"imminent_hold_ms", NEGOBS_CFG_INT, &S.alert_cfg.imminent_hold_ms, 0,
      5000, "imminent keeps playing this long after its last verdict "
      "(default 1000)"},
+    {"heartbeat_period_ms", NEGOBS_CFG_INT,
+     &S.alert_cfg.heartbeat_period_ms, 0, 60000,
+     "while clear, one brief pulse this often so a dead device is noticed; "
+     "0 = off, else >= 1000 (default 5000)"},
+    {"heartbeat_pulse_ms", NEGOBS_CFG_INT, &S.alert_cfg.heartbeat_pulse_ms,
+     0, 15000, "length of the heartbeat pulse, 80 .. a quarter of the "
+     "period (default 80)"},
     {"max_frame_age_ms", NEGOBS_CFG_INT, &S.app.max_frame_age_ms, 1, 60000,
      "age of a pair when its processing starts above which it is stale -> "
      "no-info (default 150; raise only for slow emulators)"},
@@ -1431,7 +1438,9 @@ int main(int argc, char **argv)
         app_alert_noinfo_schedule(&S.alert_cfg, 0u, &noinfo_sched) !=
             NEGOBS_OK) {
         fprintf(stderr, "negobs_run: bad alert settings (caution_mid_mm "
-                        "must not exceed caution_far_mm)\n");
+                        "must not exceed caution_far_mm; heartbeat_period_ms "
+                        "0 or 1000..60000, heartbeat_pulse_ms 80 .. a quarter "
+                        "of it)\n");
         return EXIT_CONFIG;
     }
     install_signals();

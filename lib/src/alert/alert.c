@@ -310,6 +310,7 @@ negobs_status_t negobs_alert_update(negobs_alert_t *c, uint32_t now,
     }
     if (!c->started) {
         c->started = 1;
+        c->pat_start_ms = now; /* the heartbeat counts from here */
         /* Before any verdict, staleness counts from the first update. */
         if (!c->have_input) {
             c->in.verdict_ms = now;
