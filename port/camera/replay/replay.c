@@ -193,10 +193,14 @@ static uint32_t count_records(FILE *f, bool *torn)
     return n;
 }
 
+/* Size of a regular file; -1 for anything else (a FIFO or a device
+ * streams its frames: its size says nothing, nothing is recovered). */
 static long file_bytes(FILE *f)
 {
     struct stat sb;
-    return fstat(fileno(f), &sb) == 0 ? (long)sb.st_size : -1L;
+    return (fstat(fileno(f), &sb) == 0 && S_ISREG(sb.st_mode))
+               ? (long)sb.st_size
+               : -1L;
 }
 
 /* A session cut short (crash, SIGKILL, full disk, power cut): frames.txt
@@ -214,13 +218,16 @@ static negobs_status_t check_session_damage(negobs_replay_t *st)
     bool torn = false;
     int n;
     st->damage[0] = '\0';
+    st->n_index = file_bytes(st->frames_txt) >= 0
+                      ? count_records(st->frames_txt, &torn)
+                      : UINT32_MAX;
     if (lb < 0 || rb < 0) {
-        rp_error(st, "%s: cannot stat left.y/right.y", st->dir);
-        return NEGOBS_ERR_IO;
+        /* streamed pixels: the index alone says how many pairs */
+        st->n_play = st->n_index;
+        return NEGOBS_OK;
     }
     nl = (uint32_t)((size_t)lb / frame);
     nr = (uint32_t)((size_t)rb / frame);
-    st->n_index = count_records(st->frames_txt, &torn);
     st->n_play = nl < nr ? nl : nr;
     if (st->n_play == 0) {
         rp_error(st, "%s: damaged session, no complete pair to replay "
@@ -416,6 +423,9 @@ static int read_session_pair(negobs_replay_t *st, uint64_t *tl, uint64_t *tr,
     if (st->next < st->n_index) {
         for (;;) {
             if (fgets(line, sizeof line, st->frames_txt) == NULL) {
+                if (st->n_index == UINT32_MAX) {
+                    return NEGOBS_CAMERA_END; /* a streamed index ended */
+                }
                 rp_error(st, "%s/frames.txt: changed while replaying",
                          st->dir);
                 return NEGOBS_ERR_CORRUPT;
