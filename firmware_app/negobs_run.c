@@ -9,12 +9,17 @@
  *   2. [--calib: the rectification table loaded and checked]
  *   3. motor output opened, motor thread started; the library's alert
  *      state machine plays READY
- *   4. camera pair opened and started
- *   5. for each synchronised pair: [record] -> [rectify] ->
- *      app_process_pair() -> the library's alert state machine -> motor
- *      schedule -> motor thread; once per second a status line (fps,
- *      latency, dropped pairs)
- *   6. on SIGINT/SIGTERM, --frames N, or end of a replay: stop, motor off
+ *   4. [--record: writer thread started, unless DIR holds a session]
+ *      camera pair opened and started
+ *   5. for each synchronised pair: [queued for the writer thread] ->
+ *      [rectify] -> app_process_pair() -> the library's alert state
+ *      machine -> motor schedule -> motor thread; once per second a status
+ *      line (fps, latency, dropped pairs)
+ *   6. on any terminating signal, --frames N, or end of a replay: stop,
+ *      summary, motor off
+ *
+ * The recording is optional: a failure stops it (logged once, in the
+ * summary), never the warnings (negobs_port/record_queue.h).
  *
  * No fresh verdict within watchdog_ms -> no-information pattern: the
  * schedule handed to the motor thread already switches to it at that time
