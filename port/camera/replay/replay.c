@@ -195,12 +195,12 @@ static uint32_t count_records(FILE *f, bool *torn)
 
 /* Size of a regular file; -1 for anything else (a FIFO or a device
  * streams its frames: its size says nothing, nothing is recovered). */
-static long file_bytes(FILE *f)
+static int64_t file_bytes(FILE *f)
 {
     struct stat sb;
     return (fstat(fileno(f), &sb) == 0 && S_ISREG(sb.st_mode))
-               ? (long)sb.st_size
-               : -1L;
+               ? (int64_t)sb.st_size
+               : -1;
 }
 
 /* A session cut short (crash, SIGKILL, full disk, power cut): frames.txt
@@ -210,9 +210,10 @@ static long file_bytes(FILE *f)
  * recovered; nothing at all is an error. */
 static negobs_status_t check_session_damage(negobs_replay_t *st)
 {
-    size_t frame = (size_t)st->width * (size_t)st->height;
-    long lb = file_bytes(st->left_f);
-    long rb = file_bytes(st->right_f);
+    uint64_t frame = (uint64_t)st->width * (uint64_t)st->height;
+    int64_t lb = file_bytes(st->left_f);
+    int64_t rb = file_bytes(st->right_f);
+    uint64_t n64;
     uint32_t nl;
     uint32_t nr;
     bool torn = false;
@@ -226,18 +227,22 @@ static negobs_status_t check_session_damage(negobs_replay_t *st)
         st->n_play = st->n_index;
         return NEGOBS_OK;
     }
-    nl = (uint32_t)((size_t)lb / frame);
-    nr = (uint32_t)((size_t)rb / frame);
+    /* more frames than a uint32 index counts are not replayed */
+    n64 = (uint64_t)lb / frame;
+    nl = n64 > UINT32_MAX - 1u ? UINT32_MAX - 1u : (uint32_t)n64;
+    n64 = (uint64_t)rb / frame;
+    nr = n64 > UINT32_MAX - 1u ? UINT32_MAX - 1u : (uint32_t)n64;
     st->n_play = nl < nr ? nl : nr;
     if (st->n_play == 0) {
         rp_error(st, "%s: damaged session, no complete pair to replay "
-                 "(frames.txt lists %lu, left.y %ld bytes, right.y %ld "
+                 "(frames.txt lists %lu, left.y %llu bytes, right.y %llu "
                  "bytes, %lu per frame)", st->dir,
-                 (unsigned long)st->n_index, lb, rb, (unsigned long)frame);
+                 (unsigned long)st->n_index, (unsigned long long)lb,
+                 (unsigned long long)rb, (unsigned long)frame);
         return NEGOBS_ERR_CORRUPT;
     }
     if (st->n_index == st->n_play && nl == nr && !torn &&
-        (size_t)lb % frame == 0 && (size_t)rb % frame == 0) {
+        (uint64_t)lb % frame == 0 && (uint64_t)rb % frame == 0) {
         return NEGOBS_OK;
     }
     n = snprintf(st->damage, sizeof st->damage,
@@ -246,8 +251,8 @@ static negobs_status_t check_session_damage(negobs_replay_t *st)
                  "bytes); replaying %lu pairs",
                  st->dir, (unsigned long)st->n_index,
                  torn ? " and a cut line" : "", (unsigned long)nl,
-                 (unsigned long)nr, (unsigned long)((size_t)lb % frame),
-                 (unsigned long)((size_t)rb % frame),
+                 (unsigned long)nr, (unsigned long)((uint64_t)lb % frame),
+                 (unsigned long)((uint64_t)rb % frame),
                  (unsigned long)st->n_play);
     if (n > 0 && st->n_index < st->n_play && (size_t)n < sizeof st->damage) {
         (void)snprintf(st->damage + n, sizeof st->damage - (size_t)n,
