@@ -174,7 +174,8 @@ negobs_status_t negobs_recorder_open(negobs_recorder_t *rec, const char *dir,
         negobs_recorder_close(rec);
         return e == EEXIST ? NEGOBS_ERR_INVAL : NEGOBS_ERR_IO;
     }
-    (void)snprintf(hdr, sizeof hdr, "# index left_ts_ns right_ts_ns sequence\n");
+    (void)snprintf(hdr, sizeof hdr,
+                   "# index left_ts_ns right_ts_ns sequence\n");
     if (write_all(rec, rec->frames_fd, hdr, strlen(hdr)) != 0) {
         rec_msg(rec, dir, "/frames.txt", errno);
         negobs_recorder_close(rec);
