@@ -115,9 +115,11 @@ negobs_status_t negobs_config_set(const negobs_cfg_key_t *table, size_t n,
     }
 }
 
-/* Parse one line (modified in place). */
+/* Parse one line (modified in place); `check` (may be NULL) vets the
+ * value of a key once the table accepted it. */
 static negobs_status_t parse_line(const negobs_cfg_key_t *table, size_t n,
-                                  char *line, negobs_cfg_error_t *err)
+                                  char *line, negobs_cfg_check_fn check,
+                                  void *user, negobs_cfg_error_t *err)
 {
     char *hash = strchr(line, '#');
     char *eq;
@@ -156,7 +158,18 @@ static negobs_status_t parse_line(const negobs_cfg_key_t *table, size_t n,
         end--;
     }
     *end = '\0';
-    return negobs_config_set(table, n, key, val, err);
+    if (negobs_config_set(table, n, key, val, err) != NEGOBS_OK) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (check != NULL) {
+        char why[128];
+        why[0] = '\0';
+        if (check(user, key, val, why, sizeof why) != 0) {
+            cfg_fail(err, "%s: %s", key, why);
+            return NEGOBS_ERR_INVAL;
+        }
+    }
+    return NEGOBS_OK;
 }
 
 negobs_status_t negobs_config_parse_text(const negobs_cfg_key_t *table,
@@ -183,7 +196,7 @@ negobs_status_t negobs_config_parse_text(const negobs_cfg_key_t *table,
         }
         memcpy(line, text, len);
         line[len] = '\0';
-        s = parse_line(table, n, line, err);
+        s = parse_line(table, n, line, NULL, NULL, err);
         if (s != NEGOBS_OK) {
             return s;
         }
@@ -196,13 +209,47 @@ negobs_status_t negobs_config_parse_text(const negobs_cfg_key_t *table,
     return NEGOBS_OK;
 }
 
+/* One line into buf (without its newline). Returns 0 at end of file,
+ * 1 for a line, -1 for a line longer than NEGOBS_CONFIG_LINE_MAX, -2 for a
+ * line holding a NUL byte (a binary file, or a text editor's accident: it
+ * would silently cut the line short). The rest of a bad line is read. */
+static int read_line(FILE *f, char *buf, size_t cap)
+{
+    size_t len = 0;
+    int rc = 1;
+    int c = getc(f);
+    if (c == EOF) {
+        return 0;
+    }
+    while (c != EOF && c != '\n') {
+        if (c == '\0') {
+            rc = -2;
+        } else if (len + 1u >= cap) {
+            rc = rc == 1 ? -1 : rc;
+        } else {
+            buf[len++] = (char)c;
+        }
+        c = getc(f);
+    }
+    buf[len] = '\0';
+    return rc;
+}
+
 negobs_status_t negobs_config_parse_file(const char *path,
                                          const negobs_cfg_key_t *table,
                                          size_t n, negobs_cfg_error_t *err)
 {
-    char line[NEGOBS_CONFIG_LINE_MAX + 2];
+    return negobs_config_parse_file_checked(path, table, n, NULL, NULL, err);
+}
+
+negobs_status_t negobs_config_parse_file_checked(
+    const char *path, const negobs_cfg_key_t *table, size_t n,
+    negobs_cfg_check_fn check, void *user, negobs_cfg_error_t *err)
+{
+    char line[NEGOBS_CONFIG_LINE_MAX + 1];
     FILE *f;
     int32_t lineno = 0;
+    int r;
     negobs_status_t s = NEGOBS_OK;
     if (path == NULL || table == NULL) {
         return NEGOBS_ERR_INVAL;
@@ -216,19 +263,23 @@ negobs_status_t negobs_config_parse_file(const char *path,
         cfg_fail(err, "%s: %s", path, strerror(errno));
         return NEGOBS_ERR_NODEV;
     }
-    while (fgets(line, sizeof line, f) != NULL) {
-        size_t len = strlen(line);
+    while ((r = read_line(f, line, sizeof line)) != 0) {
         lineno++;
         if (err != NULL) {
             err->line = lineno;
         }
-        if (len > 0 && line[len - 1] != '\n' && !feof(f)) {
+        if (r == -2) {
+            cfg_fail(err, "NUL byte in the line (not a text file?)");
+            s = NEGOBS_ERR_INVAL;
+            break;
+        }
+        if (r == -1) {
             cfg_fail(err, "line longer than %d characters",
                      NEGOBS_CONFIG_LINE_MAX);
             s = NEGOBS_ERR_INVAL;
             break;
         }
-        s = parse_line(table, n, line, err);
+        s = parse_line(table, n, line, check, user, err);
         if (s != NEGOBS_OK) {
             break;
         }

@@ -218,12 +218,22 @@ static void test_alert_watchdog_stale_verdict_gives_no_info(void **state)
     assert_int_equal(sim.cmd.pattern, NEGOBS_PATTERN_NO_INFO_ENTRY);
 }
 
+/* sim_init() with the heartbeat off (tests that count every edge of
+ * another pattern over many seconds of "clear"). */
+static void sim_init_quiet(int ready)
+{
+    sim_init(ready);
+    sim.cfg.heartbeat_period_ms = 0;
+    assert_int_equal(negobs_alert_init(&sim.a, &sim.cfg, NULL, 0),
+                     NEGOBS_OK);
+}
+
 static void test_alert_low_battery_once_per_period(void **state)
 {
     static const uint32_t want[] = {0, 80, 200, 280, 400, 480, 600, 680};
     static const uint32_t again[] = {60000, 60080};
     (void)state;
-    sim_init(0);
+    sim_init_quiet(0);
     sim_set(NEGOBS_LEVEL_NONE, -1, 0, 1);
     sim_run(59000);
     expect_edges(0, want, 8);
@@ -361,6 +371,107 @@ static void test_alert_schedule_lists_upcoming_segments(void **state)
     assert_int_equal(sim.cmd.next_change_ms, 300);
 }
 
+/* Clear is not silence: one 80 ms pulse every 5 s, its gap first, so a
+ * dead device (no pulse) is told apart from "nothing ahead". */
+static void test_alert_heartbeat_pulses_while_clear(void **state)
+{
+    static const uint32_t want[] = {4920, 5000, 9920, 10000, 14920, 15000};
+    (void)state;
+    sim_init(0);
+    sim_set(NEGOBS_LEVEL_NONE, -1, 0, 0);
+    sim_run(16000);
+    expect_edges(0, want, 6);
+    assert_int_equal(sim.n, 6);
+    assert_int_equal(sim.cmd.pattern, NEGOBS_PATTERN_NONE);
+    /* the schedule lists the next beat */
+    sim_run(16001);
+    assert_true(sim.cmd.n_segments >= 2);
+    assert_int_equal(sim.cmd.segments[1].start_ms, 19920);
+    assert_int_equal(sim.cmd.segments[1].on, 1);
+    assert_int_equal(sim.cmd.segments[2].start_ms, 20000);
+    assert_int_equal(sim.cmd.segments[2].on, 0);
+}
+
+static void test_alert_heartbeat_configurable_and_off(void **state)
+{
+    static const uint32_t want[] = {1900, 2000, 3900, 4000};
+    (void)state;
+    sim_init(0);
+    sim.cfg.heartbeat_period_ms = 2000;
+    sim.cfg.heartbeat_pulse_ms = 100;
+    assert_int_equal(negobs_alert_init(&sim.a, &sim.cfg, NULL, 0),
+                     NEGOBS_OK);
+    sim_set(NEGOBS_LEVEL_NONE, -1, 0, 0);
+    sim_run(4500);
+    expect_edges(0, want, 4);
+    assert_int_equal(sim.n, 4);
+    sim_init_quiet(0);
+    sim_set(NEGOBS_LEVEL_NONE, -1, 0, 0);
+    sim_run(30000);
+    assert_int_equal(sim.n, 0);
+}
+
+/* The heartbeat has the lowest priority: a caution verdict pre-empts it
+ * at once (a started beat keeps its minimum pulse); after the caution,
+ * clear starts again with the gap, never with a pulse that would read
+ * as a third caution pulse. */
+static void test_alert_heartbeat_yields_to_warnings(void **state)
+{
+    int i;
+    (void)state;
+    sim_init(0);
+    sim_set(NEGOBS_LEVEL_NONE, -1, 0, 0);
+    sim_run(4900);
+    assert_int_equal(sim.n, 0);
+    sim_set(NEGOBS_LEVEL_CAUTION, 2500, 0, 0);
+    sim.in.verdict_ms = sim.t;
+    assert_int_equal(negobs_alert_update(&sim.a, sim.t, &sim.in, &sim.cmd),
+                     NEGOBS_OK);
+    assert_int_equal(sim.cmd.pattern, NEGOBS_PATTERN_CAUTION_MID);
+    assert_int_equal(sim.cmd.on, 1);
+    sim_run(6000);
+    sim_set(NEGOBS_LEVEL_NONE, -1, 0, 0);
+    sim.n = 0;
+    sim_run(10000);
+    /* first heartbeat pulse at least a whole gap after the last caution
+     * pulse ended */
+    for (i = 0; i < sim.n; i++) {
+        if (sim.e[i].on && sim.e[i].t > 6600) {
+            assert_true(sim.e[i].t >= 6100 + 4920);
+        }
+    }
+    assert_int_equal(sim.cmd.pattern, NEGOBS_PATTERN_NONE);
+    /* no verdicts: no-information, not a heartbeat */
+    sim.feed = 0;
+    sim_run(10500);
+    assert_true(sim.cmd.pattern == NEGOBS_PATTERN_NO_INFO_ENTRY ||
+                sim.cmd.pattern == NEGOBS_PATTERN_NO_INFO);
+}
+
+static void test_alert_heartbeat_config_checks(void **state)
+{
+    negobs_alert_config_t cfg;
+    negobs_alert_t a;
+    (void)state;
+    negobs_alert_config_default(&cfg);
+    assert_int_equal(cfg.heartbeat_period_ms, 5000);
+    assert_int_equal(cfg.heartbeat_pulse_ms, 80);
+    cfg.heartbeat_period_ms = 999;
+    assert_int_equal(negobs_alert_init(&a, &cfg, NULL, 0), NEGOBS_ERR_INVAL);
+    cfg.heartbeat_period_ms = 60001;
+    assert_int_equal(negobs_alert_init(&a, &cfg, NULL, 0), NEGOBS_ERR_INVAL);
+    cfg.heartbeat_period_ms = 1000;
+    cfg.heartbeat_pulse_ms = 251; /* more than a quarter of the period */
+    assert_int_equal(negobs_alert_init(&a, &cfg, NULL, 0), NEGOBS_ERR_INVAL);
+    cfg.heartbeat_pulse_ms = 79; /* shorter than min_pulse_ms */
+    assert_int_equal(negobs_alert_init(&a, &cfg, NULL, 0), NEGOBS_ERR_INVAL);
+    cfg.heartbeat_pulse_ms = 250;
+    assert_int_equal(negobs_alert_init(&a, &cfg, NULL, 0), NEGOBS_OK);
+    cfg.heartbeat_period_ms = 0; /* off: the pulse is not looked at */
+    cfg.heartbeat_pulse_ms = 0;
+    assert_int_equal(negobs_alert_init(&a, &cfg, NULL, 0), NEGOBS_OK);
+}
+
 static void test_alert_config_and_argument_checks(void **state)
 {
     negobs_alert_config_t cfg;
@@ -429,6 +540,10 @@ int main(void)
         cmocka_unit_test(test_alert_caution_beats_no_info),
         cmocka_unit_test(test_alert_min_pulse_holds_under_random_inputs),
         cmocka_unit_test(test_alert_schedule_lists_upcoming_segments),
+        cmocka_unit_test(test_alert_heartbeat_pulses_while_clear),
+        cmocka_unit_test(test_alert_heartbeat_configurable_and_off),
+        cmocka_unit_test(test_alert_heartbeat_yields_to_warnings),
+        cmocka_unit_test(test_alert_heartbeat_config_checks),
         cmocka_unit_test(test_alert_config_and_argument_checks),
         cmocka_unit_test(test_alert_input_from_detect_result),
     };

@@ -256,6 +256,63 @@ static void follow_the_library(int32_t stale_ms)
     assert_true(pulses > 100); /* the run really exercised the motor */
 }
 
+/*
+ * The heartbeat reaches the motor: clear verdicts every 33 ms for 12 s,
+ * the executor playing only the posted schedules switches the motor on for
+ * 80 ms every 5 s (its gap first), and stops beating when the verdicts
+ * stop (no-information instead).
+ */
+static void test_heartbeat_reaches_the_motor(void **state)
+{
+    negobs_alert_config_t c = cfg_default();
+    app_alert_t a;
+    negobs_motor_exec_t ex;
+    negobs_motor_out_t out;
+    fake_out_t fo;
+    uint64_t now = 0;
+    uint32_t ons[8];
+    uint32_t offs[8];
+    uint32_t n_on = 0;
+    uint32_t n_off = 0;
+    uint16_t prev = 0;
+    uint32_t t;
+    (void)state;
+    c.ready_on_start = 0;
+    memset(&fo, 0, sizeof fo);
+    fo.now = &now;
+    out.ops = &fake_ops;
+    out.ctx = &fo;
+    negobs_motor_exec_init(&ex, &out);
+    assert_int_equal(app_alert_init(&a, &c), NEGOBS_OK);
+    for (t = 1000u; t < 13000u; t++) {
+        now = t;
+        if ((t - 1000u) % 33u == 0u) {
+            negobs_alert_input_t in = verdict(APP_VERDICT_CLEAR, -1, t);
+            negobs_motor_schedule_t s;
+            assert_int_equal(app_alert_step(&a, t, &in, &s), NEGOBS_OK);
+            assert_int_equal(negobs_motor_exec_start(&ex, &s, now),
+                             NEGOBS_OK);
+        } else {
+            (void)negobs_motor_exec_tick(&ex, now);
+        }
+        if (fo.level != prev) {
+            if (fo.level > 0 && n_on < 8u) {
+                ons[n_on++] = t;
+            } else if (fo.level == 0 && n_off < 8u) {
+                offs[n_off++] = t;
+            }
+            prev = fo.level;
+        }
+    }
+    assert_int_equal(app_alert_pattern(&a), NEGOBS_PATTERN_NONE);
+    assert_int_equal(n_on, 2);
+    assert_int_equal(n_off, 2);
+    assert_int_equal(ons[0], 1000u + 4920u);
+    assert_int_equal(offs[0], 1000u + 5000u);
+    assert_int_equal(ons[1], 1000u + 9920u);
+    assert_int_equal(offs[1], 1000u + 10000u);
+}
+
 static void test_schedules_follow_the_library_every_ms(void **state)
 {
     (void)state;
@@ -381,6 +438,7 @@ int main(void)
         cmocka_unit_test(test_start_plays_ready_then_noinfo),
         cmocka_unit_test(test_clear_then_noinfo_after_stale_ms),
         cmocka_unit_test(test_caution_bands_and_imminent),
+        cmocka_unit_test(test_heartbeat_reaches_the_motor),
         cmocka_unit_test(test_schedules_follow_the_library_every_ms),
         cmocka_unit_test(test_schedules_are_complete),
         cmocka_unit_test(test_imminent_hold_outlives_stale),

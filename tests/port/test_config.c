@@ -127,6 +127,90 @@ static void test_config_file_and_override(void **state)
     tu_rm_tree(dir);
 }
 
+/* A NUL byte cuts a C string short: the file reader must say "NUL byte",
+ * not "longer than" (what fgets + strlen made of it). */
+static void test_config_file_line_with_nul_byte(void **state)
+{
+    static const char text[] = "fps = 25\nfl\0ip = on\ngain = 3\n";
+    char dir[256];
+    char path[300];
+    negobs_cfg_error_t err;
+    (void)state;
+    assert_int_equal(tu_mkdtemp(dir, sizeof dir, "cfg"), 0);
+    assert_int_equal(tu_write(dir, "nul.conf", text, sizeof text - 1u), 0);
+    (void)snprintf(path, sizeof path, "%s/nul.conf", dir);
+    assert_int_equal(negobs_config_parse_file(path, table, N, &err),
+                     NEGOBS_ERR_INVAL);
+    assert_int_equal(err.line, 2);
+    assert_non_null(strstr(err.msg, "line 2: NUL byte"));
+    /* a line of exactly NEGOBS_CONFIG_LINE_MAX characters still fits, one
+     * more does not */
+    {
+        char line[NEGOBS_CONFIG_LINE_MAX + 3];
+        memset(line, ' ', sizeof line);
+        memcpy(line, "fps = 7", 7);
+        line[NEGOBS_CONFIG_LINE_MAX] = '\n';
+        assert_int_equal(tu_write(dir, "max.conf", line,
+                                  NEGOBS_CONFIG_LINE_MAX + 1u), 0);
+        (void)snprintf(path, sizeof path, "%s/max.conf", dir);
+        assert_int_equal(negobs_config_parse_file(path, table, N, &err),
+                         NEGOBS_OK);
+        assert_int_equal(fps, 7);
+        line[NEGOBS_CONFIG_LINE_MAX] = ' ';
+        line[NEGOBS_CONFIG_LINE_MAX + 1] = '\n';
+        assert_int_equal(tu_write(dir, "long.conf", line,
+                                  NEGOBS_CONFIG_LINE_MAX + 2u), 0);
+        (void)snprintf(path, sizeof path, "%s/long.conf", dir);
+        assert_int_equal(negobs_config_parse_file(path, table, N, &err),
+                         NEGOBS_ERR_INVAL);
+        assert_non_null(strstr(err.msg, "line 1: line longer than"));
+    }
+    tu_rm_tree(dir);
+}
+
+static int check_alert(void *user, const char *key, const char *value,
+                       char *why, size_t why_len)
+{
+    ++*(int *)user;
+    if (strcmp(key, "alert") == 0 && strcmp(value, "console") != 0 &&
+        strcmp(value, "none") != 0) {
+        (void)snprintf(why, why_len, "no such output '%s'", value);
+        return 1;
+    }
+    return 0;
+}
+
+/* Values the table cannot judge are vetted by the program's check, and a
+ * refusal names the line like any other bad line. */
+static void test_config_file_checked_values_name_the_line(void **state)
+{
+    char dir[256];
+    char path[300];
+    negobs_cfg_error_t err;
+    int calls = 0;
+    (void)state;
+    assert_int_equal(tu_mkdtemp(dir, sizeof dir, "cfg"), 0);
+    assert_int_equal(tu_write_str(dir, "c.conf", "# x\nfps = 20\n"
+                                                 "alert = none\n"), 0);
+    (void)snprintf(path, sizeof path, "%s/c.conf", dir);
+    assert_int_equal(negobs_config_parse_file_checked(path, table, N,
+                                                      check_alert, &calls,
+                                                      &err),
+                     NEGOBS_OK);
+    assert_int_equal(calls, 2);
+    assert_string_equal(alert, "none");
+    assert_int_equal(tu_write_str(dir, "d.conf", "fps = 20\n\n"
+                                                 "alert = siren\n"), 0);
+    (void)snprintf(path, sizeof path, "%s/d.conf", dir);
+    assert_int_equal(negobs_config_parse_file_checked(path, table, N,
+                                                      check_alert, &calls,
+                                                      &err),
+                     NEGOBS_ERR_INVAL);
+    assert_int_equal(err.line, 3);
+    assert_non_null(strstr(err.msg, "line 3: alert: no such output 'siren'"));
+    tu_rm_tree(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -136,6 +220,9 @@ int main(void)
                                reset),
         cmocka_unit_test_setup(test_config_rejects_overlong_line, reset),
         cmocka_unit_test_setup(test_config_file_and_override, reset),
+        cmocka_unit_test_setup(test_config_file_line_with_nul_byte, reset),
+        cmocka_unit_test_setup(test_config_file_checked_values_name_the_line,
+                               reset),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

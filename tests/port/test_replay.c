@@ -358,8 +358,162 @@ static void test_session_truncated_frames_are_corrupt(void **state)
     assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
     assert_int_equal(negobs_camera_get_pair(&cam, &p, 100),
                      NEGOBS_ERR_CORRUPT);
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "right.y"));
+    assert_non_null(strstr(negobs_camera_errmsg(&cam), "damaged session"));
+    assert_non_null(strstr(negobs_replay_damage(&rp), "right.y 1 complete"));
     negobs_camera_close(&cam);
+}
+
+/* A session whose frames.txt never reached the disk (stdio buffer lost
+ * to SIGKILL or a power cut) while left.y/right.y hold the frames: every
+ * frame is replayed, with synthesised timestamps, then the end is an
+ * error that says so; never "0 pairs" and a clean end. */
+static void test_session_without_index_is_recovered(void **state)
+{
+    negobs_replay_t rp;
+    negobs_capture_t cam;
+    negobs_frame_pair_t p;
+    uint64_t t_prev = 0;
+    uint32_t i;
+    (void)state;
+    record_session(5);
+    assert_int_equal(tu_write_str(dir, "frames.txt", ""), 0);
+    open_replay(&rp, &cam, NEGOBS_OK);
+    assert_non_null(strstr(negobs_replay_damage(&rp), "lists 0 pairs"));
+    assert_non_null(strstr(negobs_replay_damage(&rp),
+                           "5 with synthesised timestamps"));
+    for (i = 0; i < 5; i++) {
+        assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+        check_pair(&p, i);
+        assert_true(i == 0 || p.left.ts_ns >= t_prev);
+        t_prev = p.left.ts_ns;
+    }
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100),
+                     NEGOBS_ERR_CORRUPT);
+    assert_non_null(strstr(negobs_camera_errmsg(&cam), "5 recoverable"));
+    negobs_camera_close(&cam);
+}
+
+/* frames.txt cut in its last line (and one record short), left.y with a
+ * partial frame: the complete pairs are replayed, recorded timestamps
+ * where there is a record. */
+static void test_session_cut_index_line_is_recovered(void **state)
+{
+    negobs_replay_t rp;
+    negobs_capture_t cam;
+    negobs_frame_pair_t p;
+    char path[400];
+    FILE *f;
+    uint32_t i;
+    (void)state;
+    record_session(3);
+    assert_int_equal(tu_write_str(dir, "frames.txt",
+                                  "# index left_ts_ns right_ts_ns sequence\n"
+                                  "0 1000000000 1002000000 40\n"
+                                  "1 1033000000 10"),
+                     0);
+    (void)snprintf(path, sizeof path, "%s/left.y", dir);
+    f = fopen(path, "ab");
+    assert_non_null(f);
+    assert_int_equal(fwrite("xyz", 1, 3, f), 3);
+    (void)fclose(f);
+    open_replay(&rp, &cam, NEGOBS_OK);
+    assert_non_null(strstr(negobs_replay_damage(&rp), "a cut line"));
+    assert_non_null(strstr(negobs_replay_damage(&rp), "(+3/+0 bytes)"));
+    for (i = 0; i < 3; i++) {
+        assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+        check_pair(&p, i);
+        assert_int_equal(p.left.sequence, 40 + i);
+    }
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100),
+                     NEGOBS_ERR_CORRUPT);
+    negobs_camera_close(&cam);
+}
+
+/* Nothing to recover, or a file missing: open() fails, each with its own
+ * status and a message naming the file. */
+static void test_session_unrecoverable_or_missing_file(void **state)
+{
+    negobs_replay_t rp;
+    negobs_capture_t cam;
+    char path[400];
+    (void)state;
+    record_session(2);
+    assert_int_equal(tu_write_str(dir, "left.y", "short"), 0);
+    open_replay(&rp, &cam, NEGOBS_ERR_CORRUPT);
+    assert_non_null(strstr(negobs_camera_errmsg(&cam), "no complete pair"));
+    (void)snprintf(path, sizeof path, "%s/left.y", dir);
+    assert_int_equal(remove(path), 0);
+    open_replay(&rp, &cam, NEGOBS_ERR_NODEV);
+    assert_non_null(strstr(negobs_camera_errmsg(&cam), "left.y"));
+}
+
+/* The recorder never writes over an earlier session, whatever the file
+ * that is already there. */
+static void test_recorder_refuses_existing_session(void **state)
+{
+    negobs_recorder_t rec;
+    char msg[200];
+    char path[400];
+    FILE *f;
+    long size;
+    (void)state;
+    assert_int_equal(negobs_recorder_check_dir(dir, msg, sizeof msg),
+                     NEGOBS_OK);
+    record_session(2);
+    assert_int_equal(negobs_recorder_check_dir(dir, msg, sizeof msg),
+                     NEGOBS_ERR_INVAL);
+    assert_non_null(strstr(msg, "already holds a session"));
+    assert_int_equal(negobs_recorder_open(&rec, dir, W, H), NEGOBS_ERR_INVAL);
+    assert_non_null(strstr(rec.errmsg, "already holds a session"));
+    negobs_recorder_close(&rec);
+    (void)snprintf(path, sizeof path, "%s/left.y", dir);
+    f = fopen(path, "rb");
+    assert_non_null(f);
+    assert_int_equal(fseek(f, 0, SEEK_END), 0);
+    size = ftell(f);
+    (void)fclose(f);
+    assert_int_equal(size, 2 * W * H);
+    /* only right.y left over: still refused */
+    (void)snprintf(path, sizeof path, "%s/session.txt", dir);
+    assert_int_equal(remove(path), 0);
+    (void)snprintf(path, sizeof path, "%s/frames.txt", dir);
+    assert_int_equal(remove(path), 0);
+    (void)snprintf(path, sizeof path, "%s/left.y", dir);
+    assert_int_equal(remove(path), 0);
+    assert_int_equal(negobs_recorder_check_dir(dir, msg, sizeof msg),
+                     NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_recorder_open(&rec, dir, W, H), NEGOBS_ERR_INVAL);
+    negobs_recorder_close(&rec);
+}
+
+/* frames.txt is in the kernel after every pair (no stdio buffer): read
+ * back while the recorder is still open, as after a SIGKILL. */
+static void test_recorder_index_written_per_pair(void **state)
+{
+    static uint8_t img[W * H];
+    negobs_recorder_t rec;
+    negobs_frame_pair_t p;
+    char path[400];
+    char text[256];
+    FILE *f;
+    size_t n;
+    (void)state;
+    memset(&p, 0, sizeof p);
+    p.left.y.data = p.right.y.data = img;
+    p.left.y.width = p.right.y.width = W;
+    p.left.y.height = p.right.y.height = H;
+    p.left.y.stride = p.right.y.stride = W;
+    p.left.ts_ns = 7;
+    assert_int_equal(negobs_recorder_open(&rec, dir, W, H), NEGOBS_OK);
+    assert_int_equal(negobs_recorder_write(&rec, &p), NEGOBS_OK);
+    (void)snprintf(path, sizeof path, "%s/frames.txt", dir);
+    f = fopen(path, "r");
+    assert_non_null(f);
+    n = fread(text, 1, sizeof text - 1, f);
+    (void)fclose(f);
+    text[n] = '\0';
+    assert_non_null(strstr(text, "\n0 7 0 0\n"));
+    negobs_recorder_close(&rec);
 }
 
 static void test_session_bad_header_or_record_is_corrupt(void **state)
@@ -402,6 +556,11 @@ int main(void)
         T(test_session_round_trip),
         T(test_session_truncated_frames_are_corrupt),
         T(test_session_bad_header_or_record_is_corrupt),
+        T(test_session_without_index_is_recovered),
+        T(test_session_cut_index_line_is_recovered),
+        T(test_session_unrecoverable_or_missing_file),
+        T(test_recorder_refuses_existing_session),
+        T(test_recorder_index_written_per_pair),
     };
 #undef T
     return cmocka_run_group_tests(tests, NULL, NULL);

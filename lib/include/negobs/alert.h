@@ -13,12 +13,25 @@
  *   IMMINENT     300 on, 100 off, continuous
  *   NO_INFO      on entry 3 x (400 on, 200 off), then 600 on every 3000 ms
  *   LOW_BATTERY  4 x (80 on, 120 off), once per battery_period_ms
+ *   NONE         (clear) the heartbeat: one heartbeat_pulse_ms (80) pulse
+ *                every heartbeat_period_ms (5000), after a silent gap;
+ *                heartbeat_period_ms = 0 makes clear silent
  *
  * Priorities: IMMINENT > CAUTION > NO_INFO > LOW_BATTERY > READY. A higher
  * priority pre-empts at once; a lower one waits until the motor is off
  * (a pulse is never cut). Caution band changes wait for the gap after the
  * two-pulse burst. IMMINENT is held for imminent_hold_ms after its last
  * verdict, so a brief degraded blip does not turn it into "unknown".
+ *
+ * Heartbeat: a motor that is simply off (a crash, SIGKILL, a flat battery,
+ * a broken wire) feels exactly like "clear", so while clear the motor
+ * gives a brief pulse every few seconds and the wearer notices when it
+ * stops. 5 s: missed within one or two periods (about 7-14 m of walking
+ * at 1.4 m/s), and rare enough not to mask or tire; 80 ms, the shortest
+ * pulse that is reliably felt, and a single one, so it is never confused
+ * with CAUTION (two pulses every 0.4-1 s), NO_INFO (400-600 ms pulses)
+ * or IMMINENT. It has the lowest priority: every other pattern pre-empts
+ * it. The command reports it as NEGOBS_PATTERN_NONE (nothing to warn of).
  */
 #ifndef NEGOBS_ALERT_H
 #define NEGOBS_ALERT_H
@@ -60,6 +73,10 @@ typedef struct negobs_alert_config {
     int32_t battery_period_ms;   /**< low-battery repeat (60000 ms)      */
     int32_t imminent_hold_ms;    /**< keep IMMINENT after it (1000 ms)   */
     int32_t ready_on_start;      /**< play READY after init (1)          */
+    int32_t heartbeat_period_ms; /**< clear: a pulse this often (5000);
+                                      0 = off, else 1000..60000         */
+    int32_t heartbeat_pulse_ms;  /**< its length (80): min_pulse_ms ..
+                                      heartbeat_period_ms / 4           */
 } negobs_alert_config_t;
 
 /** One verdict for the alert logic. */
@@ -117,7 +134,8 @@ negobs_status_t negobs_alert_workspace_size(const negobs_alert_config_t *cfg,
 
 /**
  * @brief Validate cfg (min_pulse_ms 30..1000, every pattern pulse must be
- *        at least min_pulse_ms, duty 1..1000, ...) and reset the state.
+ *        at least min_pulse_ms, duty 1..1000, heartbeat as documented at
+ *        its fields, ...) and reset the state.
  *        workspace may be NULL (size 0).
  * @return NEGOBS_OK or NEGOBS_ERR_INVAL.
  */

@@ -49,6 +49,42 @@ static const pat_t pats[NEGOBS_PATTERN_COUNT] = {
     {seg_imminent, NSEG(seg_imminent), 1, 6},
 };
 
+/* The heartbeat is the NONE ("clear") pattern when it is on: a silent gap
+ * of heartbeat_period_ms - heartbeat_pulse_ms, then one pulse, repeated.
+ * Its durations come from the config, the others from the table above. */
+static int heartbeat_on(const negobs_alert_t *c)
+{
+    return c->cfg.heartbeat_period_ms > 0;
+}
+
+static int32_t pat_n(const negobs_alert_t *c, negobs_alert_pattern_t p)
+{
+    if (p == NEGOBS_PATTERN_NONE) {
+        return heartbeat_on(c) ? 2 : 0;
+    }
+    return pats[p].n;
+}
+
+static int pat_repeat(negobs_alert_pattern_t p)
+{
+    return p == NEGOBS_PATTERN_NONE ? 1 : pats[p].repeat;
+}
+
+static int32_t seg_dur(const negobs_alert_t *c, negobs_alert_pattern_t p,
+                       int32_t i)
+{
+    if (p == NEGOBS_PATTERN_NONE) {
+        return i == 0 ? c->cfg.heartbeat_period_ms - c->cfg.heartbeat_pulse_ms
+                      : c->cfg.heartbeat_pulse_ms;
+    }
+    return pats[p].s[i].dur_ms;
+}
+
+static int seg_on(negobs_alert_pattern_t p, int32_t i)
+{
+    return p == NEGOBS_PATTERN_NONE ? i == 1 : pats[p].s[i].on;
+}
+
 static int32_t since(uint32_t now, uint32_t then)
 {
     return (int32_t)(now - then);
@@ -67,6 +103,8 @@ void negobs_alert_config_default(negobs_alert_config_t *cfg)
     cfg->battery_period_ms = 60000;
     cfg->imminent_hold_ms = 1000;
     cfg->ready_on_start = 1;
+    cfg->heartbeat_period_ms = 5000;
+    cfg->heartbeat_pulse_ms = 80;
 }
 
 static int32_t shortest_pulse(void)
@@ -111,6 +149,15 @@ negobs_status_t negobs_alert_init(negobs_alert_t *ctx,
         cfg->imminent_hold_ms < 0 || cfg->imminent_hold_ms > 60000) {
         return NEGOBS_ERR_INVAL;
     }
+    /* A heartbeat is one brief pulse: at least the shortest pulse that is
+     * felt, at most a quarter of its period (longer reads as a pattern). */
+    if (cfg->heartbeat_period_ms != 0 &&
+        (cfg->heartbeat_period_ms < 1000 ||
+         cfg->heartbeat_period_ms > 60000 ||
+         cfg->heartbeat_pulse_ms < cfg->min_pulse_ms ||
+         cfg->heartbeat_pulse_ms > cfg->heartbeat_period_ms / 4)) {
+        return NEGOBS_ERR_INVAL;
+    }
     memset(ctx, 0, sizeof *ctx);
     ctx->cfg = *cfg;
     ctx->ready_pending = cfg->ready_on_start ? 1 : 0;
@@ -133,19 +180,20 @@ static int is_noinfo(negobs_alert_pattern_t p)
 
 /* Segment of pattern p (started at start) playing at now. Returns 0 when
  * a one-shot pattern has finished (then *end is its end time). */
-static int locate(negobs_alert_pattern_t p, uint32_t start, uint32_t now,
-                  int32_t *idx, uint32_t *seg_start, uint32_t *end)
+static int locate(const negobs_alert_t *c, negobs_alert_pattern_t p,
+                  uint32_t start, uint32_t now, int32_t *idx,
+                  uint32_t *seg_start, uint32_t *end)
 {
-    const pat_t *pt = &pats[p];
+    int32_t n = pat_n(c, p);
     int32_t total = 0;
     int32_t el = since(now, start);
     int32_t base;
     int32_t i;
-    if (pt->n == 0) {
+    if (n == 0) {
         return 0;
     }
-    for (i = 0; i < pt->n; i++) {
-        total += pt->s[i].dur_ms;
+    for (i = 0; i < n; i++) {
+        total += seg_dur(c, p, i);
     }
     if (el < 0) {
         /* Scheduled to start later: a silent gap until then. */
@@ -154,22 +202,22 @@ static int locate(negobs_alert_pattern_t p, uint32_t start, uint32_t now,
         *end = start;
         return 1;
     }
-    if (!pt->repeat && el >= total) {
+    if (!pat_repeat(p) && el >= total) {
         *end = start + (uint32_t)total;
         return 0;
     }
-    base = pt->repeat ? (el / total) * total : 0;
+    base = pat_repeat(p) ? (el / total) * total : 0;
     el -= base;
-    for (i = 0; i < pt->n; i++) {
-        if (el < pt->s[i].dur_ms) {
+    for (i = 0; i < n; i++) {
+        if (el < seg_dur(c, p, i)) {
             break;
         }
-        el -= pt->s[i].dur_ms;
-        base += pt->s[i].dur_ms;
+        el -= seg_dur(c, p, i);
+        base += seg_dur(c, p, i);
     }
     *idx = i;
     *seg_start = start + (uint32_t)base;
-    *end = *seg_start + pt->s[i].dur_ms;
+    *end = *seg_start + (uint32_t)seg_dur(c, p, i);
     return 1;
 }
 
@@ -262,6 +310,7 @@ negobs_status_t negobs_alert_update(negobs_alert_t *c, uint32_t now,
     }
     if (!c->started) {
         c->started = 1;
+        c->pat_start_ms = now; /* the heartbeat counts from here */
         /* Before any verdict, staleness counts from the first update. */
         if (!c->have_input) {
             c->in.verdict_ms = now;
@@ -271,7 +320,7 @@ negobs_status_t negobs_alert_update(negobs_alert_t *c, uint32_t now,
     }
 
     /* Finish one-shot patterns (the NO_INFO burst chains into NO_INFO). */
-    playing = locate(c->pat, c->pat_start_ms, now, &idx, &seg_start,
+    playing = locate(c, c->pat, c->pat_start_ms, now, &idx, &seg_start,
                      &seg_end);
     if (!playing && c->pat != NEGOBS_PATTERN_NONE) {
         if (c->pat == NEGOBS_PATTERN_READY) {
@@ -279,14 +328,14 @@ negobs_status_t negobs_alert_update(negobs_alert_t *c, uint32_t now,
         }
         if (c->pat == NEGOBS_PATTERN_NO_INFO_ENTRY) {
             c->pat = NEGOBS_PATTERN_NO_INFO;
-            c->pat_start_ms = seg_end;
         } else {
-            c->pat = NEGOBS_PATTERN_NONE;
+            c->pat = NEGOBS_PATTERN_NONE; /* heartbeat: its gap first */
         }
-        playing = locate(c->pat, c->pat_start_ms, now, &idx, &seg_start,
+        c->pat_start_ms = seg_end;
+        playing = locate(c, c->pat, c->pat_start_ms, now, &idx, &seg_start,
                          &seg_end);
     }
-    on = (playing && idx >= 0) ? pats[c->pat].s[idx].on : 0;
+    on = (playing && idx >= 0) ? seg_on(c->pat, idx) : 0;
 
     want = desired(c, now);
     if (want != c->pat && !(is_noinfo(want) && is_noinfo(c->pat))) {
@@ -296,7 +345,7 @@ negobs_status_t negobs_alert_update(negobs_alert_t *c, uint32_t now,
             sw = 1; /* pre-empt now (the min-pulse guard protects a pulse) */
         } else if (is_caution(want) && is_caution(c->pat)) {
             /* Band change: in the long gap after the two-pulse burst. */
-            sw = !on && idx == pats[c->pat].n - 1;
+            sw = !on && idx == pat_n(c, c->pat) - 1;
         } else {
             sw = !on; /* lower priority: never cut a pulse */
         }
@@ -308,9 +357,9 @@ negobs_status_t negobs_alert_update(negobs_alert_t *c, uint32_t now,
             if (pats[want].prio <= pats[old].prio && c->motor_on) {
                 c->pat_start_ms = now + 100u;
             }
-            playing = locate(c->pat, c->pat_start_ms, now, &idx, &seg_start,
+            playing = locate(c, c->pat, c->pat_start_ms, now, &idx, &seg_start,
                              &seg_end);
-            on = (playing && idx >= 0) ? pats[c->pat].s[idx].on : 0;
+            on = (playing && idx >= 0) ? seg_on(c->pat, idx) : 0;
         }
     }
 
@@ -362,16 +411,16 @@ negobs_status_t negobs_alert_update(negobs_alert_t *c, uint32_t now,
     cmd->segments[0].on = on;
     cmd->segments[0].duty_permille = cmd->duty_permille;
     if (playing) {
-        const pat_t *pt = &pats[c->pat];
+        int32_t n = pat_n(c, c->pat);
         uint32_t t = seg_end;
         int32_t k = idx;
-        if (idx < 0 || (on && !pt->s[idx].on)) {
+        if (idx < 0 || (on && !seg_on(c->pat, idx))) {
             t = next; /* guard extension or delayed start */
         }
         for (i = 1; i < NEGOBS_ALERT_MAX_SEGMENTS; i++) {
             k++;
-            if (k >= pt->n) {
-                if (!pt->repeat) {
+            if (k >= n) {
+                if (!pat_repeat(c->pat)) {
                     cmd->segments[i].start_ms = t;
                     cmd->segments[i].on = 0;
                     cmd->segments[i].duty_permille = 0;
@@ -381,11 +430,11 @@ negobs_status_t negobs_alert_update(negobs_alert_t *c, uint32_t now,
                 k = 0;
             }
             cmd->segments[i].start_ms = t;
-            cmd->segments[i].on = pt->s[k].on;
+            cmd->segments[i].on = seg_on(c->pat, k);
             cmd->segments[i].duty_permille =
-                pt->s[k].on ? c->cfg.intensity_permille : 0;
+                seg_on(c->pat, k) ? c->cfg.intensity_permille : 0;
             cmd->n_segments = i + 1;
-            t += pt->s[k].dur_ms;
+            t += (uint32_t)seg_dur(c, c->pat, k);
         }
     }
     return NEGOBS_OK;

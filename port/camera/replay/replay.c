@@ -159,10 +159,105 @@ static negobs_status_t open_session_files(negobs_replay_t *st)
         }
         *slots[i] = fopen(path, i == 0 ? "r" : "rb");
         if (*slots[i] == NULL) {
-            rp_error(st, "%s: %s", path, strerror(errno));
+            int e = errno;
+            rp_error(st, "%s: %s", path, strerror(e));
             close_files(st);
-            return NEGOBS_ERR_CORRUPT;
+            return e == ENOENT ? NEGOBS_ERR_NODEV : NEGOBS_ERR_IO;
         }
+    }
+    return NEGOBS_OK;
+}
+
+/* Records in frames.txt (lines that are not comments or blank); a last
+ * line without its newline (cut by a crash or a full disk) is not one. */
+static uint32_t count_records(FILE *f, bool *torn)
+{
+    uint32_t n = 0;
+    int c;
+    bool start = true;
+    bool content = false;
+    *torn = false;
+    while ((c = getc(f)) != EOF) {
+        if (start) {
+            content = c != '#' && c != '\n';
+            start = false;
+        }
+        if (c == '\n') {
+            n += content ? 1u : 0u;
+            start = true;
+            content = false;
+        }
+    }
+    *torn = !start && content;
+    rewind(f);
+    return n;
+}
+
+/* Size of a regular file; -1 for anything else (a FIFO or a device
+ * streams its frames: its size says nothing, nothing is recovered). */
+static int64_t file_bytes(FILE *f)
+{
+    struct stat sb;
+    return (fstat(fileno(f), &sb) == 0 && S_ISREG(sb.st_mode))
+               ? (int64_t)sb.st_size
+               : -1;
+}
+
+/* A session cut short (crash, SIGKILL, full disk, power cut): frames.txt
+ * and the two pixel files may disagree. Replay the pairs whose pixels are
+ * complete in both files; past the last usable frames.txt record their
+ * timestamps are synthesised (one frame period apart). Say what was
+ * recovered; nothing at all is an error. */
+static negobs_status_t check_session_damage(negobs_replay_t *st)
+{
+    uint64_t frame = (uint64_t)st->width * (uint64_t)st->height;
+    int64_t lb = file_bytes(st->left_f);
+    int64_t rb = file_bytes(st->right_f);
+    uint64_t n64;
+    uint32_t nl;
+    uint32_t nr;
+    bool torn = false;
+    int n;
+    st->damage[0] = '\0';
+    st->n_index = file_bytes(st->frames_txt) >= 0
+                      ? count_records(st->frames_txt, &torn)
+                      : UINT32_MAX;
+    if (lb < 0 || rb < 0) {
+        /* streamed pixels: the index alone says how many pairs */
+        st->n_play = st->n_index;
+        return NEGOBS_OK;
+    }
+    /* more frames than a uint32 index counts are not replayed */
+    n64 = (uint64_t)lb / frame;
+    nl = n64 > UINT32_MAX - 1u ? UINT32_MAX - 1u : (uint32_t)n64;
+    n64 = (uint64_t)rb / frame;
+    nr = n64 > UINT32_MAX - 1u ? UINT32_MAX - 1u : (uint32_t)n64;
+    st->n_play = nl < nr ? nl : nr;
+    if (st->n_play == 0) {
+        rp_error(st, "%s: damaged session, no complete pair to replay "
+                 "(frames.txt lists %lu, left.y %llu bytes, right.y %llu "
+                 "bytes, %lu per frame)", st->dir,
+                 (unsigned long)st->n_index, (unsigned long long)lb,
+                 (unsigned long long)rb, (unsigned long)frame);
+        return NEGOBS_ERR_CORRUPT;
+    }
+    if (st->n_index == st->n_play && nl == nr && !torn &&
+        (uint64_t)lb % frame == 0 && (uint64_t)rb % frame == 0) {
+        return NEGOBS_OK;
+    }
+    n = snprintf(st->damage, sizeof st->damage,
+                 "damaged session %s: frames.txt lists %lu pairs%s, left.y "
+                 "holds %lu and right.y %lu complete frames (+%lu/+%lu "
+                 "bytes); replaying %lu pairs",
+                 st->dir, (unsigned long)st->n_index,
+                 torn ? " and a cut line" : "", (unsigned long)nl,
+                 (unsigned long)nr, (unsigned long)((uint64_t)lb % frame),
+                 (unsigned long)((uint64_t)rb % frame),
+                 (unsigned long)st->n_play);
+    if (n > 0 && st->n_index < st->n_play && (size_t)n < sizeof st->damage) {
+        (void)snprintf(st->damage + n, sizeof st->damage - (size_t)n,
+                       ", %lu with synthesised timestamps",
+                       (unsigned long)(st->n_play - st->n_index));
     }
     return NEGOBS_OK;
 }
@@ -193,6 +288,7 @@ static negobs_status_t rp_open(void *ctx, const negobs_camera_config_t *cfg)
     st->width = 0;
     st->height = 0;
     st->started = false;
+    st->damage[0] = '\0';
     memset(&st->stats, 0, sizeof st->stats);
 
     if (join(path, sizeof path, st->dir, "left_0000.pgm") != 0) {
@@ -226,7 +322,11 @@ static negobs_status_t rp_open(void *ctx, const negobs_camera_config_t *cfg)
             return NEGOBS_ERR_INVAL;
         }
         s = open_session_files(st);
+        if (s == NEGOBS_OK) {
+            s = check_session_damage(st);
+        }
         if (s != NEGOBS_OK) {
+            close_files(st);
             return s;
         }
     }
@@ -298,6 +398,23 @@ static int read_pgm_pair(negobs_replay_t *st, uint32_t idx, int32_t *w,
     return NEGOBS_OK;
 }
 
+/* Timestamps for pairs past the last usable frames.txt record: one frame
+ * period after the previous pair (the recording's mean interval, else the
+ * replay fps, else 30 fps). */
+static void synth_stamp(negobs_replay_t *st, uint64_t *tl, uint64_t *tr,
+                        uint32_t *seq)
+{
+    uint64_t period = 33333333u;
+    if (st->next > 1 && st->cur_tl > st->ts0_ns) {
+        period = (st->cur_tl - st->ts0_ns) / (st->next - 1u);
+    } else if (st->fps > 0) {
+        period = 1000000000u / (uint64_t)st->fps;
+    }
+    *tl = st->next > 0 ? st->cur_tl + period : 0;
+    *tr = *tl + (st->next > 0 ? st->cur_tr - st->cur_tl : 0);
+    *seq = st->next > 0 ? st->cur_seq + 1u : 0;
+}
+
 /* Read the next session record. */
 static int read_session_pair(negobs_replay_t *st, uint64_t *tl, uint64_t *tr,
                              uint32_t *seq)
@@ -305,22 +422,37 @@ static int read_session_pair(negobs_replay_t *st, uint64_t *tl, uint64_t *tr,
     char line[160];
     size_t frame = (size_t)st->width * (size_t)st->height;
     unsigned long long fld[4];
-    for (;;) {
-        if (fgets(line, sizeof line, st->frames_txt) == NULL) {
-            return NEGOBS_CAMERA_END;
-        }
-        if (line[0] != '#' && line[0] != '\n') {
-            break;
-        }
+    if (st->next >= st->n_play) {
+        return NEGOBS_CAMERA_END;
     }
-    if (strchr(line, '\n') == NULL && !feof(st->frames_txt)) {
-        rp_error(st, "%s/frames.txt: line too long", st->dir);
-        return NEGOBS_ERR_CORRUPT;
-    }
-    if (parse_fields(line, fld, 4) != 4 || fld[0] != st->next) {
-        rp_error(st, "%s/frames.txt: bad record for pair %u", st->dir,
-                 (unsigned)st->next);
-        return NEGOBS_ERR_CORRUPT;
+    if (st->next < st->n_index) {
+        for (;;) {
+            if (fgets(line, sizeof line, st->frames_txt) == NULL) {
+                if (st->n_index == UINT32_MAX) {
+                    return NEGOBS_CAMERA_END; /* a streamed index ended */
+                }
+                rp_error(st, "%s/frames.txt: changed while replaying",
+                         st->dir);
+                return NEGOBS_ERR_CORRUPT;
+            }
+            if (line[0] != '#' && line[0] != '\n') {
+                break;
+            }
+        }
+        if (strchr(line, '\n') == NULL) {
+            rp_error(st, "%s/frames.txt: line too long", st->dir);
+            return NEGOBS_ERR_CORRUPT;
+        }
+        if (parse_fields(line, fld, 4) != 4 || fld[0] != st->next) {
+            rp_error(st, "%s/frames.txt: bad record for pair %u", st->dir,
+                     (unsigned)st->next);
+            return NEGOBS_ERR_CORRUPT;
+        }
+        *tl = (uint64_t)fld[1];
+        *tr = (uint64_t)fld[2];
+        *seq = (uint32_t)fld[3];
+    } else {
+        synth_stamp(st, tl, tr, seq);
     }
     if (fread(st->buf, 1, frame, st->left_f) != frame) {
         rp_error(st, "%s/left.y: truncated at pair %u", st->dir,
@@ -332,9 +464,6 @@ static int read_session_pair(negobs_replay_t *st, uint64_t *tl, uint64_t *tr,
                  (unsigned)st->next);
         return NEGOBS_ERR_CORRUPT;
     }
-    *tl = (uint64_t)fld[1];
-    *tr = (uint64_t)fld[2];
-    *seq = (uint32_t)fld[3];
     return NEGOBS_OK;
 }
 
@@ -385,6 +514,15 @@ static int rp_read_next(negobs_replay_t *st)
             continue;
         }
         break;
+    }
+    if (rc == NEGOBS_CAMERA_END && st->session && st->damage[0] != '\0') {
+        /* the end of a damaged session is not a clean end */
+        rp_error(st, "damaged session: all %lu recoverable pairs replayed "
+                 "(%lu of them without a frames.txt record)",
+                 (unsigned long)st->n_play,
+                 (unsigned long)(st->n_play > st->n_index
+                                     ? st->n_play - st->n_index : 0u));
+        return NEGOBS_ERR_CORRUPT;
     }
     if (rc != NEGOBS_OK) {
         return rc;
@@ -491,6 +629,11 @@ static void rp_stats(void *ctx, negobs_camera_stats_t *out)
 static const char *rp_errmsg(void *ctx)
 {
     return ((negobs_replay_t *)ctx)->errmsg;
+}
+
+const char *negobs_replay_damage(const negobs_replay_t *st)
+{
+    return st != NULL ? st->damage : "";
 }
 
 static const negobs_camera_ops_t replay_ops = {

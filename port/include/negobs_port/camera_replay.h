@@ -8,8 +8,10 @@
  *  - a recorded session (written by negobs_run --record DIR): session.txt,
  *    frames.txt, left.y, right.y.
  * Truncated or malformed files give NEGOBS_ERR_CORRUPT with a message in
- * errmsg(); the reader never trusts sizes from a file beyond the buffer it
- * was given.
+ * errmsg() (a missing session file NEGOBS_ERR_NODEV, an unreadable one
+ * NEGOBS_ERR_IO); the reader never trusts sizes from a file beyond the
+ * buffer it was given. A recorded session cut short is replayed as far as
+ * its files allow: see negobs_replay_damage().
  */
 #ifndef NEGOBS_PORT_CAMERA_REPLAY_H
 #define NEGOBS_PORT_CAMERA_REPLAY_H
@@ -17,6 +19,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <sys/types.h>
 
 #include "negobs/image.h"
 #include "negobs_port/alert.h"
@@ -43,7 +46,8 @@ typedef struct negobs_replay {
     int32_t want_h;
     int32_t fps;
     uint32_t next;         /**< next pair index                        */
-    uint32_t nframes;      /**< session: pairs listed in frames.txt    */
+    uint32_t n_index;      /**< session: records in frames.txt         */
+    uint32_t n_play;       /**< session: complete pairs in left/right.y */
     FILE *frames_txt;      /**< session: timestamp list                */
     FILE *left_f;          /**< session: raw left frames               */
     FILE *right_f;
@@ -58,6 +62,7 @@ typedef struct negobs_replay {
     uint32_t cur_seq;
     negobs_camera_stats_t stats;
     char errmsg[NEGOBS_PORT_ERRMSG_LEN];
+    char damage[2 * NEGOBS_PORT_ERRMSG_LEN + NEGOBS_REPLAY_PATH_MAX];
 } negobs_replay_t;
 
 /**
@@ -70,6 +75,21 @@ typedef struct negobs_replay {
  */
 negobs_status_t negobs_replay_init(negobs_replay_t *st, uint8_t *buf,
                                    size_t buf_bytes, negobs_capture_t *cam);
+
+/**
+ * @brief What is wrong with the session opened last ("" when nothing).
+ *
+ * A session cut short (crash, SIGKILL, full disk, power cut) may have
+ * fewer frames.txt records than frames in left.y/right.y, a cut last
+ * line, or a partial last frame. open() then still succeeds when at least
+ * one pair is complete in both pixel files, and says here what it found
+ * and how many pairs it replays; pairs past the last usable record get
+ * synthesised timestamps (one frame period apart). The end of such a
+ * replay is NEGOBS_ERR_CORRUPT with this text, not NEGOBS_CAMERA_END, so
+ * that a damaged session never reads as a clean one. No complete pair:
+ * open() fails with NEGOBS_ERR_CORRUPT.
+ */
+const char *negobs_replay_damage(const negobs_replay_t *st);
 
 /**
  * @brief Read a binary PGM (P5, maxval 1..255) into `dst` (rows packed,
@@ -89,33 +109,55 @@ negobs_status_t negobs_pgm_read(const char *path, uint8_t *dst, size_t cap,
 negobs_status_t negobs_pgm_write(const char *path,
                                  const negobs_image_u8_t *img);
 
-/** Session recorder state (caller-owned). */
+/** Pairs between two fdatasync() of the session files (about 1 s at
+ *  30 fps): what a power cut can lose. See recorder.c. */
+#define NEGOBS_RECORDER_SYNC_PAIRS 30u
+
+/** Session recorder state (caller-owned; fields private except
+ *  write_fn). */
 typedef struct negobs_recorder {
-    FILE *frames_txt;
-    FILE *left_f;
-    FILE *right_f;
+    int frames_fd;
+    int left_fd;
+    int right_fd;
+    bool is_open;
     int32_t width;
     int32_t height;
-    uint32_t count;
+    uint32_t count;        /**< pairs written                          */
+    uint32_t unsynced;     /**< pairs since the last fdatasync         */
+    /** write(2) by default; set after open() to inject failures. */
+    ssize_t (*write_fn)(int fd, const void *buf, size_t n);
     char errmsg[NEGOBS_PORT_ERRMSG_LEN];
 } negobs_recorder_t;
 
 /**
+ * @brief Whether DIR can take a new session: NEGOBS_OK when it does not
+ *        exist or is a folder without any session file; else
+ *        NEGOBS_ERR_INVAL and a message ("... already holds a session").
+ *        Only looks (stat), so it can run before anything starts.
+ */
+negobs_status_t negobs_recorder_check_dir(const char *dir, char *msg,
+                                          size_t msg_len);
+
+/**
  * @brief Create DIR (if needed) and its session files for w x h frames.
+ *        The files are created exclusively: an existing session is never
+ *        truncated (NEGOBS_ERR_INVAL, "already holds a session").
  * @return NEGOBS_OK, NEGOBS_ERR_IO (see rec->errmsg), NEGOBS_ERR_INVAL.
  */
 negobs_status_t negobs_recorder_open(negobs_recorder_t *rec, const char *dir,
                                      int32_t width, int32_t height);
 
 /**
- * @brief Append a pair (luma only, rows written without padding).
+ * @brief Append a pair (luma only, rows written without padding): left.y,
+ *        right.y, then its frames.txt line, each straight to the kernel.
  * @return NEGOBS_OK, NEGOBS_ERR_INVAL (size differs from the session),
- *         NEGOBS_ERR_IO (disk full, ...).
+ *         NEGOBS_ERR_IO (disk full, ...; rec->errmsg says which).
  */
 negobs_status_t negobs_recorder_write(negobs_recorder_t *rec,
                                       const negobs_frame_pair_t *pair);
 
-/** @brief Flush and close the session files. */
+/** @brief fdatasync and close the session files; safe to call twice and
+ *         on a recorder that never opened. */
 void negobs_recorder_close(negobs_recorder_t *rec);
 
 #ifdef __cplusplus

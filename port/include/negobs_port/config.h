@@ -75,6 +75,25 @@ negobs_status_t negobs_config_parse_file(const char *path,
                                          const negobs_cfg_key_t *table,
                                          size_t n, negobs_cfg_error_t *err);
 
+/**
+ * Vets a value the table accepted (e.g. the syntax of a device spec):
+ * return 0 to accept, non-zero to refuse with a reason in `why`.
+ */
+typedef int (*negobs_cfg_check_fn)(void *user, const char *key,
+                                   const char *value, char *why,
+                                   size_t why_len);
+
+/**
+ * @brief negobs_config_parse_file() with `check` (may be NULL) called for
+ *        every key = value line after the table accepted it, so that a
+ *        value the program cannot use is reported with its line number.
+ *        A line holding a NUL byte is refused as such.
+ * @return as negobs_config_parse_file().
+ */
+negobs_status_t negobs_config_parse_file_checked(
+    const char *path, const negobs_cfg_key_t *table, size_t n,
+    negobs_cfg_check_fn check, void *user, negobs_cfg_error_t *err);
+
 /** @brief Print "key  (type, range)  help" for every entry. */
 void negobs_config_print_keys(FILE *out, const negobs_cfg_key_t *table,
                               size_t n);

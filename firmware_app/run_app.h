@@ -1,0 +1,147 @@
+/*
+ * negobs_run's modules (see negobs_run.c for the whole program):
+ *   run_settings.c  settings, config keys, command line, log
+ *   run_devices.c   motor output, cameras, calibration table
+ *   run_loop.c      the main loop: pipeline, alert, recording, status
+ *   negobs_run.c    signals, start-up and shutdown (main)
+ * They share the settings (run_cfg) and the device handles below; the
+ * pipeline, the alert state machine, the recorder and the calibration
+ * table stay private to their module.
+ */
+#ifndef NEGOBS_RUN_APP_H
+#define NEGOBS_RUN_APP_H
+
+#include <signal.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "app_alert.h"
+#include "app_pipeline.h"
+#include "negobs/alert.h"
+#include "negobs/image.h"
+#include "negobs_port/alert.h"
+#include "negobs_port/camera.h"
+
+#ifndef NEGOBS_RUN_DEFAULT_ALERT
+#define NEGOBS_RUN_DEFAULT_ALERT "console"
+#endif
+#ifndef NEGOBS_RUN_DEFAULT_CAMERA
+#define NEGOBS_RUN_DEFAULT_CAMERA "replay"
+#endif
+#ifndef NEGOBS_RUN_MAX_W
+#define NEGOBS_RUN_MAX_W 1280
+#endif
+#ifndef NEGOBS_RUN_MAX_H
+#define NEGOBS_RUN_MAX_H 800
+#endif
+
+/* Exit codes (documented in --help and docs/RUNNING.md). */
+enum {
+    EXIT_OK = 0,         /* frames done, end of replay, or SIGINT/SIGTERM */
+    EXIT_RUNTIME = 1,    /* failure while running (corrupt replay, ...)   */
+    EXIT_USAGE = 2,      /* bad option or argument                        */
+    EXIT_CONFIG = 3,     /* config file missing or invalid                */
+    EXIT_CAMERA = 4,     /* camera could not be opened or started         */
+    EXIT_ALERT = 5,      /* motor output could not be opened              */
+    EXIT_CALIB = 6       /* calibration table unreadable, corrupt,
+                            truncated or for another frame size          */
+};
+
+enum { LOG_ERROR = 0, LOG_WARN = 1, LOG_INFO = 2, LOG_DEBUG = 3 };
+
+/* ---- settings (run_settings.c) -------------------------------------- */
+
+typedef struct run_settings {
+    char alert[96];
+    int32_t width;
+    int32_t height;
+    int32_t fps;
+    int32_t frames;
+    char record[256];
+    char log_level[16];
+    int32_t pair_tol_ms;
+    int32_t frozen_frames;
+    int32_t watchdog_ms;
+    int32_t exposure;
+    int32_t gain;
+    int32_t pwm_period_ns;
+    char pwm_sysfs_root[128];
+    bool gpio_active_low;
+    bool replay_loop;
+    int32_t status_interval_ms;
+    char calib[256];
+    negobs_alert_config_t alert_cfg;
+    app_pipeline_config_t app;
+    bool size_given;      /* --width/--height given                   */
+    bool alert_binary;    /* config alert_binary                      */
+    bool vertical_align;  /* config vertical_align                    */
+    bool row_crop;        /* config row_crop                          */
+} run_settings_t;
+
+extern run_settings_t run_cfg;
+extern int run_log_level;
+extern uint64_t run_log_t0_ms;
+
+typedef struct run_args {
+    const char *config;
+    const char *motor_off;  /* --motor-off SPEC: switch it off, exit */
+    const char *left;
+    const char *right;
+} run_args_t;
+
+void settings_default(void);
+/** Returns -1 to continue, else an exit code. */
+int parse_args(int argc, char **argv, run_args_t *a);
+int usage_error(const char *fmt, const char *arg);
+/** 0 when SPEC is a well-formed --alert value. */
+int check_alert_spec(const char *spec);
+/** Split "a:b:c" into kind and two fields; returns the fields found, -1
+ *  when a part does not fit (the outputs are then not filled). */
+int split_spec(const char *spec, char *kind, size_t klen, char *f1,
+               size_t l1, char *f2, size_t l2);
+int parse_u32(const char *s, uint32_t *out);
+void logmsg(int level, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
+
+/* ---- devices (run_devices.c) ----------------------------------------- */
+
+extern negobs_motor_out_t run_alert;
+extern negobs_capture_t run_camera;
+extern negobs_motor_thread_t run_motor;
+
+int open_alert(const char *spec);
+/** The backend's last message ("" for console/none). */
+const char *alert_errmsg(void);
+int motor_off(const char *spec);
+int check_camera_args(const run_args_t *a);
+int open_camera(const run_args_t *a);
+const char *camera_status_words(int rc);
+/** Returns -1 to continue, else an exit code. */
+int load_calib(const char *path);
+void log_calib(const char *path);
+bool calib_loaded(void);
+/** Rectify a raw pair with the table into out_l/out_r (buffers of this
+ *  module); 0, or EXIT_CALIB after logging why. */
+int rectify_pair(const negobs_image_u8_t *l, const negobs_image_u8_t *r,
+                 negobs_image_u8_t *out_l, negobs_image_u8_t *out_r);
+
+/* ---- main loop (run_loop.c) ------------------------------------------ */
+
+/** Pipeline and alert state machine from run_cfg; -1 to continue, else
+ *  an exit code (message printed). */
+int loop_setup(negobs_motor_schedule_t *noinfo_sched);
+void alert_post(const negobs_alert_input_t *in);
+negobs_alert_pattern_t alert_pattern_now(void);
+void record_start(void);
+void record_stop(void);
+int run_loop(void);
+
+/* ---- signals (negobs_run.c) ------------------------------------------ */
+
+extern volatile sig_atomic_t run_stop_requested;
+extern volatile sig_atomic_t run_stop_signal;
+bool is_stop_request(int sig);
+const char *signal_name(int sig);
+
+#endif /* NEGOBS_RUN_APP_H */

@@ -1,0 +1,441 @@
+/* negobs_run's settings: defaults, config keys, command line, log. */
+#define _POSIX_C_SOURCE 200809L
+
+#include <errno.h>
+#include <getopt.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "negobs/version.h"
+#include "negobs_port/clock.h"
+#include "negobs_port/config.h"
+#include "run_app.h"
+
+run_settings_t run_cfg;
+int run_log_level = LOG_INFO;
+uint64_t run_log_t0_ms;
+
+#define N_KEYS (sizeof config_keys / sizeof config_keys[0])
+
+static const negobs_cfg_key_t config_keys[] = {
+    {"alert", NEGOBS_CFG_STRING, run_cfg.alert, 0, sizeof run_cfg.alert,
+     "gpio:CHIP:LINE | pwm:CHIP:CHANNEL | console | none"},
+    {"width", NEGOBS_CFG_INT, &run_cfg.width, 16, NEGOBS_RUN_MAX_W,
+     "capture width in pixels (default 640)"},
+    {"height", NEGOBS_CFG_INT, &run_cfg.height, 16, NEGOBS_RUN_MAX_H,
+     "capture height in pixels (default 480)"},
+    {"fps", NEGOBS_CFG_INT, &run_cfg.fps, 0, 240,
+     "frame rate; replay: pacing, 0 = as fast as possible (default 30)"},
+    {"frames", NEGOBS_CFG_INT, &run_cfg.frames, 0, INT32_MAX,
+     "stop after this many pairs, 0 = run until stopped (default 0)"},
+    {"record", NEGOBS_CFG_STRING, run_cfg.record, 0, sizeof run_cfg.record,
+     "record every pair to this folder (default: off)"},
+    {"log_level", NEGOBS_CFG_STRING, run_cfg.log_level, 0,
+     sizeof run_cfg.log_level,
+     "error | warn | info | debug (default info)"},
+    {"pair_tolerance_ms", NEGOBS_CFG_INT, &run_cfg.pair_tol_ms, 0, 1000,
+     "max left/right timestamp difference of a pair (default 10)"},
+    {"frozen_frames", NEGOBS_CFG_INT, &run_cfg.frozen_frames, 0, 10000,
+     "identical frames in a row after which a V4L2 camera counts as "
+     "frozen -> no-info; 0 = off (default 10)"},
+    {"watchdog_ms", NEGOBS_CFG_INT, &run_cfg.watchdog_ms, 50, 10000,
+     "no fresh pair for this long -> no-info pattern (default 300)"},
+    {"exposure", NEGOBS_CFG_INT, &run_cfg.exposure, -1, INT32_MAX,
+     "manual exposure for both cameras, driver units; -1 auto (default)"},
+    {"gain", NEGOBS_CFG_INT, &run_cfg.gain, -1, INT32_MAX,
+     "gain for both cameras, driver units; -1 leave as is (default)"},
+    {"pwm_period_ns", NEGOBS_CFG_INT, &run_cfg.pwm_period_ns, 1000, 1000000000,
+     "PWM period (default 1000000 = 1 kHz)"},
+    {"pwm_sysfs_root", NEGOBS_CFG_STRING, run_cfg.pwm_sysfs_root, 0,
+     sizeof run_cfg.pwm_sysfs_root,
+     "sysfs PWM class folder (default /sys/class/pwm)"},
+    {"gpio_active_low", NEGOBS_CFG_BOOL, &run_cfg.gpio_active_low, 0, 1,
+     "motor on = line low (default false)"},
+    {"replay_loop", NEGOBS_CFG_BOOL, &run_cfg.replay_loop, 0, 1,
+     "start a replay over at its end (default false)"},
+    {"status_interval_ms", NEGOBS_CFG_INT, &run_cfg.status_interval_ms, 100,
+     600000, "period of the status line (default 1000)"},
+    {"dark_mean_min", NEGOBS_CFG_INT, &run_cfg.app.dark_mean_min, 0, 255,
+     "mean grey below this -> no-info (default 20)"},
+    {"saturation_permille_max", NEGOBS_CFG_INT,
+     &run_cfg.app.sat_permille_max, 0,
+     1000, "share of pixels >= 250 above this -> no-info (default 300)"},
+    {"texture_std_min", NEGOBS_CFG_INT, &run_cfg.app.texture_std_min, 0, 127,
+     "5x5 std dev that counts as texture (default 4)"},
+    {"texture_permille_min", NEGOBS_CFG_INT,
+     &run_cfg.app.texture_permille_min, 0,
+     1000, "share of textured windows below this -> no-info (default 20)"},
+    {"lr_mean_diff_max", NEGOBS_CFG_INT, &run_cfg.app.lr_mean_diff_max, 0, 255,
+     "left/right mean grey difference above this -> no-info (default 60)"},
+    {"focal_px", NEGOBS_CFG_INT, &run_cfg.app.focal_px, 50, 4000,
+     "focal length of the rectified frames, pixels (default 250)"},
+    {"baseline_mm", NEGOBS_CFG_INT, &run_cfg.app.baseline_mm, 10, 1000,
+     "stereo baseline, mm (default 120)"},
+    {"cam_height_mm", NEGOBS_CFG_INT, &run_cfg.app.cam_height_mm, 0, 3000,
+     "camera height hint, mm (default 1200; 0: no hint); the detector "
+     "measures the mounting, the hint only verifies the start"},
+    {"cam_pitch_mdeg", NEGOBS_CFG_INT, &run_cfg.app.cam_pitch_mdeg, 0, 60000,
+     "downward pitch hint, 1/1000 degree (default 20000)"},
+    {"max_disp", NEGOBS_CFG_INT, &run_cfg.app.max_disp, 8, 255,
+     "largest disparity searched, pixels (default 63)"},
+    {"vertical_align", NEGOBS_CFG_BOOL, &run_cfg.vertical_align, 0, 1,
+     "estimate and remove a sub-pixel, row-varying vertical misalignment "
+     "before matching, for rigs without a calibration table (default "
+     "false)"},
+    {"row_crop", NEGOBS_CFG_BOOL, &run_cfg.row_crop, 0, 1,
+     "match only the rows from the top of the warning range down, found "
+     "from the last frame's ground (about 15-30 % less matching time); "
+     "false matches every row (default true)"},
+    {"calib", NEGOBS_CFG_STRING, run_cfg.calib, 0, sizeof run_cfg.calib,
+     "rectification table from negobs_calib; its f, B, cx, cy replace "
+     "focal_px and baseline_mm (default: none, frames are rectified)"},
+    {"alert_intensity_permille", NEGOBS_CFG_INT,
+     &run_cfg.alert_cfg.intensity_permille, 1, 1000,
+     "drive level of every pulse (default 1000)"},
+    {"caution_far_mm", NEGOBS_CFG_INT, &run_cfg.alert_cfg.band_far_mm, 0,
+     100000,
+     "caution range >= this: slow double pulse every 1.0 s (default 3000)"},
+    {"caution_mid_mm", NEGOBS_CFG_INT, &run_cfg.alert_cfg.band_mid_mm, 0,
+     100000,
+     "caution range >= this: every 0.6 s, nearer every 0.4 s (default "
+     "2200; <= caution_far_mm)"},
+    {"alert_binary", NEGOBS_CFG_BOOL, &run_cfg.alert_binary, 0, 1,
+     "one caution pattern (every 0.6 s) whatever the range (default false)"},
+    {"imminent_hold_ms", NEGOBS_CFG_INT, &run_cfg.alert_cfg.imminent_hold_ms, 0,
+     5000, "imminent keeps playing this long after its last verdict "
+     "(default 1000)"},
+    {"heartbeat_period_ms", NEGOBS_CFG_INT,
+     &run_cfg.alert_cfg.heartbeat_period_ms, 0, 60000,
+     "while clear, one brief pulse this often so a dead device is noticed; "
+     "0 = off, else >= 1000 (default 5000)"},
+    {"heartbeat_pulse_ms", NEGOBS_CFG_INT,
+     &run_cfg.alert_cfg.heartbeat_pulse_ms,
+     0, 15000, "length of the heartbeat pulse, 80 .. a quarter of the "
+     "period (default 80)"},
+    {"max_frame_age_ms", NEGOBS_CFG_INT, &run_cfg.app.max_frame_age_ms, 1,
+     60000,
+     "age of a pair when its processing starts above which it is stale -> "
+     "no-info (default 150; raise only for slow emulators)"},
+    {"latency_budget_ms", NEGOBS_CFG_INT, &run_cfg.app.latency_budget_ms, 0,
+     60000,
+     "capture-to-verdict time above which a clear verdict is not trusted "
+     "-> no-info; warnings pass (default 250; 0 = off)"},
+};
+
+void settings_default(void)
+{
+    memset(&run_cfg, 0, sizeof run_cfg);
+    (void)snprintf(run_cfg.alert, sizeof run_cfg.alert, "%s",
+                   NEGOBS_RUN_DEFAULT_ALERT);
+    run_cfg.width = 640;
+    run_cfg.height = 480;
+    run_cfg.fps = 30;
+    (void)snprintf(run_cfg.log_level, sizeof run_cfg.log_level, "info");
+    run_cfg.pair_tol_ms = NEGOBS_CAMERA_PAIR_TOL_MS_DEFAULT;
+    run_cfg.frozen_frames = NEGOBS_CAMERA_FROZEN_FRAMES_DEFAULT;
+    run_cfg.watchdog_ms = 300;
+    run_cfg.exposure = -1;
+    run_cfg.gain = -1;
+    run_cfg.pwm_period_ns = 1000000;
+    (void)snprintf(run_cfg.pwm_sysfs_root, sizeof run_cfg.pwm_sysfs_root,
+                   "/sys/class/pwm");
+    run_cfg.status_interval_ms = 1000;
+    run_cfg.row_crop = true;
+    negobs_alert_config_default(&run_cfg.alert_cfg);
+    app_pipeline_config_default(&run_cfg.app);
+}
+
+/* ---- logging -------------------------------------------------------- */
+
+
+void logmsg(int level, const char *fmt, ...)
+{
+    static const char *const tag[] = {"error", "warn", "info", "debug"};
+    va_list ap;
+    uint64_t t;
+    if (level > run_log_level) {
+        return;
+    }
+    t = negobs_clock_now_ms() - run_log_t0_ms;
+    fprintf(stderr, "[%5lu.%03lu] %s: ", (unsigned long)(t / 1000u),
+            (unsigned long)(t % 1000u), tag[level]);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputc('\n', stderr);
+}
+
+static int parse_log_level(const char *s)
+{
+    static const char *const names[] = {"error", "warn", "info", "debug"};
+    int i;
+    for (i = 0; i < 4; i++) {
+        if (strcmp(s, names[i]) == 0) {
+            return i;
+        }
+    }
+    if (s[0] >= '0' && s[0] <= '3' && s[1] == '\0') {
+        return s[0] - '0';
+    }
+    return -1;
+}
+
+/* ---- command line --------------------------------------------------- */
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+"Usage: negobs_run [options] LEFT RIGHT\n"
+"       negobs_run [options] replay:DIR\n"
+"       negobs_run [--config FILE] --motor-off SPEC\n"
+"\n"
+"Warns of drop-offs ahead through a vibration motor, from a stereo pair.\n"
+"LEFT/RIGHT: /dev/videoN (V4L2) or replay:DIR (a folder of left_NNNN.pgm /\n"
+"right_NNNN.pgm pairs or a session recorded with --record) or libcamera:N /\n"
+"libcamera:ID (index or id of a libcamera camera). A bare name uses\n"
+"the build's default camera backend (" NEGOBS_RUN_DEFAULT_CAMERA ").\n"
+"\n"
+"Each pair passes an image-quality gate (too dark, saturated, textureless ->\n"
+"no-information pattern), then the library's stereo matching and drop-off\n"
+"detection; the library's alert state machine chooses the motor pattern\n"
+"(ready, caution by distance band, imminent, no-information); no fresh\n"
+"verdict for watchdog_ms (300) plays no-information.\n"
+"Set the camera geometry (focal_px, baseline_mm) in --config for a real\n"
+"rig: wrong values blind it. The mounting (height, pitch, roll) is measured\n"
+"on the floor; cam_height_mm / cam_pitch_mdeg are only hints.\n"
+"\n"
+"Options:\n"
+"  --config FILE        read key = value settings (applied before options)\n"
+"  --calib FILE         rectification table from negobs_calib: every pair is\n"
+"                       rectified; its f, B, cx, cy replace focal_px and\n"
+"                       baseline_mm; no --width/--height: the table's size\n"
+"  --alert SPEC         gpio:CHIP:LINE | pwm:CHIP:CHANNEL | console | none\n"
+"                       (default " NEGOBS_RUN_DEFAULT_ALERT ")\n"
+"  --width N, --height N   capture size (default 640x480; max %dx%d)\n"
+"  --fps N              frame rate (default 30; replay: pacing, 0 = fastest)\n"
+"  --frames N           stop after N pairs (default: run until stopped)\n"
+"  --record DIR         record every pair as a session (see docs/RUNNING.md)\n"
+"  --log-level LEVEL    error | warn | info | debug (default info)\n"
+"  --motor-off SPEC     switch the motor output SPEC off and exit (the\n"
+"                       service's ExecStopPost; no camera arguments)\n"
+"  --help               this text, then the config keys\n"
+"  --version            print the version\n"
+"\n"
+"Exit codes: 0 done or stopped by SIGINT/SIGTERM/SIGHUP/SIGQUIT, 1 runtime\n"
+"failure (also the end of a damaged recorded session),\n"
+"2 usage error, 3 config error, 4 camera failure, 5 motor output failure,\n"
+"6 calibration table refused (unreadable, corrupt, truncated, other size),\n"
+"128+N stopped by another terminating signal N (motor off, summary logged).\n",
+            NEGOBS_RUN_MAX_W, NEGOBS_RUN_MAX_H);
+}
+
+int usage_error(const char *fmt, const char *arg)
+{
+    fprintf(stderr, "negobs_run: ");
+    fprintf(stderr, fmt, arg);
+    fprintf(stderr, "\nTry 'negobs_run --help'.\n");
+    return EXIT_USAGE;
+}
+
+/* Values of the config file that the key table cannot vet: refused with
+ * the file's name and line (exit 3), like any other bad line. */
+static int check_config_value(void *user, const char *key, const char *value,
+                              char *why, size_t why_len)
+{
+    (void)user;
+    if (strcmp(key, "alert") == 0 && check_alert_spec(value) != 0) {
+        (void)snprintf(why, why_len, "bad alert '%s' (want gpio:CHIP:LINE, "
+                       "pwm:CHIP:CHANNEL, console or none)", value);
+        return -1;
+    }
+    if (strcmp(key, "log_level") == 0 && parse_log_level(value) < 0) {
+        (void)snprintf(why, why_len, "bad log level '%s' (want error, "
+                       "warn, info or debug)", value);
+        return -1;
+    }
+    return 0;
+}
+
+/* Returns -1 to continue, else an exit code. */
+int parse_args(int argc, char **argv, run_args_t *a)
+{
+    enum { O_CONFIG = 256, O_ALERT, O_WIDTH, O_HEIGHT, O_FPS, O_FRAMES,
+           O_RECORD, O_LOG, O_HELP, O_VERSION, O_CALIB, O_MOTOR_OFF };
+    static const struct option opts[] = {
+        {"config", required_argument, NULL, O_CONFIG},
+        {"alert", required_argument, NULL, O_ALERT},
+        {"width", required_argument, NULL, O_WIDTH},
+        {"height", required_argument, NULL, O_HEIGHT},
+        {"fps", required_argument, NULL, O_FPS},
+        {"frames", required_argument, NULL, O_FRAMES},
+        {"record", required_argument, NULL, O_RECORD},
+        {"calib", required_argument, NULL, O_CALIB},
+        {"log-level", required_argument, NULL, O_LOG},
+        {"help", no_argument, NULL, O_HELP},
+        {"version", no_argument, NULL, O_VERSION},
+        {"motor-off", required_argument, NULL, O_MOTOR_OFF},
+        {NULL, 0, NULL, 0},
+    };
+    negobs_cfg_error_t err;
+    int i;
+    int c;
+
+    /* Pass 1: --help/--version win; the config file comes first so that
+     * options override it whatever their order. */
+    for (i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--") == 0) {
+            break;
+        }
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            usage(stdout);
+            printf("\nConfig file keys (key = value, '#' comments):\n");
+            negobs_config_print_keys(stdout, config_keys, N_KEYS);
+            return EXIT_OK;
+        }
+        if (strcmp(argv[i], "--version") == 0) {
+            printf("negobs_run %s\n", NEGOBS_VERSION_STRING);
+            return EXIT_OK;
+        }
+        if (strcmp(argv[i], "--config") == 0 && i + 1 < argc) {
+            a->config = argv[i + 1];
+        } else if (strncmp(argv[i], "--config=", 9) == 0) {
+            a->config = argv[i] + 9;
+        }
+    }
+    if (a->config != NULL) {
+        memset(&err, 0, sizeof err);
+        if (negobs_config_parse_file_checked(a->config, config_keys, N_KEYS,
+                                             check_config_value, NULL,
+                                             &err) != NEGOBS_OK) {
+            fprintf(stderr, "negobs_run: %s: %s\n", a->config, err.msg);
+            return EXIT_CONFIG;
+        }
+    }
+
+    /* Pass 2: options, through the same table as the config file. */
+    opterr = 0;
+    optind = 1;
+    while ((c = getopt_long(argc, argv, ":h", opts, NULL)) != -1) {
+        const char *key = NULL;
+        switch (c) {
+        case O_CONFIG: continue;
+        case O_MOTOR_OFF: a->motor_off = optarg; continue;
+        case O_ALERT: key = "alert"; break;
+        case O_WIDTH: key = "width"; run_cfg.size_given = true; break;
+        case O_HEIGHT: key = "height"; run_cfg.size_given = true; break;
+        case O_FPS: key = "fps"; break;
+        case O_FRAMES: key = "frames"; break;
+        case O_RECORD: key = "record"; break;
+        case O_CALIB: key = "calib"; break;
+        case O_LOG: key = "log_level"; break;
+        case ':':
+            return usage_error("option '%s' needs a value", argv[optind - 1]);
+        case '?':
+        default:
+            return usage_error("unknown option '%s'", argv[optind - 1]);
+        }
+        memset(&err, 0, sizeof err);
+        if (negobs_config_set(config_keys, N_KEYS, key, optarg, &err) !=
+            NEGOBS_OK) {
+            return usage_error("%s", err.msg);
+        }
+    }
+    if (parse_log_level(run_cfg.log_level) < 0) {
+        return usage_error("bad log level '%s'", run_cfg.log_level);
+    }
+    run_log_level = parse_log_level(run_cfg.log_level);
+    if (a->motor_off != NULL) {
+        if (optind < argc) {
+            return usage_error("--motor-off takes no camera argument ('%s')",
+                               argv[optind]);
+        }
+        return -1;
+    }
+    if (optind >= argc) {
+        return usage_error("%s", "missing camera arguments LEFT RIGHT");
+    }
+    a->left = argv[optind++];
+    if (optind < argc) {
+        a->right = argv[optind++];
+    }
+    if (optind < argc) {
+        return usage_error("unexpected argument '%s'", argv[optind]);
+    }
+    return -1;
+}
+
+/* Parse "a:b:c" into kind and two fields; returns fields found. */
+int split_spec(const char *spec, char *kind, size_t klen, char *f1,
+                      size_t l1, char *f2, size_t l2)
+{
+    const char *p1 = strchr(spec, ':');
+    const char *p2 = p1 != NULL ? strchr(p1 + 1, ':') : NULL;
+    size_t n = p1 != NULL ? (size_t)(p1 - spec) : strlen(spec);
+    if (n >= klen) {
+        return -1;
+    }
+    memcpy(kind, spec, n);
+    kind[n] = '\0';
+    f1[0] = f2[0] = '\0';
+    if (p1 == NULL) {
+        return 0;
+    }
+    n = p2 != NULL ? (size_t)(p2 - p1 - 1) : strlen(p1 + 1);
+    if (n >= l1) {
+        return -1;
+    }
+    memcpy(f1, p1 + 1, n);
+    f1[n] = '\0';
+    if (p2 == NULL) {
+        return 1;
+    }
+    if (strlen(p2 + 1) >= l2 || strchr(p2 + 1, ':') != NULL) {
+        return -1;
+    }
+    strcpy(f2, p2 + 1);
+    return 2;
+}
+
+int parse_u32(const char *s, uint32_t *out)
+{
+    char *end = NULL;
+    unsigned long v;
+    if (s[0] < '0' || s[0] > '9') {
+        return -1;
+    }
+    errno = 0;
+    v = strtoul(s, &end, 10);
+    if (errno != 0 || *end != '\0' || v > 0xFFFFFFFFul) {
+        return -1;
+    }
+    *out = (uint32_t)v;
+    return 0;
+}
+
+/* Check the alert spec without opening anything (usage errors first). */
+int check_alert_spec(const char *spec)
+{
+    char kind[16];
+    char f1[64];
+    char f2[16];
+    uint32_t u;
+    int n = split_spec(spec, kind, sizeof kind, f1, sizeof f1, f2, sizeof f2);
+    if (n < 0) {
+        return -1; /* a field too long: kind/f1/f2 are not filled */
+    }
+    if ((strcmp(kind, "console") == 0 || strcmp(kind, "none") == 0) &&
+        n == 0) {
+        return 0;
+    }
+    if (strcmp(kind, "gpio") == 0 && n == 2 && f1[0] != '\0' &&
+        parse_u32(f2, &u) == 0) {
+        return 0;
+    }
+    if (strcmp(kind, "pwm") == 0 && n == 2 && parse_u32(f1, &u) == 0 &&
+        parse_u32(f2, &u) == 0) {
+        return 0;
+    }
+    return -1;
+}
+
