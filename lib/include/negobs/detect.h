@@ -42,12 +42,13 @@ extern "C" {
  * for static buffers: any valid config with this width, height and
  * max_disp_q4 <= 16 * max_disp_px fits. (Context and tracks < 8 KiB,
  * v-disparity histogram <= h x (2 max_disp + 2) x 2 bytes, Hough 16 KiB,
- * strips <= w/4 x 64 bytes, noise bands 2 + 2 KiB, the disparity Canny
- * window 3 x w x 2 + 16 x w bytes, plus arena guards.)
+ * strips <= w/4 x (64 + 112) bytes (scan state, local-noise cells),
+ * noise bands 2 + 2 KiB, the disparity Canny window 3 x w x 2 + 16 x w
+ * bytes, plus arena guards.)
  */
 #define NEGOBS_DETECT_WORKSPACE_MAX(w, h, max_disp_px)                      \
     ((size_t)8192u + (size_t)(h) * ((size_t)(max_disp_px) * 2u + 2u) * 2u + \
-     (size_t)16640u + ((size_t)(w) / 4u + 1u) * 64u + (size_t)(w) * 22u + \
+     (size_t)16640u + ((size_t)(w) / 4u + 1u) * 176u + (size_t)(w) * 22u + \
      (size_t)4608u)
 
 /** Why the detector cannot vouch for "no hazard" (bitmask). */
@@ -191,6 +192,11 @@ typedef struct negobs_detect_config {
     int32_t range_max_mm;      /**< scan limit (default 5000 mm)       */
     int32_t range_warn_mm;     /**< CAUTION inside (default 4000 mm)   */
     int32_t range_imminent_mm; /**< IMMINENT inside (default 1500 mm)  */
+    int32_t near_min_mm;       /**< near-zone minimum: a frame that
+                                    vouches less (clear_to_mm) is NO_INFO
+                                    (default 1500 mm: walking speed x
+                                    verdict latency + reaction, beyond
+                                    the cane; docs/DETECTION.md)        */
     int32_t ttc_imminent_ms;   /**< IMMINENT if time to edge < (1200)  */
     int32_t corridor_half_width_mm; /**< lateral scan (default 600 mm) */
     int32_t strip_px;          /**< column strip width (default 16 px) */

@@ -68,6 +68,9 @@ typedef struct strip_hit {
      * rows far above the ground so far */
     int32_t blocked_v;
     int32_t pos_run;
+    /* vouch: farthest row the strip's support reaches from the bottom
+     * (an unseen run or a closure ends it) */
+    int32_t sup_v;
 } strip_hit_t;
 
 /* A strip is closed by a positive obstacle after this many consecutive
@@ -81,6 +84,14 @@ typedef struct strip_hit {
 /* Signed strip-median residuals, 1/32 px bins centred on 0: +-2 px. */
 #define STRIP_BINS 128
 
+/* Local noise of one strip in one band of rows (vouch.c's cells): the
+ * strip-median residuals e (1/32 px) of its seen rows. */
+typedef struct vouch_cell {
+    int32_t n;       /* seen strip rows                                 */
+    int32_t sum;     /* sum of e                                        */
+    int32_t sum_abs; /* sum of |e - band median|                        */
+} vouch_cell_t;
+
 typedef struct detect_priv {
     uint32_t magic;
     gfit_t gfit;
@@ -90,6 +101,9 @@ typedef struct detect_priv {
     uint32_t *band_hist; /* NOISE_BANDS x NOISE_BINS |horizontal diff| */
     uint16_t *strip_hist; /* NOISE_BANDS x STRIP_BINS strip medians    */
     dcanny_scratch_t canny; /* disparity Canny around a hazard's edge  */
+    vouch_cell_t *cells;  /* n_strips x NOISE_BANDS local-noise cells   */
+    int32_t *reach_v;     /* per strip: farthest row vouched from the
+                             bottom without a break (height: none)      */
     /* ground-drop cue: the camera height and pitch over the ground under
      * the feet, followed on clean frames only */
     int32_t ref_ok;
@@ -145,6 +159,12 @@ void negobs_detect_config_default(negobs_detect_config_t *cfg, int32_t width,
     cfg->range_max_mm = 5000;
     cfg->range_warn_mm = 4000;
     cfg->range_imminent_mm = 1500;
+    /* Walking at 1.0-1.4 m/s, a verdict needs ~0.3 s (3 of 5 frames at
+     * 10 Hz) and the wearer ~0.7 s to react and stop: 1.0-1.4 m are gone
+     * before a warning helps. The cane covers about the first metre, so
+     * a frame must vouch for at least 1.5 m to be of any use
+     * (docs/DETECTION.md, "Verdicts and the vouched range"). */
+    cfg->near_min_mm = 1500;
     cfg->ttc_imminent_ms = 1200;
     cfg->corridor_half_width_mm = 600;
     cfg->strip_px = 16;
@@ -248,6 +268,7 @@ static negobs_status_t config_check(const negobs_detect_config_t *c)
     if (!in_range(c->range_max_mm, 500, 50000) ||
         !in_range(c->range_warn_mm, 0, c->range_max_mm) ||
         !in_range(c->range_imminent_mm, 0, c->range_warn_mm) ||
+        !in_range(c->near_min_mm, 0, c->range_max_mm) ||
         !in_range(c->ttc_imminent_ms, 0, 10000) ||
         !in_range(c->corridor_half_width_mm, 100, 5000) ||
         !in_range(c->strip_px, 4, MAX_STRIP_PX) ||
@@ -313,6 +334,10 @@ static negobs_status_t carve(negobs_arena_t *ar,
         ar, (size_t)NOISE_BANDS * NOISE_BINS * sizeof(uint32_t));
     p->strip_hist = negobs_arena_take(
         ar, (size_t)NOISE_BANDS * STRIP_BINS * sizeof(uint16_t));
+    p->cells = negobs_arena_take(ar, (size_t)p->n_strips * NOISE_BANDS *
+                                         sizeof(vouch_cell_t));
+    p->reach_v =
+        negobs_arena_take(ar, (size_t)p->n_strips * sizeof(int32_t));
     p->canny.mag = negobs_arena_take(ar, dcanny_mag_bytes(cfg->cam.width));
     p->canny.label =
         negobs_arena_take(ar, dcanny_label_bytes(cfg->cam.width));
@@ -1263,6 +1288,251 @@ static int32_t strip_sigma_at(const scan_ctx_t *s, int32_t v,
                          (uint32_t)s->cfg->strip_px * 256u));
 }
 
+/*
+ * The vouched range (docs/DETECTION.md, "Verdicts and the vouched range").
+ *
+ * The minimum drop of the definitions: 5 cm within 1.5 m, 10 cm beyond.
+ * Fixed here, not configured: a preset may make the rule more sensitive,
+ * but never changes what counts as a false vouch.
+ */
+#define VOUCH_H_NEAR_MM 50
+#define VOUCH_H_FAR_MM 100
+#define VOUCH_NEAR_RANGE_MM 1500
+/* A run of rows whose strip median cannot vote (fewer than a quarter of
+ * the strip's pixels matched) ends a strip's support when it spans at
+ * least VOUCH_GAP_ROWS rows and VOUCH_GAP_MM of floor. The rule itself
+ * skips up to 2 such rows inside a deficit run, so shorter runs cost it
+ * nothing; 100 mm is the width of a shoe: an unseen stretch narrower than
+ * that cannot take a foot, a wider one may hide a hole. */
+#define VOUCH_GAP_ROWS 3
+#define VOUCH_GAP_MM 100
+/* A cell (one strip, one band) with fewer seen rows than this has too
+ * few values for a spread of its own; the band's pooled values stand. */
+#define VOUCH_CELL_MIN 4
+
+static inline int32_t vouch_h_mm(int32_t range_mm)
+{
+    return (range_mm <= VOUCH_NEAR_RANGE_MM) ? VOUCH_H_NEAR_MM
+                                             : VOUCH_H_FAR_MM;
+}
+
+static inline int32_t band_of(const scan_ctx_t *s, int32_t v)
+{
+    return negobs_clamp_s32((v - s->band_v0) / s->band_rows, 0,
+                            NOISE_BANDS - 1);
+}
+
+/* Floor distance of the ground model at (u, v). */
+static inline int32_t model_range_mm(const scan_ctx_t *s, int32_t u,
+                                     int32_t v)
+{
+    int32_t r = 0;
+    model_point(s, u, v, negobs_ground_disp_q4(s->plane, u, v), &r, NULL,
+                NULL);
+    return r;
+}
+
+/*
+ * Pass over every corridor strip from the bottom row up to the row of
+ * range_max: the cells' statistics (seen rows, sum of e, sum of |e - the
+ * band's median|; e clamped to +-2 px like strip_noise's histogram, so one
+ * wild row weighs as a 2 px error, not as infinity) and each strip's
+ * support limit sup_v. Rows past a closure (wall, up-step) are not read.
+ * Runs after strip_noise (the band medians) and merge_strips (rows past a
+ * reported drop's edge are compared with its plateau, strip_row_e).
+ */
+static void vouch_collect(const scan_ctx_t *s, detect_priv_t *p)
+{
+    const negobs_detect_config_t *cfg = s->cfg;
+    int32_t rr[MAX_STRIP_PX];
+    int32_t si;
+    memset(p->cells, 0,
+           (size_t)p->n_strips * NOISE_BANDS * sizeof(vouch_cell_t));
+    for (si = 0; si < p->n_strips; si++) {
+        strip_hit_t *hs = &p->hits[si];
+        vouch_cell_t *c = p->cells + (size_t)si * NOISE_BANDS;
+        int32_t uc = strip_u0(cfg, p->n_strips, si) + cfg->strip_px / 2;
+        int32_t last_seen = cfg->cam.height - 1;
+        int32_t run = 0;
+        int32_t v;
+        hs->sup_v = s->band_v0;
+        for (v = cfg->cam.height - 1; v >= s->band_v0; v--) {
+            int32_t e;
+            if (v <= hs->blocked_v) {
+                hs->sup_v = v + 1;
+                break;
+            }
+            if (!strip_in_corridor(s, p->n_strips, si, v)) {
+                continue;
+            }
+            if (strip_row_e(s, p, v, si, rr, &e)) {
+                int32_t b = band_of(s, v);
+                int32_t med_q5 = s->band_bias_q8[b] / 8;
+                e = negobs_clamp_s32(e, -STRIP_BINS / 2, STRIP_BINS / 2);
+                c[b].n++;
+                c[b].sum += e;
+                c[b].sum_abs += negobs_abs_s32(e - med_q5);
+                last_seen = v;
+                run = 0;
+                continue;
+            }
+            if (++run >= VOUCH_GAP_ROWS &&
+                model_range_mm(s, uc, v) - model_range_mm(s, uc, last_seen) >=
+                    VOUCH_GAP_MM) {
+                hs->sup_v = (run == cfg->cam.height - v) ? cfg->cam.height
+                                                         : last_seen;
+                break;
+            }
+        }
+    }
+}
+
+enum vouch_verdict { VOUCH_OK = 0, VOUCH_NOISE = 1, VOUCH_UNSEEN = 2 };
+
+/*
+ * Can strip si see a minimum drop at row v? The drop's deficit there is
+ * D = d_g * h / (H + h) (h the minimum drop at that range); the rule tests
+ * strip medians, so D must exceed k times their measured spread plus the
+ * ground's offset from the model (either sign: above the model it hides
+ * deficits, below it reads as a drop that is not one). The spread is the
+ * larger of the band's pooled 1.4826 * MAD (strip_noise) and the cell's
+ * own mean absolute deviation x 1.2533 (the normal-distribution factor),
+ * which also carries the cell's offset from the band median. The rule's
+ * geometric threshold must stay below the minimum drop, or it never fires
+ * on one, and the per-pixel noise is capped by sigma_max as before.
+ */
+static enum vouch_verdict vouch_cell_ok(const scan_ctx_t *s,
+                                        const detect_priv_t *p, int32_t si,
+                                        int32_t v, int32_t range_mm)
+{
+    const negobs_detect_config_t *cfg = s->cfg;
+    const int32_t b = band_of(s, v);
+    const vouch_cell_t *c = p->cells + (size_t)si * NOISE_BANDS + b;
+    int32_t uc = strip_u0(cfg, p->n_strips, si) + cfg->strip_px / 2;
+    int32_t dg = negobs_ground_disp_q4(s->plane, uc, v);
+    int32_t h = vouch_h_mm(range_mm);
+    int32_t h_t = (h_min_at(cfg, range_mm) * cfg->h_thresh_pct) / 100;
+    int32_t sig_q8 = s->band_strip_q8[b];
+    int32_t bias_q8 = geom_max_s32(s->band_bias_q8[b], 0);
+    if (sig_q8 <= 0 || c->n <= 0) {
+        return VOUCH_UNSEEN; /* the band or the cell holds no measurement */
+    }
+    if (h_t >= h || sigma_at(s, v) > cfg->sigma_max_q4) {
+        return VOUCH_NOISE;
+    }
+    if (c->n >= VOUCH_CELL_MIN) {
+        /* 1/32 px -> 1/256 px: x 8; x 1.2533 = x 1283 / 1024. */
+        int32_t sd_q8 = (int32_t)(((int64_t)c->sum_abs * 8 * 1283) /
+                                  ((int64_t)c->n * 1024));
+        sig_q8 = geom_max_s32(sig_q8, sd_q8);
+        bias_q8 = negobs_abs_s32((c->sum * 8) / c->n);
+    }
+    /* k_q4/16 * sig/256 + bias/256 <= dg/16 * h / (H + h). */
+    if (((int64_t)cfg->k_sigma_q4 * sig_q8 + 16 * (int64_t)bias_q8) *
+            (s->frame->height_mm + h) >
+        (int64_t)dg * h * 256) {
+        return VOUCH_NOISE;
+    }
+    return VOUCH_OK;
+}
+
+/*
+ * Walk outward from the bottom row: a row is vouched when at least half
+ * of its corridor strips can see a minimum drop there (vouch_cell_ok,
+ * within the strip's support) and no min_strips adjacent ones cannot (the
+ * rule reports nothing narrower, so that is the detector's resolution).
+ * Returns the floor distance of the last row of the contiguous vouched
+ * stretch (0: not even the bottom row), and in *cause the reason it
+ * stopped (NOISY or FEW_GROUND; 0 when it reached range_max). Rows above
+ * first_row + 2 were not matched. Fills p->reach_v: how far each strip
+ * alone stays vouched (the local check of a hazard's own strips).
+ */
+static int32_t vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
+                          int32_t first_row, uint32_t *cause)
+{
+    const negobs_detect_config_t *cfg = s->cfg;
+    const int32_t hgt = cfg->cam.height;
+    int32_t walk_v = hgt; /* last vouched row, hgt: none yet */
+    int32_t walking = 1;
+    int32_t si;
+    int32_t v;
+    *cause = 0;
+    for (si = 0; si < p->n_strips; si++) {
+        p->reach_v[si] = hgt;
+    }
+    for (v = hgt - 1; v >= s->band_v0; v--) {
+        int32_t range = model_range_mm(s, cfg->cam.width / 2, v);
+        int32_t n_corr = 0;
+        int32_t n_ok = 0;
+        int32_t bad_run = 0;
+        int32_t max_bad = 0;
+        uint32_t why = 0;
+        int32_t any_alive = 0;
+        for (si = 0; si < p->n_strips; si++) {
+            enum vouch_verdict vd;
+            if (!strip_in_corridor(s, p->n_strips, si, v)) {
+                bad_run = 0;
+                if (p->reach_v[si] == v + 1) {
+                    p->reach_v[si] = v; /* outside: nothing to vouch */
+                }
+                continue;
+            }
+            n_corr++;
+            if (v < first_row + 2 || v < p->hits[si].sup_v) {
+                vd = VOUCH_UNSEEN;
+            } else {
+                vd = vouch_cell_ok(s, p, si, v, range);
+            }
+            if (vd == VOUCH_OK) {
+                n_ok++;
+                bad_run = 0;
+                if (p->reach_v[si] == v + 1) {
+                    p->reach_v[si] = v;
+                }
+            } else {
+                why |= (vd == VOUCH_NOISE) ? NEGOBS_DEGRADED_NOISY
+                                           : NEGOBS_DEGRADED_FEW_GROUND;
+                max_bad = geom_max_s32(max_bad, ++bad_run);
+            }
+            any_alive |= p->reach_v[si] == v;
+        }
+        if (walking) {
+            if (n_corr > 0 && 2 * n_ok >= n_corr && max_bad < cfg->min_strips) {
+                walk_v = v;
+            } else {
+                walking = 0;
+                *cause = (why & NEGOBS_DEGRADED_NOISY) != 0u
+                             ? NEGOBS_DEGRADED_NOISY
+                             : NEGOBS_DEGRADED_FEW_GROUND;
+            }
+        }
+        if (!walking && !any_alive) {
+            break;
+        }
+    }
+    return (walk_v < hgt) ? model_range_mm(s, cfg->cam.width / 2, walk_v)
+                          : 0;
+}
+
+/* 1 when a candidate's own strips pass the local check: at least half of
+ * them (and one) stay vouched from the bottom up to their own edge. */
+static int vouch_candidate(const detect_priv_t *p, const negobs_hazard_t *hz)
+{
+    int32_t cnt = 0;
+    int32_t pass = 0;
+    int32_t si;
+    for (si = 0; si < p->n_strips; si++) {
+        const strip_hit_t *sh = &p->hits[si];
+        if (!sh->found || !sh->reported || sh->u0 < hz->u0 ||
+            sh->u1 - 1 > hz->u1) {
+            continue;
+        }
+        cnt++;
+        pass += p->reach_v[si] <= sh->edge_v;
+    }
+    return pass > 0 && 2 * pass >= cnt;
+}
+
 static void fill_no_info(negobs_detect_result_t *res, uint32_t reasons)
 {
     memset(res, 0, sizeof *res);
@@ -1408,45 +1678,6 @@ static void merge_strips(const scan_ctx_t *s, detect_priv_t *p,
         }
         i = j;
     }
-}
-
-/* 1 when at least a quarter of the corridor pixels within 4 rows of v_w
- * (the strips whose centre is in the corridor there) carry a matched
- * disparity: valid and, with a confidence map, not filled or
- * textureless. */
-static int warn_rows_measured(const scan_ctx_t *s, const detect_priv_t *p,
-                              int32_t v_w)
-{
-    const negobs_detect_config_t *cfg = s->cfg;
-    int32_t h = cfg->cam.height;
-    int32_t v0 = geom_max_s32(v_w - 4, 0);
-    int32_t v1 = geom_min_s32(v_w + 4, h - 1);
-    int32_t total = 0;
-    int32_t good = 0;
-    int32_t si;
-    for (si = 0; si < p->n_strips; si++) {
-        int32_t u0 = strip_u0(cfg, p->n_strips, si);
-        int32_t v;
-        if (!strip_in_corridor(s, p->n_strips, si, v_w)) {
-            continue;
-        }
-        for (v = v0; v <= v1; v++) {
-            const int16_t *row = negobs_image_s16_row(s->disp, v);
-            const uint8_t *crow = (s->conf != NULL)
-                                      ? negobs_image_u8_row(s->conf, v)
-                                      : NULL;
-            int32_t u;
-            for (u = u0; u < u0 + cfg->strip_px; u++) {
-                total++;
-                if (row[u] != NEGOBS_DISP_INVALID &&
-                    (crow == NULL ||
-                     crow[u] >= NEGOBS_STEREO_CONF_MATCHED_MIN)) {
-                    good++;
-                }
-            }
-        }
-    }
-    return total == 0 || 4 * good >= total;
 }
 
 /*
@@ -1618,6 +1849,10 @@ static void ground_ref_follow(detect_priv_t *p,
     p->ref_pitch_mdeg += (g->pose.pitch_mdeg - p->ref_pitch_mdeg) / 4;
 }
 
+static void verdict(const negobs_detect_config_t *cfg,
+                    negobs_detect_result_t *res, uint32_t reasons,
+                    int32_t walk_to, uint32_t walk_cause);
+
 negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
                                       const negobs_detect_frame_t *frame,
                                       negobs_detect_result_t *res)
@@ -1625,9 +1860,11 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
     detect_priv_t *p;
     const negobs_detect_config_t *cfg;
     uint32_t reasons = 0;
-    int32_t pending_noisy = 0; /* unconfirmed candidate, near bands noisy */
     int unverified = 0;        /* no reference yet, ground lower than set */
-    int32_t pending_sparse = 0; /* unconfirmed candidate, warning rows empty */
+    int32_t walk_to = 0;       /* vouched by this frame's noise (mm)      */
+    uint32_t walk_cause = NEGOBS_DEGRADED_FEW_GROUND; /* why it stopped  */
+    uint8_t trusted[NEGOBS_DETECT_MAX_HAZARDS];
+    int32_t n_trusted = 0;
     negobs_photo_stats_t ls;
     gfit_out_t g;
     uint32_t i;
@@ -1697,8 +1934,6 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
     if (g.ok) {
         scan_ctx_t s;
         int32_t s_i;
-        int32_t d_w;
-        int32_t h;
         res->ground_valid = 1;
         res->plane = g.plane;
         res->pose = g.pose;
@@ -1748,145 +1983,41 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
                 res->candidates[res->n_candidates++] = hz;
             }
         }
-        /* Step 6 (self-check): can h_min_far still be seen at the warning
-         * range? The rule tests the median residual of a strip row, so the
-         * drop's deficit d_w * h / (H + h) must exceed k times the
-         * *measured* spread of that median (strip_noise), not a value
-         * derived from per-pixel noise under an independence assumption,
-         * plus the ground model's offset there when it is positive (the
-         * ground reads above the model, which shrinks every deficit). The
-         * per-pixel sigma is still capped by sigma_max. Measured after the
-         * scan, so that rows beyond a drop found this frame are compared
-         * with its plateau. */
+        /* Step 6 (self-check), local: how far does this frame's measured
+         * noise, support and texture vouch for the corridor (vouch_walk)?
+         * Measured after the scan, so that rows beyond a drop found this
+         * frame are compared with its plateau. */
         strip_noise(&s, p, p->strip_hist);
-        d_w = negobs_disp_q4_from_depth_mm(&cfg->cam, cfg->range_warn_mm);
-        h = cfg->h_min_far_mm;
+        vouch_collect(&s, p);
+        walk_to = vouch_walk(&s, p, frame->first_row, &walk_cause);
+        /* Diagnostics: the noise at the warning-range row. */
         {
+            int32_t d_w =
+                negobs_disp_q4_from_depth_mm(&cfg->cam, cfg->range_warn_mm);
             int32_t v_w = cfg->cam.height - 1;
-            int32_t sw;
-            int32_t sm;
-            int32_t bias;
-            int32_t blocked_path = 0;
             while (v_w > 0 && negobs_ground_disp_q4(&g.plane,
                                                     cfg->cam.width / 2,
                                                     v_w) > d_w) {
                 v_w--;
             }
-            /* The matcher may have been told to skip the rows above
-             * first_row (the pipeline's crop to the rows the scan reads,
-             * placed from the previous frame's ground). If the warning
-             * range lies up there now (the camera pitched down faster
-             * than the crop's margin), this frame did not look that far:
-             * it must not say CLEAR, nor count as a clean frame that
-             * clears tracks. The crop's first rows carry no value either
-             * (the matcher's window does not fit). */
-            if (frame->first_row > 0 && v_w < frame->first_row + 2) {
-                reasons |= NEGOBS_DEGRADED_FEW_GROUND;
-            }
-            sw = sigma_at(&s, v_w);
-            sm = strip_sigma_at(&s, v_w, &bias);
-            res->sigma_warn_q4 = sw;
-            res->sigma_strip_warn_q8 = sm;
-            res->offset_strip_warn_q8 = bias;
-            /* A wall or up-step across most of the corridor nearer than
-             * the warning range: the walk ends there, so the range that
-             * must be vouched for ends there too (the near bands below
-             * are still tested). Without this, 55 of 96 frames before a
-             * wall or up-step within 4 m were NO_INFO on the synthetic
-             * suite. */
-            {
-                int32_t closed = 0;
-                int32_t seen = 0;
-                for (i = 0; i < (uint32_t)p->n_strips; i++) {
-                    /* s.plane is the model gfit_process returned as
-                     * g.plane */
-                    if (!strip_in_corridor(&s, p->n_strips, (int32_t)i,
-                                           v_w)) {
-                        continue;
-                    }
-                    seen++;
-                    closed += p->hits[i].blocked_v > v_w;
-                }
-                blocked_path = seen > 0 && 4 * closed >= 3 * seen;
-            }
-            /* Was the warning range measured at all? The noise test below
-             * reads a band of rows and falls back to the independent-
-             * pixel formula where the band has too few strip rows, so a
-             * frame whose matcher gave (almost) nothing around the
-             * warning row (textureless or dark far ground) could pass it
-             * and say CLEAR without having looked there. Fewer than a
-             * quarter of the corridor pixels within +-4 rows of the
-             * warning row with a matched value: FEW_GROUND. With a
-             * candidate in the frame (a drop's shadow can cover those
-             * rows) it only keeps the frame from saying CLEAR, as the
-             * near-band check does. */
-            if (!blocked_path &&
-                !warn_rows_measured(&s, p, v_w)) {
-                if (res->n_candidates == 0u) {
-                    reasons |= NEGOBS_DEGRADED_FEW_GROUND;
-                } else {
-                    pending_sparse = 1;
-                }
-            }
-            /* k_q4/16 * sm/256 + max(bias, 0)/256 > d_w/16 * h/(H + h). */
-            if (sw > cfg->sigma_max_q4 ||
-                (!blocked_path &&
-                 ((int64_t)cfg->k_sigma_q4 * sm +
-                  16 * (int64_t)geom_max_s32(bias, 0)) *
-                         (g.frame.height_mm + h) >
-                     (int64_t)d_w * h * 256)) {
-                reasons |= NEGOBS_DEGRADED_NOISY;
-            }
-            /* The same test for every measured band nearer than the
-             * warning range, each with its own h_min (h_min_near inside
-             * h_near_range): seeing 100 mm at range_warn says nothing
-             * about the rows under the feet. On SurDis with a 1.5 m
-             * warning range the rows near the user spread more than
-             * those at 1.5 m, and 5 frames were CLEAR with the steps in
-             * view. It guards the absence of evidence only: a frame with
-             * a candidate is not made NOISY by it, because a drop's own
-             * lower surface fills the near bands once the edge is within
-             * 1-3 m (applied to every frame it cut the synthetic
-             * detection rate at 1.5-3 m from 98.6 % to 90 %), and such a
-             * frame is not CLEAR anyway. */
-            {
-                int32_t near_noisy = 0;
-                int32_t b;
-                for (b = 0; b < NOISE_BANDS; b++) {
-                    int32_t vb = s.band_v0 + b * s.band_rows +
-                                 s.band_rows / 2;
-                    int32_t dgb;
-                    int32_t rb = 0;
-                    int32_t hb;
-                    if (vb <= v_w || vb > cfg->cam.height - 1 ||
-                        s.band_strip_q8[b] <= 0) {
-                        continue;
-                    }
-                    dgb = negobs_ground_disp_q4(&g.plane, cfg->cam.width / 2,
-                                                vb);
-                    model_point(&s, cfg->cam.width / 2, vb, dgb, &rb, NULL,
-                                NULL);
-                    hb = h_min_at(cfg, rb);
-                    if (((int64_t)cfg->k_sigma_q4 * s.band_strip_q8[b] +
-                         16 * (int64_t)geom_max_s32(s.band_bias_q8[b], 0)) *
-                            (g.frame.height_mm + hb) >
-                        (int64_t)dgb * hb * 256) {
-                        near_noisy = 1;
-                    }
-                }
-                if (near_noisy && res->n_candidates == 0u) {
-                    reasons |= NEGOBS_DEGRADED_NOISY;
-                } else if (near_noisy) {
-                    /* A candidate that is not confirmed yet: the frame
-                     * still feeds the tracker as a clean one (else a drop
-                     * filling the near bands could never confirm), but
-                     * unless a hazard is confirmed the user is not told
-                     * CLEAR (below). On SurDis with a 1.5 m warning range
-                     * frame 89 was CLEAR with a HOLE candidate on the
-                     * steps. */
-                    pending_noisy = 1;
-                }
-            }
+            res->sigma_warn_q4 = sigma_at(&s, v_w);
+            res->sigma_strip_warn_q8 =
+                strip_sigma_at(&s, v_w, &res->offset_strip_warn_q8);
+        }
+        /* A candidate is trusted (may start and confirm a track) when the
+         * frame vouches for the warning range, as every clean frame did,
+         * or when its own strips pass the local check: a drop in clean
+         * strips is reported whatever the noise elsewhere. A candidate in
+         * strips that fail it is as likely matching noise: it only
+         * refreshes a confirmed track (section 6). The ground-drop cue has
+         * no strips: it needs the whole frame. */
+        for (i = 0; i < res->n_candidates; i++) {
+            const negobs_hazard_t *c = &res->candidates[i];
+            trusted[i] = (uint8_t)(walk_to >= cfg->range_warn_mm ||
+                                   ((c->flags & NEGOBS_HAZARD_F_GROUND_DROP) ==
+                                        0u &&
+                                    vouch_candidate(p, c)));
+            n_trusted += trusted[i];
         }
         if (res->n_candidates > 0) {
             int32_t vtop = cfg->cam.height;
@@ -1932,9 +2063,12 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
         hold_range = cfg->range_imminent_mm + cfg->assoc_range_mm;
     }
 
-    /* Steps 4-5: temporal confirmation, clearing and hold. */
-    temporal_update(&p->temporal, res->candidates, res->n_candidates,
-                    reasons == 0u, hold_range, frame->now_ms);
+    /* Steps 4-5: temporal confirmation, clearing and hold. A frame without
+     * a gating or ground reason is observed; tracks beyond the vouched
+     * range are not counted as missed by it. */
+    temporal_update_vouched(&p->temporal, res->candidates, trusted,
+                            res->n_candidates, reasons == 0u, walk_to,
+                            hold_range, frame->now_ms);
     res->n_hazards = temporal_report(&p->temporal, res->hazards,
                                      NEGOBS_DETECT_MAX_HAZARDS,
                                      frame->now_ms);
@@ -1947,28 +2081,60 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
             res->nearest_range_mm = res->hazards[i].range_mm;
         }
     }
-    if (pending_sparse && res->n_hazards == 0u) {
-        reasons |= NEGOBS_DEGRADED_FEW_GROUND;
-    }
-    if (pending_noisy && res->n_hazards == 0u) {
-        reasons |= NEGOBS_DEGRADED_NOISY;
-    }
-    /* like the pending reasons: the frame still feeds the tracker, a
-     * hazard found by the rule is reported, but "clear" is not said */
+    /* like a noisy frame: the frame still feeds the tracker, a hazard
+     * found by the rule is reported, but "clear" is not said */
     if (unverified && res->n_hazards == 0u) {
         reasons |= NEGOBS_DEGRADED_GROUND_UNVERIFIED;
     }
-    res->reasons = reasons;
-    if (g.ok && reasons == 0u) {
+    if (g.ok && reasons == 0u &&
+        (walk_to >= cfg->range_warn_mm || n_trusted > 0)) {
+        /* the ground under the feet is followed on frames that vouch for
+         * the warning range or carry a trusted drop, as clean frames did */
         ground_ref_follow(p, cfg, &g, unverified);
         near_candidate_note(p, cfg, res, frame->now_ms);
     }
+    verdict(cfg, res, reasons, walk_to, walk_cause);
+    return NEGOBS_OK;
+}
+
+/*
+ * The verdict (docs/DETECTION.md, "Verdicts and the vouched range"):
+ * clear_to_mm is the vouched walk, cut at the nearest candidate of this
+ * frame (a suspected drop is not vouched past, confirmed or not) and at
+ * the nearest reported hazard. A gating or ground reason is NO_INFO with
+ * clear_to_mm 0; a confirmed or held hazard is HAZARD; a vouched range
+ * below near_min_mm is NO_INFO (with the reason the walk stopped); else
+ * CLEAR, short-sighted below range_warn_mm.
+ */
+static void verdict(const negobs_detect_config_t *cfg,
+                    negobs_detect_result_t *res, uint32_t reasons,
+                    int32_t walk_to, uint32_t walk_cause)
+{
+    int32_t clear_to = walk_to;
+    uint32_t i;
+    for (i = 0; i < res->n_candidates; i++) {
+        clear_to = geom_min_s32(clear_to,
+                                geom_max_s32(res->candidates[i].range_mm, 0));
+    }
+    for (i = 0; i < res->n_hazards; i++) {
+        clear_to = geom_min_s32(clear_to,
+                                geom_max_s32(res->hazards[i].range_mm, 0));
+    }
+    res->short_sight = 0;
     if (reasons != 0u) {
         res->state = NEGOBS_DETECT_NO_INFO;
+        clear_to = 0;
     } else if (res->n_hazards > 0u) {
         res->state = NEGOBS_DETECT_HAZARD;
+    } else if (clear_to < cfg->near_min_mm) {
+        res->state = NEGOBS_DETECT_NO_INFO;
+        reasons = (clear_to < walk_to) ? NEGOBS_DEGRADED_NOISY
+                  : (walk_cause != 0u) ? walk_cause
+                                       : NEGOBS_DEGRADED_FEW_GROUND;
     } else {
         res->state = NEGOBS_DETECT_CLEAR;
+        res->short_sight = clear_to < cfg->range_warn_mm;
     }
-    return NEGOBS_OK;
+    res->clear_to_mm = clear_to;
+    res->reasons = reasons;
 }
