@@ -1510,25 +1510,50 @@ static int32_t vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
             break;
         }
     }
+    /* Noise that stops the walk inside the ground fit's own rows (the
+     * bottom fit_rows_pct) says the model does not describe the rows it
+     * was fitted to: its ranges are not to be trusted either (a fit that
+     * locked onto a 0.95 m / 8 deg line under a 1.2 m / 20 deg camera
+     * vouched for 1.5 m of floor with a 15 cm drop at 1.3 m). A gap in
+     * support there is only unknown ground and ends the walk as usual. */
+    if (*cause == NEGOBS_DEGRADED_NOISY &&
+        walk_v > hgt - 1 - (hgt * cfg->fit_rows_pct) / 100) {
+        return 0;
+    }
     return (walk_v < hgt) ? model_range_mm(s, cfg->cam.width / 2, walk_v)
                           : 0;
 }
 
-/* 1 when a candidate's own strips pass the local check: at least half of
- * them (and one) stay vouched from the bottom up to their own edge. */
-static int vouch_candidate(const detect_priv_t *p, const negobs_hazard_t *hz)
+/* 1 when a candidate's own strips pass the local check around its edge:
+ * at least half of them (and one) can see a minimum drop on every row
+ * from a band nearer than their edge (the ground it stands out from) to
+ * the edge row, within their support. Noise farther off, or under the
+ * feet, does not make a drop in clean strips unknown. */
+static int vouch_candidate(const scan_ctx_t *s, const detect_priv_t *p,
+                           const negobs_hazard_t *hz)
 {
+    const int32_t hgt = s->cfg->cam.height;
     int32_t cnt = 0;
     int32_t pass = 0;
     int32_t si;
     for (si = 0; si < p->n_strips; si++) {
         const strip_hit_t *sh = &p->hits[si];
+        int32_t uc = (sh->u0 + sh->u1) / 2;
+        int32_t ok;
+        int32_t v;
         if (!sh->found || !sh->reported || sh->u0 < hz->u0 ||
             sh->u1 - 1 > hz->u1) {
             continue;
         }
         cnt++;
-        pass += p->reach_v[si] <= sh->edge_v;
+        ok = sh->edge_v >= sh->sup_v && sh->edge_v < hgt;
+        for (v = sh->edge_v;
+             ok && v <= geom_min_s32(sh->edge_v + s->band_rows, hgt - 1);
+             v++) {
+            ok = vouch_cell_ok(s, p, si, v, model_range_mm(s, uc, v)) ==
+                 VOUCH_OK;
+        }
+        pass += ok;
     }
     return pass > 0 && 2 * pass >= cnt;
 }
@@ -2016,7 +2041,7 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
             trusted[i] = (uint8_t)(walk_to >= cfg->range_warn_mm ||
                                    ((c->flags & NEGOBS_HAZARD_F_GROUND_DROP) ==
                                         0u &&
-                                    vouch_candidate(p, c)));
+                                    vouch_candidate(&s, p, c)));
             n_trusted += trusted[i];
         }
         if (res->n_candidates > 0) {
