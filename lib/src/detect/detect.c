@@ -1448,7 +1448,7 @@ static enum vouch_verdict vouch_cell_ok(const scan_ctx_t *s,
  * alone stays vouched (the local check of a hazard's own strips).
  */
 static int32_t vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
-                          int32_t first_row, uint32_t *cause)
+                          int32_t first_row, int candidates, uint32_t *cause)
 {
     const negobs_detect_config_t *cfg = s->cfg;
     const int32_t hgt = cfg->cam.height;
@@ -1515,8 +1515,10 @@ static int32_t vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
      * was fitted to: its ranges are not to be trusted either (a fit that
      * locked onto a 0.95 m / 8 deg line under a 1.2 m / 20 deg camera
      * vouched for 1.5 m of floor with a 15 cm drop at 1.3 m). A gap in
-     * support there is only unknown ground and ends the walk as usual. */
-    if (*cause == NEGOBS_DEGRADED_NOISY &&
+     * support there is only unknown ground and ends the walk as usual; so
+     * does noise on a frame with a candidate: a drop found there is what
+     * stops the walk (clear_to_mm is cut at it anyway). */
+    if (*cause == NEGOBS_DEGRADED_NOISY && !candidates &&
         walk_v > hgt - 1 - (hgt * cfg->fit_rows_pct) / 100) {
         return 0;
     }
@@ -1524,11 +1526,29 @@ static int32_t vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
                           : 0;
 }
 
+/* The band-pooled test of vouch_cell_ok at row v (no cell): the band's
+ * 1.4826 * MAD of strip medians and its positive offset. Robust to the
+ * few blurred rows just past an edge, which a cell's mean deviation is
+ * not. */
+static int vouch_band_ok(const scan_ctx_t *s, int32_t v, int32_t range_mm)
+{
+    const negobs_detect_config_t *cfg = s->cfg;
+    const int32_t b = band_of(s, v);
+    int32_t h = vouch_h_mm(range_mm);
+    int32_t dg = negobs_ground_disp_q4(s->plane, cfg->cam.width / 2, v);
+    return s->band_strip_q8[b] > 0 &&
+           ((int64_t)cfg->k_sigma_q4 * s->band_strip_q8[b] +
+            16 * (int64_t)geom_max_s32(s->band_bias_q8[b], 0)) *
+                   (s->frame->height_mm + h) <=
+               (int64_t)dg * h * 256;
+}
+
 /* 1 when a candidate's own strips pass the local check around its edge:
- * at least half of them (and one) can see a minimum drop on every row
- * from a band nearer than their edge (the ground it stands out from) to
- * the edge row, within their support. Noise farther off, or under the
- * feet, does not make a drop in clean strips unknown. */
+ * at least half of them (and one) can see a minimum drop in the cell one
+ * band nearer than their edge (the ground it stands out from, within
+ * their support), and the band-pooled noise at the edge row allows it.
+ * Noise farther off, or under the feet, does not make a drop in clean
+ * strips unknown. */
 static int vouch_candidate(const scan_ctx_t *s, const detect_priv_t *p,
                            const negobs_hazard_t *hz)
 {
@@ -1539,21 +1559,20 @@ static int vouch_candidate(const scan_ctx_t *s, const detect_priv_t *p,
     for (si = 0; si < p->n_strips; si++) {
         const strip_hit_t *sh = &p->hits[si];
         int32_t uc = (sh->u0 + sh->u1) / 2;
-        int32_t ok;
-        int32_t v;
+        int32_t vn;
         if (!sh->found || !sh->reported || sh->u0 < hz->u0 ||
-            sh->u1 - 1 > hz->u1) {
+            sh->u1 - 1 > hz->u1 || sh->edge_v >= hgt ||
+            sh->edge_v < sh->sup_v) {
+            cnt += sh->found && sh->reported && sh->u0 >= hz->u0 &&
+                   sh->u1 - 1 <= hz->u1;
             continue;
         }
         cnt++;
-        ok = sh->edge_v >= sh->sup_v && sh->edge_v < hgt;
-        for (v = sh->edge_v;
-             ok && v <= geom_min_s32(sh->edge_v + s->band_rows, hgt - 1);
-             v++) {
-            ok = vouch_cell_ok(s, p, si, v, model_range_mm(s, uc, v)) ==
-                 VOUCH_OK;
-        }
-        pass += ok;
+        vn = geom_min_s32(sh->edge_v + s->band_rows, hgt - 1);
+        pass += vouch_cell_ok(s, p, si, vn, model_range_mm(s, uc, vn)) ==
+                    VOUCH_OK &&
+                vouch_band_ok(s, sh->edge_v,
+                              model_range_mm(s, uc, sh->edge_v));
     }
     return pass > 0 && 2 * pass >= cnt;
 }
@@ -2014,7 +2033,8 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
          * frame are compared with its plateau. */
         strip_noise(&s, p, p->strip_hist);
         vouch_collect(&s, p);
-        walk_to = vouch_walk(&s, p, frame->first_row, &walk_cause);
+        walk_to = vouch_walk(&s, p, frame->first_row, res->n_candidates > 0u,
+                             &walk_cause);
         /* Diagnostics: the noise at the warning-range row. */
         {
             int32_t d_w =
