@@ -2056,7 +2056,8 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
          * strips that fail it is as likely matching noise: it only
          * refreshes a confirmed track (section 6). The ground-drop cue has
          * no strips: it needs the whole frame. */
-        for (i = 0; i < res->n_candidates; i++) {
+        for (i = 0; i < res->n_candidates && i < NEGOBS_DETECT_MAX_HAZARDS;
+             i++) {
             const negobs_hazard_t *c = &res->candidates[i];
             trusted[i] = (uint8_t)(walk_to >= cfg->range_warn_mm ||
                                    ((c->flags & NEGOBS_HAZARD_F_GROUND_DROP) ==
