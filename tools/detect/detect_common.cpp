@@ -446,6 +446,7 @@ std::string json_line(int frame, const std::string &name, const FrameOut &o,
       << "\",\"nearest_range_mm\":" << d.nearest_range_mm
       << ",\"clear_to_mm\":" << d.clear_to_mm
       << ",\"short_sight\":" << d.short_sight
+      << ",\"noise_vouch_mm\":" << d.noise_vouch_mm
       << ",\"pattern\":\"" << pattern_name(o.res.motor.pattern)
       << "\",\"motor_on\":" << o.res.motor.on
       << ",\"duty_permille\":" << o.res.motor.duty_permille

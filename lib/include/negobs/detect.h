@@ -311,6 +311,11 @@ typedef struct negobs_detect_result {
      *  the nearest hazard's range; in NO_INFO it is still reported
      *  (possibly 0). See docs/DETECTION.md, "Verdicts". */
     int32_t clear_to_mm;
+    /** The distance this frame's measured noise, ground support and
+     *  texture alone vouch for (mm), before this frame's candidates and
+     *  the reported hazards cut it to clear_to_mm; 0 without a ground
+     *  model. A diagnostic: the verdict uses clear_to_mm. */
+    int32_t noise_vouch_mm;
     /** 1 when the state is CLEAR but clear_to_mm is below range_warn_mm
      *  (short sight): the wearer gets the gentle short-sight pattern. */
     int32_t short_sight;

@@ -2182,5 +2182,6 @@ static void verdict(const negobs_detect_config_t *cfg,
         res->short_sight = clear_to < cfg->range_warn_mm;
     }
     res->clear_to_mm = clear_to;
+    res->noise_vouch_mm = walk_to;
     res->reasons = reasons;
 }
