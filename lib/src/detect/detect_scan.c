@@ -321,228 +321,245 @@ static int32_t edge_change_point(const scan_ctx_t *s, int32_t u0, int32_t u1,
     return best;
 }
 
-void det_scan_strip(const scan_ctx_t *s, int32_t u0, int32_t u1,
-                    strip_hit_t *hit)
+/* State of one strip's scan from near to far. */
+typedef struct scan_state {
+    int32_t sup_start; /* range of the first ground row, -1: none */
+    int32_t supported;
+    int32_t sup_v;     /* row where the support became long enough */
+    int32_t last_g_v;
+    int32_t last_g_r;
+    int32_t last_g_dg;
+    int32_t gap;
+    int32_t run;
+    int32_t run_skip;
+    int64_t sdg;
+    int64_t sd;
+    int64_t sr;
+    int64_t stau;
+    int32_t miss_len; /* invalid band beyond the last ground row */
+    int32_t phase;    /* 0 scan, 1 classify after a drop          */
+    int32_t rho1;
+    int32_t back;
+    int32_t deeper;
+    int32_t settle;   /* rows after the edge run, before classifying */
+    int64_t s2dg;
+    int64_t s2d;
+} scan_state_t;
+
+/* What the scan of a strip does after a row. */
+enum scan_step { SCAN_NEXT = 0, SCAN_STOP, SCAN_MISSING };
+
+/*
+ * The first deficit rows past an edge are blurred by the matcher's windows
+ * and DP, so the plateau they give is too shallow: a plain curb then
+ * looked "deeper" a few rows on (typed STAIRS) and its height read low
+ * (15 cm curbs at 9-11 cm). The next min_edge_rows rows measure it again;
+ * the deeper of the two plateaus is kept and classification starts after
+ * them.
+ */
+static void scan_settle(const scan_ctx_t *s, int32_t u0, int32_t u1,
+                        enum row_class rc, const row_stat_t *st,
+                        scan_state_t *ss, strip_hit_t *hit)
 {
     const negobs_detect_config_t *cfg = s->cfg;
     const int32_t uc = (u0 + u1) / 2;
-    row_stat_t st;
-    int32_t v;
-    int32_t sup_start = -1; /* range of the first ground row, -1: none */
-    int32_t supported = 0;
-    int32_t sup_v = -1;     /* row where the support became long enough */
-    int32_t last_g_v = -1;
-    int32_t last_g_r = 0;
-    int32_t last_g_dg = 0;
-    int32_t gap = 0;
-    int32_t run = 0;
-    int32_t run_skip = 0;
-    int64_t sdg = 0;
-    int64_t sd = 0;
-    int64_t sr = 0;
-    int64_t stau = 0;
-    int32_t miss_len = 0; /* invalid band beyond the last ground row */
-    int32_t phase = 0;    /* 0 scan, 1 classify after a drop          */
-    int32_t rho1 = 0;
-    int32_t back = 0;
-    int32_t deeper = 0;
-    int32_t range = 0;
-    int32_t settle = 0;  /* rows after the edge run, before classifying */
-    int64_t s2dg = 0;
-    int64_t s2d = 0;
-
-    memset(hit, 0, sizeof *hit);
-    hit->u0 = u0;
-    hit->u1 = u1;
-    for (v = cfg->cam.height - 1; v >= 0; v--) {
-        enum row_class rc;
-        int32_t dgc = negobs_ground_disp_q4(s->plane, uc, v);
-        if (dgc < s->d_min_q4 || dgc <= 0) {
-            break;
-        }
-        if (phase == 0 && !det_in_corridor(s, uc, dgc)) {
-            break;
-        }
-        det_model_point(s, uc, v, dgc, &range, NULL, NULL);
-        rc = classify_row(s, u0, u1, v, range, (phase == 1) ? rho1 : 0, &st);
-
-        if (phase == 1) {
-            /* Classify the drop found: hole (ground or far wall again),
-             * stairs (a second, deeper plateau) or plain drop. */
-            hit->top_v = v;
-            if (range - hit->range_mm > cfg->max_hole_mm + 500) {
-                break;
-            }
-            if (settle < cfg->min_edge_rows) {
-                /* The first deficit rows past an edge are blurred by the
-                 * matcher's windows and DP, so the plateau they give is
-                 * too shallow: a plain curb then looked "deeper" a few
-                 * rows on (typed STAIRS) and its height read low (15 cm
-                 * curbs at 9-11 cm). The next min_edge_rows rows measure
-                 * it again; the deeper of the two plateaus is kept and
-                 * classification starts after them. */
-                settle++;
-                if (rc == ROW_DEFICIT) {
-                    s2dg += st.sum_dg_def;
-                    s2d += st.sum_d_def;
-                }
-                if (settle == cfg->min_edge_rows && s2d > 0 && s2dg > s2d) {
-                    int32_t rho2 = (int32_t)(((s2dg - s2d) * 32768) / s2dg);
-                    if (rho2 > rho1) {
-                        rho1 = rho2;
-                        hit->rho1_q15 = rho1;
-                        hit->drop_mm = (int32_t)geom_clamp_s64(
-                            ((int64_t)s->frame->height_mm * (s2dg - s2d)) /
-                                s2d,
-                            0, 100000);
-                    }
-                }
-                if (settle == cfg->min_edge_rows) {
-                    /* With the settled plateau (the first run's is too
-                     * shallow, so ground rows read nearer to it): move the
-                     * edge to the change point. */
-                    int32_t ev = edge_change_point(s, u0, u1, hit->edge_v,
-                                                   sup_v, rho1);
-                    if (ev != hit->edge_v) {
-                        hit->edge_v = ev;
-                        det_model_point(s, uc, ev,
-                                        negobs_ground_disp_q4(s->plane, uc, ev),
-                                        &hit->range_mm, &hit->lateral_mm,
-                                        &hit->depth_mm);
-                    }
-                }
-                continue;
-            }
-            if ((rc == ROW_GROUND || rc == ROW_POSITIVE) &&
-                st.n_up * 2 > st.n) {
-                /* Back up to the ground (closer to it than to the
-                 * plateau): the far rim or far wall of a hole. */
-                deeper = 0;
-                if (++back >= cfg->min_edge_rows &&
-                    range - hit->range_mm <= cfg->max_hole_mm) {
-                    hit->type = NEGOBS_HAZARD_HOLE;
-                    break;
-                }
-            } else if (rc == ROW_DEFICIT && st.n_deeper * 2 > st.n) {
-                back = 0;
-                if (++deeper >= cfg->min_edge_rows) {
-                    hit->type = NEGOBS_HAZARD_STAIRS;
-                    break;
-                }
-            } else if (rc == ROW_DEFICIT) {
-                back = 0;
-                deeper = 0;
-            }
-            continue;
-        }
-
-        switch (rc) {
-        case ROW_GROUND:
-            if (sup_start < 0) {
-                sup_start = range;
-            }
-            last_g_v = v;
-            last_g_r = range;
-            last_g_dg = dgc;
-            if (!supported && range - sup_start >= cfg->min_support_mm) {
-                supported = 1;
-                sup_v = v;
-            }
-            gap = 0;
-            run = 0;
-            run_skip = 0;
-            miss_len = 0;
-            break;
-        case ROW_DEFICIT:
-            gap = 0;
-            if (!supported) {
-                /* Lower surface before any supported ground. */
-                sup_start = -1;
-                run = 0;
-                break;
-            }
-            if (run == 0) {
-                sdg = sd = sr = stau = 0;
-                run_skip = 0;
-            }
-            run++;
-            sdg += st.sum_dg_def;
-            sd += st.sum_d_def;
-            sr += st.sum_r_def;
-            stau += (int64_t)st.tau * st.n_def;
-            if (run >= cfg->min_edge_rows) {
-                hit->found = 1;
-                hit->type = NEGOBS_HAZARD_DROP;
-                hit->edge_v = last_g_v;
-                hit->top_v = v;
-                det_model_point(s, uc, last_g_v, last_g_dg, &hit->range_mm,
-                                &hit->lateral_mm, &hit->depth_mm);
-                /* Same-ray relation h = H * (d_g / d_far - 1). */
-                if (sd > 0) {
-                    hit->drop_mm = (int32_t)geom_clamp_s64(
-                        ((int64_t)s->frame->height_mm * (sdg - sd)) / sd, 0,
-                        100000);
-                } else {
-                    hit->drop_mm = 100000;
-                    hit->h_lower = 1;
-                }
-                hit->margin_q8 = (stau > 0)
-                                     ? (int32_t)geom_clamp_s64(
-                                           (-sr * 256) / stau, 0, 1 << 20)
-                                     : 0;
-                rho1 = (sdg > 0) ? (int32_t)(((sdg - sd) * 32768) / sdg) : 0;
-                hit->rho1_q15 = rho1;
-                phase = 1;
-                back = 0;
-                deeper = 0;
-            }
-            break;
-        case ROW_POSITIVE:
-            if (supported && miss_len >= cfg->min_gap_mm) {
-                goto missing;
-            }
-            return; /* wall or up-step: nothing beyond is visible */
-        case ROW_INVALID:
-        case ROW_MIXED:
-        default:
-            if (run > 0) {
-                if (++run_skip > 2) {
-                    run = 0;
-                    run_skip = 0;
-                }
-            }
-            if (!supported) {
-                if (++gap > 2) {
-                    sup_start = -1;
-                }
-                break;
-            }
-            if (rc == ROW_INVALID && run == 0) {
-                miss_len = range - last_g_r;
-            }
-            break;
+    ss->settle++;
+    if (rc == ROW_DEFICIT) {
+        ss->s2dg += st->sum_dg_def;
+        ss->s2d += st->sum_d_def;
+    }
+    if (ss->settle == cfg->min_edge_rows && ss->s2d > 0 &&
+        ss->s2dg > ss->s2d) {
+        int32_t rho2 =
+            (int32_t)(((ss->s2dg - ss->s2d) * 32768) / ss->s2dg);
+        if (rho2 > ss->rho1) {
+            ss->rho1 = rho2;
+            hit->rho1_q15 = ss->rho1;
+            hit->drop_mm = (int32_t)geom_clamp_s64(
+                ((int64_t)s->frame->height_mm * (ss->s2dg - ss->s2d)) /
+                    ss->s2d,
+                0, 100000);
         }
     }
-    if (hit->found) {
-        return;
+    if (ss->settle == cfg->min_edge_rows) {
+        /* With the settled plateau (the first run's is too shallow, so
+         * ground rows read nearer to it): move the edge to the change
+         * point. */
+        int32_t ev = edge_change_point(s, u0, u1, hit->edge_v, ss->sup_v,
+                                       ss->rho1);
+        if (ev != hit->edge_v) {
+            hit->edge_v = ev;
+            det_model_point(s, uc, ev,
+                            negobs_ground_disp_q4(s->plane, uc, ev),
+                            &hit->range_mm, &hit->lateral_mm,
+                            &hit->depth_mm);
+        }
     }
-    if (!(supported && miss_len >= cfg->min_gap_mm)) {
-        return;
+}
+
+/* Classify the drop found: hole (ground or far wall again), stairs (a
+ * second, deeper plateau) or plain drop. */
+static enum scan_step scan_classify(const scan_ctx_t *s, int32_t u0,
+                                    int32_t u1, int32_t v, int32_t range,
+                                    enum row_class rc, const row_stat_t *st,
+                                    scan_state_t *ss, strip_hit_t *hit)
+{
+    const negobs_detect_config_t *cfg = s->cfg;
+    hit->top_v = v;
+    if (range - hit->range_mm > cfg->max_hole_mm + 500) {
+        return SCAN_STOP;
     }
-missing:
-    /* Missing ground: supported ground, then no data for min_gap_mm up to
-     * the end of the scan (or up to a far wall). The occlusion shadow of
-     * a drop h at range R is about R*h/H long, so h >= H*L/R. */
+    if (ss->settle < cfg->min_edge_rows) {
+        scan_settle(s, u0, u1, rc, st, ss, hit);
+        return SCAN_NEXT;
+    }
+    if ((rc == ROW_GROUND || rc == ROW_POSITIVE) && st->n_up * 2 > st->n) {
+        /* Back up to the ground (closer to it than to the plateau): the
+         * far rim or far wall of a hole. */
+        ss->deeper = 0;
+        if (++ss->back >= cfg->min_edge_rows &&
+            range - hit->range_mm <= cfg->max_hole_mm) {
+            hit->type = NEGOBS_HAZARD_HOLE;
+            return SCAN_STOP;
+        }
+    } else if (rc == ROW_DEFICIT && st->n_deeper * 2 > st->n) {
+        ss->back = 0;
+        if (++ss->deeper >= cfg->min_edge_rows) {
+            hit->type = NEGOBS_HAZARD_STAIRS;
+            return SCAN_STOP;
+        }
+    } else if (rc == ROW_DEFICIT) {
+        ss->back = 0;
+        ss->deeper = 0;
+    }
+    return SCAN_NEXT;
+}
+
+/* A deficit run long enough after supported ground: the drop is found. */
+static void scan_found(const scan_ctx_t *s, int32_t uc, int32_t v,
+                       scan_state_t *ss, strip_hit_t *hit)
+{
+    hit->found = 1;
+    hit->type = NEGOBS_HAZARD_DROP;
+    hit->edge_v = ss->last_g_v;
+    hit->top_v = v;
+    det_model_point(s, uc, ss->last_g_v, ss->last_g_dg, &hit->range_mm,
+                    &hit->lateral_mm, &hit->depth_mm);
+    /* Same-ray relation h = H * (d_g / d_far - 1). */
+    if (ss->sd > 0) {
+        hit->drop_mm = (int32_t)geom_clamp_s64(
+            ((int64_t)s->frame->height_mm * (ss->sdg - ss->sd)) / ss->sd, 0,
+            100000);
+    } else {
+        hit->drop_mm = 100000;
+        hit->h_lower = 1;
+    }
+    hit->margin_q8 = (ss->stau > 0)
+                         ? (int32_t)geom_clamp_s64((-ss->sr * 256) / ss->stau,
+                                                   0, 1 << 20)
+                         : 0;
+    ss->rho1 = (ss->sdg > 0)
+                   ? (int32_t)(((ss->sdg - ss->sd) * 32768) / ss->sdg)
+                   : 0;
+    hit->rho1_q15 = ss->rho1;
+    ss->phase = 1;
+    ss->back = 0;
+    ss->deeper = 0;
+}
+
+/* One row of the scan before a drop is found. */
+static enum scan_step scan_row(const scan_ctx_t *s, int32_t uc, int32_t v,
+                               int32_t dgc, int32_t range, enum row_class rc,
+                               const row_stat_t *st, scan_state_t *ss,
+                               strip_hit_t *hit)
+{
+    const negobs_detect_config_t *cfg = s->cfg;
+    switch (rc) {
+    case ROW_GROUND:
+        if (ss->sup_start < 0) {
+            ss->sup_start = range;
+        }
+        ss->last_g_v = v;
+        ss->last_g_r = range;
+        ss->last_g_dg = dgc;
+        if (!ss->supported && range - ss->sup_start >= cfg->min_support_mm) {
+            ss->supported = 1;
+            ss->sup_v = v;
+        }
+        ss->gap = 0;
+        ss->run = 0;
+        ss->run_skip = 0;
+        ss->miss_len = 0;
+        break;
+    case ROW_DEFICIT:
+        ss->gap = 0;
+        if (!ss->supported) {
+            /* Lower surface before any supported ground. */
+            ss->sup_start = -1;
+            ss->run = 0;
+            break;
+        }
+        if (ss->run == 0) {
+            ss->sdg = ss->sd = ss->sr = ss->stau = 0;
+            ss->run_skip = 0;
+        }
+        ss->run++;
+        ss->sdg += st->sum_dg_def;
+        ss->sd += st->sum_d_def;
+        ss->sr += st->sum_r_def;
+        ss->stau += (int64_t)st->tau * st->n_def;
+        if (ss->run >= cfg->min_edge_rows) {
+            scan_found(s, uc, v, ss, hit);
+        }
+        break;
+    case ROW_POSITIVE:
+        if (ss->supported && ss->miss_len >= cfg->min_gap_mm) {
+            return SCAN_MISSING;
+        }
+        return SCAN_STOP; /* wall or up-step: nothing beyond is visible */
+    case ROW_INVALID:
+    case ROW_MIXED:
+    default:
+        if (ss->run > 0) {
+            if (++ss->run_skip > 2) {
+                ss->run = 0;
+                ss->run_skip = 0;
+            }
+        }
+        if (!ss->supported) {
+            if (++ss->gap > 2) {
+                ss->sup_start = -1;
+            }
+            break;
+        }
+        if (rc == ROW_INVALID && ss->run == 0) {
+            ss->miss_len = range - ss->last_g_r;
+        }
+        break;
+    }
+    return SCAN_NEXT;
+}
+
+/*
+ * Missing ground: supported ground, then no data for min_gap_mm up to the
+ * end of the scan (or up to a far wall, at row v). The occlusion shadow of
+ * a drop h at range R is about R*h/H long, so h >= H*L/R.
+ */
+static void scan_missing(const scan_ctx_t *s, int32_t u0, int32_t u1,
+                         int32_t v, const scan_state_t *ss, strip_hit_t *hit)
+{
+    const int32_t uc = (u0 + u1) / 2;
     hit->found = 1;
     hit->type = NEGOBS_HAZARD_UNKNOWN;
-    hit->edge_v = last_g_v;
+    hit->edge_v = ss->last_g_v;
     hit->top_v = geom_max_s32(v, 0);
-    det_model_point(s, uc, last_g_v, last_g_dg, &hit->range_mm,
+    det_model_point(s, uc, ss->last_g_v, ss->last_g_dg, &hit->range_mm,
                     &hit->lateral_mm, &hit->depth_mm);
-    hit->drop_mm = (hit->range_mm > 0)
-                       ? (int32_t)(((int64_t)s->frame->height_mm * miss_len) /
-                                   hit->range_mm)
-                       : 0;
+    hit->drop_mm =
+        (hit->range_mm > 0)
+            ? (int32_t)(((int64_t)s->frame->height_mm * ss->miss_len) /
+                        hit->range_mm)
+            : 0;
     hit->h_lower = 1;
     hit->margin_q8 = 256;
     /* DOMAIN step 2: a bland band is "unknown" (nothing to match); a band
@@ -565,4 +582,56 @@ missing:
             hit->margin_q8 = 128;
         }
     }
+}
+
+void det_scan_strip(const scan_ctx_t *s, int32_t u0, int32_t u1,
+                    strip_hit_t *hit)
+{
+    const negobs_detect_config_t *cfg = s->cfg;
+    const int32_t uc = (u0 + u1) / 2;
+    scan_state_t ss;
+    row_stat_t st;
+    int32_t v;
+    int32_t range = 0;
+
+    memset(&ss, 0, sizeof ss);
+    ss.sup_start = -1;
+    ss.sup_v = -1;
+    ss.last_g_v = -1;
+    memset(hit, 0, sizeof *hit);
+    hit->u0 = u0;
+    hit->u1 = u1;
+    for (v = cfg->cam.height - 1; v >= 0; v--) {
+        enum row_class rc;
+        enum scan_step step;
+        int32_t dgc = negobs_ground_disp_q4(s->plane, uc, v);
+        if (dgc < s->d_min_q4 || dgc <= 0) {
+            break;
+        }
+        if (ss.phase == 0 && !det_in_corridor(s, uc, dgc)) {
+            break;
+        }
+        det_model_point(s, uc, v, dgc, &range, NULL, NULL);
+        rc = classify_row(s, u0, u1, v, range, (ss.phase == 1) ? ss.rho1 : 0,
+                          &st);
+        if (ss.phase == 1) {
+            if (scan_classify(s, u0, u1, v, range, rc, &st, &ss, hit) ==
+                SCAN_STOP) {
+                break;
+            }
+            continue;
+        }
+        step = scan_row(s, uc, v, dgc, range, rc, &st, &ss, hit);
+        if (step == SCAN_STOP) {
+            return;
+        }
+        if (step == SCAN_MISSING) {
+            scan_missing(s, u0, u1, v, &ss, hit);
+            return;
+        }
+    }
+    if (hit->found || !(ss.supported && ss.miss_len >= cfg->min_gap_mm)) {
+        return;
+    }
+    scan_missing(s, u0, u1, v, &ss, hit);
 }
