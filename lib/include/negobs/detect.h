@@ -56,11 +56,14 @@ typedef enum negobs_degraded_reason {
     NEGOBS_DEGRADED_TOO_DARK = 1u << 0,     /**< mean/dark share       */
     NEGOBS_DEGRADED_SATURATED = 1u << 1,    /**< blown-out share       */
     NEGOBS_DEGRADED_LOW_TEXTURE = 1u << 2,  /**< mean gradient too low */
-    NEGOBS_DEGRADED_FEW_GROUND = 1u << 3,   /**< valid ground pixels   */
+    NEGOBS_DEGRADED_FEW_GROUND = 1u << 3,   /**< valid ground pixels, or
+                                                 support ends the vouched
+                                                 range under near_min_mm */
     NEGOBS_DEGRADED_GROUND_REJECTED = 1u << 4, /**< fit failed/out of tol */
     NEGOBS_DEGRADED_STALE = 1u << 5,        /**< frame too old / gap   */
     NEGOBS_DEGRADED_UNSYNCED = 1u << 6,     /**< L/R timestamps apart  */
-    NEGOBS_DEGRADED_NOISY = 1u << 7,        /**< sigma_d too high for h_min */
+    NEGOBS_DEGRADED_NOISY = 1u << 7,        /**< local noise ends the vouched
+                                                 range under near_min_mm */
     NEGOBS_DEGRADED_BAD_INPUT = 1u << 8,    /**< missing/unusable frame */
     /** No reference yet for the ground under the feet, and the ground in
      *  view lies ground_verify_mm or more below the configured height: an
@@ -186,7 +189,7 @@ typedef struct negobs_detect_config {
                                     follow each accepted fit)           */
     int32_t track_gate_q4;     /**< plane jump gate at ref rows (24)   */
     int32_t sigma_min_q4;      /**< noise floor (default 2 = 1/8 px)   */
-    int32_t sigma_max_q4;      /**< above: DEGRADED_NOISY (default 24) */
+    int32_t sigma_max_q4;      /**< rows noisier are not vouched (24)  */
 
     /* Detection rule. */
     int32_t range_max_mm;      /**< scan limit (default 5000 mm)       */
