@@ -196,14 +196,16 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
      * when its own strips pass the local check: a drop in clean strips is
      * reported whatever the noise elsewhere. A candidate in strips that
      * fail it is as likely matching noise: it only refreshes a confirmed
-     * track (section 6). The ground-drop cue has no strips: it needs the
-     * whole frame. */
+     * track (section 6). The ground-drop cue has no strips: it comes from
+     * the fit rows, so it needs the frame to vouch for the near zone (a
+     * wall at 3 m ends the walk there and leaves the cue intact). */
     for (i = 0; i < res->n_candidates && i < NEGOBS_DETECT_MAX_HAZARDS; i++) {
         const negobs_hazard_t *c = &res->candidates[i];
         fw->trusted[i] = (uint8_t)(
-            fw->walk_to >= cfg->range_warn_mm ||
-            ((c->flags & NEGOBS_HAZARD_F_GROUND_DROP) == 0u &&
-             det_vouch_candidate(&s, p, c)));
+            (c->flags & NEGOBS_HAZARD_F_GROUND_DROP) != 0u
+                ? fw->walk_to >= cfg->near_min_mm
+                : (fw->walk_to >= cfg->range_warn_mm ||
+                   det_vouch_candidate(&s, p, c)));
         fw->n_trusted += fw->trusted[i];
     }
     canny_support(p, cfg, frame, res);
@@ -290,9 +292,11 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
         reasons |= NEGOBS_DEGRADED_GROUND_UNVERIFIED;
     }
     if (g.ok && reasons == 0u &&
-        (fw.walk_to >= cfg->range_warn_mm || fw.n_trusted > 0)) {
+        (fw.walk_to >= cfg->near_min_mm || fw.n_trusted > 0)) {
         /* the ground under the feet is followed on frames that vouch for
-         * the warning range or carry a trusted drop, as clean frames did */
+         * the near zone (the fit rows agree with the model) or carry a
+         * trusted drop: a frame short-sighted by far noise or a wall
+         * measures the ground under the feet as well as any */
         det_ground_ref_follow(p, cfg, &g, fw.unverified);
         det_near_candidate_note(p, cfg, res, frame->now_ms);
     }
