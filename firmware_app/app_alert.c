@@ -253,6 +253,8 @@ void app_alert_input(app_verdict_t v, const app_frame_stats_t *st,
                 : v == APP_VERDICT_CAUTION ? NEGOBS_LEVEL_CAUTION
                                            : NEGOBS_LEVEL_NONE;
     in->range_mm = st != NULL ? st->nearest_range_mm : -1;
+    in->short_sight =
+        (v == APP_VERDICT_CLEAR && st != NULL && st->short_sight) ? 1 : 0;
 }
 
 negobs_alert_pattern_t app_alert_pattern(const app_alert_t *a)
@@ -272,6 +274,7 @@ const char *app_alert_pattern_name(negobs_alert_pattern_t p)
     case NEGOBS_PATTERN_CAUTION_MID: return "caution-mid";
     case NEGOBS_PATTERN_CAUTION_NEAR: return "caution-near";
     case NEGOBS_PATTERN_IMMINENT: return "imminent";
+    case NEGOBS_PATTERN_SHORT_SIGHT: return "short-sight";
     default: return "?";
     }
 }

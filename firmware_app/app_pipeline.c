@@ -222,6 +222,8 @@ static app_verdict_t verdict_of(const negobs_pipeline_result_t *r,
     const negobs_detect_result_t *d = &r->detect;
     st->detect_reasons = d->reasons;
     st->nearest_range_mm = d->nearest_range_mm;
+    st->clear_to_mm = d->clear_to_mm;
+    st->short_sight = d->short_sight;
     st->hazards = d->n_hazards;
     st->mount = d->mount;
     if (d->state == NEGOBS_DETECT_NO_INFO) {

@@ -83,6 +83,8 @@ typedef struct app_frame_stats {
     app_reason_t reason;
     uint32_t detect_reasons;  /**< NEGOBS_DEGRADED_* of the detector     */
     int32_t nearest_range_mm; /**< nearest confirmed hazard, -1 if none  */
+    int32_t clear_to_mm;      /**< vouched free of a minimum drop (mm)   */
+    int32_t short_sight;      /**< CLEAR, vouched short of range_warn    */
     uint32_t hazards;         /**< confirmed or held hazards             */
     negobs_mount_t mount;     /**< camera mounting the detector used
                                    (measured, held or the hint)          */

@@ -504,6 +504,56 @@ static void test_alert_config_and_argument_checks(void **state)
     assert_int_equal(cmd.duty_permille, 400);
 }
 
+/* CLEAR with short sight: one 160 ms pulse every 2 s. It pre-empts the
+ * READY self-test (higher priority), is pre-empted at once by a caution,
+ * and comes back after it; a full CLEAR ends it after the pulse. */
+static void test_alert_short_sight_gentle_pattern(void **state)
+{
+    static const uint32_t want[] = {0, 160, 2000, 2160, 4000, 4160};
+    (void)state;
+    sim_init(1);
+    sim.in.short_sight = 1;
+    sim_set(NEGOBS_LEVEL_NONE, -1, 0, 0);
+    sim_run(300);
+    assert_int_equal(sim.cmd.pattern, NEGOBS_PATTERN_SHORT_SIGHT);
+    sim_init(0);
+    sim.in.short_sight = 1;
+    sim_set(NEGOBS_LEVEL_NONE, -1, 0, 0);
+    sim_run(4500);
+    expect_edges(0, want, 6);
+    assert_int_equal(sim.cmd.pattern, NEGOBS_PATTERN_SHORT_SIGHT);
+    /* a caution verdict at 6000, while the short-sight pulse is on: it
+     * pre-empts (priority), the pulse keeps its minimum length */
+    sim_run(6000);
+    sim_set(NEGOBS_LEVEL_CAUTION, 2500, 0, 0);
+    sim_run(6300);
+    assert_int_equal(sim.cmd.pattern, NEGOBS_PATTERN_CAUTION_MID);
+    /* back to short sight: it waits for the caution's pulse to end */
+    sim_set(NEGOBS_LEVEL_NONE, -1, 0, 0);
+    sim_run(7000);
+    assert_int_equal(sim.cmd.pattern, NEGOBS_PATTERN_SHORT_SIGHT);
+    /* an imminent hazard too */
+    sim_set(NEGOBS_LEVEL_IMMINENT, 900, 0, 0);
+    sim_run(7300);
+    assert_int_equal(sim.cmd.pattern, NEGOBS_PATTERN_IMMINENT);
+    /* NO_INFO never plays short sight, nor does a stale verdict */
+    sim_set(NEGOBS_LEVEL_NONE, -1, 1, 0);
+    sim_run(9000);
+    assert_true(sim.cmd.pattern == NEGOBS_PATTERN_NO_INFO ||
+                sim.cmd.pattern == NEGOBS_PATTERN_NO_INFO_ENTRY);
+    sim_set(NEGOBS_LEVEL_NONE, -1, 0, 0);
+    sim.feed = 0;
+    sim_run(12000);
+    assert_true(sim.cmd.pattern == NEGOBS_PATTERN_NO_INFO ||
+                sim.cmd.pattern == NEGOBS_PATTERN_NO_INFO_ENTRY);
+    /* a full CLEAR: silence once the pulse in progress has ended */
+    sim.feed = 1;
+    sim.in.short_sight = 0;
+    sim_run(16000);
+    assert_int_equal(sim.cmd.pattern, NEGOBS_PATTERN_NONE);
+    assert_int_equal(sim.cmd.on, 0);
+}
+
 static void test_alert_input_from_detect_result(void **state)
 {
     negobs_detect_result_t res;
@@ -519,6 +569,16 @@ static void test_alert_input_from_detect_result(void **state)
     assert_int_equal(in.no_info, 1);
     assert_int_equal(in.battery_low, 1);
     assert_int_equal(in.verdict_ms, 1234);
+    assert_int_equal(in.short_sight, 0);
+    /* short sight only on a CLEAR verdict */
+    res.short_sight = 1;
+    negobs_alert_input_from_result(&res, 0, 1300, &in);
+    assert_int_equal(in.short_sight, 0);
+    res.state = NEGOBS_DETECT_CLEAR;
+    res.level = NEGOBS_LEVEL_NONE;
+    negobs_alert_input_from_result(&res, 0, 1300, &in);
+    assert_int_equal(in.short_sight, 1);
+    assert_int_equal(in.no_info, 0);
     negobs_alert_input_from_result(NULL, 0, 5, &in);
     assert_int_equal(in.no_info, 1);
 }
@@ -545,6 +605,7 @@ int main(void)
         cmocka_unit_test(test_alert_heartbeat_yields_to_warnings),
         cmocka_unit_test(test_alert_heartbeat_config_checks),
         cmocka_unit_test(test_alert_config_and_argument_checks),
+        cmocka_unit_test(test_alert_short_sight_gentle_pattern),
         cmocka_unit_test(test_alert_input_from_detect_result),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -186,6 +186,33 @@ static void test_detect_flat_ground_pose_and_no_hazard(void **state)
 
 /* Render s with every step-th pixel of the top `rows` rows empty (as a
  * matcher that gave nothing there), then run it as the next frame. */
+/* CLEAR with short sight, vouched to no farther than the ground at row v
+ * (+1 % for the ground model's range at the centre column), and at least
+ * to the near-zone minimum. */
+static void assert_short_sight_below_row(int32_t v)
+{
+    int32_t r = 0;
+    int32_t lat = 0;
+    int32_t z = negobs_depth_mm_from_disp_q4(
+        &rig.cfg.cam, negobs_ground_disp_q4(&rig.res.plane, RIG_W / 2, v));
+    negobs_ground_frame_t gf;
+    negobs_ground_pose_t pose;
+    assert_int_equal(negobs_ground_pose_from_plane(&rig.cfg.cam,
+                                                   &rig.res.plane, &pose, &gf),
+                     NEGOBS_OK);
+    negobs_ground_floor_point(&rig.cfg.cam, &gf, (RIG_W / 2) * 16, v * 16, z,
+                              &r, &lat);
+    print_message("empty above row %d (%d mm): state %d, clear_to %d mm, "
+                  "short sight %d\n",
+                  v, r, (int)rig.res.state, rig.res.clear_to_mm,
+                  rig.res.short_sight);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+    assert_int_equal(rig.res.short_sight, 1);
+    assert_true(rig.res.clear_to_mm >= rig.cfg.near_min_mm);
+    assert_true(rig.res.clear_to_mm < rig.cfg.range_warn_mm);
+    assert_true(rig.res.clear_to_mm <= r + r / 100);
+}
+
 static negobs_status_t frame_with_empty_top(const synth_scene_t *s,
                                             int32_t rows, int32_t step)
 {
@@ -198,11 +225,12 @@ static negobs_status_t frame_with_empty_top(const synth_scene_t *s,
 }
 
 /*
- * A frame vouches for the warning range only if that range was matched: a
- * crop of the matcher starting below the warning row (the camera pitched
- * down faster than the crop's margin), or no values there at all, is
- * FEW_GROUND / NO_INFO, never CLEAR; a crop above it, or a sparse but
- * measured far range, changes nothing.
+ * A frame vouches only for the rows that were matched: a crop of the
+ * matcher starting below the warning row (the camera pitched down faster
+ * than the crop's margin), or no values there at all, limits clear_to_mm
+ * to the rows below it: CLEAR with short sight, never a plain CLEAR (the
+ * old frame-wide check made it FEW_GROUND / NO_INFO); a crop above it, or
+ * a sparse but measured far range, changes nothing.
  */
 static void test_detect_crop_below_warning_row_is_not_clear(void **state)
 {
@@ -233,15 +261,13 @@ static void test_detect_crop_below_warning_row_is_not_clear(void **state)
     s.seed = 11u;
     rig.frame.first_row = v_w + 10;
     assert_int_equal(frame_with_empty_top(&s, v_w + 10, 1), NEGOBS_OK);
-    assert_true((rig.res.reasons & NEGOBS_DEGRADED_FEW_GROUND) != 0u);
-    assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+    assert_short_sight_below_row(v_w + 10);
     /* the same empty rows without being told (textureless or dark far
      * ground, any matcher): the old code said CLEAR here */
     s.seed = 12u;
     rig.frame.first_row = 0;
     assert_int_equal(frame_with_empty_top(&s, v_w + 10, 1), NEGOBS_OK);
-    assert_true((rig.res.reasons & NEGOBS_DEGRADED_FEW_GROUND) != 0u);
-    assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+    assert_short_sight_below_row(v_w + 10);
     /* and with most of them back (a sparse but measured far range) it is
      * clear again */
     s.seed = 13u;
@@ -872,7 +898,12 @@ static void test_detect_weak_confidence_fits_ground_but_does_not_vote(
         assert_int_equal(negobs_detect_process(&rig.det, &rig.frame, &rig.res),
                          NEGOBS_OK);
         assert_true(rig.res.ground_valid);
-        assert_int_equal(rig.res.reasons & NEGOBS_DEGRADED_FEW_GROUND, 0);
+        /* No strip row has a pixel that may vote, so no row can be
+         * vouched: NO_INFO (FEW_GROUND), not CLEAR. The frame-wide check
+         * this replaces said CLEAR here, with a 20 cm drop at 2.5 m. */
+        assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+        assert_true(rig.res.reasons & NEGOBS_DEGRADED_FEW_GROUND);
+        assert_int_equal(rig.res.clear_to_mm, 0);
         with_cand += rig.res.n_candidates > 0u;
     }
     assert_int_equal(with_cand, 0);
@@ -933,9 +964,11 @@ static void test_detect_canny_supports_a_clear_drop(void **state)
 }
 
 /* Noise growing with range: the band estimate sees it where the ground
- * estimate (rows under the feet) cannot, and the self-check reports that
- * 100 mm can no longer be seen at 4 m. */
-static void test_detect_far_noise_raises_noisy(void **state)
+ * estimate (rows under the feet) cannot. The old self-check made the whole
+ * frame NOISY (NO_INFO) when 100 mm could no longer be seen at 4 m; the
+ * clean near field still vouches for itself: CLEAR with short sight,
+ * clear_to_mm between the near-zone minimum and the warning range. */
+static void test_detect_far_noise_shortens_the_vouched_range(void **state)
 {
     synth_scene_t s;
     int i;
@@ -947,13 +980,23 @@ static void test_detect_far_noise_raises_noisy(void **state)
         assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
         assert_int_equal(rig.res.reasons, 0);
         assert_int_equal(rig.res.n_candidates, 0);
+        assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+        assert_int_equal(rig.res.short_sight, 0);
+        assert_true(rig.res.clear_to_mm >= rig.cfg.range_warn_mm);
     }
     for (i = 0; i < 4; i++) {
         scene(&s, 0.25, (uint32_t)i + 10u);
         s.noise_far_px = 1.0;
         assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
-        assert_true(rig.res.reasons & NEGOBS_DEGRADED_NOISY);
-        assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+        print_message("far noise 1 px: state %d, clear_to %d mm, short "
+                      "sight %d, reasons %u\n",
+                      (int)rig.res.state, rig.res.clear_to_mm,
+                      rig.res.short_sight, rig.res.reasons);
+        assert_int_equal(rig.res.reasons, 0);
+        assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+        assert_int_equal(rig.res.short_sight, 1);
+        assert_true(rig.res.clear_to_mm >= rig.cfg.near_min_mm);
+        assert_true(rig.res.clear_to_mm < rig.cfg.range_warn_mm);
         assert_int_equal(rig.res.n_candidates, 0);
         assert_true(rig.res.sigma_warn_q4 > rig.res.sigma_q4);
     }
@@ -1539,7 +1582,7 @@ int main(void)
         cmocka_unit_test(test_detect_weak_confidence_fits_ground_but_does_not_vote),
         cmocka_unit_test(test_detect_left_image_stats_used),
         cmocka_unit_test(test_detect_canny_supports_a_clear_drop),
-        cmocka_unit_test(test_detect_far_noise_raises_noisy),
+        cmocka_unit_test(test_detect_far_noise_shortens_the_vouched_range),
         cmocka_unit_test(test_detect_oblique_edge_angle),
         cmocka_unit_test(test_detect_row_correlated_noise_is_noisy),
         cmocka_unit_test(test_detect_row_correlated_noise_drop_never_clear),

@@ -344,7 +344,10 @@ const char *pattern_name(int p)
 {
     static const char *const names[] = {
         "NONE", "READY", "LOW_BATTERY", "NO_INFO_ENTRY", "NO_INFO",
-        "CAUTION_FAR", "CAUTION_MID", "CAUTION_NEAR", "IMMINENT"};
+        "CAUTION_FAR", "CAUTION_MID", "CAUTION_NEAR", "IMMINENT",
+        "SHORT_SIGHT"};
+    static_assert(sizeof names / sizeof names[0] == NEGOBS_PATTERN_COUNT,
+                  "one name per pattern");
     return (p >= 0 && p < NEGOBS_PATTERN_COUNT) ? names[p] : "?";
 }
 
@@ -451,6 +454,9 @@ std::string json_line(int frame, const std::string &name, const FrameOut &o,
       << "\",\"reasons\":" << quoted_list(reasons_string(d.reasons, ","))
       << ",\"level\":\"" << level_name(d.level)
       << "\",\"nearest_range_mm\":" << d.nearest_range_mm
+      << ",\"clear_to_mm\":" << d.clear_to_mm
+      << ",\"short_sight\":" << d.short_sight
+      << ",\"noise_vouch_mm\":" << d.noise_vouch_mm
       << ",\"pattern\":\"" << pattern_name(o.res.motor.pattern)
       << "\",\"motor_on\":" << o.res.motor.on
       << ",\"duty_permille\":" << o.res.motor.duty_permille

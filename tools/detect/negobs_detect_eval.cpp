@@ -966,6 +966,35 @@ void report_separability(Report &rep, const std::vector<JumpStats> (&sep)[2])
     rep.both("");
 }
 
+// Forward floor distance (mm) of the nearest labelled box's bottom row at
+// its centre column through the frame's fitted ground; -1 without a
+// ground model or a box.
+int steps_distance_mm(const negobs_camera_t &cam, const negobs_detect_result_t &d,
+                      const std::vector<Box> &boxes)
+{
+    const Box *near = nullptr;
+    for (const Box &b : boxes) {
+        if (near == nullptr || b.y1 > near->y1) {
+            near = &b;
+        }
+    }
+    negobs_ground_pose_t pose;
+    negobs_ground_frame_t gf;
+    if (near == nullptr || !d.ground_valid ||
+        negobs_ground_pose_from_plane(&cam, &d.plane, &pose, &gf) != NEGOBS_OK) {
+        return -1;
+    }
+    const int u = (near->x0 + near->x1) / 2;
+    const int v = std::min(near->y1, cam.height - 1);
+    const int32_t z = negobs_depth_mm_from_disp_q4(&cam, negobs_ground_disp_q4(&d.plane, u, v));
+    if (z <= 0) {
+        return -1;
+    }
+    int32_t fwd = 0, lat = 0;
+    negobs_ground_floor_point(&cam, &gf, u * 16, v * 16, z, &fwd, &lat);
+    return fwd;
+}
+
 int evaluate_surdis(const Options &opt)
 {
     const fs::path root(opt.surdis_dir);
@@ -1016,6 +1045,12 @@ int evaluate_surdis(const Options &opt)
     rep.both("");
     int scored = 0, hit = 0, hit_warned = 0, frames = 0, noinfo = 0, hazard_frames = 0;
     int clear_on_label = 0; // the worst outcome: CLEAR with the steps in view
+    // The vouched range against the steps: per frame with the label in the
+    // corridor, the distance to the steps estimated from the label's bottom
+    // row through the fitted ground, and false vouches (clear_to_mm beyond
+    // 1.1x that estimate).
+    int false_vouch = 0, short_sight = 0, clear_frames = 0;
+    std::vector<std::string> vouch_rows;
     std::vector<std::string> missed, hits;
     std::vector<int> pics = {30, 60, 80, 95};
     double st_sum = 0, dt_sum = 0;
@@ -1132,6 +1167,20 @@ int evaluate_surdis(const Options &opt)
         }
         if (ok && in_corr) {
             hits.push_back(hit_desc);
+        }
+        clear_frames += d.state == NEGOBS_DETECT_CLEAR;
+        short_sight += d.state == NEGOBS_DETECT_CLEAR && d.short_sight;
+        if (in_corr) {
+            const int est = steps_distance_mm(runner.config().detect.cam, d, boxes);
+            const bool fv = d.clear_to_mm > 0 &&
+                            (est < 0 || d.clear_to_mm * 10 > est * 11);
+            false_vouch += fv;
+            vouch_rows.push_back(
+                "| " + std::to_string(n) + " | " + state_name(d.state) +
+                (d.short_sight ? " (short sight)" : "") + " | " +
+                std::to_string(d.clear_to_mm) + " | " +
+                (est >= 0 ? std::to_string(est) : std::string("-")) + " | " +
+                std::to_string(d.noise_vouch_mm) + " | " + (fv ? "**yes**" : "no") + " |");
         }
         if (in_corr) {
             ++scored;
@@ -1252,14 +1301,29 @@ int evaluate_surdis(const Options &opt)
              fmtd("%.1f", percentile(fit_p, 0.9)) + " deg.");
     rep.both("");
     rep.both("| frames | down_steps label in the corridor | confirmed drop on the label | "
-             "... with verdict HAZARD | HAZARD frames | NO_INFO frames | "
-             "CLEAR with the label in the corridor | stereo ms | detect ms |");
-    rep.both("|---|---|---|---|---|---|---|---|---|");
+             "... with verdict HAZARD | HAZARD frames | NO_INFO frames | CLEAR frames "
+             "(short sight) | CLEAR with the label in the corridor | false vouches | "
+             "stereo ms | detect ms |");
+    rep.both("|---|---|---|---|---|---|---|---|---|---|---|");
     rep.both("| " + std::to_string(frames) + " | " + std::to_string(scored) + " | " +
              pct(hit, scored) + " | " + pct(hit_warned, scored) + " | " + std::to_string(hazard_frames) + " | " +
-             std::to_string(noinfo) + " | " + std::to_string(clear_on_label) + " | " +
-             fmtd("%.1f", st_sum / frames) + " | " +
+             std::to_string(noinfo) + " | " + std::to_string(clear_frames) + " (" +
+             std::to_string(short_sight) + ") | " + std::to_string(clear_on_label) + " | " +
+             std::to_string(false_vouch) + " | " + fmtd("%.1f", st_sum / frames) + " | " +
              fmtd("%.2f", dt_sum / frames) + " |");
+    rep.both("");
+    rep.both("Vouched range per frame with the label in the corridor. The distance to "
+             "the steps is an estimate: the labelled box's bottom row at its centre "
+             "column, through the frame's fitted ground (- without a ground model). "
+             "noise vouch = the distance the frame's measured noise and support alone "
+             "vouch for; a false vouch is clear_to_mm above 1.1x the estimate:");
+    rep.both("");
+    rep.both("| frame | verdict | clear_to_mm | steps at (estimate, mm) | noise vouch mm | "
+             "false vouch |");
+    rep.both("|---|---|---|---|---|---|");
+    for (const std::string &r : vouch_rows) {
+        rep.both(r);
+    }
     rep.both("");
     if (!hits.empty()) {
         std::string h = "Frames with a confirmed hazard on the label (frame: type "

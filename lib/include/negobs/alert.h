@@ -13,11 +13,14 @@
  *   IMMINENT     300 on, 100 off, continuous
  *   NO_INFO      on entry 3 x (400 on, 200 off), then 600 on every 3000 ms
  *   LOW_BATTERY  4 x (80 on, 120 off), once per battery_period_ms
+ *   SHORT_SIGHT  160 on, 1840 off, repeated: CLEAR, but vouched for less
+ *                than the warning range (detector result short_sight)
  *   NONE         (clear) the heartbeat: one heartbeat_pulse_ms (80) pulse
  *                every heartbeat_period_ms (5000), after a silent gap;
  *                heartbeat_period_ms = 0 makes clear silent
  *
- * Priorities: IMMINENT > CAUTION > NO_INFO > LOW_BATTERY > READY. A higher
+ * Priorities: IMMINENT > CAUTION > SHORT_SIGHT > READY > NO_INFO >
+ * LOW_BATTERY. A higher
  * priority pre-empts at once; a lower one waits until the motor is off
  * (a pulse is never cut). Caution band changes wait for the gap after the
  * two-pulse burst. IMMINENT is held for imminent_hold_ms after its last
@@ -56,7 +59,8 @@ typedef enum negobs_alert_pattern {
     NEGOBS_PATTERN_CAUTION_MID = 6,
     NEGOBS_PATTERN_CAUTION_NEAR = 7,
     NEGOBS_PATTERN_IMMINENT = 8,
-    NEGOBS_PATTERN_COUNT = 9
+    NEGOBS_PATTERN_SHORT_SIGHT = 9,
+    NEGOBS_PATTERN_COUNT = 10
 } negobs_alert_pattern_t;
 
 /** Segments listed in a motor command. */
@@ -86,6 +90,8 @@ typedef struct negobs_alert_input {
     int32_t no_info;            /**< detector degraded                 */
     int32_t battery_low;        /**< battery low                       */
     uint32_t verdict_ms;        /**< time of the verdict (ms)          */
+    int32_t short_sight;        /**< CLEAR, vouched for less than the
+                                     warning range                     */
 } negobs_alert_input_t;
 
 /** A stretch of constant motor output. */

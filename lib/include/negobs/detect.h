@@ -42,12 +42,13 @@ extern "C" {
  * for static buffers: any valid config with this width, height and
  * max_disp_q4 <= 16 * max_disp_px fits. (Context and tracks < 8 KiB,
  * v-disparity histogram <= h x (2 max_disp + 2) x 2 bytes, Hough 16 KiB,
- * strips <= w/4 x 64 bytes, noise bands 2 + 2 KiB, the disparity Canny
- * window 3 x w x 2 + 16 x w bytes, plus arena guards.)
+ * strips <= w/4 x (64 + 112) bytes (scan state, local-noise cells),
+ * noise bands 2 + 2 KiB, the disparity Canny window 3 x w x 2 + 16 x w
+ * bytes, plus arena guards.)
  */
 #define NEGOBS_DETECT_WORKSPACE_MAX(w, h, max_disp_px)                      \
     ((size_t)8192u + (size_t)(h) * ((size_t)(max_disp_px) * 2u + 2u) * 2u + \
-     (size_t)16640u + ((size_t)(w) / 4u + 1u) * 64u + (size_t)(w) * 22u + \
+     (size_t)16640u + ((size_t)(w) / 4u + 1u) * 176u + (size_t)(w) * 22u + \
      (size_t)4608u)
 
 /** Why the detector cannot vouch for "no hazard" (bitmask). */
@@ -55,12 +56,15 @@ typedef enum negobs_degraded_reason {
     NEGOBS_DEGRADED_TOO_DARK = 1u << 0,     /**< mean/dark share       */
     NEGOBS_DEGRADED_SATURATED = 1u << 1,    /**< blown-out share       */
     NEGOBS_DEGRADED_LOW_TEXTURE = 1u << 2,  /**< mean gradient too low */
-    NEGOBS_DEGRADED_FEW_GROUND = 1u << 3,   /**< valid ground pixels   */
+    NEGOBS_DEGRADED_FEW_GROUND = 1u << 3,   /**< valid ground pixels, or
+                                                 support ends the vouched
+                                                 range under near_min_mm */
     NEGOBS_DEGRADED_GROUND_REJECTED = 1u << 4, /**< no planar support, or
                                                  not a floor (priors) */
     NEGOBS_DEGRADED_STALE = 1u << 5,        /**< frame too old / gap   */
     NEGOBS_DEGRADED_UNSYNCED = 1u << 6,     /**< L/R timestamps apart  */
-    NEGOBS_DEGRADED_NOISY = 1u << 7,        /**< sigma_d too high for h_min */
+    NEGOBS_DEGRADED_NOISY = 1u << 7,        /**< local noise ends the vouched
+                                                 range under near_min_mm */
     NEGOBS_DEGRADED_BAD_INPUT = 1u << 8,    /**< missing/unusable frame */
     /** No reference yet for the ground under the feet, and the camera
      *  height fitted to the ground in view differs from the height hint
@@ -206,12 +210,17 @@ typedef struct negobs_detect_config {
                                     follow each accepted fit)           */
     int32_t track_gate_q4;     /**< plane jump gate at ref rows (24)   */
     int32_t sigma_min_q4;      /**< noise floor (default 2 = 1/8 px)   */
-    int32_t sigma_max_q4;      /**< above: DEGRADED_NOISY (default 24) */
+    int32_t sigma_max_q4;      /**< rows noisier are not vouched (24)  */
 
     /* Detection rule. */
     int32_t range_max_mm;      /**< scan limit (default 5000 mm)       */
     int32_t range_warn_mm;     /**< CAUTION inside (default 4000 mm)   */
     int32_t range_imminent_mm; /**< IMMINENT inside (default 1500 mm)  */
+    int32_t near_min_mm;       /**< near-zone minimum: a frame that
+                                    vouches less (clear_to_mm) is NO_INFO
+                                    (default 1500 mm: walking speed x
+                                    verdict latency + reaction, beyond
+                                    the cane; docs/DETECTION.md)        */
     int32_t ttc_imminent_ms;   /**< IMMINENT if time to edge < (1200)  */
     int32_t corridor_half_width_mm; /**< lateral scan (default 600 mm) */
     int32_t strip_px;          /**< column strip width (default 16 px) */
@@ -327,6 +336,11 @@ typedef struct negobs_detect_result {
      *  the nearest hazard's range; in NO_INFO it is still reported
      *  (possibly 0). See docs/DETECTION.md, "Verdicts". */
     int32_t clear_to_mm;
+    /** The distance this frame's measured noise, ground support and
+     *  texture alone vouch for (mm), before this frame's candidates and
+     *  the reported hazards cut it to clear_to_mm; 0 without a ground
+     *  model. A diagnostic: the verdict uses clear_to_mm. */
+    int32_t noise_vouch_mm;
     /** 1 when the state is CLEAR but clear_to_mm is below range_warn_mm
      *  (short sight): the wearer gets the gentle short-sight pattern. */
     int32_t short_sight;

@@ -32,21 +32,27 @@ static const seg_t seg_caution_far[] = {{80, 1}, {80, 0}, {80, 1}, {760, 0}};
 static const seg_t seg_caution_mid[] = {{80, 1}, {80, 0}, {80, 1}, {360, 0}};
 static const seg_t seg_caution_near[] = {{80, 1}, {80, 0}, {80, 1}, {160, 0}};
 static const seg_t seg_imminent[] = {{300, 1}, {100, 0}};
+/* Short sight: one pulse (caution is always a pair) of 160 ms (a quarter
+ * of the NO_INFO pulse, twice a caution pulse) every 2 s (slower than
+ * any caution band): "clear, but only for a short way". */
+static const seg_t seg_short_sight[] = {{160, 1}, {1840, 0}};
 
 #define NSEG(a) ((uint8_t)(sizeof(a) / sizeof((a)[0])))
 
-/* Priorities: IMMINENT 6 > CAUTION 5 > READY 4 (power-on self-test, once,
- * 400 ms) > NO_INFO 3 > LOW_BATTERY 2 > NONE 0. */
+/* Priorities: IMMINENT 7 > CAUTION 6 > SHORT_SIGHT 5 > READY 4 (power-on
+ * self-test, once, 400 ms) > NO_INFO 3 > LOW_BATTERY 2 > NONE 0. Short
+ * sight ranks below every hazard pattern: it says "clear". */
 static const pat_t pats[NEGOBS_PATTERN_COUNT] = {
     {NULL, 0, 0, 0},
     {seg_ready, NSEG(seg_ready), 0, 4},
     {seg_batt, NSEG(seg_batt), 0, 2},
     {seg_noinfo_entry, NSEG(seg_noinfo_entry), 0, 3},
     {seg_noinfo, NSEG(seg_noinfo), 1, 3},
-    {seg_caution_far, NSEG(seg_caution_far), 1, 5},
-    {seg_caution_mid, NSEG(seg_caution_mid), 1, 5},
-    {seg_caution_near, NSEG(seg_caution_near), 1, 5},
-    {seg_imminent, NSEG(seg_imminent), 1, 6},
+    {seg_caution_far, NSEG(seg_caution_far), 1, 6},
+    {seg_caution_mid, NSEG(seg_caution_mid), 1, 6},
+    {seg_caution_near, NSEG(seg_caution_near), 1, 6},
+    {seg_imminent, NSEG(seg_imminent), 1, 7},
+    {seg_short_sight, NSEG(seg_short_sight), 1, 5},
 };
 
 /* The heartbeat is the NONE ("clear") pattern when it is on: a silent gap
@@ -245,6 +251,9 @@ static negobs_alert_pattern_t desired(negobs_alert_t *c, uint32_t now)
             return NEGOBS_PATTERN_CAUTION_MID;
         }
         return NEGOBS_PATTERN_CAUTION_NEAR;
+    }
+    if (!stale && !c->in.no_info && c->in.short_sight) {
+        return NEGOBS_PATTERN_SHORT_SIGHT;
     }
     if (c->ready_pending) {
         return NEGOBS_PATTERN_READY;
@@ -454,4 +463,6 @@ void negobs_alert_input_from_result(const negobs_detect_result_t *res,
     in->level = res->level;
     in->range_mm = res->nearest_range_mm;
     in->no_info = (res->state == NEGOBS_DETECT_NO_INFO) ? 1 : 0;
+    in->short_sight =
+        (res->state == NEGOBS_DETECT_CLEAR && res->short_sight) ? 1 : 0;
 }

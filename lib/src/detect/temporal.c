@@ -64,6 +64,15 @@ static int32_t held_range(const negobs_detect_config_t *cfg,
 void temporal_update(temporal_t *t, const negobs_hazard_t *cands, uint32_t n,
                      int observed, int32_t hold_range_mm, uint32_t now_ms)
 {
+    temporal_update_vouched(t, cands, NULL, n, observed, INT32_MAX,
+                            hold_range_mm, now_ms);
+}
+
+void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
+                             const uint8_t *trusted, uint32_t n, int observed,
+                             int32_t seen_to_mm, int32_t hold_range_mm,
+                             uint32_t now_ms)
+{
     const negobs_detect_config_t *cfg = t->cfg;
     int32_t used[NEGOBS_DETECT_MAX_TRACKS];
     uint32_t order[NEGOBS_DETECT_MAX_HAZARDS];
@@ -124,7 +133,8 @@ void temporal_update(temporal_t *t, const negobs_hazard_t *cands, uint32_t n,
                 best = k;
             }
         }
-        if (!observed && (best < 0 || !t->tracks[best].confirmed)) {
+        if ((!observed || (trusted != NULL && !trusted[order[i]])) &&
+            (best < 0 || !t->tracks[best].confirmed)) {
             /* A degraded frame's candidate may refresh a hazard that clean
              * frames confirmed, but never starts or confirms one: on such
              * frames the deficits are as likely to be matching noise. */
@@ -199,8 +209,11 @@ void temporal_update(temporal_t *t, const negobs_hazard_t *cands, uint32_t n,
             }
             continue;
         }
-        if (!observed) {
-            /* No evidence either way; only time can retire it. */
+        if (!observed ||
+            (tr->hz.range_mm > seen_to_mm &&
+             !(tr->confirmed && tr->hz.range_mm <= hold_range_mm))) {
+            /* No evidence either way (the frame did not vouch for the
+             * track's place); only time can retire it. */
             if (elapsed_ms(now_ms, tr->last_seen_ms) > cfg->hold_ms) {
                 tr->active = 0;
             }

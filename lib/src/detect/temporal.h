@@ -43,6 +43,19 @@ void temporal_update(temporal_t *t, const negobs_hazard_t *cands, uint32_t n,
                      int observed, int32_t hold_range_mm, uint32_t now_ms);
 
 /*
+ * temporal_update with a vouched range: trusted[i] == 0 (trusted may be
+ * NULL: all trusted) makes candidate i refresh-only, as on a degraded
+ * frame (its own strips failed the local noise check); a track farther
+ * than seen_to_mm that this frame did not see is not counted as a clean
+ * miss (the frame did not vouch for its place), unless it is confirmed
+ * within hold_range_mm (then it is held as usual).
+ */
+void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
+                             const uint8_t *trusted, uint32_t n, int observed,
+                             int32_t seen_to_mm, int32_t hold_range_mm,
+                             uint32_t now_ms);
+
+/*
  * Confirmed and held tracks as hazards, nearest first, with level and
  * flags; returns the count (<= max). Held ranges are dead-reckoned to
  * now_ms. Missing-ground (UNKNOWN) tracks follow cfg->missing_policy.

@@ -1,0 +1,178 @@
+/* Ground-drop cue: a drop first seen near (docs/DETECTION.md 6.1). */
+#include "detect_internal.h"
+
+/* The cue needs a steady pitch: a pitch change of more than this between
+ * the reference and the frame also moves the estimated height. */
+#define GROUND_DROP_PITCH_MDEG 3000
+
+/*
+ * Ground-drop cue. The rule above needs the edge in view with ground
+ * before it; a drop first seen within ~1.6 m (after a corner) leaves the
+ * bottom of the image before k of n frames
+ * confirm it, and the ground fit then takes the lower surface as the
+ * ground: the estimated camera height rises by the drop (+150 mm on a
+ * 15 cm curb) and every later frame looked CLEAR until the user stepped
+ * off. So the camera height over the ground under the feet is kept as a
+ * reference, followed on clean frames only; a rise of ground_drop_mm or
+ * more at a steady pitch makes a DROP candidate at the nearest visible
+ * ground (the edge is nearer still), which the temporal logic confirms
+ * and holds like any other. After ground_drop_max_ms of a continuous cue
+ * the lower ground becomes the reference (the camera was raised, not
+ * walked to an edge).
+ *
+ * The reference is the first clean frame's ground model that is verified:
+ * its height lies within ground_verify_mm of the height hint, or its view
+ * reaches the floor within mount_verify_near_mm of the feet (the wearer
+ * looked down; mount.c). A device switched on within ~1.4 m of an edge
+ * has the lower surface in its fit rows and sees a camera about the drop
+ * too high; so does one whose hint is too low, and a hint too high would
+ * take the lower floor for the right one. The view cannot tell these
+ * apart, so unverified frames are NO_INFO (*unverified), never CLEAR,
+ * until a frame is verified or ground_drop_max_ms have passed; then the
+ * view is taken as it is. The start check is tighter than the cue (50
+ * against 100 mm): a 10 cm drop at switch-on reads 98-103 mm high, just
+ * under the cue's threshold, and the hint is the only reference there is.
+ */
+/* The view's camera height and pitch become the reference. */
+static inline void ground_ref_take(detect_priv_t *p, const gfit_out_t *g)
+{
+    p->ref_ok = 1;
+    p->ref_height_mm = g->pose.height_mm;
+    p->ref_pitch_mdeg = g->pose.pitch_mdeg;
+    p->drop_on = 0;
+}
+
+static int ground_unverified(detect_priv_t *p,
+                             const negobs_detect_config_t *cfg,
+                             const gfit_out_t *g, uint32_t now_ms)
+{
+    if (!mount_height_unverified(cfg, g->pose.height_mm) ||
+        mount_sees_feet(cfg, &g->plane, &g->frame)) {
+        p->unverified_on = 0;
+        return 0;
+    }
+    if (!p->unverified_on) {
+        p->unverified_on = 1;
+        p->unverified_since_ms = now_ms;
+    }
+    return (int32_t)(now_ms - p->unverified_since_ms) <=
+           cfg->ground_drop_max_ms;
+}
+
+/* The rise that makes a ground-drop candidate: ground_drop_mm, or the
+ * smaller ground_drop_corroborated_mm for hold_ms after a clean frame
+ * whose rule found a drop within h_near_range_mm. A 10 cm drop first seen
+ * at ~1.5 m is found by the rule on a frame or two, leaves the view
+ * before k of n confirm it, and then raises the fitted height by only
+ * 73-122 mm, across the plain threshold; the two cues together vouch for
+ * the smaller rise, which alone would also fire on posture changes. */
+static inline int32_t ground_drop_threshold(const detect_priv_t *p,
+                                            const negobs_detect_config_t *cfg,
+                                            uint32_t now_ms)
+{
+    int32_t t = cfg->ground_drop_mm;
+    if (p->near_cand_on && cfg->ground_drop_corroborated_mm > 0 &&
+        cfg->ground_drop_corroborated_mm < t &&
+        (int32_t)(now_ms - p->near_cand_ms) <= cfg->hold_ms) {
+        t = cfg->ground_drop_corroborated_mm;
+    }
+    return t;
+}
+
+/* Remember a clean frame whose rule (not the cue) found a drop, stairs
+ * or hole within h_near_range_mm. */
+void det_near_candidate_note(detect_priv_t *p,
+                             const negobs_detect_config_t *cfg,
+                             const negobs_detect_result_t *res,
+                             uint32_t now_ms)
+{
+    uint32_t i;
+    for (i = 0; i < res->n_candidates; i++) {
+        const negobs_hazard_t *c = &res->candidates[i];
+        if (c->type != NEGOBS_HAZARD_UNKNOWN &&
+            (c->flags & NEGOBS_HAZARD_F_GROUND_DROP) == 0u &&
+            c->range_mm <= cfg->h_near_range_mm) {
+            p->near_cand_on = 1;
+            p->near_cand_ms = now_ms;
+            return;
+        }
+    }
+}
+
+int det_ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
+                    const scan_ctx_t *s, const gfit_out_t *g,
+                    uint32_t now_ms, negobs_hazard_t *hz,
+                    int *unverified)
+{
+    int32_t dh;
+    int32_t dp;
+    int32_t vb = cfg->cam.height - 1;
+    int32_t dg;
+    int32_t range = 0;
+    int32_t depth = 0;
+    if (cfg->ground_drop_mm <= 0) {
+        return 0;
+    }
+    if (!p->ref_ok) {
+        /* the reference itself is taken on a clean frame
+         * (det_ground_ref_follow) */
+        *unverified = ground_unverified(p, cfg, g, now_ms);
+        return 0;
+    }
+    dh = g->pose.height_mm - p->ref_height_mm;
+    dp = negobs_abs_s32(g->pose.pitch_mdeg - p->ref_pitch_mdeg);
+    if (dh < ground_drop_threshold(p, cfg, now_ms) ||
+        dp > GROUND_DROP_PITCH_MDEG) {
+        p->drop_on = 0;
+        return 0;
+    }
+    if (!p->drop_on) {
+        p->drop_on = 1;
+        p->drop_since_ms = now_ms;
+    } else if ((int32_t)(now_ms - p->drop_since_ms) >
+               cfg->ground_drop_max_ms) {
+        ground_ref_take(p, g);
+        return 0;
+    }
+    dg = negobs_ground_disp_q4(&g->plane, cfg->cam.width / 2, vb);
+    det_model_point(s, cfg->cam.width / 2, vb, dg, &range, NULL, &depth);
+    memset(hz, 0, sizeof *hz);
+    hz->type = NEGOBS_HAZARD_DROP;
+    hz->level = NEGOBS_LEVEL_NONE;
+    hz->flags = NEGOBS_HAZARD_F_GROUND_DROP;
+    hz->range_mm = range;
+    hz->depth_mm = depth;
+    hz->drop_mm = dh;
+    hz->u0 = 0;
+    hz->u1 = (int16_t)(cfg->cam.width - 1);
+    hz->v0 = (int16_t)geom_max_s32(vb - cfg->hold_bottom_rows, 0);
+    hz->v1 = (int16_t)vb;
+    hz->conf_q15 = 16384;
+    return 1;
+}
+
+/* Set the reference of the ground-drop cue on the first clean frame that
+ * det_ground_drop() did not find unverified, then follow it on clean frames
+ * whose height is near it (slow changes: posture, bobbing); a jump either
+ * way is a different surface in view, not the ground under the feet. Only
+ * clean frames: the model of a NOISY frame can be far off (945 mm for a
+ * 1.2 m camera in test_detect_start_near_drop_is_not_clear), and as the
+ * reference it hid the drop. */
+void det_ground_ref_follow(detect_priv_t *p,
+                           const negobs_detect_config_t *cfg,
+                           const gfit_out_t *g, int unverified)
+{
+    int32_t dh = g->pose.height_mm - p->ref_height_mm;
+    if (!p->ref_ok) {
+        if (cfg->ground_drop_mm > 0 && !unverified) {
+            ground_ref_take(p, g);
+        }
+        return;
+    }
+    if (p->drop_on ||
+        2 * negobs_abs_s32(dh) >= cfg->ground_drop_mm) {
+        return;
+    }
+    p->ref_height_mm += dh / 4;
+    p->ref_pitch_mdeg += (g->pose.pitch_mdeg - p->ref_pitch_mdeg) / 4;
+}

@@ -1,0 +1,199 @@
+/*
+ * Internal interface of the detector (lib/src/detect/detect_*.c): the
+ * state carved from the workspace, the per-frame scan context and the
+ * steps one negobs_detect_process() call runs, one file each:
+ *
+ *   detect_config.c  config defaults, presets, checks, workspace, init
+ *   detect_gate.c    photometric image gate
+ *   detect_scan.c    per-strip scan (the rule of docs/DETECTION.md 5)
+ *   detect_noise.c   measured strip-median noise per band (step 6)
+ *   detect_vouch.c   the vouched range and the verdict (section 10)
+ *   detect_merge.c   strips -> hazards
+ *   detect_cue.c     ground-drop cue (section 6.1)
+ *   detect.c         negobs_detect_process: the sequence of the above
+ */
+#ifndef NEGOBS_DETECT_INTERNAL_H
+#define NEGOBS_DETECT_INTERNAL_H
+
+#include <string.h>
+
+#include "negobs/detect.h"
+#include "negobs/stereo.h" /* the confidence scale of the disparity map */
+
+#include "arena.h"
+#include "disp_canny.h"
+#include "geom_internal.h"
+#include "ground_fit.h"
+#include "mount.h"
+#include "temporal.h"
+
+#define DETECT_MAGIC 0x4E474454u /* "NGDT" */
+#define MAX_STRIP_PX 64
+
+enum row_class {
+    ROW_INVALID = 0,
+    ROW_GROUND,
+    ROW_DEFICIT,
+    ROW_POSITIVE,
+    ROW_MIXED
+};
+
+typedef struct strip_hit {
+    int32_t found;
+    negobs_hazard_type_t type;
+    int32_t u0;
+    int32_t u1;
+    int32_t edge_v;   /* last ground row (bottom of the box)         */
+    int32_t top_v;    /* farthest row examined for this hazard       */
+    int32_t range_mm;
+    int32_t lateral_mm;
+    int32_t depth_mm;
+    int32_t drop_mm;
+    int32_t h_lower;
+    int32_t textured;  /* missing ground: 1 textured band, 0 bland/unknown */
+    int32_t margin_q8; /* mean deficit / tau, Q8                     */
+    int32_t rho1_q15;  /* relative deficit of the first plateau       */
+    int32_t reported;  /* part of a candidate of this frame           */
+    /* det_strip_noise: where a wall or up-step closes the strip (the foot of
+     * its rise; rows at or above it are not measured), or -1; the run of
+     * rows far above the ground so far */
+    int32_t blocked_v;
+    int32_t pos_run;
+    /* vouch: farthest row the strip's support reaches from the bottom
+     * (an unseen run or a closure ends it) */
+    int32_t sup_v;
+} strip_hit_t;
+
+/* A strip is closed by a positive obstacle after this many consecutive
+ * rows whose strip median is at least BLOCK_MIN_Q5 (1/32 px) and 3 times
+ * the row's per-pixel sigma above the ground model. */
+#define BLOCK_ROWS 4
+#define BLOCK_MIN_Q5 32
+
+#define NOISE_BANDS 8
+#define NOISE_BINS 64
+/* Signed strip-median residuals, 1/32 px bins centred on 0: +-2 px. */
+#define STRIP_BINS 128
+
+/* Local noise of one strip in one band of rows (vouch.c's cells): the
+ * strip-median residuals e (1/32 px) of its seen rows. */
+typedef struct vouch_cell {
+    int32_t n;       /* seen strip rows                                 */
+    int32_t sum;     /* sum of e                                        */
+    int32_t sum_abs; /* sum of |e - band median|                        */
+} vouch_cell_t;
+
+typedef struct detect_priv {
+    uint32_t magic;
+    gfit_t gfit;
+    temporal_t temporal;
+    strip_hit_t *hits;
+    int32_t n_strips;
+    uint32_t *band_hist; /* NOISE_BANDS x NOISE_BINS |horizontal diff| */
+    uint16_t *strip_hist; /* NOISE_BANDS x STRIP_BINS strip medians    */
+    dcanny_scratch_t canny; /* disparity Canny around a hazard's edge  */
+    vouch_cell_t *cells;  /* n_strips x NOISE_BANDS local-noise cells   */
+    int32_t *reach_v;     /* per strip: farthest row vouched from the
+                             bottom without a break (height: none)      */
+    /* ground-drop cue: the camera height and pitch over the ground under
+     * the feet, followed on clean frames only */
+    int32_t ref_ok;
+    int32_t ref_height_mm;
+    int32_t ref_pitch_mdeg;
+    uint32_t drop_since_ms; /* first frame of the current cue           */
+    int32_t drop_on;
+    /* before the reference: first frame whose ground lay
+     * ground_verify_mm or more below the configured height */
+    uint32_t unverified_since_ms;
+    int32_t unverified_on;
+    /* last clean frame with a rule candidate within h_near_range_mm: it
+     * corroborates a smaller ground-drop rise for hold_ms */
+    uint32_t near_cand_ms;
+    int32_t near_cand_on;
+    mount_track_t mount; /* the mounting the results report (mount.c) */
+} detect_priv_t;
+
+
+/* Scan context shared by the strips of one frame. */
+typedef struct scan_ctx {
+    const negobs_detect_config_t *cfg;
+    const negobs_image_s16_t *disp;
+    const negobs_image_u8_t *conf;
+    const negobs_image_u8_t *left; /* NULL: no texture check */
+    const negobs_ground_plane_t *plane;
+    const negobs_ground_frame_t *frame;
+    int32_t sigma_q4;
+    int32_t d_min_q4; /* ground disparity at range_max */
+    int32_t band_v0;  /* first row of the noise bands    */
+    int32_t band_rows;/* rows per band (>= 1)            */
+    int32_t band_sigma_q4[NOISE_BANDS];
+    /* Measured spread and offset of the strip median (1/256 px), per
+     * band pooled with the next nearer one; spread 0: too few strip rows
+     * (det_strip_noise). */
+    int32_t band_strip_q8[NOISE_BANDS];
+    int32_t band_bias_q8[NOISE_BANDS];
+} scan_ctx_t;
+
+
+uint32_t det_photo_reasons(const negobs_detect_config_t *cfg,
+                           const negobs_photo_stats_t *s);
+
+int32_t det_sigma_at(const scan_ctx_t *s, int32_t v);
+
+void det_band_noise(scan_ctx_t *s, uint32_t *hist, int32_t v_top);
+
+int32_t det_h_min_at(const negobs_detect_config_t *cfg, int32_t range_mm);
+
+void det_model_point(const scan_ctx_t *s, int32_t u, int32_t v,
+                     int32_t dg_q4, int32_t *range_mm, int32_t *lat_mm,
+                     int32_t *depth_mm);
+
+int det_in_corridor(const scan_ctx_t *s, int32_t uc, int32_t dg_q4);
+
+int32_t det_strip_u0(const negobs_detect_config_t *cfg, int32_t n_strips,
+                     int32_t si);
+
+int det_strip_in_corridor(const scan_ctx_t *s, int32_t n_strips,
+                          int32_t si, int32_t v);
+
+void det_scan_strip(const scan_ctx_t *s, int32_t u0, int32_t u1,
+                    strip_hit_t *hit);
+
+int det_strip_row_e(const scan_ctx_t *s, const detect_priv_t *p,
+                    int32_t v, int32_t si, int32_t *rr, int32_t *e_out);
+
+void det_strip_noise(scan_ctx_t *s, detect_priv_t *p, uint16_t *hist);
+
+int32_t det_strip_sigma_at(const scan_ctx_t *s, int32_t v,
+                           int32_t *offset_q8);
+
+void det_vouch_collect(const scan_ctx_t *s, detect_priv_t *p);
+
+int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
+                       int32_t first_row, int candidates, uint32_t *cause);
+
+int det_vouch_candidate(const scan_ctx_t *s, const detect_priv_t *p,
+                        const negobs_hazard_t *hz);
+
+void det_verdict(const negobs_detect_config_t *cfg,
+                 negobs_detect_result_t *res, uint32_t reasons,
+                 int32_t walk_to, uint32_t walk_cause);
+
+void det_merge_strips(const scan_ctx_t *s, detect_priv_t *p,
+                      negobs_detect_result_t *res);
+
+void det_near_candidate_note(detect_priv_t *p,
+                             const negobs_detect_config_t *cfg,
+                             const negobs_detect_result_t *res,
+                             uint32_t now_ms);
+
+int det_ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
+                    const scan_ctx_t *s, const gfit_out_t *g,
+                    uint32_t now_ms, negobs_hazard_t *hz,
+                    int *unverified);
+
+void det_ground_ref_follow(detect_priv_t *p,
+                           const negobs_detect_config_t *cfg,
+                           const gfit_out_t *g, int unverified);
+
+#endif /* NEGOBS_DETECT_INTERNAL_H */

@@ -1,0 +1,336 @@
+/* The vouched range (clear_to_mm, short_sight) and the frame's verdict
+ * (docs/DETECTION.md section 10). */
+#include "detect_internal.h"
+
+/*
+ * The vouched range (docs/DETECTION.md, "Verdicts and the vouched range").
+ *
+ * The minimum drop of the definitions: 5 cm within 1.5 m, 10 cm beyond.
+ * Fixed here, not configured: a preset may make the rule more sensitive,
+ * but never changes what counts as a false vouch.
+ */
+#define VOUCH_H_NEAR_MM 50
+#define VOUCH_H_FAR_MM 100
+#define VOUCH_NEAR_RANGE_MM 1500
+/* A run of rows whose strip median cannot vote (fewer than a quarter of
+ * the strip's pixels matched) ends a strip's support when it spans at
+ * least VOUCH_GAP_ROWS rows and VOUCH_GAP_MM of floor. The rule itself
+ * skips up to 2 such rows inside a deficit run, so shorter runs cost it
+ * nothing; 100 mm is the width of a shoe: an unseen stretch narrower than
+ * that cannot take a foot, a wider one may hide a hole. */
+#define VOUCH_GAP_ROWS 3
+#define VOUCH_GAP_MM 100
+/* A cell (one strip, one band) with fewer seen rows than this has too
+ * few values for a spread of its own; the band's pooled values stand. */
+#define VOUCH_CELL_MIN 4
+
+static inline int32_t vouch_h_mm(int32_t range_mm)
+{
+    return (range_mm <= VOUCH_NEAR_RANGE_MM) ? VOUCH_H_NEAR_MM
+                                             : VOUCH_H_FAR_MM;
+}
+
+static inline int32_t band_of(const scan_ctx_t *s, int32_t v)
+{
+    return negobs_clamp_s32((v - s->band_v0) / s->band_rows, 0,
+                            NOISE_BANDS - 1);
+}
+
+/* Floor distance of the ground model at (u, v). */
+static inline int32_t model_range_mm(const scan_ctx_t *s, int32_t u,
+                                     int32_t v)
+{
+    int32_t r = 0;
+    det_model_point(s, u, v, negobs_ground_disp_q4(s->plane, u, v), &r, NULL,
+                    NULL);
+    return r;
+}
+
+/*
+ * Pass over every corridor strip from the bottom row up to the row of
+ * range_max: the cells' statistics (seen rows, sum of e, sum of |e - the
+ * band's median|; e clamped to +-2 px like det_strip_noise's histogram,
+ * so one wild row weighs as a 2 px error, not as infinity) and each
+ * strip's support limit sup_v. Rows past a closure (wall, up-step) are not
+ * read. Runs after det_strip_noise (the band medians) and det_merge_strips
+ * (rows past a reported drop's edge are compared with its plateau,
+ * det_strip_row_e).
+ */
+void det_vouch_collect(const scan_ctx_t *s, detect_priv_t *p)
+{
+    const negobs_detect_config_t *cfg = s->cfg;
+    int32_t rr[MAX_STRIP_PX];
+    int32_t si;
+    memset(p->cells, 0,
+           (size_t)p->n_strips * NOISE_BANDS * sizeof(vouch_cell_t));
+    for (si = 0; si < p->n_strips; si++) {
+        strip_hit_t *hs = &p->hits[si];
+        vouch_cell_t *c = p->cells + (size_t)si * NOISE_BANDS;
+        int32_t uc = det_strip_u0(cfg, p->n_strips, si) + cfg->strip_px / 2;
+        int32_t last_seen = cfg->cam.height - 1;
+        int32_t run = 0;
+        int32_t v;
+        hs->sup_v = s->band_v0;
+        for (v = cfg->cam.height - 1; v >= s->band_v0; v--) {
+            int32_t e;
+            if (v <= hs->blocked_v) {
+                hs->sup_v = v + 1;
+                break;
+            }
+            if (!det_strip_in_corridor(s, p->n_strips, si, v)) {
+                continue;
+            }
+            if (det_strip_row_e(s, p, v, si, rr, &e)) {
+                int32_t b = band_of(s, v);
+                int32_t med_q5 = s->band_bias_q8[b] / 8;
+                e = negobs_clamp_s32(e, -STRIP_BINS / 2, STRIP_BINS / 2);
+                c[b].n++;
+                c[b].sum += e;
+                c[b].sum_abs += negobs_abs_s32(e - med_q5);
+                last_seen = v;
+                run = 0;
+                continue;
+            }
+            if (++run >= VOUCH_GAP_ROWS &&
+                model_range_mm(s, uc, v) - model_range_mm(s, uc, last_seen) >=
+                    VOUCH_GAP_MM) {
+                hs->sup_v = (run == cfg->cam.height - v) ? cfg->cam.height
+                                                         : last_seen;
+                break;
+            }
+        }
+    }
+}
+
+enum vouch_verdict { VOUCH_OK = 0, VOUCH_NOISE = 1, VOUCH_UNSEEN = 2 };
+
+/*
+ * Can strip si see a minimum drop at row v? The drop's deficit there is
+ * D = d_g * h / (H + h) (h the minimum drop at that range); the rule tests
+ * strip medians, so D must exceed k times their measured spread plus the
+ * ground's offset from the model (either sign: above the model it hides
+ * deficits, below it reads as a drop that is not one). The spread is the
+ * larger of the band's pooled 1.4826 * MAD (det_strip_noise) and the cell's
+ * own mean absolute deviation x 1.2533 (the normal-distribution factor),
+ * which also carries the cell's offset from the band median. The rule's
+ * geometric threshold must stay below the minimum drop, or it never fires
+ * on one, and the per-pixel noise is capped by sigma_max as before.
+ */
+static enum vouch_verdict vouch_cell_ok(const scan_ctx_t *s,
+                                        const detect_priv_t *p, int32_t si,
+                                        int32_t v, int32_t range_mm)
+{
+    const negobs_detect_config_t *cfg = s->cfg;
+    const int32_t b = band_of(s, v);
+    const vouch_cell_t *c = p->cells + (size_t)si * NOISE_BANDS + b;
+    int32_t uc = det_strip_u0(cfg, p->n_strips, si) + cfg->strip_px / 2;
+    int32_t dg = negobs_ground_disp_q4(s->plane, uc, v);
+    int32_t h = vouch_h_mm(range_mm);
+    int32_t h_t = (det_h_min_at(cfg, range_mm) * cfg->h_thresh_pct) / 100;
+    int32_t sig_q8 = s->band_strip_q8[b];
+    int32_t bias_q8 = geom_max_s32(s->band_bias_q8[b], 0);
+    if (sig_q8 <= 0 || c->n <= 0) {
+        return VOUCH_UNSEEN; /* the band or the cell holds no measurement */
+    }
+    if (h_t >= h || det_sigma_at(s, v) > cfg->sigma_max_q4) {
+        return VOUCH_NOISE;
+    }
+    if (c->n >= VOUCH_CELL_MIN) {
+        /* 1/32 px -> 1/256 px: x 8; x 1.2533 = x 1283 / 1024. */
+        int32_t sd_q8 = (int32_t)(((int64_t)c->sum_abs * 8 * 1283) /
+                                  ((int64_t)c->n * 1024));
+        sig_q8 = geom_max_s32(sig_q8, sd_q8);
+        bias_q8 = negobs_abs_s32((c->sum * 8) / c->n);
+    }
+    /* k_q4/16 * sig/256 + bias/256 <= dg/16 * h / (H + h). */
+    if (((int64_t)cfg->k_sigma_q4 * sig_q8 + 16 * (int64_t)bias_q8) *
+            (s->frame->height_mm + h) >
+        (int64_t)dg * h * 256) {
+        return VOUCH_NOISE;
+    }
+    return VOUCH_OK;
+}
+
+/*
+ * Walk outward from the bottom row: a row is vouched when at least half
+ * of its corridor strips can see a minimum drop there (vouch_cell_ok,
+ * within the strip's support) and no min_strips adjacent ones cannot (the
+ * rule reports nothing narrower, so that is the detector's resolution).
+ * Returns the floor distance of the last row of the contiguous vouched
+ * stretch (0: not even the bottom row), and in *cause the reason it
+ * stopped (NOISY or FEW_GROUND; 0 when it reached range_max). Rows above
+ * first_row + 2 were not matched. Fills p->reach_v: how far each strip
+ * alone stays vouched (the local check of a hazard's own strips).
+ */
+int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
+                       int32_t first_row, int candidates, uint32_t *cause)
+{
+    const negobs_detect_config_t *cfg = s->cfg;
+    const int32_t hgt = cfg->cam.height;
+    int32_t walk_v = hgt; /* last vouched row, hgt: none yet */
+    int32_t walking = 1;
+    int32_t si;
+    int32_t v;
+    *cause = 0;
+    for (si = 0; si < p->n_strips; si++) {
+        p->reach_v[si] = hgt;
+    }
+    for (v = hgt - 1; v >= s->band_v0; v--) {
+        int32_t range = model_range_mm(s, cfg->cam.width / 2, v);
+        int32_t n_corr = 0;
+        int32_t n_ok = 0;
+        int32_t bad_run = 0;
+        int32_t max_bad = 0;
+        uint32_t why = 0;
+        int32_t any_alive = 0;
+        for (si = 0; si < p->n_strips; si++) {
+            enum vouch_verdict vd;
+            if (!det_strip_in_corridor(s, p->n_strips, si, v)) {
+                bad_run = 0;
+                if (p->reach_v[si] == v + 1) {
+                    p->reach_v[si] = v; /* outside: nothing to vouch */
+                }
+                continue;
+            }
+            n_corr++;
+            if (v < first_row + 2 || v < p->hits[si].sup_v) {
+                vd = VOUCH_UNSEEN;
+            } else {
+                vd = vouch_cell_ok(s, p, si, v, range);
+            }
+            if (vd == VOUCH_OK) {
+                n_ok++;
+                bad_run = 0;
+                if (p->reach_v[si] == v + 1) {
+                    p->reach_v[si] = v;
+                }
+            } else {
+                why |= (vd == VOUCH_NOISE) ? NEGOBS_DEGRADED_NOISY
+                                           : NEGOBS_DEGRADED_FEW_GROUND;
+                max_bad = geom_max_s32(max_bad, ++bad_run);
+            }
+            any_alive |= p->reach_v[si] == v;
+        }
+        if (walking) {
+            if (n_corr > 0 && 2 * n_ok >= n_corr && max_bad < cfg->min_strips) {
+                walk_v = v;
+            } else {
+                walking = 0;
+                *cause = (why & NEGOBS_DEGRADED_NOISY) != 0u
+                             ? NEGOBS_DEGRADED_NOISY
+                             : NEGOBS_DEGRADED_FEW_GROUND;
+            }
+        }
+        if (!walking && !any_alive) {
+            break;
+        }
+    }
+    /* Noise that stops the walk inside the ground fit's own rows (the
+     * bottom fit_rows_pct) says the model does not describe the rows it
+     * was fitted to: its ranges are not to be trusted either (a fit that
+     * locked onto a 0.95 m / 8 deg line under a 1.2 m / 20 deg camera
+     * vouched for 1.5 m of floor with a 15 cm drop at 1.3 m). A gap in
+     * support there is only unknown ground and ends the walk as usual; so
+     * does noise on a frame with a candidate: a drop found there is what
+     * stops the walk (clear_to_mm is cut at it anyway). */
+    if (*cause == NEGOBS_DEGRADED_NOISY && !candidates &&
+        walk_v > hgt - 1 - (hgt * cfg->fit_rows_pct) / 100) {
+        return 0;
+    }
+    return (walk_v < hgt) ? model_range_mm(s, cfg->cam.width / 2, walk_v)
+                          : 0;
+}
+
+/* The band-pooled test of vouch_cell_ok at row v (no cell): the band's
+ * 1.4826 * MAD of strip medians and its positive offset. Robust to the
+ * few blurred rows just past an edge, which a cell's mean deviation is
+ * not. */
+static int vouch_band_ok(const scan_ctx_t *s, int32_t v, int32_t range_mm)
+{
+    const negobs_detect_config_t *cfg = s->cfg;
+    const int32_t b = band_of(s, v);
+    int32_t h = vouch_h_mm(range_mm);
+    int32_t dg = negobs_ground_disp_q4(s->plane, cfg->cam.width / 2, v);
+    return s->band_strip_q8[b] > 0 &&
+           ((int64_t)cfg->k_sigma_q4 * s->band_strip_q8[b] +
+            16 * (int64_t)geom_max_s32(s->band_bias_q8[b], 0)) *
+                   (s->frame->height_mm + h) <=
+               (int64_t)dg * h * 256;
+}
+
+/* 1 when a candidate's own strips pass the local check around its edge:
+ * at least half of them (and one) can see a minimum drop in the cell one
+ * band nearer than their edge (the ground it stands out from, within
+ * their support), and the band-pooled noise at the edge row allows it.
+ * Noise farther off, or under the feet, does not make a drop in clean
+ * strips unknown. */
+int det_vouch_candidate(const scan_ctx_t *s, const detect_priv_t *p,
+                        const negobs_hazard_t *hz)
+{
+    const int32_t hgt = s->cfg->cam.height;
+    int32_t cnt = 0;
+    int32_t pass = 0;
+    int32_t si;
+    for (si = 0; si < p->n_strips; si++) {
+        const strip_hit_t *sh = &p->hits[si];
+        int32_t uc = (sh->u0 + sh->u1) / 2;
+        int32_t vn;
+        if (!sh->found || !sh->reported || sh->u0 < hz->u0 ||
+            sh->u1 - 1 > hz->u1 || sh->edge_v >= hgt ||
+            sh->edge_v < sh->sup_v) {
+            cnt += sh->found && sh->reported && sh->u0 >= hz->u0 &&
+                   sh->u1 - 1 <= hz->u1;
+            continue;
+        }
+        cnt++;
+        vn = geom_min_s32(sh->edge_v + s->band_rows, hgt - 1);
+        pass += vouch_cell_ok(s, p, si, vn, model_range_mm(s, uc, vn)) ==
+                    VOUCH_OK &&
+                vouch_band_ok(s, sh->edge_v,
+                              model_range_mm(s, uc, sh->edge_v));
+    }
+    return pass > 0 && 2 * pass >= cnt;
+}
+
+/*
+ * The det_verdict (docs/DETECTION.md, "Verdicts and the vouched range"):
+ * clear_to_mm is the vouched walk, cut at the nearest candidate of this
+ * frame (a suspected drop is not vouched past, confirmed or not) and at
+ * the nearest reported hazard. A gating or ground reason is NO_INFO with
+ * clear_to_mm 0; a confirmed or held hazard is HAZARD; a vouched range
+ * below near_min_mm is NO_INFO (with the reason the walk stopped); else
+ * CLEAR, short-sighted below range_warn_mm.
+ */
+void det_verdict(const negobs_detect_config_t *cfg,
+                 negobs_detect_result_t *res, uint32_t reasons,
+                 int32_t walk_to, uint32_t walk_cause)
+{
+    int32_t clear_to = walk_to;
+    uint32_t i;
+    for (i = 0; i < res->n_candidates; i++) {
+        clear_to = geom_min_s32(clear_to,
+                                geom_max_s32(res->candidates[i].range_mm, 0));
+    }
+    for (i = 0; i < res->n_hazards; i++) {
+        clear_to = geom_min_s32(clear_to,
+                                geom_max_s32(res->hazards[i].range_mm, 0));
+    }
+    res->short_sight = 0;
+    if (reasons != 0u) {
+        res->state = NEGOBS_DETECT_NO_INFO;
+        clear_to = 0;
+    } else if (res->n_hazards > 0u) {
+        res->state = NEGOBS_DETECT_HAZARD;
+    } else if (clear_to < cfg->near_min_mm) {
+        res->state = NEGOBS_DETECT_NO_INFO;
+        reasons = (clear_to < walk_to) ? NEGOBS_DEGRADED_NOISY
+                  : (walk_cause != 0u) ? walk_cause
+                                       : NEGOBS_DEGRADED_FEW_GROUND;
+    } else {
+        res->state = NEGOBS_DETECT_CLEAR;
+        res->short_sight = clear_to < cfg->range_warn_mm;
+    }
+    res->clear_to_mm = clear_to;
+    res->noise_vouch_mm = walk_to;
+    res->reasons = reasons;
+}

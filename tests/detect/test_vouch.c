@@ -1,0 +1,309 @@
+/*
+ * The vouched range (clear_to_mm, short_sight) on analytic synthetic maps
+ * (tests/detect/synth.h): rig of the project targets (H = 1.2 m, pitch
+ * 20 deg, f = 250 px at 320x240, B = 120 mm), noise sigma 0.25 px unless
+ * stated. Definitions: docs/DETECTION.md, "Verdicts and the vouched range".
+ */
+#include <math.h>
+
+#include "cmocka_all.h"
+#include "scene_util.h"
+
+static rig_t rig;
+
+static void scene(synth_scene_t *s, double noise, uint32_t seed)
+{
+    synth_flat(s, 1.2, 20.0);
+    s->noise_px = noise;
+    s->seed = seed;
+}
+
+/* Image row of the level floor at forward distance d_m (the scene's true
+ * geometry, roll 0). */
+static int32_t floor_row(const synth_scene_t *s, double d_m)
+{
+    const double d2r = 3.14159265358979323846 / 180.0;
+    double f = rig.cfg.cam.focal_q4 / 16.0;
+    double cy = rig.cfg.cam.cy_q4 / 16.0;
+    return (int32_t)lround(cy + f * tan(atan(s->h_m / d_m) -
+                                        s->pitch_deg * d2r));
+}
+
+/* Forward floor distance (m) seen by image row v (the scene's geometry). */
+static double row_floor_m(const synth_scene_t *s, int32_t v)
+{
+    const double d2r = 3.14159265358979323846 / 180.0;
+    double f = rig.cfg.cam.focal_q4 / 16.0;
+    double cy = rig.cfg.cam.cy_q4 / 16.0;
+    return s->h_m / tan(s->pitch_deg * d2r + atan((v - cy) / f));
+}
+
+/* A textureless patch across the corridor at 2.4-2.8 m (no disparity
+ * there) is unknown there: it limits clear_to_mm to the floor before it,
+ * it does not make the frame NO_INFO. The same patch beside the corridor
+ * changes nothing. */
+static void test_vouch_textureless_patch_limits_the_range(void **state)
+{
+    synth_scene_t s;
+    int i;
+    (void)state;
+    rig_setup(&rig, NULL);
+    for (i = 0; i < 3; i++) {
+        scene(&s, 0.25, (uint32_t)i + 1u);
+        s.inv_u0 = 0;
+        s.inv_u1 = RIG_W;
+        s.inv_v0 = floor_row(&s, 2.8);
+        s.inv_v1 = floor_row(&s, 2.4);
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        print_message("patch rows %d-%d: state %d, clear_to %d mm, short "
+                      "sight %d, reasons %u\n",
+                      s.inv_v0, s.inv_v1, (int)rig.res.state,
+                      rig.res.clear_to_mm, rig.res.short_sight,
+                      rig.res.reasons);
+        assert_int_equal(rig.res.reasons, 0);
+        assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+        assert_int_equal(rig.res.short_sight, 1);
+        assert_true(rig.res.clear_to_mm >= rig.cfg.near_min_mm);
+        assert_true(rig.res.clear_to_mm <= 2400 + 2400 / 20);
+    }
+    for (i = 0; i < 3; i++) {
+        scene(&s, 0.25, (uint32_t)i + 11u);
+        s.inv_u0 = 0;
+        s.inv_u1 = 40; /* far left: outside the 1.2 m corridor there */
+        s.inv_v0 = floor_row(&s, 2.8);
+        s.inv_v1 = floor_row(&s, 2.4);
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+        assert_int_equal(rig.res.short_sight, 0);
+        assert_true(rig.res.clear_to_mm >= rig.cfg.range_warn_mm);
+    }
+    rig_teardown(&rig);
+}
+
+/* A 20 cm drop at 2.2 m while the far field is too noisy to vouch for the
+ * warning range (sigma 0.25 px at 1 m growing to 1.2 px at 5 m): the
+ * drop's own strips pass the local check, so it confirms and is reported
+ * (the frame-wide NOISY this replaces made every such frame NO_INFO, and
+ * its candidates could never start a track). */
+static void test_vouch_drop_in_clean_strips_despite_far_noise(void **state)
+{
+    synth_scene_t s;
+    int i;
+    int hazard_at = -1;
+    (void)state;
+    rig_setup(&rig, NULL);
+    /* the far field alone: short sight */
+    scene(&s, 0.25, 5u);
+    s.noise_far_px = 1.2;
+    assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+    assert_int_equal(rig.res.short_sight, 1);
+    rig_teardown(&rig);
+
+    rig_setup(&rig, NULL);
+    for (i = 0; i < 6; i++) {
+        scene(&s, 0.25, (uint32_t)i + 21u);
+        s.noise_far_px = 1.2;
+        synth_step(&s, 2.2, -0.20);
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        print_message("frame %d: state %d, clear_to %d, candidates %u, "
+                      "hazards %u, reasons %u\n",
+                      i, (int)rig.res.state, rig.res.clear_to_mm,
+                      rig.res.n_candidates, rig.res.n_hazards,
+                      rig.res.reasons);
+        {
+            uint32_t k;
+            for (k = 0; k < rig.res.n_candidates; k++) {
+                print_message("  cand %d mm flags %u type %d\n",
+                              rig.res.candidates[k].range_mm,
+                              rig.res.candidates[k].flags,
+                              (int)rig.res.candidates[k].type);
+            }
+            for (k = 0; k < rig.res.n_hazards; k++) {
+                print_message("  haz %d mm flags %u\n",
+                              rig.res.hazards[k].range_mm,
+                              rig.res.hazards[k].flags);
+            }
+        }
+        assert_true(rig.res.state != NEGOBS_DETECT_CLEAR ||
+                    rig.res.clear_to_mm <= 2200 + 2200 / 10);
+        if (rig.res.state == NEGOBS_DETECT_HAZARD && hazard_at < 0) {
+            hazard_at = i;
+        }
+        if (rig.res.state == NEGOBS_DETECT_HAZARD) {
+            assert_true(rig.res.clear_to_mm <= rig.res.nearest_range_mm ||
+                        rig.res.nearest_range_mm < 0);
+            assert_true(rig.res.clear_to_mm <= rig.res.hazards[0].range_mm);
+        }
+    }
+    /* confirmed by the third or fourth frame (3 of 5; the first frame's
+     * two candidates start two tracks) */
+    assert_true(hazard_at >= 2 && hazard_at <= 3);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_HAZARD);
+    rig_teardown(&rig);
+}
+
+/*
+ * No false vouch on walks at 1.2 m/s (10 fps) towards drops: 5 cm drops
+ * count while their edge is within 1.5 m, 10 cm drops everywhere, as long
+ * as the edge is in view (beyond the floor seen by the bottom row; nearer
+ * ones are the hold logic's). A frame whose clear_to_mm exceeds 1.1x the
+ * edge's floor distance is a false vouch. Plain noise, noise growing with
+ * range, and row-correlated matcher noise.
+ */
+static int walk_false_vouches(double drop_m, double noise_far,
+                              double row_noise, uint32_t seed, int *judged,
+                              int *clear_frames)
+{
+    synth_scene_t s;
+    double edge;
+    int i;
+    int fv = 0;
+    rig_setup(&rig, NULL);
+    for (i = 0, edge = 5.0; edge > 0.4; i++, edge -= 0.12) {
+        double bottom;
+        int counts;
+        scene(&s, 0.25, seed + (uint32_t)i);
+        s.noise_far_px = noise_far;
+        if (row_noise > 0.0) {
+            s.noise_row_px = row_noise;
+            s.noise_row_len_px = 48;
+            s.noise_row_rows = 4;
+        }
+        synth_step(&s, edge, -drop_m);
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        bottom = row_floor_m(&s, RIG_H - 1);
+        counts = edge > bottom && (drop_m >= 0.099 || edge <= 1.5);
+        if (!counts) {
+            continue;
+        }
+        (*judged)++;
+        *clear_frames += rig.res.state == NEGOBS_DETECT_CLEAR;
+        if (rig.res.clear_to_mm > (int32_t)(1.1 * edge * 1000.0)) {
+            print_message("false vouch: %.0f mm drop at %.2f m, state %d, "
+                          "clear_to %d mm\n",
+                          drop_m * 1000.0, edge, (int)rig.res.state,
+                          rig.res.clear_to_mm);
+            fv++;
+        }
+    }
+    rig_teardown(&rig);
+    return fv;
+}
+
+static void test_vouch_no_false_vouch_on_walks(void **state)
+{
+    static const double drops[] = {0.05, 0.10};
+    static const double far[] = {0.0, 0.8, 0.0};
+    static const double row[] = {0.0, 0.0, 0.15};
+    int di;
+    int ni;
+    uint32_t seed;
+    int total = 0;
+    int judged = 0;
+    int clear_frames = 0;
+    (void)state;
+    for (di = 0; di < 2; di++) {
+        for (ni = 0; ni < 3; ni++) {
+            for (seed = 0; seed < 2; seed++) {
+                total += walk_false_vouches(drops[di], far[ni], row[ni],
+                                            100u * seed + 7u, &judged,
+                                            &clear_frames);
+            }
+        }
+    }
+    print_message("false vouches: %d of %d judged frames (%d CLEAR)\n",
+                  total, judged, clear_frames);
+    assert_true(judged > 100);
+    assert_int_equal(total, 0);
+}
+
+/* In HAZARD clear_to_mm is at most the nearest hazard's range; in NO_INFO
+ * it is still reported, and a gating reason makes it 0. */
+static void test_vouch_bounds_by_state(void **state)
+{
+    synth_scene_t s;
+    int i;
+    (void)state;
+    rig_setup(&rig, NULL);
+    for (i = 0; i < 5; i++) {
+        scene(&s, 0.25, (uint32_t)i + 31u);
+        synth_step(&s, 3.0 - 0.1 * i, -0.25);
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        if (rig.res.state == NEGOBS_DETECT_HAZARD) {
+            uint32_t k;
+            for (k = 0; k < rig.res.n_hazards; k++) {
+                assert_true(rig.res.clear_to_mm <= rig.res.hazards[k].range_mm);
+            }
+        }
+        assert_true(rig.res.clear_to_mm <= (int32_t)((3.0 - 0.1 * i) * 1100));
+    }
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_HAZARD);
+    /* unsynced: NO_INFO, clear_to 0 */
+    scene(&s, 0.25, 40u);
+    synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+    rig.now_ms += 100;
+    rig.frame.t_left_ms = rig.now_ms - 40;
+    rig.frame.t_right_ms = rig.now_ms - 10;
+    rig.frame.now_ms = rig.now_ms;
+    assert_int_equal(negobs_detect_process(&rig.det, &rig.frame, &rig.res),
+                     NEGOBS_OK);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+    assert_int_equal(rig.res.clear_to_mm, 0);
+    assert_int_equal(rig.res.short_sight, 0);
+    rig_teardown(&rig);
+    /* the near-zone minimum is a config field with its bounds */
+    {
+        negobs_detect_config_t cfg;
+        size_t bytes = 0;
+        negobs_detect_config_default(&cfg, RIG_W, RIG_H);
+        assert_int_equal(cfg.near_min_mm, 1500);
+        cfg.near_min_mm = -1;
+        assert_int_equal(negobs_detect_workspace_size(&cfg, &bytes),
+                         NEGOBS_ERR_INVAL);
+        cfg.near_min_mm = cfg.range_max_mm + 1;
+        assert_int_equal(negobs_detect_workspace_size(&cfg, &bytes),
+                         NEGOBS_ERR_INVAL);
+    }
+}
+
+/* Noise under the feet (the bottom 40 rows, row-correlated 0.6 px) leaves
+ * less than the near-zone minimum vouched: NO_INFO with NOISY, and
+ * clear_to_mm still reported. The same noise lies in the fit rows, so a
+ * frame's fitted height can also stray from the hint by the start check's
+ * 50 mm: it is then unverified, which is NO_INFO as well and says so. */
+static void test_vouch_noisy_near_field_is_no_info(void **state)
+{
+    synth_scene_t s;
+    int i;
+    (void)state;
+    rig_setup(&rig, NULL);
+    for (i = 0; i < 3; i++) {
+        scene(&s, 0.25, (uint32_t)i + 51u);
+        s.noise_row_px = 0.6;
+        s.noise_row_len_px = 48;
+        s.noise_row_rows = 4;
+        s.noise_row_v0 = RIG_H - 40;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        print_message("near noise: state %d, clear_to %d, reasons %u\n",
+                      (int)rig.res.state, rig.res.clear_to_mm,
+                      rig.res.reasons);
+        assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+        assert_true(rig.res.reasons & (NEGOBS_DEGRADED_NOISY |
+                                       NEGOBS_DEGRADED_GROUND_UNVERIFIED));
+        assert_true(rig.res.clear_to_mm < rig.cfg.near_min_mm);
+    }
+    rig_teardown(&rig);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_vouch_textureless_patch_limits_the_range),
+        cmocka_unit_test(test_vouch_drop_in_clean_strips_despite_far_noise),
+        cmocka_unit_test(test_vouch_no_false_vouch_on_walks),
+        cmocka_unit_test(test_vouch_bounds_by_state),
+        cmocka_unit_test(test_vouch_noisy_near_field_is_no_info),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
