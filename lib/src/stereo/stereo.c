@@ -42,6 +42,7 @@ void negobs_stereo_config_default(negobs_stereo_config_t *cfg, int32_t width,
     cfg->speckle_diff_q4 = 12;
     cfg->adaptive_mean = 1;
     cfg->gap_fill = 64;
+    cfg->memory_profile = NEGOBS_STEREO_PROFILE_DEFAULT;
 }
 
 static negobs_status_t check_config(const negobs_stereo_config_t *c)
@@ -94,6 +95,10 @@ static negobs_status_t check_config(const negobs_stereo_config_t *c)
         c->gap_fill < 0 || c->gap_fill > 1024) {
         return NEGOBS_ERR_INVAL;
     }
+    if (c->memory_profile != NEGOBS_STEREO_PROFILE_COMPACT &&
+        c->memory_profile != NEGOBS_STEREO_PROFILE_FAST) {
+        return NEGOBS_ERR_INVAL;
+    }
     return NEGOBS_OK;
 }
 
@@ -139,6 +144,15 @@ static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c)
         s->tw = tw;
         s->th = th;
         s->q.cap = c->queue_capacity;
+    }
+    if (c->memory_profile == NEGOBS_STEREO_PROFILE_FAST) {
+        int32_t k = (nd < NEGOBS_STEREO_MEMO_LEVELS) ? nd
+                                                     : NEGOBS_STEREO_MEMO_LEVELS;
+        if (s != NULL) {
+            s->memo_k = k;
+        }
+        TAKE(s->memo, uint32_t, spx * (size_t)k);
+        TAKE(s->memo_base, uint8_t, spx);
     }
     TAKE(s->sl, uint16_t, spx);
     TAKE(s->sr, uint16_t, spx);
@@ -235,6 +249,7 @@ negobs_status_t negobs_stereo_init(negobs_stereo_t *ctx,
                                                       : NEGOBS_ERR_NOSPACE;
     }
     s->arena = a; /* kept for the guard check after each frame */
+    stx_memo_clear(s);
     ctx->cfg = *cfg;
     ctx->priv = s;
     return NEGOBS_OK;

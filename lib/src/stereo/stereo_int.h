@@ -109,6 +109,11 @@ typedef struct stx {
     uint8_t *tbits;        /* (v, u, d) triple membership, 1 bit each    */
     stx_queue_t q;
     stx_cache_entry_t *cache; /* direct-mapped, 1 << STX_CACHE_BITS       */
+    /* fast profile: cross-sum memo of the strip (NULL in compact) */
+    uint32_t *memo;        /* (strip pixel, level) -> gen << 21 | sum    */
+    uint8_t *memo_base;    /* strip pixel: first memoised d - dmin       */
+    int32_t memo_k;        /* levels per pixel (0 = no memo)             */
+    uint32_t memo_gen;     /* stamp of the current strip, 1 .. 2047      */
 
     /* elementary low-resolution map and per-tile ranges */
     int32_t lw, lh;        /* low-res size                               */
@@ -331,9 +336,7 @@ static inline uint32_t stx_cross5_simd(const uint8_t *a, ptrdiff_t sa,
     }
     return vaddvq_u32(acc);
 }
-#else
-#define STX_CROSS5_SIMD 0
-#endif
+#endif /* STX_CROSS5_SIMD: defined only where a SIMD form exists */
 
 /* Raw 5x5 cross sum at left (u, yl) and right (ur, yr); both windows
  * inside their images, ur <= u. */
@@ -342,7 +345,7 @@ static inline uint32_t stx_cross5(const negobs_image_u8_t *l, int32_t u, int32_t
 {
     const uint8_t *a = negobs_image_u8_row(l, yl - STX_WIN_R) + u - STX_WIN_R;
     const uint8_t *b = negobs_image_u8_row(r, yr - STX_WIN_R) + ur - STX_WIN_R;
-#if STX_CROSS5_SIMD
+#if defined(STX_CROSS5_SIMD)
     /* the 8-byte loads end at column x + 5: inside the row for both */
     if (u + 5 < l->width && ur + 5 < r->width) {
         return stx_cross5_simd(a, l->stride, b, r->stride);
@@ -377,6 +380,15 @@ static inline int stx_mncc_frac(const stx_t *s, int32_t u, int32_t v, int32_t d,
         s->sr[ir], vr, (uint32_t)s->cfg.texture_min, num2, den);
 }
 
+/* ---- fast profile: cross-sum memo (gcs.c) ------------------------- */
+/* A raw 5x5 cross sum is at most 25 * 255^2 = 1 625 625 < 2^21, so a memo
+ * word holds it in its low 21 bits and the strip's stamp above them:
+ * a word from an earlier strip reads as empty without clearing the table
+ * (which would cost more than the sums it saves). */
+#define STX_MEMO_SUM_BITS 21
+#define STX_MEMO_SUM_MASK ((1u << STX_MEMO_SUM_BITS) - 1u)
+#define STX_MEMO_GEN_MAX ((1u << (32 - STX_MEMO_SUM_BITS)) - 1u)
+
 /* ---- canny.c ---------------------------------------------------------- */
 /* Edge map of strip rows [y0, y1) into s->edge (1 = edge). Returns count. */
 uint32_t stx_canny_strip(stx_t *s, int32_t y0, int32_t y1);
@@ -394,6 +406,8 @@ void stx_tile_range(const stx_t *s, int32_t x, int32_t y, int32_t *lo,
 /* Seeds + growth + stable selection for the current strip; writes integer
  * disparities (or NEGOBS_DISP_INVALID) into rows [y0, y1) of out. */
 void stx_gcs_strip(stx_t *s, negobs_image_s16_t *out);
+/* Fast profile: empty the memo (init) so stamps start afresh. */
+void stx_memo_clear(stx_t *s);
 
 /* ---- dp.c ------------------------------------------------------------- */
 /* Stage 1 of one row (needs the strip statistics of row y). With
