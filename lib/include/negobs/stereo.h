@@ -85,6 +85,13 @@ typedef struct negobs_stereo_config {
     int32_t adaptive_mean; /**< 1: adaptive mean filter (1)              */
     int32_t gap_fill;     /**< row gaps up to this many px filled from
                                their ends, 0 = off, 0..1024 (64)          */
+    int32_t keep_out_of_view; /**< 1: keep the values whose match x - d
+                               falls left of the right image (a dense map;
+                               they are fills or guesses, mostly wrong);
+                               0: they get no value, the right camera never
+                               saw those points (1: the dropped pixels are
+                               counted as errors by the bad1all benchmarks,
+                               docs/DISPARITY.md)                         */
 
     /* memory/speed trade-off; the output does not depend on it */
     int32_t memory_profile; /**< NEGOBS_STEREO_PROFILE_* (see below;
@@ -242,6 +249,12 @@ typedef struct negobs_stereo_stats {
     uint32_t lr_rejected;     /**< pixels dropped by the LR check  */
     uint32_t speckles_removed; /**< pixels dropped as speckles     */
     uint32_t gap_filled;      /**< pixels filled by the gap fill   */
+    uint32_t out_of_view;     /**< values dropped because their match
+                                   lies left of the right image
+                                   (keep_out_of_view 0), summed over
+                                   the drops after the DP and after
+                                   each refinement: a pixel a later
+                                   stage refills counts again        */
     int32_t range_min;        /**< search range used (pixels)      */
     int32_t range_max;
     int32_t vertical_offset;  /**< rows: left y matches right y+off */
