@@ -108,7 +108,7 @@ typedef struct negobs_stereo_config {
 #define NEGOBS_STEREO_PROFILE_COMPACT 0
 /** Adds a per-strip memo of the 5x5 cross sums over a band of up to
  *  NEGOBS_STEREO_MEMO_LEVELS disparities around each tile's coarse range,
- *  so the growth never correlates the same cell twice in a strip:
+ *  so the growth correlates no cell of that band twice in a strip:
  *  strip_rows x width x levels x 4 bytes more (1.3 MB at 320x240x64,
  *  2.6 MB at 640x480x64; <= 4 MB in all at 640x480x64). */
 #define NEGOBS_STEREO_PROFILE_FAST 1

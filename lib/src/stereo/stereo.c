@@ -355,15 +355,6 @@ static void drop_out_of_view(stx_t *s, negobs_image_s16_t *disp_q4)
     }
 }
 
-/* End of a refinement stage: out-of-view drop, clock lap, observer. */
-static void stage_done(stx_t *s, negobs_stereo_stage_t stage,
-                       negobs_image_s16_t *disp_q4)
-{
-    drop_out_of_view(s, disp_q4);
-    stx_lap(s, stage);
-    stx_observe(s, stage, disp_q4);
-}
-
 /* Every stage on the frame as s describes it (s->h rows; the descriptors
  * may be a crop of the caller's images). */
 static void process_frame(stx_t *s, const negobs_image_u8_t *left,
@@ -430,19 +421,27 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
     if (s->cfg.lr_check) {
         stx_lr_check(s, disp_q4, confidence ? confidence->data : NULL,
                      confidence ? confidence->stride : 0);
-        stage_done(s, NEGOBS_STEREO_STAGE_LR, disp_q4);
+        drop_out_of_view(s, disp_q4);
+        stx_lap(s, NEGOBS_STEREO_STAGE_LR);
+        stx_observe(s, NEGOBS_STEREO_STAGE_LR, disp_q4);
     }
     stx_speckle(s, disp_q4);
-    stage_done(s, NEGOBS_STEREO_STAGE_SPECKLE, disp_q4);
+    drop_out_of_view(s, disp_q4);
+    stx_lap(s, NEGOBS_STEREO_STAGE_SPECKLE);
+    stx_observe(s, NEGOBS_STEREO_STAGE_SPECKLE, disp_q4);
     if (s->cfg.gap_fill > 0) {
         stx_gap_fill(s, disp_q4, confidence ? confidence->data : NULL,
                      confidence ? confidence->stride : 0);
-        stage_done(s, NEGOBS_STEREO_STAGE_GAP_FILL, disp_q4);
+        drop_out_of_view(s, disp_q4);
+        stx_lap(s, NEGOBS_STEREO_STAGE_GAP_FILL);
+        stx_observe(s, NEGOBS_STEREO_STAGE_GAP_FILL, disp_q4);
     }
     if (s->cfg.adaptive_mean) {
         stx_adaptive_mean(s, disp_q4, confidence ? confidence->data : NULL,
                           confidence ? confidence->stride : 0);
-        stage_done(s, NEGOBS_STEREO_STAGE_MEAN, disp_q4);
+        drop_out_of_view(s, disp_q4);
+        stx_lap(s, NEGOBS_STEREO_STAGE_MEAN);
+        stx_observe(s, NEGOBS_STEREO_STAGE_MEAN, disp_q4);
     }
     for (y = 0; y < s->h; y++) {
         const int16_t *row = negobs_image_s16_row(disp_q4, y);
