@@ -96,6 +96,9 @@ const char *const kHelp =
     "                    maps (TURBO over 0..max_disp, black = no value)\n"
     "  --pictures-format png|jpg   (default png)\n"
     "  --pictures-width N          shrink wider pictures to N px (1600)\n"
+    "  --drop-out-of-view  negobs drops the values whose match falls left\n"
+    "                    of the right image (keep_out_of_view = 0; the\n"
+    "                    default keeps them, as the library does)\n"
     "  --check MAXBAD1 MINDENSITY\n"
     "                    regression guard: fail unless, on every selected\n"
     "                    set, negobs bad1 <= MAXBAD1 and density >=\n"
@@ -369,6 +372,7 @@ struct Options {
     std::string pictures_ext = "png";
     int pictures_width = 1600;
     bool check = false;
+    bool drop_oov = false; // --drop-out-of-view: keep_out_of_view = 0
     double check_bad1 = 0, check_density = 0;
     std::string command_line;
 };
@@ -411,7 +415,8 @@ int run_negobs(const Options &opt, const SetSpec &spec, const cv::Mat &left,
     }
     std::string err;
     negobs_tools::NegobsMatcher nm;
-    if (!nm.init(left.cols, left.rows, res.range, err)) {
+    if (!nm.init(left.cols, left.rows, res.range, err, -1,
+                 opt.drop_oov ? 0 : -1)) {
         std::fprintf(stderr, "negobs_eval: %s: %s\n", spec.name.c_str(),
                      err.c_str());
         return EXIT_LIBRARY;
@@ -437,7 +442,8 @@ int run_negobs(const Options &opt, const SetSpec &spec, const cv::Mat &left,
         // costs (bad1). One untimed run.
         negobs_tools::NegobsMatcher raw;
         cv::Mat q4r, confr;
-        if (raw.init(left.cols, left.rows, res.range, err, 0) &&
+        if (raw.init(left.cols, left.rows, res.range, err, 0,
+                     opt.drop_oov ? 0 : -1) &&
             raw.process(left, right, q4r, confr, err)) {
             cv::Mat dr, vr;
             negobs_tools::negobs_q4_to_float(q4r, dr, vr);
@@ -449,7 +455,8 @@ int run_negobs(const Options &opt, const SetSpec &spec, const cv::Mat &left,
         // The map after every stage, to show what each one adds and costs.
         negobs_tools::NegobsMatcher staged;
         cv::Mat q4s, confs;
-        if (staged.init(left.cols, left.rows, res.range, err)) {
+        if (staged.init(left.cols, left.rows, res.range, err, -1,
+                        opt.drop_oov ? 0 : -1)) {
             staged.keep_stages(true);
             if (staged.process(left, right, q4s, confs, err)) {
                 for (const auto &sn : staged.stages()) {
@@ -1196,6 +1203,8 @@ int run(int argc, char **argv)
                 opt.repeat = static_cast<int>(r);
                 opt.repeat_given = true;
             }
+        } else if (a == "--drop-out-of-view") {
+            opt.drop_oov = true;
         } else if (a == "--check") {
             if (!need(2))
                 return EXIT_USAGE;

@@ -72,6 +72,9 @@ const char *const kHelp =
     "                 row and column slopes; negobs/valign.h) and resample\n"
     "                 RIGHT to LEFT's rows before matching: for pairs that\n"
     "                 are not rectified (e.g. the SurDis wearable)\n"
+    "  --dense        keep the values whose match falls left of the right\n"
+    "                 image (the library's default); without it they get\n"
+    "                 no value: the right camera never saw those points\n"
     "  --stats        print the engine statistics and timing (total and per\n"
     "                 stage, thread CPU time) to stderr\n"
     "  --stages FILE  also write one picture of the map after every stage\n"
@@ -215,6 +218,7 @@ int run(int argc, char **argv)
     std::string stages_path;
     bool stats = false;
     bool align = false;
+    bool dense = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "-h" || a == "--help") {
@@ -255,6 +259,8 @@ int run(int argc, char **argv)
             stats = true;
         } else if (a == "--align") {
             align = true;
+        } else if (a == "--dense") {
+            dense = true;
         } else if (a.size() > 1 && a[0] == '-') {
             std::fprintf(stderr, "negobs_stereo: unknown option '%s' (see "
                                  "--help)\n",
@@ -325,7 +331,7 @@ int run(int argc, char **argv)
     }
 
     negobs_tools::NegobsMatcher m;
-    if (!m.init(left.cols, left.rows, range, err)) {
+    if (!m.init(left.cols, left.rows, range, err, -1, dense ? 1 : 0)) {
         std::fprintf(stderr, "negobs_stereo: %s (size %dx%d, range %d..%d)\n",
                      err.c_str(), left.cols, left.rows, range.min_disp,
                      range.max_disp);

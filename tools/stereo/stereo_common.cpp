@@ -128,7 +128,8 @@ static std::string status_text(const char *what, negobs_status_t st)
 }
 
 bool NegobsMatcher::init(int width, int height, const Range &r,
-                         std::string &err, int gap_fill)
+                         std::string &err, int gap_fill,
+                         int keep_out_of_view)
 {
     impl_.reset(new Impl());
     std::memset(&impl_->ctx, 0, sizeof impl_->ctx);
@@ -139,6 +140,9 @@ bool NegobsMatcher::init(int width, int height, const Range &r,
     cfg.max_disp = r.max_disp;
     if (gap_fill >= 0) {
         cfg.gap_fill = gap_fill;
+    }
+    if (keep_out_of_view >= 0) {
+        cfg.keep_out_of_view = keep_out_of_view;
     }
     size_t bytes = 0;
     negobs_status_t st = negobs_stereo_workspace_size(&cfg, &bytes);

@@ -50,10 +50,12 @@ public:
     NegobsMatcher &operator=(const NegobsMatcher &) = delete;
 
     // Configures for width x height and the range. On failure returns
-    // false and sets err (library status text included). gap_fill >= 0
+    // false and sets err (library status text included). keep_out_of_view
+    // >= 0 overrides the engine's (1: a dense map, values whose match
+    // falls left of the right image kept). gap_fill >= 0
     // overrides the engine's row gap fill (0 = off; -1: its default).
     bool init(int width, int height, const Range &r, std::string &err,
-              int gap_fill = -1);
+              int gap_fill = -1, int keep_out_of_view = -1);
 
     // Runs the engine. disp_q4 becomes CV_16SC1 (disparity * 16 or
     // NEGOBS_DISP_INVALID), confidence CV_8UC1. Both inputs 8-bit grey of

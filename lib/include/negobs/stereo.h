@@ -85,7 +85,44 @@ typedef struct negobs_stereo_config {
     int32_t adaptive_mean; /**< 1: adaptive mean filter (1)              */
     int32_t gap_fill;     /**< row gaps up to this many px filled from
                                their ends, 0 = off, 0..1024 (64)          */
+    int32_t keep_out_of_view; /**< 1: keep the values whose match x - d
+                               falls left of the right image (a dense map;
+                               they are fills or guesses, mostly wrong);
+                               0: they get no value, the right camera never
+                               saw those points (1: the dropped pixels are
+                               counted as errors by the bad1all benchmarks,
+                               docs/DISPARITY.md)                         */
+
+    /* memory/speed trade-off; the output does not depend on it */
+    int32_t memory_profile; /**< NEGOBS_STEREO_PROFILE_* (see below;
+                                 NEGOBS_STEREO_PROFILE_DEFAULT)          */
 } negobs_stereo_config_t;
+
+/*
+ * Memory profiles (negobs_stereo_config_t.memory_profile). Both give the
+ * same disparities, confidences and statistics, bit for bit; they differ in
+ * workspace and instructions only (docs/DISPARITY.md, "Memory profiles").
+ */
+/** Today's strip-sized workspace: <= 512 KB at 320x240 with 64
+ *  disparities. For microcontrollers (Cortex-M7 SRAM). */
+#define NEGOBS_STEREO_PROFILE_COMPACT 0
+/** Adds a per-strip memo of the 5x5 cross sums over a band of up to
+ *  NEGOBS_STEREO_MEMO_LEVELS disparities around each tile's coarse range,
+ *  so the growth correlates no cell of that band twice in a strip:
+ *  strip_rows x width x levels x 4 bytes more (1.3 MB at 320x240x64,
+ *  2.6 MB at 640x480x64; <= 4 MB in all at 640x480x64). */
+#define NEGOBS_STEREO_PROFILE_FAST 1
+/** Width of the fast profile's memo band (disparity levels). */
+#define NEGOBS_STEREO_MEMO_LEVELS 32
+/** The profile negobs_stereo_config_default() picks: compact on every
+ *  target for now. The fast profile's memo saves only about 3 % of the
+ *  instructions where the cross sum has SIMD (SSE2, NEON) and 10 % in plain
+ *  C, and at 640x480 and up it would not fit the static pipeline workspace
+ *  negobs_run carves (2.5 MB). Linux callers that have the memory set
+ *  memory_profile, or build with -DNEGOBS_STEREO_PROFILE_DEFAULT=1. */
+#ifndef NEGOBS_STEREO_PROFILE_DEFAULT
+#define NEGOBS_STEREO_PROFILE_DEFAULT NEGOBS_STEREO_PROFILE_COMPACT
+#endif
 
 /** Largest disparity range (max_disp - min_disp + 1). */
 #define NEGOBS_STEREO_MAX_RANGE 256
@@ -117,11 +154,11 @@ typedef struct negobs_stereo_config {
  * Constant-expression upper bound of negobs_stereo_workspace_size() for a
  * w x h frame searched over [0, dmax] (or any narrower range), valid for
  * configs with strip_rows <= 32, queue_capacity <= 8192 and
- * speckle_size <= 256 (the defaults are inside). Includes debug guards and
- * alignment slack. Use it to size a static workspace; the unit tests check
+ * speckle_size <= 256 (the defaults are inside), compact profile.
+ * Includes debug guards and alignment slack. Use it to size a static workspace; the unit tests check
  * it against the exact query over a grid of sizes.
  */
-#define NEGOBS_STEREO_WORKSPACE_MAX(w, h, dmax)                              \
+#define NEGOBS_STEREO_WORKSPACE_MAX_COMPACT(w, h, dmax)                              \
     ((size_t)(w) * 36u * 22u +                                               \
      (size_t)(w) * 32u * (((size_t)(dmax) + 1u) / 8u + 2u) +                 \
      (size_t)8192u * 8u + 257u * 4u + 2048u * 12u +                          \
@@ -132,6 +169,23 @@ typedef struct negobs_stereo_config {
      (size_t)(h) * ((size_t)(dmax) + 4u) +                                   \
      ((size_t)(w) + (size_t)(h) + 16u) * 4u +                                \
      (size_t)(w) * (size_t)(h) / 4u + 257u * 4u + 8192u)
+
+/** The same bound for the fast profile: the compact one plus the memo
+ *  (strip_rows x w x NEGOBS_STEREO_MEMO_LEVELS words and a byte per strip
+ *  pixel) with its guards and alignment. */
+#define NEGOBS_STEREO_WORKSPACE_MAX_FAST(w, h, dmax)                         \
+    (NEGOBS_STEREO_WORKSPACE_MAX_COMPACT(w, h, dmax) +                       \
+     (size_t)(w) * 32u * (4u * NEGOBS_STEREO_MEMO_LEVELS + 1u) + 128u)
+
+/** The bound for the profile negobs_stereo_config_default() picks
+ *  (NEGOBS_STEREO_PROFILE_DEFAULT). */
+#if NEGOBS_STEREO_PROFILE_DEFAULT == NEGOBS_STEREO_PROFILE_FAST
+#define NEGOBS_STEREO_WORKSPACE_MAX(w, h, dmax)                              \
+    NEGOBS_STEREO_WORKSPACE_MAX_FAST(w, h, dmax)
+#else
+#define NEGOBS_STEREO_WORKSPACE_MAX(w, h, dmax)                              \
+    NEGOBS_STEREO_WORKSPACE_MAX_COMPACT(w, h, dmax)
+#endif
 
 /**
  * Stages timed by the optional profiling clock (negobs_stereo_set_clock).
@@ -193,6 +247,12 @@ typedef struct negobs_stereo_stats {
     uint32_t lr_rejected;     /**< pixels dropped by the LR check  */
     uint32_t speckles_removed; /**< pixels dropped as speckles     */
     uint32_t gap_filled;      /**< pixels filled by the gap fill   */
+    uint32_t out_of_view;     /**< values dropped because their match
+                                   lies left of the right image
+                                   (keep_out_of_view 0), summed over
+                                   the drops after the DP and after
+                                   each refinement: a pixel a later
+                                   stage refills counts again        */
     int32_t range_min;        /**< search range used (pixels)      */
     int32_t range_max;
     int32_t vertical_offset;  /**< rows: left y matches right y+off */

@@ -357,7 +357,7 @@ static void score3(stx_t *s, int32_t x, int32_t y, int32_t d, int32_t c[3])
         }
         b = negobs_image_u8_row(s->right, y + s->voff - STX_WIN_R) + ur -
             STX_WIN_R;
-#if STX_CROSS5_SIMD
+#if defined(STX_CROSS5_SIMD)
         xs = (x + 5 < w) ? stx_cross5_simd(a, s->left->stride, b,
                                            s->right->stride)
                          : stx_cross5_ref(a, s->left->stride, b,

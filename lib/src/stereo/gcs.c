@@ -124,7 +124,10 @@ static int try_accept(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t c)
  * of the cell whose table bit the growth loop already has: the table and
  * tau are tested before the division, which most growth candidates never
  * need. Same decisions as try_accept(stx_frac_q14()). */
-static int try_accept_frac(stx_t *s, int32_t u, int32_t v, int32_t d,
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+static inline int try_accept_frac(stx_t *s, int32_t u, int32_t v, int32_t d,
                            int32_t num2, int32_t den, size_t bit)
 {
     int32_t c;
@@ -174,6 +177,9 @@ typedef struct grow_env {
     const uint32_t *vl, *vr;
     const uint8_t *tbits;
     stx_cache_entry_t *cache;
+    uint32_t *memo;          /* NULL: compact profile                  */
+    const uint8_t *memo_base;
+    uint32_t memo_k, memo_tag; /* tag: the strip's stamp << 21         */
     ptrdiff_t ls, rs;
     nb_off_t nb[16];
     /* popped cell */
@@ -188,7 +194,7 @@ typedef struct grow_env {
  * or -1 (no member scored, or the set cannot accept anything). Inline with
  * literal bounds at each call, so the compiler unrolls the set. */
 static inline int set_best(const grow_env_t *g, int first, int end,
-                           int32_t *bn_out, int32_t *bden_out,
+                           int use_memo, int32_t *bn_out, int32_t *bden_out,
                            uint32_t *visited)
 {
     int32_t bn = 0;
@@ -251,15 +257,32 @@ static inline int set_best(const grow_env_t *g, int first, int end,
                     const uint8_t *b =
                         g->rb + o->rp - STX_WIN_R * g->rs - STX_WIN_R;
                     uint32_t x;
-#if STX_CROSS5_SIMD
-                    /* the 8-byte loads end at column qu + 5 (the right one
-                     * at qur + 5 <= qu + 5) */
-                    x = (g->interior || qu + 5 < g->w)
-                            ? stx_cross5_simd(a, g->ls, b, g->rs)
-                            : stx_cross5_ref(a, g->ls, b, g->rs);
+                    uint32_t *mw = NULL;
+                    if (use_memo) {
+                        uint32_t k = (uint32_t)(g->dr + o->dd) -
+                                     (uint32_t)g->memo_base[il];
+                        if (k < g->memo_k) {
+                            mw = g->memo + il * (ptrdiff_t)g->memo_k +
+                                 (ptrdiff_t)k;
+                        }
+                    }
+                    if (use_memo && mw != NULL &&
+                        (*mw & ~STX_MEMO_SUM_MASK) == g->memo_tag) {
+                        x = *mw & STX_MEMO_SUM_MASK;
+                    } else {
+#if defined(STX_CROSS5_SIMD)
+                        /* the 8-byte loads end at column qu + 5 (the right
+                         * one at qur + 5 <= qu + 5) */
+                        x = (g->interior || qu + 5 < g->w)
+                                ? stx_cross5_simd(a, g->ls, b, g->rs)
+                                : stx_cross5_ref(a, g->ls, b, g->rs);
 #else
-                    x = stx_cross5_ref(a, g->ls, b, g->rs);
+                        x = stx_cross5_ref(a, g->ls, b, g->rs);
 #endif
+                        if (use_memo && mw != NULL) {
+                            *mw = g->memo_tag | x;
+                        }
+                    }
                     ok = stx_mncc_num_den(x, g->sl[il], vl, g->sr[ir], vrr,
                                           g->tex_min, &nn, &dn);
                 }
@@ -287,7 +310,12 @@ static inline int set_best(const grow_env_t *g, int first, int end,
     return bm;
 }
 
-static void grow(stx_t *s)
+/* `use_memo` is a literal at both call sites (grow): forced inline, so the
+ * compact profile's loop carries no memo test and stays today's code. */
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+static inline void grow_run(stx_t *s, int use_memo)
 {
     const int32_t nd = s->ndisp;
     const int32_t dmin = s->dmin;
@@ -310,6 +338,10 @@ static void grow(stx_t *s)
     g.vr = s->vr;
     g.tbits = s->tbits;
     g.cache = s->cache;
+    g.memo = s->memo;
+    g.memo_base = s->memo_base;
+    g.memo_k = (uint32_t)s->memo_k;
+    g.memo_tag = s->memo_gen << STX_MEMO_SUM_BITS;
     g.ls = s->left->stride;
     g.rs = s->right->stride;
     lrow = s->left->data + (ptrdiff_t)s->y0 * g.ls;
@@ -354,13 +386,13 @@ static void grow(stx_t *s)
             int bm;
             /* literal bounds per set (N1, N2: 3 members; N3, N4: 5) */
             if (k == 0) {
-                bm = set_best(&g, 0, 3, &bn, &bden, &visited);
+                bm = set_best(&g, 0, 3, use_memo, &bn, &bden, &visited);
             } else if (k == 1) {
-                bm = set_best(&g, 3, 6, &bn, &bden, &visited);
+                bm = set_best(&g, 3, 6, use_memo, &bn, &bden, &visited);
             } else if (k == 2) {
-                bm = set_best(&g, 6, 11, &bn, &bden, &visited);
+                bm = set_best(&g, 6, 11, use_memo, &bn, &bden, &visited);
             } else {
-                bm = set_best(&g, 11, 16, &bn, &bden, &visited);
+                bm = set_best(&g, 11, 16, use_memo, &bn, &bden, &visited);
             }
             if (bm >= 0 && bden != 0) {
                 (void)try_accept_frac(
@@ -371,6 +403,18 @@ static void grow(stx_t *s)
         }
     }
     s->st.visited_cells += visited;
+}
+
+static void grow_compact(stx_t *s) { grow_run(s, 0); }
+static void grow_fast(stx_t *s) { grow_run(s, 1); }
+
+static void grow(stx_t *s)
+{
+    if (s->memo != NULL) {
+        grow_fast(s);
+    } else {
+        grow_compact(s);
+    }
 }
 
 /* eval(s, u, v, d) for d = lo .. hi into sc[d - lo] (lo, hi inside the
@@ -411,7 +455,7 @@ static void seed_scores(stx_t *s, int32_t u, int32_t v, int32_t lo,
             continue;
         }
         b = rrow + ur - STX_WIN_R;
-#if STX_CROSS5_SIMD
+#if defined(STX_CROSS5_SIMD)
         x = (u + 5 < w) ? stx_cross5_simd(a, ls, b, rs)
                         : stx_cross5_ref(a, ls, b, rs);
 #else
@@ -499,6 +543,47 @@ static void seed_carry(stx_t *s, const negobs_image_s16_t *out)
     }
 }
 
+void stx_memo_clear(stx_t *s)
+{
+    if (s->memo != NULL) {
+        memset(s->memo, 0,
+               (size_t)s->sh * (size_t)s->w * (size_t)s->memo_k *
+                   sizeof *s->memo);
+    }
+    s->memo_gen = 0;
+}
+
+/* Fast profile: a new stamp for the strip and each pixel's memo band,
+ * centred on its tile's coarse range (the cells growth visits cluster
+ * around the surface the 1/4-scale map found). */
+static void memo_strip(stx_t *s)
+{
+    int32_t k = s->memo_k;
+    int32_t top = s->ndisp - k;
+    int32_t v;
+    if (s->memo == NULL) {
+        return;
+    }
+    if (s->memo_gen >= STX_MEMO_GEN_MAX) {
+        stx_memo_clear(s); /* stamps wrapped: every word must read empty */
+    }
+    s->memo_gen++;
+    for (v = s->y0; v < s->y1; v++) {
+        uint8_t *b = s->memo_base + (ptrdiff_t)(v - s->y0) * s->w;
+        int32_t u;
+        for (u = 0; u < s->w; u += s->tile) {
+            int32_t lo;
+            int32_t hi;
+            int32_t n = (u + s->tile < s->w) ? s->tile : s->w - u;
+            stx_tile_range(s, u, v, &lo, &hi);
+            memset(b + u,
+                   (int)negobs_clamp_s32((lo + hi) / 2 - s->dmin - k / 2, 0,
+                                         top),
+                   (size_t)n);
+        }
+    }
+}
+
 void stx_gcs_strip(stx_t *s, negobs_image_s16_t *out)
 {
     int32_t w = s->w;
@@ -517,6 +602,7 @@ void stx_gcs_strip(stx_t *s, negobs_image_s16_t *out)
     memset(s->tbits, 0, (cells * (size_t)s->ndisp + 7u) / 8u);
     stx_queue_reset(&s->q);
     memset(s->cache, 0, sizeof(stx_cache_entry_t) << STX_CACHE_BITS);
+    memo_strip(s);
 
     seed_carry(s, out);
     seed_edges(s);

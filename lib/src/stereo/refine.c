@@ -425,3 +425,26 @@ void stx_adaptive_mean(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
         }
     }
 }
+
+/* A value d at column x puts the match at x - d in the right image; when
+ * that is left of column 0 the right camera never saw the point, and the
+ * value can only come from the gap fill or the mean (or a wrong match):
+ * on the Middlebury sets most of these are wrong. Counted in out_of_view;
+ * the confidence is cleared by the caller's final pass. Only the first
+ * gdmax + 1 columns can hold such a value. */
+void stx_out_of_view(stx_t *s, negobs_image_s16_t *disp)
+{
+    int32_t y;
+    int32_t xend = (s->gdmax + 1 < s->w) ? s->gdmax + 1 : s->w;
+    for (y = 0; y < s->h; y++) {
+        int16_t *row = negobs_image_s16_row(disp, y);
+        int32_t x;
+        for (x = 0; x < xend; x++) {
+            if (row[x] != NEGOBS_DISP_INVALID &&
+                (int32_t)row[x] > x * NEGOBS_DISP_ONE) {
+                row[x] = NEGOBS_DISP_INVALID;
+                s->st.out_of_view++;
+            }
+        }
+    }
+}

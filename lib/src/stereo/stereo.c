@@ -42,6 +42,8 @@ void negobs_stereo_config_default(negobs_stereo_config_t *cfg, int32_t width,
     cfg->speckle_diff_q4 = 12;
     cfg->adaptive_mean = 1;
     cfg->gap_fill = 64;
+    cfg->keep_out_of_view = 1; /* dense: docs/DISPARITY.md, out-of-view */
+    cfg->memory_profile = NEGOBS_STEREO_PROFILE_DEFAULT;
 }
 
 static negobs_status_t check_config(const negobs_stereo_config_t *c)
@@ -91,7 +93,12 @@ static negobs_status_t check_config(const negobs_stereo_config_t *c)
     }
     if (c->speckle_size < 0 || c->speckle_size > 65536 ||
         c->speckle_diff_q4 < 0 || c->speckle_diff_q4 > 4096 ||
-        c->gap_fill < 0 || c->gap_fill > 1024) {
+        c->gap_fill < 0 || c->gap_fill > 1024 || c->keep_out_of_view < 0 ||
+        c->keep_out_of_view > 1) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (c->memory_profile != NEGOBS_STEREO_PROFILE_COMPACT &&
+        c->memory_profile != NEGOBS_STEREO_PROFILE_FAST) {
         return NEGOBS_ERR_INVAL;
     }
     return NEGOBS_OK;
@@ -139,6 +146,15 @@ static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c)
         s->tw = tw;
         s->th = th;
         s->q.cap = c->queue_capacity;
+    }
+    if (c->memory_profile == NEGOBS_STEREO_PROFILE_FAST) {
+        int32_t k = (nd < NEGOBS_STEREO_MEMO_LEVELS) ? nd
+                                                     : NEGOBS_STEREO_MEMO_LEVELS;
+        if (s != NULL) {
+            s->memo_k = k;
+        }
+        TAKE(s->memo, uint32_t, spx * (size_t)k);
+        TAKE(s->memo_base, uint8_t, spx);
     }
     TAKE(s->sl, uint16_t, spx);
     TAKE(s->sr, uint16_t, spx);
@@ -235,6 +251,7 @@ negobs_status_t negobs_stereo_init(negobs_stereo_t *ctx,
                                                       : NEGOBS_ERR_NOSPACE;
     }
     s->arena = a; /* kept for the guard check after each frame */
+    stx_memo_clear(s);
     ctx->cfg = *cfg;
     ctx->priv = s;
     return NEGOBS_OK;
@@ -327,6 +344,17 @@ negobs_status_t negobs_stereo_set_first_row(negobs_stereo_t *ctx,
     return NEGOBS_OK;
 }
 
+/* Unless keep_out_of_view: drop the values whose match lies left of the
+ * right image. Applied after the DP and after every refinement, so no stage
+ * builds on such values and every map the observer sees is what a run
+ * stopping at that stage returns. */
+static void drop_out_of_view(stx_t *s, negobs_image_s16_t *disp_q4)
+{
+    if (!s->cfg.keep_out_of_view) {
+        stx_out_of_view(s, disp_q4);
+    }
+}
+
 /* Every stage on the frame as s describes it (s->h rows; the descriptors
  * may be a crop of the caller's images). */
 static void process_frame(stx_t *s, const negobs_image_u8_t *left,
@@ -387,25 +415,31 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
         }
         stx_lap(s, NEGOBS_STEREO_STAGE_DP);
     }
+    /* (its few ticks go to the next stage: one clock read fewer) */
+    drop_out_of_view(s, disp_q4);
     stx_observe(s, NEGOBS_STEREO_STAGE_DP, disp_q4);
     if (s->cfg.lr_check) {
         stx_lr_check(s, disp_q4, confidence ? confidence->data : NULL,
                      confidence ? confidence->stride : 0);
+        drop_out_of_view(s, disp_q4);
         stx_lap(s, NEGOBS_STEREO_STAGE_LR);
         stx_observe(s, NEGOBS_STEREO_STAGE_LR, disp_q4);
     }
     stx_speckle(s, disp_q4);
+    drop_out_of_view(s, disp_q4);
     stx_lap(s, NEGOBS_STEREO_STAGE_SPECKLE);
     stx_observe(s, NEGOBS_STEREO_STAGE_SPECKLE, disp_q4);
     if (s->cfg.gap_fill > 0) {
         stx_gap_fill(s, disp_q4, confidence ? confidence->data : NULL,
                      confidence ? confidence->stride : 0);
+        drop_out_of_view(s, disp_q4);
         stx_lap(s, NEGOBS_STEREO_STAGE_GAP_FILL);
         stx_observe(s, NEGOBS_STEREO_STAGE_GAP_FILL, disp_q4);
     }
     if (s->cfg.adaptive_mean) {
         stx_adaptive_mean(s, disp_q4, confidence ? confidence->data : NULL,
                           confidence ? confidence->stride : 0);
+        drop_out_of_view(s, disp_q4);
         stx_lap(s, NEGOBS_STEREO_STAGE_MEAN);
         stx_observe(s, NEGOBS_STEREO_STAGE_MEAN, disp_q4);
     }
