@@ -6,6 +6,7 @@
 #include <math.h>
 
 #include "cmocka_all.h"
+#include "detect/detect_int.h"
 #include "scene_util.h"
 
 static rig_t rig;

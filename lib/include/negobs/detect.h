@@ -361,14 +361,6 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
                                       const negobs_detect_frame_t *frame,
                                       negobs_detect_result_t *result);
 
-/**
- * @brief Photometric statistics of an image, sampling every 2nd pixel of
- *        every 2nd row.
- * @return NEGOBS_OK or NEGOBS_ERR_INVAL.
- */
-negobs_status_t negobs_detect_photo_stats(const negobs_image_u8_t *img,
-                                          negobs_photo_stats_t *out);
-
 #ifdef __cplusplus
 }
 #endif

@@ -61,33 +61,10 @@ negobs_status_t negobs_ground_plane_from_pose(const negobs_camera_t *cam,
                                               const negobs_ground_pose_t *pose,
                                               negobs_ground_plane_t *plane);
 
-/**
- * @brief Camera pose (and normal) for a plane: B/H = |(a, b, d0/f)| with
- *        d0 the plane's disparity at the principal point.
- * @param[out] frame may be NULL.
- * @return NEGOBS_OK, NEGOBS_ERR_INVAL (NULL, bad camera) or
- *         NEGOBS_ERR_RANGE (degenerate plane: no ground in front).
- */
-negobs_status_t negobs_ground_pose_from_plane(const negobs_camera_t *cam,
-                                              const negobs_ground_plane_t *plane,
-                                              negobs_ground_pose_t *pose,
-                                              negobs_ground_frame_t *frame);
-
 /** @brief Ground disparity at pixel (u, v) in 1/16 px, rounded, saturated
  *         to int16 range. */
 int32_t negobs_ground_disp_q4(const negobs_ground_plane_t *plane, int32_t u,
                               int32_t v);
-
-/**
- * @brief Forward distance along the floor to a ground point at camera depth
- *        z_mm: D = (Z - H*sin(p)) / cos(p); lateral offset along the floor
- *        X = (n_y*x - n_x*y) / cos(p) with x, y the camera coordinates.
- * @param u_q4, v_q4 pixel (1/16 px); z_mm camera depth of the point.
- */
-void negobs_ground_floor_point(const negobs_camera_t *cam,
-                               const negobs_ground_frame_t *frame,
-                               int32_t u_q4, int32_t v_q4, int32_t z_mm,
-                               int32_t *forward_mm, int32_t *lateral_mm);
 
 #ifdef __cplusplus
 }

@@ -31,6 +31,7 @@
 #include "negobs/stereo.h" /* the confidence scale of the disparity map */
 
 #include "arena.h"
+#include "detect_int.h"
 #include "disp_canny.h"
 #include "geom_internal.h"
 #include "ground_fit.h"

@@ -32,6 +32,7 @@
 
 #include <string.h>
 
+#include "detect_int.h"
 #include "geom_internal.h"
 #include "negobs/fixed.h"
 
