@@ -26,8 +26,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "negobs/detect.h"
 #include "negobs/status.h"
+#include "negobs/verdict.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -135,8 +135,10 @@ negobs_status_t negobs_alert_update(negobs_alert_t *ctx, uint32_t now_ms,
                                     const negobs_alert_input_t *input,
                                     negobs_motor_cmd_t *cmd);
 
+struct negobs_detect_result; /* negobs/detect.h */
+
 /** @brief Verdict from a detector result. */
-void negobs_alert_input_from_result(const negobs_detect_result_t *res,
+void negobs_alert_input_from_result(const struct negobs_detect_result *res,
                                     int32_t battery_low, uint32_t verdict_ms,
                                     negobs_alert_input_t *in);
 
