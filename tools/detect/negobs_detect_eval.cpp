@@ -1,7 +1,7 @@
 // negobs_detect_eval: evaluation of the whole pipeline (stereo -> detect ->
 // alert) on a suite of negobs_synth sequences rendered on the fly, and on
-// the real SurDis sequence 21 (--surdis). Prints the metrics of DOMAIN.md
-// 4.1 and PASS/MISS against the project's targets; --markdown FILE writes
+// the real SurDis sequence 21 (--surdis). Prints the metrics of
+// docs/REQUIREMENTS.md and PASS/MISS against the project's targets; --markdown FILE writes
 // the same tables for docs/DETECTION.md ("Evaluation").
 //
 // Nothing here tunes the detector: every config is the library default

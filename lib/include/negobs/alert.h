@@ -5,7 +5,7 @@
  * cmd.next_change_ms (from a timer that the vision thread cannot starve:
  * without a fresh verdict for stale_ms the output becomes NO_INFO).
  *
- * Patterns (DOMAIN.md 2.2; every pulse >= min_pulse_ms = 80 ms):
+ * Patterns (docs/REQUIREMENTS.md; every pulse >= min_pulse_ms = 80 ms):
  *
  *   READY        2 x (100 on, 100 off), once after init
  *   CAUTION      80 on, 80 off, 80 on, then off; repeated every
