@@ -965,7 +965,7 @@ missing:
                        : 0;
     hit->h_lower = 1;
     hit->margin_q8 = 256;
-    /* DOMAIN step 2: a bland band is "unknown" (nothing to match); a band
+    /* Missing ground: a bland band is "unknown" (nothing to match); a band
      * as textured as the matched ground before it, at least half of its
      * gradient, failed to match where it should have: an occlusion or
      * drop cue. The reference is this frame's own ground, so the split
@@ -1078,7 +1078,7 @@ static void hist_median_spread_q8(const uint16_t *ha, const uint16_t *hb,
  * 1.25 * sigma / sqrt(strip_px) assumes independent pixels; matcher errors
  * are not (5x5 windows, DP along rows, calibration residue), and on the
  * real SurDis pair the strip median spreads 0.2-0.4 px where that formula
- * says 0.16 (docs/DETECTION.md 12.4 item 6). So it is measured: for every
+ * says 0.16 (docs/journal/detection-findings.md, item 6). So it is measured: for every
  * row of each band and every strip whose centre is in the corridor,
  * e = strip median of (d - d_g). Per band: the median of e (the ground
  * model's offset there) and sigma = 1.4826 * MAD(e) about it (the

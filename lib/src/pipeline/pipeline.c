@@ -24,12 +24,10 @@ void negobs_pipeline_config_default(negobs_pipeline_config_t *cfg,
     negobs_detect_config_default(&cfg->detect, width, height);
     negobs_alert_config_default(&cfg->alert);
     cfg->detect.max_disp_q4 = (cfg->stereo.max_disp + 1) * NEGOBS_DISP_ONE;
-    /* For drop detection a missing match is safer than a carried one. The
-     * matcher's own defaults are tuned for dense Middlebury maps (texture
-     * floor 100, growing tau 0.5); on the synthetic suite they let faint,
-     * weakly correlated windows grow across bland paint and patches, and
-     * two flat walks raised 1.5 m "holes" held as IMMINENT for 2-3 s. The
-     * pipeline keeps the stricter floor and tau (DETECTION.md 12.4). */
+    /* For drop detection a missing match is safer than a carried one: the
+     * matcher's defaults (floor 100, tau 0.5) are tuned for dense maps and
+     * let weak windows grow across bland paint into false holes. Measured
+     * reasons: docs/decisions/0001-pipeline-strict-matcher.md. */
     cfg->stereo.texture_min = 2500;
     cfg->stereo.ncc_tau_q14 = 9830; /* 0.6 */
     cfg->stereo_roi = 1;
