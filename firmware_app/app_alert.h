@@ -1,6 +1,6 @@
 /*
  * negobs_run's motor patterns: the library's alert state machine
- * (negobs/alert.h, DOMAIN.md 2.2) handed to the port's motor thread
+ * (negobs/alert.h, docs/REQUIREMENTS.md) handed to the port's motor thread
  * (negobs_port/alert.h).
  *
  * The library decides what the motor does at every millisecond from the

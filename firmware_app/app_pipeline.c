@@ -307,8 +307,8 @@ app_verdict_t app_process_pair_at(app_pipeline_t *p,
         fr.t_right_ms = t_right_ms;
         fr.now_ms = now_ms;
         /* set on every pair: lib_setup may have initialised it again */
-        (void)negobs_stereo_set_clock(&lib_pipe.stereo, p->clock_ns,
-                                      p->clock_user);
+        (void)negobs_pipeline_set_clock(&lib_pipe, p->clock_ns,
+                                        p->clock_user);
         if (negobs_pipeline_process(&lib_pipe, &fr, &res) != NEGOBS_OK) {
             st->reason = APP_REASON_BAD_INPUT;
             return APP_VERDICT_NO_INFO;

@@ -139,7 +139,7 @@ app_verdict_t app_process_pair(app_pipeline_t *p,
                                const negobs_image_u8_t *right);
 
 /**
- * @brief Real-time guard (DOMAIN.md: latency budget), applied once the
+ * @brief Real-time guard (docs/REQUIREMENTS.md: latency), applied once the
  * verdict of a pair is known. A "clear" says the path was clear when the
  * pair was captured; if that was more than cfg.latency_budget_ms ago (a
  * processor that cannot keep up: slow part, thermal throttling, an

@@ -1,5 +1,7 @@
 #include "negobs/boxsum.h"
 
+#include "integral.h"
+
 #include <string.h>
 
 negobs_status_t negobs_integral_u8(const negobs_image_u8_t *img,

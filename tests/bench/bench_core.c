@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <time.h>
 
+#include "integral.h"
 #include "negobs/negobs.h"
 
 static uint8_t img_buf[480 * 640];

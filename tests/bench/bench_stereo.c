@@ -8,7 +8,7 @@
  *    of the queue bound and the DP band on the worst case is visible;
  *  - detection time as a share of the disparity time (target < 15 %);
  *  - Middlebury Cones (450x375, range 0-63) from $NEGOBS_DATA when present;
- *  - the time of every matcher stage (negobs_stereo_set_clock) on the
+ *  - the time of every matcher stage (negobs_pipeline_set_clock) on the
  *    typical frame and on Cones.
  * `bench_stereo --once` runs one QVGA frame only (for callgrind).
  */
@@ -78,7 +78,8 @@ static void *aligned(size_t bytes, void **raw)
     return (void *)(((uintptr_t)*raw + 15u) & ~(uintptr_t)15u);
 }
 
-/* Best-of-REPS time of the stereo and detect stages on one pair. */
+/* Best-of-REPS time of the stereo and detect stages on one pair, from the
+ * pipeline's stage clock. */
 static int measure(int32_t w, int32_t h, int32_t max_disp, int reps,
                    figures_t *fig)
 {
@@ -86,8 +87,8 @@ static int measure(int32_t w, int32_t h, int32_t max_disp, int reps,
     negobs_pipeline_t *ctx = malloc(sizeof *ctx);
     negobs_image_u8_t l = {lpx, w, h, w};
     negobs_image_u8_t r = {rpx, w, h, w};
-    negobs_detect_frame_t df;
-    negobs_detect_result_t res;
+    negobs_pipeline_frame_t fr;
+    negobs_pipeline_result_t res;
     size_t bytes = 0;
     void *raw;
     void *ws;
@@ -96,6 +97,8 @@ static int measure(int32_t w, int32_t h, int32_t max_disp, int reps,
     negobs_pipeline_config_default(&cfg, w, h);
     cfg.stereo.max_disp = max_disp;
     cfg.detect.max_disp_q4 = (max_disp + 1) * 16;
+    /* every rep matches the whole frame, as the figures always did */
+    cfg.stereo_roi = 0;
     if (ctx == NULL || negobs_pipeline_workspace_size(&cfg, &bytes) != NEGOBS_OK) {
         return -1;
     }
@@ -103,7 +106,7 @@ static int measure(int32_t w, int32_t h, int32_t max_disp, int reps,
     if (negobs_pipeline_init(ctx, &cfg, ws, bytes) != NEGOBS_OK) {
         return -1;
     }
-    (void)negobs_stereo_set_clock(&ctx->stereo, clock_ns, NULL);
+    (void)negobs_pipeline_set_clock(ctx, clock_ns, NULL);
     fig->stereo_ms = 1e30;
     fig->detect_ms = 1e30;
     for (i = 0; i < NEGOBS_STEREO_STAGE_COUNT; i++) {
@@ -111,30 +114,27 @@ static int measure(int32_t w, int32_t h, int32_t max_disp, int reps,
     }
     for (i = 0; i < reps; i++) {
         int k;
-        double t0 = now_ms();
-        double t1;
-        double t2;
-        if (negobs_stereo_process(&ctx->stereo, &l, &r, &ctx->disp_q4,
-                                  &ctx->confidence, &fig->st) != NEGOBS_OK) {
+        double ms;
+        memset(&fr, 0, sizeof fr);
+        fr.left = &l;
+        fr.right = &r;
+        fr.now_ms = (uint32_t)i * 100u;
+        fr.t_left_ms = fr.now_ms;
+        fr.t_right_ms = fr.now_ms;
+        if (negobs_pipeline_process(ctx, &fr, &res) != NEGOBS_OK ||
+            res.stereo_status != NEGOBS_OK) {
             return -1;
         }
-        t1 = now_ms();
-        memset(&df, 0, sizeof df);
-        df.disp_q4 = &ctx->disp_q4;
-        df.confidence = &ctx->confidence;
-        df.left = &l;
-        df.now_ms = (uint32_t)i * 100u;
-        df.t_left_ms = df.now_ms;
-        df.t_right_ms = df.now_ms;
-        (void)negobs_detect_process(&ctx->detect, &df, &res);
-        t2 = now_ms();
+        fig->st = res.stereo;
         for (k = 0; k < NEGOBS_STEREO_STAGE_COUNT; k++) {
-            double ms = (double)fig->st.stage_ticks[k] / 1e6;
+            ms = (double)fig->st.stage_ticks[k] / 1e6;
             if (ms < fig->stage_ms[k]) fig->stage_ms[k] = ms;
         }
-        if (t1 - t0 < fig->stereo_ms) fig->stereo_ms = t1 - t0;
-        if (t2 - t1 < fig->detect_ms) fig->detect_ms = t2 - t1;
-        fig->state = res.state;
+        ms = (double)res.stage_ticks[NEGOBS_PIPELINE_STAGE_STEREO] / 1e6;
+        if (ms < fig->stereo_ms) fig->stereo_ms = ms;
+        ms = (double)res.stage_ticks[NEGOBS_PIPELINE_STAGE_DETECT] / 1e6;
+        if (ms < fig->detect_ms) fig->detect_ms = ms;
+        fig->state = res.detect.state;
     }
     free(raw);
     free(ctx);

@@ -7,6 +7,7 @@
 
 #include "cmocka_all.h"
 #include "negobs/alert.h"
+#include "negobs/detect.h" /* negobs_alert_input_from_result */
 
 #define MAX_EDGES 4096
 

@@ -8,6 +8,7 @@
 #include "cmocka_all.h"
 #include "negobs/depth.h"
 #include "negobs/fixed.h"
+#include "detect/detect_int.h"
 
 #define TEST_PI 3.14159265358979323846
 

@@ -6,6 +6,7 @@
 #include <math.h>
 
 #include "cmocka_all.h"
+#include "detect/detect_int.h"
 #include "scene_util.h"
 
 static rig_t rig;
@@ -544,7 +545,7 @@ static const negobs_hazard_t *missing_frames(const negobs_image_u8_t *left)
     return rig_nearest(&rig);
 }
 
-/* DOMAIN step 2: a bland band is "unknown", one as textured as the matched
+/* Missing ground: a bland band is "unknown", one as textured as the matched
  * ground before it is an occlusion/drop cue (NEGOBS_HAZARD_F_TEXTURED). */
 static void test_detect_missing_ground_texture_split(void **state)
 {
@@ -1043,7 +1044,7 @@ static void test_detect_oblique_edge_angle(void **state)
 }
 
 /*
- * Row-correlated noise (DETECTION.md 12.4 item 6). Each block of 48
+ * Row-correlated noise (docs/journal/detection-findings.md, item 6). Each block of 48
  * columns x 4 rows shares one offset, like matcher errors shared by the
  * window and the DP along the row. The median of a 16-px strip row then
  * keeps the offset's full sigma, where the old self-check assumed it falls

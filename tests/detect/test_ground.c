@@ -7,6 +7,7 @@
 #include <stdlib.h>
 
 #include "cmocka_all.h"
+#include "detect/detect_int.h"
 #include "detect/ground_fit.h"
 #include "scene_util.h"
 

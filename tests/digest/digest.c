@@ -22,6 +22,8 @@
 #include "negobs/valign.h"
 
 #include "../stereo/synth.h"
+#include "fixed_int.h"
+#include "integral.h"
 
 #define W 96
 #define H 72

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "fuzz_input.h"
+#include "integral.h"
 #include "negobs/negobs.h"
 
 #define MAXW 96

@@ -314,6 +314,111 @@ static void test_pipeline_tick_without_frames_falls_to_no_info(void **state)
     free(ctx);
 }
 
+/* A clock that moves one tick per read: every tick between the first and
+ * the last read of a frame lands in exactly one stage. */
+static uint32_t counting_clock(void *user)
+{
+    uint32_t *n = (uint32_t *)user;
+    return (*n)++;
+}
+
+/* negobs_pipeline_set_clock: per-stage ticks in the result (the matcher's
+ * too), nothing else changes, and NULL turns it off. */
+static void test_pipeline_clock_times_stages_without_changing_output(
+    void **state)
+{
+    static uint8_t gl[GEN_W * GEN_H];
+    static uint8_t gr[GEN_W * GEN_H];
+    static int16_t disp_plain[GEN_W * GEN_H];
+    negobs_pipeline_config_t cfg;
+    negobs_pipeline_t *ctx = malloc(sizeof *ctx);
+    negobs_pipeline_result_t *plain = malloc(sizeof *plain);
+    negobs_pipeline_result_t *timed = malloc(sizeof *timed);
+    negobs_pipeline_frame_t fr;
+    negobs_image_u8_t l;
+    negobs_image_u8_t r;
+    gen_model_t t = {65536, 0, 0};
+    const negobs_image_s16_t *d;
+    uint32_t reads = 0;
+    uint32_t before;
+    uint64_t sum = 0;
+    uint64_t stereo_sum = 0;
+    size_t bytes = 0;
+    void *raw;
+    void *ws;
+    int k;
+    (void)state;
+    assert_non_null(ctx);
+    assert_non_null(plain);
+    assert_non_null(timed);
+    negobs_pipeline_config_default(&cfg, GEN_W, GEN_H);
+    cfg.valign.enable = 1;
+    assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes), NEGOBS_OK);
+    ws = aligned_ws(bytes, &raw);
+    memset(ctx, 0, sizeof *ctx);
+    assert_int_equal(negobs_pipeline_set_clock(ctx, counting_clock, &reads),
+                     NEGOBS_ERR_STATE);
+    assert_int_equal(negobs_pipeline_set_clock(NULL, counting_clock, &reads),
+                     NEGOBS_ERR_INVAL);
+    assert_null(negobs_pipeline_aligned_right(ctx));
+
+    gen_texture(5u);
+    gen_pair(&t, 4, 20, gl, gr);
+    l.data = gl;
+    l.width = GEN_W;
+    l.height = GEN_H;
+    l.stride = GEN_W;
+    r = l;
+    r.data = gr;
+    memset(&fr, 0, sizeof fr);
+    fr.left = &l;
+    fr.right = &r;
+    fr.t_left_ms = fr.t_right_ms = fr.now_ms = 1000;
+
+    assert_int_equal(negobs_pipeline_init(ctx, &cfg, ws, bytes), NEGOBS_OK);
+    assert_non_null(negobs_pipeline_aligned_right(ctx));
+    assert_int_equal(negobs_pipeline_process(ctx, &fr, plain), NEGOBS_OK);
+    for (k = 0; k < NEGOBS_PIPELINE_STAGE_COUNT; k++) {
+        assert_true(plain->stage_ticks[k] == 0u);
+    }
+    d = negobs_pipeline_disparity(ctx);
+    memcpy(disp_plain, d->data, sizeof disp_plain);
+
+    assert_int_equal(negobs_pipeline_init(ctx, &cfg, ws, bytes), NEGOBS_OK);
+    assert_int_equal(negobs_pipeline_set_clock(ctx, counting_clock, &reads),
+                     NEGOBS_OK);
+    before = reads;
+    assert_int_equal(negobs_pipeline_process(ctx, &fr, timed), NEGOBS_OK);
+    for (k = 0; k < NEGOBS_PIPELINE_STAGE_COUNT; k++) {
+        assert_true(timed->stage_ticks[k] > 0u);
+        sum += timed->stage_ticks[k];
+    }
+    assert_true(sum == (uint64_t)(reads - before - 1u));
+    for (k = 0; k < NEGOBS_STEREO_STAGE_COUNT; k++) {
+        stereo_sum += timed->stereo.stage_ticks[k];
+    }
+    assert_true(stereo_sum > 0u);
+    assert_true(stereo_sum < timed->stage_ticks[NEGOBS_PIPELINE_STAGE_STEREO]);
+    /* the clock is only read */
+    assert_memory_equal(d->data, disp_plain, sizeof disp_plain);
+    memset(timed->stage_ticks, 0, sizeof timed->stage_ticks);
+    memset(timed->stereo.stage_ticks, 0, sizeof timed->stereo.stage_ticks);
+    assert_int_equal(timed->detect.state, plain->detect.state);
+    assert_int_equal(timed->detect.nearest_range_mm,
+                     plain->detect.nearest_range_mm);
+    assert_int_equal(timed->stereo.valid, plain->stereo.valid);
+    assert_int_equal(timed->motor.pattern, plain->motor.pattern);
+
+    assert_int_equal(negobs_pipeline_set_clock(ctx, NULL, NULL), NEGOBS_OK);
+    before = reads;
+    assert_int_equal(negobs_pipeline_process(ctx, &fr, timed), NEGOBS_OK);
+    assert_int_equal(reads, before);
+    free(raw);
+    free(timed);
+    free(plain);
+    free(ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -324,6 +429,8 @@ int main(void)
         cmocka_unit_test(test_pipeline_lost_camera_gives_no_info_pattern),
         cmocka_unit_test(test_pipeline_flat_grey_frames_are_not_clear),
         cmocka_unit_test(test_pipeline_tick_without_frames_falls_to_no_info),
+        cmocka_unit_test(
+            test_pipeline_clock_times_stages_without_changing_output),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

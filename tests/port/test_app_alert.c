@@ -1,7 +1,7 @@
 /*
  * negobs_run's bridge from the library's alert state machine to motor
  * schedules (firmware_app/app_alert.c), with a fake clock: the schedules
- * are the DOMAIN.md 2.2 patterns, the no-information switch comes
+ * are the patterns of negobs/alert.h, the no-information switch comes
  * stale_ms after the last verdict without any further call, and an
  * executor that only sees the posted schedules drives the motor exactly
  * as the library does when it is called every millisecond.

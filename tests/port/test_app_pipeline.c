@@ -195,11 +195,14 @@ static void test_stage_clock_fills_stage_times(void **state)
     for (k = 0; k < NEGOBS_STEREO_STAGE_COUNT; k++) {
         sum += p.last.stage_us[k];
     }
-    /* every read after the first closes one stage: 1 us each */
+    /* every read after the first closes one stage: 1 us each; the
+     * pipeline reads the same clock around its own stages, so the
+     * matcher's share is less than all the reads */
     assert_true(p.last.stage_us[NEGOBS_STEREO_STAGE_GCS] >= 1u);
     assert_true(p.last.stage_us[NEGOBS_STEREO_STAGE_DP] >= 2u);
     assert_int_equal(p.last.stereo_us, sum);
-    assert_int_equal(p.last.stereo_us, t / 1000u - 1u);
+    assert_true(p.last.stereo_us + 1u < t / 1000u);
+    assert_true(p.last.stereo_us + 8u >= t / 1000u);
 
     /* an init clears it */
     p = pipe_init();

@@ -2,6 +2,7 @@
 
 #include "cmocka_all.h"
 #include "negobs/boxsum.h"
+#include "integral.h"
 
 #define W 53
 #define H 41

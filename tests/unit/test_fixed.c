@@ -1,5 +1,6 @@
 #include "cmocka_all.h"
 #include "negobs/fixed.h"
+#include "fixed_int.h"
 
 static void test_isqrt_is_floor_sqrt(void **state)
 {

@@ -12,6 +12,7 @@
 #include "gen.h"
 #include "negobs/stereo.h"
 #include "negobs/valign.h"
+#include "valign/valign_int.h"
 
 static uint8_t g_left[GEN_W * GEN_H];
 static uint8_t g_right[GEN_W * GEN_H];

@@ -154,6 +154,15 @@ double thread_cpu_ms()
            static_cast<double>(ts.tv_nsec) * 1e-6;
 }
 
+uint32_t thread_cpu_us(void *)
+{
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    // modulo 2^32: the pipeline takes differences (one stage < 71 min)
+    return static_cast<uint32_t>(static_cast<uint64_t>(ts.tv_sec) * 1000000u +
+                                 static_cast<uint64_t>(ts.tv_nsec) / 1000u);
+}
+
 Runner::Runner() = default;
 
 Runner::~Runner()
@@ -239,60 +248,17 @@ bool Runner::process(const cv::Mat &left, const cv::Mat &right, uint32_t t_ms,
     fr.now_ms = t_ms;
     out = FrameOut{};
     negobs_pipeline_result_t *res = &out.res;
-    negobs_status_t st;
+    // --whole: no stage clock, only the whole call is timed.
+    (void)negobs_pipeline_set_clock(&ctx_, whole_ ? nullptr : thread_cpu_us, nullptr);
     const double t0 = thread_cpu_ms();
-    if (whole_) {
-        st = negobs_pipeline_process(&ctx_, &fr, res);
-        out.total_ms = thread_cpu_ms() - t0;
-    } else {
-        // Same steps as negobs_pipeline_process, on its own stage contexts.
-        std::memset(res, 0, sizeof *res);
-        const negobs_image_u8_t *rr = &r;
-        st = NEGOBS_OK;
-        if (cfg_.valign.enable) {
-            // counted in the stereo time: it is part of getting a disparity
-            st = negobs_valign_process(&ctx_.valign, &l, &r, &ctx_.right_aligned,
-                                       &res->valign);
-            rr = &ctx_.right_aligned;
-        }
-        if (st == NEGOBS_OK) {
-            st = negobs_stereo_process(&ctx_.stereo, &l, rr, &ctx_.disp_q4,
-                                       &ctx_.confidence, &res->stereo);
-        }
-        if (st == NEGOBS_OK && cfg_.valign.enable) {
-            (void)negobs_valign_set_disp_range(&ctx_.valign, res->stereo.range_min,
-                                               res->stereo.range_max);
-        }
-        res->stereo_status = st;
-        const double t1 = thread_cpu_ms();
-        out.stereo_ms = t1 - t0;
-        if (st == NEGOBS_OK) {
-            negobs_detect_frame_t df{};
-            df.disp_q4 = &ctx_.disp_q4;
-            df.confidence = &ctx_.confidence;
-            df.left = &l;
-            df.t_left_ms = t_ms;
-            df.t_right_ms = t_ms;
-            df.now_ms = t_ms;
-            df.first_row = res->stereo.first_row;
-            st = negobs_detect_process(&ctx_.detect, &df, &res->detect);
-        }
-        const double t2 = thread_cpu_ms();
-        out.detect_ms = t2 - t1;
-        if (st != NEGOBS_OK) {
-            std::memset(&res->detect, 0, sizeof res->detect);
-            res->detect.state = NEGOBS_DETECT_NO_INFO;
-            res->detect.reasons = NEGOBS_DEGRADED_BAD_INPUT;
-            res->detect.nearest_range_mm = -1;
-        }
-        (void)negobs_stereo_set_first_row(
-            &ctx_.stereo, (st == NEGOBS_OK)
-                              ? negobs_pipeline_roi_first_row(&ctx_.cfg, &res->detect)
-                              : 0);
-        negobs_alert_input_t in{};
-        negobs_alert_input_from_result(&res->detect, 0, t_ms, &in);
-        st = negobs_alert_update(&ctx_.alert, t_ms, &in, &res->motor);
-        out.total_ms = thread_cpu_ms() - t0;
+    const negobs_status_t st = negobs_pipeline_process(&ctx_, &fr, res);
+    out.total_ms = thread_cpu_ms() - t0;
+    if (!whole_) {
+        // the alignment is part of getting a disparity: counted as stereo
+        const uint64_t *tk = res->stage_ticks;
+        out.stereo_ms = static_cast<double>(tk[NEGOBS_PIPELINE_STAGE_VALIGN] +
+                                            tk[NEGOBS_PIPELINE_STAGE_STEREO]) / 1e3;
+        out.detect_ms = static_cast<double>(tk[NEGOBS_PIPELINE_STAGE_DETECT]) / 1e3;
     }
     if (st != NEGOBS_OK) {
         err = std::string("pipeline: ") + negobs_status_str(st);
@@ -303,11 +269,11 @@ bool Runner::process(const cv::Mat &left, const cv::Mat &right, uint32_t t_ms,
 
 cv::Mat Runner::aligned_right() const
 {
-    const negobs_image_u8_t &r = ctx_.right_aligned;
-    if (!ready_ || !cfg_.valign.enable || r.data == nullptr) {
+    const negobs_image_u8_t *r = negobs_pipeline_aligned_right(&ctx_);
+    if (!ready_ || r == nullptr || r->data == nullptr) {
         return cv::Mat();
     }
-    return cv::Mat(r.height, r.width, CV_8UC1, r.data, static_cast<size_t>(r.stride));
+    return cv::Mat(r->height, r->width, CV_8UC1, r->data, static_cast<size_t>(r->stride));
 }
 
 cv::Mat Runner::disparity() const

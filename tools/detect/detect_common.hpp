@@ -69,6 +69,8 @@ using negobs_tools::load_grey;
 
 // Thread CPU time in ms (robust against other load on the machine).
 double thread_cpu_ms();
+// The same clock in microseconds modulo 2^32, as the pipeline's stage clock.
+uint32_t thread_cpu_us(void *user);
 
 // One frame's outcome.
 struct FrameOut {
@@ -91,12 +93,9 @@ public:
     bool init(int width, int height, const CamParams &cam, std::string &err,
               bool whole = false);
 
-    // Runs one pair captured at t_ms. Stage timings: the tool calls
-    // negobs_stereo_process and negobs_detect_process on the pipeline's
-    // own stage contexts and images in the same order as
-    // negobs_pipeline_process (lib/src/pipeline/pipeline.c), so both
-    // stages are timed on exactly the data the pipeline uses. With
-    // whole = true negobs_pipeline_process itself is called.
+    // Runs one pair captured at t_ms through negobs_pipeline_process. Stage
+    // timings come from the pipeline's clock hook (thread CPU time); with
+    // whole = true no clock is set and only the whole call is timed.
     bool process(const cv::Mat &left, const cv::Mat &right, uint32_t t_ms,
                  FrameOut &out, std::string &err);
 
@@ -106,7 +105,7 @@ public:
     // it is on (a view), else empty.
     cv::Mat aligned_right() const;
     // Last stereo confidence map (the pipeline's own buffer).
-    const negobs_image_u8_t *confidence() const { return &ctx_.confidence; }
+    const negobs_image_u8_t *confidence() const { return negobs_pipeline_confidence(&ctx_); }
     const negobs_pipeline_config_t &config() const { return cfg_; }
 
 private:

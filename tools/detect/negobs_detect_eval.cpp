@@ -1,8 +1,8 @@
 // negobs_detect_eval: evaluation of the whole pipeline (stereo -> detect ->
 // alert) on a suite of negobs_synth sequences rendered on the fly, and on
-// the real SurDis sequence 21 (--surdis). Prints the metrics of DOMAIN.md
-// 4.1 and PASS/MISS against the project's targets; --markdown FILE writes
-// the same tables for docs/DETECTION.md ("Evaluation").
+// the real SurDis sequence 21 (--surdis). Prints the metrics of
+// docs/REQUIREMENTS.md and PASS/MISS against the project's targets; --markdown FILE writes
+// the same tables for docs/DETECTION.md ("Current figures").
 //
 // Nothing here tunes the detector: every config is the library default
 // (negobs_pipeline_config_default) plus the rig's camera parameters.
@@ -200,7 +200,7 @@ std::vector<Seq> build_suite(bool quick)
             }
         }
     }
-    // Ramps and slopes (DOMAIN 4.2 lists curb cuts and ramps as
+    // Ramps and slopes (REQUIREMENTS.md lists curb cuts and ramps as
     // negatives): walks that cross the slope change and go on down (or up)
     // the slope. Reported in a table of their own, outside the issue's
     // targets. Appended last, so the seeds of the sequences above do not
@@ -305,9 +305,10 @@ struct Options {
     std::string surdis_dir;
     std::string img_dir;
     std::string dump_dir; // --surdis-dump: raw maps + plane per frame
-    // the assumptions of docs/DETECTION.md 12.3 (no calibration is published)
-    // the mounting is only a hint (the detector measures it): the library's
-    // generic 1.2 m / 20 deg unless told; --surdis-height-mm 0: no hint
+    // the assumptions of docs/journal/detection-surdis-21.md (no calibration
+    // is published); the mounting is only a hint (the detector measures it):
+    // the library's generic 1.2 m / 20 deg unless told; --surdis-height-mm 0:
+    // no hint
     double surdis_f = 380, surdis_B = 30, surdis_H = 1200, surdis_pitch = 20;
     double surdis_range_warn = -1, surdis_range_max = -1; // < 0: library default
     int surdis_vshift = -200; // rows; -100: the matcher's integer search;
@@ -721,7 +722,7 @@ int evaluate_synth(const Options &opt)
             any = any || q.scene == "ramp";
         }
         if (any) {
-            rep.both("### Ramps and slopes (target rig; DOMAIN 4.2 negatives, not a target "
+            rep.both("### Ramps and slopes (target rig; test-course negatives, not a target "
                      "of issue 4)");
             rep.both("");
             rep.both("Walks of 45 frames from 3.5 and 5.5 m before the slope change, "

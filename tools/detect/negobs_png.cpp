@@ -56,8 +56,7 @@ void usage(FILE *f)
         "  --no-overlay      do not write pictures\n"
         "  --overlay-scale K scale the pictures by K (0.1..4, default 1; below 1\n"
         "                    also 32 grey levels per channel: small files)\n"
-        "  --whole           call negobs_pipeline_process itself (no per-stage\n"
-        "                    timing)\n"
+        "  --whole           time only the whole frame (no per-stage clock)\n"
         "  --summary         one summary line at the end (stdout)\n"
         "  --quiet           no JSON lines on stdout\n"
         "Exit: 0 ok, 1 data error, 2 bad command line.\n");

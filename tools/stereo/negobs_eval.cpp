@@ -48,7 +48,7 @@ enum Exit {
     EXIT_DATA = 2,    // manifest or a listed file unreadable, set unknown
     EXIT_CHECK = 3,   // --check thresholds not met
     EXIT_LIBRARY = 4, // negobs or OpenCV failed on a pair
-    EXIT_SKIP = 77,   // --check: nothing to check here (data or engine absent)
+    EXIT_SKIP = 77,   // --check: nothing to check here (data absent)
 };
 
 const char *const kAloeSet = "aloe-opencv-doc";
@@ -112,7 +112,7 @@ const char *const kHelp =
     "      mismatch, unknown --set\n"
     "  3   --check failed\n"
     "  4   a matcher (negobs library or OpenCV) failed\n"
-    "  77  --check could not run: data absent or negobs engine not built\n"
+    "  77  --check could not run: data absent\n"
     "      (Meson counts it as skipped)\n";
 
 bool is_dir(const std::string &p)
@@ -404,7 +404,6 @@ int run_negobs(const Options &opt, const SetSpec &spec, const cv::Mat &left,
                const cv::Mat &right, const cv::Mat &eval_mask, SetResult &res)
 {
     Metrics &mn = res.m[M_NEGOBS];
-#ifdef NEGOBS_TOOLS_HAVE_ENGINE
     const std::string limit =
         negobs_tools::check_engine_limits(res.range, left.cols, left.rows);
     if (!limit.empty()) {
@@ -472,14 +471,6 @@ int run_negobs(const Options &opt, const SetSpec &spec, const cv::Mat &left,
             }
         }
     }
-#else
-    (void)opt;
-    (void)spec;
-    (void)left;
-    (void)right;
-    (void)eval_mask;
-    mn.note = "engine not built";
-#endif
     return EXIT_OK;
 }
 
@@ -1297,14 +1288,6 @@ int run(int argc, char **argv)
             chosen.push_back(*it);
         }
     }
-#ifndef NEGOBS_TOOLS_HAVE_ENGINE
-    std::printf("negobs_eval: the negobs engine is not built into this "
-                "binary (lib/src/stereo absent): negobs figures pending\n");
-    if (opt.check && opt.use[M_NEGOBS]) {
-        std::printf("negobs_eval: --check skipped: nothing to check\n");
-        return EXIT_SKIP;
-    }
-#endif
     if (chosen.empty()) {
         std::printf("negobs_eval: no set to evaluate\n");
         return opt.check ? EXIT_SKIP : EXIT_OK;

@@ -107,7 +107,6 @@ int opencv_num_disparities(const Range &r)
     return (n + 15) / 16 * 16;
 }
 
-#ifdef NEGOBS_TOOLS_HAVE_ENGINE
 struct NegobsMatcher::Impl {
     negobs_stereo_t ctx;
     std::vector<unsigned char> raw; // over-allocated, aligned inside
@@ -297,7 +296,6 @@ bool NegobsMatcher::process(const cv::Mat &left, const cv::Mat &right,
     }
     return true;
 }
-#endif
 
 cv::Mat negobs_q4_to_png16(const cv::Mat &disp_q4)
 {

@@ -40,7 +40,6 @@ std::string check_engine_limits(const Range &r, int width, int height);
 // rounded up to a multiple of 16 (OpenCV requires it).
 int opencv_num_disparities(const Range &r);
 
-#ifdef NEGOBS_TOOLS_HAVE_ENGINE
 // Owns a negobs stereo context and its 16-byte aligned workspace.
 class NegobsMatcher {
 public:
@@ -90,7 +89,6 @@ private:
     std::string stats_text_;
     bool profile_ = false;
 };
-#endif
 
 // negobs disp_q4 (CV_16S, INT16_MIN = none) -> OpenCV's 16-bit PNG
 // convention (CV_16U, disparity * 16, 0 = no value). Disparities <= 0 px

@@ -1,6 +1,6 @@
 #!/bin/sh
 # Renders the synthetic approach set of docs/SYNTH.md ("Evaluation set"),
-# modelled on the test course of DOMAIN.md 4.2: curbs of 5/10/15/20 cm,
+# modelled on the test course of docs/REQUIREMENTS.md: curbs of 5/10/15/20 cm,
 # descending stairs, a hole, and the negatives (up-step, wall, flat ground
 # with distractors), at 0.8/1.1/1.4 m/s and 0/30/60 degree approach angles.
 # Every sequence starts 8 m before the edge and ends 0.5 m before it.

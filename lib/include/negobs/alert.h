@@ -5,7 +5,7 @@
  * cmd.next_change_ms (from a timer that the vision thread cannot starve:
  * without a fresh verdict for stale_ms the output becomes NO_INFO).
  *
- * Patterns (DOMAIN.md 2.2; every pulse >= min_pulse_ms = 80 ms):
+ * Patterns (docs/REQUIREMENTS.md; every pulse >= min_pulse_ms = 80 ms):
  *
  *   READY        2 x (100 on, 100 off), once after init
  *   CAUTION      80 on, 80 off, 80 on, then off; repeated every
@@ -42,8 +42,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "negobs/detect.h"
 #include "negobs/status.h"
+#include "negobs/verdict.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -159,8 +159,10 @@ negobs_status_t negobs_alert_update(negobs_alert_t *ctx, uint32_t now_ms,
                                     const negobs_alert_input_t *input,
                                     negobs_motor_cmd_t *cmd);
 
+struct negobs_detect_result; /* negobs/detect.h */
+
 /** @brief Verdict from a detector result. */
-void negobs_alert_input_from_result(const negobs_detect_result_t *res,
+void negobs_alert_input_from_result(const struct negobs_detect_result *res,
                                     int32_t battery_low, uint32_t verdict_ms,
                                     negobs_alert_input_t *in);
 

@@ -11,7 +11,7 @@
 
 #include <stdint.h>
 
-#include "negobs/fixed.h" /* negobs_isqrt_u64 */
+#include "negobs/fixed.h"
 #include "negobs/status.h"
 
 #ifdef __cplusplus
@@ -74,31 +74,6 @@ int32_t negobs_disp_q4_from_depth_mm(const negobs_camera_t *cam,
  */
 int32_t negobs_lateral_mm(const negobs_camera_t *cam, int32_t u_q4,
                           int32_t depth_mm);
-
-/**
- * @brief atan2(y, x) in millidegrees, in (-180000, 180000].
- *
- * CORDIC in vectoring mode, 24 iterations, angle table in 1/256 mdeg;
- * error below 2 mdeg. atan2(0, 0) is 0.
- */
-int32_t negobs_atan2_mdeg(int64_t y, int64_t x);
-
-/**
- * @brief Sine and cosine of an angle in millidegrees, Q30 (1.0 = 2^30).
- *
- * CORDIC in rotation mode, 24 iterations; absolute error below 2^-22.
- * Any angle is accepted (reduced to (-180, 180] degrees first).
- */
-void negobs_sincos_q30(int32_t angle_mdeg, int32_t *sin_q30,
-                       int32_t *cos_q30);
-
-/** @brief Bearing of a point (lateral X, forward D) in mdeg, right > 0. */
-static inline int32_t negobs_bearing_mdeg(int32_t lateral_mm,
-                                          int32_t forward_mm)
-{
-    return negobs_atan2_mdeg(lateral_mm, forward_mm);
-}
-
 
 #ifdef __cplusplus
 }

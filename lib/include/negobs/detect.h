@@ -23,6 +23,7 @@
 #include "negobs/ground.h"
 #include "negobs/image.h"
 #include "negobs/status.h"
+#include "negobs/verdict.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -80,18 +81,6 @@ typedef enum negobs_hazard_type {
     NEGOBS_HAZARD_STAIRS = 2,  /**< >= 2 successive deficits           */
     NEGOBS_HAZARD_HOLE = 3     /**< deficit, then ground/far wall again */
 } negobs_hazard_type_t;
-
-typedef enum negobs_alert_level {
-    NEGOBS_LEVEL_NONE = 0,
-    NEGOBS_LEVEL_CAUTION = 1,
-    NEGOBS_LEVEL_IMMINENT = 2
-} negobs_alert_level_t;
-
-typedef enum negobs_detect_state {
-    NEGOBS_DETECT_CLEAR = 0,  /**< checked and clear                 */
-    NEGOBS_DETECT_HAZARD = 1, /**< at least one confirmed/held hazard */
-    NEGOBS_DETECT_NO_INFO = 2 /**< degraded: see reasons             */
-} negobs_detect_state_t;
 
 typedef enum negobs_missing_policy {
     NEGOBS_MISSING_IGNORE = 0,
@@ -396,14 +385,6 @@ negobs_status_t negobs_detect_init(negobs_detect_t *ctx,
 negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
                                       const negobs_detect_frame_t *frame,
                                       negobs_detect_result_t *result);
-
-/**
- * @brief Photometric statistics of an image, sampling every 2nd pixel of
- *        every 2nd row.
- * @return NEGOBS_OK or NEGOBS_ERR_INVAL.
- */
-negobs_status_t negobs_detect_photo_stats(const negobs_image_u8_t *img,
-                                          negobs_photo_stats_t *out);
 
 #ifdef __cplusplus
 }

@@ -15,10 +15,6 @@
 extern "C" {
 #endif
 
-typedef int16_t negobs_q15_t; /**< Q1.15, value = raw / 32768           */
-typedef int32_t negobs_q31_t; /**< Q1.31, value = raw / 2^31            */
-typedef int16_t negobs_disp_q4_t; /**< disparity, value = raw / 16 px   */
-
 #define NEGOBS_Q15_MAX INT16_MAX
 #define NEGOBS_Q15_MIN INT16_MIN
 
@@ -58,37 +54,6 @@ static inline int32_t negobs_rshift_round_s32(int32_t x, int n)
         return y >> n;
     }
     return -(int32_t)(((uint32_t)(-(y + 1)) >> n) + 1u);
-}
-
-/**
- * @brief Integer square root of a 64-bit value: largest r with r * r <= x.
- *
- * Bit-by-bit method: at most 32 iterations, no division, same result
- * everywhere.
- */
-static inline uint64_t negobs_isqrt_u64(uint64_t x)
-{
-    uint64_t r = 0;
-    uint64_t bit = (uint64_t)1 << 62;
-    while (bit > x) {
-        bit >>= 2;
-    }
-    while (bit != 0) {
-        if (x >= r + bit) {
-            x -= r + bit;
-            r = (r >> 1) + bit;
-        } else {
-            r >>= 1;
-        }
-        bit >>= 2;
-    }
-    return r;
-}
-
-/** @brief Integer square root: largest r with r * r <= x (32-bit). */
-static inline uint32_t negobs_isqrt_u32(uint32_t x)
-{
-    return (uint32_t)negobs_isqrt_u64(x);
 }
 
 /** @brief |x| for int32 without the INT32_MIN trap (saturates to MAX). */

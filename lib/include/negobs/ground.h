@@ -61,6 +61,14 @@ negobs_status_t negobs_ground_plane_from_pose(const negobs_camera_t *cam,
                                               const negobs_ground_pose_t *pose,
                                               negobs_ground_plane_t *plane);
 
+/** @brief Ground disparity at pixel (u, v) in 1/16 px, rounded, saturated
+ *         to int16 range. */
+int32_t negobs_ground_disp_q4(const negobs_ground_plane_t *plane, int32_t u,
+                              int32_t v);
+
+/* The two below are public because the evaluation tools place labelled
+ * image rows on the floor with them (negobs_detect_eval --surdis). */
+
 /**
  * @brief Camera pose (and normal) for a plane: B/H = |(a, b, d0/f)| with
  *        d0 the plane's disparity at the principal point.
@@ -72,11 +80,6 @@ negobs_status_t negobs_ground_pose_from_plane(const negobs_camera_t *cam,
                                               const negobs_ground_plane_t *plane,
                                               negobs_ground_pose_t *pose,
                                               negobs_ground_frame_t *frame);
-
-/** @brief Ground disparity at pixel (u, v) in 1/16 px, rounded, saturated
- *         to int16 range. */
-int32_t negobs_ground_disp_q4(const negobs_ground_plane_t *plane, int32_t u,
-                              int32_t v);
 
 /**
  * @brief Forward distance along the floor to a ground point at camera depth

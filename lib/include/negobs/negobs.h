@@ -10,6 +10,7 @@
 #include "negobs/stereo.h"
 #include "negobs/depth.h"
 #include "negobs/ground.h"
+#include "negobs/verdict.h"
 #include "negobs/detect.h"
 #include "negobs/alert.h"
 #include "negobs/rectify.h"

@@ -57,6 +57,28 @@ typedef struct negobs_pipeline_frame {
     int32_t battery_low; /**< 1 plays the low-battery pattern         */
 } negobs_pipeline_frame_t;
 
+/**
+ * Stages timed by the optional clock (negobs_pipeline_set_clock). Every
+ * tick between the clock reads at the start and the end of
+ * negobs_pipeline_process() is attributed to exactly one of them.
+ */
+typedef enum negobs_pipeline_stage {
+    NEGOBS_PIPELINE_STAGE_VALIGN = 0, /**< vertical alignment (valign)  */
+    NEGOBS_PIPELINE_STAGE_STEREO,     /**< matcher, incl. ROI choice    */
+    NEGOBS_PIPELINE_STAGE_DETECT,     /**< detector or no-info verdict  */
+    NEGOBS_PIPELINE_STAGE_ALERT,      /**< alert schedule               */
+    NEGOBS_PIPELINE_STAGE_COUNT
+} negobs_pipeline_stage_t;
+
+/**
+ * Caller's clock for per-stage timings: any free-running 32-bit counter
+ * (microseconds, nanoseconds, cycles). Differences are taken modulo 2^32,
+ * so one stage of one frame must stay below one period (4.29 s for a
+ * nanosecond counter). The same clock is handed to the matcher for its
+ * own stages (negobs_stereo_set_clock, stereo.stage_ticks).
+ */
+typedef uint32_t (*negobs_pipeline_clock_fn)(void *user);
+
 /** What one frame produced. */
 typedef struct negobs_pipeline_result {
     negobs_status_t stereo_status;  /**< NEGOBS_OK or why no disparity */
@@ -64,19 +86,34 @@ typedef struct negobs_pipeline_result {
     negobs_stereo_stats_t stereo;   /**< matcher statistics            */
     negobs_detect_result_t detect;  /**< state, reasons, hazards       */
     negobs_motor_cmd_t motor;       /**< what the motor does now/next  */
+    /** clock ticks per stage (negobs_pipeline_set_clock); all 0 without
+     *  a clock. Not part of the output: timings differ between runs. */
+    uint64_t stage_ticks[NEGOBS_PIPELINE_STAGE_COUNT];
 } negobs_pipeline_result_t;
 
-/** Context; fields are private. */
+/**
+ * Context storage; place it anywhere (static is fine). Its layout is
+ * private to the library (lib/src/pipeline/pipeline_private.h): the
+ * members below only give the storage the size and alignment of that
+ * layout on every target. Never read or write them; use the functions.
+ */
 typedef struct negobs_pipeline {
-    negobs_pipeline_config_t cfg;
-    negobs_valign_t valign;
-    negobs_image_u8_t right_aligned; /* valign.enable: the matcher's right */
-    negobs_stereo_t stereo;
-    negobs_detect_t detect;
-    negobs_alert_t alert;
-    negobs_image_s16_t disp_q4;
-    negobs_image_u8_t confidence;
-    uint32_t magic;
+    union {
+        struct {
+            negobs_pipeline_config_t a;
+            negobs_valign_t b;
+            negobs_image_u8_t c;
+            negobs_stereo_t d;
+            negobs_detect_t e;
+            negobs_alert_t f;
+            negobs_image_s16_t g;
+            negobs_image_u8_t h;
+            negobs_pipeline_clock_fn i;
+            void *j;
+            uint32_t k;
+        } layout_;
+        uint64_t align_;
+    } opaque_;
 } negobs_pipeline_t;
 
 /**
@@ -84,8 +121,7 @@ typedef struct negobs_pipeline {
  * roi_margin_rows above the highest row where this frame's ground model
  * is nearer than detect.range_max_mm, never below the ground fit's rows.
  * 0 (every row) when stereo_roi is off or det has no ground model.
- * negobs_pipeline_process applies it itself; exported for tools that run
- * the stages one by one.
+ * negobs_pipeline_process applies it itself.
  */
 int32_t negobs_pipeline_roi_first_row(const negobs_pipeline_config_t *cfg,
                                       const negobs_detect_result_t *det);
@@ -128,6 +164,18 @@ negobs_status_t negobs_pipeline_process(negobs_pipeline_t *ctx,
                                         negobs_pipeline_result_t *result);
 
 /**
+ * @brief Time every stage of the following frames with the caller's clock
+ * (result.stage_ticks, and the matcher's stereo.stage_ticks). NULL (the
+ * state after init) turns it off. The clock is only read: every output
+ * is the same with and without it.
+ * @return NEGOBS_OK, NEGOBS_ERR_INVAL (NULL ctx), NEGOBS_ERR_STATE (not
+ *         initialised).
+ */
+negobs_status_t negobs_pipeline_set_clock(negobs_pipeline_t *ctx,
+                                          negobs_pipeline_clock_fn clock,
+                                          void *user);
+
+/**
  * @brief Advance the alert logic without a frame (timer or watchdog).
  * @return as negobs_alert_update().
  */
@@ -140,6 +188,11 @@ const negobs_image_s16_t *negobs_pipeline_disparity(
 
 /** @brief The last confidence image (0..255). */
 const negobs_image_u8_t *negobs_pipeline_confidence(
+    const negobs_pipeline_t *ctx);
+
+/** @brief The last right image as the matcher saw it after vertical
+ *  alignment; NULL unless valign.enable. */
+const negobs_image_u8_t *negobs_pipeline_aligned_right(
     const negobs_pipeline_t *ctx);
 
 #ifdef __cplusplus

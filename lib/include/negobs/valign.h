@@ -144,23 +144,6 @@ negobs_status_t negobs_valign_init(negobs_valign_t *ctx,
                                    void *workspace, size_t workspace_bytes);
 
 /**
- * @brief Estimate the misalignment of one pair, without memory of earlier
- *        frames (two passes; `scratch` receives the pair's right image
- *        warped with the first-pass model and is left so).
- * @param[out] model the estimate; the zero model when not accepted
- * @param[out] stats may be NULL
- * @return NEGOBS_OK (also when too little texture: stats->accepted = 0),
- *         NEGOBS_ERR_INVAL (bad or mismatched images, scratch aliasing
- *         right), NEGOBS_ERR_STATE (no init).
- */
-negobs_status_t negobs_valign_estimate(negobs_valign_t *ctx,
-                                       const negobs_image_u8_t *left,
-                                       const negobs_image_u8_t *right,
-                                       negobs_image_u8_t *scratch,
-                                       negobs_valign_model_t *model,
-                                       negobs_valign_stats_t *stats);
-
-/**
  * @brief Estimate, blend into the tracked model (smooth_q15), and write
  *        the right image aligned to the left one into `out`.
  *
@@ -169,24 +152,15 @@ negobs_status_t negobs_valign_estimate(negobs_valign_t *ctx,
  * model leaves, over +-2 rows on the pair warped by it, which costs about a
  * third. A frame with too little texture keeps the tracked model (zero
  * before the first accepted frame). `out` must not overlap `right`.
- * @return as negobs_valign_estimate().
+ * @return NEGOBS_OK (also when too little texture: stats->accepted = 0),
+ *         NEGOBS_ERR_INVAL (bad or mismatched images, `out` overlapping
+ *         `right`), NEGOBS_ERR_STATE (no init).
  */
 negobs_status_t negobs_valign_process(negobs_valign_t *ctx,
                                       const negobs_image_u8_t *left,
                                       const negobs_image_u8_t *right,
                                       negobs_image_u8_t *out,
                                       negobs_valign_stats_t *stats);
-
-/**
- * @brief Resample `right` so that its row y holds what the model says
- *        matches left row y (linear interpolation at 1/16 px, rows
- *        clamped). Stateless.
- * @return NEGOBS_OK, or NEGOBS_ERR_INVAL (bad images, size mismatch,
- *         overlap, |offset| > 64 px or a slope beyond the limit).
- */
-negobs_status_t negobs_valign_warp(const negobs_valign_model_t *model,
-                                   const negobs_image_u8_t *right,
-                                   negobs_image_u8_t *out);
 
 /**
  * @brief Narrow the horizontal search of later estimates to [min_disp,

@@ -8,6 +8,8 @@
 
 #include <string.h>
 
+#include "negobs/detect.h" /* negobs_alert_input_from_result */
+
 #define ALERT_MAGIC 0x4E47414Cu /* "NGAL" */
 
 typedef struct seg {

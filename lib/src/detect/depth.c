@@ -7,6 +7,7 @@
 
 #include "negobs/fixed.h"
 #include "negobs/image.h"
+#include "detect_int.h"
 
 #define CORDIC_ITERS 24
 /* CORDIC gain 1/prod(sqrt(1 + 2^-2i)) for 24 iterations, Q30. */

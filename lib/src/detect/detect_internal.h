@@ -26,6 +26,7 @@
 #include "ground_fit.h"
 #include "mount.h"
 #include "temporal.h"
+#include "detect_int.h"
 
 #define DETECT_MAGIC 0x4E474454u /* "NGDT" */
 #define MAX_STRIP_PX 64

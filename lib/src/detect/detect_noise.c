@@ -93,7 +93,7 @@ static void hist_median_spread_q8(const uint16_t *ha, const uint16_t *hb,
  * 1.25 * sigma / sqrt(strip_px) assumes independent pixels; matcher errors
  * are not (5x5 windows, DP along rows, calibration residue), and on the
  * real SurDis pair the strip median spreads 0.2-0.4 px where that formula
- * says 0.16 (docs/DETECTION.md 12.4 item 6). So it is measured: for every
+ * says 0.16 (docs/journal/detection-findings.md, item 6). So it is measured: for every
  * row of each band and every strip whose centre is in the corridor,
  * e = strip median of (d - d_g). Per band: the median of e (the ground
  * model's offset there) and sigma = 1.4826 * MAD(e) about it (the

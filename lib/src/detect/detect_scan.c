@@ -562,7 +562,7 @@ static void scan_missing(const scan_ctx_t *s, int32_t u0, int32_t u1,
             : 0;
     hit->h_lower = 1;
     hit->margin_q8 = 256;
-    /* DOMAIN step 2: a bland band is "unknown" (nothing to match); a band
+    /* Missing ground: a bland band is "unknown" (nothing to match); a band
      * as textured as the matched ground before it, at least half of its
      * gradient, failed to match where it should have: an occlusion or
      * drop cue. The reference is this frame's own ground, so the split

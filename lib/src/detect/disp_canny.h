@@ -2,7 +2,7 @@
  * Canny edges of the disparity map (the paper's step 7), internal to the
  * detect stage, where they only support a hazard found by the residual
  * rule (docs/DETECTION.md section 5): an unsigned edge cannot tell a drop
- * from the contour of an object standing on the ground (DOMAIN 1.3).
+ * from the contour of an object standing on the ground.
  *
  * Magnitudes are the L1 Sobel magnitude of disp_q4 (1/16 px per unit),
  * saturated at 65535, and 0 where the 3x3 neighbourhood holds an invalid

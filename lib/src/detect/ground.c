@@ -7,6 +7,7 @@
 #include <stddef.h>
 
 #include "negobs/fixed.h"
+#include "detect_int.h"
 #include "geom_internal.h"
 
 negobs_status_t negobs_ground_plane_from_pose(const negobs_camera_t *cam,

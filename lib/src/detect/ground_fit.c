@@ -34,6 +34,7 @@
 
 #include <string.h>
 
+#include "detect_int.h"
 #include "geom_internal.h"
 #include "mount.h"
 #include "negobs/fixed.h"

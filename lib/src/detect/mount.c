@@ -21,6 +21,7 @@
  *   HELD, and the next fits start it again from scratch.
  */
 #include "mount.h"
+#include "detect_int.h"
 
 #include <string.h>
 

@@ -3,8 +3,15 @@
 #include <string.h>
 
 #include "arena.h"
+#include "pipeline_private.h"
 
 #define PIPELINE_MAGIC 0x4E50494Cu /* "NPIL" */
+
+/* The public storage must hold the private layout (C99: no static_assert;
+ * a negative array size stops the build). Same members, so the alignment
+ * is the same too. */
+typedef char negobs_pipeline_storage_fits[
+    (sizeof(negobs_pipeline_priv_t) <= sizeof(negobs_pipeline_t)) ? 1 : -1];
 
 void negobs_pipeline_config_default(negobs_pipeline_config_t *cfg,
                                     int32_t width, int32_t height)
@@ -17,12 +24,10 @@ void negobs_pipeline_config_default(negobs_pipeline_config_t *cfg,
     negobs_detect_config_default(&cfg->detect, width, height);
     negobs_alert_config_default(&cfg->alert);
     cfg->detect.max_disp_q4 = (cfg->stereo.max_disp + 1) * NEGOBS_DISP_ONE;
-    /* For drop detection a missing match is safer than a carried one. The
-     * matcher's own defaults are tuned for dense Middlebury maps (texture
-     * floor 100, growing tau 0.5); on the synthetic suite they let faint,
-     * weakly correlated windows grow across bland paint and patches, and
-     * two flat walks raised 1.5 m "holes" held as IMMINENT for 2-3 s. The
-     * pipeline keeps the stricter floor and tau (DETECTION.md 12.4). */
+    /* For drop detection a missing match is safer than a carried one: the
+     * matcher's defaults (floor 100, tau 0.5) are tuned for dense maps and
+     * let weak windows grow across bland paint into false holes. Measured
+     * reasons: docs/decisions/0001-pipeline-strict-matcher.md. */
     cfg->stereo.texture_min = 2500;
     cfg->stereo.ncc_tau_q14 = 9830; /* 0.6 */
     cfg->stereo_roi = 1;
@@ -179,11 +184,13 @@ negobs_status_t negobs_pipeline_init(negobs_pipeline_t *ctx,
     negobs_arena_t a;
     carve_out_t c;
     negobs_status_t st;
+    negobs_pipeline_priv_t *p;
 
     if (ctx == NULL || workspace == NULL) {
         return NEGOBS_ERR_INVAL;
     }
     memset(ctx, 0, sizeof *ctx);
+    p = negobs_pipeline_priv(ctx);
     st = check_config(cfg);
     if (st != NEGOBS_OK) {
         return st;
@@ -196,45 +203,45 @@ negobs_status_t negobs_pipeline_init(negobs_pipeline_t *ctx,
     if (st != NEGOBS_OK) {
         return st;
     }
-    ctx->cfg = *cfg;
+    p->cfg = *cfg;
     if (cfg->valign.enable) {
         /* the rows are aligned before matching: an integer search on top
          * would only add noise to an already sub-pixel alignment */
-        ctx->cfg.stereo.vertical_search = 0;
-        ctx->cfg.stereo.vertical_offset = 0;
-        st = negobs_valign_init(&ctx->valign, &ctx->cfg.valign, c.valign_ws,
+        p->cfg.stereo.vertical_search = 0;
+        p->cfg.stereo.vertical_offset = 0;
+        st = negobs_valign_init(&p->valign, &p->cfg.valign, c.valign_ws,
                                 c.valign_bytes);
         if (st != NEGOBS_OK) {
             return st;
         }
-        ctx->right_aligned.data = c.aligned;
-        ctx->right_aligned.width = cfg->stereo.width;
-        ctx->right_aligned.height = cfg->stereo.height;
-        ctx->right_aligned.stride = cfg->stereo.width;
+        p->right_aligned.data = c.aligned;
+        p->right_aligned.width = cfg->stereo.width;
+        p->right_aligned.height = cfg->stereo.height;
+        p->right_aligned.stride = cfg->stereo.width;
     }
-    st = negobs_stereo_init(&ctx->stereo, &ctx->cfg.stereo, c.stereo_ws,
+    st = negobs_stereo_init(&p->stereo, &p->cfg.stereo, c.stereo_ws,
                             c.stereo_bytes);
     if (st != NEGOBS_OK) {
         return st;
     }
-    st = negobs_detect_init(&ctx->detect, &ctx->cfg.detect, c.detect_ws,
+    st = negobs_detect_init(&p->detect, &p->cfg.detect, c.detect_ws,
                             c.detect_bytes);
     if (st != NEGOBS_OK) {
         return st;
     }
-    st = negobs_alert_init(&ctx->alert, &ctx->cfg.alert, NULL, 0);
+    st = negobs_alert_init(&p->alert, &p->cfg.alert, NULL, 0);
     if (st != NEGOBS_OK) {
         return st;
     }
-    ctx->disp_q4.data = c.disp;
-    ctx->disp_q4.width = cfg->stereo.width;
-    ctx->disp_q4.height = cfg->stereo.height;
-    ctx->disp_q4.stride = cfg->stereo.width;
-    ctx->confidence.data = c.conf;
-    ctx->confidence.width = cfg->stereo.width;
-    ctx->confidence.height = cfg->stereo.height;
-    ctx->confidence.stride = cfg->stereo.width;
-    ctx->magic = PIPELINE_MAGIC;
+    p->disp_q4.data = c.disp;
+    p->disp_q4.width = cfg->stereo.width;
+    p->disp_q4.height = cfg->stereo.height;
+    p->disp_q4.stride = cfg->stereo.width;
+    p->confidence.data = c.conf;
+    p->confidence.width = cfg->stereo.width;
+    p->confidence.height = cfg->stereo.height;
+    p->confidence.stride = cfg->stereo.width;
+    p->magic = PIPELINE_MAGIC;
     return NEGOBS_OK;
 }
 
@@ -251,93 +258,154 @@ static void no_info_result(negobs_detect_result_t *res)
     res->nearest_range_mm = -1;
 }
 
+/* Ticks since *t0 go to stage k; *t0 moves on. No clock: nothing. */
+static void lap(negobs_pipeline_priv_t *p, uint32_t *t0,
+                negobs_pipeline_result_t *result, negobs_pipeline_stage_t k)
+{
+    uint32_t t;
+    if (p->clock == NULL) {
+        return;
+    }
+    t = p->clock(p->clock_user);
+    result->stage_ticks[k] += (uint32_t)(t - *t0);
+    *t0 = t;
+}
+
 negobs_status_t negobs_pipeline_process(negobs_pipeline_t *ctx,
                                         const negobs_pipeline_frame_t *frame,
                                         negobs_pipeline_result_t *result)
 {
+    negobs_pipeline_priv_t *p;
     negobs_detect_frame_t df;
     negobs_alert_input_t in;
     negobs_status_t st;
+    uint32_t t0 = 0;
 
     if (ctx == NULL || frame == NULL || result == NULL) {
         return NEGOBS_ERR_INVAL;
     }
-    if (ctx->magic != PIPELINE_MAGIC) {
+    p = negobs_pipeline_priv(ctx);
+    if (p->magic != PIPELINE_MAGIC) {
         return NEGOBS_ERR_STATE;
     }
     memset(result, 0, sizeof *result);
+    if (p->clock != NULL) {
+        t0 = p->clock(p->clock_user);
+    }
     if (frame->left == NULL || frame->right == NULL) {
         st = NEGOBS_ERR_INVAL;
     } else {
         const negobs_image_u8_t *right = frame->right;
         st = NEGOBS_OK;
-        if (ctx->cfg.valign.enable) {
-            st = negobs_valign_process(&ctx->valign, frame->left, right,
-                                       &ctx->right_aligned, &result->valign);
-            right = &ctx->right_aligned;
+        if (p->cfg.valign.enable) {
+            st = negobs_valign_process(&p->valign, frame->left, right,
+                                       &p->right_aligned, &result->valign);
+            right = &p->right_aligned;
+            lap(p, &t0, result, NEGOBS_PIPELINE_STAGE_VALIGN);
         }
         if (st == NEGOBS_OK) {
-            st = negobs_stereo_process(&ctx->stereo, frame->left, right,
-                                       &ctx->disp_q4, &ctx->confidence,
+            st = negobs_stereo_process(&p->stereo, frame->left, right,
+                                       &p->disp_q4, &p->confidence,
                                        &result->stereo);
         }
-        if (st == NEGOBS_OK && ctx->cfg.valign.enable) {
+        if (st == NEGOBS_OK && p->cfg.valign.enable) {
             /* the next estimate searches the range the matcher used */
-            (void)negobs_valign_set_disp_range(&ctx->valign,
+            (void)negobs_valign_set_disp_range(&p->valign,
                                                result->stereo.range_min,
                                                result->stereo.range_max);
         }
     }
+    lap(p, &t0, result, NEGOBS_PIPELINE_STAGE_STEREO);
     result->stereo_status = st;
     if (st == NEGOBS_OK) {
         memset(&df, 0, sizeof df);
-        df.disp_q4 = &ctx->disp_q4;
-        df.confidence = &ctx->confidence;
+        df.disp_q4 = &p->disp_q4;
+        df.confidence = &p->confidence;
         df.left = frame->left;
         df.t_left_ms = frame->t_left_ms;
         df.t_right_ms = frame->t_right_ms;
         df.now_ms = frame->now_ms;
         df.first_row = result->stereo.first_row;
-        st = negobs_detect_process(&ctx->detect, &df, &result->detect);
+        st = negobs_detect_process(&p->detect, &df, &result->detect);
     }
     if (st != NEGOBS_OK) {
         no_info_result(&result->detect);
     }
+    lap(p, &t0, result, NEGOBS_PIPELINE_STAGE_DETECT);
     /* next frame: only the rows the detector will read, as far as this
      * frame's ground model says; every row without one */
     (void)negobs_stereo_set_first_row(
-        &ctx->stereo, (st == NEGOBS_OK)
-                          ? negobs_pipeline_roi_first_row(&ctx->cfg,
-                                                          &result->detect)
-                          : 0);
+        &p->stereo, (st == NEGOBS_OK)
+                        ? negobs_pipeline_roi_first_row(&p->cfg,
+                                                        &result->detect)
+                        : 0);
+    lap(p, &t0, result, NEGOBS_PIPELINE_STAGE_STEREO);
     negobs_alert_input_from_result(&result->detect, frame->battery_low,
                                    frame->now_ms, &in);
-    return negobs_alert_update(&ctx->alert, frame->now_ms, &in,
-                               &result->motor);
+    st = negobs_alert_update(&p->alert, frame->now_ms, &in, &result->motor);
+    lap(p, &t0, result, NEGOBS_PIPELINE_STAGE_ALERT);
+    return st;
+}
+
+negobs_status_t negobs_pipeline_set_clock(negobs_pipeline_t *ctx,
+                                          negobs_pipeline_clock_fn clock,
+                                          void *user)
+{
+    negobs_pipeline_priv_t *p;
+    if (ctx == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    p = negobs_pipeline_priv(ctx);
+    if (p->magic != PIPELINE_MAGIC) {
+        return NEGOBS_ERR_STATE;
+    }
+    p->clock = clock;
+    p->clock_user = (clock != NULL) ? user : NULL;
+    return negobs_stereo_set_clock(&p->stereo, clock, p->clock_user);
 }
 
 negobs_status_t negobs_pipeline_tick(negobs_pipeline_t *ctx, uint32_t now_ms,
                                      negobs_motor_cmd_t *motor)
 {
+    negobs_pipeline_priv_t *p;
     if (ctx == NULL || motor == NULL) {
         return NEGOBS_ERR_INVAL;
     }
-    if (ctx->magic != PIPELINE_MAGIC) {
+    p = negobs_pipeline_priv(ctx);
+    if (p->magic != PIPELINE_MAGIC) {
         return NEGOBS_ERR_STATE;
     }
-    return negobs_alert_update(&ctx->alert, now_ms, NULL, motor);
+    return negobs_alert_update(&p->alert, now_ms, NULL, motor);
+}
+
+/* The initialised private view, or NULL. */
+static const negobs_pipeline_priv_t *ready(const negobs_pipeline_t *ctx)
+{
+    const negobs_pipeline_priv_t *p;
+    if (ctx == NULL) {
+        return NULL;
+    }
+    p = negobs_pipeline_priv_const(ctx);
+    return (p->magic == PIPELINE_MAGIC) ? p : NULL;
 }
 
 const negobs_image_s16_t *negobs_pipeline_disparity(
     const negobs_pipeline_t *ctx)
 {
-    return (ctx != NULL && ctx->magic == PIPELINE_MAGIC) ? &ctx->disp_q4
-                                                         : NULL;
+    const negobs_pipeline_priv_t *p = ready(ctx);
+    return (p != NULL) ? &p->disp_q4 : NULL;
 }
 
 const negobs_image_u8_t *negobs_pipeline_confidence(
     const negobs_pipeline_t *ctx)
 {
-    return (ctx != NULL && ctx->magic == PIPELINE_MAGIC) ? &ctx->confidence
-                                                         : NULL;
+    const negobs_pipeline_priv_t *p = ready(ctx);
+    return (p != NULL) ? &p->confidence : NULL;
+}
+
+const negobs_image_u8_t *negobs_pipeline_aligned_right(
+    const negobs_pipeline_t *ctx)
+{
+    const negobs_pipeline_priv_t *p = ready(ctx);
+    return (p != NULL && p->cfg.valign.enable) ? &p->right_aligned : NULL;
 }

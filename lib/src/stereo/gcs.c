@@ -8,7 +8,7 @@
  * are re-scored on the first row and pushed too, so growth continues across
  * strip borders.
  *
- * Growing (ALGORITHMS.md 1.3): pop the best candidate, evaluate the 16-point
+ * Growing (docs/DISPARITY.md): pop the best candidate, evaluate the 16-point
  * neighbourhood (sets N1..N4), and from each set consider only its best
  * member q. q is accepted when
  *   c(q) >= tau,

@@ -8,7 +8,7 @@
  *   num = 25 X - SL SR                  |num| <= sqrt(VL VR) < 2^24
  *   MNCC = 2 num / (VL + VR)            in [-1, 1], VL + VR < 2^25
  *
- * MNCC (ALGORITHMS.md 3.2) is used instead of Pearson NCC because it needs
+ * MNCC (Moravec NCC) is used instead of Pearson NCC because it needs
  * no square root and is the measure the GCS thresholds were tuned for; it
  * also penalises a contrast change between the windows.
  *

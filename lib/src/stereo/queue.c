@@ -1,5 +1,5 @@
 /*
- * Bounded bucket priority queue for the growing stage (ALGORITHMS.md 3.5).
+ * Bounded bucket priority queue for the growing stage (docs/DISPARITY.md).
  *
  * Keys are correlation scores c_q14 >> 6 (257 buckets over [0, 1]); each
  * bucket is a LIFO list threaded through one fixed array of `cap` slots, so

@@ -19,7 +19,7 @@
  * Gap fill (after the speckles): short invalid runs of a row are filled
  * from their ends, see gap_fill_row().
  *
- * Adaptive mean (libelas `adaptiveMean`, ALGORITHMS.md 3.7): separable,
+ * Adaptive mean (after libelas `adaptiveMean`): separable,
  * horizontal then vertical, 9 taps; the weight of a neighbour is
  * max(0, 64 - |d_i - d_centre|) in Q4 (4 px triangle). A hole whose two
  * nearest valid neighbours on the line (within 4 px) agree to 1 px is filled

@@ -1,0 +1,48 @@
+/*
+ * The detect stage's geometry and statistics functions that only the
+ * library and its tests call (internal; the public surface is
+ * negobs/depth.h, negobs/ground.h and negobs/detect.h).
+ */
+#ifndef NEGOBS_DETECT_INT_H
+#define NEGOBS_DETECT_INT_H
+
+#include <stdint.h>
+
+#include "fixed_int.h"
+#include "negobs/depth.h"
+#include "negobs/detect.h"
+#include "negobs/ground.h"
+
+/**
+ * @brief atan2(y, x) in millidegrees, in (-180000, 180000].
+ *
+ * CORDIC in vectoring mode, 24 iterations, angle table in 1/256 mdeg;
+ * error below 2 mdeg. atan2(0, 0) is 0.
+ */
+int32_t negobs_atan2_mdeg(int64_t y, int64_t x);
+
+/**
+ * @brief Sine and cosine of an angle in millidegrees, Q30 (1.0 = 2^30).
+ *
+ * CORDIC in rotation mode, 24 iterations; absolute error below 2^-22.
+ * Any angle is accepted (reduced to (-180, 180] degrees first).
+ */
+void negobs_sincos_q30(int32_t angle_mdeg, int32_t *sin_q30,
+                       int32_t *cos_q30);
+
+/** @brief Bearing of a point (lateral X, forward D) in mdeg, right > 0. */
+static inline int32_t negobs_bearing_mdeg(int32_t lateral_mm,
+                                          int32_t forward_mm)
+{
+    return negobs_atan2_mdeg(lateral_mm, forward_mm);
+}
+
+/**
+ * @brief Photometric statistics of an image, sampling every 2nd pixel of
+ *        every 2nd row.
+ * @return NEGOBS_OK or NEGOBS_ERR_INVAL.
+ */
+negobs_status_t negobs_detect_photo_stats(const negobs_image_u8_t *img,
+                                          negobs_photo_stats_t *out);
+
+#endif /* NEGOBS_DETECT_INT_H */
