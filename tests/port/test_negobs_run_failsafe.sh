@@ -170,7 +170,12 @@ expect "heartbeat period below 1 s refused" 3 "heartbeat_period_ms 0 or 1000..60
 # memory (valgrind reports it when it is installed).
 LONG=abcdefghijklmnopqrstuvwxyz:0:0
 expect "long alert kind refused" 2 "bad alert" --alert $LONG replay:"$T/rp"
-if command -v valgrind >/dev/null 2>&1; then
+# valgrind cannot run a sanitizer build (ASan maps its shadow memory
+# first), and ASan does not see uninitialised reads: the plain host build's
+# run of this script is the one that checks them.
+if nm "$RUN" 2>/dev/null | grep -q __asan_init; then
+    echo "skip - sanitizer build: valgrind check left to the plain build"
+elif command -v valgrind >/dev/null 2>&1; then
     valgrind -q --error-exitcode=99 "$RUN" --alert $LONG replay:"$T/rp" >"$T/out" 2>"$T/err"
     rc=$?
     if [ $rc -eq 2 ]; then ok "long alert kind: no uninitialised read (valgrind)"; else echo "     | exit $rc" >>"$T/err"; bad "long alert kind: no uninitialised read (valgrind)"; fi
