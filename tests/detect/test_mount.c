@@ -273,7 +273,8 @@ static void test_mount_feet_check_ignores_a_risen_floor(void **state)
             edge -= 0.03;
         }
         print_message("45 deg, hint %d mm, switched on 0.5 m before a 15 cm "
-                      "drop: %d CLEAR frames of 12\n", (int)hints[k], clear);
+                      "drop: %d CLEAR frames of 12\n",
+                      (int)hints[k], clear);
         assert_int_equal(clear, 0);
         rig_teardown(&rig);
     }

@@ -1396,8 +1396,9 @@ int evaluate_oakd(const Options &opt)
     double b_m = 0;
     if (!json_number(calib, "fx", cam.f) || !json_number(calib, "baseline_meters", b_m) ||
         !json_number(calib, "cx0", cam.cx) || !json_number(calib, "cy", cam.cy)) {
-        std::fprintf(stderr, "negobs_detect_eval: error: %s/calibration.json lacks fx, "
-                             "baseline_meters, cx0 or cy\n",
+        std::fprintf(stderr,
+                     "negobs_detect_eval: error: %s/calibration.json lacks fx, "
+                     "baseline_meters, cx0 or cy\n",
                      opt.oakd_dir.c_str());
         return 1;
     }
@@ -1407,7 +1408,8 @@ int evaluate_oakd(const Options &opt)
     for (const auto &e : fs::directory_iterator(root)) {
         const std::string fn = e.path().filename().string();
         const std::string suf = "_left.png";
-        if (fn.size() > suf.size() && fn.compare(fn.size() - suf.size(), suf.size(), suf) == 0 &&
+        if (fn.size() > suf.size() &&
+            fn.compare(fn.size() - suf.size(), suf.size(), suf) == 0 &&
             fs::exists(root / (fn.substr(0, fn.size() - suf.size()) + "_right.png"))) {
             names.push_back(fn.substr(0, fn.size() - suf.size()));
         }
@@ -1419,9 +1421,9 @@ int evaluate_oakd(const Options &opt)
         return 77;
     }
     Report rep;
-    rep.both("OAK-D pairs in " + root.filename().string() + ": f = " + fmtd("%.2f", cam.f) +
-             " px, B = " + fmtd("%.0f", cam.baseline_mm) + " mm, cx, cy = " +
-             fmtd("%.2f", cam.cx) + ", " + fmtd("%.2f", cam.cy) +
+    rep.both("OAK-D pairs in " + root.filename().string() + ": f = " +
+             fmtd("%.2f", cam.f) + " px, B = " + fmtd("%.0f", cam.baseline_mm) +
+             " mm, cx, cy = " + fmtd("%.2f", cam.cx) + ", " + fmtd("%.2f", cam.cy) +
              " (calibration.json), no mounting hint; each pair fed " +
              std::to_string(opt.oakd_repeat) + " times at 10 fps, last frame shown.");
     rep.both("");
@@ -1459,23 +1461,24 @@ int evaluate_oakd(const Options &opt)
         if (!rs.empty()) {
             verdict += " (" + rs + ")";
         }
-        const bool no_mount =
-            d.mount.source == NEGOBS_MOUNT_CONFIG && d.mount.height_mm <= 0;
+        const bool no_mount = d.mount.source == NEGOBS_MOUNT_CONFIG &&
+                              d.mount.height_mm <= 0;
         const std::string mount =
             no_mount ? std::string("none (no hint, no fit)")
                      : fmtd("%.0f mm", d.mount.height_mm) + " / " +
-            fmtd("%.1f deg", d.mount.pitch_mdeg / 1000.0) + ", roll " +
-            fmtd("%.1f deg", d.mount.roll_mdeg / 1000.0) + " (" +
-            mount_source_name(d.mount.source) + ")";
-        const std::string fit =
-            d.ground_valid ? fmtd("%.0f mm", d.pose.height_mm) + " / " +
-                                 fmtd("%.1f deg", d.pose.pitch_mdeg / 1000.0) +
-                                 fmtd(", sigma %.2f px", d.sigma_q4 / 16.0)
-                           : "none (" + fmtd("%.0f", d.ground_valid_permille / 10.0) +
-                                 " % valid in the fit rows)";
-        rep.both("| " + n + " | " + verdict + " | " + std::to_string(d.clear_to_mm) + " | " +
-                 mount + " | " + fit + " | " + std::to_string(d.noise_vouch_mm) + " mm" +
-                 (d.ground_valid ? "" : " (no ground model)") + " |");
+                           fmtd("%.1f deg", d.mount.pitch_mdeg / 1000.0) + ", roll " +
+                           fmtd("%.1f deg", d.mount.roll_mdeg / 1000.0) + " (" +
+                           mount_source_name(d.mount.source) + ")";
+        const std::string fit = d.ground_valid
+                                    ? fmtd("%.0f mm", d.pose.height_mm) + " / " +
+                                          fmtd("%.1f deg", d.pose.pitch_mdeg / 1000.0) +
+                                          fmtd(", sigma %.2f px", d.sigma_q4 / 16.0)
+                                    : "none (" +
+                                          fmtd("%.0f", d.ground_valid_permille / 10.0) +
+                                          " % valid in the fit rows)";
+        rep.both("| " + n + " | " + verdict + " | " + std::to_string(d.clear_to_mm) +
+                 " | " + mount + " | " + fit + " | " + std::to_string(d.noise_vouch_mm) +
+                 " mm" + (d.ground_valid ? "" : " (no ground model)") + " |");
     }
     std::fputs(rep.text.c_str(), stdout);
     if (!opt.markdown.empty()) {
