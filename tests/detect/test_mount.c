@@ -241,6 +241,45 @@ static void test_mount_look_at_the_feet_verifies_the_start(void **state)
     }
 }
 
+/* Switched on 0.5 m before a 15 cm drop with a 1.2 m camera pitched
+ * 45 deg (the floor in view from 0.42 m), walking at 0.3 m/s: the edge
+ * leaves the bottom row after a few frames, the lower floor then fills the
+ * view, fits ~0.15 m high (against the hint) and lies within
+ * mount_verify_near_mm of the feet. A fit that rose by ground_drop_mm
+ * while unverified is the lower floor taking over, not the floor under
+ * the feet: the look-at-the-feet check must not verify it, and no frame is
+ * CLEAR. (Without that guard frames 3-11 were CLEAR.) */
+static void test_mount_feet_check_ignores_a_risen_floor(void **state)
+{
+    static const int32_t hints[] = {1200, 0};
+    negobs_detect_config_t c;
+    synth_scene_t s;
+    int k;
+    int i;
+    (void)state;
+    for (k = 0; k < 2; k++) {
+        double edge = 0.5;
+        int clear = 0;
+        negobs_detect_config_default(&c, RIG_W, RIG_H);
+        c.cam_height_mm = hints[k];
+        rig_setup(&rig, &c);
+        for (i = 0; i < 12; i++) {
+            synth_flat(&s, 1.2, 45.0);
+            s.noise_px = 0.25;
+            s.seed = (uint32_t)i + 70u;
+            synth_step(&s, edge, -0.150);
+            assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+            clear += rig.res.state == NEGOBS_DETECT_CLEAR;
+            edge -= 0.03;
+        }
+        print_message("45 deg, hint %d mm, switched on 0.5 m before a 15 cm "
+                      "drop: %d CLEAR frames of 12\n",
+                      (int)hints[k], clear);
+        assert_int_equal(clear, 0);
+        rig_teardown(&rig);
+    }
+}
+
 /* The result reports the mounting: the hint before any fit (CONFIG), the
  * measurement (ESTIMATED: pitch per frame, height and roll tracked), the
  * last estimate while the floor is not seen (HELD), and a remounted camera
@@ -307,6 +346,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mount_wrong_or_no_hint_gives_the_same_verdicts),
         cmocka_unit_test(test_mount_switch_on_near_a_drop_is_no_info),
+        cmocka_unit_test(test_mount_feet_check_ignores_a_risen_floor),
         cmocka_unit_test(test_mount_look_at_the_feet_verifies_the_start),
         cmocka_unit_test(test_mount_reported_estimated_held_reacquired),
     };

@@ -17,6 +17,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <mutex>
 #include <sstream>
@@ -303,6 +304,9 @@ struct Options {
     int jobs = 2;
     bool surdis = false;
     std::string surdis_dir;
+    bool oakd = false; // --oakd: the OAK-D pairs table
+    std::string oakd_dir;
+    int oakd_repeat = 5;
     std::string img_dir;
     std::string dump_dir; // --surdis-dump: raw maps + plane per frame
     // the assumptions of docs/journal/detection-surdis-21.md (no calibration
@@ -1354,6 +1358,136 @@ int evaluate_surdis(const Options &opt)
     return 0;
 }
 
+// One number after "key": in a flat JSON object (calibration.json of the
+// OAK-D folder); false when absent.
+bool json_number(const std::string &text, const std::string &key, double &out)
+{
+    const size_t k = text.find("\"" + key + "\"");
+    if (k == std::string::npos) {
+        return false;
+    }
+    const size_t c = text.find(':', k);
+    if (c == std::string::npos) {
+        return false;
+    }
+    char *end = nullptr;
+    out = std::strtod(text.c_str() + c + 1, &end);
+    return end != text.c_str() + c + 1;
+}
+
+// The OAK-D pairs (docs/DETECTION.md 12): each NAME_left.png /
+// NAME_right.png of DIR fed oakd_repeat times (confirmation needs 3 of 5
+// frames), told only f, B, cx, cy from calibration.json and no mounting
+// hint; the last frame's verdict, vouched range, mounting and the range
+// the noise alone would vouch for, as one Markdown table.
+int evaluate_oakd(const Options &opt)
+{
+    const fs::path root(opt.oakd_dir);
+    std::ifstream cf(root / "calibration.json");
+    if (!fs::is_directory(root) || !cf) {
+        std::printf("OAK-D: skipped: %s/calibration.json not found "
+                    "(set NEGOBS_DATA or --oakd DIR)\n",
+                    opt.oakd_dir.c_str());
+        return 77;
+    }
+    const std::string calib((std::istreambuf_iterator<char>(cf)),
+                            std::istreambuf_iterator<char>());
+    CamParams cam;
+    double b_m = 0;
+    if (!json_number(calib, "fx", cam.f) || !json_number(calib, "baseline_meters", b_m) ||
+        !json_number(calib, "cx0", cam.cx) || !json_number(calib, "cy", cam.cy)) {
+        std::fprintf(stderr,
+                     "negobs_detect_eval: error: %s/calibration.json lacks fx, "
+                     "baseline_meters, cx0 or cy\n",
+                     opt.oakd_dir.c_str());
+        return 1;
+    }
+    cam.baseline_mm = b_m * 1000.0;
+    cam.height_mm = 0; // no hint: the detector measures the mounting
+    std::vector<std::string> names;
+    for (const auto &e : fs::directory_iterator(root)) {
+        const std::string fn = e.path().filename().string();
+        const std::string suf = "_left.png";
+        if (fn.size() > suf.size() &&
+            fn.compare(fn.size() - suf.size(), suf.size(), suf) == 0 &&
+            fs::exists(root / (fn.substr(0, fn.size() - suf.size()) + "_right.png"))) {
+            names.push_back(fn.substr(0, fn.size() - suf.size()));
+        }
+    }
+    std::sort(names.begin(), names.end());
+    if (names.empty()) {
+        std::printf("OAK-D: skipped: no NAME_left.png / NAME_right.png in %s\n",
+                    opt.oakd_dir.c_str());
+        return 77;
+    }
+    Report rep;
+    rep.both("OAK-D pairs in " + root.filename().string() + ": f = " +
+             fmtd("%.2f", cam.f) + " px, B = " + fmtd("%.0f", cam.baseline_mm) +
+             " mm, cx, cy = " + fmtd("%.2f", cam.cx) + ", " + fmtd("%.2f", cam.cy) +
+             " (calibration.json), no mounting hint; each pair fed " +
+             std::to_string(opt.oakd_repeat) + " times at 10 fps, last frame shown.");
+    rep.both("");
+    rep.both("| pair | verdict (reasons) | clear_to_mm | mounting (source) | "
+             "frame's own fit | noise could vouch for |");
+    rep.both("|---|---|---|---|---|---|");
+    for (const std::string &n : names) {
+        cv::Mat L, R;
+        std::string err;
+        if (!load_grey((root / (n + "_left.png")).string(), L, err) ||
+            !load_grey((root / (n + "_right.png")).string(), R, err)) {
+            std::fprintf(stderr, "negobs_detect_eval: error: %s\n", err.c_str());
+            return 1;
+        }
+        Runner runner; // every pair is a switch-on
+        if (!runner.init(L.cols, L.rows, cam, err)) {
+            std::fprintf(stderr, "negobs_detect_eval: error: %s: %s\n", n.c_str(),
+                         err.c_str());
+            return 1;
+        }
+        FrameOut o;
+        for (int k = 0; k < opt.oakd_repeat; ++k) {
+            if (!runner.process(L, R, 1000u + 100u * static_cast<uint32_t>(k), o, err)) {
+                std::fprintf(stderr, "negobs_detect_eval: error: %s: %s\n", n.c_str(),
+                             err.c_str());
+                return 1;
+            }
+        }
+        const negobs_detect_result_t &d = o.res.detect;
+        const std::string rs = reasons_string(d.reasons, ", ");
+        std::string verdict = state_name(d.state);
+        if (d.short_sight) {
+            verdict += " (short sight)";
+        }
+        if (!rs.empty()) {
+            verdict += " (" + rs + ")";
+        }
+        const bool no_mount = d.mount.source == NEGOBS_MOUNT_CONFIG &&
+                              d.mount.height_mm <= 0;
+        const std::string mount =
+            no_mount ? std::string("none (no hint, no fit)")
+                     : fmtd("%.0f mm", d.mount.height_mm) + " / " +
+                           fmtd("%.1f deg", d.mount.pitch_mdeg / 1000.0) + ", roll " +
+                           fmtd("%.1f deg", d.mount.roll_mdeg / 1000.0) + " (" +
+                           mount_source_name(d.mount.source) + ")";
+        const std::string fit = d.ground_valid
+                                    ? fmtd("%.0f mm", d.pose.height_mm) + " / " +
+                                          fmtd("%.1f deg", d.pose.pitch_mdeg / 1000.0) +
+                                          fmtd(", sigma %.2f px", d.sigma_q4 / 16.0)
+                                    : "none (" +
+                                          fmtd("%.0f", d.ground_valid_permille / 10.0) +
+                                          " % valid in the fit rows)";
+        rep.both("| " + n + " | " + verdict + " | " + std::to_string(d.clear_to_mm) +
+                 " | " + mount + " | " + fit + " | " + std::to_string(d.noise_vouch_mm) +
+                 " mm" + (d.ground_valid ? "" : " (no ground model)") + " |");
+    }
+    std::fputs(rep.text.c_str(), stdout);
+    if (!opt.markdown.empty()) {
+        std::ofstream md(opt.markdown);
+        md << rep.md;
+    }
+    return 0;
+}
+
 void usage(FILE *f)
 {
     std::fprintf(
@@ -1366,6 +1500,7 @@ void usage(FILE *f)
         "                          [--surdis-vshift ROWS|auto|model] [--surdis-frames A-B]\n"
         "                          [--surdis-range-warn-mm R] [--surdis-range-max-mm R]\n"
         "                          [--surdis-max-disp N (15)] [--surdis-dump DIR]\n"
+        "       negobs_detect_eval --oakd [DIR] [--oakd-repeat N (5)] [--markdown FILE]\n"
         "Synthetic suite (default, ~230 sequences; --quick ~20): renders each\n"
         "sequence with negobs_synth into --work (default /tmp/negobs_detect_eval),\n"
         "runs the pipeline, deletes the images unless --keep (kept ones are\n"
@@ -1385,7 +1520,11 @@ void usage(FILE *f)
         "writes fN.disp (int16 q4), fN.conf (u8) and fN.txt (frame, size, ground\n"
         "valid, plane a b c q20, H, sigma q4, sigma_warn q4, reasons, strip\n"
         "sigma q8, strip offset q8, state, candidates) per frame into DIR.\n"
-        "Exit: 0 ran, 1 error, 2 bad command line, 77 SurDis data absent.\n");
+        "--oakd: every NAME_left.png / NAME_right.png pair of DIR (default\n"
+        "$NEGOBS_DATA/oakd) with f, B, cx, cy from DIR/calibration.json and no\n"
+        "mounting hint, each fed N times; prints one Markdown table row per pair\n"
+        "(verdict, clear_to_mm, mounting, the frame's fit, noise_vouch_mm).\n"
+        "Exit: 0 ran, 1 error, 2 bad command line, 77 SurDis / OAK-D data absent.\n");
 }
 
 } // namespace
@@ -1443,6 +1582,15 @@ int main(int argc, char **argv)
             if (i + 1 < argc && argv[i + 1][0] != '-') {
                 opt.surdis_dir = argv[++i];
             }
+        } else if (a == "--oakd") {
+            opt.oakd = true;
+            if (i + 1 < argc && argv[i + 1][0] != '-') {
+                opt.oakd_dir = argv[++i];
+            }
+        } else if (a == "--oakd-repeat") {
+            double x = 0;
+            ok = num(x, 1, 100);
+            opt.oakd_repeat = static_cast<int>(x);
         } else if (a == "--surdis-dump") {
             ok = val(opt.dump_dir);
         } else if (a == "--surdis-f") {
@@ -1492,6 +1640,15 @@ int main(int argc, char **argv)
                          a.c_str());
             return 2;
         }
+    }
+    if (opt.oakd) {
+        if (opt.oakd_dir.empty()) {
+            const char *env = std::getenv("NEGOBS_DATA");
+            opt.oakd_dir = env != nullptr && *env
+                               ? (fs::path(env) / "oakd").string()
+                               : std::string(NEGOBS_SOURCE_ROOT "/../shared/data/oakd");
+        }
+        return evaluate_oakd(opt);
     }
     if (opt.surdis) {
         if (opt.surdis_dir.empty()) {

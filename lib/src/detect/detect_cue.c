@@ -23,7 +23,8 @@
  * The reference is the first clean frame's ground model that is verified:
  * its height lies within ground_verify_mm of the height hint, or its view
  * reaches the floor within mount_verify_near_mm of the feet (the wearer
- * looked down; mount.c). A device switched on within ~1.4 m of an edge
+ * looked down; mount.c) and the fitted height did not just rise
+ * (ground_risen). A device switched on within ~1.4 m of an edge
  * has the lower surface in its fit rows and sees a camera about the drop
  * too high; so does one whose hint is too low, and a hint too high would
  * take the lower floor for the right one. The view cannot tell these
@@ -42,12 +43,40 @@ static inline void ground_ref_take(detect_priv_t *p, const gfit_out_t *g)
     p->drop_on = 0;
 }
 
+/* A fit ground_drop_mm or more above the lowest fit of the last
+ * ground_drop_max_ms: no posture raises a worn camera by 10 cm in a few
+ * frames, but walking (or being switched on) over an edge does, and the
+ * lower floor that then fills the view may lie within mount_verify_near_mm
+ * of the feet. It is the rise the cue reads against the reference, read
+ * before there is one; every fit counts, a noisy one too (the frames that
+ * still see the edge are often noisy). */
+static int ground_risen(detect_priv_t *p, const negobs_detect_config_t *cfg,
+                        const gfit_out_t *g, uint32_t now_ms)
+{
+    const int32_t h = g->pose.height_mm;
+    if (!p->low_on || h <= p->low_height_mm ||
+        (int32_t)(now_ms - p->low_ms) > cfg->ground_drop_max_ms) {
+        p->low_on = 1;
+        p->low_height_mm = h;
+        p->low_ms = now_ms;
+    }
+    if (h - p->low_height_mm >= cfg->ground_drop_mm) {
+        p->risen_on = 1;
+        p->risen_ms = now_ms;
+    }
+    return p->risen_on &&
+           (int32_t)(now_ms - p->risen_ms) <= cfg->ground_drop_max_ms;
+}
+
 static int ground_unverified(detect_priv_t *p,
                              const negobs_detect_config_t *cfg,
                              const gfit_out_t *g, uint32_t now_ms)
 {
+    /* looking at the feet verifies the start unless the floor in view
+     * rose meanwhile; agreeing with the hint always does */
+    const int risen = ground_risen(p, cfg, g, now_ms);
     if (!mount_height_unverified(cfg, g->pose.height_mm) ||
-        mount_sees_feet(cfg, &g->plane, &g->frame)) {
+        (!risen && mount_sees_feet(cfg, &g->plane, &g->frame))) {
         p->unverified_on = 0;
         return 0;
     }

@@ -107,6 +107,14 @@ typedef struct detect_priv {
      * ground_verify_mm or more below the configured height */
     uint32_t unverified_since_ms;
     int32_t unverified_on;
+    /* before the reference: the lowest fit height of the last
+     * ground_drop_max_ms, and the last frame whose fit stood
+     * ground_drop_mm or more above it (detect_cue.c, ground_risen) */
+    int32_t low_on;
+    int32_t low_height_mm;
+    uint32_t low_ms;
+    int32_t risen_on;
+    uint32_t risen_ms;
     /* last clean frame with a rule candidate within h_near_range_mm: it
      * corroborates a smaller ground-drop rise for hold_ms */
     uint32_t near_cand_ms;
