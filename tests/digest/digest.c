@@ -298,7 +298,10 @@ static uint64_t run_walk(int valign, int perturb, int verbose,
             return 0;
         }
         if (perturb && f == 0) {
-            w_left[(WH / 2) * WW + WW / 2] ^= 1u;
+            /* one flipped grey level is below what the matcher resolves
+             * (the disparity stays the same); a ground pixel made a quite
+             * different grey must change it */
+            w_left[(WH * 3 / 4) * WW + WW / 2] ^= 0x55u;
         }
         feed(&in, w_left, sizeof w_left);
         feed(&in, w_right, sizeof w_right);
