@@ -11,7 +11,8 @@
 // calibration that cannot be rectified, or any error OpenCV raises, which
 // is caught and printed), 2 bad command line. Inputs are validated before
 // OpenCV sees them: a frame size within 2..NEGOBS_MAX_DIM, finite
-// matrices, positive focal lengths and a non-zero translation.
+// matrices, positive focal lengths, a rotation R and a non-zero
+// translation.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -441,8 +442,9 @@ bool all_finite(const cv::Mat &m)
 
 // What stereoRectify and initUndistortRectifyMap need, checked first so a
 // bad file is named as such instead of failing inside OpenCV: finite
-// values, focal lengths > 0, a distortion model OpenCV knows and two camera
-// centres that are apart (a zero T has no epipolar geometry to rectify).
+// values, focal lengths > 0, a distortion model OpenCV knows, a rotation R
+// and two camera centres that are apart (a zero T has no epipolar geometry
+// to rectify).
 bool calibration_usable(const Calibration &c)
 {
     const struct {
@@ -472,6 +474,16 @@ bool calibration_usable(const Calibration &c)
                          d == &c.D1 ? "D1" : "D2", n);
             return false;
         }
+    }
+    // R must be a rotation: anything else gives a table that "rectifies"
+    // into nonsense without any error (a zero R did). 1e-3 is loose enough
+    // for a rotation written with 6 decimals, far below any real error.
+    const cv::Mat rtr = c.R.t() * c.R - cv::Mat::eye(3, 3, CV_64F);
+    if (cv::norm(rtr, cv::NORM_INF) > 1e-3 ||
+        std::fabs(cv::determinant(c.R) - 1.0) > 1e-3) {
+        std::fprintf(stderr, "negobs_calib: R is not a rotation matrix "
+                             "(R^T R != I or det(R) != 1)\n");
+        return false;
     }
     // 1 micrometre: far below any real rig, far above rounding noise
     if (cv::norm(c.T) < 1e-3) {
