@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <sys/stat.h>
@@ -67,7 +68,8 @@ std::vector<std::pair<std::string, Pair>> views(const Pair &p, int w, int h)
     out.emplace_back("scaled", s);
     if (p.left.cols >= w && p.left.rows >= h) {
         cv::Rect r((p.left.cols - w) / 2, (p.left.rows - h) * 2 / 3, w, h);
-        out.emplace_back("crop", Pair{p.name, p.left(r).clone(), p.right(r).clone()});
+        out.emplace_back("crop",
+                         Pair{p.name, p.left(r).clone(), p.right(r).clone()});
     }
     return out;
 }
@@ -97,6 +99,126 @@ void walk_pairs(std::vector<Pair> &pairs)
     }
 }
 
+// Writes the seeds of every target for one pair; counts them in n.
+class Writer {
+public:
+    explicit Writer(std::string out) : out_(std::move(out)) {}
+
+    // fuzz_pipeline: w, h, shift, mode, max_disp, min_disp,
+    // vertical_search, queue_capacity, band, left pixels, right pixels.
+    // mode 4: the right image comes from the input; 1 auto range, 2 LR.
+    void pipeline(const Pair &p)
+    {
+        const int sizes[][2] = {{96, 64}, {64, 48}, {48, 32}};
+        for (int si = 0; si < 3; si++) {
+            for (const auto &v : views(p, sizes[si][0], sizes[si][1])) {
+                for (int mode : {4, 6, 5}) {
+                    Bytes b;
+                    put_range(b, v.second.left.cols, 8);
+                    put_range(b, v.second.left.rows, 8);
+                    put_range(b, 0, 0);
+                    b.push_back(static_cast<uint8_t>(mode));
+                    put_range(b, si == 0 ? 31 : 15, -2);
+                    put_range(b, 0, -2);
+                    put_range(b, 1, -1);
+                    put_range(b, 512, 0);
+                    put_range(b, 2, 0);
+                    put_pixels(b, v.second.left);
+                    put_pixels(b, v.second.right);
+                    write("pipeline", p.name + "-" + v.first + "-" +
+                                          std::to_string(si) + "-m" +
+                                          std::to_string(mode), b);
+                }
+            }
+        }
+    }
+
+    // fuzz_core: width, height, stride, radius, NULL flag, pixels.
+    void core(const Pair &p)
+    {
+        for (const auto &v : views(p, 64, 48)) {
+            for (int r : {1, 4}) {
+                Bytes b;
+                put_range(b, 64, -2);
+                put_range(b, 48, -2);
+                put_range(b, 64, -2);
+                put_range(b, r, -1);
+                b.push_back(0);
+                put_pixels(b, v.second.left);
+                write("core", p.name + "-" + v.first + "-r" +
+                                  std::to_string(r), b);
+            }
+        }
+    }
+
+    // fuzz_rectify, well-formed-table mode: mode, w, h, 48x32 source
+    // pixels, grid shift, f, baseline, then (x, y) of every node for the
+    // left and right maps interleaved: the identity, and the right camera
+    // 1.5 px off and rotated by about 0.5 deg, like a real rig. Mode 6
+    // also corrupts one byte and patches the CRC.
+    void rectify(const Pair &p)
+    {
+        const int shift = 3;
+        const int gw = ((48 - 1) >> shift) + 2;
+        const int gh = ((32 - 1) >> shift) + 2;
+        for (const auto &v : views(p, 48, 32)) {
+            for (int mode : {0, 6}) {
+                Bytes b;
+                b.push_back(static_cast<uint8_t>(mode));
+                put_range(b, 48, 1);
+                put_range(b, 32, 1);
+                put_pixels(b, v.second.left);
+                put_range(b, shift, 0);
+                put_range(b, 250 * 256, 0); // f_q16 >> 8: 250 px
+                put_range(b, 60000, 0);     // baseline (um)
+                for (int k = 0; k < 2 * gw * gh; k++) {
+                    const int node = k / 2;
+                    const int x = ((node % gw) << shift) * 256;
+                    const int y = ((node / gw) << shift) * 256;
+                    const bool is_x = k % 2 == 0;
+                    put_range(b, is_x ? x : y, -20000);
+                    put_range(b, is_x ? x + 384 - y / 110 : y + x / 110,
+                              -20000);
+                }
+                if (mode & 2) { // which byte to corrupt, and how
+                    put_range(b, 40, 0);
+                    b.push_back(4);
+                }
+                write("rectify", p.name + "-" + v.first + "-m" +
+                                     std::to_string(mode), b);
+            }
+        }
+    }
+
+    // fuzz_pgm and fuzz_image: real files, small enough to run fast.
+    void files(const Pair &p)
+    {
+        for (const auto &v : views(p, 64, 48)) {
+            std::vector<uint8_t> enc;
+            for (const char *ext : {".pgm", ".png", ".jpg", ".bmp"}) {
+                if (cv::imencode(ext, v.second.left, enc)) {
+                    write(std::string(ext) == ".pgm" ? "pgm" : "image",
+                          p.name + "-" + v.first + ext, enc);
+                }
+            }
+        }
+    }
+
+    int count() const { return n_; }
+    bool ok() const { return ok_; }
+
+private:
+    void write(const char *target, const std::string &name, const Bytes &b)
+    {
+        ok_ = save(out_ + "/" + target, name, b) && ok_;
+        n_++;
+    }
+
+    std::string out_;
+    int n_ = 0;
+    bool ok_ = true;
+};
+
 }  // namespace
 
 int main(int argc, char **argv)
@@ -109,7 +231,8 @@ int main(int argc, char **argv)
     std::vector<Pair> pairs;
     const char *doc = std::getenv("OPENCV_DOC");
     std::string docdir = doc ? doc : "/usr/share/doc/opencv-doc/examples/data";
-    if (!load_pair(docdir + "/aloeL.jpg", docdir + "/aloeR.jpg", "aloe", pairs)) {
+    if (!load_pair(docdir + "/aloeL.jpg", docdir + "/aloeR.jpg", "aloe",
+                   pairs)) {
         std::fprintf(stderr, "seed_corpus: no aloe pair in %s (opencv-doc)\n",
                      docdir.c_str());
     }
@@ -124,103 +247,14 @@ int main(int argc, char **argv)
     for (const char *t : targets) {
         mkdir((out + "/" + t).c_str(), 0755);
     }
-    int n = 0;
-    bool ok = true;
+    Writer wr(out);
     for (const Pair &p : pairs) {
-        // fuzz_pipeline: w, h, shift, mode, max_disp, min_disp,
-        // vertical_search, queue_capacity, band, left pixels, right pixels.
-        // mode 4: the right image comes from the input; 1 auto range, 2 LR.
-        const int sizes[][2] = {{96, 64}, {64, 48}, {48, 32}};
-        const int modes[] = {4, 6, 5};
-        for (int si = 0; si < 3; si++) {
-            for (const auto &v : views(p, sizes[si][0], sizes[si][1])) {
-                for (int mode : modes) {
-                    Bytes b;
-                    put_range(b, v.second.left.cols, 8);
-                    put_range(b, v.second.left.rows, 8);
-                    put_range(b, 0, 0);
-                    b.push_back(static_cast<uint8_t>(mode));
-                    put_range(b, si == 0 ? 31 : 15, -2);
-                    put_range(b, 0, -2);
-                    put_range(b, 1, -1);
-                    put_range(b, 512, 0);
-                    put_range(b, 2, 0);
-                    put_pixels(b, v.second.left);
-                    put_pixels(b, v.second.right);
-                    ok &= save(out + "/pipeline",
-                               p.name + "-" + v.first + "-" + std::to_string(si) +
-                                   "-m" + std::to_string(mode),
-                               b);
-                    n++;
-                }
-            }
-        }
-        // fuzz_core: width, height, stride, radius, NULL flag, pixels.
-        for (const auto &v : views(p, 64, 48)) {
-            for (int r = 1; r <= 4; r += 3) {
-                Bytes b;
-                put_range(b, 64, -2);
-                put_range(b, 48, -2);
-                put_range(b, 64, -2);
-                put_range(b, r, -1);
-                b.push_back(0);
-                put_pixels(b, v.second.left);
-                ok &= save(out + "/core", p.name + "-" + v.first + "-r" + std::to_string(r), b);
-                n++;
-            }
-        }
-        // fuzz_rectify, well-formed-table mode: mode, w, h, 48x32 source
-        // pixels, grid shift, f, baseline, then (x, y) of every node for
-        // the left and right maps interleaved: the identity, the right
-        // camera 1.5 px off and rotated by about 0.5 deg, like a real rig.
-        for (const auto &v : views(p, 48, 32)) {
-            for (int mode : {0, 6}) {
-                Bytes b;
-                const int shift = 3;
-                const int gw = ((48 - 1) >> shift) + 2;
-                const int gh = ((32 - 1) >> shift) + 2;
-                b.push_back(static_cast<uint8_t>(mode));
-                put_range(b, 48, 1);
-                put_range(b, 32, 1);
-                put_pixels(b, v.second.left);
-                put_range(b, shift, 0);
-                put_range(b, 250 * 256, 0);
-                put_range(b, 60000, 0);
-                for (int k = 0; k < 2 * gw * gh; k++) {
-                    int node = k / 2;
-                    int i = node % gw;
-                    int j = node / gw;
-                    int x = (i << shift) * 256;
-                    int y = (j << shift) * 256;
-                    int lv = (k % 2 == 0) ? x : y;
-                    int rv = (k % 2 == 0) ? x + 384 - y / 110 : y + x / 110;
-                    put_range(b, lv, -20000);
-                    put_range(b, rv, -20000);
-                }
-                if (mode & 2) {  // which byte to corrupt, and how
-                    put_range(b, 40, 0);
-                    b.push_back(4);
-                }
-                ok &= save(out + "/rectify", p.name + "-" + v.first + "-m" + std::to_string(mode), b);
-                n++;
-            }
-        }
-        // fuzz_pgm and fuzz_image: real files, small enough to run fast.
-        for (const auto &v : views(p, 64, 48)) {
-            std::vector<uint8_t> enc;
-            if (cv::imencode(".pgm", v.second.left, enc)) {
-                ok &= save(out + "/pgm", p.name + "-" + v.first + ".pgm", enc);
-                n++;
-            }
-            for (const char *ext : {".png", ".jpg", ".bmp"}) {
-                if (cv::imencode(ext, v.second.left, enc)) {
-                    ok &= save(out + "/image", p.name + "-" + v.first + ext, enc);
-                    n++;
-                }
-            }
-        }
+        wr.pipeline(p);
+        wr.core(p);
+        wr.rectify(p);
+        wr.files(p);
     }
-    std::printf("seed_corpus: %d seeds from %zu pairs in %s\n", n, pairs.size(),
-                out.c_str());
-    return ok && !pairs.empty() ? 0 : 1;
+    std::printf("seed_corpus: %d seeds from %zu pairs in %s\n", wr.count(),
+                pairs.size(), out.c_str());
+    return wr.ok() && !pairs.empty() ? 0 : 1;
 }
