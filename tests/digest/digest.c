@@ -316,9 +316,10 @@ static uint64_t run_walk(int valign, int perturb, int verbose,
         disp = negobs_pipeline_disparity(&ctx);
         dd.h = 14695981039346656037ull;
         for (y = 0; y < disp->height; y++) {
+            const int16_t *row = disp->data + y * disp->stride;
             int32_t x;
             for (x = 0; x < disp->width; x++) {
-                feed_u32(&dd, (uint32_t)(uint16_t)disp->data[y * disp->stride + x]);
+                feed_u32(&dd, (uint32_t)(uint16_t)row[x]);
             }
         }
         feed_u32(&d, (uint32_t)dd.h);
