@@ -7,12 +7,17 @@
 // sampled on a node grid, converted to Q.8 and serialised by the library's
 // negobs_rectify_table_write() (format in docs/CALIBRATION.md).
 //
-// Exit codes: 0 success, 1 failure (missing file, too few boards, ...),
-// 2 bad command line.
+// Exit codes: 0 success, 1 failure (missing file, too few boards, a
+// calibration that cannot be rectified, or any error OpenCV raises, which
+// is caught and printed), 2 bad command line. Inputs are validated before
+// OpenCV sees them: a frame size within 2..NEGOBS_MAX_DIM, finite
+// matrices, positive focal lengths, a rotation R and a non-zero
+// translation.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -126,7 +131,16 @@ int parse_args(int argc, char **argv, Options &o)
         } else if (a == "--board") {
             ok = negobs_calib::parse_size(v, o.board);
         } else if (a == "--size") {
-            ok = negobs_calib::parse_size(v, o.frame);
+            // bounded here, before anything multiplies the two sides
+            ok = negobs_calib::parse_size(v, o.frame) &&
+                 o.frame.width <= NEGOBS_MAX_DIM &&
+                 o.frame.height <= NEGOBS_MAX_DIM;
+            if (!ok) {
+                std::fprintf(stderr, "negobs_calib: --size %s: frame size "
+                                     "must be WxH with 2 <= W, H <= %d\n",
+                             v, NEGOBS_MAX_DIM);
+                return 2;
+            }
         } else if (a == "--square-mm") {
             ok = parse_double(v, o.square_mm) && o.square_mm > 0.0;
             o.square_given = true;
@@ -339,9 +353,15 @@ bool calibration_from_yaml(const Options &o, Calibration &c)
         return false;
     }
     c.T = c.T.reshape(1, 3) * o.t_unit_mm;
-    if (o.frame.area() > 0) {
+    if (o.frame.width > 0) {
         c.size = o.frame;
-    } else if (w > 0 && h > 0) {
+    } else if (w != 0 || h != 0) {
+        if (w < 2 || h < 2 || w > NEGOBS_MAX_DIM || h > NEGOBS_MAX_DIM) {
+            std::fprintf(stderr, "negobs_calib: image_width/image_height "
+                                 "%dx%d in the calibration file: must be "
+                                 "2..%d\n", w, h, NEGOBS_MAX_DIM);
+            return false;
+        }
         c.size = cv::Size(w, h);
     } else {
         std::fprintf(stderr, "negobs_calib: frame size unknown: the file "
@@ -415,9 +435,90 @@ double grid_error(const cv::Mat &mx, const cv::Mat &my, cv::Size size,
     return worst;
 }
 
+bool all_finite(const cv::Mat &m)
+{
+    return !m.empty() && cv::checkRange(m, true, nullptr, -1e12, 1e12);
+}
+
+// What stereoRectify and initUndistortRectifyMap need, checked first so a
+// bad file is named as such instead of failing inside OpenCV: finite
+// values, focal lengths > 0, a distortion model OpenCV knows, a rotation R
+// and two camera centres that are apart (a zero T has no epipolar geometry
+// to rectify).
+bool calibration_usable(const Calibration &c)
+{
+    const struct {
+        const char *name;
+        const cv::Mat *m;
+    } mats[] = {{"M1", &c.M1}, {"D1", &c.D1}, {"M2", &c.M2},
+                {"D2", &c.D2}, {"R", &c.R},   {"T", &c.T}};
+    for (const auto &m : mats) {
+        if (!all_finite(*m.m)) {
+            std::fprintf(stderr, "negobs_calib: %s holds a value that is "
+                                 "not finite (or beyond 1e12)\n", m.name);
+            return false;
+        }
+    }
+    for (const cv::Mat *m : {&c.M1, &c.M2}) {
+        if (!(m->at<double>(0, 0) > 0.0) || !(m->at<double>(1, 1) > 0.0)) {
+            std::fprintf(stderr, "negobs_calib: %s: focal lengths must be "
+                                 "> 0\n", m == &c.M1 ? "M1" : "M2");
+            return false;
+        }
+    }
+    for (const cv::Mat *d : {&c.D1, &c.D2}) {
+        const size_t n = d->total();
+        if (n != 4 && n != 5 && n != 8 && n != 12 && n != 14) {
+            std::fprintf(stderr, "negobs_calib: %s has %zu coefficients; "
+                                 "OpenCV takes 4, 5, 8, 12 or 14\n",
+                         d == &c.D1 ? "D1" : "D2", n);
+            return false;
+        }
+    }
+    // R must be a rotation: anything else gives a table that "rectifies"
+    // into nonsense without any error (a zero R did). 1e-3 is loose enough
+    // for a rotation written with 6 decimals, far below any real error.
+    const cv::Mat rtr = c.R.t() * c.R - cv::Mat::eye(3, 3, CV_64F);
+    if (cv::norm(rtr, cv::NORM_INF) > 1e-3 ||
+        std::fabs(cv::determinant(c.R) - 1.0) > 1e-3) {
+        std::fprintf(stderr, "negobs_calib: R is not a rotation matrix "
+                             "(R^T R != I or det(R) != 1)\n");
+        return false;
+    }
+    // 1 micrometre: far below any real rig, far above rounding noise
+    if (cv::norm(c.T) < 1e-3) {
+        std::fprintf(stderr, "negobs_calib: the translation T between the "
+                             "cameras is zero: no stereo baseline, nothing "
+                             "to rectify\n");
+        return false;
+    }
+    return true;
+}
+
+int run(int argc, char **argv);
+
 } // namespace
 
+// Every OpenCV call can throw; none may end the tool with an abort (exit
+// 134): the boundary turns whatever escapes into a message and exit 1.
 int main(int argc, char **argv)
+{
+    try {
+        return run(argc, argv);
+    } catch (const cv::Exception &e) {
+        std::fprintf(stderr, "negobs_calib: OpenCV error: %s\n",
+                     e.err.c_str());
+    } catch (const std::exception &e) {
+        std::fprintf(stderr, "negobs_calib: error: %s\n", e.what());
+    } catch (...) {
+        std::fprintf(stderr, "negobs_calib: unknown error\n");
+    }
+    return 1;
+}
+
+namespace {
+
+int run(int argc, char **argv)
 {
     cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
     Options o;
@@ -429,6 +530,9 @@ int main(int argc, char **argv)
     Calibration c;
     if (!o.list.empty() ? !calibrate_from_list(o, c)
                         : !calibration_from_yaml(o, c)) {
+        return 1;
+    }
+    if (!calibration_usable(c)) {
         return 1;
     }
     if (c.size.width > NEGOBS_MAX_DIM || c.size.height > NEGOBS_MAX_DIM) {
@@ -592,3 +696,5 @@ int main(int argc, char **argv)
                 bytes, o.out.c_str());
     return 0;
 }
+
+} // namespace

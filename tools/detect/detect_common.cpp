@@ -99,9 +99,18 @@ bool read_gt(const std::string &path, GtSeq &gt, std::string &err)
                 err = path + ": camera line lacks f/B_mm/cx/cy/H_mm/pitch/width";
                 return false;
             }
+            // a size outside int would be an undefined conversion
+            if (!(v >= 1 && v <= 100000)) {
+                err = path + ": camera width is not a number in 1..100000";
+                return false;
+            }
             gt.width = static_cast<int>(v);
             if (!find_num(line, "height", v)) {
                 err = path + ": camera line lacks height";
+                return false;
+            }
+            if (!(v >= 1 && v <= 100000)) {
+                err = path + ": camera height is not a number in 1..100000";
                 return false;
             }
             gt.height = static_cast<int>(v);

@@ -93,6 +93,49 @@ int fail(const std::string &msg)
     return 1;
 }
 
+// gt.json is input data, not trusted: every camera value it gives must be
+// a finite number in the range the matching command-line option accepts
+// (a NaN used to become 0 and 1e30 an undefined conversion to the
+// library's integers). Values overridden on the command line are checked
+// there instead. Returns "" or what is wrong.
+std::string check_gt_camera(const GtSeq &gt, bool f_set, bool b_set,
+                            bool cx_set, bool cy_set, bool h_set,
+                            bool pitch_set, bool fps_set)
+{
+    const struct {
+        const char *key;
+        double v;
+        bool overridden;
+        double lo, hi;
+    } fields[] = {
+        {"f", gt.cam.f, f_set, 1, 8192},
+        {"B_mm", gt.cam.baseline_mm, b_set, 1, 1000},
+        {"cx", gt.cam.cx, cx_set, 0, 4096},
+        {"cy", gt.cam.cy, cy_set, 0, 4096},
+        {"H_mm", gt.cam.height_mm, h_set, 200, 3000},
+        {"pitch", gt.cam.pitch_deg, pitch_set, -10, 80},
+        {"fps", gt.fps, fps_set, 0.001, 1000},
+    };
+    for (const auto &fl : fields) {
+        if (fl.overridden) {
+            continue;
+        }
+        if (!std::isfinite(fl.v) || fl.v < fl.lo || fl.v > fl.hi) {
+            char buf[160];
+            std::snprintf(buf, sizeof buf,
+                          "camera %s = %g is not a finite number "
+                          "in %g..%g", fl.key, fl.v, fl.lo, fl.hi);
+            return buf;
+        }
+    }
+    if (gt.width < 1 || gt.height < 1 || gt.width > 4096 ||
+        gt.height > 4096) {
+        return "camera width x height " + std::to_string(gt.width) +
+               "x" + std::to_string(gt.height) + " is not in 1..4096";
+    }
+    return std::string();
+}
+
 struct Item {
     std::string left, right, name;
     const GtFrame *gt = nullptr;
@@ -211,6 +254,11 @@ int main(int argc, char **argv)
         if (fs::exists(gp)) {
             if (!read_gt(gp, gt, err)) {
                 return fail(err);
+            }
+            err = check_gt_camera(gt, f > 0, B > 0, cx >= 0, cy >= 0, H > 0,
+                                  pitch > -1e8, fps > 0);
+            if (!err.empty()) {
+                return fail(gp + ": " + err);
             }
             have_gt = true;
             for (const GtFrame &g : gt.frames) {

@@ -4,6 +4,7 @@
 //                 [--color PICTURE.png]
 //
 // This command-line interface is stable: scripts rely on it.
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
@@ -57,9 +58,10 @@ const char *const kHelp =
     "\n"
     "Options:\n"
     "  --max-disp N   largest disparity searched, pixels (default 64);\n"
-    "                 must be < image width and <= 2047, and the range\n"
-    "                 max-disp - min-disp + 1 at most the engine's limit\n"
-    "                 (NEGOBS_STEREO_MAX_RANGE, 256)\n"
+    "                 at most the engine's bound for the frame (width - 6\n"
+    "                 and 2000 with its 5x5 window; an error names it),\n"
+    "                 and the range max-disp - min-disp + 1 at most the\n"
+    "                 engine's limit (NEGOBS_STEREO_MAX_RANGE, 256)\n"
     "  --min-disp N   smallest disparity searched, pixels (default 0);\n"
     "                 0 <= N < max-disp\n"
     "  --color FILE   also write a colour picture (TURBO map over\n"
@@ -101,6 +103,54 @@ bool parse_int(const char *s, int &out)
         return false;
     out = static_cast<int>(v);
     return true;
+}
+
+// The largest --max-disp the engine accepts for a width x height frame
+// and this --min-disp, asked from the library itself (its bound follows
+// from the matching window and the 16-bit Q4 output, and is private to it;
+// acceptance only grows as max_disp falls). A value above it is a usage
+// error, named before any work; the library's own refusal would come late
+// and read as a library failure. Returns min_disp when it accepts none.
+int engine_max_disp(int width, int height, int min_disp)
+{
+    auto accepted = [&](int max_disp) {
+        negobs_stereo_config_t cfg;
+        negobs_stereo_config_default(&cfg, width, height);
+        cfg.min_disp = min_disp;
+        cfg.max_disp = max_disp;
+        size_t bytes = 0;
+        return negobs_stereo_workspace_size(&cfg, &bytes) == NEGOBS_OK;
+    };
+    int lo = min_disp; // the largest value known to be accepted (or none)
+    int hi = std::min({width - 1, negobs_tools::kMaxDispLimit,
+                       min_disp + NEGOBS_STEREO_MAX_RANGE - 1});
+    if (hi <= lo || !accepted(lo + 1)) {
+        return min_disp;
+    }
+    lo = lo + 1;
+    while (lo < hi) {
+        const int mid = lo + (hi - lo + 1) / 2;
+        if (accepted(mid)) {
+            lo = mid;
+        } else {
+            hi = mid - 1;
+        }
+    }
+    return lo;
+}
+
+std::string check_engine_range(const negobs_tools::Range &r, int width,
+                               int height, const char *frame)
+{
+    const int top = engine_max_disp(width, height, r.min_disp);
+    if (r.max_disp <= top) {
+        return std::string();
+    }
+    return "--max-disp " + std::to_string(r.max_disp) +
+           " is beyond the engine's range for " + frame +
+           " with --min-disp " + std::to_string(r.min_disp) +
+           ": --max-disp must be " + std::to_string(r.min_disp + 1) + ".." +
+           std::to_string(top);
 }
 
 bool write_png(const std::string &path, const cv::Mat &img)
@@ -298,6 +348,11 @@ int run(int argc, char **argv)
         return EXIT_USAGE;
     }
     std::string err = negobs_tools::check_range(range, 0);
+    if (err.empty()) {
+        // the bound no frame size lifts (the widest frame the engine takes)
+        err = check_engine_range(range, NEGOBS_MAX_DIM, NEGOBS_MAX_DIM,
+                                 "any frame");
+    }
     if (!err.empty()) {
         std::fprintf(stderr, "negobs_stereo: %s\n", err.c_str());
         return EXIT_USAGE;
@@ -325,6 +380,12 @@ int run(int argc, char **argv)
     err = negobs_tools::check_range(range, left.cols);
     if (err.empty())
         err = negobs_tools::check_engine_limits(range, left.cols, left.rows);
+    if (err.empty()) {
+        const std::string frame =
+            "a " + std::to_string(left.cols) + "x" + std::to_string(left.rows) +
+            " frame";
+        err = check_engine_range(range, left.cols, left.rows, frame.c_str());
+    }
     if (!err.empty()) {
         std::fprintf(stderr, "negobs_stereo: %s\n", err.c_str());
         return EXIT_USAGE;

@@ -25,6 +25,25 @@ extern "C" {
 /** Marker for "no disparity here" in disp_q4 images. */
 #define NEGOBS_DISP_INVALID INT16_MIN
 
+/*
+ * Right shifts of negative signed values are implementation-defined in C99
+ * (6.5.7p5). Parts of the library shift negative int32/int64 sums and
+ * products directly (the detector's and the ground fit's accumulators, for
+ * speed and for a floor that division does not give) and so assume the
+ * shift is arithmetic: the sign propagates, x >> n == floor(x / 2^n). GCC,
+ * Clang, armcc/armclang, IAR and MSVC all shift that way on every target
+ * we build for. C99 has no _Static_assert, so these typedefs check it when
+ * the header is compiled: on a compiler that shifts any other way the array
+ * size is -1 and the build stops here instead of giving other results.
+ * New code should prefer the helpers below (negobs_rshift_round_s32, ...),
+ * which do not depend on it.
+ */
+typedef char negobs_assert_arithmetic_rshift_s32
+    [(((int32_t)-5 >> 1) == -3 && ((int32_t)-1 >> 31) == -1) ? 1 : -1];
+typedef char negobs_assert_arithmetic_rshift_s64
+    [(((int64_t)-5 >> 1) == -3 && ((int64_t)-1 >> 63) == -1 &&
+      ((int64_t)INT64_MIN >> 62) == -2) ? 1 : -1];
+
 /** @brief Clamp a 32-bit value into [lo, hi]. */
 static inline int32_t negobs_clamp_s32(int32_t x, int32_t lo, int32_t hi)
 {
