@@ -1757,7 +1757,7 @@ void usage(FILE *f)
         "                          [--surdis-vshift ROWS|auto|model] [--surdis-frames A-B]\n"
         "                          [--surdis-range-warn-mm R] [--surdis-range-max-mm R]\n"
         "                          [--surdis-max-disp N (15)] [--surdis-dump DIR]\n"
-        "Synthetic suite (default, ~290 sequences; --quick ~20): renders each\n"
+        "Synthetic suite (default, 273 sequences; --quick 17): renders each\n"
         "sequence with negobs_synth into --work (default /tmp/negobs_detect_eval),\n"
         "runs the pipeline, deletes the images unless --keep (kept ones are\n"
         "reused), prints detection rate by drop and range, first-alert range,\n"
