@@ -51,6 +51,9 @@ struct Options {
     std::string texture_file;
     std::string texture_kind = "asphalt";
     int distractors = 0;
+    double exposure_pct = 0.0; // auto-exposure steps of both cameras, +-%
+    int exposure_every = 10;   // frames between steps
+    int exposure_lag = 0;      // frames the right camera's exposure lags
     double texture_mm = 2.0;
     bool gt_disparity = false;
     bool gt_disparity_right = false;
@@ -90,7 +93,9 @@ void usage(FILE *fp, const char *argv0)
 "  --distractors N      N random intensity-only distractors on the near\n"
 "                       ground: painted stripes, hard shadows, dark patches,\n"
 "                       manhole covers (default 0; never to be alarmed)\n"
-"  --texture-kind K     asphalt|paving procedural texture (default asphalt)\n"
+"  --texture-kind K     asphalt|paving|concrete|worn procedural texture\n"
+"                       (default asphalt; concrete and worn are weak,\n"
+"                       low-contrast textures)\n"
 "  --texture FILE       tile a grey photo on all surfaces instead\n"
 "  --texture-mm S       photo: millimetres per photo pixel (default 2)\n"
 "  --texture-seed N     seed of the procedural texture (default: --seed)\n"
@@ -119,6 +124,13 @@ void usage(FILE *fp, const char *argv0)
 "  --gain-right G       right exposure/gain factor (default 1)\n"
 "  --offset-right O     right offset in grey levels (default 0)\n"
 "  --brightness K       gain of both cameras (default 1)\n"
+"  --exposure-pct P     auto-exposure changes within a sequence: every\n"
+"                       --exposure-every frames the exposure of both\n"
+"                       cameras moves to a new random level within +-P %%\n"
+"                       of the start, over 3 frames (default 0: none)\n"
+"  --exposure-every N   frames between exposure changes (default 10)\n"
+"  --exposure-lag-right N  the right camera's exposure follows N frames\n"
+"                       late (independent auto-exposure; default 0)\n"
 "  --blur S             lens blur, Gaussian PSF sigma in px (default 0)\n"
 "  --vshift-right R     vertical misalignment: right image content moved\n"
 "                       down by R rows, sub-pixel allowed (default 0)\n"
@@ -294,8 +306,9 @@ int parse(int argc, char **argv, Options &o)
             rc = num(o.scene.lower_shade, 0.0, 2.0);
         } else if (arg == "--texture-kind") {
             o.texture_kind = val;
-            if (val != "asphalt" && val != "paving")
-                return fail(a0, "unknown texture kind '" + val + "' (asphalt|paving)");
+            if (val != "asphalt" && val != "paving" && val != "concrete" && val != "worn")
+                return fail(a0, "unknown texture kind '" + val +
+                                    "' (asphalt|paving|concrete|worn)");
         } else if (arg == "--distractors") {
             rc = integer(o.distractors, 0, 1000);
         } else if (arg == "--texture") {
@@ -356,6 +369,12 @@ int parse(int argc, char **argv, Options &o)
             rc = num(o.sensor.blur, 0.0, 20.0);
         } else if (arg == "--brightness") {
             rc = num(o.sensor.brightness, 0.01, 20.0);
+        } else if (arg == "--exposure-pct") {
+            rc = num(o.exposure_pct, 0.0, 90.0);
+        } else if (arg == "--exposure-every") {
+            rc = integer(o.exposure_every, 1, 100000);
+        } else if (arg == "--exposure-lag-right") {
+            rc = integer(o.exposure_lag, 0, 100);
         } else if (arg == "--vshift-right") {
             rc = num(o.rig.right_row_shift, -100.0, 100.0);
         } else if (arg == "--ss") {
@@ -450,6 +469,32 @@ cv::Mat disp16(const cv::Mat &disp)
     return d16;
 }
 
+// Exposure factor of every frame (both cameras before the right one's
+// lag). Auto-exposure reacts to a change of scene brightness in steps and
+// settles over a few frames, so each change is a ramp over 3 frames to a
+// new level within +-exposure_pct of the start; levels come from their own
+// random stream so the motion and noise of a seed do not change.
+std::vector<double> exposure_schedule(const Options &o)
+{
+    std::vector<double> e(static_cast<size_t>(o.frames), 1.0);
+    if (o.exposure_pct <= 0.0)
+        return e;
+    synth::Rng rng(o.seed * 0xA24BAED4963EE407ull + 23);
+    double from = 1.0, to = 1.0;
+    int start = 0;
+    constexpr int kSettleFrames = 3;
+    for (int i = 0; i < o.frames; ++i) {
+        if (i > 0 && i % o.exposure_every == 0) {
+            from = e[static_cast<size_t>(i - 1)];
+            to = 1.0 + o.exposure_pct * 1e-2 * (2.0 * rng.uniform() - 1.0);
+            start = i;
+        }
+        const double a = std::min(1.0, (i - start + 1) / static_cast<double>(kSettleFrames));
+        e[static_cast<size_t>(i)] = i < o.exposure_every ? 1.0 : from + a * (to - from);
+    }
+    return e;
+}
+
 } // namespace
 
 int main(int argc, char **argv)
@@ -491,6 +536,7 @@ int main(int argc, char **argv)
     const double ph_pitch = 2.0 * kPi * mrng.uniform();
     const double ph_roll = 2.0 * kPi * mrng.uniform();
     const double yaw = o.yaw_deg * kPi / 180.0;
+    const std::vector<double> exposure = exposure_schedule(o);
 
     const std::string gt_path = o.out + "/gt.json";
     FILE *gt = std::fopen(gt_path.c_str(), "w");
@@ -541,12 +587,14 @@ int main(int argc, char **argv)
                  "\"offset_right\": %.6g, \"brightness\": %.6g, \"blur\": %.6g, \"seed\": %llu, "
                  "\"speed_mps\": %.6g, \"fps\": %.6g, \"bob_mm\": %.6g, \"bob_hz\": %.6g, "
                  "\"sway_deg\": %.6g, \"roll_sway_deg\": %.6g, \"gt_disparity\": %s, "
-                 "\"gt_disparity_right\": %s},\n",
+                 "\"gt_disparity_right\": %s, \"exposure_pct\": %.6g, \"exposure_every\": %d, "
+                 "\"exposure_lag_right\": %d},\n",
                  o.render.supersample, o.sensor.noise_sigma, o.sensor.gain_right,
                  o.sensor.offset_right, o.sensor.brightness, o.sensor.blur,
                  static_cast<unsigned long long>(o.seed), sequence ? o.speed : 0.0, o.fps,
                  o.bob_mm, o.bob_hz, o.sway_deg, o.roll_sway_deg,
-                 o.gt_disparity ? "true" : "false", o.gt_disparity_right ? "true" : "false");
+                 o.gt_disparity ? "true" : "false", o.gt_disparity_right ? "true" : "false",
+                 o.exposure_pct, o.exposure_every, o.exposure_lag);
     std::fprintf(gt, "\"frames\": [\n");
 
     double render_ms = 0.0;
@@ -576,8 +624,13 @@ int main(int argc, char **argv)
         synth::apply_blur(rf, o.sensor.blur);
         const uint64_t fseed = o.seed * 0xD1B54A32D192ED03ull + static_cast<uint64_t>(i) * 7919u + 1;
         cv::Mat l8, r8;
-        synth::apply_sensor(lf, 0, o.sensor, fseed, l8);
-        synth::apply_sensor(rf, 1, o.sensor, fseed, r8);
+        synth::SensorOptions sl = o.sensor, sr = o.sensor;
+        const double exp_l = exposure[static_cast<size_t>(i)];
+        const double exp_r = exposure[static_cast<size_t>(std::max(0, i - o.exposure_lag))];
+        sl.brightness *= exp_l;
+        sr.brightness *= exp_r;
+        synth::apply_sensor(lf, 0, sl, fseed, l8);
+        synth::apply_sensor(rf, 1, sr, fseed, r8);
         const synth::EdgeGT eg = synth::edge_ground_truth(scene, o.rig, pose);
         render_ms += std::chrono::duration<double, std::milli>(
                          std::chrono::steady_clock::now() - t0).count();
@@ -652,14 +705,14 @@ int main(int argc, char **argv)
                      "\"edge_cols\": %d, \"edge_rows\": %s, \"edge_box\": %s, \"edge_line\": %s, "
                      "\"edge_row_at_cx\": %s, \"H_mm\": %.2f, \"pitch\": %.4f, "
                      "\"roll\": %.4f, \"yaw\": %.4f, \"cam_x_mm\": %.1f, \"cam_z_mm\": %.1f, "
-                     "\"ground_y_mm\": %.1f%s}%s\n",
+                     "\"ground_y_mm\": %.1f, \"exposure\": [%.4f, %.4f]%s}%s\n",
                      i, t, ln.c_str(), rn.c_str(),
                      o.gt_disparity ? ("\"" + dn + "\"").c_str() : "null",
                      synth::hazard_name(sp.hazard), edge.c_str(), drop * 1e3,
                      (sp.hazard == synth::Hazard::Stairs ? sp.rise * sp.steps : drop) * 1e3,
                      eg.visible ? "true" : "false", eg.cols_visible, rows.c_str(), box.c_str(), line.c_str(),
                      rowc.c_str(), (pose.y - ground_y) * 1e3, pose.pitch, pose.roll,
-                     pose.yaw, pose.x * 1e3, pose.z * 1e3, ground_y * 1e3, extra.c_str(),
+                     pose.yaw, pose.x * 1e3, pose.z * 1e3, ground_y * 1e3, exp_l, exp_r, extra.c_str(),
                      i + 1 < o.frames ? "," : "");
     }
     std::fprintf(gt, "]\n}\n");

@@ -397,8 +397,10 @@ void normalise(std::vector<float> &v, double mean, double sd, double lo, double 
 bool Texture::make_procedural(uint64_t seed, const std::string &kind, std::string &err)
 {
     const bool paving = (kind == "paving");
-    if (!paving && kind != "asphalt") {
-        err = "unknown texture kind '" + kind + "' (asphalt|paving)";
+    const bool concrete = (kind == "concrete");
+    const bool worn = (kind == "worn");
+    if (!paving && !concrete && !worn && kind != "asphalt") {
+        err = "unknown texture kind '" + kind + "' (asphalt|paving|concrete|worn)";
         return false;
     }
     const int n = 2048;      // 2048 texels of 4 mm: 8.19 m period
@@ -408,17 +410,28 @@ bool Texture::make_procedural(uint64_t seed, const std::string &kind, std::strin
     // Multi-scale noise from 4 mm grain to 2 m patches; coarse octaves keep
     // contrast at 8 m where a pixel covers ~35 mm x 200 mm of ground.
     const int cells[] = {1, 2, 4, 8, 16, 32, 64, 128, 256, 512};
-    const double amps[] = {0.35, 0.45, 0.55, 0.7, 0.8, 0.85, 0.8, 0.7, 0.55, 0.45};
+    const double amps_asphalt[] = {0.35, 0.45, 0.55, 0.7, 0.8, 0.85, 0.8, 0.7, 0.55, 0.45};
+    // Weak textures (docs/SYNTH.md "Texture"): smooth concrete keeps
+    // little but its 0.1-2 m mottling (fine octaves at a third of
+    // asphalt's weight relative to the coarse ones); worn asphalt has its
+    // grain polished to about half.
+    const double amps_concrete[] = {0.12, 0.15, 0.2, 0.25, 0.35, 0.5, 0.7, 0.8, 0.75, 0.6};
+    const double amps_worn[] = {0.15, 0.2, 0.25, 0.45, 0.7, 0.85, 0.8, 0.7, 0.55, 0.45};
+    const double *amps = concrete ? amps_concrete : (worn ? amps_worn : amps_asphalt);
     for (size_t k = 0; k < sizeof cells / sizeof cells[0]; ++k)
         add_octave(acc, n, cells[k], amps[k], rng);
-    // Aggregate: sparse light and dark stones of 1-3 texels.
-    const int stones = n * n / 60;
+    // Aggregate: sparse light and dark stones of 1-3 texels (asphalt,
+    // paving); concrete has rare small pores instead, worn asphalt a
+    // quarter of the stones, the rest worn flush.
+    const int stones = concrete ? n * n / 2000 : (worn ? n * n / 240 : n * n / 60);
     for (int k = 0; k < stones; ++k) {
         const int x = static_cast<int>(rng.next() % static_cast<uint64_t>(n));
         const int y = static_cast<int>(rng.next() % static_cast<uint64_t>(n));
         const int r = 1 + static_cast<int>(rng.next() % 3u);
-        const float v = static_cast<float>((rng.uniform() < 0.5 ? -1.0 : 1.0) *
-                                           (0.8 + 0.8 * rng.uniform()));
+        float v = static_cast<float>((rng.uniform() < 0.5 ? -1.0 : 1.0) *
+                                     (0.8 + 0.8 * rng.uniform()));
+        if (concrete)
+            v = -std::fabs(v); // pores are dark
         for (int dy = 0; dy < r; ++dy)
             for (int dx = 0; dx < r; ++dx)
                 acc[static_cast<size_t>((y + dy) % n) * static_cast<size_t>(n) +
@@ -443,7 +456,15 @@ bool Texture::make_procedural(uint64_t seed, const std::string &kind, std::strin
             }
         }
     }
-    normalise(acc, 125.0, 42.0, 8.0, 247.0);
+    // Grey level statistics: asphalt/paving mean 125, sd 42; smooth
+    // concrete is light and flat (150, sd 14); worn asphalt greyer and
+    // flatter than new (115, sd 22).
+    if (concrete)
+        normalise(acc, 150.0, 14.0, 60.0, 230.0);
+    else if (worn)
+        normalise(acc, 115.0, 22.0, 20.0, 230.0);
+    else
+        normalise(acc, 125.0, 42.0, 8.0, 247.0);
     build_mips(std::move(acc), n, n);
     return true;
 }

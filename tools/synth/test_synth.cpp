@@ -9,6 +9,12 @@
 //                disparity reproduces the left image (visible pixels).
 //   determinism  same seed -> identical bytes; another seed -> different.
 //   bad_options  malformed command lines exit non-zero with a message.
+//   roll_gt      under roll the GT disparity of flat ground is the rolled
+//                plane's analytic formula and the edge GT separates the
+//                two levels of a curb in every column.
+//   sensor       gain/offset mismatch reaches the right camera only;
+//                exposure changes follow gt.json's per-frame factors (and
+//                the right camera's lag); weak textures are weak.
 // usage: test_synth MODE PATH_TO_negobs_synth
 #include <algorithm>
 #include <cmath>
@@ -549,6 +555,214 @@ int test_ramp_gt()
     return failures;
 }
 
+// ------------------------------------------------------------------ roll_gt
+
+// Flat ground Y = 0 under pitch th and roll ph (camera height H): the
+// centre ray of (u, v) has world Y component -(sin th + cos th (sin ph
+// (u - cx) + cos ph (v - cy)) / f), so d = f B / t = (B/H) (f sin th +
+// cos th (sin ph (u - cx) + cos ph (v - cy))).
+double rolled_plane_disp(const synth::Rig &rig, double H, double pitch, double roll, double u,
+                         double v)
+{
+    const double th = pitch * kPi / 180.0, ph = roll * kPi / 180.0;
+    return rig.baseline / H *
+           (rig.f * std::sin(th) +
+            std::cos(th) * (std::sin(ph) * (u - rig.cx) + std::cos(ph) * (v - rig.cy)));
+}
+
+int test_roll_gt()
+{
+    synth::Texture tex;
+    std::string err;
+    check(tex.make_procedural(3, "asphalt", err), "texture: " + err);
+    for (double roll : {-8.0, 3.0, 8.0}) {
+        for (double pitch : {5.0, 45.0}) {
+            synth::SceneParams sp;
+            sp.hazard = synth::Hazard::Flat;
+            const synth::Scene flat(sp);
+            synth::Rig rig;
+            synth::Pose pose;
+            pose.y = 0.9;
+            pose.pitch = pitch;
+            pose.roll = roll;
+            cv::Mat img, disp;
+            synth::render_view(flat, tex, rig, pose, 0, synth::RenderOptions{}, img, &disp);
+            double worst = 0.0;
+            int n = 0;
+            for (int v = 0; v < rig.height; v += 17) {
+                for (int u = 0; u < rig.width; u += 23) {
+                    const double e = rolled_plane_disp(rig, pose.y, pitch, roll, u, v);
+                    if (e <= 0.05) { // at or above the horizon: sky
+                        check(disp.at<float>(v, u) == 0.0f || e > -0.05,
+                              "roll_gt: sky above the rolled horizon");
+                        continue;
+                    }
+                    worst = std::max(worst, std::fabs(disp.at<float>(v, u) - e));
+                    ++n;
+                }
+            }
+            check(n >= 40, "roll_gt: enough ground samples");
+            check(worst < 1e-3, "roll_gt: flat GT under roll " + std::to_string(roll) +
+                                    " pitch " + std::to_string(pitch) + " off by " +
+                                    std::to_string(worst) + " px");
+        }
+    }
+    // A 15 cm curb 3 m ahead, camera rolled 8 deg: in every column where
+    // gt.json puts the edge, 2 rows below it the ground is the near plane
+    // (exact formula), 2 rows above it the lower level (disparity clearly
+    // below the near plane's).
+    const fs::path out = scratch("roll_curb");
+    const int rc = run("--single --scene curb --edge-mm 3000 --drop-mm 150 --roll-deg 8 "
+                       "--pitch-deg 30 --height-mm 1400 --gt-disparity --quiet --out '" +
+                       out.string() + "'");
+    check(rc == 0, "roll_gt: CLI rolled curb run");
+    const std::string gt = slurp(out / "gt.json");
+    const size_t k = gt.find("\"edge_line\": [");
+    double u0 = 0, v0 = 0, u1 = 0, v1 = 0;
+    check(k != std::string::npos &&
+              std::sscanf(gt.c_str() + k, "\"edge_line\": [%lf, %lf, %lf, %lf]", &u0, &v0, &u1,
+                          &v1) == 4,
+          "roll_gt: edge_line present");
+    const cv::Mat d16 = cv::imread((out / "disp_0000.png").string(), cv::IMREAD_UNCHANGED);
+    check(!d16.empty(), "roll_gt: disparity PNG");
+    synth::Rig rig;
+    int cols = 0;
+    if (!d16.empty() && u1 > u0) {
+        for (int u = static_cast<int>(u0) + 5; u <= static_cast<int>(u1) - 5; u += 20) {
+            const double ve = v0 + (v1 - v0) * (u - u0) / (u1 - u0);
+            const int below = static_cast<int>(std::lround(ve)) + 2;
+            const int above = static_cast<int>(std::lround(ve)) - 2;
+            if (below >= rig.height || above < 0)
+                continue;
+            const double near_b = rolled_plane_disp(rig, 1.4, 30.0, 8.0, u, below);
+            const double near_a = rolled_plane_disp(rig, 1.4, 30.0, 8.0, u, above);
+            check(std::fabs(d16.at<uint16_t>(below, u) / 16.0 - near_b) <= 1.0 / 32.0 + 1e-6,
+                  "roll_gt: near ground below the edge at column " + std::to_string(u));
+            check(near_a - d16.at<uint16_t>(above, u) / 16.0 > 0.3,
+                  "roll_gt: lower level above the edge at column " + std::to_string(u));
+            ++cols;
+        }
+    }
+    check(cols >= 10, "roll_gt: edge checked in >= 10 columns");
+    check(std::fabs(v1 - v0) > 20.0, "roll_gt: roll 8 slants the edge");
+    fs::remove_all(out);
+    return failures;
+}
+
+// ------------------------------------------------------------------ sensor
+
+double mean_of(const cv::Mat &m)
+{
+    return cv::mean(m)[0];
+}
+
+int test_sensor()
+{
+    // Gain/offset mismatch: the left image is untouched, the right one is
+    // gain * x + offset of the same render.
+    const fs::path a = scratch("mm_a"), b = scratch("mm_b");
+    const std::string base = "--single --scene curb --noise 0 --quiet --out ";
+    check(run(base + "'" + a.string() + "'") == 0, "sensor: plain run");
+    check(run(base + "'" + b.string() + "' --gain-right 1.15 --offset-right -9") == 0,
+          "sensor: mismatch run");
+    const cv::Mat la = cv::imread((a / "left_0000.png").string(), cv::IMREAD_GRAYSCALE);
+    const cv::Mat lb = cv::imread((b / "left_0000.png").string(), cv::IMREAD_GRAYSCALE);
+    const cv::Mat ra = cv::imread((a / "right_0000.png").string(), cv::IMREAD_GRAYSCALE);
+    const cv::Mat rb = cv::imread((b / "right_0000.png").string(), cv::IMREAD_GRAYSCALE);
+    check(!la.empty() && !lb.empty() && !ra.empty() && !rb.empty(), "sensor: images read");
+    if (!la.empty() && !lb.empty() && !ra.empty() && !rb.empty()) {
+        check(cv::norm(la, lb, cv::NORM_INF) == 0.0, "sensor: mismatch leaves the left camera");
+        int n = 0, bad = 0;
+        for (int y = 0; y < ra.rows; ++y) {
+            for (int x = 0; x < ra.cols; ++x) {
+                const double e = 1.15 * ra.at<uint8_t>(y, x) - 9.0;
+                if (e < 1.0 || e > 254.0)
+                    continue; // clamped
+                ++n;
+                // the linear value was rounded once before and once after
+                bad += std::fabs(rb.at<uint8_t>(y, x) - e) > 1.2 ? 1 : 0;
+            }
+        }
+        check(n > 1000 && bad == 0, "sensor: right = 1.15 * right - 9 (" + std::to_string(bad) +
+                                        " of " + std::to_string(n) + " off)");
+    }
+    fs::remove_all(a);
+    fs::remove_all(b);
+
+    // Exposure changes: a static camera (no motion, no noise) so every
+    // frame renders the same linear image; each frame's mean must follow
+    // gt.json's factors, the right camera 2 frames late.
+    const fs::path e = scratch("expo");
+    check(run("--scene flat --frames 14 --speed 0 --bob-mm 0 --sway-deg 0 --roll-sway-deg 0 "
+              "--noise 0 --exposure-pct 30 --exposure-every 4 --exposure-lag-right 2 --seed 9 "
+              "--quiet --out '" + e.string() + "'") == 0,
+          "sensor: exposure run");
+    std::ifstream f(e / "gt.json");
+    std::string line;
+    std::vector<double> el, er;
+    while (std::getline(f, line)) {
+        const size_t k = line.find("\"exposure\": [");
+        double x = 0, y = 0;
+        if (line.rfind("{\"i\": ", 0) == 0 && k != std::string::npos &&
+            std::sscanf(line.c_str() + k, "\"exposure\": [%lf, %lf]", &x, &y) == 2) {
+            el.push_back(x);
+            er.push_back(y);
+        }
+    }
+    check(el.size() == 14, "sensor: 14 frames with exposure factors");
+    double spread = 0.0;
+    if (el.size() == 14) {
+        const double m0l = mean_of(cv::imread((e / "left_0000.png").string(), cv::IMREAD_GRAYSCALE));
+        const double m0r = mean_of(cv::imread((e / "right_0000.png").string(), cv::IMREAD_GRAYSCALE));
+        for (size_t i = 0; i < el.size(); ++i) {
+            char nm[64];
+            std::snprintf(nm, sizeof nm, "left_%04zu.png", i);
+            const double ml = mean_of(cv::imread((e / nm).string(), cv::IMREAD_GRAYSCALE));
+            std::snprintf(nm, sizeof nm, "right_%04zu.png", i);
+            const double mr = mean_of(cv::imread((e / nm).string(), cv::IMREAD_GRAYSCALE));
+            check(std::fabs(ml / m0l - el[i]) < 0.01,
+                  "sensor: left mean follows exposure at frame " + std::to_string(i));
+            check(std::fabs(mr / m0r - er[i]) < 0.01,
+                  "sensor: right mean follows exposure at frame " + std::to_string(i));
+            check(i < 2 || er[i] == el[i - 2], "sensor: right lags 2 frames");
+            spread = std::max(spread, std::fabs(el[i] - 1.0));
+        }
+        check(el[3] == 1.0 && el[4] != 1.0, "sensor: first change at frame 4");
+    }
+    check(spread > 0.03 && spread <= 0.3, "sensor: exposure moves within +-30 %");
+    fs::remove_all(e);
+
+    // Weak textures: far less contrast than asphalt, at the pixel scale
+    // (what the matcher sees) and overall.
+    auto contrast = [](const std::string &kind, double &sd, double &grad) {
+        synth::Texture tex;
+        std::string err;
+        check(tex.make_procedural(5, kind, err), "sensor: texture " + kind);
+        synth::SceneParams sp;
+        sp.hazard = synth::Hazard::Flat;
+        const synth::Scene flat(sp);
+        synth::Rig rig;
+        synth::Pose pose;
+        cv::Mat img;
+        synth::render_view(flat, tex, rig, pose, 0, synth::RenderOptions{}, img, nullptr);
+        const cv::Mat roi = img(cv::Rect(40, 120, 240, 120));
+        cv::Scalar m, s;
+        cv::meanStdDev(roi, m, s);
+        sd = s[0];
+        cv::Mat dx = roi(cv::Rect(1, 0, 239, 120)) - roi(cv::Rect(0, 0, 239, 120));
+        grad = cv::mean(cv::abs(dx))[0];
+    };
+    double sd_a, g_a, sd_c, g_c, sd_w, g_w;
+    contrast("asphalt", sd_a, g_a);
+    contrast("concrete", sd_c, g_c);
+    contrast("worn", sd_w, g_w);
+    std::printf("texture sd / mean |dx|: asphalt %.1f / %.2f, worn %.1f / %.2f, concrete "
+                "%.1f / %.2f\n", sd_a, g_a, sd_w, g_w, sd_c, g_c);
+    check(sd_c < 0.4 * sd_a && g_c < 0.25 * g_a, "sensor: concrete is weak");
+    check(sd_w < 0.7 * sd_a && g_w < 0.6 * g_a && g_w > g_c, "sensor: worn asphalt in between");
+    return failures;
+}
+
 // ------------------------------------------------------------------ bad_options
 
 int test_bad_options()
@@ -561,6 +775,7 @@ int test_bad_options()
         "--seed -3",     "--pitch-deg 95",   "--texture /nonexistent/x.png",
         "--texture-kind marble", "--single=1", "stray",         "--drop-mm 1e400", "--threads 0",
         "--grade-pct 60", "--grade-pct x", "--ramp-mm -1",
+        "--exposure-pct -5", "--exposure-pct 95", "--exposure-every 0", "--exposure-lag-right x",
     };
     for (const char *args : bad) {
         std::string err;
@@ -583,7 +798,8 @@ int main(int argc, char **argv)
 {
     if (argc < 3) {
         std::fprintf(stderr,
-                     "usage: %s flat_gt|ramp_gt|warp|determinism|bad_options NEGOBS_SYNTH\n",
+                     "usage: %s flat_gt|ramp_gt|roll_gt|warp|determinism|sensor|bad_options "
+                     "NEGOBS_SYNTH\n",
                      argv[0]);
         return 2;
     }
@@ -599,6 +815,10 @@ int main(int argc, char **argv)
         test_determinism();
     else if (mode == "bad_options")
         test_bad_options();
+    else if (mode == "roll_gt")
+        test_roll_gt();
+    else if (mode == "sensor")
+        test_sensor();
     else {
         std::fprintf(stderr, "unknown mode %s\n", mode.c_str());
         return 2;
