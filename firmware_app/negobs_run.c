@@ -253,12 +253,14 @@ int main(int argc, char **argv)
     rc = run_loop();
 
 
-    /* Shutdown: camera first, then the motor (off), then the output. */
+    /* Shutdown: camera first, then the motor (off) and its output, then
+     * the recording: a stalled card may hold up the writer's last pairs,
+     * never the motor's switch-off. */
     negobs_camera_stop(&run_camera);
     negobs_camera_close(&run_camera);
-    record_stop();
     negobs_motor_thread_stop(&run_motor);
     negobs_alert_close(&run_alert);
+    record_stop();
     logmsg(LOG_INFO, "exit %d", rc);
     return rc;
 }

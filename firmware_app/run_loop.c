@@ -162,6 +162,8 @@ static negobs_record_queue_t recq;
 static char record_refused[NEGOBS_PORT_ERRMSG_LEN];
 static bool record_fail_logged;
 
+static void record_summary(char *out, size_t len);
+
 /* Before anything runs: an existing session is never recorded over. The
  * refusal stops the recording only; the device still warns. */
 void record_start(void)
@@ -210,7 +212,15 @@ static void record_pair(const negobs_frame_pair_t *pair)
 
 void record_stop(void)
 {
+    char rec[NEGOBS_PORT_ERRMSG_LEN + 64];
+    bool was_running = recq.running;
     negobs_recq_stop(&recq);
+    if (was_running) {
+        /* the summary line is written while the writer may still drain its
+         * queue; this is the count once every queued pair is on the card */
+        record_summary(rec, sizeof rec);
+        logmsg(LOG_INFO, "record: closed, %s", rec);
+    }
 }
 
 /* "record=off", "record=recording written=.. dropped=..", ... */
