@@ -12,26 +12,7 @@ CALIB=${3:-}
 DATA=${4:-/usr/share/doc/opencv-doc/examples/data}
 T=$(mktemp -d "${TMPDIR:-/tmp}/negobs-calib-XXXXXX")
 trap 'rm -rf "$T"' EXIT
-pass=0
-fail=0
-
-ok() { pass=$((pass + 1)); echo "ok   - $1"; }
-bad() { fail=$((fail + 1)); echo "FAIL - $1"; sed 's/^/     | /' "$T/err" | head -20; }
-
-# expect NAME RC NEEDLE ARGS...: exit code RC and NEEDLE in stdout+stderr.
-expect() {
-    name=$1; want=$2; needle=$3; shift 3
-    "$RUN" "$@" >"$T/out" 2>"$T/err"
-    rc=$?
-    cat "$T/out" >>"$T/err"
-    if [ "$rc" -ne "$want" ]; then
-        echo "     | exit $rc, want $want" >>"$T/err"; bad "$name"; return
-    fi
-    if [ -n "$needle" ] && ! grep -q -- "$needle" "$T/err"; then
-        echo "     | missing: $needle" >>"$T/err"; bad "$name"; return
-    fi
-    ok "$name"
-}
+. "$(dirname "$0")/run_expect.sh"
 
 # mkreplay DIR W H N: N textured PGM pairs (deterministic bytes).
 mkreplay() {
