@@ -67,6 +67,40 @@ static void test_temporal_sparse_hits_never_confirm(void **state)
     }
 }
 
+/* Sightings spread over frames that could not look at the track's place
+ * (observed frames vouching 0 mm, or degraded ones) are not 3 of 5: the
+ * window moves with time. Frozen, one hit every third frame confirmed on
+ * the third hit (false holes on flat suite walks). */
+static void test_temporal_unseen_frames_move_the_window(void **state)
+{
+    negobs_hazard_t c = cand(3000, 0);
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    uint32_t t;
+    (void)state;
+    setup_cfg();
+    for (t = 1; t <= 30; t++) {
+        int hit = (t % 3u == 0u);
+        temporal_update_vouched(&tp, hit ? &c : NULL, NULL, hit ? 1u : 0u,
+                                1, hit ? INT32_MAX : 0, 2000, t * 100u);
+        assert_int_equal(report(out, t * 100u), 0);
+    }
+    setup_cfg();
+    for (t = 1; t <= 30; t++) {
+        int hit = (t % 3u == 0u);
+        temporal_update_vouched(&tp, hit ? &c : NULL, NULL, hit ? 1u : 0u,
+                                hit, INT32_MAX, 2000, t * 100u);
+        assert_int_equal(report(out, t * 100u), 0);
+    }
+    /* Three sightings in five frames still confirm, looked at or not. */
+    setup_cfg();
+    for (t = 1; t <= 5; t++) {
+        int hit = (t % 2u == 1u);
+        temporal_update_vouched(&tp, hit ? &c : NULL, NULL, hit ? 1u : 0u,
+                                1, hit ? INT32_MAX : 0, 2000, t * 100u);
+    }
+    assert_int_equal(report(out, 500), 1);
+}
+
 static void test_temporal_clears_after_m_clean_frames(void **state)
 {
     negobs_hazard_t c = cand(3500, 100);
@@ -328,6 +362,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_temporal_confirms_on_k_of_n),
         cmocka_unit_test(test_temporal_sparse_hits_never_confirm),
+        cmocka_unit_test(test_temporal_unseen_frames_move_the_window),
         cmocka_unit_test(test_temporal_clears_after_m_clean_frames),
         cmocka_unit_test(test_temporal_degraded_frames_do_not_clear),
         cmocka_unit_test(test_temporal_degraded_frames_never_confirm),

@@ -213,7 +213,22 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
             (tr->hz.range_mm > seen_to_mm &&
              !(tr->confirmed && tr->hz.range_mm <= hold_range_mm))) {
             /* No evidence either way (the frame did not vouch for the
-             * track's place); only time can retire it. */
+             * track's place): it is not a miss, and only time can retire
+             * a confirmed track. An unconfirmed track's window still
+             * moves on: confirmation is confirm_k sightings within the
+             * last confirm_n frames, i.e. persistence in time. Were the
+             * window frozen, sightings scattered over frames that could
+             * not look between them (frames vouching 0 mm, trusting a
+             * candidate on its own strips only) would add up to a
+             * "3 of 5" over any number of frames: matching noise that
+             * recurs now and then would confirm. */
+            if (!tr->confirmed) {
+                tr->hist <<= 1;
+                if ((tr->hist & window_mask(cfg)) == 0u) {
+                    tr->active = 0;
+                    continue;
+                }
+            }
             if (elapsed_ms(now_ms, tr->last_seen_ms) > cfg->hold_ms) {
                 tr->active = 0;
             }
