@@ -158,8 +158,8 @@ negobs_status_t app_alert_step(app_alert_t *a, uint32_t now_ms,
     /* Replay the wake-ups the library asked for and nobody made, at their
      * own times (bounded: after a long stall the rest is skipped, the
      * library only needs times that do not go back). */
-    for (k = 0; a->started && k < 64 &&
-                since(now_ms, a->cmd.next_change_ms) > 0;
+    for (k = 0;
+         a->started && k < 64 && since(now_ms, a->cmd.next_change_ms) > 0;
          k++) {
         st = negobs_alert_update(&a->lib, a->cmd.next_change_ms, NULL,
                                  &a->cmd);
@@ -222,8 +222,7 @@ negobs_status_t app_alert_noinfo_schedule(const negobs_alert_config_t *cfg,
         return NEGOBS_ERR_INVAL;
     }
     /* No verdict ever: the library plays no-information from t = 0. */
-    if (negobs_alert_update(&sim, 0u, NULL, &cmd) != NEGOBS_OK ||
-        !cmd.on) {
+    if (negobs_alert_update(&sim, 0u, NULL, &cmd) != NEGOBS_OK || !cmd.on) {
         return NEGOBS_ERR_INVAL;
     }
     {
@@ -236,8 +235,8 @@ negobs_status_t app_alert_noinfo_schedule(const negobs_alert_config_t *cfg,
         to_schedule(s, n, loop, sched);
     }
     if (sched->seg[0].duration_ms >= lead_ms + (uint32_t)c.min_pulse_ms) {
-        sched->seg[0].duration_ms =
-            (uint16_t)(sched->seg[0].duration_ms - lead_ms);
+        sched->seg[0].duration_ms = (uint16_t)(sched->seg[0].duration_ms -
+                                               lead_ms);
     }
     return NEGOBS_OK;
 }
@@ -253,8 +252,9 @@ void app_alert_input(app_verdict_t v, const app_frame_stats_t *st,
                 : v == APP_VERDICT_CAUTION ? NEGOBS_LEVEL_CAUTION
                                            : NEGOBS_LEVEL_NONE;
     in->range_mm = st != NULL ? st->nearest_range_mm : -1;
-    in->short_sight =
-        (v == APP_VERDICT_CLEAR && st != NULL && st->short_sight) ? 1 : 0;
+    in->short_sight = (v == APP_VERDICT_CLEAR && st != NULL && st->short_sight)
+                          ? 1
+                          : 0;
 }
 
 negobs_alert_pattern_t app_alert_pattern(const app_alert_t *a)

@@ -72,17 +72,18 @@ negobs_status_t app_pipeline_init(app_pipeline_t *p,
         cfg->texture_permille_min > 1000 || cfg->lr_mean_diff_max < 0 ||
         cfg->lr_mean_diff_max > 255 || cfg->focal_px < 50 ||
         cfg->focal_px > 4000 || cfg->baseline_mm < 10 ||
-        cfg->baseline_mm > 1000 || (cfg->cam_height_mm != 0 && cfg->cam_height_mm < 300) ||
+        cfg->baseline_mm > 1000 ||
+        (cfg->cam_height_mm != 0 && cfg->cam_height_mm < 300) ||
         cfg->cam_height_mm > 3000 || cfg->cam_pitch_mdeg < 0 ||
         cfg->cam_pitch_mdeg > 60000 || cfg->max_disp < 8 ||
         cfg->max_disp > 255 || cfg->sync_tol_ms < 0 ||
         cfg->vertical_align < 0 || cfg->vertical_align > 1 ||
-        cfg->row_crop < 0 || cfg->row_crop > 1 ||
-        cfg->sync_tol_ms > 1000 || cfg->max_frame_age_ms < 1 ||
-        cfg->max_frame_age_ms > 60000 || cfg->latency_budget_ms < 0 ||
-        cfg->latency_budget_ms > 60000 || cfg->focal_q4 < 0 ||
-        cfg->focal_q4 > 4000 * 16 || cfg->baseline_um < 0 ||
-        cfg->baseline_um > 1000000 || cfg->cx_q4 < -1 || cfg->cy_q4 < -1) {
+        cfg->row_crop < 0 || cfg->row_crop > 1 || cfg->sync_tol_ms > 1000 ||
+        cfg->max_frame_age_ms < 1 || cfg->max_frame_age_ms > 60000 ||
+        cfg->latency_budget_ms < 0 || cfg->latency_budget_ms > 60000 ||
+        cfg->focal_q4 < 0 || cfg->focal_q4 > 4000 * 16 ||
+        cfg->baseline_um < 0 || cfg->baseline_um > 1000000 ||
+        cfg->cx_q4 < -1 || cfg->cy_q4 < -1) {
         return NEGOBS_ERR_INVAL;
     }
     memset(p, 0, sizeof *p);
@@ -107,8 +108,7 @@ static int32_t ceil_div(int32_t a, int32_t b)
 
 /* Measure one image; returns NEGOBS_OK or _INVAL. */
 static negobs_status_t measure(const negobs_image_u8_t *img, int32_t tex_std,
-                               int32_t *mean, int32_t *sat_pm,
-                               int32_t *tex_pm)
+                               int32_t *mean, int32_t *sat_pm, int32_t *tex_pm)
 {
     negobs_image_u8_t d;
     int32_t f;
@@ -130,7 +130,8 @@ static negobs_status_t measure(const negobs_image_u8_t *img, int32_t tex_std,
     d.width = img->width / f;
     d.height = img->height / f;
     d.stride = d.width;
-    if (d.width < 2 * APP_TEX_RADIUS + 1 || d.height < 2 * APP_TEX_RADIUS + 1) {
+    if (d.width < 2 * APP_TEX_RADIUS + 1 ||
+        d.height < 2 * APP_TEX_RADIUS + 1) {
         return NEGOBS_ERR_INVAL;
     }
     for (y = 0; y < d.height; y++) {
@@ -143,8 +144,8 @@ static negobs_status_t measure(const negobs_image_u8_t *img, int32_t tex_std,
             sat += v >= APP_SAT_LEVEL ? 1u : 0u;
         }
     }
-    if (negobs_boxsum_u8(&d, APP_TEX_RADIUS, box_sum, d.width, box_sq,
-                         d.width, col_buf) != NEGOBS_OK) {
+    if (negobs_boxsum_u8(&d, APP_TEX_RADIUS, box_sum, d.width, box_sq, d.width,
+                         col_buf) != NEGOBS_OK) {
         return NEGOBS_ERR_INVAL;
     }
     for (y = APP_TEX_RADIUS; y < d.height - APP_TEX_RADIUS; y++) {
@@ -307,8 +308,7 @@ app_verdict_t app_process_pair_at(app_pipeline_t *p,
         fr.t_right_ms = t_right_ms;
         fr.now_ms = now_ms;
         /* set on every pair: lib_setup may have initialised it again */
-        (void)negobs_pipeline_set_clock(&lib_pipe, p->clock_ns,
-                                        p->clock_user);
+        (void)negobs_pipeline_set_clock(&lib_pipe, p->clock_ns, p->clock_user);
         if (negobs_pipeline_process(&lib_pipe, &fr, &res) != NEGOBS_OK) {
             st->reason = APP_REASON_BAD_INPUT;
             return APP_VERDICT_NO_INFO;
@@ -317,9 +317,9 @@ app_verdict_t app_process_pair_at(app_pipeline_t *p,
             st->reason = APP_REASON_BAD_INPUT;
             return APP_VERDICT_NO_INFO;
         }
-        st->valid_permille = (int32_t)(
-            (uint64_t)res.stereo.valid * 1000u /
-            ((uint64_t)left->width * (uint64_t)left->height));
+        st->valid_permille = (int32_t)((uint64_t)res.stereo.valid * 1000u /
+                                       ((uint64_t)left->width *
+                                        (uint64_t)left->height));
         st->first_row = res.stereo.first_row;
         {
             int k;

@@ -20,10 +20,10 @@
 
 /** What the pair says about the path ahead (maps to a motor pattern). */
 typedef enum app_verdict {
-    APP_VERDICT_NO_INFO = 0,  /**< cannot judge: play the no-info pattern */
-    APP_VERDICT_CLEAR = 1,    /**< nothing to report (silence)            */
-    APP_VERDICT_CAUTION = 2,  /**< confirmed drop-off ahead               */
-    APP_VERDICT_IMMINENT = 3  /**< confirmed drop-off close               */
+    APP_VERDICT_NO_INFO = 0, /**< cannot judge: play the no-info pattern */
+    APP_VERDICT_CLEAR = 1,   /**< nothing to report (silence)            */
+    APP_VERDICT_CAUTION = 2, /**< confirmed drop-off ahead               */
+    APP_VERDICT_IMMINENT = 3 /**< confirmed drop-off close               */
 } app_verdict_t;
 
 /** Why the last pair gave NO_INFO. */
@@ -47,30 +47,30 @@ typedef struct app_pipeline_config {
     int32_t texture_permille_min; /**< share of textured windows [20]      */
     int32_t lr_mean_diff_max;     /**< |mean L - mean R| [60]              */
     /* Camera geometry for the detector (rectified pair). */
-    int32_t focal_px;             /**< focal length, pixels [250]          */
-    int32_t baseline_mm;          /**< stereo baseline [120]               */
-    int32_t cam_height_mm;        /**< camera height hint [1200]; 0: none,
+    int32_t focal_px;       /**< focal length, pixels [250]          */
+    int32_t baseline_mm;    /**< stereo baseline [120]               */
+    int32_t cam_height_mm;  /**< camera height hint [1200]; 0: none,
                                        the detector measures it          */
-    int32_t cam_pitch_mdeg;       /**< downward pitch, 1/1000 deg [20000]  */
-    int32_t max_disp;             /**< largest disparity searched [63]     */
-    int32_t vertical_align;       /**< 1: sub-pixel vertical alignment stage
+    int32_t cam_pitch_mdeg; /**< downward pitch, 1/1000 deg [20000]  */
+    int32_t max_disp;       /**< largest disparity searched [63]     */
+    int32_t vertical_align; /**< 1: sub-pixel vertical alignment stage
                                        before the matcher, for rigs without
                                        a calibration table [0]             */
-    int32_t row_crop;             /**< 1: match only the rows from the top
+    int32_t row_crop;       /**< 1: match only the rows from the top
                                        of the warning range down (the
                                        library's stereo_roi, following the
                                        last ground model) [1]              */
     /* Exact geometry from a calibration table (negobs_run --calib); they
      * take precedence over focal_px / baseline_mm when set. */
-    int32_t focal_q4;             /**< focal, 1/16 px; 0 = focal_px [0]    */
-    int32_t baseline_um;          /**< baseline, um; 0 = baseline_mm [0]   */
-    int32_t cx_q4;                /**< principal point x, 1/16 px;
+    int32_t focal_q4;          /**< focal, 1/16 px; 0 = focal_px [0]    */
+    int32_t baseline_um;       /**< baseline, um; 0 = baseline_mm [0]   */
+    int32_t cx_q4;             /**< principal point x, 1/16 px;
                                        -1 = image centre [-1]              */
-    int32_t cy_q4;                /**< principal point y; -1 = centre [-1] */
-    int32_t sync_tol_ms;          /**< L/R capture skew the detector accepts;
+    int32_t cy_q4;             /**< principal point y; -1 = centre [-1] */
+    int32_t sync_tol_ms;       /**< L/R capture skew the detector accepts;
                                        negobs_run sets its pairing limit [10] */
-    int32_t max_frame_age_ms;     /**< older frames are stale: no-info [150] */
-    int32_t latency_budget_ms;    /**< capture-to-verdict time above which a
+    int32_t max_frame_age_ms;  /**< older frames are stale: no-info [150] */
+    int32_t latency_budget_ms; /**< capture-to-verdict time above which a
                                        "clear" is not trusted: no-info;
                                        0 = off [250]                       */
 } app_pipeline_config_t;

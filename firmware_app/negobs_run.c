@@ -104,18 +104,22 @@ static void on_fatal_signal(int sig)
 /* SIGINT, SIGTERM, SIGHUP, SIGQUIT: a request to stop (exit 0). */
 bool is_stop_request(int sig)
 {
-    return sig == SIGINT || sig == SIGTERM || sig == SIGHUP ||
-           sig == SIGQUIT;
+    return sig == SIGINT || sig == SIGTERM || sig == SIGHUP || sig == SIGQUIT;
 }
 
 const char *signal_name(int sig)
 {
-    static const struct { int sig; const char *name; } names[] = {
-        {SIGINT, "SIGINT"},     {SIGTERM, "SIGTERM"}, {SIGHUP, "SIGHUP"},
-        {SIGQUIT, "SIGQUIT"},   {SIGUSR1, "SIGUSR1"}, {SIGUSR2, "SIGUSR2"},
-        {SIGALRM, "SIGALRM"},   {SIGXCPU, "SIGXCPU"}, {SIGXFSZ, "SIGXFSZ"},
-        {SIGPIPE, "SIGPIPE"},   {SIGVTALRM, "SIGVTALRM"},
-        {SIGPROF, "SIGPROF"},   {SIGPOLL, "SIGIO"},
+    static const struct {
+        int sig;
+        const char *name;
+    } names[] = {
+        {SIGINT, "SIGINT"},       {SIGTERM, "SIGTERM"},
+        {SIGHUP, "SIGHUP"},       {SIGQUIT, "SIGQUIT"},
+        {SIGUSR1, "SIGUSR1"},     {SIGUSR2, "SIGUSR2"},
+        {SIGALRM, "SIGALRM"},     {SIGXCPU, "SIGXCPU"},
+        {SIGXFSZ, "SIGXFSZ"},     {SIGPIPE, "SIGPIPE"},
+        {SIGVTALRM, "SIGVTALRM"}, {SIGPROF, "SIGPROF"},
+        {SIGPOLL, "SIGIO"},
 #ifdef SIGPWR
         {SIGPWR, "SIGPWR"},
 #endif
@@ -135,8 +139,8 @@ const char *signal_name(int sig)
 static void install_signals(void)
 {
     static const int stops[] = {
-        SIGINT,  SIGTERM,   SIGHUP,  SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM,
-        SIGXCPU, SIGVTALRM, SIGPROF, SIGPOLL,
+        SIGINT,    SIGTERM, SIGHUP,    SIGQUIT, SIGUSR1, SIGUSR2,
+        SIGALRM,   SIGXCPU, SIGVTALRM, SIGPROF, SIGPOLL,
 #ifdef SIGPWR
         SIGPWR,
 #endif
@@ -144,7 +148,7 @@ static void install_signals(void)
         SIGSTKFLT,
 #endif
     };
-    static const int fatal[] = {SIGSEGV, SIGBUS,  SIGFPE, SIGILL,
+    static const int fatal[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL,
                                 SIGABRT, SIGSYS, SIGTRAP};
     struct sigaction sa;
     size_t i;
@@ -195,7 +199,8 @@ int main(int argc, char **argv)
     }
     if (check_alert_spec(run_cfg.alert) != 0) {
         return usage_error("bad alert '%s' (want gpio:CHIP:LINE, "
-                           "pwm:CHIP:CHANNEL, console or none)", run_cfg.alert);
+                           "pwm:CHIP:CHANNEL, console or none)",
+                           run_cfg.alert);
     }
     rc = check_camera_args(&args);
     if (rc != 0) {
@@ -223,9 +228,9 @@ int main(int argc, char **argv)
     if (open_alert(run_cfg.alert) != 0) {
         return EXIT_ALERT;
     }
-    if (negobs_motor_thread_start(&run_motor, &run_alert, &noinfo_sched,
-                                  backstop_ms((uint32_t)run_cfg.watchdog_ms)) !=
-        NEGOBS_OK) {
+    if (negobs_motor_thread_start(
+            &run_motor, &run_alert, &noinfo_sched,
+            backstop_ms((uint32_t)run_cfg.watchdog_ms)) != NEGOBS_OK) {
         logmsg(LOG_ERROR, "cannot start the motor thread");
         negobs_alert_close(&run_alert);
         return EXIT_ALERT;
@@ -251,7 +256,6 @@ int main(int argc, char **argv)
         return EXIT_CAMERA;
     }
     rc = run_loop();
-
 
     /* Shutdown: camera first, then the motor (off) and its output, then
      * the recording: a stalled card may hold up the writer's last pairs,

@@ -38,13 +38,13 @@
 
 /* Exit codes (documented in --help and docs/RUNNING.md). */
 enum {
-    EXIT_OK = 0,         /* frames done, end of replay, or SIGINT/SIGTERM */
-    EXIT_RUNTIME = 1,    /* failure while running (corrupt replay, ...)   */
-    EXIT_USAGE = 2,      /* bad option or argument                        */
-    EXIT_CONFIG = 3,     /* config file missing or invalid                */
-    EXIT_CAMERA = 4,     /* camera could not be opened or started         */
-    EXIT_ALERT = 5,      /* motor output could not be opened              */
-    EXIT_CALIB = 6       /* calibration table unreadable, corrupt,
+    EXIT_OK = 0,      /* frames done, end of replay, or SIGINT/SIGTERM */
+    EXIT_RUNTIME = 1, /* failure while running (corrupt replay, ...)   */
+    EXIT_USAGE = 2,   /* bad option or argument                        */
+    EXIT_CONFIG = 3,  /* config file missing or invalid                */
+    EXIT_CAMERA = 4,  /* camera could not be opened or started         */
+    EXIT_ALERT = 5,   /* motor output could not be opened              */
+    EXIT_CALIB = 6    /* calibration table unreadable, corrupt,
                             truncated or for another frame size          */
 };
 
@@ -73,10 +73,10 @@ typedef struct run_settings {
     char calib[256];
     negobs_alert_config_t alert_cfg;
     app_pipeline_config_t app;
-    bool size_given;      /* --width/--height given                   */
-    bool alert_binary;    /* config alert_binary                      */
-    bool vertical_align;  /* config vertical_align                    */
-    bool row_crop;        /* config row_crop                          */
+    bool size_given;     /* --width/--height given                   */
+    bool alert_binary;   /* config alert_binary                      */
+    bool vertical_align; /* config vertical_align                    */
+    bool row_crop;       /* config row_crop                          */
 } run_settings_t;
 
 extern run_settings_t run_cfg;
@@ -85,7 +85,7 @@ extern uint64_t run_log_t0_ms;
 
 typedef struct run_args {
     const char *config;
-    const char *motor_off;  /* --motor-off SPEC: switch it off, exit */
+    const char *motor_off; /* --motor-off SPEC: switch it off, exit */
     const char *left;
     const char *right;
 } run_args_t;
@@ -98,8 +98,8 @@ int usage_error(const char *fmt, const char *arg);
 int check_alert_spec(const char *spec);
 /** Split "a:b:c" into kind and two fields; returns the fields found, -1
  *  when a part does not fit (the outputs are then not filled). */
-int split_spec(const char *spec, char *kind, size_t klen, char *f1,
-               size_t l1, char *f2, size_t l2);
+int split_spec(const char *spec, char *kind, size_t klen, char *f1, size_t l1,
+               char *f2, size_t l2);
 int parse_u32(const char *s, uint32_t *out);
 void logmsg(int level, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));

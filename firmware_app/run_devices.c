@@ -80,7 +80,8 @@ int motor_off(const char *spec)
 {
     if (check_alert_spec(spec) != 0) {
         return usage_error("bad motor output '%s' (want gpio:CHIP:LINE, "
-                           "pwm:CHIP:CHANNEL, console or none)", spec);
+                           "pwm:CHIP:CHANNEL, console or none)",
+                           spec);
     }
     if (open_alert(spec) != 0) {
         return EXIT_ALERT;
@@ -204,8 +205,7 @@ int open_camera(const run_args_t *a)
         logmsg(LOG_WARN, "replay: %s", negobs_replay_damage(&replay_state));
     }
     logmsg(LOG_INFO, "camera: %s backend, %s %s", run_camera.ops->name,
-           cfg.left,
-           cfg.right);
+           cfg.left, cfg.right);
     return 0;
 }
 
@@ -235,32 +235,37 @@ static void calib_why(negobs_status_t st, char *msg, size_t len)
 {
     uint32_t total;
     if (st == NEGOBS_ERR_UNSUPPORTED) {
-        (void)snprintf(msg, len, "unsupported table version or format "
-                                 "(this negobs_run reads version %d.x)",
+        (void)snprintf(msg, len,
+                       "unsupported table version or format "
+                       "(this negobs_run reads version %d.x)",
                        NEGOBS_RECTIFY_VERSION_MAJOR);
         return;
     }
     if (calib_bytes < NEGOBS_RECTIFY_HEADER_BYTES) {
-        (void)snprintf(msg, len, "truncated: %lu bytes, shorter than the "
-                                 "%d-byte header",
+        (void)snprintf(msg, len,
+                       "truncated: %lu bytes, shorter than the "
+                       "%d-byte header",
                        (unsigned long)calib_bytes,
                        NEGOBS_RECTIFY_HEADER_BYTES);
         return;
     }
     if (memcmp(calib_table, NEGOBS_RECTIFY_MAGIC, 8) != 0) {
-        (void)snprintf(msg, len, "not a negobs rectification table "
-                                 "(bad magic)");
+        (void)snprintf(msg, len,
+                       "not a negobs rectification table "
+                       "(bad magic)");
         return;
     }
     total = rd_u32le(calib_table + 16);
     if ((size_t)total > calib_bytes) {
-        (void)snprintf(msg, len, "truncated: %lu of the %lu bytes its "
-                                 "header declares",
+        (void)snprintf(msg, len,
+                       "truncated: %lu of the %lu bytes its "
+                       "header declares",
                        (unsigned long)calib_bytes, (unsigned long)total);
         return;
     }
-    (void)snprintf(msg, len, "corrupt: checksum (CRC32) or header values "
-                             "do not match");
+    (void)snprintf(msg, len,
+                   "corrupt: checksum (CRC32) or header values "
+                   "do not match");
 }
 
 /* Read and check the table, set the geometry and the capture size. */
@@ -286,8 +291,9 @@ int load_calib(const char *path)
         return EXIT_CALIB;
     }
     if (more) {
-        fprintf(stderr, "negobs_run: calibration table %s: larger than %u "
-                        "bytes (use a coarser negobs_calib --grid-shift)\n",
+        fprintf(stderr,
+                "negobs_run: calibration table %s: larger than %u "
+                "bytes (use a coarser negobs_calib --grid-shift)\n",
                 path, APP_CALIB_MAX_BYTES);
         return EXIT_CALIB;
     }
@@ -295,23 +301,25 @@ int load_calib(const char *path)
                                     &calib_info);
     if (st != NEGOBS_OK) {
         calib_why(st, why, sizeof why);
-        fprintf(stderr, "negobs_run: calibration table %s refused: %s\n",
-                path, why);
+        fprintf(stderr, "negobs_run: calibration table %s refused: %s\n", path,
+                why);
         return EXIT_CALIB;
     }
     if (calib_info.width > NEGOBS_RUN_MAX_W ||
         calib_info.height > NEGOBS_RUN_MAX_H) {
-        fprintf(stderr, "negobs_run: calibration table %s refused: it is "
-                        "for %ldx%ld, larger than %dx%d\n",
+        fprintf(stderr,
+                "negobs_run: calibration table %s refused: it is "
+                "for %ldx%ld, larger than %dx%d\n",
                 path, (long)calib_info.width, (long)calib_info.height,
                 NEGOBS_RUN_MAX_W, NEGOBS_RUN_MAX_H);
         return EXIT_CALIB;
     }
     if (run_cfg.size_given && (run_cfg.width != calib_info.width ||
-                       run_cfg.height != calib_info.height)) {
-        fprintf(stderr, "negobs_run: calibration table %s refused: size "
-                        "mismatch: the table is for %ldx%ld, the capture "
-                        "size is %ldx%ld\n",
+                               run_cfg.height != calib_info.height)) {
+        fprintf(stderr,
+                "negobs_run: calibration table %s refused: size "
+                "mismatch: the table is for %ldx%ld, the capture "
+                "size is %ldx%ld\n",
                 path, (long)calib_info.width, (long)calib_info.height,
                 (long)run_cfg.width, (long)run_cfg.height);
         return EXIT_CALIB;
@@ -324,35 +332,39 @@ int load_calib(const char *path)
     run_cfg.app.focal_q4 = (int32_t)((calib_info.f_q16 + 2048u) >> 12);
     run_cfg.app.baseline_um = (int32_t)calib_info.baseline_um;
     run_cfg.app.cx_q4 = calib_info.cx_q16 >= 0
-                      ? (int32_t)((calib_info.cx_q16 + 2048) >> 12) : -1;
+                            ? (int32_t)((calib_info.cx_q16 + 2048) >> 12)
+                            : -1;
     run_cfg.app.cy_q4 = calib_info.cy_q16 >= 0
-                      ? (int32_t)((calib_info.cy_q16 + 2048) >> 12) : -1;
+                            ? (int32_t)((calib_info.cy_q16 + 2048) >> 12)
+                            : -1;
     return -1;
 }
 
 /* One line with what the table brings (after the log is set up). */
 void log_calib(const char *path)
 {
-    uint32_t f100 = (uint32_t)(((uint64_t)calib_info.f_q16 * 100u +
-                                32768u) >> 16);
+    uint32_t f100 = (uint32_t)(((uint64_t)calib_info.f_q16 * 100u + 32768u) >>
+                               16);
     int32_t cx100 = (int32_t)(((int64_t)calib_info.cx_q16 * 100 + 32768) /
                               65536);
     int32_t cy100 = (int32_t)(((int64_t)calib_info.cy_q16 * 100 + 32768) /
                               65536);
-    logmsg(LOG_INFO,
-           "calib: %s: %ldx%ld grid 2^%ld f_px=%lu.%02lu baseline_mm=%lu.%03lu "
-           "cx=%ld.%02ld cy=%ld.%02ld (replace focal_px=%ld baseline_mm=%ld)",
-           path, (long)calib_info.width, (long)calib_info.height,
-           (long)calib_info.grid_shift, (unsigned long)(f100 / 100u),
-           (unsigned long)(f100 % 100u),
-           (unsigned long)(calib_info.baseline_um / 1000u),
-           (unsigned long)(calib_info.baseline_um % 1000u),
-           (long)(cx100 / 100), (long)(cx100 < 0 ? -cx100 % 100 : cx100 % 100),
-           (long)(cy100 / 100), (long)(cy100 < 0 ? -cy100 % 100 : cy100 % 100),
-           (long)run_cfg.app.focal_px, (long)run_cfg.app.baseline_mm);
+    logmsg(
+        LOG_INFO,
+        "calib: %s: %ldx%ld grid 2^%ld f_px=%lu.%02lu baseline_mm=%lu.%03lu "
+        "cx=%ld.%02ld cy=%ld.%02ld (replace focal_px=%ld baseline_mm=%ld)",
+        path, (long)calib_info.width, (long)calib_info.height,
+        (long)calib_info.grid_shift, (unsigned long)(f100 / 100u),
+        (unsigned long)(f100 % 100u),
+        (unsigned long)(calib_info.baseline_um / 1000u),
+        (unsigned long)(calib_info.baseline_um % 1000u), (long)(cx100 / 100),
+        (long)(cx100 < 0 ? -cx100 % 100 : cx100 % 100), (long)(cy100 / 100),
+        (long)(cy100 < 0 ? -cy100 % 100 : cy100 % 100),
+        (long)run_cfg.app.focal_px, (long)run_cfg.app.baseline_mm);
     if (calib_info.doffs_q16 != 0) {
-        logmsg(LOG_WARN, "calib: the table has a disparity offset "
-                         "(doffs_q16 %ld) that the detector ignores",
+        logmsg(LOG_WARN,
+               "calib: the table has a disparity offset "
+               "(doffs_q16 %ld) that the detector ignores",
                (long)calib_info.doffs_q16);
     }
 }
@@ -363,8 +375,9 @@ static int rectify_setup(int32_t w, int32_t h)
     size_t ws = 0;
     negobs_status_t st;
     if (w != calib_info.width || h != calib_info.height) {
-        logmsg(LOG_ERROR, "calib: size mismatch: the table is for %ldx%ld, "
-                          "the camera delivers %ldx%ld",
+        logmsg(LOG_ERROR,
+               "calib: size mismatch: the table is for %ldx%ld, "
+               "the camera delivers %ldx%ld",
                (long)calib_info.width, (long)calib_info.height, (long)w,
                (long)h);
         return -1;
@@ -387,7 +400,6 @@ static int rectify_setup(int32_t w, int32_t h)
     rect_ready = true;
     return 0;
 }
-
 
 bool calib_loaded(void)
 {

@@ -28,8 +28,9 @@ int loop_setup(negobs_motor_schedule_t *noinfo_sched)
     run_cfg.app.row_crop = run_cfg.row_crop ? 1 : 0;
     if (app_pipeline_init(&pipeline, &run_cfg.app) != NEGOBS_OK) {
         if (calib_loaded()) {
-            fprintf(stderr, "negobs_run: calibration table %s refused: its "
-                            "geometry is outside the detector's range\n",
+            fprintf(stderr,
+                    "negobs_run: calibration table %s refused: its "
+                    "geometry is outside the detector's range\n",
                     run_cfg.calib);
             return EXIT_CALIB;
         }
@@ -60,7 +61,6 @@ negobs_alert_pattern_t alert_pattern_now(void)
     return app_alert_pattern(&alert_sm);
 }
 
-
 /* ---- alert ---------------------------------------------------------- */
 
 /* Advance the library's alert state machine (NULL: no new verdict) and
@@ -86,7 +86,7 @@ typedef struct run_status {
     uint64_t lat_sum_us;
     uint64_t lat_max_us;
     app_verdict_t verdict;
-    uint32_t verdicts[4];  /* pairs per verdict over the whole run */
+    uint32_t verdicts[4]; /* pairs per verdict over the whole run */
 } run_status_t;
 
 /* negobs_mount_source_t as the log writes it. */
@@ -100,10 +100,12 @@ static void status_line(run_status_t *st, uint64_t now)
 {
     negobs_camera_stats_t cs;
     uint64_t span = now - st->window_start_ms;
-    unsigned long fps10 = span > 0
-        ? (unsigned long)((uint64_t)st->pairs * 10000u / span) : 0;
-    unsigned long lat = st->pairs > 0
-        ? (unsigned long)(st->lat_sum_us / st->pairs / 100u) : 0;
+    unsigned long fps10 = span > 0 ? (unsigned long)((uint64_t)st->pairs *
+                                                     10000u / span)
+                                   : 0;
+    unsigned long lat = st->pairs > 0 ? (unsigned long)(st->lat_sum_us /
+                                                        st->pairs / 100u)
+                                      : 0;
     negobs_camera_get_stats(&run_camera, &cs);
     logmsg(LOG_INFO,
            "status fps=%lu.%lu latency_ms=%lu.%lu max=%lu dropped=%lu "
@@ -113,8 +115,8 @@ static void status_line(run_status_t *st, uint64_t now)
            (unsigned long)(st->lat_max_us / 1000u),
            (unsigned long)cs.dropped_pairs, (unsigned long)cs.timeouts,
            (unsigned long)cs.reopens, app_verdict_name(st->verdict),
-           app_reason_name(pipeline.last.reason),
-           (long)pipeline.last.mean[0], (long)pipeline.last.mean[1],
+           app_reason_name(pipeline.last.reason), (long)pipeline.last.mean[0],
+           (long)pipeline.last.mean[1],
            (long)pipeline.last.texture_permille[0],
            (long)pipeline.last.texture_permille[1],
            (unsigned long)negobs_motor_thread_watchdog_fires(&run_motor),
@@ -138,11 +140,12 @@ static void check_motor_output(bool *was_failing)
     uint32_t faults = negobs_motor_thread_output_faults(&run_motor, &failing);
     char why[NEGOBS_PORT_ERRMSG_LEN];
     /* the motor thread writes the backend's message: copy under its lock */
-    negobs_motor_thread_copy_msg(&run_motor, alert_errmsg(), why,
-                                 sizeof why);
+    negobs_motor_thread_copy_msg(&run_motor, alert_errmsg(), why, sizeof why);
     if (failing && !*was_failing) {
-        logmsg(LOG_WARN, "motor: output failing (%s), retrying; no-info "
-               "once it is back (fault %lu)", why, (unsigned long)faults);
+        logmsg(LOG_WARN,
+               "motor: output failing (%s), retrying; no-info "
+               "once it is back (fault %lu)",
+               why, (unsigned long)faults);
     } else if (!failing && *was_failing) {
         logmsg(LOG_INFO, "motor: output back, no-info for %u ms",
                (unsigned)NEGOBS_MOTOR_RECOVER_HOLD_MS);
@@ -156,8 +159,8 @@ static void check_motor_output(bool *was_failing)
  * slots absorb about 270 ms of card stall at 30 fps; beyond that the
  * newest pairs are dropped (counted). At 640x480 they hold 4.9 MB. */
 #define APP_RECORD_SLOTS 8u
-static uint8_t rec_buf[APP_RECORD_SLOTS * 2u * NEGOBS_RUN_MAX_W *
-                       NEGOBS_RUN_MAX_H];
+static uint8_t
+    rec_buf[APP_RECORD_SLOTS * 2u * NEGOBS_RUN_MAX_W * NEGOBS_RUN_MAX_H];
 static negobs_record_queue_t recq;
 static char record_refused[NEGOBS_PORT_ERRMSG_LEN];
 static bool record_fail_logged;
@@ -204,7 +207,8 @@ static void record_pair(const negobs_frame_pair_t *pair)
     negobs_recq_stats(&recq, &rs);
     if (rs.state == NEGOBS_RECQ_FAILED) {
         record_fail_logged = true;
-        logmsg(LOG_ERROR, "record: stopped: %s (%lu pairs recorded); "
+        logmsg(LOG_ERROR,
+               "record: stopped: %s (%lu pairs recorded); "
                "detection and alerting go on",
                rs.errmsg, (unsigned long)rs.written);
     }
@@ -237,8 +241,7 @@ static void record_summary(char *out, size_t len)
     }
     negobs_recq_stats(&recq, &rs);
     (void)snprintf(out, len, "record=%s written=%lu dropped=%lu%s%s%s",
-                   negobs_recq_state_name(rs.state),
-                   (unsigned long)rs.written,
+                   negobs_recq_state_name(rs.state), (unsigned long)rs.written,
                    (unsigned long)(rs.dropped + rs.discarded),
                    rs.state == NEGOBS_RECQ_FAILED ? " (" : "",
                    rs.state == NEGOBS_RECQ_FAILED ? rs.errmsg : "",
@@ -284,8 +287,7 @@ static int judge_pair(negobs_frame_pair_t *pair, uint64_t now, uint32_t done,
         img_r = &rect_r;
     }
     v = app_process_pair_at(
-        &pipeline, img_l, img_r,
-        (uint32_t)(pair->left.ts_ns / 1000000u),
+        &pipeline, img_l, img_r, (uint32_t)(pair->left.ts_ns / 1000000u),
         (uint32_t)(pair->right.ts_ns / 1000000u), (uint32_t)now);
     {
         /* the verdict is about the moment of capture: a clear one
@@ -295,21 +297,18 @@ static int judge_pair(negobs_frame_pair_t *pair, uint64_t now, uint32_t done,
                               ? (t_done - pair->left.ts_ns) / 1000000u
                               : 0u;
         v = app_pipeline_latency_gate(
-            &pipeline, v,
-            (int32_t)((age_ms > 600000u) ? 600000u : age_ms));
+            &pipeline, v, (int32_t)((age_ms > 600000u) ? 600000u : age_ms));
     }
     app_alert_input(v, &pipeline.last, 0u, &in);
     alert_post(&in);
-    logmsg(LOG_DEBUG, "pair %lu verdict %s first_row %ld",
-           (unsigned long)done, app_verdict_name(v),
-           (long)pipeline.last.first_row);
+    logmsg(LOG_DEBUG, "pair %lu verdict %s first_row %ld", (unsigned long)done,
+           app_verdict_name(v), (long)pipeline.last.first_row);
     if (run_log_level >= LOG_DEBUG && pipeline.last.stereo_us > 0u) {
         const uint32_t *us = pipeline.last.stage_us;
         logmsg(LOG_DEBUG,
                "stage times of pair %lu: stereo_us %lu (gcs %lu dp %lu "
                "other %lu)",
-               (unsigned long)done,
-               (unsigned long)pipeline.last.stereo_us,
+               (unsigned long)done, (unsigned long)pipeline.last.stereo_us,
                (unsigned long)us[NEGOBS_STEREO_STAGE_GCS],
                (unsigned long)us[NEGOBS_STEREO_STAGE_DP],
                (unsigned long)(pipeline.last.stereo_us -
@@ -356,8 +355,8 @@ int run_loop(void)
 
     while (!run_stop_requested) {
         uint64_t now;
-        int rc =
-            negobs_camera_get_pair(&run_camera, &pair, run_cfg.watchdog_ms);
+        int rc = negobs_camera_get_pair(&run_camera, &pair,
+                                        run_cfg.watchdog_ms);
         now = negobs_clock_now_ms();
         if (rc == NEGOBS_OK) {
             int erc = judge_pair(&pair, now, done, &st);
@@ -386,7 +385,8 @@ int run_loop(void)
             if (rc != last_err) {
                 logmsg(LOG_WARN, "camera: %s%s%s",
                        negobs_status_str((negobs_status_t)rc),
-                       negobs_camera_errmsg(&run_camera)[0] != '\0' ? ": " : "",
+                       negobs_camera_errmsg(&run_camera)[0] != '\0' ? ": "
+                                                                    : "",
                        negobs_camera_errmsg(&run_camera));
             }
             if (st.verdict != APP_VERDICT_NO_INFO) {
@@ -397,8 +397,7 @@ int run_loop(void)
             last_err = rc;
         } else {
             logmsg(LOG_ERROR, "camera: %s (%s)",
-                   negobs_camera_errmsg(&run_camera),
-                   camera_status_words(rc));
+                   negobs_camera_errmsg(&run_camera), camera_status_words(rc));
             log_summary(done, &st);
             return EXIT_RUNTIME;
         }
@@ -417,4 +416,3 @@ int run_loop(void)
     }
     return EXIT_OK;
 }
-

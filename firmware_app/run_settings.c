@@ -32,8 +32,7 @@ static const negobs_cfg_key_t config_keys[] = {
     {"record", NEGOBS_CFG_STRING, run_cfg.record, 0, sizeof run_cfg.record,
      "record every pair to this folder (default: off)"},
     {"log_level", NEGOBS_CFG_STRING, run_cfg.log_level, 0,
-     sizeof run_cfg.log_level,
-     "error | warn | info | debug (default info)"},
+     sizeof run_cfg.log_level, "error | warn | info | debug (default info)"},
     {"pair_tolerance_ms", NEGOBS_CFG_INT, &run_cfg.pair_tol_ms, 0, 1000,
      "max left/right timestamp difference of a pair (default 10)"},
     {"frozen_frames", NEGOBS_CFG_INT, &run_cfg.frozen_frames, 0, 10000,
@@ -58,14 +57,12 @@ static const negobs_cfg_key_t config_keys[] = {
      600000, "period of the status line (default 1000)"},
     {"dark_mean_min", NEGOBS_CFG_INT, &run_cfg.app.dark_mean_min, 0, 255,
      "mean grey below this -> no-info (default 20)"},
-    {"saturation_permille_max", NEGOBS_CFG_INT,
-     &run_cfg.app.sat_permille_max, 0,
-     1000, "share of pixels >= 250 above this -> no-info (default 300)"},
+    {"saturation_permille_max", NEGOBS_CFG_INT, &run_cfg.app.sat_permille_max,
+     0, 1000, "share of pixels >= 250 above this -> no-info (default 300)"},
     {"texture_std_min", NEGOBS_CFG_INT, &run_cfg.app.texture_std_min, 0, 127,
      "5x5 std dev that counts as texture (default 4)"},
-    {"texture_permille_min", NEGOBS_CFG_INT,
-     &run_cfg.app.texture_permille_min, 0,
-     1000, "share of textured windows below this -> no-info (default 20)"},
+    {"texture_permille_min", NEGOBS_CFG_INT, &run_cfg.app.texture_permille_min,
+     0, 1000, "share of textured windows below this -> no-info (default 20)"},
     {"lr_mean_diff_max", NEGOBS_CFG_INT, &run_cfg.app.lr_mean_diff_max, 0, 255,
      "left/right mean grey difference above this -> no-info (default 60)"},
     {"focal_px", NEGOBS_CFG_INT, &run_cfg.app.focal_px, 50, 4000,
@@ -102,16 +99,17 @@ static const negobs_cfg_key_t config_keys[] = {
      "2200; <= caution_far_mm)"},
     {"alert_binary", NEGOBS_CFG_BOOL, &run_cfg.alert_binary, 0, 1,
      "one caution pattern (every 0.6 s) whatever the range (default false)"},
-    {"imminent_hold_ms", NEGOBS_CFG_INT, &run_cfg.alert_cfg.imminent_hold_ms, 0,
-     5000, "imminent keeps playing this long after its last verdict "
+    {"imminent_hold_ms", NEGOBS_CFG_INT, &run_cfg.alert_cfg.imminent_hold_ms,
+     0, 5000,
+     "imminent keeps playing this long after its last verdict "
      "(default 1000)"},
     {"heartbeat_period_ms", NEGOBS_CFG_INT,
      &run_cfg.alert_cfg.heartbeat_period_ms, 0, 60000,
      "while clear, one brief pulse this often so a dead device is noticed; "
      "0 = off, else >= 1000 (default 5000)"},
     {"heartbeat_pulse_ms", NEGOBS_CFG_INT,
-     &run_cfg.alert_cfg.heartbeat_pulse_ms,
-     0, 15000, "length of the heartbeat pulse, 80 .. a quarter of the "
+     &run_cfg.alert_cfg.heartbeat_pulse_ms, 0, 15000,
+     "length of the heartbeat pulse, 80 .. a quarter of the "
      "period (default 80)"},
     {"max_frame_age_ms", NEGOBS_CFG_INT, &run_cfg.app.max_frame_age_ms, 1,
      60000,
@@ -147,7 +145,6 @@ void settings_default(void)
 }
 
 /* ---- logging -------------------------------------------------------- */
-
 
 void logmsg(int level, const char *fmt, ...)
 {
@@ -185,49 +182,50 @@ static int parse_log_level(const char *s)
 
 static void usage(FILE *out)
 {
-    fprintf(out,
-"Usage: negobs_run [options] LEFT RIGHT\n"
-"       negobs_run [options] replay:DIR\n"
-"       negobs_run [--config FILE] --motor-off SPEC\n"
-"\n"
-"Warns of drop-offs ahead through a vibration motor, from a stereo pair.\n"
-"LEFT/RIGHT: /dev/videoN (V4L2) or replay:DIR (a folder of left_NNNN.pgm /\n"
-"right_NNNN.pgm pairs or a session recorded with --record) or libcamera:N /\n"
-"libcamera:ID (index or id of a libcamera camera). A bare name uses\n"
-"the build's default camera backend (" NEGOBS_RUN_DEFAULT_CAMERA ").\n"
-"\n"
-"Each pair passes an image-quality gate (too dark, saturated, textureless ->\n"
-"no-information pattern), then the library's stereo matching and drop-off\n"
-"detection; the library's alert state machine chooses the motor pattern\n"
-"(ready, caution by distance band, imminent, no-information); no fresh\n"
-"verdict for watchdog_ms (300) plays no-information.\n"
-"Set the camera geometry (focal_px, baseline_mm) in --config for a real\n"
-"rig: wrong values blind it. The mounting (height, pitch, roll) is measured\n"
-"on the floor; cam_height_mm / cam_pitch_mdeg are only hints.\n"
-"\n"
-"Options:\n"
-"  --config FILE        read key = value settings (applied before options)\n"
-"  --calib FILE         rectification table from negobs_calib: every pair is\n"
-"                       rectified; its f, B, cx, cy replace focal_px and\n"
-"                       baseline_mm; no --width/--height: the table's size\n"
-"  --alert SPEC         gpio:CHIP:LINE | pwm:CHIP:CHANNEL | console | none\n"
-"                       (default " NEGOBS_RUN_DEFAULT_ALERT ")\n"
-"  --width N, --height N   capture size (default 640x480; max %dx%d)\n"
-"  --fps N              frame rate (default 30; replay: pacing, 0 = fastest)\n"
-"  --frames N           stop after N pairs (default: run until stopped)\n"
-"  --record DIR         record every pair as a session (see docs/RUNNING.md)\n"
-"  --log-level LEVEL    error | warn | info | debug (default info)\n"
-"  --motor-off SPEC     switch the motor output SPEC off and exit (the\n"
-"                       service's ExecStopPost; no camera arguments)\n"
-"  --help               this text, then the config keys\n"
-"  --version            print the version\n"
-"\n"
-"Exit codes: 0 done or stopped by SIGINT/SIGTERM/SIGHUP/SIGQUIT, 1 runtime\n"
-"failure (also the end of a damaged recorded session),\n"
-"2 usage error, 3 config error, 4 camera failure, 5 motor output failure,\n"
-"6 calibration table refused (unreadable, corrupt, truncated, other size),\n"
-"128+N stopped by another terminating signal N (motor off, summary logged).\n",
-            NEGOBS_RUN_MAX_W, NEGOBS_RUN_MAX_H);
+    fprintf(
+        out,
+        "Usage: negobs_run [options] LEFT RIGHT\n"
+        "       negobs_run [options] replay:DIR\n"
+        "       negobs_run [--config FILE] --motor-off SPEC\n"
+        "\n"
+        "Warns of drop-offs ahead through a vibration motor, from a stereo pair.\n"
+        "LEFT/RIGHT: /dev/videoN (V4L2) or replay:DIR (a folder of left_NNNN.pgm /\n"
+        "right_NNNN.pgm pairs or a session recorded with --record) or libcamera:N /\n"
+        "libcamera:ID (index or id of a libcamera camera). A bare name uses\n"
+        "the build's default camera backend (" NEGOBS_RUN_DEFAULT_CAMERA ").\n"
+        "\n"
+        "Each pair passes an image-quality gate (too dark, saturated, textureless ->\n"
+        "no-information pattern), then the library's stereo matching and drop-off\n"
+        "detection; the library's alert state machine chooses the motor pattern\n"
+        "(ready, caution by distance band, imminent, no-information); no fresh\n"
+        "verdict for watchdog_ms (300) plays no-information.\n"
+        "Set the camera geometry (focal_px, baseline_mm) in --config for a real\n"
+        "rig: wrong values blind it. The mounting (height, pitch, roll) is measured\n"
+        "on the floor; cam_height_mm / cam_pitch_mdeg are only hints.\n"
+        "\n"
+        "Options:\n"
+        "  --config FILE        read key = value settings (applied before options)\n"
+        "  --calib FILE         rectification table from negobs_calib: every pair is\n"
+        "                       rectified; its f, B, cx, cy replace focal_px and\n"
+        "                       baseline_mm; no --width/--height: the table's size\n"
+        "  --alert SPEC         gpio:CHIP:LINE | pwm:CHIP:CHANNEL | console | none\n"
+        "                       (default " NEGOBS_RUN_DEFAULT_ALERT ")\n"
+        "  --width N, --height N   capture size (default 640x480; max %dx%d)\n"
+        "  --fps N              frame rate (default 30; replay: pacing, 0 = fastest)\n"
+        "  --frames N           stop after N pairs (default: run until stopped)\n"
+        "  --record DIR         record every pair as a session (see docs/RUNNING.md)\n"
+        "  --log-level LEVEL    error | warn | info | debug (default info)\n"
+        "  --motor-off SPEC     switch the motor output SPEC off and exit (the\n"
+        "                       service's ExecStopPost; no camera arguments)\n"
+        "  --help               this text, then the config keys\n"
+        "  --version            print the version\n"
+        "\n"
+        "Exit codes: 0 done or stopped by SIGINT/SIGTERM/SIGHUP/SIGQUIT, 1 runtime\n"
+        "failure (also the end of a damaged recorded session),\n"
+        "2 usage error, 3 config error, 4 camera failure, 5 motor output failure,\n"
+        "6 calibration table refused (unreadable, corrupt, truncated, other size),\n"
+        "128+N stopped by another terminating signal N (motor off, summary logged).\n",
+        NEGOBS_RUN_MAX_W, NEGOBS_RUN_MAX_H);
 }
 
 int usage_error(const char *fmt, const char *arg)
@@ -245,13 +243,17 @@ static int check_config_value(void *user, const char *key, const char *value,
 {
     (void)user;
     if (strcmp(key, "alert") == 0 && check_alert_spec(value) != 0) {
-        (void)snprintf(why, why_len, "bad alert '%s' (want gpio:CHIP:LINE, "
-                       "pwm:CHIP:CHANNEL, console or none)", value);
+        (void)snprintf(why, why_len,
+                       "bad alert '%s' (want gpio:CHIP:LINE, "
+                       "pwm:CHIP:CHANNEL, console or none)",
+                       value);
         return -1;
     }
     if (strcmp(key, "log_level") == 0 && parse_log_level(value) < 0) {
-        (void)snprintf(why, why_len, "bad log level '%s' (want error, "
-                       "warn, info or debug)", value);
+        (void)snprintf(why, why_len,
+                       "bad log level '%s' (want error, "
+                       "warn, info or debug)",
+                       value);
         return -1;
     }
     return 0;
@@ -260,8 +262,20 @@ static int check_config_value(void *user, const char *key, const char *value,
 /* Returns -1 to continue, else an exit code. */
 int parse_args(int argc, char **argv, run_args_t *a)
 {
-    enum { O_CONFIG = 256, O_ALERT, O_WIDTH, O_HEIGHT, O_FPS, O_FRAMES,
-           O_RECORD, O_LOG, O_HELP, O_VERSION, O_CALIB, O_MOTOR_OFF };
+    enum {
+        O_CONFIG = 256,
+        O_ALERT,
+        O_WIDTH,
+        O_HEIGHT,
+        O_FPS,
+        O_FRAMES,
+        O_RECORD,
+        O_LOG,
+        O_HELP,
+        O_VERSION,
+        O_CALIB,
+        O_MOTOR_OFF
+    };
     static const struct option opts[] = {
         {"config", required_argument, NULL, O_CONFIG},
         {"alert", required_argument, NULL, O_ALERT},
@@ -322,8 +336,14 @@ int parse_args(int argc, char **argv, run_args_t *a)
         case O_CONFIG: continue;
         case O_MOTOR_OFF: a->motor_off = optarg; continue;
         case O_ALERT: key = "alert"; break;
-        case O_WIDTH: key = "width"; run_cfg.size_given = true; break;
-        case O_HEIGHT: key = "height"; run_cfg.size_given = true; break;
+        case O_WIDTH:
+            key = "width";
+            run_cfg.size_given = true;
+            break;
+        case O_HEIGHT:
+            key = "height";
+            run_cfg.size_given = true;
+            break;
         case O_FPS: key = "fps"; break;
         case O_FRAMES: key = "frames"; break;
         case O_RECORD: key = "record"; break;
@@ -332,8 +352,7 @@ int parse_args(int argc, char **argv, run_args_t *a)
         case ':':
             return usage_error("option '%s' needs a value", argv[optind - 1]);
         case '?':
-        default:
-            return usage_error("unknown option '%s'", argv[optind - 1]);
+        default: return usage_error("unknown option '%s'", argv[optind - 1]);
         }
         memset(&err, 0, sizeof err);
         if (negobs_config_set(config_keys, N_KEYS, key, optarg, &err) !=
@@ -366,8 +385,8 @@ int parse_args(int argc, char **argv, run_args_t *a)
 }
 
 /* Parse "a:b:c" into kind and two fields; returns fields found. */
-int split_spec(const char *spec, char *kind, size_t klen, char *f1,
-                      size_t l1, char *f2, size_t l2)
+int split_spec(const char *spec, char *kind, size_t klen, char *f1, size_t l1,
+               char *f2, size_t l2)
 {
     const char *p1 = strchr(spec, ':');
     const char *p2 = p1 != NULL ? strchr(p1 + 1, ':') : NULL;
@@ -438,4 +457,3 @@ int check_alert_spec(const char *spec)
     }
     return -1;
 }
-

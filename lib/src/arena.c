@@ -14,7 +14,8 @@
 
 static size_t round_up16(size_t n)
 {
-    return (n + (NEGOBS_ARENA_ALIGN - 1u)) & ~(size_t)(NEGOBS_ARENA_ALIGN - 1u);
+    return (n + (NEGOBS_ARENA_ALIGN - 1u)) &
+           ~(size_t)(NEGOBS_ARENA_ALIGN - 1u);
 }
 
 void negobs_arena_init(negobs_arena_t *a, void *base, size_t capacity)

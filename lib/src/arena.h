@@ -23,10 +23,10 @@
 #define NEGOBS_ARENA_ALIGN 16u
 
 typedef struct negobs_arena {
-    uint8_t *base;        /* NULL: measuring mode                      */
-    size_t capacity;      /* bytes available at base                   */
-    size_t used;          /* bytes handed out (with guards)            */
-    negobs_status_t err;  /* first error seen, sticky                  */
+    uint8_t *base;       /* NULL: measuring mode                      */
+    size_t capacity;     /* bytes available at base                   */
+    size_t used;         /* bytes handed out (with guards)            */
+    negobs_status_t err; /* first error seen, sticky                  */
 } negobs_arena_t;
 
 /* base may be NULL (measure only); a non-NULL base must be 16-aligned. */

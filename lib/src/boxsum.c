@@ -4,9 +4,8 @@
 
 #include <string.h>
 
-negobs_status_t negobs_integral_u8(const negobs_image_u8_t *img,
-                                   uint32_t *sum, uint32_t *sumsq,
-                                   size_t elems)
+negobs_status_t negobs_integral_u8(const negobs_image_u8_t *img, uint32_t *sum,
+                                   uint32_t *sumsq, size_t elems)
 {
     int32_t x;
     int32_t y;

@@ -34,9 +34,8 @@ static inline size_t negobs_integral_elems(int32_t width, int32_t height)
  * @return NEGOBS_OK, NEGOBS_ERR_INVAL (bad image, NULL sum) or
  *         NEGOBS_ERR_NOSPACE (elems too small).
  */
-negobs_status_t negobs_integral_u8(const negobs_image_u8_t *img,
-                                   uint32_t *sum, uint32_t *sumsq,
-                                   size_t elems);
+negobs_status_t negobs_integral_u8(const negobs_image_u8_t *img, uint32_t *sum,
+                                   uint32_t *sumsq, size_t elems);
 
 /**
  * @brief Sum over the half-open box [x0, x1) x [y0, y1) from an integral
@@ -44,9 +43,9 @@ negobs_status_t negobs_integral_u8(const negobs_image_u8_t *img,
  *
  * Exact modulo 2^32 (see the overflow note above); no bounds check.
  */
-static inline uint32_t negobs_integral_box(const uint32_t *ii,
-                                           int32_t istride, int32_t x0,
-                                           int32_t y0, int32_t x1, int32_t y1)
+static inline uint32_t negobs_integral_box(const uint32_t *ii, int32_t istride,
+                                           int32_t x0, int32_t y0, int32_t x1,
+                                           int32_t y1)
 {
     const uint32_t *top = ii + (ptrdiff_t)y0 * istride;
     const uint32_t *bot = ii + (ptrdiff_t)y1 * istride;

@@ -90,7 +90,8 @@ static void *motor_main(void *arg)
             }
         }
         if (t->watchdog_ms > 0 && !t->stale_playing && !t->out_failing &&
-            now >= t->hold_until_ms && now - t->last_post_ms >= t->watchdog_ms) {
+            now >= t->hold_until_ms &&
+            now - t->last_post_ms >= t->watchdog_ms) {
             /* No fresh verdict: whatever played is no longer backed by
              * data, so say "no information" instead. */
             t->stale_playing = true;

@@ -34,9 +34,8 @@ void negobs_clock_sleep_until_ns(uint64_t deadline_ns,
 
 void negobs_clock_sleep_ms(uint32_t ms)
 {
-    negobs_clock_sleep_until_ns(negobs_clock_now_ns() +
-                                    (uint64_t)ms * 1000000u,
-                                NULL);
+    negobs_clock_sleep_until_ns(
+        negobs_clock_now_ns() + (uint64_t)ms * 1000000u, NULL);
 }
 
 static uint64_t monotonic_ms(void *ctx)

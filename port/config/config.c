@@ -309,9 +309,7 @@ void negobs_config_print_keys(FILE *out, const negobs_cfg_key_t *table,
         case NEGOBS_CFG_BOOL:
             fprintf(out, "  %-20s bool  %s\n", k->key, k->help);
             break;
-        default:
-            fprintf(out, "  %-20s text  %s\n", k->key, k->help);
-            break;
+        default: fprintf(out, "  %-20s text  %s\n", k->key, k->help); break;
         }
     }
 }

@@ -50,8 +50,10 @@ static void bench(int32_t w, int32_t h)
             return;
         }
         t2 = now_ns();
-        if (best_box < 0 || t1 - t0 < best_box) best_box = t1 - t0;
-        if (best_int < 0 || t2 - t1 < best_int) best_int = t2 - t1;
+        if (best_box < 0 || t1 - t0 < best_box)
+            best_box = t1 - t0;
+        if (best_int < 0 || t2 - t1 < best_int)
+            best_int = t2 - t1;
     }
     printf("%4dx%-4d boxsum5 (sum+sumsq) %8.3f ms   integral (sum+sumsq) "
            "%8.3f ms   best of 20\n",

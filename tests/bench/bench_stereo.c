@@ -54,10 +54,17 @@ static uint32_t clock_ns(void *user)
 }
 
 static const char *const stage_name[NEGOBS_STEREO_STAGE_COUNT] = {
-    "vertical offset (6)", "1/4 map + ranges (1)", "window sums",
-    "Canny (2)",           "GCS seeds + growth (3)", "DP + sub-pixel (4)",
-    "LR check (5)",        "speckles (5)",         "gap fill (5)",
-    "adaptive mean (5)",   "output",
+    "vertical offset (6)",
+    "1/4 map + ranges (1)",
+    "window sums",
+    "Canny (2)",
+    "GCS seeds + growth (3)",
+    "DP + sub-pixel (4)",
+    "LR check (5)",
+    "speckles (5)",
+    "gap fill (5)",
+    "adaptive mean (5)",
+    "output",
 };
 
 typedef struct figures {
@@ -99,7 +106,8 @@ static int measure(int32_t w, int32_t h, int32_t max_disp, int reps,
     cfg.detect.max_disp_q4 = (max_disp + 1) * 16;
     /* every rep matches the whole frame, as the figures always did */
     cfg.stereo_roi = 0;
-    if (ctx == NULL || negobs_pipeline_workspace_size(&cfg, &bytes) != NEGOBS_OK) {
+    if (ctx == NULL ||
+        negobs_pipeline_workspace_size(&cfg, &bytes) != NEGOBS_OK) {
         return -1;
     }
     ws = aligned(bytes, &raw);
@@ -128,12 +136,15 @@ static int measure(int32_t w, int32_t h, int32_t max_disp, int reps,
         fig->st = res.stereo;
         for (k = 0; k < NEGOBS_STEREO_STAGE_COUNT; k++) {
             ms = (double)fig->st.stage_ticks[k] / 1e6;
-            if (ms < fig->stage_ms[k]) fig->stage_ms[k] = ms;
+            if (ms < fig->stage_ms[k])
+                fig->stage_ms[k] = ms;
         }
         ms = (double)res.stage_ticks[NEGOBS_PIPELINE_STAGE_STEREO] / 1e6;
-        if (ms < fig->stereo_ms) fig->stereo_ms = ms;
+        if (ms < fig->stereo_ms)
+            fig->stereo_ms = ms;
         ms = (double)res.stage_ticks[NEGOBS_PIPELINE_STAGE_DETECT] / 1e6;
-        if (ms < fig->detect_ms) fig->detect_ms = ms;
+        if (ms < fig->detect_ms)
+            fig->detect_ms = ms;
         fig->state = res.detect.state;
     }
     free(raw);
@@ -142,10 +153,9 @@ static int measure(int32_t w, int32_t h, int32_t max_disp, int reps,
 }
 
 typedef enum kind { TYPICAL, STRIPES, NOISE, CHECKER, FLAT_AREA } kind_t;
-static const char *const kind_name[] = {"typical ground scene", "stripes (period 8)",
-                                        "pure noise (unrelated L/R)",
-                                        "checkerboard (8 px)",
-                                        "60 % textureless"};
+static const char *const kind_name[] = {
+    "typical ground scene", "stripes (period 8)", "pure noise (unrelated L/R)",
+    "checkerboard (8 px)", "60 % textureless"};
 
 static void make(kind_t k, int32_t w, int32_t h)
 {
@@ -186,8 +196,7 @@ static void make(kind_t k, int32_t w, int32_t h)
                 }
                 break;
             case TYPICAL:
-            default:
-                break;
+            default: break;
             }
         }
     }
@@ -205,9 +214,9 @@ static int read_ppm_grey(const char *path, uint8_t *out, size_t max_px,
     if (f == NULL) {
         return -1;
     }
-    if (fscanf(f, "P6 %d %d %d", &mw, &mh, &mv) != 3 || mv != 255 ||
-        mw < 1 || mh < 1 || mw > 4096 || mh > 4096 ||
-        (size_t)mw * (size_t)mh > max_px || fgetc(f) == EOF) {
+    if (fscanf(f, "P6 %d %d %d", &mw, &mh, &mv) != 3 || mv != 255 || mw < 1 ||
+        mh < 1 || mw > 4096 || mh > 4096 || (size_t)mw * (size_t)mh > max_px ||
+        fgetc(f) == EOF) {
         fclose(f);
         return -1;
     }
@@ -280,10 +289,11 @@ static void bench_valign(void)
             best = now_ms() - t0;
         }
     }
-    printf("\nvertical alignment (valign.enable), 320x240, range 0-63: first "
-           "frame %.2f ms, later frames %.2f ms (best of %d); model %.3f px "
-           "(scene: rectified, 0); workspace %zu bytes + the %d-byte aligned image\n",
-           first, best, REPS, st.model.offset_q16 / 65536.0, bytes, QW * QH);
+    printf(
+        "\nvertical alignment (valign.enable), 320x240, range 0-63: first "
+        "frame %.2f ms, later frames %.2f ms (best of %d); model %.3f px "
+        "(scene: rectified, 0); workspace %zu bytes + the %d-byte aligned image\n",
+        first, best, REPS, st.model.offset_q16 / 65536.0, bytes, QW * QH);
     free(raw);
 }
 
@@ -295,10 +305,12 @@ static void print_stages(const char *what, const figures_t *fig)
     for (k = 0; k < NEGOBS_STEREO_STAGE_COUNT; k++) {
         sum += fig->stage_ms[k];
     }
-    printf("  per stage on %s (thread CPU ms, best of %d each; sum %.2f ms):\n",
-           what, REPS, sum);
+    printf(
+        "  per stage on %s (thread CPU ms, best of %d each; sum %.2f ms):\n",
+        what, REPS, sum);
     for (k = 0; k < NEGOBS_STEREO_STAGE_COUNT; k++) {
-        printf("    %-24s %8.2f ms %5.1f %%\n", stage_name[k], fig->stage_ms[k],
+        printf("    %-24s %8.2f ms %5.1f %%\n", stage_name[k],
+               fig->stage_ms[k],
                sum > 0.0 ? 100.0 * fig->stage_ms[k] / sum : 0.0);
     }
 }
@@ -320,9 +332,10 @@ static void bench_cones(void)
     snprintf(lp, sizeof lp, "%s/middlebury/cones/im2.ppm", data);
     snprintf(rp, sizeof rp, "%s/middlebury/cones/im6.ppm", data);
     if (read_ppm_grey(lp, lpx, sizeof lpx, &w, &h) != 0 ||
-        read_ppm_grey(rp, rpx, sizeof rpx, &w2, &h2) != 0 ||
-        w != w2 || h != h2) {
-        printf("\nMiddlebury Cones: not found under %s (set NEGOBS_DATA)\n", data);
+        read_ppm_grey(rp, rpx, sizeof rpx, &w2, &h2) != 0 || w != w2 ||
+        h != h2) {
+        printf("\nMiddlebury Cones: not found under %s (set NEGOBS_DATA)\n",
+               data);
         return;
     }
     if (measure(w, h, 63, REPS, &fig) != 0) {
@@ -367,7 +380,9 @@ int main(int argc, char **argv)
         make(TYPICAL, QW, QH);
         return measure(QW, QH, 63, 1, &fig) == 0 ? 0 : 1;
     }
-    printf("\n320x240, range 0-63, best of %d (thread CPU ms on this machine):\n", REPS);
+    printf(
+        "\n320x240, range 0-63, best of %d (thread CPU ms on this machine):\n",
+        REPS);
     printf("  %-28s %9s %9s %7s %11s %8s %9s  %s\n", "frame", "stereo",
            "detect", "det/st", "visited", "q.peak", "overflows", "verdict");
     for (k = TYPICAL; k <= FLAT_AREA; k++) {
@@ -379,27 +394,34 @@ int main(int argc, char **argv)
         if (k == TYPICAL) {
             typ = fig;
         }
-        if (fig.stereo_ms > worst_ms) worst_ms = fig.stereo_ms;
-        if (fig.st.visited_cells > worst_cells) worst_cells = fig.st.visited_cells;
-        if (fig.st.queue_peak > worst_peak) worst_peak = fig.st.queue_peak;
-        printf("  %-28s %9.2f %9.2f %6.1f%% %11u %8u %9u  %s\n",
-               kind_name[k], fig.stereo_ms, fig.detect_ms,
+        if (fig.stereo_ms > worst_ms)
+            worst_ms = fig.stereo_ms;
+        if (fig.st.visited_cells > worst_cells)
+            worst_cells = fig.st.visited_cells;
+        if (fig.st.queue_peak > worst_peak)
+            worst_peak = fig.st.queue_peak;
+        printf("  %-28s %9.2f %9.2f %6.1f%% %11u %8u %9u  %s\n", kind_name[k],
+               fig.stereo_ms, fig.detect_ms,
                100.0 * fig.detect_ms / fig.stereo_ms,
                (unsigned)fig.st.visited_cells, (unsigned)fig.st.queue_peak,
                (unsigned)fig.st.queue_overflows,
-               fig.state == NEGOBS_DETECT_NO_INFO ? "no-info"
-               : fig.state == NEGOBS_DETECT_HAZARD ? "hazard" : "clear");
+               fig.state == NEGOBS_DETECT_NO_INFO  ? "no-info"
+               : fig.state == NEGOBS_DETECT_HAZARD ? "hazard"
+                                                   : "clear");
     }
     printf("  worst/typical: time x%.2f, visited cells x%.2f, queue peak x%.2f"
            " (queue capacity %d)\n",
            worst_ms / typ.stereo_ms,
-           (double)worst_cells / (double)(typ.st.visited_cells ? typ.st.visited_cells : 1),
-           (double)worst_peak / (double)(typ.st.queue_peak ? typ.st.queue_peak : 1),
+           (double)worst_cells /
+               (double)(typ.st.visited_cells ? typ.st.visited_cells : 1),
+           (double)worst_peak /
+               (double)(typ.st.queue_peak ? typ.st.queue_peak : 1),
            (int)sc.queue_capacity);
-    printf("  detection / disparity on the typical frame: %.1f %% (target < 15 %%;"
-           " this generated scene is not a walking-camera view, so see\n"
-           "  negobs_detect_eval for the figure on rendered walks)\n",
-           100.0 * typ.detect_ms / typ.stereo_ms);
+    printf(
+        "  detection / disparity on the typical frame: %.1f %% (target < 15 %%;"
+        " this generated scene is not a walking-camera view, so see\n"
+        "  negobs_detect_eval for the figure on rendered walks)\n",
+        100.0 * typ.detect_ms / typ.stereo_ms);
     print_stages("the typical 320x240 frame", &typ);
     make(TYPICAL, QW, QH);
     bench_valign();

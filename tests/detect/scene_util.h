@@ -41,9 +41,8 @@ static inline void rig_setup(rig_t *r, const negobs_detect_config_t *cfg)
      * aligned_alloc). */
     r->ws_raw = malloc(r->ws_bytes + 16u);
     r->ws = (void *)(((uintptr_t)r->ws_raw + 15u) & ~(uintptr_t)15u);
-    if (r->ws_raw == NULL ||
-        negobs_detect_init(&r->det, &r->cfg, r->ws, r->ws_bytes) !=
-            NEGOBS_OK) {
+    if (r->ws_raw == NULL || negobs_detect_init(&r->det, &r->cfg, r->ws,
+                                                r->ws_bytes) != NEGOBS_OK) {
         abort();
     }
     r->img.data = r->disp;

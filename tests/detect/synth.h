@@ -32,18 +32,18 @@
 #define SYNTH_MAX_SEG 16
 
 typedef struct synth_scene {
-    double h_m;        /* camera height                              */
-    double pitch_deg;  /* down positive                              */
-    double roll_deg;   /* > 0: ground nearer on the right            */
-    int nseg;          /* profile segments (0: flat ground)          */
+    double h_m;                /* camera height                              */
+    double pitch_deg;          /* down positive                              */
+    double roll_deg;           /* > 0: ground nearer on the right            */
+    int nseg;                  /* profile segments (0: flat ground)          */
     double z_m[SYNTH_MAX_SEG]; /* segment start (forward distance)   */
     double y_m[SYNTH_MAX_SEG]; /* segment height (lower < 0)         */
-    double lat_half_m; /* profile lateral half-width (0: unlimited)  */
-    double yaw_deg;    /* profile axis turned right of straight ahead */
-    double noise_px;   /* disparity noise sigma (px)                 */
+    double lat_half_m;         /* profile lateral half-width (0: unlimited)  */
+    double yaw_deg;      /* profile axis turned right of straight ahead */
+    double noise_px;     /* disparity noise sigma (px)                 */
     double noise_far_px; /* if > 0: sigma grows linearly from noise_px
                             at 1 m depth to this at 5 m              */
-    double dropout;    /* share of pixels made invalid at random     */
+    double dropout;      /* share of pixels made invalid at random     */
     int inv_u0, inv_v0, inv_u1, inv_v1; /* invalid box (u1 > u0)     */
     double noise_row_px;  /* sigma of the row-correlated offset (px)  */
     int noise_row_len_px; /* its block length along a row (px)        */

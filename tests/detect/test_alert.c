@@ -25,7 +25,7 @@ typedef struct sim {
     int on;
     uint32_t t;
     negobs_alert_input_t in;
-    int feed;           /* 1: a verdict every 100 ms                    */
+    int feed; /* 1: a verdict every 100 ms                    */
 } sim_t;
 
 static sim_t sim;
@@ -35,8 +35,7 @@ static void sim_init(int ready)
     memset(&sim, 0, sizeof sim);
     negobs_alert_config_default(&sim.cfg);
     sim.cfg.ready_on_start = ready;
-    assert_int_equal(negobs_alert_init(&sim.a, &sim.cfg, NULL, 0),
-                     NEGOBS_OK);
+    assert_int_equal(negobs_alert_init(&sim.a, &sim.cfg, NULL, 0), NEGOBS_OK);
     sim.feed = 1;
 }
 
@@ -150,8 +149,7 @@ static void test_alert_binary_mode_has_one_caution(void **state)
     negobs_alert_config_default(&sim.cfg);
     sim.cfg.ready_on_start = 0;
     sim.cfg.binary_mode = 1;
-    assert_int_equal(negobs_alert_init(&sim.a, &sim.cfg, NULL, 0),
-                     NEGOBS_OK);
+    assert_int_equal(negobs_alert_init(&sim.a, &sim.cfg, NULL, 0), NEGOBS_OK);
     sim.feed = 1;
     sim_set(NEGOBS_LEVEL_CAUTION, 3900, 0, 0);
     sim_run(500);
@@ -225,8 +223,7 @@ static void sim_init_quiet(int ready)
 {
     sim_init(ready);
     sim.cfg.heartbeat_period_ms = 0;
-    assert_int_equal(negobs_alert_init(&sim.a, &sim.cfg, NULL, 0),
-                     NEGOBS_OK);
+    assert_int_equal(negobs_alert_init(&sim.a, &sim.cfg, NULL, 0), NEGOBS_OK);
 }
 
 static void test_alert_low_battery_once_per_period(void **state)
@@ -334,8 +331,7 @@ static void test_alert_min_pulse_holds_under_random_inputs(void **state)
                 NEGOBS_OK);
         } else {
             assert_int_equal(
-                negobs_alert_update(&sim.a, sim.t, NULL, &sim.cmd),
-                NEGOBS_OK);
+                negobs_alert_update(&sim.a, sim.t, NULL, &sim.cmd), NEGOBS_OK);
         }
         if (sim.cmd.on != sim.on) {
             if (sim.n < MAX_EDGES) {
@@ -400,8 +396,7 @@ static void test_alert_heartbeat_configurable_and_off(void **state)
     sim_init(0);
     sim.cfg.heartbeat_period_ms = 2000;
     sim.cfg.heartbeat_pulse_ms = 100;
-    assert_int_equal(negobs_alert_init(&sim.a, &sim.cfg, NULL, 0),
-                     NEGOBS_OK);
+    assert_int_equal(negobs_alert_init(&sim.a, &sim.cfg, NULL, 0), NEGOBS_OK);
     sim_set(NEGOBS_LEVEL_NONE, -1, 0, 0);
     sim_run(4500);
     expect_edges(0, want, 4);

@@ -109,8 +109,8 @@ static void test_detect_workspace_max_macro_is_an_upper_bound(void **state)
             cfg.mount_pitch_min_mdeg = -10000;
             assert_int_equal(negobs_detect_workspace_size(&cfg, &bytes),
                              NEGOBS_OK);
-            assert_true(bytes <= NEGOBS_DETECT_WORKSPACE_MAX(
-                                     dims[i][0], dims[i][1], md));
+            assert_true(bytes <= NEGOBS_DETECT_WORKSPACE_MAX(dims[i][0],
+                                                             dims[i][1], md));
         }
     }
 }
@@ -248,8 +248,8 @@ static void test_detect_crop_below_warning_row_is_not_clear(void **state)
         assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
     }
     d_w = negobs_disp_q4_from_depth_mm(&rig.cfg.cam, rig.cfg.range_warn_mm);
-    while (v_w > 0 && negobs_ground_disp_q4(&rig.res.plane, RIG_W / 2, v_w) >
-                          d_w) {
+    while (v_w > 0 &&
+           negobs_ground_disp_q4(&rig.res.plane, RIG_W / 2, v_w) > d_w) {
         v_w--;
     }
     /* crop 20 rows above the warning row: still clear */
@@ -1028,7 +1028,8 @@ static void test_detect_oblique_edge_angle(void **state)
                       h->strips);
         /* Range falls to the right: atan(dD/dX) = -20 deg. */
         assert_true(abs(h->edge_angle_mdeg + 20000) <= 5000);
-        want = (2.5 - h->lateral_mm / 1000.0 * sin(20.0 * 3.14159265 / 180.0)) /
+        want = (2.5 -
+                h->lateral_mm / 1000.0 * sin(20.0 * 3.14159265 / 180.0)) /
                cos(20.0 * 3.14159265 / 180.0) * 1000.0;
         assert_true(fabs(h->range_mm - want) <= want * 0.1);
         assert_true(h->lateral_mm > 0);
@@ -1231,7 +1232,8 @@ static void test_detect_near_rows_are_checked_too(void **state)
  * CLEAR. It is NO_INFO until the hazard confirms, and the candidate still
  * counts towards confirmation. (SurDis, 1.5 m warning range, frame 89:
  * CLEAR with a HOLE candidate on the steps.) */
-static void test_detect_unconfirmed_candidate_with_noisy_near_rows(void **state)
+static void test_detect_unconfirmed_candidate_with_noisy_near_rows(
+    void **state)
 {
     synth_scene_t s;
     int i;
@@ -1307,8 +1309,8 @@ static int walk_to_drop(double start_m, int32_t drop_mm,
             late_clear++;
         }
         g_clear += rig.res.state == NEGOBS_DETECT_CLEAR;
-        g_unverified +=
-            (rig.res.reasons & NEGOBS_DEGRADED_GROUND_UNVERIFIED) != 0u;
+        g_unverified += (rig.res.reasons &
+                         NEGOBS_DEGRADED_GROUND_UNVERIFIED) != 0u;
         if (edge < 0.85 && edge >= 0.73) {
             *level_at_08 = rig.res.level;
         }
@@ -1360,8 +1362,7 @@ static void test_detect_drop_first_seen_near_is_not_clear(void **state)
  * corroboration too, 0/8/9 before); a 70 mm drop first seen at 1.7 m
  * rises by less and still needs it (measured 1 late CLEAR frame with,
  * 9 without). */
-static void test_detect_shallow_drop_first_seen_near_corroborated(
-    void **state)
+static void test_detect_shallow_drop_first_seen_near_corroborated(void **state)
 {
     negobs_alert_level_t lv;
     int seen;
@@ -1446,8 +1447,7 @@ static void test_detect_start_near_shallow_drop_is_not_clear(void **state)
 /* A camera configured 150 mm too low on flat ground: NO_INFO, never a
  * hazard, for ground_drop_max_ms; then the view is the reference and the
  * way is CLEAR. Configured right, the first frame is CLEAR. */
-static void test_detect_wrong_height_is_unverified_then_accepted(
-    void **state)
+static void test_detect_wrong_height_is_unverified_then_accepted(void **state)
 {
     synth_scene_t s;
     negobs_detect_config_t c;
@@ -1470,7 +1470,8 @@ static void test_detect_wrong_height_is_unverified_then_accepted(
         }
     }
     print_message("configured 150 mm low: %d unverified frames, last state "
-                  "%d\n", unverified, (int)rig.res.state);
+                  "%d\n",
+                  unverified, (int)rig.res.state);
     assert_true(unverified >= 10);
     assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
     rig_teardown(&rig);
@@ -1562,7 +1563,8 @@ int main(void)
         cmocka_unit_test(test_detect_no_false_hazard_on_wall),
         cmocka_unit_test(test_detect_wall_before_warning_range_is_clear),
         cmocka_unit_test(test_detect_small_rise_does_not_close_the_path),
-        cmocka_unit_test(test_detect_unconfirmed_candidate_with_noisy_near_rows),
+        cmocka_unit_test(
+            test_detect_unconfirmed_candidate_with_noisy_near_rows),
         cmocka_unit_test(test_detect_no_false_hazard_with_dropout_and_roll),
         cmocka_unit_test(test_detect_drop_with_roll),
         cmocka_unit_test(test_detect_descending_stairs),
@@ -1580,7 +1582,8 @@ int main(void)
         cmocka_unit_test(test_detect_walking_oscillation_no_candidates),
         cmocka_unit_test(test_detect_edge_in_fit_rows_does_not_drag_ground),
         cmocka_unit_test(test_detect_confidence_image_masks_pixels),
-        cmocka_unit_test(test_detect_weak_confidence_fits_ground_but_does_not_vote),
+        cmocka_unit_test(
+            test_detect_weak_confidence_fits_ground_but_does_not_vote),
         cmocka_unit_test(test_detect_left_image_stats_used),
         cmocka_unit_test(test_detect_canny_supports_a_clear_drop),
         cmocka_unit_test(test_detect_far_noise_shortens_the_vouched_range),
@@ -1589,7 +1592,8 @@ int main(void)
         cmocka_unit_test(test_detect_row_correlated_noise_drop_never_clear),
         cmocka_unit_test(test_detect_strip_noise_measured_not_assumed),
         cmocka_unit_test(test_detect_drop_first_seen_near_is_not_clear),
-        cmocka_unit_test(test_detect_shallow_drop_first_seen_near_corroborated),
+        cmocka_unit_test(
+            test_detect_shallow_drop_first_seen_near_corroborated),
         cmocka_unit_test(test_detect_start_near_drop_is_not_clear),
         cmocka_unit_test(test_detect_start_near_shallow_drop_is_not_clear),
         cmocka_unit_test(test_detect_wrong_height_is_unverified_then_accepted),

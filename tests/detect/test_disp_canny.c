@@ -24,8 +24,8 @@ static void drop_map(int32_t edge, const int32_t *step_q4)
     int32_t v;
     for (v = 0; v < H; v++) {
         for (u = 0; u < W; u++) {
-            map[v * W + u] =
-                (int16_t)((v >= edge) ? 20 * 16 : 20 * 16 - step_q4[u]);
+            map[v * W + u] = (int16_t)((v >= edge) ? 20 * 16
+                                                   : 20 * 16 - step_q4[u]);
         }
     }
 }
@@ -52,18 +52,14 @@ static void test_straight_drop_gives_one_edge_row(void **state)
     assert_int_equal(gmax, 4 * 48);
     /* NMS keeps exactly one of the two equal rows per column: every column
      * of the hazard counts once, wherever the edge row is taken from */
-    assert_int_equal(dcanny_support(&img, gmax, 70, 400, 20, 59, 30, &sc),
-                     40);
-    assert_int_equal(dcanny_support(&img, gmax, 70, 400, 20, 59, 29, &sc),
-                     40);
+    assert_int_equal(dcanny_support(&img, gmax, 70, 400, 20, 59, 30, &sc), 40);
+    assert_int_equal(dcanny_support(&img, gmax, 70, 400, 20, 59, 29, &sc), 40);
     /* rows 32 and below (edge row - 2 > 30) hold no edge */
-    assert_int_equal(dcanny_support(&img, gmax, 70, 400, 20, 59, 33, &sc),
-                     0);
+    assert_int_equal(dcanny_support(&img, gmax, 70, 400, 20, 59, 33, &sc), 0);
     /* a threshold above the step's own magnitude: nothing */
-    assert_int_equal(
-        dcanny_support(&img, 4 * 48 * 1000 / 70 + 1000, 70, 400, 20, 59,
-                       30, &sc),
-        0);
+    assert_int_equal(dcanny_support(&img, 4 * 48 * 1000 / 70 + 1000, 70, 400,
+                                    20, 59, 30, &sc),
+                     0);
 }
 
 /* Hysteresis: a drop whose step weakens along the edge keeps its weak
@@ -91,9 +87,9 @@ static void test_weak_part_joined_to_strong_part_counts(void **state)
     assert_in_range(strong_only, 30, 32);
     assert_int_equal(both, strong_only + 40);
     /* the weak part alone, with no strong pixel in the window: nothing */
-    assert_int_equal(dcanny_support(&img, gmax, 70, 400, 50 + DCANNY_MARGIN,
-                                    79, 30, &sc),
-                     0);
+    assert_int_equal(
+        dcanny_support(&img, gmax, 70, 400, 50 + DCANNY_MARGIN, 79, 30, &sc),
+        0);
 }
 
 /* An edge between valid ground and a hole is no disparity edge (its
@@ -149,11 +145,9 @@ static void test_borders_and_bad_boxes(void **state)
     }
     drop_map(1, step);
     assert_true(dcanny_support(&img, 200, 70, 400, 0, W - 1, 0, &sc) >= 0);
-    assert_true(dcanny_support(&img, 200, 70, 400, -50, W + 50, 1, &sc) >=
-                0);
+    assert_true(dcanny_support(&img, 200, 70, 400, -50, W + 50, 1, &sc) >= 0);
     drop_map(H - 1, step);
-    assert_true(dcanny_support(&img, 200, 70, 400, 0, W - 1, H - 1, &sc) >=
-                0);
+    assert_true(dcanny_support(&img, 200, 70, 400, 0, W - 1, H - 1, &sc) >= 0);
     assert_true(dcanny_support(&img, 200, 70, 400, 0, W - 1, H + 40, &sc) ==
                 0);
     assert_int_equal(dcanny_support(&img, 200, 70, 400, 40, 30, 30, &sc), 0);

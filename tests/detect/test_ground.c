@@ -237,12 +237,12 @@ static void test_ground_fit_accepts_any_physical_mounting(void **state)
 {
     /* the last three: roll near the prior's 20 deg, where a low camera's
      * floor spreads over 17 px of disparity along a row */
-    static const double hs[] = {0.65, 0.8, 1.6, 1.95, 1.2, 1.0, 1.9,
-                                1.2,  0.7, 0.7};
-    static const double ps[] = {8.0,  45.0, 10.0, 35.0, 55.0, 20.0, 2.0,
-                                20.0, 10.0, 40.0};
-    static const double rs[] = {0.0,  5.0,  -3.0, 0.0,  0.0, 16.0, 0.0,
-                                19.0, 19.0, -19.0};
+    static const double hs[] = {0.65, 0.8, 1.6, 1.95, 1.2,
+                                1.0,  1.9, 1.2, 0.7,  0.7};
+    static const double ps[] = {8.0,  45.0, 10.0, 35.0, 55.0,
+                                20.0, 2.0,  20.0, 10.0, 40.0};
+    static const double rs[] = {0.0,  5.0, -3.0, 0.0,  0.0,
+                                16.0, 0.0, 19.0, 19.0, -19.0};
     int i;
     (void)state;
     for (i = 0; i < 10; i++) {
@@ -254,9 +254,9 @@ static void test_ground_fit_accepts_any_physical_mounting(void **state)
         s.seed = (uint32_t)i + 70u;
         fit_scene(&s, &o);
         print_message("H %.2f m pitch %.0f roll %.0f: ok %d, %d mm %d mdeg "
-                      "roll %d\n", hs[i], ps[i], rs[i], o.ok,
-                      (int)o.pose.height_mm, (int)o.pose.pitch_mdeg,
-                      (int)o.pose.roll_mdeg);
+                      "roll %d\n",
+                      hs[i], ps[i], rs[i], o.ok, (int)o.pose.height_mm,
+                      (int)o.pose.pitch_mdeg, (int)o.pose.roll_mdeg);
         assert_int_equal(o.ok, 1);
         assert_true(abs(o.pose.height_mm - (int)(hs[i] * 1000)) <=
                     (int)(hs[i] * 40));

@@ -58,8 +58,8 @@ static void walk(const negobs_detect_config_t *c, double roll_deg,
         assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
         o->state[i] = (int)rig.res.state;
         o->level[i] = (int)rig.res.level;
-        o->unverified[i] =
-            (rig.res.reasons & NEGOBS_DEGRADED_GROUND_UNVERIFIED) != 0u;
+        o->unverified[i] = (rig.res.reasons &
+                            NEGOBS_DEGRADED_GROUND_UNVERIFIED) != 0u;
         o->mount[i] = rig.res.mount;
     }
     rig_teardown(&rig);
@@ -86,10 +86,12 @@ static int verdict_diffs(const walk_out_t *a, const walk_out_t *b)
  * frame). */
 static void test_mount_wrong_or_no_hint_gives_the_same_verdicts(void **state)
 {
-    static const int32_t hints[][2] = {
-        {TRUE_H_MM + 300, TRUE_P_MDEG},   {TRUE_H_MM - 300, TRUE_P_MDEG},
-        {TRUE_H_MM, TRUE_P_MDEG + 10000}, {TRUE_H_MM, TRUE_P_MDEG - 10000},
-        {1200, 20000},                    {0, 20000}};
+    static const int32_t hints[][2] = {{TRUE_H_MM + 300, TRUE_P_MDEG},
+                                       {TRUE_H_MM - 300, TRUE_P_MDEG},
+                                       {TRUE_H_MM, TRUE_P_MDEG + 10000},
+                                       {TRUE_H_MM, TRUE_P_MDEG - 10000},
+                                       {1200, 20000},
+                                       {0, 20000}};
     static const double rolls[] = {0.0, 10.0};
     static const int32_t drops[] = {0, 150};
     static walk_out_t ref;
@@ -209,8 +211,8 @@ static void test_mount_look_at_the_feet_verifies_the_start(void **state)
             }
         }
         print_message("flat, no hint, looked down first (check %s): %d "
-                      "unverified frames of 20\n", off ? "off" : "on",
-                      unverified);
+                      "unverified frames of 20\n",
+                      off ? "off" : "on", unverified);
         assert_true(off ? unverified == 20 : unverified == 0);
         rig_teardown(&rig);
     }
@@ -234,7 +236,8 @@ static void test_mount_look_at_the_feet_verifies_the_start(void **state)
             }
         }
         print_message("15 cm drop 1.3 m ahead, looked down first: %d late "
-                      "CLEAR, %d HAZARD frames\n", late_clear, hazard);
+                      "CLEAR, %d HAZARD frames\n",
+                      late_clear, hazard);
         assert_int_equal(late_clear, 0);
         assert_true(hazard >= 5);
         rig_teardown(&rig);

@@ -80,23 +80,23 @@ static void test_temporal_unseen_frames_move_the_window(void **state)
     setup_cfg();
     for (t = 1; t <= 30; t++) {
         int hit = (t % 3u == 0u);
-        temporal_update_vouched(&tp, hit ? &c : NULL, NULL, hit ? 1u : 0u,
-                                1, hit ? INT32_MAX : 0, 2000, t * 100u);
+        temporal_update_vouched(&tp, hit ? &c : NULL, NULL, hit ? 1u : 0u, 1,
+                                hit ? INT32_MAX : 0, 2000, t * 100u);
         assert_int_equal(report(out, t * 100u), 0);
     }
     setup_cfg();
     for (t = 1; t <= 30; t++) {
         int hit = (t % 3u == 0u);
-        temporal_update_vouched(&tp, hit ? &c : NULL, NULL, hit ? 1u : 0u,
-                                hit, INT32_MAX, 2000, t * 100u);
+        temporal_update_vouched(&tp, hit ? &c : NULL, NULL, hit ? 1u : 0u, hit,
+                                INT32_MAX, 2000, t * 100u);
         assert_int_equal(report(out, t * 100u), 0);
     }
     /* Three sightings in five frames still confirm, looked at or not. */
     setup_cfg();
     for (t = 1; t <= 5; t++) {
         int hit = (t % 2u == 1u);
-        temporal_update_vouched(&tp, hit ? &c : NULL, NULL, hit ? 1u : 0u,
-                                1, hit ? INT32_MAX : 0, 2000, t * 100u);
+        temporal_update_vouched(&tp, hit ? &c : NULL, NULL, hit ? 1u : 0u, 1,
+                                hit ? INT32_MAX : 0, 2000, t * 100u);
     }
     assert_int_equal(report(out, 500), 1);
 }

@@ -25,8 +25,8 @@ static int32_t floor_row(const synth_scene_t *s, double d_m)
     const double d2r = 3.14159265358979323846 / 180.0;
     double f = rig.cfg.cam.focal_q4 / 16.0;
     double cy = rig.cfg.cam.cy_q4 / 16.0;
-    return (int32_t)lround(cy + f * tan(atan(s->h_m / d_m) -
-                                        s->pitch_deg * d2r));
+    return (int32_t)lround(cy +
+                           f * tan(atan(s->h_m / d_m) - s->pitch_deg * d2r));
 }
 
 /* Forward floor distance (m) seen by image row v (the scene's geometry). */
@@ -212,8 +212,8 @@ static void test_vouch_no_false_vouch_on_walks(void **state)
             }
         }
     }
-    print_message("false vouches: %d of %d judged frames (%d CLEAR)\n",
-                  total, judged, clear_frames);
+    print_message("false vouches: %d of %d judged frames (%d CLEAR)\n", total,
+                  judged, clear_frames);
     assert_true(judged > 100);
     assert_int_equal(total, 0);
 }
@@ -233,7 +233,8 @@ static void test_vouch_bounds_by_state(void **state)
         if (rig.res.state == NEGOBS_DETECT_HAZARD) {
             uint32_t k;
             for (k = 0; k < rig.res.n_hazards; k++) {
-                assert_true(rig.res.clear_to_mm <= rig.res.hazards[k].range_mm);
+                assert_true(rig.res.clear_to_mm <=
+                            rig.res.hazards[k].range_mm);
             }
         }
         assert_true(rig.res.clear_to_mm <= (int32_t)((3.0 - 0.1 * i) * 1100));

@@ -250,8 +250,8 @@ static void feed_hazard(digest_t *d, const negobs_hazard_t *hz)
 /* The first `frames` frames of the curb walk through the pipeline; prints
  * one line per frame when verbose, returns the run's digest (0: the
  * pipeline refused to run). */
-static uint64_t run_walk(int valign, int perturb, int verbose,
-                         int32_t frames, uint64_t *input_hash)
+static uint64_t run_walk(int valign, int perturb, int verbose, int32_t frames,
+                         uint64_t *input_hash)
 {
     negobs_pipeline_config_t cfg;
     negobs_pipeline_t ctx;
@@ -385,8 +385,7 @@ typedef struct digests {
     uint64_t walk_input;
 } digests_t;
 
-static void run_all(int perturb, int verbose, int32_t frames,
-                    digests_t *out)
+static void run_all(int perturb, int verbose, int32_t frames, digests_t *out)
 {
     uint64_t in2 = 0;
     out->kernels = run(perturb);

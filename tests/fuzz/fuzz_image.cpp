@@ -69,7 +69,7 @@ void remove_scratch()
     (void)unlink(scratch_path().c_str());
 }
 
-}  // namespace
+} // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -99,10 +99,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     if (!err.empty() || grey.empty() || grey.type() != CV_8UC1 ||
         !grey.isContinuous() || grey.dims != 2) {
-        std::fprintf(stderr, "load_grey accepted a bad image: type %d, "
-                     "%dx%d, continuous %d, err '%s'\n", grey.type(),
-                     grey.cols, grey.rows, grey.isContinuous() ? 1 : 0,
-                     err.c_str());
+        std::fprintf(stderr,
+                     "load_grey accepted a bad image: type %d, "
+                     "%dx%d, continuous %d, err '%s'\n",
+                     grey.type(), grey.cols, grey.rows,
+                     grey.isContinuous() ? 1 : 0, err.c_str());
         std::abort();
     }
     // The size is the one the decoder reports for these bytes. OpenCV's

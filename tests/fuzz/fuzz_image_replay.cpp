@@ -52,6 +52,7 @@ int main(int argc, char **argv)
             runs++;
         }
     }
-    std::printf("%zu seed images, %u inputs ran cleanly\n", seeds.size(), runs);
+    std::printf("%zu seed images, %u inputs ran cleanly\n", seeds.size(),
+                runs);
     return seeds.size() >= 10 ? 0 : 1;
 }

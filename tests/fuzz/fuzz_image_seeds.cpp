@@ -20,9 +20,11 @@ cv::Mat card(int w, int h, int type)
     for (int y = 0; y < h; y++) {
         for (int x = 0; x < w; x++) {
             for (int c = 0; c < ch; c++) {
-                int v = (x * 5 + y * 3 + c * 60 + ((x / 4 + y / 4) % 2) * 90) & 255;
+                int v = (x * 5 + y * 3 + c * 60 + ((x / 4 + y / 4) % 2) * 90) &
+                        255;
                 if (wide) {
-                    m.ptr<uint16_t>(y)[x * ch + c] = static_cast<uint16_t>(v * 257);
+                    m.ptr<uint16_t>(y)[x * ch + c] = static_cast<uint16_t>(
+                        v * 257);
                 } else {
                     m.ptr<uint8_t>(y)[x * ch + c] = static_cast<uint8_t>(v);
                 }
@@ -32,7 +34,7 @@ cv::Mat card(int w, int h, int type)
     return m;
 }
 
-}  // namespace
+} // namespace
 
 std::vector<std::vector<uint8_t>> image_seeds()
 {
@@ -41,13 +43,13 @@ std::vector<std::vector<uint8_t>> image_seeds()
         int w, h, type;
     };
     static const Spec specs[] = {
-        {".png", 7, 5, CV_8UC1},   {".png", 9, 3, CV_8UC3},
-        {".png", 5, 4, CV_8UC4},   {".png", 6, 6, CV_16UC1},
-        {".png", 3, 7, CV_16UC3},  {".pgm", 11, 3, CV_8UC1},
-        {".pgm", 4, 4, CV_16UC1},  {".ppm", 5, 5, CV_8UC3},
-        {".bmp", 7, 3, CV_8UC1},   {".bmp", 5, 2, CV_8UC3},
-        {".jpg", 16, 8, CV_8UC1},  {".jpg", 9, 9, CV_8UC3},
-        {".tiff", 4, 3, CV_8UC1},  {".tiff", 3, 3, CV_16UC1},
+        {".png", 7, 5, CV_8UC1},  {".png", 9, 3, CV_8UC3},
+        {".png", 5, 4, CV_8UC4},  {".png", 6, 6, CV_16UC1},
+        {".png", 3, 7, CV_16UC3}, {".pgm", 11, 3, CV_8UC1},
+        {".pgm", 4, 4, CV_16UC1}, {".ppm", 5, 5, CV_8UC3},
+        {".bmp", 7, 3, CV_8UC1},  {".bmp", 5, 2, CV_8UC3},
+        {".jpg", 16, 8, CV_8UC1}, {".jpg", 9, 9, CV_8UC3},
+        {".tiff", 4, 3, CV_8UC1}, {".tiff", 3, 3, CV_16UC1},
         {".png", 1, 1, CV_8UC1},
     };
     std::vector<std::vector<uint8_t>> out;
@@ -75,7 +77,8 @@ bool write_image_seeds(const std::string &dir)
     std::vector<std::vector<uint8_t>> seeds = image_seeds();
     for (size_t i = 0; i < seeds.size(); i++) {
         char name[32];
-        std::snprintf(name, sizeof name, "/seed_%02u", static_cast<unsigned>(i));
+        std::snprintf(name, sizeof name, "/seed_%02u",
+                      static_cast<unsigned>(i));
         FILE *f = std::fopen((dir + name).c_str(), "wb");
         if (f == nullptr) {
             return false;
@@ -90,4 +93,4 @@ bool write_image_seeds(const std::string &dir)
     return true;
 }
 
-}  // namespace negobs_fuzz
+} // namespace negobs_fuzz

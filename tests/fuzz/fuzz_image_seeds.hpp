@@ -16,6 +16,6 @@ std::vector<std::vector<uint8_t>> image_seeds();
 // Writes image_seeds() as DIR/seed_NN; false when DIR cannot be made.
 bool write_image_seeds(const std::string &dir);
 
-}  // namespace negobs_fuzz
+} // namespace negobs_fuzz
 
 #endif

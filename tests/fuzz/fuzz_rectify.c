@@ -79,8 +79,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (mode & 2u) {
             patch_crc(table, len);
         }
-        if (negobs_rectify_table_check(table, len, w, h, &info) ==
-            NEGOBS_OK) {
+        if (negobs_rectify_table_check(table, len, w, h, &info) == NEGOBS_OK) {
             run_remap(table, len, w, h);
         }
         return 0;
@@ -92,8 +91,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     info.f_q16 = (uint32_t)fuzz_u16(&in) << 8;
     info.baseline_um = fuzz_u16(&in);
     {
-        int32_t gw = ((w - 1) >> (info.grid_shift > 4 ? 4 : info.grid_shift)) + 2;
-        int32_t gh = ((h - 1) >> (info.grid_shift > 4 ? 4 : info.grid_shift)) + 2;
+        int32_t gw = ((w - 1) >> (info.grid_shift > 4 ? 4 : info.grid_shift)) +
+                     2;
+        int32_t gh = ((h - 1) >> (info.grid_shift > 4 ? 4 : info.grid_shift)) +
+                     2;
         int32_t i;
         for (i = 0; i < 2 * gw * gh && i < 2 * MAXNODES; i++) {
             lmap[i] = fuzz_range(&in, -20000, 20000);

@@ -25,7 +25,7 @@ namespace {
 
 struct Pair {
     std::string name;
-    cv::Mat left, right;  // CV_8UC1
+    cv::Mat left, right; // CV_8UC1
 };
 
 using Bytes = std::vector<uint8_t>;
@@ -125,9 +125,10 @@ public:
                     put_range(b, 2, 0);
                     put_pixels(b, v.second.left);
                     put_pixels(b, v.second.right);
-                    write("pipeline", p.name + "-" + v.first + "-" +
-                                          std::to_string(si) + "-m" +
-                                          std::to_string(mode), b);
+                    write("pipeline",
+                          p.name + "-" + v.first + "-" + std::to_string(si) +
+                              "-m" + std::to_string(mode),
+                          b);
                 }
             }
         }
@@ -145,8 +146,8 @@ public:
                 put_range(b, r, -1);
                 b.push_back(0);
                 put_pixels(b, v.second.left);
-                write("core", p.name + "-" + v.first + "-r" +
-                                  std::to_string(r), b);
+                write("core",
+                      p.name + "-" + v.first + "-r" + std::to_string(r), b);
             }
         }
     }
@@ -184,8 +185,8 @@ public:
                     put_range(b, 40, 0);
                     b.push_back(4);
                 }
-                write("rectify", p.name + "-" + v.first + "-m" +
-                                     std::to_string(mode), b);
+                write("rectify",
+                      p.name + "-" + v.first + "-m" + std::to_string(mode), b);
             }
         }
     }
@@ -219,7 +220,7 @@ private:
     bool ok_ = true;
 };
 
-}  // namespace
+} // namespace
 
 int main(int argc, char **argv)
 {

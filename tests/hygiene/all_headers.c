@@ -6,4 +6,7 @@
 #include "negobs_port/camera_replay.h"
 #include "negobs_port/clock.h"
 #include "negobs_port/config.h"
-int main(void) { return 0; }
+int main(void)
+{
+    return 0;
+}

@@ -35,7 +35,8 @@ static rig_t rig_open(int32_t w, int32_t h)
     assert_non_null(r.raw);
     r.ctx = (negobs_pipeline_t *)r.raw;
     ws = (uint8_t *)(((uintptr_t)((uint8_t *)r.raw +
-                                  sizeof(negobs_pipeline_t)) + 15u) &
+                                  sizeof(negobs_pipeline_t)) +
+                      15u) &
                      ~(uintptr_t)15u);
     assert_int_equal(negobs_pipeline_init(r.ctx, &cfg, ws, bytes), NEGOBS_OK);
     return r;

@@ -43,8 +43,7 @@ static void test_pipeline_workspace_is_exact(void **state)
                      NEGOBS_ERR_NOSPACE);
     assert_int_equal(negobs_pipeline_init(ctx, &cfg, ws, bytes), NEGOBS_OK);
     assert_int_equal(negobs_pipeline_disparity(ctx)->width, W);
-    assert_int_equal(negobs_pipeline_init(ctx, &cfg, (uint8_t *)ws + 1,
-                                          bytes),
+    assert_int_equal(negobs_pipeline_init(ctx, &cfg, (uint8_t *)ws + 1, bytes),
                      NEGOBS_ERR_ALIGN);
     free(raw);
     free(ctx);
@@ -151,9 +150,9 @@ static void test_pipeline_roi_first_row_follows_the_ground(void **state)
     /* no ground model: every row */
     assert_int_equal(negobs_pipeline_roi_first_row(&cfg, &det), 0);
     det.ground_valid = 1;
-    assert_int_equal(negobs_ground_plane_from_pose(&cfg.detect.cam, &pose,
-                                                   &det.plane),
-                     NEGOBS_OK);
+    assert_int_equal(
+        negobs_ground_plane_from_pose(&cfg.detect.cam, &pose, &det.plane),
+        NEGOBS_OK);
     top = negobs_pipeline_roi_first_row(&cfg, &det);
     /* the row 30 below the top is still nearer than range_max on the
      * model, the row 30 above the top (if any) no longer */
@@ -166,24 +165,24 @@ static void test_pipeline_roi_first_row_follows_the_ground(void **state)
     assert_true(top > 40 && top < 120);
     /* roll: the higher edge decides, so the crop starts higher */
     pose.roll_mdeg = 5000;
-    assert_int_equal(negobs_ground_plane_from_pose(&cfg.detect.cam, &pose,
-                                                   &det.plane),
-                     NEGOBS_OK);
+    assert_int_equal(
+        negobs_ground_plane_from_pose(&cfg.detect.cam, &pose, &det.plane),
+        NEGOBS_OK);
     top_roll = negobs_pipeline_roi_first_row(&cfg, &det);
     assert_true(top_roll < top);
     /* pitched far down (looking at the feet): every row is near ground */
     pose.roll_mdeg = 0;
     pose.pitch_mdeg = 60000;
-    assert_int_equal(negobs_ground_plane_from_pose(&cfg.detect.cam, &pose,
-                                                   &det.plane),
-                     NEGOBS_OK);
+    assert_int_equal(
+        negobs_ground_plane_from_pose(&cfg.detect.cam, &pose, &det.plane),
+        NEGOBS_OK);
     top_down = negobs_pipeline_roi_first_row(&cfg, &det);
     assert_int_equal(top_down, 0);
     /* pitched up: the crop never reaches into the ground fit's rows */
     pose.pitch_mdeg = 2000;
-    assert_int_equal(negobs_ground_plane_from_pose(&cfg.detect.cam, &pose,
-                                                   &det.plane),
-                     NEGOBS_OK);
+    assert_int_equal(
+        negobs_ground_plane_from_pose(&cfg.detect.cam, &pose, &det.plane),
+        NEGOBS_OK);
     assert_true(negobs_pipeline_roi_first_row(&cfg, &det) <=
                 240 - 240 * cfg.detect.fit_rows_pct / 100 -
                     cfg.roi_margin_rows);

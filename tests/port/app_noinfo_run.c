@@ -66,8 +66,7 @@ typedef struct watch {
     FILE *log;
 } watch_t;
 
-static void on_line(watch_t *w, const char *line, int is_stdout,
-                    uint64_t t)
+static void on_line(watch_t *w, const char *line, int is_stdout, uint64_t t)
 {
     long n;
     const char *p;
@@ -141,8 +140,7 @@ static int drain(stream_t *st, watch_t *w, int ms)
         if (n == 0) {
             return -1;
         }
-        if (poll(pf, 2, (int)((end - t) / 1000u) + 1) < 0 &&
-            errno != EINTR) {
+        if (poll(pf, 2, (int)((end - t) / 1000u) + 1) < 0 && errno != EINTR) {
             return -1;
         }
         for (i = 0; i < 2; i++) {
@@ -204,8 +202,10 @@ int main(int argc, char **argv)
     char line[256];
 
     if (argc < 8) {
-        fprintf(stderr, "usage: %s NEGOBS_RUN CONF FRAMES_DIR W H K STALLS "
-                        "[TOL_MS]\n", argv[0]);
+        fprintf(stderr,
+                "usage: %s NEGOBS_RUN CONF FRAMES_DIR W H K STALLS "
+                "[TOL_MS]\n",
+                argv[0]);
         return 2;
     }
     w = atol(argv[4]);
@@ -260,8 +260,7 @@ int main(int argc, char **argv)
     f = fopen(path, "w");
     fprintf(f, "# index left_ns right_ns sequence\n");
     for (i = 0; i < total; i++) {
-        fprintf(f, "%ld %ld %ld %ld\n", i, i * 100000000L, i * 100000000L,
-                i);
+        fprintf(f, "%ld %ld %ld %ld\n", i, i * 100000000L, i * 100000000L, i);
     }
     (void)fclose(f);
     (void)snprintf(path, sizeof path, "%s/right.y", dir);
@@ -287,9 +286,8 @@ int main(int argc, char **argv)
         (void)dup2(pe[1], 2);
         (void)close(po[0]);
         (void)close(pe[0]);
-        execl(argv[1], argv[1], "--config", argv[2], "--fps", "0",
-              "--alert", "console", "--log-level", "debug", arg,
-              (char *)NULL);
+        execl(argv[1], argv[1], "--config", argv[2], "--fps", "0", "--alert",
+              "console", "--log-level", "debug", arg, (char *)NULL);
         _exit(127);
     }
     (void)close(po[1]);
@@ -337,10 +335,11 @@ int main(int argc, char **argv)
         if (wt.t_want_us != 0 && wt.want_valid && wt.first_on_us != 0) {
             lat[(size_t)n_lat] = wt.first_on_us - wt.t_want_us;
             n_lat++;
-            printf("stall %ld: pair %ld clear at +0, motor on at +%llu.%03llu ms\n",
-                   i, wt.want_pair,
-                   (unsigned long long)(lat[(size_t)n_lat - 1u] / 1000u),
-                   (unsigned long long)(lat[(size_t)n_lat - 1u] % 1000u));
+            printf(
+                "stall %ld: pair %ld clear at +0, motor on at +%llu.%03llu ms\n",
+                i, wt.want_pair,
+                (unsigned long long)(lat[(size_t)n_lat - 1u] / 1000u),
+                (unsigned long long)(lat[(size_t)n_lat - 1u] % 1000u));
         } else {
             printf("stall %ld: not counted (%s)\n", i,
                    wt.t_want_us == 0 ? "pair line missing"
@@ -365,8 +364,7 @@ int main(int argc, char **argv)
         qsort(lat, (size_t)n_lat, sizeof lat[0], cmp_u64);
         printf("no-info latency, %d of %ld stalls (watchdog_ms %ld): min "
                "%llu.%03llu median %llu.%03llu max %llu.%03llu ms\n",
-               n_lat, stalls, wdog_ms,
-               (unsigned long long)(lat[0] / 1000u),
+               n_lat, stalls, wdog_ms, (unsigned long long)(lat[0] / 1000u),
                (unsigned long long)(lat[0] % 1000u),
                (unsigned long long)(lat[(size_t)n_lat / 2u] / 1000u),
                (unsigned long long)(lat[(size_t)n_lat / 2u] % 1000u),
@@ -391,15 +389,15 @@ int main(int argc, char **argv)
          * play no-information between pairs: nothing to measure. Say so
          * rather than pass or fail. */
         printf("SKIP: only %d of %ld stalls measurable (pairs too slow "
-               "on this host?)\n", n_lat, stalls);
+               "on this host?)\n",
+               n_lat, stalls);
         return 77;
     }
     if (bad) {
         printf("FAIL (every line, stamped: %s/lines.txt)\n", dir);
     } else {
         static const char *const names[] = {"session.txt", "frames.txt",
-                                            "right.y", "left.y",
-                                            "lines.txt"};
+                                            "right.y", "left.y", "lines.txt"};
         for (i = 0; i < 5; i++) {
             (void)snprintf(path, sizeof path, "%s/%s", dir, names[i]);
             (void)unlink(path);

@@ -36,8 +36,10 @@ int main(int argc, char **argv)
     FILE *out;
     negobs_status_t st;
     if (argc != 7) {
-        fprintf(stderr, "usage: %s OUT WIDTH HEIGHT F_PX BASELINE_MM "
-                        "SHIFT_PX\n", argv[0]);
+        fprintf(stderr,
+                "usage: %s OUT WIDTH HEIGHT F_PX BASELINE_MM "
+                "SHIFT_PX\n",
+                argv[0]);
         return 2;
     }
     w = strtol(argv[2], NULL, 10);
@@ -72,8 +74,8 @@ int main(int argc, char **argv)
     info.cy_q16 = (int32_t)((h - 1) * 32768);
     info.doffs_q16 = 0;
     info.rms_mpx = NEGOBS_RECTIFY_RMS_UNKNOWN;
-    st = negobs_rectify_table_write(&info, map_q8, map_q8, table,
-                                    sizeof table, &written);
+    st = negobs_rectify_table_write(&info, map_q8, map_q8, table, sizeof table,
+                                    &written);
     if (st != NEGOBS_OK) {
         fprintf(stderr, "app_rect_table: %s\n", negobs_status_str(st));
         return 1;

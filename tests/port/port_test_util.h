@@ -24,8 +24,8 @@ static inline int tu_mkdtemp(char *out, size_t len, const char *tag)
     return mkdtemp(out) != NULL ? 0 : -1;
 }
 
-static inline int tu_rm_one(const char *path, const struct stat *sb,
-                            int flag, struct FTW *ftw)
+static inline int tu_rm_one(const char *path, const struct stat *sb, int flag,
+                            struct FTW *ftw)
 {
     (void)sb;
     (void)flag;
@@ -39,8 +39,8 @@ static inline void tu_rm_tree(const char *path)
 }
 
 /* Write `len` bytes to DIR/LEAF. 0 on success. */
-static inline int tu_write(const char *dir, const char *leaf,
-                           const void *data, size_t len)
+static inline int tu_write(const char *dir, const char *leaf, const void *data,
+                           size_t len)
 {
     char path[512];
     FILE *f;

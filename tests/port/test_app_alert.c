@@ -214,16 +214,15 @@ static void follow_the_library(int32_t stale_ms)
         if (t == 1000u || t >= next_verdict) {
             if (t > 1000u) {
                 static const app_verdict_t vs[] = {
-                    APP_VERDICT_CLEAR, APP_VERDICT_CLEAR, APP_VERDICT_CAUTION,
-                    APP_VERDICT_CAUTION, APP_VERDICT_IMMINENT,
-                    APP_VERDICT_NO_INFO};
+                    APP_VERDICT_CLEAR,    APP_VERDICT_CLEAR,
+                    APP_VERDICT_CAUTION,  APP_VERDICT_CAUTION,
+                    APP_VERDICT_IMMINENT, APP_VERDICT_NO_INFO};
                 app_verdict_t v = vs[lcg(&seed) % 6u];
                 in = verdict(v, 800 + (int32_t)(lcg(&seed) % 3500u), t);
                 inp = &in;
             }
             assert_int_equal(app_alert_step(&a, t, inp, &s), NEGOBS_OK);
-            assert_int_equal(negobs_motor_exec_start(&ex, &s, now),
-                             NEGOBS_OK);
+            assert_int_equal(negobs_motor_exec_start(&ex, &s, now), NEGOBS_OK);
             /* mostly frames 33..400 ms apart, sometimes a long stall */
             next_verdict = t + 33u + lcg(&seed) % 370u;
             if (lcg(&seed) % 20u == 0u) {
@@ -290,8 +289,7 @@ static void test_heartbeat_reaches_the_motor(void **state)
             negobs_alert_input_t in = verdict(APP_VERDICT_CLEAR, -1, t);
             negobs_motor_schedule_t s;
             assert_int_equal(app_alert_step(&a, t, &in, &s), NEGOBS_OK);
-            assert_int_equal(negobs_motor_exec_start(&ex, &s, now),
-                             NEGOBS_OK);
+            assert_int_equal(negobs_motor_exec_start(&ex, &s, now), NEGOBS_OK);
         } else {
             (void)negobs_motor_exec_tick(&ex, now);
         }
@@ -404,13 +402,13 @@ static void test_imminent_hold_outlives_stale(void **state)
     }
     imminent_ms = t;
     assert_true(imminent_ms >= (uint32_t)c.imminent_hold_ms);
-    assert_true(imminent_ms <= (uint32_t)(c.imminent_hold_ms + c.stale_ms +
-                                          400));
+    assert_true(imminent_ms <=
+                (uint32_t)(c.imminent_hold_ms + c.stale_ms + 400));
     /* then the no-information entry burst, looped tail */
     assert_int_equal(s.seg[i].duty_permille, 1000);
-    assert_true(s.seg[i].duration_ms == 400 ||
-                (s.seg[i].duration_ms == 300 && s.seg[i + 1].duty_permille
-                 == 0));
+    assert_true(
+        s.seg[i].duration_ms == 400 ||
+        (s.seg[i].duration_ms == 300 && s.seg[i + 1].duty_permille == 0));
     assert_int_not_equal(s.loop_start, NEGOBS_MOTOR_NO_LOOP);
 }
 

@@ -114,12 +114,11 @@ static uint32_t trial(int hang)
     cfg.ready_on_start = 0;
     cfg.stale_ms = (int32_t)APP_TEST_WDOG_MS;
     assert_int_equal(app_alert_init(&alert_sm, &cfg), NEGOBS_OK);
-    assert_int_equal(app_alert_noinfo_schedule(&cfg, 0u, &noinfo),
-                     NEGOBS_OK);
+    assert_int_equal(app_alert_noinfo_schedule(&cfg, 0u, &noinfo), NEGOBS_OK);
     /* A verdict before the thread starts: it begins with silence. */
-    assert_int_equal(negobs_motor_thread_start(&motor, &out, &noinfo,
-                                               APP_TEST_BACKSTOP_MS),
-                     NEGOBS_OK);
+    assert_int_equal(
+        negobs_motor_thread_start(&motor, &out, &noinfo, APP_TEST_BACKSTOP_MS),
+        NEGOBS_OK);
     for (i = 0; i < 15; i++) {
         if (i > 0) {
             negobs_clock_sleep_ms(33u);
@@ -183,8 +182,7 @@ static void run_trials(int hang)
     print_message("%s: last verdict -> no-info motor on, %d trials: "
                   "min %u.%03u median %u.%03u max %u.%03u ms\n",
                   hang ? "hang" : "camera stall", APP_TEST_TRIALS,
-                  s[0] / 1000u, s[0] % 1000u,
-                  s[APP_TEST_TRIALS / 2] / 1000u,
+                  s[0] / 1000u, s[0] % 1000u, s[APP_TEST_TRIALS / 2] / 1000u,
                   s[APP_TEST_TRIALS / 2] % 1000u,
                   s[APP_TEST_TRIALS - 1] / 1000u,
                   s[APP_TEST_TRIALS - 1] % 1000u);

@@ -80,7 +80,7 @@ static void test_unusable_images_give_no_info_with_reason(void **state)
     assert_int_equal(run(&p), APP_VERDICT_NO_INFO);
     assert_int_equal(p.last.reason, APP_REASON_TEXTURELESS);
     assert_int_equal(p.last.texture_permille[1], 0);
-    fill(left_px, W, H, S, 1, 40, 100);  /* mean ~90 */
+    fill(left_px, W, H, S, 1, 40, 100);   /* mean ~90 */
     fill(right_px, W, H, S, 2, 140, 100); /* mean ~190 */
     assert_int_equal(run(&p), APP_VERDICT_NO_INFO);
     assert_int_equal(p.last.reason, APP_REASON_MISMATCH);
@@ -146,9 +146,8 @@ static void test_late_clear_is_not_trusted(void **state)
     assert_string_equal(app_reason_name(p.last.reason), "late");
     assert_int_equal(app_pipeline_latency_gate(&p, APP_VERDICT_CAUTION, 5000),
                      APP_VERDICT_CAUTION);
-    assert_int_equal(
-        app_pipeline_latency_gate(&p, APP_VERDICT_IMMINENT, 5000),
-        APP_VERDICT_IMMINENT);
+    assert_int_equal(app_pipeline_latency_gate(&p, APP_VERDICT_IMMINENT, 5000),
+                     APP_VERDICT_IMMINENT);
     assert_int_equal(app_pipeline_latency_gate(&p, APP_VERDICT_NO_INFO, 5000),
                      APP_VERDICT_NO_INFO);
     /* a clock that went backwards is not "late" */

@@ -150,16 +150,16 @@ static void test_config_file_line_with_nul_byte(void **state)
         memset(line, ' ', sizeof line);
         memcpy(line, "fps = 7", 7);
         line[NEGOBS_CONFIG_LINE_MAX] = '\n';
-        assert_int_equal(tu_write(dir, "max.conf", line,
-                                  NEGOBS_CONFIG_LINE_MAX + 1u), 0);
+        assert_int_equal(
+            tu_write(dir, "max.conf", line, NEGOBS_CONFIG_LINE_MAX + 1u), 0);
         (void)snprintf(path, sizeof path, "%s/max.conf", dir);
         assert_int_equal(negobs_config_parse_file(path, table, N, &err),
                          NEGOBS_OK);
         assert_int_equal(fps, 7);
         line[NEGOBS_CONFIG_LINE_MAX] = ' ';
         line[NEGOBS_CONFIG_LINE_MAX + 1] = '\n';
-        assert_int_equal(tu_write(dir, "long.conf", line,
-                                  NEGOBS_CONFIG_LINE_MAX + 2u), 0);
+        assert_int_equal(
+            tu_write(dir, "long.conf", line, NEGOBS_CONFIG_LINE_MAX + 2u), 0);
         (void)snprintf(path, sizeof path, "%s/long.conf", dir);
         assert_int_equal(negobs_config_parse_file(path, table, N, &err),
                          NEGOBS_ERR_INVAL);
@@ -190,21 +190,23 @@ static void test_config_file_checked_values_name_the_line(void **state)
     int calls = 0;
     (void)state;
     assert_int_equal(tu_mkdtemp(dir, sizeof dir, "cfg"), 0);
-    assert_int_equal(tu_write_str(dir, "c.conf", "# x\nfps = 20\n"
-                                                 "alert = none\n"), 0);
+    assert_int_equal(tu_write_str(dir, "c.conf",
+                                  "# x\nfps = 20\n"
+                                  "alert = none\n"),
+                     0);
     (void)snprintf(path, sizeof path, "%s/c.conf", dir);
-    assert_int_equal(negobs_config_parse_file_checked(path, table, N,
-                                                      check_alert, &calls,
-                                                      &err),
+    assert_int_equal(negobs_config_parse_file_checked(
+                         path, table, N, check_alert, &calls, &err),
                      NEGOBS_OK);
     assert_int_equal(calls, 2);
     assert_string_equal(alert, "none");
-    assert_int_equal(tu_write_str(dir, "d.conf", "fps = 20\n\n"
-                                                 "alert = siren\n"), 0);
+    assert_int_equal(tu_write_str(dir, "d.conf",
+                                  "fps = 20\n\n"
+                                  "alert = siren\n"),
+                     0);
     (void)snprintf(path, sizeof path, "%s/d.conf", dir);
-    assert_int_equal(negobs_config_parse_file_checked(path, table, N,
-                                                      check_alert, &calls,
-                                                      &err),
+    assert_int_equal(negobs_config_parse_file_checked(
+                         path, table, N, check_alert, &calls, &err),
                      NEGOBS_ERR_INVAL);
     assert_int_equal(err.line, 3);
     assert_non_null(strstr(err.msg, "line 3: alert: no such output 'siren'"));

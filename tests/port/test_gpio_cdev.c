@@ -27,7 +27,7 @@ static struct {
     int requests;
     int line_open;
     int chip_open;
-    int value;     /* last value written, -1 none */
+    int value; /* last value written, -1 none */
     int writes;
     bool no_v2;    /* an old kernel: v2 ioctls are ENOTTY */
     int set_errno; /* value writes fail with this (chip gone: ENODEV) */
@@ -223,9 +223,9 @@ static void test_gpio_errors_are_reported(void **state)
     negobs_motor_out_t out;
     (void)state;
     fake.open_errno = ENOENT;
-    assert_int_equal(negobs_alert_gpio_open(&g, "/dev/gpiochip9", 0, false,
-                                            &out),
-                     NEGOBS_ERR_NODEV);
+    assert_int_equal(
+        negobs_alert_gpio_open(&g, "/dev/gpiochip9", 0, false, &out),
+        NEGOBS_ERR_NODEV);
     assert_non_null(strstr(g.errmsg, "/dev/gpiochip9"));
     fake.open_errno = 0;
     fake.request_errno = EBUSY;
@@ -234,7 +234,7 @@ static void test_gpio_errors_are_reported(void **state)
     assert_non_null(strstr(g.errmsg, "line 4"));
     assert_int_equal(g.last_errno, EBUSY);
     assert_int_equal(fake.chip_open, 0); /* nothing leaked */
-    fake.request_errno = EINVAL; /* offset beyond the chip */
+    fake.request_errno = EINVAL;         /* offset beyond the chip */
     assert_int_equal(negobs_alert_gpio_open(&g, "gpiochip0", 99, false, &out),
                      NEGOBS_ERR_INVAL);
 }
@@ -274,9 +274,9 @@ static void test_gpio_chip_gone_is_requested_again_with_backoff(void **state)
     negobs_alert_gpio_t st;
     negobs_motor_out_t out;
     (void)state;
-    assert_int_equal(negobs_alert_gpio_open(&st, "/dev/gpiochip1", 0, false,
-                                            &out),
-                     NEGOBS_OK);
+    assert_int_equal(
+        negobs_alert_gpio_open(&st, "/dev/gpiochip1", 0, false, &out),
+        NEGOBS_OK);
     assert_int_equal(negobs_alert_set(&out, 1000), NEGOBS_OK);
     assert_int_equal(fake.requests, 1);
     /* The chip goes away (driver unbound): the write fails for good on
@@ -317,9 +317,9 @@ static void test_gpio_chip_back_under_another_number_is_found_by_label(
     negobs_alert_gpio_t st;
     negobs_motor_out_t out;
     (void)state;
-    assert_int_equal(negobs_alert_gpio_open(&st, "/dev/gpiochip3", 0, false,
-                                            &out),
-                     NEGOBS_OK);
+    assert_int_equal(
+        negobs_alert_gpio_open(&st, "/dev/gpiochip3", 0, false, &out),
+        NEGOBS_OK);
     assert_string_equal(st.label, "motor-chip");
     fake.set_errno = ENODEV;
     assert_int_equal(negobs_alert_set(&out, 1000), NEGOBS_ERR_NODEV);
@@ -345,10 +345,9 @@ int main(void)
         cmocka_unit_test_setup(
             test_gpio_chip_gone_is_requested_again_with_backoff, reset),
         cmocka_unit_test_setup(
-            test_gpio_chip_back_under_another_number_is_found_by_label,
-            reset),
-        cmocka_unit_test_setup(
-            test_gpio_falls_back_to_uapi_v1_on_old_kernels, reset),
+            test_gpio_chip_back_under_another_number_is_found_by_label, reset),
+        cmocka_unit_test_setup(test_gpio_falls_back_to_uapi_v1_on_old_kernels,
+                               reset),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

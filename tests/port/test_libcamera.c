@@ -24,9 +24,8 @@ static void test_parse_index_and_id(void **state)
                      NEGOBS_OK);
     assert_int_equal(index, 0);
     assert_null(id);
-    assert_int_equal(negobs_libcamera_parse_source("libcamera:12", &index,
-                                                   &id),
-                     NEGOBS_OK);
+    assert_int_equal(
+        negobs_libcamera_parse_source("libcamera:12", &index, &id), NEGOBS_OK);
     assert_int_equal(index, 12);
     assert_int_equal(negobs_libcamera_parse_source(
                          "libcamera:platform/vimc.0 Sensor B", &index, &id),
@@ -34,9 +33,8 @@ static void test_parse_index_and_id(void **state)
     assert_int_equal(index, -1);
     assert_string_equal(id, "platform/vimc.0 Sensor B");
     /* digits then text is an id, not an index */
-    assert_int_equal(negobs_libcamera_parse_source("libcamera:1a", &index,
-                                                   &id),
-                     NEGOBS_OK);
+    assert_int_equal(
+        negobs_libcamera_parse_source("libcamera:1a", &index, &id), NEGOBS_OK);
     assert_int_equal(index, -1);
     assert_string_equal(id, "1a");
 }
@@ -49,12 +47,11 @@ static void test_parse_rejects_bad_names(void **state)
     (void)state;
     assert_int_equal(negobs_libcamera_parse_source("libcamera:", &index, &id),
                      NEGOBS_ERR_INVAL);
-    assert_int_equal(negobs_libcamera_parse_source("/dev/video0", &index,
-                                                   &id),
+    assert_int_equal(negobs_libcamera_parse_source("/dev/video0", &index, &id),
                      NEGOBS_ERR_INVAL);
-    assert_int_equal(negobs_libcamera_parse_source("libcamera:1000", &index,
-                                                   &id),
-                     NEGOBS_ERR_INVAL);
+    assert_int_equal(
+        negobs_libcamera_parse_source("libcamera:1000", &index, &id),
+        NEGOBS_ERR_INVAL);
     assert_int_equal(negobs_libcamera_parse_source(NULL, &index, &id),
                      NEGOBS_ERR_INVAL);
     memcpy(long_id, "libcamera:", 10);
@@ -67,8 +64,7 @@ static void test_parse_rejects_bad_names(void **state)
 static void test_format_preference(void **state)
 {
     (void)state;
-    assert_int_equal(negobs_libcamera_format_rank(FCC('R', '8', ' ', ' ')),
-                     0);
+    assert_int_equal(negobs_libcamera_format_rank(FCC('R', '8', ' ', ' ')), 0);
     assert_true(negobs_libcamera_format_rank(FCC('N', 'V', '1', '2')) <
                 negobs_libcamera_format_rank(FCC('Y', 'U', 'Y', 'V')));
     assert_true(negobs_libcamera_format_rank(FCC('Y', 'U', 'Y', 'V')) <
@@ -94,11 +90,11 @@ static void test_luma_plane_in_place_with_stride(void **state)
     assert_int_equal(y.height, 4);
     assert_int_equal(y.stride, 6);
     /* the last row needs no padding: 6 * 3 + 4 bytes are enough */
-    assert_int_equal(negobs_libcamera_luma(FCC('R', '8', ' ', ' '), buf, 22,
-                                           4, 4, 6, NULL, 0, &y),
+    assert_int_equal(negobs_libcamera_luma(FCC('R', '8', ' ', ' '), buf, 22, 4,
+                                           4, 6, NULL, 0, &y),
                      NEGOBS_OK);
-    assert_int_equal(negobs_libcamera_luma(FCC('R', '8', ' ', ' '), buf, 21,
-                                           4, 4, 6, NULL, 0, &y),
+    assert_int_equal(negobs_libcamera_luma(FCC('R', '8', ' ', ' '), buf, 21, 4,
+                                           4, 6, NULL, 0, &y),
                      NEGOBS_ERR_CORRUPT);
     assert_int_equal(negobs_libcamera_luma(FCC('R', '8', ' ', ' '), buf,
                                            sizeof buf, 4, 4, 3, NULL, 0, &y),
@@ -113,22 +109,22 @@ static void test_luma_packed_yuv(void **state)
     uint8_t scratch[4];
     negobs_image_u8_t y;
     (void)state;
-    assert_int_equal(negobs_libcamera_luma(FCC('Y', 'U', 'Y', 'V'), yuyv, 8,
-                                           2, 2, 4, scratch, 4, &y),
+    assert_int_equal(negobs_libcamera_luma(FCC('Y', 'U', 'Y', 'V'), yuyv, 8, 2,
+                                           2, 4, scratch, 4, &y),
                      NEGOBS_OK);
     assert_ptr_equal(y.data, scratch);
     assert_int_equal(y.stride, 2);
     assert_memory_equal(scratch, ((uint8_t[]){10, 20, 30, 40}), 4);
     memset(scratch, 0, sizeof scratch);
-    assert_int_equal(negobs_libcamera_luma(FCC('U', 'Y', 'V', 'Y'), uyvy, 8,
-                                           2, 2, 4, scratch, 4, &y),
+    assert_int_equal(negobs_libcamera_luma(FCC('U', 'Y', 'V', 'Y'), uyvy, 8, 2,
+                                           2, 4, scratch, 4, &y),
                      NEGOBS_OK);
     assert_memory_equal(scratch, ((uint8_t[]){10, 20, 30, 40}), 4);
-    assert_int_equal(negobs_libcamera_luma(FCC('Y', 'U', 'Y', 'V'), yuyv, 8,
-                                           2, 2, 4, scratch, 3, &y),
+    assert_int_equal(negobs_libcamera_luma(FCC('Y', 'U', 'Y', 'V'), yuyv, 8, 2,
+                                           2, 4, scratch, 3, &y),
                      NEGOBS_ERR_NOSPACE);
-    assert_int_equal(negobs_libcamera_luma(FCC('Y', 'U', 'Y', 'V'), yuyv, 8,
-                                           2, 2, 4, NULL, 0, &y),
+    assert_int_equal(negobs_libcamera_luma(FCC('Y', 'U', 'Y', 'V'), yuyv, 8, 2,
+                                           2, 4, NULL, 0, &y),
                      NEGOBS_ERR_NOSPACE);
 }
 
@@ -138,8 +134,8 @@ static void test_luma_rgb_byte_orders(void **state)
      * B, G, R in memory, BGR888 ('BG24') R, G, B */
     uint8_t rg24[12] = {0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255};
     uint8_t bg24[12] = {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255};
-    uint8_t xr24[16] = {0, 0, 255, 9, 0, 255, 0, 9,
-                        255, 0, 0, 9, 255, 255, 255, 9};
+    uint8_t xr24[16] = {0,   0, 255, 9, 0,   255, 0,   9,
+                        255, 0, 0,   9, 255, 255, 255, 9};
     /* BT.601 in 1/256, rounded: 255 * 150 / 256 = 149.4 */
     const uint8_t want[4] = {77, 149, 29, 255};
     uint8_t scratch[4];

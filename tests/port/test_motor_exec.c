@@ -11,8 +11,8 @@
 typedef struct rec_out {
     uint16_t levels[64];
     uint32_t n;
-    int fail_next; /* make the next N writes fail */
-    volatile int down; /* every write fails while set (output gone) */
+    int fail_next;      /* make the next N writes fail */
+    volatile int down;  /* every write fails while set (output gone) */
     volatile int stuck; /* writes fail unless they repeat the last level
                            written (a PWM chip refusing new states) */
 } rec_out_t;
@@ -222,8 +222,7 @@ static void test_thread_watchdog_plays_stale_pattern(void **state)
     (void)state;
     memset(&r, 0, sizeof r);
     /* Generous margins: loaded CI machines stall threads for tens of ms. */
-    assert_int_equal(negobs_motor_thread_start(&t, &out, &st, 150),
-                     NEGOBS_OK);
+    assert_int_equal(negobs_motor_thread_start(&t, &out, &st, 150), NEGOBS_OK);
     /* Fed every 10 ms: the watchdog stays quiet. */
     for (i = 0; i < 10; i++) {
         negobs_motor_thread_post(&t, &q);
@@ -292,8 +291,7 @@ static void test_thread_output_fault_retries_then_holds_no_info(void **state)
     assert_int_equal(last_level(&r), 0);
 }
 
-static void test_thread_rewrite_of_the_held_level_is_not_recovery(
-    void **state)
+static void test_thread_rewrite_of_the_held_level_is_not_recovery(void **state)
 {
     /* The no-info stand-in pulses 500 / 0: while only 0 (the level held)
      * can be written, the output is still failing. */
@@ -367,7 +365,8 @@ int main(void)
         cmocka_unit_test(test_thread_watchdog_plays_stale_pattern),
         cmocka_unit_test(test_thread_output_fault_retries_then_holds_no_info),
         cmocka_unit_test(test_thread_dead_output_is_seen_during_silence),
-        cmocka_unit_test(test_thread_rewrite_of_the_held_level_is_not_recovery),
+        cmocka_unit_test(
+            test_thread_rewrite_of_the_held_level_is_not_recovery),
 #endif
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

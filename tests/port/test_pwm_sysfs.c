@@ -73,9 +73,9 @@ static void test_pwm_open_writes_period_duty_enable(void **state)
     negobs_motor_out_t out;
     char exp[32];
     make_channel(fx, 0);
-    assert_int_equal(negobs_alert_pwm_open(&pwm, fx->root, 0, 0, 1000000u,
-                                           &out),
-                     NEGOBS_OK);
+    assert_int_equal(
+        negobs_alert_pwm_open(&pwm, fx->root, 0, 0, 1000000u, &out),
+        NEGOBS_OK);
     expect_attr(fx, 0, "period", "1000000");
     expect_attr(fx, 0, "duty_cycle", "0");
     expect_attr(fx, 0, "enable", "1");
@@ -91,8 +91,7 @@ static void test_pwm_duty_follows_permille_and_close_disables(void **state)
     negobs_alert_pwm_t pwm;
     negobs_motor_out_t out;
     make_channel(fx, 1);
-    assert_int_equal(negobs_alert_pwm_open(&pwm, fx->root, 0, 1, 40000u,
-                                           &out),
+    assert_int_equal(negobs_alert_pwm_open(&pwm, fx->root, 0, 1, 40000u, &out),
                      NEGOBS_OK);
     assert_int_equal(negobs_alert_set(&out, 250), NEGOBS_OK);
     expect_attr(fx, 1, "duty_cycle", "10000");
@@ -118,9 +117,9 @@ static void test_pwm_export_without_channel_dir_times_out(void **state)
     negobs_alert_pwm_t pwm;
     negobs_motor_out_t out;
     char buf[32];
-    assert_int_equal(negobs_alert_pwm_open(&pwm, fx->root, 0, 1, 1000000u,
-                                           &out),
-                     NEGOBS_ERR_NODEV);
+    assert_int_equal(
+        negobs_alert_pwm_open(&pwm, fx->root, 0, 1, 1000000u, &out),
+        NEGOBS_ERR_NODEV);
     assert_true(tu_read(fx->chip, "export", buf, sizeof buf) > 0);
     assert_string_equal(buf, "1");
     assert_non_null(strstr(pwm.errmsg, "did not appear"));
@@ -159,9 +158,9 @@ static void test_pwm_exports_channel_and_unexports_on_close(void **state)
     pthread_t th;
     char buf[32];
     assert_int_equal(pthread_create(&th, NULL, fake_kernel, fx), 0);
-    assert_int_equal(negobs_alert_pwm_open(&pwm, fx->root, 0, 1, 1000000u,
-                                           &out),
-                     NEGOBS_OK);
+    assert_int_equal(
+        negobs_alert_pwm_open(&pwm, fx->root, 0, 1, 1000000u, &out),
+        NEGOBS_OK);
     assert_int_equal(pthread_join(th, NULL), 0);
     assert_true(tu_read(fx->chip, "export", buf, sizeof buf) > 0);
     assert_string_equal(buf, "1");
@@ -186,9 +185,9 @@ static void test_pwm_write_failure_is_reported(void **state)
     (void)snprintf(dir, sizeof dir, "%s/pwm0", fx->chip);
     assert_int_equal(remove(strcat(dir, "/period")), 0);
     assert_int_equal(mkdir(dir, 0755), 0);
-    assert_int_equal(negobs_alert_pwm_open(&pwm, fx->root, 0, 0, 1000000u,
-                                           &out),
-                     NEGOBS_ERR_IO);
+    assert_int_equal(
+        negobs_alert_pwm_open(&pwm, fx->root, 0, 0, 1000000u, &out),
+        NEGOBS_ERR_IO);
     assert_non_null(strstr(pwm.errmsg, "period"));
     assert_int_not_equal(pwm.last_errno, 0);
 }
@@ -198,9 +197,9 @@ static void test_pwm_missing_chip_is_nodev(void **state)
     fixture_t *fx = *state;
     negobs_alert_pwm_t pwm;
     negobs_motor_out_t out;
-    assert_int_equal(negobs_alert_pwm_open(&pwm, fx->root, 7, 0, 1000000u,
-                                           &out),
-                     NEGOBS_ERR_NODEV);
+    assert_int_equal(
+        negobs_alert_pwm_open(&pwm, fx->root, 7, 0, 1000000u, &out),
+        NEGOBS_ERR_NODEV);
     assert_non_null(strstr(pwm.errmsg, "pwmchip7"));
     assert_int_equal(negobs_alert_pwm_open(&pwm, fx->root, 0, 0, 0, &out),
                      NEGOBS_ERR_INVAL);

@@ -106,8 +106,7 @@ static void test_recq_records_every_pair(void **state)
     negobs_recq_stats_t st;
     uint32_t i;
     (void)state;
-    assert_int_equal(negobs_recq_start(&q, session, slots, 2u * W * H,
-                                       SLOTS),
+    assert_int_equal(negobs_recq_start(&q, session, slots, 2u * W * H, SLOTS),
                      NEGOBS_OK);
     for (i = 0; i < 20; i++) {
         make_pair(&p, i);
@@ -134,8 +133,7 @@ static void test_recq_write_failure_stops_only_the_recording(void **state)
     (void)state;
     atomic_store(&budget, 3); /* pair 0: left, right, its index line */
     q.write_fn = enospc_after_budget;
-    assert_int_equal(negobs_recq_start(&q, session, slots, 2u * W * H,
-                                       SLOTS),
+    assert_int_equal(negobs_recq_start(&q, session, slots, 2u * W * H, SLOTS),
                      NEGOBS_OK);
     for (i = 0; i < 60; i++) {
         int r;
@@ -176,8 +174,7 @@ static void test_recq_stalled_writer_drops_newest_without_waiting(void **state)
     (void)state;
     atomic_store(&stall, 1);
     q.write_fn = stalling;
-    assert_int_equal(negobs_recq_start(&q, session, slots, 2u * W * H,
-                                       SLOTS),
+    assert_int_equal(negobs_recq_start(&q, session, slots, 2u * W * H, SLOTS),
                      NEGOBS_OK);
     for (i = 0; i < 30; i++) {
         int r;
@@ -223,8 +220,7 @@ static void test_recq_never_writes_over_a_session(void **state)
     (void)state;
     assert_int_equal(mkdir(session, 0755), 0);
     assert_int_equal(tu_write_str(session, "frames.txt", "precious\n"), 0);
-    assert_int_equal(negobs_recq_start(&q, session, slots, 2u * W * H,
-                                       SLOTS),
+    assert_int_equal(negobs_recq_start(&q, session, slots, 2u * W * H, SLOTS),
                      NEGOBS_OK);
     make_pair(&p, 0);
     assert_int_equal(negobs_recq_push(&q, &p), 1);

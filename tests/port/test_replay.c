@@ -218,14 +218,14 @@ static void test_replay_rejects_truncated_pgm(void **state)
 static void test_pgm_reader_rejects_corrupt_headers(void **state)
 {
     static const char *const bad[] = {
-        "P2\n16 8\n255\n",          /* ASCII PGM                 */
-        "P5\n16\n",                 /* missing height            */
-        "P5\n-16 8\n255\n",         /* sign                      */
-        "P5\n16 8\n65535\n",        /* 16-bit PGM                */
-        "P5\n99999 8\n255\n",       /* above NEGOBS_MAX_DIM      */
-        "P5\n9999999999 8\n255\n",  /* overflowing number        */
-        "P5 16 8 255x",             /* no whitespace after maxval */
-        "",                          /* empty                     */
+        "P2\n16 8\n255\n",         /* ASCII PGM                 */
+        "P5\n16\n",                /* missing height            */
+        "P5\n-16 8\n255\n",        /* sign                      */
+        "P5\n16 8\n65535\n",       /* 16-bit PGM                */
+        "P5\n99999 8\n255\n",      /* above NEGOBS_MAX_DIM      */
+        "P5\n9999999999 8\n255\n", /* overflowing number        */
+        "P5 16 8 255x",            /* no whitespace after maxval */
+        "",                        /* empty                     */
     };
     char path[400];
     char err[160];
@@ -237,9 +237,9 @@ static void test_pgm_reader_rejects_corrupt_headers(void **state)
     for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         assert_int_equal(tu_write_str(dir, "x.pgm", bad[i]), 0);
         err[0] = '\0';
-        assert_int_equal(negobs_pgm_read(path, pix, sizeof pix, &w, &h, err,
-                                         sizeof err),
-                         NEGOBS_ERR_CORRUPT);
+        assert_int_equal(
+            negobs_pgm_read(path, pix, sizeof pix, &w, &h, err, sizeof err),
+            NEGOBS_ERR_CORRUPT);
         assert_true(strlen(err) > 0);
     }
     /* Comments in the header are legal. */
@@ -248,20 +248,20 @@ static void test_pgm_reader_rejects_corrupt_headers(void **state)
         int n = snprintf(ok, 64, "P5\n# made by a test\n16 8\n255\n");
         memset(ok + n, 3, 128);
         assert_int_equal(tu_write(dir, "x.pgm", ok, (size_t)n + 128), 0);
-        assert_int_equal(negobs_pgm_read(path, pix, sizeof pix, &w, &h, err,
-                                         sizeof err),
-                         NEGOBS_OK);
+        assert_int_equal(
+            negobs_pgm_read(path, pix, sizeof pix, &w, &h, err, sizeof err),
+            NEGOBS_OK);
         assert_int_equal(w, 16);
         assert_int_equal(h, 8);
         /* Too small a buffer is NOSPACE, not an overflow. */
-        assert_int_equal(negobs_pgm_read(path, pix, 127, &w, &h, err,
-                                         sizeof err),
-                         NEGOBS_ERR_NOSPACE);
+        assert_int_equal(
+            negobs_pgm_read(path, pix, 127, &w, &h, err, sizeof err),
+            NEGOBS_ERR_NOSPACE);
     }
     (void)snprintf(path, sizeof path, "%s/none.pgm", dir);
-    assert_int_equal(negobs_pgm_read(path, pix, sizeof pix, &w, &h, err,
-                                     sizeof err),
-                     NEGOBS_ERR_NODEV);
+    assert_int_equal(
+        negobs_pgm_read(path, pix, sizeof pix, &w, &h, err, sizeof err),
+        NEGOBS_ERR_NODEV);
 }
 
 static void test_replay_missing_right_or_size_change_is_corrupt(void **state)
@@ -379,8 +379,8 @@ static void test_session_without_index_is_recovered(void **state)
     assert_int_equal(tu_write_str(dir, "frames.txt", ""), 0);
     open_replay(&rp, &cam, NEGOBS_OK);
     assert_non_null(strstr(negobs_replay_damage(&rp), "lists 0 pairs"));
-    assert_non_null(strstr(negobs_replay_damage(&rp),
-                           "5 with synthesised timestamps"));
+    assert_non_null(
+        strstr(negobs_replay_damage(&rp), "5 with synthesised timestamps"));
     for (i = 0; i < 5; i++) {
         assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
         check_pair(&p, i);
@@ -529,9 +529,8 @@ static void test_session_bad_header_or_record_is_corrupt(void **state)
     assert_int_equal(negobs_camera_get_pair(&cam, &p, 100),
                      NEGOBS_ERR_CORRUPT);
     negobs_camera_close(&cam);
-    assert_int_equal(tu_write_str(dir, "session.txt",
-                                  "negobs-session 1\nwidth 0\n"),
-                     0);
+    assert_int_equal(
+        tu_write_str(dir, "session.txt", "negobs-session 1\nwidth 0\n"), 0);
     open_replay(&rp, &cam, NEGOBS_ERR_CORRUPT);
     assert_int_equal(tu_write_str(dir, "session.txt", "garbage\n"), 0);
     open_replay(&rp, &cam, NEGOBS_ERR_CORRUPT);

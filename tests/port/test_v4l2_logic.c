@@ -124,28 +124,28 @@ static void test_format_rank_prefers_in_place_luma(void **state)
 static void test_format_check_catches_bad_driver_answers(void **state)
 {
     (void)state;
-    assert_int_equal(negobs_v4l2_check_format(V4L2_PIX_FMT_GREY, 640, 480,
-                                              640, 307200),
-                     NEGOBS_OK);
+    assert_int_equal(
+        negobs_v4l2_check_format(V4L2_PIX_FMT_GREY, 640, 480, 640, 307200),
+        NEGOBS_OK);
     /* Padded stride is fine, as long as sizeimage covers it. */
-    assert_int_equal(negobs_v4l2_check_format(V4L2_PIX_FMT_NV12, 640, 480,
-                                              704, 704 * 480 * 3 / 2),
+    assert_int_equal(negobs_v4l2_check_format(V4L2_PIX_FMT_NV12, 640, 480, 704,
+                                              704 * 480 * 3 / 2),
                      NEGOBS_OK);
-    assert_int_equal(negobs_v4l2_check_format(V4L2_PIX_FMT_NV12, 640, 480,
-                                              704, 704 * 480),
-                     NEGOBS_ERR_INVAL);
-    assert_int_equal(negobs_v4l2_check_format(V4L2_PIX_FMT_YUYV, 640, 480,
-                                              640, 614400),
-                     NEGOBS_ERR_INVAL); /* YUYV needs 2 bytes/pixel */
-    assert_int_equal(negobs_v4l2_check_format(V4L2_PIX_FMT_YUYV, 640, 480,
-                                              1280, 614400),
-                     NEGOBS_OK);
-    assert_int_equal(negobs_v4l2_check_format(V4L2_PIX_FMT_GREY, 0, 480, 640,
-                                              307200),
-                     NEGOBS_ERR_INVAL);
-    assert_int_equal(negobs_v4l2_check_format(V4L2_PIX_FMT_MJPEG, 640, 480,
-                                              640, 307200),
-                     NEGOBS_ERR_UNSUPPORTED);
+    assert_int_equal(
+        negobs_v4l2_check_format(V4L2_PIX_FMT_NV12, 640, 480, 704, 704 * 480),
+        NEGOBS_ERR_INVAL);
+    assert_int_equal(
+        negobs_v4l2_check_format(V4L2_PIX_FMT_YUYV, 640, 480, 640, 614400),
+        NEGOBS_ERR_INVAL); /* YUYV needs 2 bytes/pixel */
+    assert_int_equal(
+        negobs_v4l2_check_format(V4L2_PIX_FMT_YUYV, 640, 480, 1280, 614400),
+        NEGOBS_OK);
+    assert_int_equal(
+        negobs_v4l2_check_format(V4L2_PIX_FMT_GREY, 0, 480, 640, 307200),
+        NEGOBS_ERR_INVAL);
+    assert_int_equal(
+        negobs_v4l2_check_format(V4L2_PIX_FMT_MJPEG, 640, 480, 640, 307200),
+        NEGOBS_ERR_UNSUPPORTED);
     assert_int_equal(negobs_v4l2_frame_bytes(V4L2_PIX_FMT_YUV420, 480, 640),
                      460800);
     assert_int_equal(negobs_v4l2_frame_bytes(V4L2_PIX_FMT_YUYV, 480, 1280),
@@ -169,11 +169,11 @@ static void test_luma_planar_is_described_in_place(void **state)
     assert_int_equal(negobs_image_u8_row(&y, 3)[5], 77);
     assert_int_equal(negobs_image_u8_check(&y), NEGOBS_OK);
     /* A short buffer (driver filled less than the Y plane) is corrupt. */
-    assert_int_equal(negobs_v4l2_luma(V4L2_PIX_FMT_GREY, buf, 72 * 7 + 63,
-                                      64, 8, 72, NULL, 0, &y),
+    assert_int_equal(negobs_v4l2_luma(V4L2_PIX_FMT_GREY, buf, 72 * 7 + 63, 64,
+                                      8, 72, NULL, 0, &y),
                      NEGOBS_ERR_CORRUPT);
-    assert_int_equal(negobs_v4l2_luma(V4L2_PIX_FMT_GREY, buf, 72 * 7 + 64,
-                                      64, 8, 72, NULL, 0, &y),
+    assert_int_equal(negobs_v4l2_luma(V4L2_PIX_FMT_GREY, buf, 72 * 7 + 64, 64,
+                                      8, 72, NULL, 0, &y),
                      NEGOBS_OK);
 }
 
@@ -188,8 +188,8 @@ static void test_luma_packed_is_extracted(void **state)
     for (i = 0; i < 24; i++) {
         yuyv[i] = (uint8_t)(100 + i);
     }
-    assert_int_equal(negobs_v4l2_luma(V4L2_PIX_FMT_YUYV, yuyv, sizeof yuyv,
-                                      4, 2, 12, scratch, sizeof scratch, &y),
+    assert_int_equal(negobs_v4l2_luma(V4L2_PIX_FMT_YUYV, yuyv, sizeof yuyv, 4,
+                                      2, 12, scratch, sizeof scratch, &y),
                      NEGOBS_OK);
     assert_ptr_equal(y.data, scratch);
     assert_int_equal(y.stride, 4);
@@ -197,16 +197,16 @@ static void test_luma_packed_is_extracted(void **state)
     assert_int_equal(scratch[1], 102);
     assert_int_equal(scratch[3], 106);
     assert_int_equal(scratch[4], 112); /* row 1 starts at byte 12 */
-    assert_int_equal(negobs_v4l2_luma(V4L2_PIX_FMT_UYVY, yuyv, sizeof yuyv,
-                                      4, 2, 12, scratch, sizeof scratch, &y),
+    assert_int_equal(negobs_v4l2_luma(V4L2_PIX_FMT_UYVY, yuyv, sizeof yuyv, 4,
+                                      2, 12, scratch, sizeof scratch, &y),
                      NEGOBS_OK);
     assert_int_equal(scratch[0], 101);
     assert_int_equal(scratch[7], 119);
-    assert_int_equal(negobs_v4l2_luma(V4L2_PIX_FMT_YUYV, yuyv, sizeof yuyv,
-                                      4, 2, 12, scratch, 7, &y),
+    assert_int_equal(negobs_v4l2_luma(V4L2_PIX_FMT_YUYV, yuyv, sizeof yuyv, 4,
+                                      2, 12, scratch, 7, &y),
                      NEGOBS_ERR_NOSPACE);
-    assert_int_equal(negobs_v4l2_luma(V4L2_PIX_FMT_RGB24, yuyv, sizeof yuyv,
-                                      4, 2, 12, scratch, 8, &y),
+    assert_int_equal(negobs_v4l2_luma(V4L2_PIX_FMT_RGB24, yuyv, sizeof yuyv, 4,
+                                      2, 12, scratch, 8, &y),
                      NEGOBS_ERR_UNSUPPORTED);
 }
 
@@ -308,7 +308,8 @@ static void test_camera_config_default_turns_frozen_check_on(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_signature_sees_sampled_pixels_and_ignores_stride),
+        cmocka_unit_test(
+            test_signature_sees_sampled_pixels_and_ignores_stride),
         cmocka_unit_test(test_frozen_needs_limit_identical_frames_and_clears),
         cmocka_unit_test(test_camera_config_default_turns_frozen_check_on),
         cmocka_unit_test(test_pair_decide_matches_within_tolerance),

@@ -32,13 +32,13 @@
 typedef struct fake_dev {
     const char *path;
     bool is_open;
-    int open_errno;          /* open() fails with this when non-zero */
+    int open_errno; /* open() fails with this when non-zero */
     uint32_t fmts[4];
     int nfmts;
-    uint32_t bpl_pad;        /* driver pads rows by this many bytes */
-    uint32_t reqbufs_count;  /* buffers the driver grants */
+    uint32_t bpl_pad;       /* driver pads rows by this many bytes */
+    uint32_t reqbufs_count; /* buffers the driver grants */
     bool has_exposure;
-    int32_t exposure_set;    /* last S_CTRL value, -1 none */
+    int32_t exposure_set; /* last S_CTRL value, -1 none */
     int exposure_calls;
     /* live state */
     struct v4l2_pix_format fmt;
@@ -51,15 +51,15 @@ typedef struct fake_dev {
     int nframes;
     int arrived;
     int next;
-    int dqbuf_errno_at;      /* frame index at which DQBUF fails, -1 never */
+    int dqbuf_errno_at; /* frame index at which DQBUF fails, -1 never */
     int dqbuf_errno;
-    int frozen_from;         /* frames [from, to) repeat frame from-1's */
-    int frozen_to;           /* content (a hung ISP); -1 never          */
+    int frozen_from; /* frames [from, to) repeat frame from-1's */
+    int frozen_to;   /* content (a hung ISP); -1 never          */
 } fake_dev_t;
 
 static fake_dev_t fk[2];
-static int poll_eintr;   /* next polls fail with EINTR */
-static int dqbuf_eintr;  /* next DQBUFs fail with EINTR */
+static int poll_eintr;  /* next polls fail with EINTR */
+static int dqbuf_eintr; /* next DQBUFs fail with EINTR */
 
 static fake_dev_t *fake_of(int fd)
 {
@@ -247,8 +247,8 @@ static int fake_ioctl(fake_dev_t *d, unsigned long req, void *arg)
         b->bytesused = d->fmt.sizeimage;
         b->flags = V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC;
         b->timestamp.tv_sec = (time_t)(d->ts_ms[d->next] / 1000u);
-        b->timestamp.tv_usec =
-            (suseconds_t)((d->ts_ms[d->next] % 1000u) * 1000u);
+        b->timestamp.tv_usec = (suseconds_t)((d->ts_ms[d->next] % 1000u) *
+                                             1000u);
         b->sequence = (uint32_t)d->next;
         d->next++;
         return 0;
@@ -482,8 +482,7 @@ static void test_v4l2_frozen_camera_withholds_pairs_until_it_changes(
     /* Frames 2, 3, 4: frozen, withheld with an error that says so, and
      * the buffers go back to the driver. */
     for (i = 2; i < 5; i++) {
-        assert_int_equal(negobs_camera_get_pair(&cam, &p, 100),
-                         NEGOBS_ERR_IO);
+        assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_ERR_IO);
         assert_non_null(strstr(negobs_camera_errmsg(&cam), "frozen"));
         assert_non_null(strstr(negobs_camera_errmsg(&cam), "/fake/video1"));
     }

@@ -15,8 +15,7 @@
 #define MAX_W 64
 #define MAX_H 48
 #define MAX_NODES (((MAX_W - 1) + 2) * ((MAX_H - 1) + 2))
-#define MAX_TABLE \
-    (NEGOBS_RECTIFY_HEADER_BYTES + 2 * MAX_NODES * 8 + 4 + 64)
+#define MAX_TABLE (NEGOBS_RECTIFY_HEADER_BYTES + 2 * MAX_NODES * 8 + 4 + 64)
 #define CANARY 0xC5u
 
 /* Affine map in Q.8: src = (ax * x + bx * y + cx, ay * x + by * y + cy). */
@@ -80,8 +79,8 @@ static size_t build_table(int32_t w, int32_t h, int32_t shift,
     size_t n = 0;
     fill_nodes(nodes_l, w, h, shift, ml);
     fill_nodes(nodes_r, w, h, shift, mr);
-    assert_int_equal(negobs_rectify_table_write(&info, nodes_l, nodes_r,
-                                                table, sizeof table, &n),
+    assert_int_equal(negobs_rectify_table_write(&info, nodes_l, nodes_r, table,
+                                                sizeof table, &n),
                      NEGOBS_OK);
     return n;
 }
@@ -182,8 +181,7 @@ static void test_rectify_table_layout_matches_documentation(void **state)
     (void)state;
     n = build_table(20, 10, 2, &identity, &identity);
     /* grid ((20-1)>>2)+2 = 6 x ((10-1)>>2)+2 = 4 nodes, 2 maps of 24 * 8 B */
-    assert_int_equal(negobs_rectify_table_size(20, 10, 2, &expect),
-                     NEGOBS_OK);
+    assert_int_equal(negobs_rectify_table_size(20, 10, 2, &expect), NEGOBS_OK);
     assert_int_equal(n, 64 + 2 * 24 * 8 + 4);
     assert_int_equal(n, expect);
     assert_memory_equal(table, "NGOBRECT", 8);
@@ -209,7 +207,8 @@ static void test_rectify_table_layout_matches_documentation(void **state)
     /* Left node (1, 1) = pixel (4, 4) = (1024, 1024) in Q.8. */
     assert_int_equal(le32(table + 64 + (1 * 6 + 1) * 8), 1024u);
     assert_int_equal(le32(table + 64 + (1 * 6 + 1) * 8 + 4), 1024u);
-    assert_int_equal(le32(table + n - 4), negobs_rectify_crc32(0, table, n - 4));
+    assert_int_equal(le32(table + n - 4),
+                     negobs_rectify_crc32(0, table, n - 4));
 }
 
 static void test_rectify_info_round_trips_header_values(void **state)
@@ -264,12 +263,11 @@ static void test_rectify_rejects_any_single_bit_flip(void **state)
     (void)state;
     for (i = 0; i < n; i++) {
         for (bit = 0; bit < 8; bit++) {
-            negobs_status_t want =
-                (i == 8 || i == 9) ? NEGOBS_ERR_UNSUPPORTED
-                                   : NEGOBS_ERR_CORRUPT;
+            negobs_status_t want = (i == 8 || i == 9) ? NEGOBS_ERR_UNSUPPORTED
+                                                      : NEGOBS_ERR_CORRUPT;
             table[i] ^= (uint8_t)(1u << bit);
-            assert_int_equal(
-                negobs_rectify_table_check(table, n, 12, 9, NULL), want);
+            assert_int_equal(negobs_rectify_table_check(table, n, 12, 9, NULL),
+                             want);
             table[i] ^= (uint8_t)(1u << bit);
         }
     }
@@ -354,19 +352,19 @@ static void test_rectify_node_out_of_range_is_refused(void **state)
                      NEGOBS_ERR_CORRUPT);
     /* The writer refuses such a node before it reaches a device. */
     nodes_r[5] = NEGOBS_RECTIFY_COORD_LIMIT_Q8 + 1;
-    assert_int_equal(negobs_rectify_table_write(&info, nodes_l, nodes_r,
-                                                table, sizeof table, NULL),
+    assert_int_equal(negobs_rectify_table_write(&info, nodes_l, nodes_r, table,
+                                                sizeof table, NULL),
                      NEGOBS_ERR_RANGE);
     nodes_r[5] = -NEGOBS_RECTIFY_COORD_LIMIT_Q8;
-    assert_int_equal(negobs_rectify_table_write(&info, nodes_l, nodes_r,
-                                                table, sizeof table, NULL),
+    assert_int_equal(negobs_rectify_table_write(&info, nodes_l, nodes_r, table,
+                                                sizeof table, NULL),
                      NEGOBS_OK);
-    assert_int_equal(negobs_rectify_table_write(&info, nodes_l, nodes_r,
-                                                table, n - 1, NULL),
+    assert_int_equal(negobs_rectify_table_write(&info, nodes_l, nodes_r, table,
+                                                n - 1, NULL),
                      NEGOBS_ERR_NOSPACE);
     info.grid_shift = 5;
-    assert_int_equal(negobs_rectify_table_write(&info, nodes_l, nodes_r,
-                                                table, sizeof table, NULL),
+    assert_int_equal(negobs_rectify_table_write(&info, nodes_l, nodes_r, table,
+                                                sizeof table, NULL),
                      NEGOBS_ERR_INVAL);
 }
 
@@ -452,8 +450,8 @@ static void check_canaries(const uint8_t *buf, size_t from, size_t to)
  * copy, padding and canaries untouched. */
 static void test_rectify_identity_table_reproduces_image(void **state)
 {
-    static const int32_t sizes[][2] = {{1, 1}, {2, 3}, {17, 5}, {37, 23},
-                                       {64, 48}};
+    static const int32_t sizes[][2] = {
+        {1, 1}, {2, 3}, {17, 5}, {37, 23}, {64, 48}};
     size_t si;
     int32_t shift;
     (void)state;
@@ -481,8 +479,8 @@ static void test_rectify_identity_table_reproduces_image(void **state)
                 assert_memory_equal(negobs_image_u8_row(&o, y),
                                     negobs_image_u8_row(&in, y), (size_t)w);
                 if (y + 1 < h) {
-                    check_canaries(out, (size_t)y * (size_t)(w + 5) +
-                                            (size_t)w,
+                    check_canaries(out,
+                                   (size_t)y * (size_t)(w + 5) + (size_t)w,
                                    (size_t)(y + 1) * (size_t)(w + 5));
                 }
             }
@@ -526,9 +524,9 @@ static void test_rectify_affine_table_matches_direct_reference(void **state)
             cfg.border_u8 = 77;
             fill_random(&inl, 99u + (uint32_t)mi);
             fill_random(&inr, 7u + (uint32_t)mi);
-            assert_int_equal(negobs_rectify_process(&ctx, &inl, &inr, &ol,
-                                                    &orr, &st),
-                             NEGOBS_OK);
+            assert_int_equal(
+                negobs_rectify_process(&ctx, &inl, &inr, &ol, &orr, &st),
+                NEGOBS_OK);
             for (y = 0; y < h; y++) {
                 for (x = 0; x < w; x++) {
                     int32_t sxl = m->ax * x + m->bx * y + m->cx;
@@ -641,8 +639,7 @@ static void test_rectify_random_grid_matches_reference(void **state)
             nodes_l[2 * i] = (gx << shift) * 256 +
                              (int32_t)(test_lcg_next(&seed) % 1537u) - 768;
             nodes_l[2 * i + 1] = (gy << shift) * 256 +
-                                 (int32_t)(test_lcg_next(&seed) % 1537u) -
-                                 768;
+                                 (int32_t)(test_lcg_next(&seed) % 1537u) - 768;
         }
         memcpy(nodes_r, nodes_l, sizeof nodes_l);
         assert_int_equal(negobs_rectify_table_write(&info, nodes_l, nodes_r,
@@ -667,8 +664,9 @@ static void test_rectify_random_grid_matches_reference(void **state)
                                 fx * (step - fy) * n00[2] +
                                 (step - fx) * fy * n00[2 * gw] +
                                 fx * fy * n00[2 * gw + 2];
-                    int64_t half = (shift > 0) ? ((int64_t)1 << (2 * shift - 1))
-                                               : 0;
+                    int64_t half = (shift > 0)
+                                       ? ((int64_t)1 << (2 * shift - 1))
+                                       : 0;
                     c[k] = (int32_t)floor_div_pow2(v + half, 2 * shift);
                 }
                 assert_int_equal(negobs_image_u8_row(&o, y)[x],
@@ -696,8 +694,8 @@ static void test_rectify_rows_in_bands_equal_whole_frame(void **state)
     (void)state;
     init_ctx(&ctx, &cfg, w, h, n);
     fill_random(&in, 5u);
-    assert_int_equal(negobs_rectify_rows(&ctx, NEGOBS_RECTIFY_CAMERA_LEFT,
-                                         &in, &a, 0, h, &st),
+    assert_int_equal(negobs_rectify_rows(&ctx, NEGOBS_RECTIFY_CAMERA_LEFT, &in,
+                                         &a, 0, h, &st),
                      NEGOBS_OK);
     whole = st.border_pixels;
     for (y = 0; y < h; y += 7) {
@@ -734,23 +732,21 @@ static void test_rectify_process_checks_arguments(void **state)
                      NEGOBS_ERR_INVAL);
     assert_int_equal(negobs_rectify_process(&ctx, NULL, &in, &o, &o2, NULL),
                      NEGOBS_ERR_INVAL);
-    assert_int_equal(negobs_rectify_process(&ctx, &in, &in, &small, &o2,
-                                            NULL),
+    assert_int_equal(negobs_rectify_process(&ctx, &in, &in, &small, &o2, NULL),
                      NEGOBS_ERR_INVAL);
-    assert_int_equal(negobs_rectify_process(&ctx, &in, &in, &o, &alias,
-                                            NULL),
+    assert_int_equal(negobs_rectify_process(&ctx, &in, &in, &o, &alias, NULL),
                      NEGOBS_ERR_INVAL);
-    assert_int_equal(negobs_rectify_rows(&ctx, (negobs_rectify_camera_t)2,
-                                         &in, &o, 0, h, NULL),
+    assert_int_equal(negobs_rectify_rows(&ctx, (negobs_rectify_camera_t)2, &in,
+                                         &o, 0, h, NULL),
                      NEGOBS_ERR_INVAL);
-    assert_int_equal(negobs_rectify_rows(&ctx, NEGOBS_RECTIFY_CAMERA_LEFT,
-                                         &in, &o, 3, 2, NULL),
+    assert_int_equal(negobs_rectify_rows(&ctx, NEGOBS_RECTIFY_CAMERA_LEFT, &in,
+                                         &o, 3, 2, NULL),
                      NEGOBS_ERR_INVAL);
-    assert_int_equal(negobs_rectify_rows(&ctx, NEGOBS_RECTIFY_CAMERA_LEFT,
-                                         &in, &o, 0, h + 1, NULL),
+    assert_int_equal(negobs_rectify_rows(&ctx, NEGOBS_RECTIFY_CAMERA_LEFT, &in,
+                                         &o, 0, h + 1, NULL),
                      NEGOBS_ERR_INVAL);
-    assert_int_equal(negobs_rectify_rows(&ctx, NEGOBS_RECTIFY_CAMERA_LEFT,
-                                         &in, &o, 4, 4, NULL),
+    assert_int_equal(negobs_rectify_rows(&ctx, NEGOBS_RECTIFY_CAMERA_LEFT, &in,
+                                         &o, 4, 4, NULL),
                      NEGOBS_OK);
     assert_int_equal(negobs_rectify_process(&ctx, &in, &in, &o, &o2, NULL),
                      NEGOBS_OK);

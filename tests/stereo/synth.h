@@ -25,9 +25,9 @@
 typedef struct synth_scene {
     int32_t w, h;
     int32_t d_top_q8, d_bottom_q8;
-    int32_t drop_q8;   /* subtracted in the lower right quarter          */
-    int32_t box_q8;    /* box disparity (0 = no box)                     */
-    int32_t voff;      /* right row = left row + voff                    */
+    int32_t drop_q8; /* subtracted in the lower right quarter          */
+    int32_t box_q8;  /* box disparity (0 = no box)                     */
+    int32_t voff;    /* right row = left row + voff                    */
     uint32_t seed;
 } synth_scene_t;
 
@@ -90,7 +90,8 @@ static inline void synth_render_fine(const synth_scene_t *sc,
                 for (j = -1; j <= 1; j++) {
                     int32_t yy = y + k;
                     int32_t xx = x + j;
-                    int32_t wt = (2 - (k < 0 ? -k : k)) * (2 - (j < 0 ? -j : j));
+                    int32_t wt = (2 - (k < 0 ? -k : k)) *
+                                 (2 - (j < 0 ? -j : j));
                     yy = (yy < 0) ? 0 : ((yy >= h) ? h - 1 : yy);
                     xx = (xx < 0) ? 0 : ((xx >= w) ? w - 1 : xx);
                     acc += wt * raw[yy * w + xx];
@@ -154,7 +155,8 @@ static inline void synth_render_fine(const synth_scene_t *sc,
                 }
                 zbuf[xr] = dz;
                 v = (tex[y * w + x] * (256 - t) + tex[y * w + x + 1] * t +
-                     128) / 256;
+                     128) /
+                    256;
                 rrow[y][xr] = (uint8_t)v;
             }
         }

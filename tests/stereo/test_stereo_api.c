@@ -92,8 +92,8 @@ static void test_workspace_macro_bounds_exact_size(void **state)
                     assert_true(ds[k] > ws_[i] - 6);
                     continue;
                 }
-                assert_true(need <= NEGOBS_STEREO_WORKSPACE_MAX(ws_[i], hs[j],
-                                                                ds[k]));
+                assert_true(need <=
+                            NEGOBS_STEREO_WORKSPACE_MAX(ws_[i], hs[j], ds[k]));
             }
         }
     }
@@ -121,35 +121,45 @@ static void test_bad_configs_are_rejected(void **state)
     (void)state;
     config(&c);
     c.width = 31;
-    assert_int_equal(negobs_stereo_workspace_size(&c, &need), NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_stereo_workspace_size(&c, &need),
+                     NEGOBS_ERR_INVAL);
     config(&c);
     c.height = 8;
-    assert_int_equal(negobs_stereo_workspace_size(&c, &need), NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_stereo_workspace_size(&c, &need),
+                     NEGOBS_ERR_INVAL);
     config(&c);
     c.max_disp = W; /* range wider than the image */
-    assert_int_equal(negobs_stereo_workspace_size(&c, &need), NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_stereo_workspace_size(&c, &need),
+                     NEGOBS_ERR_INVAL);
     config(&c);
     c.min_disp = 10;
     c.max_disp = 9;
-    assert_int_equal(negobs_stereo_workspace_size(&c, &need), NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_stereo_workspace_size(&c, &need),
+                     NEGOBS_ERR_INVAL);
     config(&c);
     c.min_disp = -1;
-    assert_int_equal(negobs_stereo_workspace_size(&c, &need), NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_stereo_workspace_size(&c, &need),
+                     NEGOBS_ERR_INVAL);
     config(&c);
     c.band = 0;
-    assert_int_equal(negobs_stereo_workspace_size(&c, &need), NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_stereo_workspace_size(&c, &need),
+                     NEGOBS_ERR_INVAL);
     config(&c);
     c.queue_capacity = 0;
-    assert_int_equal(negobs_stereo_workspace_size(&c, &need), NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_stereo_workspace_size(&c, &need),
+                     NEGOBS_ERR_INVAL);
     config(&c);
     c.vertical_search = 5;
-    assert_int_equal(negobs_stereo_workspace_size(&c, &need), NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_stereo_workspace_size(&c, &need),
+                     NEGOBS_ERR_INVAL);
     config(&c);
     c.strip_rows = 4;
-    assert_int_equal(negobs_stereo_workspace_size(&c, &need), NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_stereo_workspace_size(&c, &need),
+                     NEGOBS_ERR_INVAL);
     negobs_stereo_config_default(&c, 2000, 100);
     c.max_disp = 300; /* more than 256 levels */
-    assert_int_equal(negobs_stereo_workspace_size(&c, &need), NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_stereo_workspace_size(&c, &need),
+                     NEGOBS_ERR_INVAL);
     assert_int_equal(negobs_stereo_workspace_size(NULL, &need),
                      NEGOBS_ERR_INVAL);
 }
@@ -228,12 +238,8 @@ static void content_case(int kind, negobs_stereo_stats_t *st)
     int32_t i;
     for (i = 0; i < W * H; i++) {
         switch (kind) {
-        case 0:
-            left[i] = right[i] = 0;
-            break;
-        case 1:
-            left[i] = right[i] = 255;
-            break;
+        case 0: left[i] = right[i] = 0; break;
+        case 1: left[i] = right[i] = 255; break;
         case 2:
             left[i] = (uint8_t)test_lcg_next(&seed);
             right[i] = (uint8_t)test_lcg_next(&seed);

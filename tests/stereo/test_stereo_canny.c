@@ -104,7 +104,8 @@ static void test_canny_flat_and_weak_edges_give_nothing(void **state)
     assert_int_equal(stx_canny_strip(&s, 0, H), 0);
 }
 
-static void test_canny_hysteresis_keeps_weak_pixels_next_to_strong(void **state)
+static void test_canny_hysteresis_keeps_weak_pixels_next_to_strong(
+    void **state)
 {
     negobs_image_u8_t img;
     stx_t s = make(&img);
@@ -140,7 +141,8 @@ int main(void)
         cmocka_unit_test(test_canny_vertical_step_gives_one_column),
         cmocka_unit_test(test_canny_horizontal_step_in_a_strip),
         cmocka_unit_test(test_canny_flat_and_weak_edges_give_nothing),
-        cmocka_unit_test(test_canny_hysteresis_keeps_weak_pixels_next_to_strong),
+        cmocka_unit_test(
+            test_canny_hysteresis_keeps_weak_pixels_next_to_strong),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

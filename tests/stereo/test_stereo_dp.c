@@ -76,7 +76,8 @@ static void test_dp_fills_holes_between_matches(void **state)
     (void)state;
     for (y = 0; y < H; y++) {
         for (x = 0; x < W; x++) {
-            gcs[y * W + x] = (int16_t)((x % 16 == 8) ? 5 : NEGOBS_DISP_INVALID);
+            gcs[y * W + x] = (int16_t)((x % 16 == 8) ? 5
+                                                     : NEGOBS_DISP_INVALID);
         }
     }
     run_rows(s);

@@ -199,8 +199,8 @@ static int32_t frac_q14_loop(int32_t num2, int32_t den)
 
 static void check_frac(int32_t num2, int32_t den)
 {
-    static const int32_t taus[] = {-16384, -1, 0, 1, 8191, 8192, 8193,
-                                   13107, 16383, 16384};
+    static const int32_t taus[] = {-16384, -1,   0,     1,     8191,
+                                   8192,   8193, 13107, 16383, 16384};
     int32_t want = frac_q14_loop(num2, den);
     size_t i;
     assert_int_equal(stx_frac_q14(num2, den), want);
@@ -227,8 +227,7 @@ static void test_frac_scale_and_threshold_match_definition(void **state)
     (void)state;
     for (bits = 1; bits <= 31; bits++) {
         int32_t lo = (bits == 1) ? 1 : (int32_t)(1u << (bits - 1));
-        int32_t hi = (int32_t)((bits == 31) ? 0x7FFFFFFFu
-                                            : (1u << bits) - 1u);
+        int32_t hi = (int32_t)((bits == 31) ? 0x7FFFFFFFu : (1u << bits) - 1u);
         check_frac(0, lo);
         check_frac(lo, lo);
         check_frac(-hi, hi);
@@ -280,10 +279,9 @@ static void check_cross5_all_positions(void)
                     }
                 }
                 assert_int_equal(stx_cross5(&l, u, y, &r, ur, yr), want);
-                assert_int_equal(
-                    stx_cross5_ref(ta + (y - 2) * W + u - 2, W,
-                                   tb + (yr - 2) * W + ur - 2, W),
-                    want);
+                assert_int_equal(stx_cross5_ref(ta + (y - 2) * W + u - 2, W,
+                                                tb + (yr - 2) * W + ur - 2, W),
+                                 want);
             }
         }
     }

@@ -129,9 +129,9 @@ static void check_attribution(const negobs_stereo_stats_t *st,
 
 /* Init on cfg, crop to first_row, time one frame with fc and check that
  * every read of fc went to the stage it closes. */
-static void timed_frame(negobs_stereo_t *ctx, const negobs_stereo_config_t *cfg,
-                        int32_t first_row, fake_clock_t *fc,
-                        negobs_stereo_stats_t *st)
+static void timed_frame(negobs_stereo_t *ctx,
+                        const negobs_stereo_config_t *cfg, int32_t first_row,
+                        fake_clock_t *fc, negobs_stereo_stats_t *st)
 {
     uint32_t laps[NEGOBS_STEREO_STAGE_COUNT];
     negobs_stereo_config_t c = *cfg;
@@ -224,8 +224,7 @@ static void test_output_does_not_depend_on_the_clock(void **state)
     for (k = 0; k < NEGOBS_STEREO_STAGE_COUNT; k++) {
         assert_int_equal(st_ref.stage_ticks[k], 0u); /* no clock: zeros */
     }
-    assert_int_equal(negobs_stereo_set_clock(&ctx, fake_read, &fc),
-                     NEGOBS_OK);
+    assert_int_equal(negobs_stereo_set_clock(&ctx, fake_read, &fc), NEGOBS_OK);
     run(&ctx, disp, conf, &st);
     assert_true(fc.reads > 0u);
     assert_memory_equal(disp, disp_ref, sizeof disp);
@@ -288,8 +287,8 @@ static void run_up_to(negobs_stereo_stage_t last, int16_t *out)
     negobs_stereo_stats_t st;
     base_config(&cfg);
     cfg.lr_check = last >= NEGOBS_STEREO_STAGE_LR;
-    cfg.speckle_size = (last >= NEGOBS_STEREO_STAGE_SPECKLE)
-                           ? cfg.speckle_size : 0;
+    cfg.speckle_size = (last >= NEGOBS_STEREO_STAGE_SPECKLE) ? cfg.speckle_size
+                                                             : 0;
     cfg.gap_fill = (last >= NEGOBS_STEREO_STAGE_GAP_FILL) ? cfg.gap_fill : 0;
     cfg.adaptive_mean = last >= NEGOBS_STEREO_STAGE_MEAN;
     setup_ctx(&ctx, &cfg);
@@ -309,8 +308,8 @@ static int32_t count_valid(const int16_t *m, int32_t n)
 static void test_observer_sees_every_stage_in_order(void **state)
 {
     static const negobs_stereo_stage_t want[] = {
-        NEGOBS_STEREO_STAGE_GCS,     NEGOBS_STEREO_STAGE_DP,
-        NEGOBS_STEREO_STAGE_LR,      NEGOBS_STEREO_STAGE_SPECKLE,
+        NEGOBS_STEREO_STAGE_GCS,      NEGOBS_STEREO_STAGE_DP,
+        NEGOBS_STEREO_STAGE_LR,       NEGOBS_STEREO_STAGE_SPECKLE,
         NEGOBS_STEREO_STAGE_GAP_FILL, NEGOBS_STEREO_STAGE_MEAN};
     negobs_stereo_config_t cfg;
     negobs_stereo_t ctx;
@@ -375,8 +374,7 @@ static void test_observer_with_stages_off_crop_and_clock(void **state)
     memset(&g_obs, 0, sizeof g_obs);
     assert_int_equal(negobs_stereo_set_observer(&ctx, observe, &g_obs),
                      NEGOBS_OK);
-    assert_int_equal(negobs_stereo_set_clock(&ctx, fake_read, &fc),
-                     NEGOBS_OK);
+    assert_int_equal(negobs_stereo_set_clock(&ctx, fake_read, &fc), NEGOBS_OK);
     run(&ctx, disp, conf, &st);
     assert_memory_equal(disp, disp_ref, sizeof disp);
     assert_int_equal(g_obs.n, 3);

@@ -22,7 +22,8 @@ static uint8_t occ[W * H];
 static uint8_t tex[W * H];
 
 /* a multiple of 16, so both buffers are 16-byte aligned */
-#define WS_BYTES ((NEGOBS_STEREO_WORKSPACE_MAX_FAST(W, H, 127) + 15u) & ~(size_t)15u)
+#define WS_BYTES                                                              \
+    ((NEGOBS_STEREO_WORKSPACE_MAX_FAST(W, H, 127) + 15u) & ~(size_t)15u)
 static uint8_t ws_buf[2][WS_BYTES] __attribute__((aligned(16)));
 
 typedef struct run {
@@ -57,8 +58,8 @@ static void process(run_t *r)
     negobs_image_u8_t ri = {right, W, H, W};
     negobs_image_s16_t di = {r->disp, W, H, W};
     negobs_image_u8_t ci = {r->conf, W, H, W};
-    assert_int_equal(negobs_stereo_process(&r->ctx, &li, &ri, &di, &ci, &r->st),
-                     NEGOBS_OK);
+    assert_int_equal(
+        negobs_stereo_process(&r->ctx, &li, &ri, &di, &ci, &r->st), NEGOBS_OK);
     memset(r->st.stage_ticks, 0, sizeof r->st.stage_ticks);
 }
 

@@ -76,7 +76,8 @@ static void test_gap_between_agreeing_ends_is_interpolated(void **state)
     stx_gap_fill(s, &di, conf, W);
     for (x = 20; x < 25; x++) {
         int32_t k = x - 19;
-        int32_t want = 10 * 16 + 15 + (int32_t)negobs_div_round_s64(-15 * k, 6);
+        int32_t want = 10 * 16 + 15 +
+                       (int32_t)negobs_div_round_s64(-15 * k, 6);
         assert_int_equal(disp[3 * W + x], want);
         assert_int_equal(conf[3 * W + x], NEGOBS_STEREO_CONF_FILLED);
     }

@@ -31,9 +31,9 @@ static uint8_t conf[W * H];
 static uint8_t ws[WS_BYTES] __attribute__((aligned(16)));
 
 typedef struct result {
-    int32_t bad1;   /* permille of valid visible pixels off by > 1 px */
-    int32_t bad05;  /* ... off by > 0.5 px                           */
-    int32_t dens;   /* permille of visible pixels with a value        */
+    int32_t bad1;  /* permille of valid visible pixels off by > 1 px */
+    int32_t bad05; /* ... off by > 0.5 px                           */
+    int32_t dens;  /* permille of visible pixels with a value        */
     negobs_stereo_stats_t st;
 } result_t;
 
@@ -60,8 +60,7 @@ static void check_confidence_scale(void)
         filled += conf[i] == NEGOBS_STEREO_CONF_FILLED;
         matched += conf[i] >= NEGOBS_STEREO_CONF_MATCHED_MIN;
     }
-    printf("# confidence: %d matched, %d filled\n", (int)matched,
-           (int)filled);
+    printf("# confidence: %d matched, %d filled\n", (int)matched, (int)filled);
 } /* 1: constant disparity 20 px, no drop, no box */
 
 static result_t run(int32_t voff, int32_t vsearch, int32_t fixed_off)
@@ -196,9 +195,9 @@ static void test_regress_first_row_crop(void **state)
                          NEGOBS_OK);
         assert_int_equal(negobs_stereo_set_first_row(&ctx, -1),
                          NEGOBS_ERR_INVAL);
-        assert_int_equal(
-            negobs_stereo_set_first_row(&ctx, H - NEGOBS_STEREO_MIN_HEIGHT + 1),
-            NEGOBS_ERR_INVAL);
+        assert_int_equal(negobs_stereo_set_first_row(
+                             &ctx, H - NEGOBS_STEREO_MIN_HEIGHT + 1),
+                         NEGOBS_ERR_INVAL);
         assert_int_equal(
             negobs_stereo_set_first_row(&ctx, H - NEGOBS_STEREO_MIN_HEIGHT),
             NEGOBS_OK);
@@ -303,7 +302,8 @@ int main(void)
         cmocka_unit_test(test_regress_fixed_offset),
         cmocka_unit_test(test_regress_range_narrows_on_constant_scene),
         cmocka_unit_test(test_regress_first_row_crop),
-        cmocka_unit_test(test_regress_range_covers_floor_unseen_at_quarter_scale),
+        cmocka_unit_test(
+            test_regress_range_covers_floor_unseen_at_quarter_scale),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

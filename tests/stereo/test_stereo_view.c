@@ -84,7 +84,9 @@ static void test_out_of_view_values_dropped_or_kept(void **state)
     /* the dense map has values in most of the unseen band (about 28 px x
      * 96 rows) and the sparse one counted what it dropped */
     assert_true(dropped > (uint32_t)(20 * H));
-    print_message("# dense: %u values in the unseen band; sparse: %u dropped, %u valid (dense %u)\n", dropped, sparse.out_of_view, sparse.valid, dense.valid);
+    print_message(
+        "# dense: %u values in the unseen band; sparse: %u dropped, %u valid (dense %u)\n",
+        dropped, sparse.out_of_view, sparse.valid, dense.valid);
     assert_true(sparse.out_of_view >= dropped / 2u);
     assert_true(sparse.valid + sparse.out_of_view >= dense.valid - dropped);
 }

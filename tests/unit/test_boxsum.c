@@ -126,10 +126,11 @@ static void test_integral_wraps_but_boxes_stay_exact(void **state)
     img.width = 640;
     img.height = 480;
     img.stride = 640;
-    assert_int_equal(negobs_integral_u8(&img, ii, NULL, 0), NEGOBS_ERR_NOSPACE);
-    assert_int_equal(negobs_integral_u8(&img, bigii, NULL,
-                                        sizeof bigii / sizeof bigii[0]),
-                     NEGOBS_OK);
+    assert_int_equal(negobs_integral_u8(&img, ii, NULL, 0),
+                     NEGOBS_ERR_NOSPACE);
+    assert_int_equal(
+        negobs_integral_u8(&img, bigii, NULL, sizeof bigii / sizeof bigii[0]),
+        NEGOBS_OK);
     /* Total 640*480*255 < 2^32 here; use the squares path for wrap. */
     assert_int_equal(negobs_integral_box(bigii, 641, 600, 440, 605, 445),
                      25 * 255);
@@ -148,9 +149,9 @@ static void test_integral_of_squares_wraps(void **state)
     img.height = 480;
     img.stride = 640;
     assert_true(total > UINT32_MAX);
-    assert_int_equal(negobs_integral_u8(&img, bigii, bigsq,
-                                        sizeof bigii / sizeof bigii[0]),
-                     NEGOBS_OK);
+    assert_int_equal(
+        negobs_integral_u8(&img, bigii, bigsq, sizeof bigii / sizeof bigii[0]),
+        NEGOBS_OK);
     assert_int_equal(bigsq[480 * 641 + 640], (uint32_t)total);
     assert_int_equal(negobs_integral_box(bigsq, 641, 630, 470, 635, 475),
                      25u * 255u * 255u);

@@ -6,10 +6,10 @@
 static void test_status_codes_are_negative_and_distinct(void **state)
 {
     static const negobs_status_t all[] = {
-        NEGOBS_ERR_INVAL,   NEGOBS_ERR_NOSPACE, NEGOBS_ERR_RANGE,
-        NEGOBS_ERR_UNSUPPORTED, NEGOBS_ERR_IO,  NEGOBS_ERR_TIMEOUT,
-        NEGOBS_ERR_AGAIN,   NEGOBS_ERR_NODEV,   NEGOBS_ERR_ALIGN,
-        NEGOBS_ERR_CORRUPT, NEGOBS_ERR_STATE,
+        NEGOBS_ERR_INVAL,       NEGOBS_ERR_NOSPACE, NEGOBS_ERR_RANGE,
+        NEGOBS_ERR_UNSUPPORTED, NEGOBS_ERR_IO,      NEGOBS_ERR_TIMEOUT,
+        NEGOBS_ERR_AGAIN,       NEGOBS_ERR_NODEV,   NEGOBS_ERR_ALIGN,
+        NEGOBS_ERR_CORRUPT,     NEGOBS_ERR_STATE,
     };
     size_t i;
     size_t j;

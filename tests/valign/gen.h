@@ -49,8 +49,12 @@ static inline void gen_texture(uint32_t seed)
                 int32_t i;
                 for (j = -1; j <= 1; j++) {
                     for (i = -1; i <= 1; i++) {
-                        int32_t yy = y + j < 0 ? 0 : (y + j >= GEN_TH ? GEN_TH - 1 : y + j);
-                        int32_t xx = x + i < 0 ? 0 : (x + i >= GEN_TW ? GEN_TW - 1 : x + i);
+                        int32_t yy = y + j < 0 ? 0
+                                               : (y + j >= GEN_TH ? GEN_TH - 1
+                                                                  : y + j);
+                        int32_t xx = x + i < 0 ? 0
+                                               : (x + i >= GEN_TW ? GEN_TW - 1
+                                                                  : x + i);
                         s += a[yy][xx];
                     }
                 }

@@ -153,8 +153,8 @@ static uint8_t ref_pixel(const negobs_valign_model_t *m, int32_t x, int32_t y)
 static void test_warp_matches_reference(void **state)
 {
     static const negobs_valign_model_t models[] = {
-        {0, 0, 0},        {65536, 0, 0},     {32768, 0, 0},
-        {-98304, 0, 0},   {78643, -295, 20}, {-4000, 311, -97},
+        {0, 0, 0},         {65536, 0, 0},       {32768, 0, 0},
+        {-98304, 0, 0},    {78643, -295, 20},   {-4000, 311, -97},
         {262144, 1024, 0}, {-262144, 0, -1024}, {2048, 0, 0},
         {-2048, 0, 0},
     };
@@ -247,10 +247,10 @@ static void test_tracking_and_textureless_frames(void **state)
     assert_int_equal(st.model.offset_q16, st.frame.offset_q16);
     assert_true(abs(st.model.offset_q16 - 65536) <= TOL_Q16);
     /* the output is the right image warped by the tracked model */
-    assert_int_equal(negobs_valign_warp(&st.model, &r, &(negobs_image_u8_t){
-                                                           g_ref, GEN_W,
-                                                           GEN_H, GEN_W}),
-                     NEGOBS_OK);
+    assert_int_equal(
+        negobs_valign_warp(&st.model, &r,
+                           &(negobs_image_u8_t){g_ref, GEN_W, GEN_H, GEN_W}),
+        NEGOBS_OK);
     assert_memory_equal(g_out, g_ref, sizeof g_out);
 
     /* a second frame at 2 rows: the model moves half way */
@@ -481,8 +481,8 @@ static void test_matcher_gains_from_alignment(void **state)
     printf("alignment %.3f %+.5f %+.5f (truth 1.200 -0.00450 +0.00031); "
            "bad1 (incl. holes): integer search %d.%d %%, aligned %d.%d %%\n",
            st.model.offset_q16 / 65536.0, st.model.slope_y_q16 / 65536.0,
-           st.model.slope_x_q16 / 65536.0, raw / 10, raw % 10,
-           aligned / 10, aligned % 10);
+           st.model.slope_x_q16 / 65536.0, raw / 10, raw % 10, aligned / 10,
+           aligned % 10);
     assert_true(aligned * 2 < raw);
 }
 

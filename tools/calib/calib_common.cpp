@@ -53,8 +53,9 @@ bool read_image_list(const std::string &path, std::vector<ImagePair> &pairs,
         names.push_back(static_cast<std::string>(*it));
     }
     if (names.empty() || names.size() % 2 != 0) {
-        err = path + ": need an even, non-zero number of names (left, "
-                     "right, left, right, ...), got " +
+        err = path +
+              ": need an even, non-zero number of names (left, "
+              "right, left, right, ...), got " +
               std::to_string(names.size());
         return false;
     }
@@ -77,8 +78,7 @@ bool parse_size(const std::string &text, cv::Size &size)
     char x = 0;
     char extra = 0;
     if (std::sscanf(text.c_str(), "%d%c%d%c", &a, &x, &b, &extra) != 3 ||
-        (x != 'x' && x != 'X') || a < 2 || b < 2 || a > 100000 ||
-        b > 100000) {
+        (x != 'x' && x != 'X') || a < 2 || b < 2 || a > 100000 || b > 100000) {
         return false;
     }
     size = cv::Size(a, b);
@@ -95,10 +95,10 @@ bool find_corners(const cv::Mat &grey, cv::Size board,
     if (!found) {
         return false;
     }
-    cv::cornerSubPix(grey, corners, cv::Size(11, 11), cv::Size(-1, -1),
-                     cv::TermCriteria(cv::TermCriteria::COUNT +
-                                          cv::TermCriteria::EPS,
-                                      30, 0.01));
+    cv::cornerSubPix(
+        grey, corners, cv::Size(11, 11), cv::Size(-1, -1),
+        cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30,
+                         0.01));
     return true;
 }
 

@@ -56,30 +56,31 @@ struct Options {
 
 int usage(const char *argv0, int code)
 {
-    std::fprintf(code ? stderr : stdout,
-"usage: %s (--list STEREO_LIST.xml | --yaml CALIB.yml [--yaml MORE.yml])\n"
-"          --out TABLE.bin [options]\n"
-"\n"
-"  --list FILE       stereo chessboard list, OpenCV stereo_calib.xml format\n"
-"                    (left, right, left, right, ...; relative to the list)\n"
-"  --yaml FILE       existing calibration with M1 D1 M2 D2 R T (repeatable;\n"
-"                    keys are merged, e.g. intrinsics.yml + extrinsics.yml)\n"
-"  --out FILE        rectify table to write (required)\n"
-"  --board WxH       inner corners per row x column (default 9x6)\n"
-"  --square-mm MM    chessboard square size (default 25; sets B's unit)\n"
-"  --size WxH        frame size for --yaml when the file has none\n"
-"  --t-unit-mm MM    millimetres per unit of T in --yaml (default 1)\n"
-"  --alpha A         stereoRectify free scaling, -1 or 0..1 (default 0:\n"
-"                    only valid pixels)\n"
-"  --grid-shift N    node spacing 2^N px, 0..%d, or 'auto' (default): the\n"
-"                    coarsest grid within --max-map-err\n"
-"  --max-map-err PX  auto grid tolerance (default 0.02 px)\n"
-"  --min-boards N    usable pairs required (default 5)\n"
-"  --fix-k3          keep the radial k3 term at 0 (few boards, or boards\n"
-"                    that never reach the image corners)\n"
-"  --save-yaml FILE  also write M1 D1 M2 D2 R T (+ size, rms) for --yaml\n"
-"  --help            this text\n",
-                 argv0, NEGOBS_RECTIFY_MAX_GRID_SHIFT);
+    std::fprintf(
+        code ? stderr : stdout,
+        "usage: %s (--list STEREO_LIST.xml | --yaml CALIB.yml [--yaml MORE.yml])\n"
+        "          --out TABLE.bin [options]\n"
+        "\n"
+        "  --list FILE       stereo chessboard list, OpenCV stereo_calib.xml format\n"
+        "                    (left, right, left, right, ...; relative to the list)\n"
+        "  --yaml FILE       existing calibration with M1 D1 M2 D2 R T (repeatable;\n"
+        "                    keys are merged, e.g. intrinsics.yml + extrinsics.yml)\n"
+        "  --out FILE        rectify table to write (required)\n"
+        "  --board WxH       inner corners per row x column (default 9x6)\n"
+        "  --square-mm MM    chessboard square size (default 25; sets B's unit)\n"
+        "  --size WxH        frame size for --yaml when the file has none\n"
+        "  --t-unit-mm MM    millimetres per unit of T in --yaml (default 1)\n"
+        "  --alpha A         stereoRectify free scaling, -1 or 0..1 (default 0:\n"
+        "                    only valid pixels)\n"
+        "  --grid-shift N    node spacing 2^N px, 0..%d, or 'auto' (default): the\n"
+        "                    coarsest grid within --max-map-err\n"
+        "  --max-map-err PX  auto grid tolerance (default 0.02 px)\n"
+        "  --min-boards N    usable pairs required (default 5)\n"
+        "  --fix-k3          keep the radial k3 term at 0 (few boards, or boards\n"
+        "                    that never reach the image corners)\n"
+        "  --save-yaml FILE  also write M1 D1 M2 D2 R T (+ size, rms) for --yaml\n"
+        "  --help            this text\n",
+        argv0, NEGOBS_RECTIFY_MAX_GRID_SHIFT);
     return code;
 }
 
@@ -114,8 +115,10 @@ int parse_args(int argc, char **argv, Options &o)
             continue;
         }
         if (i + 1 >= argc) {
-            std::fprintf(stderr, "negobs_calib: unknown option or missing "
-                                 "value: %s\n", a.c_str());
+            std::fprintf(stderr,
+                         "negobs_calib: unknown option or missing "
+                         "value: %s\n",
+                         a.c_str());
             return usage(argv[0], 2);
         }
         const char *v = argv[++i];
@@ -136,8 +139,9 @@ int parse_args(int argc, char **argv, Options &o)
                  o.frame.width <= NEGOBS_MAX_DIM &&
                  o.frame.height <= NEGOBS_MAX_DIM;
             if (!ok) {
-                std::fprintf(stderr, "negobs_calib: --size %s: frame size "
-                                     "must be WxH with 2 <= W, H <= %d\n",
+                std::fprintf(stderr,
+                             "negobs_calib: --size %s: frame size "
+                             "must be WxH with 2 <= W, H <= %d\n",
                              v, NEGOBS_MAX_DIM);
                 return 2;
             }
@@ -147,8 +151,7 @@ int parse_args(int argc, char **argv, Options &o)
         } else if (a == "--t-unit-mm") {
             ok = parse_double(v, o.t_unit_mm) && o.t_unit_mm > 0.0;
         } else if (a == "--alpha") {
-            ok = parse_double(v, o.alpha) && o.alpha >= -1.0 &&
-                 o.alpha <= 1.0;
+            ok = parse_double(v, o.alpha) && o.alpha >= -1.0 && o.alpha <= 1.0;
         } else if (a == "--grid-shift") {
             if (std::string(v) == "auto") {
                 o.grid_shift = -1;
@@ -220,9 +223,11 @@ bool calibrate_from_list(const Options &o, Calibration &c)
             c.size = l.size();
         }
         if (l.size() != c.size || r.size() != c.size) {
-            std::fprintf(stderr, "negobs_calib: %s / %s: size differs from "
-                                 "%dx%d\n", p.left.c_str(), p.right.c_str(),
-                         c.size.width, c.size.height);
+            std::fprintf(stderr,
+                         "negobs_calib: %s / %s: size differs from "
+                         "%dx%d\n",
+                         p.left.c_str(), p.right.c_str(), c.size.width,
+                         c.size.height);
             return false;
         }
         std::vector<cv::Point2f> cl, cr;
@@ -238,12 +243,14 @@ bool calibrate_from_list(const Options &o, Calibration &c)
     }
     c.boards = static_cast<int>(pts_l.size());
     std::printf("boards: %d of %zu pairs usable (%dx%d inner corners, "
-                "square %.3f mm%s)\n", c.boards, pairs.size(),
-                o.board.width, o.board.height, o.square_mm,
+                "square %.3f mm%s)\n",
+                c.boards, pairs.size(), o.board.width, o.board.height,
+                o.square_mm,
                 o.square_given ? "" : ", default: set --square-mm");
     if (c.boards < o.min_boards) {
-        std::fprintf(stderr, "negobs_calib: too few boards: %d usable "
-                             "pairs, need at least %d (--min-boards)\n",
+        std::fprintf(stderr,
+                     "negobs_calib: too few boards: %d usable "
+                     "pairs, need at least %d (--min-boards)\n",
                      c.boards, o.min_boards);
         return false;
     }
@@ -269,14 +276,14 @@ bool calibrate_from_list(const Options &o, Calibration &c)
     c.M2 = cv::Mat::eye(3, 3, CV_64F);
     c.rms_left = cv::calibrateCamera(obj, pts_l, c.size, c.M1, c.D1, rv, tv,
                                      mono_flags);
-    c.rms_right = cv::calibrateCamera(obj, pts_r, c.size, c.M2, c.D2, rv,
-                                      tv, mono_flags);
+    c.rms_right = cv::calibrateCamera(obj, pts_r, c.size, c.M2, c.D2, rv, tv,
+                                      mono_flags);
     cv::Mat E, F;
     c.rms = cv::stereoCalibrate(
         obj, pts_l, pts_r, c.M1, c.D1, c.M2, c.D2, c.size, c.R, c.T, E, F,
         cv::CALIB_USE_INTRINSIC_GUESS | mono_flags,
-        cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS,
-                         100, 1e-6));
+        cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100,
+                         1e-6));
     return true;
 }
 
@@ -300,8 +307,10 @@ bool calibration_from_yaml(const Options &o, Calibration &c)
     int h = 0;
     for (const auto &path : o.yaml) {
         if (!negobs_calib::file_exists(path)) {
-            std::fprintf(stderr, "negobs_calib: calibration file not found: "
-                                 "%s\n", path.c_str());
+            std::fprintf(stderr,
+                         "negobs_calib: calibration file not found: "
+                         "%s\n",
+                         path.c_str());
             return false;
         }
         cv::FileStorage fs;
@@ -334,12 +343,13 @@ bool calibration_from_yaml(const Options &o, Calibration &c)
         const char *name;
         const cv::Mat *m;
         int rows, cols;
-    } need[] = {{"M1", &c.M1, 3, 3}, {"M2", &c.M2, 3, 3},
-                {"R", &c.R, 3, 3}};
+    } need[] = {{"M1", &c.M1, 3, 3}, {"M2", &c.M2, 3, 3}, {"R", &c.R, 3, 3}};
     for (const auto &n : need) {
         if (n.m->rows != n.rows || n.m->cols != n.cols) {
-            std::fprintf(stderr, "negobs_calib: %s missing or not 3x3 in "
-                                 "the calibration file(s)\n", n.name);
+            std::fprintf(stderr,
+                         "negobs_calib: %s missing or not 3x3 in "
+                         "the calibration file(s)\n",
+                         n.name);
             return false;
         }
     }
@@ -357,9 +367,11 @@ bool calibration_from_yaml(const Options &o, Calibration &c)
         c.size = o.frame;
     } else if (w != 0 || h != 0) {
         if (w < 2 || h < 2 || w > NEGOBS_MAX_DIM || h > NEGOBS_MAX_DIM) {
-            std::fprintf(stderr, "negobs_calib: image_width/image_height "
-                                 "%dx%d in the calibration file: must be "
-                                 "2..%d\n", w, h, NEGOBS_MAX_DIM);
+            std::fprintf(stderr,
+                         "negobs_calib: image_width/image_height "
+                         "%dx%d in the calibration file: must be "
+                         "2..%d\n",
+                         w, h, NEGOBS_MAX_DIM);
             return false;
         }
         c.size = cv::Size(w, h);
@@ -454,23 +466,28 @@ bool calibration_usable(const Calibration &c)
                 {"D2", &c.D2}, {"R", &c.R},   {"T", &c.T}};
     for (const auto &m : mats) {
         if (!all_finite(*m.m)) {
-            std::fprintf(stderr, "negobs_calib: %s holds a value that is "
-                                 "not finite (or beyond 1e12)\n", m.name);
+            std::fprintf(stderr,
+                         "negobs_calib: %s holds a value that is "
+                         "not finite (or beyond 1e12)\n",
+                         m.name);
             return false;
         }
     }
     for (const cv::Mat *m : {&c.M1, &c.M2}) {
         if (!(m->at<double>(0, 0) > 0.0) || !(m->at<double>(1, 1) > 0.0)) {
-            std::fprintf(stderr, "negobs_calib: %s: focal lengths must be "
-                                 "> 0\n", m == &c.M1 ? "M1" : "M2");
+            std::fprintf(stderr,
+                         "negobs_calib: %s: focal lengths must be "
+                         "> 0\n",
+                         m == &c.M1 ? "M1" : "M2");
             return false;
         }
     }
     for (const cv::Mat *d : {&c.D1, &c.D2}) {
         const size_t n = d->total();
         if (n != 4 && n != 5 && n != 8 && n != 12 && n != 14) {
-            std::fprintf(stderr, "negobs_calib: %s has %zu coefficients; "
-                                 "OpenCV takes 4, 5, 8, 12 or 14\n",
+            std::fprintf(stderr,
+                         "negobs_calib: %s has %zu coefficients; "
+                         "OpenCV takes 4, 5, 8, 12 or 14\n",
                          d == &c.D1 ? "D1" : "D2", n);
             return false;
         }
@@ -536,15 +553,16 @@ int run(int argc, char **argv)
         return 1;
     }
     if (c.size.width > NEGOBS_MAX_DIM || c.size.height > NEGOBS_MAX_DIM) {
-        std::fprintf(stderr, "negobs_calib: frame %dx%d exceeds "
-                             "NEGOBS_MAX_DIM %d\n", c.size.width,
-                     c.size.height, NEGOBS_MAX_DIM);
+        std::fprintf(stderr,
+                     "negobs_calib: frame %dx%d exceeds "
+                     "NEGOBS_MAX_DIM %d\n",
+                     c.size.width, c.size.height, NEGOBS_MAX_DIM);
         return 1;
     }
 
     cv::Mat R1, R2, P1, P2, Q;
-    cv::stereoRectify(c.M1, c.D1, c.M2, c.D2, c.size, c.R, c.T, R1, R2, P1,
-                      P2, Q, cv::CALIB_ZERO_DISPARITY, o.alpha, c.size);
+    cv::stereoRectify(c.M1, c.D1, c.M2, c.D2, c.size, c.R, c.T, R1, R2, P1, P2,
+                      Q, cv::CALIB_ZERO_DISPARITY, o.alpha, c.size);
     const double f = P1.at<double>(0, 0);
     const double cx = P1.at<double>(0, 2);
     const double cy = P1.at<double>(1, 2);
@@ -599,17 +617,16 @@ int run(int argc, char **argv)
     info.height = c.size.height;
     info.grid_shift = shift;
     int clamped = 0;
-    info.f_q16 = static_cast<uint32_t>(to_q(f, 65536.0, 1, INT32_MAX,
-                                            &clamped));
+    info.f_q16 = static_cast<uint32_t>(
+        to_q(f, 65536.0, 1, INT32_MAX, &clamped));
     info.baseline_um = static_cast<uint32_t>(
         to_q(baseline_mm, 1000.0, 0, INT32_MAX, &clamped));
     info.cx_q16 = to_q(cx, 65536.0, INT32_MIN, INT32_MAX, &clamped);
     info.cy_q16 = to_q(cy, 65536.0, INT32_MIN, INT32_MAX, &clamped);
     info.doffs_q16 = to_q(doffs, 65536.0, INT32_MIN, INT32_MAX, &clamped);
-    info.rms_mpx = (c.rms >= 0)
-                       ? static_cast<uint32_t>(to_q(c.rms, 1000.0, 0,
-                                                    INT32_MAX, &clamped))
-                       : NEGOBS_RECTIFY_RMS_UNKNOWN;
+    info.rms_mpx = (c.rms >= 0) ? static_cast<uint32_t>(to_q(
+                                      c.rms, 1000.0, 0, INT32_MAX, &clamped))
+                                : NEGOBS_RECTIFY_RMS_UNKNOWN;
     if (clamped != 0) {
         std::fprintf(stderr, "negobs_calib: f, B, cx, cy or RMS out of the "
                              "table's range\n");
@@ -632,8 +649,8 @@ int run(int argc, char **argv)
                 // influences sample the border either way.
                 nodes[cam][k] = to_q(maps[cam][0].at<float>(py, px), 256.0,
                                      -lim, lim, &node_clamped);
-                nodes[cam][k + 1] = to_q(maps[cam][1].at<float>(py, px),
-                                         256.0, -lim, lim, &node_clamped);
+                nodes[cam][k + 1] = to_q(maps[cam][1].at<float>(py, px), 256.0,
+                                         -lim, lim, &node_clamped);
             }
         }
     }
@@ -648,8 +665,8 @@ int run(int argc, char **argv)
                                         table.size(), &bytes);
     }
     if (st == NEGOBS_OK) {
-        st = negobs_rectify_table_check(table.data(), table.size(),
-                                        info.width, info.height, nullptr);
+        st = negobs_rectify_table_check(table.data(), table.size(), info.width,
+                                        info.height, nullptr);
     }
     if (st != NEGOBS_OK) {
         std::fprintf(stderr, "negobs_calib: table encoding failed: %s\n",
@@ -670,8 +687,8 @@ int run(int argc, char **argv)
     if (c.rms >= 0) {
         if (c.rms_left >= 0) {
             std::printf("RMS reprojection error: %.4f px stereo (left %.4f, "
-                        "right %.4f mono)\n", c.rms, c.rms_left,
-                        c.rms_right);
+                        "right %.4f mono)\n",
+                        c.rms, c.rms_left, c.rms_right);
         } else {
             std::printf("RMS reprojection error: %.4f px (from file)\n",
                         c.rms);
@@ -680,17 +697,19 @@ int run(int argc, char **argv)
         std::printf("RMS reprojection error: unknown (not in the file)\n");
     }
     std::printf("rectified: f = %.3f px, B = %.3f mm, cx = %.3f px, "
-                "cy = %.3f px, doffs = %.3f px\n", f, baseline_mm, cx, cy,
-                doffs);
+                "cy = %.3f px, doffs = %.3f px\n",
+                f, baseline_mm, cx, cy, doffs);
     std::printf("grid: step %d px (shift %d), max map interpolation error "
-                "%.4f px [by shift:", 1 << shift, shift, err[shift]);
+                "%.4f px [by shift:",
+                1 << shift, shift, err[shift]);
     for (int s = 0; s <= max_shift; ++s) {
         std::printf(" %.4f", err[s]);
     }
     std::printf("]\n");
     if (node_clamped != 0) {
         std::printf("note: %d node coordinates beyond +-8192 px clamped "
-                    "(far outside the frame)\n", node_clamped);
+                    "(far outside the frame)\n",
+                    node_clamped);
     }
     std::printf("table: %dx%d, %zu bytes -> %s\n", info.width, info.height,
                 bytes, o.out.c_str());

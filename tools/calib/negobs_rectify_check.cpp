@@ -30,16 +30,17 @@ namespace {
 
 int usage(const char *argv0, int code)
 {
-    std::fprintf(code ? stderr : stdout,
-"usage: %s --table TABLE.bin --list STEREO_LIST.xml [--board WxH]\n"
-"          [--max-rms PX] [--save DIR] [--yaml CALIB.yml [--alpha A]]\n"
-"  --max-rms PX  fail when the row RMS is >= PX (default 0.5)\n"
-"  --save DIR    write the rectified pairs as DIR/rect_NN_{l,r}.png\n"
-"  --yaml FILE   calibration written by negobs_calib --save-yaml: also\n"
-"                rectify with OpenCV's float maps and cv::remap and report\n"
-"                that figure and the pixel difference to the library\n"
-"  --alpha A     stereoRectify alpha used for the table (default 0)\n",
-                 argv0);
+    std::fprintf(
+        code ? stderr : stdout,
+        "usage: %s --table TABLE.bin --list STEREO_LIST.xml [--board WxH]\n"
+        "          [--max-rms PX] [--save DIR] [--yaml CALIB.yml [--alpha A]]\n"
+        "  --max-rms PX  fail when the row RMS is >= PX (default 0.5)\n"
+        "  --save DIR    write the rectified pairs as DIR/rect_NN_{l,r}.png\n"
+        "  --yaml FILE   calibration written by negobs_calib --save-yaml: also\n"
+        "                rectify with OpenCV's float maps and cv::remap and report\n"
+        "                that figure and the pixel difference to the library\n"
+        "  --alpha A     stereoRectify alpha used for the table (default 0)\n",
+        argv0);
     return code;
 }
 
@@ -56,9 +57,8 @@ negobs_image_u8_t view(cv::Mat &m)
 // Sum of squared row differences of matching corners. findChessboardCorners
 // may number a board from either end; the order whose first-to-last
 // direction agrees with the left image's is used.
-void row_diffs(const std::vector<cv::Point2f> &l,
-               std::vector<cv::Point2f> r, double &sum_sq, double &sum,
-               size_t &n)
+void row_diffs(const std::vector<cv::Point2f> &l, std::vector<cv::Point2f> r,
+               double &sum_sq, double &sum, size_t &n)
 {
     const cv::Point2f dl = l.back() - l.front();
     const cv::Point2f dr = r.back() - r.front();
@@ -126,8 +126,10 @@ int main(int argc, char **argv)
             return usage(argv[0], 0);
         }
         if (i + 1 >= argc) {
-            std::fprintf(stderr, "negobs_rectify_check: missing value or "
-                                 "unknown option: %s\n", a.c_str());
+            std::fprintf(stderr,
+                         "negobs_rectify_check: missing value or "
+                         "unknown option: %s\n",
+                         a.c_str());
             return usage(argv[0], 2);
         }
         const std::string v = argv[++i];
@@ -143,8 +145,10 @@ int main(int argc, char **argv)
             char *end = nullptr;
             alpha = std::strtod(v.c_str(), &end);
             if (end == v.c_str() || *end != '\0' || alpha < -1 || alpha > 1) {
-                std::fprintf(stderr, "negobs_rectify_check: bad --alpha "
-                                     "%s\n", v.c_str());
+                std::fprintf(stderr,
+                             "negobs_rectify_check: bad --alpha "
+                             "%s\n",
+                             v.c_str());
                 return 2;
             }
         } else if (a == "--board") {
@@ -157,8 +161,10 @@ int main(int argc, char **argv)
             char *end = nullptr;
             max_rms = std::strtod(v.c_str(), &end);
             if (end == v.c_str() || *end != '\0' || !(max_rms > 0)) {
-                std::fprintf(stderr, "negobs_rectify_check: bad --max-rms "
-                                     "%s\n", v.c_str());
+                std::fprintf(stderr,
+                             "negobs_rectify_check: bad --max-rms "
+                             "%s\n",
+                             v.c_str());
                 return 2;
             }
         } else {
@@ -178,8 +184,8 @@ int main(int argc, char **argv)
         return 1;
     }
     negobs_rectify_info_t info;
-    negobs_status_t st = negobs_rectify_table_check(
-        table.data(), table.size(), 0, 0, &info);
+    negobs_status_t st = negobs_rectify_table_check(table.data(), table.size(),
+                                                    0, 0, &info);
     if (st != NEGOBS_OK) {
         std::fprintf(stderr, "negobs_rectify_check: %s: %s\n",
                      table_path.c_str(), negobs_status_str(st));
@@ -203,10 +209,10 @@ int main(int argc, char **argv)
         return 1;
     }
     std::printf("table: %dx%d, grid step %d, f = %.3f px, B = %.3f mm, "
-                "cx = %.3f, cy = %.3f\n", info.width, info.height,
-                1 << info.grid_shift, info.f_q16 / 65536.0,
-                info.baseline_um / 1000.0, info.cx_q16 / 65536.0,
-                info.cy_q16 / 65536.0);
+                "cx = %.3f, cy = %.3f\n",
+                info.width, info.height, 1 << info.grid_shift,
+                info.f_q16 / 65536.0, info.baseline_um / 1000.0,
+                info.cx_q16 / 65536.0, info.cy_q16 / 65536.0);
 
     std::vector<negobs_calib::ImagePair> pairs;
     if (!negobs_calib::read_image_list(list_path, pairs, err)) {
@@ -217,8 +223,10 @@ int main(int argc, char **argv)
     const bool ref = !yaml_path.empty();
     if (ref && !opencv_maps(yaml_path, alpha,
                             cv::Size(info.width, info.height), cvmaps)) {
-        std::fprintf(stderr, "negobs_rectify_check: cannot read M1 D1 M2 D2 "
-                             "R T from %s\n", yaml_path.c_str());
+        std::fprintf(stderr,
+                     "negobs_rectify_check: cannot read M1 D1 M2 D2 "
+                     "R T from %s\n",
+                     yaml_path.c_str());
         return 1;
     }
     double sq_rect = 0, sum_rect = 0, sq_raw = 0, sum_raw = 0, sq_cv = 0;
@@ -240,9 +248,11 @@ int main(int argc, char **argv)
         }
         if (l.cols != info.width || l.rows != info.height ||
             r.size() != l.size()) {
-            std::fprintf(stderr, "negobs_rectify_check: %s is %dx%d, the "
-                                 "table is for %dx%d\n", p.left.c_str(),
-                         l.cols, l.rows, info.width, info.height);
+            std::fprintf(stderr,
+                         "negobs_rectify_check: %s is %dx%d, the "
+                         "table is for %dx%d\n",
+                         p.left.c_str(), l.cols, l.rows, info.width,
+                         info.height);
             return 1;
         }
         cv::Mat lr(l.size(), CV_8UC1), rr(r.size(), CV_8UC1);
@@ -268,8 +278,8 @@ int main(int argc, char **argv)
                       cv::BORDER_CONSTANT, cv::Scalar(0));
             cv::remap(r, cvr, cvmaps[1][0], cvmaps[1][1], cv::INTER_LINEAR,
                       cv::BORDER_CONSTANT, cv::Scalar(0));
-            for (const auto &pr : {std::make_pair(&lr, &cvl),
-                                   std::make_pair(&rr, &cvr)}) {
+            for (const auto &pr :
+                 {std::make_pair(&lr, &cvl), std::make_pair(&rr, &cvr)}) {
                 cv::Mat d;
                 cv::absdiff(*pr.first, *pr.second, d);
                 double mx = 0;
@@ -299,7 +309,8 @@ int main(int argc, char **argv)
         size_t n = 0;
         row_diffs(cl, cr, s2, s1, n);
         std::printf("  pair %2d: row RMS %.3f px (mean %+.3f) over %zu "
-                    "corners\n", index, std::sqrt(s2 / n), s1 / n, n);
+                    "corners\n",
+                    index, std::sqrt(s2 / n), s1 / n, n);
         sq_rect += s2;
         sum_rect += s1;
         n_rect += n;
@@ -320,14 +331,17 @@ int main(int argc, char **argv)
                     "%.3f px (mean %+.3f) over %zu corners\n",
                     std::sqrt(sq_cv / n_cv), sum_cv / n_cv, n_cv);
         std::printf("lib vs cv::remap pixels: mean |diff| %.3f, max %.0f "
-                    "grey levels\n", diff_sum / diff_n, diff_max);
+                    "grey levels\n",
+                    diff_sum / diff_n, diff_max);
     }
     std::printf("rectified (lib):  row RMS %.3f px (mean %+.3f) over %zu "
-                "corners in %d of %zu pairs; limit %.3f\n", rms,
-                sum_rect / n_rect, n_rect, used, pairs.size(), max_rms);
+                "corners in %d of %zu pairs; limit %.3f\n",
+                rms, sum_rect / n_rect, n_rect, used, pairs.size(), max_rms);
     if (!(rms < max_rms)) {
-        std::fprintf(stderr, "negobs_rectify_check: FAIL: row RMS %.3f px "
-                             ">= %.3f\n", rms, max_rms);
+        std::fprintf(stderr,
+                     "negobs_rectify_check: FAIL: row RMS %.3f px "
+                     ">= %.3f\n",
+                     rms, max_rms);
         return 1;
     }
     std::printf("PASS\n");

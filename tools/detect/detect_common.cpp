@@ -91,8 +91,7 @@ bool read_gt(const std::string &path, GtSeq &gt, std::string &err)
             double v = 0;
             if (!find_num(line, "f", gt.cam.f) ||
                 !find_num(line, "B_mm", gt.cam.baseline_mm) ||
-                !find_num(line, "cx", gt.cam.cx) ||
-                !find_num(line, "cy", gt.cam.cy) ||
+                !find_num(line, "cx", gt.cam.cx) || !find_num(line, "cy", gt.cam.cy) ||
                 !find_num(line, "H_mm", gt.cam.height_mm) ||
                 !find_num(line, "pitch", gt.cam.pitch_deg) ||
                 !find_num(line, "width", v)) {
@@ -141,9 +140,8 @@ bool read_gt(const std::string &path, GtSeq &gt, std::string &err)
             find_num(line, "drop_mm", fr.drop_mm);
             fr.edge_visible = find_value(line, "edge_visible", s) && s == "true";
             if (find_value(line, "edge_box", s) && s.size() > 2 && s[0] == '[') {
-                fr.has_box = std::sscanf(s.c_str(), "[%lf, %lf, %lf, %lf]",
-                                         &fr.box[0], &fr.box[1], &fr.box[2],
-                                         &fr.box[3]) == 4;
+                fr.has_box = std::sscanf(s.c_str(), "[%lf, %lf, %lf, %lf]", &fr.box[0],
+                                         &fr.box[1], &fr.box[2], &fr.box[3]) == 4;
             }
             gt.frames.push_back(fr);
         }
@@ -159,8 +157,7 @@ double thread_cpu_ms()
 {
     timespec ts{};
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return static_cast<double>(ts.tv_sec) * 1e3 +
-           static_cast<double>(ts.tv_nsec) * 1e-6;
+    return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
 }
 
 uint32_t thread_cpu_us(void *)
@@ -179,8 +176,8 @@ Runner::~Runner()
     std::free(ws_);
 }
 
-bool Runner::init(int width, int height, const CamParams &cam,
-                  std::string &err, bool whole)
+bool Runner::init(int width, int height, const CamParams &cam, std::string &err,
+                  bool whole)
 {
     whole_ = whole;
     negobs_pipeline_config_default(&cfg_, width, height);
@@ -189,11 +186,10 @@ bool Runner::init(int width, int height, const CamParams &cam,
     cfg_.detect.cam.focal_q4 = static_cast<int32_t>(std::lround(cam.f * 16));
     cfg_.detect.cam.cx_q4 = static_cast<int32_t>(std::lround(cx * 16));
     cfg_.detect.cam.cy_q4 = static_cast<int32_t>(std::lround(cy * 16));
-    cfg_.detect.cam.baseline_um =
-        static_cast<int32_t>(std::lround(cam.baseline_mm * 1000));
+    cfg_.detect.cam.baseline_um = static_cast<int32_t>(
+        std::lround(cam.baseline_mm * 1000));
     cfg_.detect.cam_height_mm = static_cast<int32_t>(std::lround(cam.height_mm));
-    cfg_.detect.cam_pitch_mdeg =
-        static_cast<int32_t>(std::lround(cam.pitch_deg * 1000));
+    cfg_.detect.cam_pitch_mdeg = static_cast<int32_t>(std::lround(cam.pitch_deg * 1000));
     if (cam.max_disp > 0) {
         cfg_.stereo.max_disp = cam.max_disp;
         cfg_.detect.max_disp_q4 = (cam.max_disp + 1) * NEGOBS_DISP_ONE;
@@ -266,7 +262,8 @@ bool Runner::process(const cv::Mat &left, const cv::Mat &right, uint32_t t_ms,
         // the alignment is part of getting a disparity: counted as stereo
         const uint64_t *tk = res->stage_ticks;
         out.stereo_ms = static_cast<double>(tk[NEGOBS_PIPELINE_STAGE_VALIGN] +
-                                            tk[NEGOBS_PIPELINE_STAGE_STEREO]) / 1e3;
+                                            tk[NEGOBS_PIPELINE_STAGE_STEREO]) /
+                        1e3;
         out.detect_ms = static_cast<double>(tk[NEGOBS_PIPELINE_STAGE_DETECT]) / 1e3;
     }
     if (st != NEGOBS_OK) {
@@ -318,9 +315,8 @@ const char *level_name(int l)
 const char *pattern_name(int p)
 {
     static const char *const names[] = {
-        "NONE", "READY", "LOW_BATTERY", "NO_INFO_ENTRY", "NO_INFO",
-        "CAUTION_FAR", "CAUTION_MID", "CAUTION_NEAR", "IMMINENT",
-        "SHORT_SIGHT"};
+        "NONE",        "READY",       "LOW_BATTERY",  "NO_INFO_ENTRY", "NO_INFO",
+        "CAUTION_FAR", "CAUTION_MID", "CAUTION_NEAR", "IMMINENT",      "SHORT_SIGHT"};
     static_assert(sizeof names / sizeof names[0] == NEGOBS_PATTERN_COUNT,
                   "one name per pattern");
     return (p >= 0 && p < NEGOBS_PATTERN_COUNT) ? names[p] : "?";
@@ -350,9 +346,8 @@ const char *mount_source_name(int s)
 std::string reasons_string(uint32_t reasons, const char *sep)
 {
     static const char *const names[] = {
-        "TOO_DARK", "SATURATED", "LOW_TEXTURE", "FEW_GROUND",
-        "GROUND_REJECTED", "STALE", "UNSYNCED", "NOISY", "BAD_INPUT",
-        "GROUND_UNVERIFIED"};
+        "TOO_DARK", "SATURATED", "LOW_TEXTURE", "FEW_GROUND", "GROUND_REJECTED",
+        "STALE",    "UNSYNCED",  "NOISY",       "BAD_INPUT",  "GROUND_UNVERIFIED"};
     std::string s;
     for (unsigned b = 0; b < sizeof names / sizeof names[0]; ++b) {
         if (reasons & (1u << b)) {
@@ -404,13 +399,13 @@ std::string quoted_list(const std::string &joined)
 std::string hazard_json(const negobs_hazard_t &h)
 {
     std::ostringstream o;
-    o << "{\"type\":\"" << type_name(h.type) << "\",\"level\":\""
-      << level_name(h.level) << "\",\"track\":" << h.track_id
-      << ",\"range_mm\":" << h.range_mm << ",\"lateral_mm\":" << h.lateral_mm
+    o << "{\"type\":\"" << type_name(h.type) << "\",\"level\":\"" << level_name(h.level)
+      << "\",\"track\":" << h.track_id << ",\"range_mm\":" << h.range_mm
+      << ",\"lateral_mm\":" << h.lateral_mm
       << ",\"bearing_deg\":" << fmt("%.1f", h.bearing_mdeg / 1000.0)
-      << ",\"drop_mm\":" << h.drop_mm << ",\"box\":[" << h.u0 << "," << h.v0
-      << "," << h.u1 << "," << h.v1 << "],\"confidence\":"
-      << fmt("%.3f", h.conf_q15 / 32767.0) << ",\"strips\":" << h.strips
+      << ",\"drop_mm\":" << h.drop_mm << ",\"box\":[" << h.u0 << "," << h.v0 << ","
+      << h.u1 << "," << h.v1 << "],\"confidence\":" << fmt("%.3f", h.conf_q15 / 32767.0)
+      << ",\"strips\":" << h.strips
       << ",\"flags\":" << quoted_list(flags_string(h.flags, ",")) << "}";
     return o.str();
 }
@@ -422,41 +417,36 @@ std::string json_line(int frame, const std::string &name, const FrameOut &o,
 {
     const negobs_detect_result_t &d = o.res.detect;
     std::ostringstream s;
-    s << "{\"frame\":" << frame << ",\"file\":\"" << name
-      << "\",\"stereo_status\":\""
+    s << "{\"frame\":" << frame << ",\"file\":\"" << name << "\",\"stereo_status\":\""
       << negobs_status_str(static_cast<negobs_status_t>(o.res.stereo_status))
       << "\",\"state\":\"" << state_name(d.state)
       << "\",\"reasons\":" << quoted_list(reasons_string(d.reasons, ","))
       << ",\"level\":\"" << level_name(d.level)
       << "\",\"nearest_range_mm\":" << d.nearest_range_mm
-      << ",\"clear_to_mm\":" << d.clear_to_mm
-      << ",\"short_sight\":" << d.short_sight
-      << ",\"noise_vouch_mm\":" << d.noise_vouch_mm
-      << ",\"pattern\":\"" << pattern_name(o.res.motor.pattern)
-      << "\",\"motor_on\":" << o.res.motor.on
-      << ",\"duty_permille\":" << o.res.motor.duty_permille
-      << ",\"hazards\":[";
+      << ",\"clear_to_mm\":" << d.clear_to_mm << ",\"short_sight\":" << d.short_sight
+      << ",\"noise_vouch_mm\":" << d.noise_vouch_mm << ",\"pattern\":\""
+      << pattern_name(o.res.motor.pattern) << "\",\"motor_on\":" << o.res.motor.on
+      << ",\"duty_permille\":" << o.res.motor.duty_permille << ",\"hazards\":[";
     for (uint32_t k = 0; k < d.n_hazards && k < NEGOBS_DETECT_MAX_HAZARDS; ++k) {
         s << (k ? "," : "") << hazard_json(d.hazards[k]);
     }
     s << "],\"candidates\":[";
-    for (uint32_t k = 0; k < d.n_candidates && k < NEGOBS_DETECT_MAX_HAZARDS;
-         ++k) {
+    for (uint32_t k = 0; k < d.n_candidates && k < NEGOBS_DETECT_MAX_HAZARDS; ++k) {
         s << (k ? "," : "") << hazard_json(d.candidates[k]);
     }
     const double npix = static_cast<double>(width) * height;
     s << "],\"stereo\":{\"valid\":" << o.res.stereo.valid << ",\"valid_pct\":"
       << fmt("%.1f", npix > 0 ? 100.0 * o.res.stereo.valid / npix : 0.0)
-      << ",\"seeds\":" << o.res.stereo.seeds << ",\"range\":["
-      << o.res.stereo.range_min << "," << o.res.stereo.range_max
+      << ",\"seeds\":" << o.res.stereo.seeds << ",\"range\":[" << o.res.stereo.range_min
+      << "," << o.res.stereo.range_max
       << "],\"vertical_offset\":" << o.res.stereo.vertical_offset
       << ",\"first_row\":" << o.res.stereo.first_row
       << "},\"ground\":{\"valid\":" << d.ground_valid
       << ",\"valid_permille\":" << d.ground_valid_permille
-      << ",\"inliers\":" << d.ground_inliers << ",\"sigma_px\":"
-      << fmt("%.3f", d.sigma_q4 / 16.0) << ",\"height_mm\":"
-      << d.pose.height_mm << ",\"pitch_deg\":"
-      << fmt("%.2f", d.pose.pitch_mdeg / 1000.0)
+      << ",\"inliers\":" << d.ground_inliers
+      << ",\"sigma_px\":" << fmt("%.3f", d.sigma_q4 / 16.0)
+      << ",\"height_mm\":" << d.pose.height_mm
+      << ",\"pitch_deg\":" << fmt("%.2f", d.pose.pitch_mdeg / 1000.0)
       << "},\"mount\":{\"height_mm\":" << d.mount.height_mm
       << ",\"pitch_mdeg\":" << d.mount.pitch_mdeg
       << ",\"roll_mdeg\":" << d.mount.roll_mdeg << ",\"source\":\""
@@ -474,8 +464,7 @@ std::string json_line(int frame, const std::string &name, const FrameOut &o,
             s << "null";
         }
         s << ",\"drop_mm\":" << fmt("%.0f", gt->drop_mm)
-          << ",\"edge_visible\":" << (gt->edge_visible ? "true" : "false")
-          << "}";
+          << ",\"edge_visible\":" << (gt->edge_visible ? "true" : "false") << "}";
     }
     s << "}";
     return s.str();
@@ -507,9 +496,8 @@ cv::Mat colour_disparity(const cv::Mat &disp_q4, int max_disp)
     return out;
 }
 
-cv::Mat overlay(const cv::Mat &left, const cv::Mat &disp_q4, int max_disp,
-                int frame, const FrameOut &o, const GtFrame *gt,
-                const std::vector<cv::Rect> &labels)
+cv::Mat overlay(const cv::Mat &left, const cv::Mat &disp_q4, int max_disp, int frame,
+                const FrameOut &o, const GtFrame *gt, const std::vector<cv::Rect> &labels)
 {
     // Small frames are drawn at 2x so labels stay legible.
     const int k = left.cols < 480 ? 2 : 1;
@@ -517,8 +505,9 @@ cv::Mat overlay(const cv::Mat &left, const cv::Mat &disp_q4, int max_disp,
     cv::cvtColor(left, l3, cv::COLOR_GRAY2BGR);
     // Scale to the range the matcher actually searched, else everything
     // near the ground is one colour.
-    const int dmax = o.res.stereo.range_max >= 8 ? std::min(max_disp, o.res.stereo.range_max)
-                                                 : max_disp;
+    const int dmax = o.res.stereo.range_max >= 8
+                         ? std::min(max_disp, o.res.stereo.range_max)
+                         : max_disp;
     cv::Mat dc = colour_disparity(disp_q4, dmax);
     if (k != 1) {
         cv::resize(l3, l3, cv::Size(), k, k, cv::INTER_NEAREST);
@@ -531,8 +520,9 @@ cv::Mat overlay(const cv::Mat &left, const cv::Mat &disp_q4, int max_disp,
                       cv::Scalar(255, 255, 0), 1);
     }
     if (gt != nullptr && gt->has_box) {
-        cv::line(l3, cv::Point(static_cast<int>(gt->box[0] * k),
-                               static_cast<int>((gt->box[1] + 0.5) * k)),
+        cv::line(l3,
+                 cv::Point(static_cast<int>(gt->box[0] * k),
+                           static_cast<int>((gt->box[1] + 0.5) * k)),
                  cv::Point(static_cast<int>(gt->box[2] * k),
                            static_cast<int>((gt->box[3] + 0.5) * k)),
                  cv::Scalar(0, 200, 0), 1);
@@ -546,9 +536,8 @@ cv::Mat overlay(const cv::Mat &left, const cv::Mat &disp_q4, int max_disp,
     }
     for (uint32_t i = 0; i < d.n_hazards && i < NEGOBS_DETECT_MAX_HAZARDS; ++i) {
         const negobs_hazard_t &h = d.hazards[i];
-        const cv::Scalar c = h.level == NEGOBS_LEVEL_IMMINENT
-                                 ? cv::Scalar(0, 0, 255)
-                                 : cv::Scalar(0, 128, 255);
+        const cv::Scalar c = h.level == NEGOBS_LEVEL_IMMINENT ? cv::Scalar(0, 0, 255)
+                                                              : cv::Scalar(0, 128, 255);
         cv::rectangle(l3, cv::Point(h.u0 * k, h.v0 * k),
                       cv::Point(h.u1 * k + k - 1, h.v1 * k + k - 1), c, 2);
         char txt[96];
@@ -563,26 +552,22 @@ cv::Mat overlay(const cv::Mat &left, const cv::Mat &disp_q4, int max_disp,
         }
         const int tx = std::max(0, std::min(h.u0 * k, l3.cols - ts.width));
         cv::rectangle(l3, cv::Point(tx, ty - ts.height - 2),
-                      cv::Point(tx + ts.width, ty + 2), cv::Scalar(0, 0, 0),
-                      cv::FILLED);
+                      cv::Point(tx + ts.width, ty + 2), cv::Scalar(0, 0, 0), cv::FILLED);
         cv::putText(l3, txt, cv::Point(tx, ty), font, fs, c, 1, cv::LINE_AA);
     }
     cv::Mat top;
     cv::hconcat(l3, dc, top);
     const int bar_h = 40;
     cv::Mat bar(bar_h, top.cols, CV_8UC3, cv::Scalar(40, 40, 40));
-    cv::Scalar sc = d.state == NEGOBS_DETECT_HAZARD
-                        ? cv::Scalar(0, 128, 255)
-                        : d.state == NEGOBS_DETECT_NO_INFO
-                              ? cv::Scalar(200, 200, 200)
-                              : cv::Scalar(0, 220, 0);
+    cv::Scalar sc = d.state == NEGOBS_DETECT_HAZARD    ? cv::Scalar(0, 128, 255)
+                    : d.state == NEGOBS_DETECT_NO_INFO ? cv::Scalar(200, 200, 200)
+                                                       : cv::Scalar(0, 220, 0);
     char l1[256], l2[256];
     std::string rs = reasons_string(d.reasons, "|");
-    std::snprintf(l1, sizeof l1, "#%d %s  level %s  pattern %s  motor %s%s%s",
-                  frame, state_name(d.state), level_name(d.level),
-                  pattern_name(o.res.motor.pattern),
-                  o.res.motor.on ? "ON" : "off", rs.empty() ? "" : "  reasons ",
-                  rs.c_str());
+    std::snprintf(l1, sizeof l1, "#%d %s  level %s  pattern %s  motor %s%s%s", frame,
+                  state_name(d.state), level_name(d.level),
+                  pattern_name(o.res.motor.pattern), o.res.motor.on ? "ON" : "off",
+                  rs.empty() ? "" : "  reasons ", rs.c_str());
     std::string gts;
     if (gt != nullptr && gt->has_range) {
         gts = "  GT " + gt->hazard + " " + fmt("%.2fm", gt->edge_range_mm / 1000) +
@@ -596,8 +581,8 @@ cv::Mat overlay(const cv::Mat &left, const cv::Mat &disp_q4, int max_disp,
                   d.mount.pitch_mdeg / 1000.0, mount_source_name(d.mount.source),
                   o.stereo_ms, o.detect_ms, gts.c_str());
     cv::putText(bar, l1, cv::Point(6, 16), font, fs, sc, 1, cv::LINE_AA);
-    cv::putText(bar, l2, cv::Point(6, 34), font, fs, cv::Scalar(220, 220, 220),
-                1, cv::LINE_AA);
+    cv::putText(bar, l2, cv::Point(6, 34), font, fs, cv::Scalar(220, 220, 220), 1,
+                cv::LINE_AA);
     cv::Mat out;
     cv::vconcat(top, bar, out);
     return out;

@@ -21,13 +21,13 @@ namespace negobs_detect_tools {
 
 // Rig description. NaN principal point = image centre ((w-1)/2, (h-1)/2).
 struct CamParams {
-    double f = 250.0;       // px
+    double f = 250.0; // px
     double baseline_mm = 120.0;
-    double cx = -1.0;       // < 0: centre
+    double cx = -1.0; // < 0: centre
     double cy = -1.0;
     double height_mm = 1200.0;
     double pitch_deg = 20.0;
-    int max_disp = -1;      // < 0: library default
+    int max_disp = -1;       // < 0: library default
     bool vshift_set = false; // false: the matcher estimates it
     int vshift = 0;          // rows: left y matches right y + vshift
     bool valign = false;     // true: sub-pixel alignment stage (valign.h)
@@ -96,8 +96,8 @@ public:
     // Runs one pair captured at t_ms through negobs_pipeline_process. Stage
     // timings come from the pipeline's clock hook (thread CPU time); with
     // whole = true no clock is set and only the whole call is timed.
-    bool process(const cv::Mat &left, const cv::Mat &right, uint32_t t_ms,
-                 FrameOut &out, std::string &err);
+    bool process(const cv::Mat &left, const cv::Mat &right, uint32_t t_ms, FrameOut &out,
+                 std::string &err);
 
     // Last disparity (CV_16S, disp*16, INT16_MIN invalid), a view.
     cv::Mat disparity() const;
@@ -105,7 +105,10 @@ public:
     // it is on (a view), else empty.
     cv::Mat aligned_right() const;
     // Last stereo confidence map (the pipeline's own buffer).
-    const negobs_image_u8_t *confidence() const { return negobs_pipeline_confidence(&ctx_); }
+    const negobs_image_u8_t *confidence() const
+    {
+        return negobs_pipeline_confidence(&ctx_);
+    }
     const negobs_pipeline_config_t &config() const { return cfg_; }
 
 private:
@@ -135,8 +138,8 @@ cv::Mat colour_disparity(const cv::Mat &disp_q4, int max_disp);
 
 // Left image with hazards and candidates, colour disparity beside it and a
 // status bar below. gt (optional) draws the ground-truth edge box.
-cv::Mat overlay(const cv::Mat &left, const cv::Mat &disp_q4, int max_disp,
-                int frame, const FrameOut &o, const GtFrame *gt,
+cv::Mat overlay(const cv::Mat &left, const cv::Mat &disp_q4, int max_disp, int frame,
+                const FrameOut &o, const GtFrame *gt,
                 const std::vector<cv::Rect> &labels = {});
 
 } // namespace negobs_detect_tools

@@ -89,24 +89,24 @@ struct Rec {
     int state;
     uint32_t reasons;
     int level;
-    bool matched;       // confirmed hazard at the edge (range within tol)
-    double est_mm;      // its range
+    bool matched;  // confirmed hazard at the edge (range within tol)
+    double est_mm; // its range
     int est_drop;
     uint32_t est_flags;
-    int n_conf;         // confirmed/held hazards
-    int n_unmatched;    // confirmed hazards not at the edge
+    int n_conf;      // confirmed/held hazards
+    int n_unmatched; // confirmed hazards not at the edge
     double stereo_ms, detect_ms;
-    bool in_view;       // edge visible in the corridor (middle half of the columns)
+    bool in_view; // edge visible in the corridor (middle half of the columns)
     int clear_to_mm;
     int short_sight;
     negobs_mount_t mount;
     double gt_H_mm, gt_pitch, gt_roll; // true pose of the frame
-    int range_warn_mm;  // the detector's warning range (config)
+    int range_warn_mm;                 // the detector's warning range (config)
 };
 
 constexpr double kWarmFrames = 4; // first full k-of-n window (n = 5)
 constexpr double kMatchTol = 0.25;
-constexpr double kSpeed = 1.2;     // m/s
+constexpr double kSpeed = 1.2; // m/s
 constexpr int kClipFrames = 12;
 constexpr int kRampFrames = 45; // 5.4 m: past the slope change and onto it
 
@@ -211,14 +211,12 @@ std::vector<Seq> build_suite(bool quick, SuiteSet set)
 {
     std::vector<Seq> s;
     int seed = 100;
-    auto add = [&](int rig, const std::string &scene, int drop, double start,
-                   int frames, double yaw, bool approach,
-                   const std::string &extra = "") {
+    auto add = [&](int rig, const std::string &scene, int drop, double start, int frames,
+                   double yaw, bool approach, const std::string &extra = "") {
         Seq q;
         char nm[128];
-        std::snprintf(nm, sizeof nm, "r%d_%s_%d_s%.1f_y%.0f_%d%s", rig,
-                      scene.c_str(), drop, start / 1000.0, yaw, seed,
-                      approach ? "_appr" : "");
+        std::snprintf(nm, sizeof nm, "r%d_%s_%d_s%.1f_y%.0f_%d%s", rig, scene.c_str(),
+                      drop, start / 1000.0, yaw, seed, approach ? "_appr" : "");
         q.name = nm;
         q.rig = rig;
         q.scene = scene;
@@ -319,8 +317,9 @@ std::vector<Seq> build_suite(bool quick, SuiteSet set)
         add_generic_walks(s, seed, app_frames);
     }
     if (set == SuiteSet::Generic) {
-        s.erase(std::remove_if(s.begin(), s.end(), [](const Seq &q) { return !q.generic; }),
-                s.end());
+        s.erase(
+            std::remove_if(s.begin(), s.end(), [](const Seq &q) { return !q.generic; }),
+            s.end());
     }
     return s;
 }
@@ -385,8 +384,7 @@ void score_frame(const negobs_detect_result_t &d, const GtFrame *g, Rec &r)
         ++r.n_conf;
         bool at_edge = false;
         if (g != nullptr && g->has_range && g->edge_range_mm > 0) {
-            const double e = std::fabs(h.range_mm - g->edge_range_mm) /
-                             g->edge_range_mm;
+            const double e = std::fabs(h.range_mm - g->edge_range_mm) / g->edge_range_mm;
             at_edge = e <= kMatchTol;
             if (at_edge && e < best) {
                 best = e;
@@ -476,15 +474,15 @@ bool run_seq(const Options &opt, const Seq &q, int idx, std::vector<Rec> &out,
         std::ostringstream cmd;
         cmd << shell_quote(opt.synth) << " --scene " << q.scene << " --drop-mm "
             << (q.drop_mm > 0 ? q.drop_mm : 150) << " --edge-mm " << q.start_mm
-            << " --frames " << q.frames << " --fps 10 --speed " << kSpeed
-            << " --yaw-deg " << q.yaw << " --seed " << q.seed
-            << " --noise 2 --blur 0.5 --width " << rig.w << " --height " << rig.h
-            << " --f " << rig.f << " --baseline-mm " << rig.B
+            << " --frames " << q.frames << " --fps 10 --speed " << kSpeed << " --yaw-deg "
+            << q.yaw << " --seed " << q.seed << " --noise 2 --blur 0.5 --width " << rig.w
+            << " --height " << rig.h << " --f " << rig.f << " --baseline-mm " << rig.B
             << " --height-mm " << q.H_mm << " --pitch-deg " << q.pitch_deg
             << " --threads 1 --quiet " << q.extra;
         if (q.generic) {
             cmd << " --roll-deg " << q.roll_deg << " --texture-kind " << q.texture
-                << " --gain-right " << q.gain_right << " --offset-right " << q.offset_right;
+                << " --gain-right " << q.gain_right << " --offset-right "
+                << q.offset_right;
             if (q.same_level) {
                 cmd << " --lower-shade 1";
             }
@@ -493,8 +491,7 @@ bool run_seq(const Options &opt, const Seq &q, int idx, std::vector<Rec> &out,
                     << " --exposure-lag-right " << q.exposure_lag;
             }
         }
-        cmd
-            << " --out " << shell_quote(dir) << " > " << shell_quote(dir + ".log")
+        cmd << " --out " << shell_quote(dir) << " > " << shell_quote(dir + ".log")
             << " 2>&1";
         if (std::system(cmd.str().c_str()) != 0) {
             err = "negobs_synth failed for " + q.name + ": see " + dir + ".log";
@@ -565,10 +562,7 @@ bool run_seq(const Options &opt, const Seq &q, int idx, std::vector<Rec> &out,
 
 struct Report {
     std::string text, md;
-    void line(const std::string &s)
-    {
-        text += s + "\n";
-    }
+    void line(const std::string &s) { text += s + "\n"; }
     void both(const std::string &s)
     {
         text += s + "\n";
@@ -585,7 +579,7 @@ std::string fmtd(const char *f, double v)
 
 // ------------------------------------------------ issue 21 scoring
 
-constexpr double kNearZoneMm = 1500; // near-zone minimum (docs/DETECTION.md)
+constexpr double kNearZoneMm = 1500;    // near-zone minimum (docs/DETECTION.md)
 constexpr double kCorridorHalfMm = 600; // the detector's corridor, +-0.6 m
 
 // Minimum drop at a floor distance: 5 cm within the near zone, 10 cm beyond.
@@ -602,7 +596,8 @@ double vouched_mm(const Rec &r)
 {
     double v = r.clear_to_mm;
     if (r.state == NEGOBS_DETECT_CLEAR) {
-        v = std::max(v, r.short_sight ? kNearZoneMm : static_cast<double>(r.range_warn_mm));
+        v = std::max(v,
+                     r.short_sight ? kNearZoneMm : static_cast<double>(r.range_warn_mm));
     }
     return v;
 }
@@ -636,7 +631,8 @@ struct Fig {
 void accumulate(const Seq &q, const std::vector<Rec> &rs, Fig &f)
 {
     const bool neg = is_negative_obstacle(q.scene);
-    const bool negative_walk = q.scene == "flat" || q.scene == "upstep" || q.scene == "wall";
+    const bool negative_walk = q.scene == "flat" || q.scene == "upstep" ||
+                               q.scene == "wall";
     int prev = NEGOBS_LEVEL_NONE;
     for (const Rec &r : rs) {
         ++f.frames;
@@ -648,14 +644,16 @@ void accumulate(const Seq &q, const std::vector<Rec> &rs, Fig &f)
             const double d = corridor_dist_mm(q, r);
             if (r.gt_drop >= min_drop_mm(d)) {
                 ++f.drop_frames;
-                const bool clear_near = r.state == NEGOBS_DETECT_CLEAR && d <= kNearZoneMm;
+                const bool clear_near = r.state == NEGOBS_DETECT_CLEAR &&
+                                        d <= kNearZoneMm;
                 f.fv_clear_near += clear_near;
                 f.fv += clear_near || vouched_mm(r) > 1.1 * d;
             }
         }
         if (neg && q.drop_mm >= 100 && r.i >= kWarmFrames && r.gt_range && r.in_view &&
             r.gt_mm >= 1500 && r.gt_mm <= 3000) {
-            for (auto *p : {&f.det, &f.by_type[type_label(q.scene)], &f.by_tex[q.texture]}) {
+            for (auto *p :
+                 {&f.det, &f.by_type[type_label(q.scene)], &f.by_tex[q.texture]}) {
                 p->first += r.matched;
                 p->second += 1;
             }
@@ -705,8 +703,8 @@ Approach approach_of(const Seq &q, const std::vector<Rec> &rs)
     Approach a;
     char b[160];
     std::snprintf(b, sizeof b, "%s, %d cm, H %.0f mm, pitch %.1f, roll %.1f%s",
-                  kRigs[q.rig].name.c_str(), q.drop_mm / 10, q.H_mm, q.pitch_deg, q.roll_deg,
-                  q.generic ? " (told 1.2 m / 20 deg)" : "");
+                  kRigs[q.rig].name.c_str(), q.drop_mm / 10, q.H_mm, q.pitch_deg,
+                  q.roll_deg, q.generic ? " (told 1.2 m / 20 deg)" : "");
     a.what = b;
     for (const Rec &r : rs) {
         if (r.in_view && r.gt_range && a.first_view < 0) {
@@ -742,26 +740,30 @@ void report_generic(Report &rep, const std::vector<Seq> &suite,
     }
     rep.both("### Issue 21 scoring: what is in view, generic mounting");
     rep.both("");
-    rep.both("Walks of both resolutions are pooled per baseline. \"Added walks\" are the "
-             "randomised-mounting walks (height 0.9-1.6 m, pitch 5-45 deg, roll +-8 deg, "
-             "detector told 1.2 m / 20 deg; weak textures, camera mismatch, exposure "
-             "steps). Detection: frames whose edge is in view in the corridor at 1.5-3 m, "
-             "drops >= 10 cm, after the first 4 frames; a frame counts when a confirmed "
-             "or held hazard lies within 25 % of the edge range (a NO_INFO frame without "
-             "one is a miss). False vouch: a frame whose vouched distance exceeds 1.1x "
-             "the corridor distance of a minimum drop in view (5 cm within 1.5 m, 10 cm "
-             "beyond), or a CLEAR frame with one in view within 1.5 m; a CLEAR frame "
-             "vouches at least the warning range (short sight: 1.5 m) even if "
-             "clear_to_mm is 0. False alerts: flat, up-step and wall walks.");
+    rep.both(
+        "Walks of both resolutions are pooled per baseline. \"Added walks\" are the "
+        "randomised-mounting walks (height 0.9-1.6 m, pitch 5-45 deg, roll +-8 deg, "
+        "detector told 1.2 m / 20 deg; weak textures, camera mismatch, exposure "
+        "steps). Detection: frames whose edge is in view in the corridor at 1.5-3 m, "
+        "drops >= 10 cm, after the first 4 frames; a frame counts when a confirmed "
+        "or held hazard lies within 25 % of the edge range (a NO_INFO frame without "
+        "one is a miss). False vouch: a frame whose vouched distance exceeds 1.1x "
+        "the corridor distance of a minimum drop in view (5 cm within 1.5 m, 10 cm "
+        "beyond), or a CLEAR frame with one in view within 1.5 m; a CLEAR frame "
+        "vouches at least the warning range (short sight: 1.5 m) even if "
+        "clear_to_mm is 0. False alerts: flat, up-step and wall walks.");
     rep.both("");
-    rep.both("| figure | B = 12 cm, whole suite | B = 12 cm, added walks | B = 6 cm, whole "
-             "suite | B = 6 cm, added walks |");
+    rep.both(
+        "| figure | B = 12 cm, whole suite | B = 12 cm, added walks | B = 6 cm, whole "
+        "suite | B = 6 cm, added walks |");
     rep.both("|---|---|---|---|---|");
-    auto row = [&](const std::string &name, const std::function<std::string(const Fig &)> &fn) {
+    auto row = [&](const std::string &name,
+                   const std::function<std::string(const Fig &)> &fn) {
         std::string l = "| " + name + " |";
         for (int b = 0; b < 2; ++b) {
             for (int s = 0; s < 2; ++s) {
-                l += " " + (s == 1 && !any_generic ? std::string("-") : fn(fig[b][s])) + " |";
+                l += " " + (s == 1 && !any_generic ? std::string("-") : fn(fig[b][s])) +
+                     " |";
             }
         }
         rep.both(l);
@@ -771,9 +773,8 @@ void report_generic(Report &rep, const std::vector<Seq> &suite,
     row("false vouches (frames with a minimum drop in view)", [](const Fig &f) {
         return std::to_string(f.fv) + " (" + std::to_string(f.drop_frames) + ")";
     });
-    row("... of them CLEAR within 1.5 m", [](const Fig &f) {
-        return std::to_string(f.fv_clear_near);
-    });
+    row("... of them CLEAR within 1.5 m",
+        [](const Fig &f) { return std::to_string(f.fv_clear_near); });
     row("median clear_to_mm on flat walks", [](const Fig &f) {
         return f.flat_clear.empty() ? std::string("-")
                                     : fmtd("%.0f mm", percentile(f.flat_clear, 0.5));
@@ -804,18 +805,19 @@ void report_generic(Report &rep, const std::vector<Seq> &suite,
                                   std::to_string(f.caut) + ")"
                             : std::string("-");
     });
-    row("mounting measured (frames; median abs error H / pitch / roll)", [](const Fig &f) {
-        if (f.mount_frames == 0) {
-            return std::string("-");
-        }
-        std::string s = pct(f.est_frames, f.mount_frames);
-        if (!f.eh.empty()) {
-            s += "; " + fmtd("%.0f mm", percentile(f.eh, 0.5)) + " / " +
-                 fmtd("%.1f deg", percentile(f.ep, 0.5)) + " / " +
-                 fmtd("%.1f deg", percentile(f.er, 0.5));
-        }
-        return s;
-    });
+    row("mounting measured (frames; median abs error H / pitch / roll)",
+        [](const Fig &f) {
+            if (f.mount_frames == 0) {
+                return std::string("-");
+            }
+            std::string s = pct(f.est_frames, f.mount_frames);
+            if (!f.eh.empty()) {
+                s += "; " + fmtd("%.0f mm", percentile(f.eh, 0.5)) + " / " +
+                     fmtd("%.1f deg", percentile(f.ep, 0.5)) + " / " +
+                     fmtd("%.1f deg", percentile(f.er, 0.5));
+            }
+            return s;
+        });
     rep.both("");
 
     rep.both("15 cm approaches on the target rig (scored when the edge is in view from "
@@ -828,9 +830,10 @@ void report_generic(Report &rep, const std::vector<Seq> &suite,
     int n_scored = 0;
     for (const Approach &a : apps) {
         rep.both("| " + a.what + " | " +
-                 (a.first_view > 0 ? fmtd("%.2f m", a.first_view / 1000) : "never") + " | " +
-                 (a.first_conf > 0 ? fmtd("%.2f m", a.first_conf / 1000) : "never") + " | " +
-                 (a.est > 0 ? fmtd("%.2f m", a.est / 1000) : "-") + " | " +
+                 (a.first_view > 0 ? fmtd("%.2f m", a.first_view / 1000) : "never") +
+                 " | " +
+                 (a.first_conf > 0 ? fmtd("%.2f m", a.first_conf / 1000) : "never") +
+                 " | " + (a.est > 0 ? fmtd("%.2f m", a.est / 1000) : "-") + " | " +
                  (a.scored ? "yes" : "no") + " |");
         if (a.scored) {
             ++n_scored;
@@ -848,7 +851,8 @@ void report_generic(Report &rep, const std::vector<Seq> &suite,
         std::string s;
         for (const auto &kv : m) {
             ok = ok && share(kv.second) >= min;
-            s += (s.empty() ? "" : ", ") + kv.first + " " + fmtd("%.1f %%", share(kv.second));
+            s += (s.empty() ? "" : ", ") + kv.first + " " +
+                 fmtd("%.1f %%", share(kv.second));
         }
         return std::make_pair(ok, s);
     };
@@ -860,7 +864,8 @@ void report_generic(Report &rep, const std::vector<Seq> &suite,
         all.neg_frames += f->neg_frames;
         all.rerr.insert(all.rerr.end(), f->rerr.begin(), f->rerr.end());
     }
-    const double med = percentile(all.rerr, 0.5) * 100, p95 = percentile(all.rerr, 0.95) * 100;
+    const double med = percentile(all.rerr, 0.5) * 100,
+                 p95 = percentile(all.rerr, 0.95) * 100;
     const double c600 = all.neg_frames ? 600.0 * all.caut / all.neg_frames : NAN;
     const double fa = percentile(a.flat_clear, 0.5), fb = percentile(b.flat_clear, 0.5);
     rep.both("### Targets of issue 21 (suite, generic mounting; whole suite)");
@@ -911,8 +916,8 @@ int evaluate_synth(const Options &opt)
                      opt.work.c_str());
         return 1;
     }
-    std::fprintf(stderr, "%zu sequences, %d jobs, work dir %s\n", suite.size(),
-                 opt.jobs, opt.work.c_str());
+    std::fprintf(stderr, "%zu sequences, %d jobs, work dir %s\n", suite.size(), opt.jobs,
+                 opt.work.c_str());
     std::vector<std::vector<Rec>> recs(suite.size());
     std::atomic<size_t> next{0};
     std::atomic<int> done{0};
@@ -956,22 +961,22 @@ int evaluate_synth(const Options &opt)
         if (f != nullptr) {
             for (size_t k = 0; k < suite.size(); ++k) {
                 for (const Rec &r : recs[k]) {
-                    std::fprintf(f,
-                                 "{\"seq\":\"%s\",\"i\":%d,\"gt_mm\":%.0f,\"state\":\"%s\","
-                                 "\"reasons\":\"%s\",\"level\":\"%s\",\"matched\":%d,"
-                                 "\"est_mm\":%.0f,\"est_drop\":%d,\"unmatched\":%d,"
-                                 "\"stereo_ms\":%.2f,\"detect_ms\":%.3f,\"in_view\":%d,"
-                                 "\"clear_to_mm\":%d,\"short_sight\":%d,\"mount\":[%d,%d,%d,%d],"
-                                 "\"gt_pose\":[%.0f,%.2f,%.2f]}\n",
-                                 suite[k].name.c_str(), r.i, r.gt_range ? r.gt_mm : -1.0,
-                                 state_name(r.state),
-                                 reasons_string(r.reasons, "|").c_str(),
-                                 level_name(r.level), r.matched ? 1 : 0,
-                                 r.matched ? r.est_mm : -1.0, r.matched ? r.est_drop : -1,
-                                 r.n_unmatched, r.stereo_ms, r.detect_ms, r.in_view ? 1 : 0,
-                                 r.clear_to_mm, r.short_sight, r.mount.height_mm,
-                                 r.mount.pitch_mdeg, r.mount.roll_mdeg, r.mount.source,
-                                 r.gt_H_mm, r.gt_pitch, r.gt_roll);
+                    std::fprintf(
+                        f,
+                        "{\"seq\":\"%s\",\"i\":%d,\"gt_mm\":%.0f,\"state\":\"%s\","
+                        "\"reasons\":\"%s\",\"level\":\"%s\",\"matched\":%d,"
+                        "\"est_mm\":%.0f,\"est_drop\":%d,\"unmatched\":%d,"
+                        "\"stereo_ms\":%.2f,\"detect_ms\":%.3f,\"in_view\":%d,"
+                        "\"clear_to_mm\":%d,\"short_sight\":%d,\"mount\":[%d,%d,%d,%d],"
+                        "\"gt_pose\":[%.0f,%.2f,%.2f]}\n",
+                        suite[k].name.c_str(), r.i, r.gt_range ? r.gt_mm : -1.0,
+                        state_name(r.state), reasons_string(r.reasons, "|").c_str(),
+                        level_name(r.level), r.matched ? 1 : 0,
+                        r.matched ? r.est_mm : -1.0, r.matched ? r.est_drop : -1,
+                        r.n_unmatched, r.stereo_ms, r.detect_ms, r.in_view ? 1 : 0,
+                        r.clear_to_mm, r.short_sight, r.mount.height_mm,
+                        r.mount.pitch_mdeg, r.mount.roll_mdeg, r.mount.source, r.gt_H_mm,
+                        r.gt_pitch, r.gt_roll);
                 }
             }
             std::fclose(f);
@@ -984,8 +989,7 @@ int evaluate_synth(const Options &opt)
         nframes += v.size();
     }
     rep.both("Suite: " + std::to_string(suite.size()) + " sequences, " +
-             std::to_string(nframes) + " frames" +
-             (opt.quick ? " (--quick)" : "") +
+             std::to_string(nframes) + " frames" + (opt.quick ? " (--quick)" : "") +
              "; negobs_synth, noise 2, blur 0.5, H 1.2 m, pitch 20 deg, 1.2 m/s, "
              "10 fps, bobbing 25 mm, pitch sway 1 deg; library defaults.");
     rep.both("");
@@ -1056,8 +1060,8 @@ int evaluate_synth(const Options &opt)
                                                    " cm, yaw 30 deg"
                                              : "");
             for (const Rec &r : recs[k]) {
-                if (r.i < kWarmFrames || !r.gt_range || !r.visible ||
-                    r.gt_mm < 1000 || r.gt_mm >= 6000) {
+                if (r.i < kWarmFrames || !r.gt_range || !r.visible || r.gt_mm < 1000 ||
+                    r.gt_mm >= 6000) {
                     continue;
                 }
                 m[key].second++;
@@ -1091,9 +1095,8 @@ int evaluate_synth(const Options &opt)
             }
         }
         rep.both("| " + kRigs[q.rig].name + " | " + std::to_string(q.drop_mm / 10) +
-                 " cm | " +
-                 (first_gt > 0 ? fmtd("%.2f m", first_gt / 1000) : "never") + " | " +
-                 (first_est > 0 ? fmtd("%.2f m", first_est / 1000) : "-") + " |");
+                 " cm | " + (first_gt > 0 ? fmtd("%.2f m", first_gt / 1000) : "never") +
+                 " | " + (first_est > 0 ? fmtd("%.2f m", first_est / 1000) : "-") + " |");
         if (q.rig == kMainRig && q.drop_mm == 150 && !q.generic) {
             t1_any = true;
             if (first_gt < 3500) {
@@ -1137,8 +1140,8 @@ int evaluate_synth(const Options &opt)
         rep.both("| " + kRigs[rig].name + " | " + std::to_string(re.size()) + " | " +
                  fmtd("%.1f %%", m) + " | " + fmtd("%.1f %%", p) + " | " +
                  fmtd("%.0f", percentile(de, 0.5)) + " | " +
-                 fmtd("%.0f", percentile(de, 0.95)) + " | " +
-                 std::to_string(lower) + " |");
+                 fmtd("%.0f", percentile(de, 0.95)) + " | " + std::to_string(lower) +
+                 " |");
     }
     rep.both("");
 
@@ -1220,8 +1223,9 @@ int evaluate_synth(const Options &opt)
             any = any || q.scene == "ramp";
         }
         if (any) {
-            rep.both("### Ramps and slopes (target rig; test-course negatives, not a target "
-                     "of issue 4)");
+            rep.both(
+                "### Ramps and slopes (target rig; test-course negatives, not a target "
+                "of issue 4)");
             rep.both("");
             rep.both("Walks of 45 frames from 3.5 and 5.5 m before the slope change, "
                      "past it and onto the slope. Alert episodes as above; \"first "
@@ -1259,9 +1263,10 @@ int evaluate_synth(const Options &opt)
                 if (fr == 0) {
                     continue;
                 }
-                rep.both(std::string("| ") + rp.what + " | " + std::to_string(fr) + " | " +
-                         std::to_string(ep) + " | " + (first.empty() ? "-" : first) +
-                         " | " + std::to_string(imm) + " | " + pct(ni, fr) + " |");
+                rep.both(std::string("| ") + rp.what + " | " + std::to_string(fr) +
+                         " | " + std::to_string(ep) + " | " +
+                         (first.empty() ? "-" : first) + " | " + std::to_string(imm) +
+                         " | " + pct(ni, fr) + " |");
             }
             rep.both("");
         }
@@ -1339,8 +1344,8 @@ int evaluate_synth(const Options &opt)
     rep.both("|---|---|---|");
     auto verdict = [](bool ok) { return ok ? std::string("PASS") : std::string("MISS"); };
     rep.both("| 15 cm drop confirmed at >= 3.5 m (every approach) | " +
-             std::string(t1_any ? "see first-alert table" : "no approach run") +
-             " | " + (t1_any ? verdict(t1_pass) : "n/a") + " |");
+             std::string(t1_any ? "see first-alert table" : "no approach run") + " | " +
+             (t1_any ? verdict(t1_pass) : "n/a") + " |");
     rep.both("| detection >= 95 % for drops >= 10 cm, edge 1.5-3 m (per frame) | " +
              fmtd("%.1f %%", t2) + " (" + std::to_string(t2_hit) + "/" +
              std::to_string(t2_tot) + ") | " + verdict(t2_tot > 0 && t2 >= 95.0) + " |");
@@ -1380,8 +1385,7 @@ struct Box {
     int x0, y0, x1, y1;
 };
 
-bool read_voc(const std::string &path, const std::string &label,
-              std::vector<Box> &boxes)
+bool read_voc(const std::string &path, const std::string &label, std::vector<Box> &boxes)
 {
     std::ifstream in(path);
     if (!in) {
@@ -1424,15 +1428,17 @@ bool overlaps(const Box &a, int u0, int v0, int u1, int v1)
 void report_separability(Report &rep, const std::vector<JumpStats> (&sep)[2])
 {
     const char *names[2] = {"negobs", "OpenCV SGBM, same aligned pair"};
-    rep.both("Separability of the labelled edge on the corridor profile (median residual "
-             "per row over the corridor columns; jump = median of the 10 rows nearer minus "
-             "the 10 rows farther; the label's jump is the largest within 20 rows of its "
-             "nearest row; z = jump in units of the frame's own spread of the jump, "
-             "tools/detect/profile_jump.hpp):");
+    rep.both(
+        "Separability of the labelled edge on the corridor profile (median residual "
+        "per row over the corridor columns; jump = median of the 10 rows nearer minus "
+        "the 10 rows farther; the label's jump is the largest within 20 rows of its "
+        "nearest row; z = jump in units of the frame's own spread of the jump, "
+        "tools/detect/profile_jump.hpp):");
     rep.both("");
-    rep.both("| disparity map | frames | median jump spread px | median jump at the label px "
-             "| ... relative to d_ground | median z at the label | z >= 3 at the label | "
-             "label is the frame's largest jump | both | median largest z elsewhere |");
+    rep.both(
+        "| disparity map | frames | median jump spread px | median jump at the label px "
+        "| ... relative to d_ground | median z at the label | z >= 3 at the label | "
+        "label is the frame's largest jump | both | median largest z elsewhere |");
     rep.both("|---|---|---|---|---|---|---|---|---|---|");
     for (int m = 0; m < 2; ++m) {
         std::vector<double> sg, lj, rel, lz, oz;
@@ -1487,7 +1493,8 @@ int steps_distance_mm(const negobs_camera_t &cam, const negobs_detect_result_t &
     }
     const int u = (near->x0 + near->x1) / 2;
     const int v = std::min(near->y1, cam.height - 1);
-    const int32_t z = negobs_depth_mm_from_disp_q4(&cam, negobs_ground_disp_q4(&d.plane, u, v));
+    const int32_t z = negobs_depth_mm_from_disp_q4(&cam,
+                                                   negobs_ground_disp_q4(&d.plane, u, v));
     if (z <= 0) {
         return -1;
     }
@@ -1523,17 +1530,16 @@ int evaluate_surdis(const Options &opt)
     bool inited = false;
     Report rep;
     rep.both(std::string("SurDis sequence 21 (752x480): left = r_img, right = l_img; ") +
-             (cam.vshift_set ? "vertical offset fixed at " + std::to_string(cam.vshift) +
-                                   " rows"
+             (cam.vshift_set
+                  ? "vertical offset fixed at " + std::to_string(cam.vshift) + " rows"
               : cam.valign ? std::string("the alignment stage estimates the vertical "
                                          "misalignment (offset and slopes, sub-pixel)")
                            : std::string("the matcher estimates the vertical offset "
                                          "(vertical_search 4)")) +
-             ". Assumed camera: f = " +
-             fmtd("%.0f", cam.f) + " px, cx, cy = image centre, B = " +
-             fmtd("%.0f", cam.baseline_mm) + " mm; mounting hint H = " +
-             fmtd("%.0f", cam.height_mm) + " mm, pitch = " +
-             fmtd("%.0f", cam.pitch_deg) + " deg; frames at 10 fps" +
+             ". Assumed camera: f = " + fmtd("%.0f", cam.f) +
+             " px, cx, cy = image centre, B = " + fmtd("%.0f", cam.baseline_mm) +
+             " mm; mounting hint H = " + fmtd("%.0f", cam.height_mm) +
+             " mm, pitch = " + fmtd("%.0f", cam.pitch_deg) + " deg; frames at 10 fps" +
              (cam.range_warn_mm > 0 || cam.range_max_mm > 0
                   ? "; alert zones: warning " +
                         (cam.range_warn_mm > 0 ? std::to_string(cam.range_warn_mm) + " mm"
@@ -1572,8 +1578,10 @@ int evaluate_surdis(const Options &opt)
                                       cv::StereoSGBM::MODE_SGBM);
     }
     for (int n = opt.surdis_first; n <= opt.surdis_last; ++n) {
-        const std::string lp = (root / "right_21" / ("r_img_" + std::to_string(n) + ".bmp")).string();
-        const std::string rp = (root / "left_21" / ("l_img_" + std::to_string(n) + ".bmp")).string();
+        const std::string lp =
+            (root / "right_21" / ("r_img_" + std::to_string(n) + ".bmp")).string();
+        const std::string rp =
+            (root / "left_21" / ("l_img_" + std::to_string(n) + ".bmp")).string();
         const std::string ap =
             (root / "annotation_21" / ("l_img_" + std::to_string(n) + ".xml")).string();
         cv::Mat L, R;
@@ -1613,7 +1621,8 @@ int evaluate_surdis(const Options &opt)
             mount_r.push_back(d.mount.roll_mdeg / 1000.0);
         }
         if (n == 60) {
-            est_pose = "frame 60: ground " + std::string(d.ground_valid ? "valid" : "invalid") +
+            est_pose = "frame 60: ground " +
+                       std::string(d.ground_valid ? "valid" : "invalid") +
                        ", estimated H " + std::to_string(d.pose.height_mm) +
                        " mm, pitch " + fmtd("%.1f", d.pose.pitch_mdeg / 1000.0) +
                        " deg, sigma " + fmtd("%.2f", d.sigma_q4 / 16.0) + " px, valid " +
@@ -1652,7 +1661,8 @@ int evaluate_surdis(const Options &opt)
         std::string hit_desc;
         for (uint32_t k = 0; k < d.n_hazards && k < NEGOBS_DETECT_MAX_HAZARDS; ++k) {
             const negobs_hazard_t &h = d.hazards[k];
-            if (!(h.flags & NEGOBS_HAZARD_F_CONFIRMED) || h.type == NEGOBS_HAZARD_UNKNOWN) {
+            if (!(h.flags & NEGOBS_HAZARD_F_CONFIRMED) ||
+                h.type == NEGOBS_HAZARD_UNKNOWN) {
                 continue;
             }
             for (const Box &b : boxes) {
@@ -1676,12 +1686,12 @@ int evaluate_surdis(const Options &opt)
             const bool fv = d.clear_to_mm > 0 &&
                             (est < 0 || d.clear_to_mm * 10 > est * 11);
             false_vouch += fv;
-            vouch_rows.push_back(
-                "| " + std::to_string(n) + " | " + state_name(d.state) +
-                (d.short_sight ? " (short sight)" : "") + " | " +
-                std::to_string(d.clear_to_mm) + " | " +
-                (est >= 0 ? std::to_string(est) : std::string("-")) + " | " +
-                std::to_string(d.noise_vouch_mm) + " | " + (fv ? "**yes**" : "no") + " |");
+            vouch_rows.push_back("| " + std::to_string(n) + " | " + state_name(d.state) +
+                                 (d.short_sight ? " (short sight)" : "") + " | " +
+                                 std::to_string(d.clear_to_mm) + " | " +
+                                 (est >= 0 ? std::to_string(est) : std::string("-")) +
+                                 " | " + std::to_string(d.noise_vouch_mm) + " | " +
+                                 (fv ? "**yes**" : "no") + " |");
         }
         if (in_corr) {
             ++scored;
@@ -1691,25 +1701,29 @@ int evaluate_surdis(const Options &opt)
             if (!ok) {
                 std::string near = "no candidate";
                 const negobs_hazard_t *best = nullptr;
-                for (uint32_t k = 0; k < d.n_candidates && k < NEGOBS_DETECT_MAX_HAZARDS; ++k) {
+                for (uint32_t k = 0; k < d.n_candidates && k < NEGOBS_DETECT_MAX_HAZARDS;
+                     ++k) {
                     if (best == nullptr || d.candidates[k].range_mm < best->range_mm) {
                         best = &d.candidates[k];
                     }
                 }
                 if (best != nullptr) {
-                    near = std::string("nearest candidate ") + type_name(best->type) + " " +
-                           fmtd("%.2f m", best->range_mm / 1000.0) + " box [" +
-                           std::to_string(best->u0) + "," + std::to_string(best->v0) + "," +
-                           std::to_string(best->u1) + "," + std::to_string(best->v1) + "]" +
+                    near = std::string("nearest candidate ") + type_name(best->type) +
+                           " " + fmtd("%.2f m", best->range_mm / 1000.0) + " box [" +
+                           std::to_string(best->u0) + "," + std::to_string(best->v0) +
+                           "," + std::to_string(best->u1) + "," +
+                           std::to_string(best->v1) + "]" +
                            (overlaps(boxes[0], best->u0, best->v0, best->u1, best->v1)
                                 ? " (overlaps the label)"
                                 : " (off the label)");
                 }
                 std::string conf;
-                for (uint32_t k = 0; k < d.n_hazards && k < NEGOBS_DETECT_MAX_HAZARDS; ++k) {
+                for (uint32_t k = 0; k < d.n_hazards && k < NEGOBS_DETECT_MAX_HAZARDS;
+                     ++k) {
                     conf += std::string(conf.empty() ? "; confirmed " : ", ") +
                             type_name(d.hazards[k].type) + " at " +
-                            fmtd("%.2f m", d.hazards[k].range_mm / 1000.0) + " off the label";
+                            fmtd("%.2f m", d.hazards[k].range_mm / 1000.0) +
+                            " off the label";
                 }
                 const std::string rs = reasons_string(d.reasons, "|");
                 missed.push_back("| " + std::to_string(n) + " | " + state_name(d.state) +
@@ -1722,7 +1736,8 @@ int evaluate_surdis(const Options &opt)
             for (const Box &b : boxes) {
                 label_v = std::max(label_v, std::min(b.y1, L.rows - 1));
             }
-            sep[0].push_back(profile_jump(runner.disparity(), d.plane, cu0, cu1, cv0, label_v));
+            sep[0].push_back(
+                profile_jump(runner.disparity(), d.plane, cu0, cu1, cv0, label_v));
             if (sgbm) {
                 cv::Mat sd;
                 sgbm->compute(L, runner.aligned_right(), sd);
@@ -1766,14 +1781,15 @@ int evaluate_surdis(const Options &opt)
             for (const Box &b : boxes) {
                 lab.emplace_back(b.x0, b.y0, b.x1 - b.x0 + 1, b.y1 - b.y0 + 1);
             }
-            cv::Mat ov = overlay(L, runner.disparity(), runner.config().stereo.max_disp, n,
-                                 o, nullptr, lab);
+            cv::Mat ov = overlay(L, runner.disparity(), runner.config().stereo.max_disp,
+                                 n, o, nullptr, lab);
             cv::Mat small;
             cv::resize(ov, small, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
             // Small files (< 120 KB): half size, 32 levels per channel.
             cv::bitwise_and(small, cv::Scalar(0xF8, 0xF8, 0xF8), small);
             const std::string p = (fs::path(opt.img_dir) /
-                                   ("surdis_" + std::to_string(n) + ".png")).string();
+                                   ("surdis_" + std::to_string(n) + ".png"))
+                                      .string();
             cv::imwrite(p, small, {cv::IMWRITE_PNG_COMPRESSION, 9});
         }
     }
@@ -1801,16 +1817,18 @@ int evaluate_surdis(const Options &opt)
              fmtd("%.1f", percentile(fit_p, 0.5)) + "/" +
              fmtd("%.1f", percentile(fit_p, 0.9)) + " deg.");
     rep.both("");
-    rep.both("| frames | down_steps label in the corridor | confirmed drop on the label | "
-             "... with verdict HAZARD | HAZARD frames | NO_INFO frames | CLEAR frames "
-             "(short sight) | CLEAR with the label in the corridor | false vouches | "
-             "stereo ms | detect ms |");
+    rep.both(
+        "| frames | down_steps label in the corridor | confirmed drop on the label | "
+        "... with verdict HAZARD | HAZARD frames | NO_INFO frames | CLEAR frames "
+        "(short sight) | CLEAR with the label in the corridor | false vouches | "
+        "stereo ms | detect ms |");
     rep.both("|---|---|---|---|---|---|---|---|---|---|---|");
     rep.both("| " + std::to_string(frames) + " | " + std::to_string(scored) + " | " +
-             pct(hit, scored) + " | " + pct(hit_warned, scored) + " | " + std::to_string(hazard_frames) + " | " +
-             std::to_string(noinfo) + " | " + std::to_string(clear_frames) + " (" +
-             std::to_string(short_sight) + ") | " + std::to_string(clear_on_label) + " | " +
-             std::to_string(false_vouch) + " | " + fmtd("%.1f", st_sum / frames) + " | " +
+             pct(hit, scored) + " | " + pct(hit_warned, scored) + " | " +
+             std::to_string(hazard_frames) + " | " + std::to_string(noinfo) + " | " +
+             std::to_string(clear_frames) + " (" + std::to_string(short_sight) + ") | " +
+             std::to_string(clear_on_label) + " | " + std::to_string(false_vouch) +
+             " | " + fmtd("%.1f", st_sum / frames) + " | " +
              fmtd("%.2f", dt_sum / frames) + " |");
     rep.both("");
     rep.both("Vouched range per frame with the label in the corridor. The distance to "
@@ -1819,8 +1837,9 @@ int evaluate_surdis(const Options &opt)
              "noise vouch = the distance the frame's measured noise and support alone "
              "vouch for; a false vouch is clear_to_mm above 1.1x the estimate:");
     rep.both("");
-    rep.both("| frame | verdict | clear_to_mm | steps at (estimate, mm) | noise vouch mm | "
-             "false vouch |");
+    rep.both(
+        "| frame | verdict | clear_to_mm | steps at (estimate, mm) | noise vouch mm | "
+        "false vouch |");
     rep.both("|---|---|---|---|---|---|");
     for (const std::string &r : vouch_rows) {
         rep.both(r);
@@ -2065,8 +2084,9 @@ int main(int argc, char **argv)
         } else if (a == "--set") {
             std::string v;
             ok = val(v) && (v == "all" || v == "legacy" || v == "generic");
-            opt.set = v == "legacy" ? SuiteSet::Legacy
-                                    : (v == "generic" ? SuiteSet::Generic : SuiteSet::All);
+            opt.set = v == "legacy"
+                          ? SuiteSet::Legacy
+                          : (v == "generic" ? SuiteSet::Generic : SuiteSet::All);
         } else if (a == "--valign") {
             opt.valign = true;
         } else if (a == "--keep") {
@@ -2106,8 +2126,7 @@ int main(int argc, char **argv)
         } else if (a == "--surdis-baseline-mm") {
             ok = num(opt.surdis_B, 5, 500);
         } else if (a == "--surdis-height-mm") {
-            ok = num(opt.surdis_H, 0, 3000) &&
-                 (opt.surdis_H == 0 || opt.surdis_H >= 300);
+            ok = num(opt.surdis_H, 0, 3000) && (opt.surdis_H == 0 || opt.surdis_H >= 300);
         } else if (a == "--surdis-max-disp") {
             double x = 0;
             ok = num(x, 8, 255);
@@ -2128,8 +2147,9 @@ int main(int argc, char **argv)
             }
         } else if (a == "--surdis-frames") {
             std::string v;
-            ok = val(v) && std::sscanf(v.c_str(), "%d-%d", &opt.surdis_first,
-                                       &opt.surdis_last) == 2 &&
+            ok = val(v) &&
+                 std::sscanf(v.c_str(), "%d-%d", &opt.surdis_first, &opt.surdis_last) ==
+                     2 &&
                  opt.surdis_first >= 18 && opt.surdis_last <= 100 &&
                  opt.surdis_first <= opt.surdis_last;
         } else if (a == "--surdis-pitch-deg") {
@@ -2144,7 +2164,8 @@ int main(int argc, char **argv)
             return 2;
         }
         if (!ok) {
-            std::fprintf(stderr, "negobs_detect_eval: error: bad or missing value for %s\n",
+            std::fprintf(stderr,
+                         "negobs_detect_eval: error: bad or missing value for %s\n",
                          a.c_str());
             return 2;
         }
@@ -2163,13 +2184,15 @@ int main(int argc, char **argv)
             const char *env = std::getenv("NEGOBS_DATA");
             opt.surdis_dir = env != nullptr && *env
                                  ? (fs::path(env) / "surdis").string()
-                                 : std::string(NEGOBS_SOURCE_ROOT "/../shared/data/surdis");
+                                 : std::string(NEGOBS_SOURCE_ROOT
+                                               "/../shared/data/surdis");
         }
         return evaluate_surdis(opt);
     }
     if (!fs::exists(opt.synth)) {
-        std::fprintf(stderr, "negobs_detect_eval: error: negobs_synth not found at %s "
-                             "(--synth PATH)\n",
+        std::fprintf(stderr,
+                     "negobs_detect_eval: error: negobs_synth not found at %s "
+                     "(--synth PATH)\n",
                      opt.synth.c_str());
         return 1;
     }

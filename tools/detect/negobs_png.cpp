@@ -29,37 +29,36 @@ namespace {
 void usage(FILE *f)
 {
     std::fprintf(
-        f,
-        "usage: negobs_png LEFT RIGHT --out DIR [options]\n"
-        "       negobs_png --seq DIR --out OUTDIR [options]\n"
-        "Runs the whole negobs pipeline and writes OUTDIR/overlay_NNNN.png and\n"
-        "one JSON line per frame (stdout, or --json FILE).\n"
-        "Camera: read from DIR/gt.json when present (negobs_synth), else:\n"
-        "  --f PX            focal length (250 at 320 px width, scaled)\n"
-        "  --baseline-mm B   baseline (120)\n"
-        "  --cx PX --cy PX   principal point (image centre)\n"
-        "  --height-mm H     camera height hint (1200; 0: no hint). The detector\n"
-        "                    measures the mounting on the floor; the hint only\n"
-        "                    verifies the start (docs/DETECTION.md)\n"
-        "  --pitch-deg P     camera pitch hint, down (20)\n"
-        "  --max-disp D      largest disparity searched (library default 63)\n"
-        "  --vshift ROWS     left row y matches right row y+ROWS (default:\n"
-        "                    the matcher estimates whole rows)\n"
-        "  --vshift model    sub-pixel, row-varying alignment stage before the\n"
-        "                    matcher (negobs/valign.h; uncalibrated rigs)\n"
-        "Options given on the command line override gt.json.\n"
-        "  --fps F           frame rate for timestamps (10, or gt.json's)\n"
-        "  --repeat N        single pair: feed it N times (confirmation needs\n"
-        "                    3 of 5 frames) (1)\n"
-        "  --first N --count N  sequence: frame subset\n"
-        "  --json FILE       JSON lines to FILE instead of stdout\n"
-        "  --no-overlay      do not write pictures\n"
-        "  --overlay-scale K scale the pictures by K (0.1..4, default 1; below 1\n"
-        "                    also 32 grey levels per channel: small files)\n"
-        "  --whole           time only the whole frame (no per-stage clock)\n"
-        "  --summary         one summary line at the end (stdout)\n"
-        "  --quiet           no JSON lines on stdout\n"
-        "Exit: 0 ok, 1 data error, 2 bad command line.\n");
+        f, "usage: negobs_png LEFT RIGHT --out DIR [options]\n"
+           "       negobs_png --seq DIR --out OUTDIR [options]\n"
+           "Runs the whole negobs pipeline and writes OUTDIR/overlay_NNNN.png and\n"
+           "one JSON line per frame (stdout, or --json FILE).\n"
+           "Camera: read from DIR/gt.json when present (negobs_synth), else:\n"
+           "  --f PX            focal length (250 at 320 px width, scaled)\n"
+           "  --baseline-mm B   baseline (120)\n"
+           "  --cx PX --cy PX   principal point (image centre)\n"
+           "  --height-mm H     camera height hint (1200; 0: no hint). The detector\n"
+           "                    measures the mounting on the floor; the hint only\n"
+           "                    verifies the start (docs/DETECTION.md)\n"
+           "  --pitch-deg P     camera pitch hint, down (20)\n"
+           "  --max-disp D      largest disparity searched (library default 63)\n"
+           "  --vshift ROWS     left row y matches right row y+ROWS (default:\n"
+           "                    the matcher estimates whole rows)\n"
+           "  --vshift model    sub-pixel, row-varying alignment stage before the\n"
+           "                    matcher (negobs/valign.h; uncalibrated rigs)\n"
+           "Options given on the command line override gt.json.\n"
+           "  --fps F           frame rate for timestamps (10, or gt.json's)\n"
+           "  --repeat N        single pair: feed it N times (confirmation needs\n"
+           "                    3 of 5 frames) (1)\n"
+           "  --first N --count N  sequence: frame subset\n"
+           "  --json FILE       JSON lines to FILE instead of stdout\n"
+           "  --no-overlay      do not write pictures\n"
+           "  --overlay-scale K scale the pictures by K (0.1..4, default 1; below 1\n"
+           "                    also 32 grey levels per channel: small files)\n"
+           "  --whole           time only the whole frame (no per-stage clock)\n"
+           "  --summary         one summary line at the end (stdout)\n"
+           "  --quiet           no JSON lines on stdout\n"
+           "Exit: 0 ok, 1 data error, 2 bad command line.\n");
 }
 
 bool parse_double(const char *s, double &v)
@@ -98,9 +97,8 @@ int fail(const std::string &msg)
 // (a NaN used to become 0 and 1e30 an undefined conversion to the
 // library's integers). Values overridden on the command line are checked
 // there instead. Returns "" or what is wrong.
-std::string check_gt_camera(const GtSeq &gt, bool f_set, bool b_set,
-                            bool cx_set, bool cy_set, bool h_set,
-                            bool pitch_set, bool fps_set)
+std::string check_gt_camera(const GtSeq &gt, bool f_set, bool b_set, bool cx_set,
+                            bool cy_set, bool h_set, bool pitch_set, bool fps_set)
 {
     const struct {
         const char *key;
@@ -124,14 +122,14 @@ std::string check_gt_camera(const GtSeq &gt, bool f_set, bool b_set,
             char buf[160];
             std::snprintf(buf, sizeof buf,
                           "camera %s = %g is not a finite number "
-                          "in %g..%g", fl.key, fl.v, fl.lo, fl.hi);
+                          "in %g..%g",
+                          fl.key, fl.v, fl.lo, fl.hi);
             return buf;
         }
     }
-    if (gt.width < 1 || gt.height < 1 || gt.width > 4096 ||
-        gt.height > 4096) {
-        return "camera width x height " + std::to_string(gt.width) +
-               "x" + std::to_string(gt.height) + " is not in 1..4096";
+    if (gt.width < 1 || gt.height < 1 || gt.width > 4096 || gt.height > 4096) {
+        return "camera width x height " + std::to_string(gt.width) + "x" +
+               std::to_string(gt.height) + " is not in 1..4096";
     }
     return std::string();
 }
@@ -162,12 +160,13 @@ int main(int argc, char **argv)
             (void)what;
             return argv[++i];
         };
-        const bool takes_value =
-            a == "--seq" || a == "--out" || a == "--json" || a == "--f" ||
-            a == "--baseline-mm" || a == "--cx" || a == "--cy" ||
-            a == "--height-mm" || a == "--pitch-deg" || a == "--max-disp" ||
-            a == "--vshift" || a == "--fps" || a == "--repeat" ||
-            a == "--first" || a == "--count" || a == "--overlay-scale";
+        const bool takes_value = a == "--seq" || a == "--out" || a == "--json" ||
+                                 a == "--f" || a == "--baseline-mm" || a == "--cx" ||
+                                 a == "--cy" || a == "--height-mm" ||
+                                 a == "--pitch-deg" || a == "--max-disp" ||
+                                 a == "--vshift" || a == "--fps" || a == "--repeat" ||
+                                 a == "--first" || a == "--count" ||
+                                 a == "--overlay-scale";
         if (a == "--help" || a == "-h") {
             usage(stdout);
             return 0;
@@ -255,8 +254,8 @@ int main(int argc, char **argv)
             if (!read_gt(gp, gt, err)) {
                 return fail(err);
             }
-            err = check_gt_camera(gt, f > 0, B > 0, cx >= 0, cy >= 0, H > 0,
-                                  pitch > -1e8, fps > 0);
+            err = check_gt_camera(gt, f > 0, B > 0, cx >= 0, cy >= 0, H > 0, pitch > -1e8,
+                                  fps > 0);
             if (!err.empty()) {
                 return fail(gp + ": " + err);
             }
@@ -307,12 +306,18 @@ int main(int argc, char **argv)
     }
 
     CamParams cam = have_gt ? gt.cam : CamParams{};
-    if (f > 0) cam.f = f;
-    if (B > 0) cam.baseline_mm = B;
-    if (cx >= 0) cam.cx = cx;
-    if (cy >= 0) cam.cy = cy;
-    if (H >= 0) cam.height_mm = H;
-    if (pitch > -1e8) cam.pitch_deg = pitch;
+    if (f > 0)
+        cam.f = f;
+    if (B > 0)
+        cam.baseline_mm = B;
+    if (cx >= 0)
+        cam.cx = cx;
+    if (cy >= 0)
+        cam.cy = cy;
+    if (H >= 0)
+        cam.height_mm = H;
+    if (pitch > -1e8)
+        cam.pitch_deg = pitch;
     cam.max_disp = max_disp;
     cam.vshift_set = vshift_set;
     cam.vshift = vshift;
@@ -353,10 +358,9 @@ int main(int argc, char **argv)
             return fail(err);
         }
         if (L.size() != R.size()) {
-            return fail("size mismatch: " + it.left + " is " +
-                        std::to_string(L.cols) + "x" + std::to_string(L.rows) +
-                        ", " + it.right + " is " + std::to_string(R.cols) +
-                        "x" + std::to_string(R.rows));
+            return fail("size mismatch: " + it.left + " is " + std::to_string(L.cols) +
+                        "x" + std::to_string(L.rows) + ", " + it.right + " is " +
+                        std::to_string(R.cols) + "x" + std::to_string(R.rows));
         }
         if (k == 0) {
             w = L.cols;
@@ -376,8 +380,8 @@ int main(int argc, char **argv)
         } else if (L.cols != w || L.rows != h) {
             return fail("size mismatch: " + it.left + " differs from frame 0");
         }
-        const uint32_t t_ms =
-            1000u + static_cast<uint32_t>(std::lround(1000.0 * k / fps));
+        const uint32_t t_ms = 1000u +
+                              static_cast<uint32_t>(std::lround(1000.0 * k / fps));
         FrameOut o;
         if (!runner.process(L, R, t_ms, o, err)) {
             return fail(err);
@@ -389,8 +393,8 @@ int main(int argc, char **argv)
             std::fflush(jf);
         }
         if (overlay_on) {
-            cv::Mat ov = overlay(L, runner.disparity(), max_disp_used, frame_no,
-                                 o, it.gt);
+            cv::Mat ov = overlay(L, runner.disparity(), max_disp_used, frame_no, o,
+                                 it.gt);
             if (overlay_scale != 1.0) {
                 cv::resize(ov, ov, cv::Size(), overlay_scale, overlay_scale,
                            overlay_scale < 1 ? cv::INTER_AREA : cv::INTER_NEAREST);
@@ -430,8 +434,8 @@ int main(int argc, char **argv)
         std::fclose(jf);
     }
     if (summary) {
-        std::printf("summary: %d frames (%dx%d), hazard state in %d, no-info in %d; ",
-                    n, w, h, nhaz, nnoinfo);
+        std::printf("summary: %d frames (%dx%d), hazard state in %d, no-info in %d; ", n,
+                    w, h, nhaz, nnoinfo);
         if (first_conf >= 0) {
             std::printf("first confirmed hazard at frame %d, range %.2f m", first_conf,
                         first_conf_range / 1000.0);

@@ -61,7 +61,8 @@ JumpStats profile_jump(const cv::Mat &disp, const negobs_ground_plane_t &plane, 
                 farther.push_back(prof[static_cast<size_t>(v - k)]);
             }
         }
-        if (2 * static_cast<int>(nearer.size()) < n || 2 * static_cast<int>(farther.size()) < n) {
+        if (2 * static_cast<int>(nearer.size()) < n ||
+            2 * static_cast<int>(farther.size()) < n) {
             continue;
         }
         jump[static_cast<size_t>(v)] = median_of(nearer) - median_of(farther);

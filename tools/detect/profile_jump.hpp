@@ -17,13 +17,13 @@
 #include "negobs/ground.h"
 
 struct JumpStats {
-    bool ok = false;        // enough rows with data
-    double sigma = 0;       // spread of J over the frame (px)
-    double label_j = 0;     // largest J within +-window rows of the label
+    bool ok = false;    // enough rows with data
+    double sigma = 0;   // spread of J over the frame (px)
+    double label_j = 0; // largest J within +-window rows of the label
     int label_v = -1;
-    double label_z = 0;     // (label_j - median J) / sigma
-    double label_rel = 0;   // label_j / ground disparity at label_v
-    double other_j = 0;     // largest J elsewhere in the scan
+    double label_z = 0;   // (label_j - median J) / sigma
+    double label_rel = 0; // label_j / ground disparity at label_v
+    double other_j = 0;   // largest J elsewhere in the scan
     int other_v = -1;
     double other_z = 0;
 };

@@ -20,7 +20,8 @@ void check(bool c, const char *what)
 // Ground d = 2 + v / 40 px; rows above drop_v read `drop_px` lower; each
 // pixel gets uniform noise of +-noise_px, each row an offset of +-row_px
 // (the row-correlated part).
-cv::Mat make_map(int drop_v, double drop_px, double noise_px, double row_px, unsigned seed)
+cv::Mat make_map(int drop_v, double drop_px, double noise_px, double row_px,
+                 unsigned seed)
 {
     cv::Mat d(240, 320, CV_16SC1);
     cv::RNG rng(seed);

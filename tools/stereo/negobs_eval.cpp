@@ -153,7 +153,7 @@ bool parse_double(const char *s, double &out)
 struct SetSpec {
     std::string name;
     std::string left, right, gt, mask; // absolute paths; mask may be empty
-    std::string gt_right; // right-view GT beside gt ("" if none)
+    std::string gt_right;              // right-view GT beside gt ("" if none)
     double gt_scale = 1.0;
     int max_disp = 0; // 0: derive from the GT
     std::string origin;
@@ -208,7 +208,8 @@ bool read_manifest(const std::string &dir, std::vector<SetSpec> &sets,
         s.left = dir + "/" + f[1];
         s.right = dir + "/" + f[2];
         s.gt = dir + "/" + f[3];
-        s.mask = (f[5] == "-" || f[5].empty()) ? std::string() : dir + "/" + f[5];
+        s.mask = (f[5] == "-" || f[5].empty()) ? std::string()
+                                               : dir + "/" + f[5];
         double scale = 0.0, md = 0.0;
         if (!parse_double(f[4].c_str(), scale) || scale <= 0.0 ||
             !parse_double(f[6].c_str(), md) || md < 1.0) {
@@ -232,8 +233,8 @@ bool read_manifest(const std::string &dir, std::vector<SetSpec> &sets,
 // speckle window 100 / range 32, disp12MaxDiff 1).
 cv::Ptr<cv::StereoBM> make_bm(const Range &r)
 {
-    cv::Ptr<cv::StereoBM> bm =
-        cv::StereoBM::create(negobs_tools::opencv_num_disparities(r), 9);
+    cv::Ptr<cv::StereoBM> bm = cv::StereoBM::create(
+        negobs_tools::opencv_num_disparities(r), 9);
     bm->setMinDisparity(r.min_disp);
     bm->setPreFilterCap(31);
     bm->setTextureThreshold(10);
@@ -251,10 +252,9 @@ cv::Ptr<cv::StereoBM> make_bm(const Range &r)
 cv::Ptr<cv::StereoSGBM> make_sgbm(const Range &r)
 {
     const int bs = 5;
-    return cv::StereoSGBM::create(r.min_disp,
-                                  negobs_tools::opencv_num_disparities(r), bs,
-                                  8 * bs * bs, 32 * bs * bs, 1, 63, 10, 100,
-                                  32, cv::StereoSGBM::MODE_SGBM);
+    return cv::StereoSGBM::create(
+        r.min_disp, negobs_tools::opencv_num_disparities(r), bs, 8 * bs * bs,
+        32 * bs * bs, 1, 63, 10, 100, 32, cv::StereoSGBM::MODE_SGBM);
 }
 
 enum MatcherId { M_NEGOBS = 0, M_BM = 1, M_SGBM = 2, M_COUNT = 3 };
@@ -264,8 +264,8 @@ struct Metrics {
     bool ran = false;
     std::string note; // why it did not run
     double density = 0, bad1 = 0, bad1all = 0, bad2 = 0, rms = 0;
-    double ms = 0;      // thread CPU time, best of N
-    double wall_ms = 0; // wall time, best of N
+    double ms = 0;       // thread CPU time, best of N
+    double wall_ms = 0;  // wall time, best of N
     cv::Mat disp, valid; // float px + mask, for pictures
 };
 
@@ -354,7 +354,8 @@ double best_of(int repeat, F &&f, bool &ok, double &wall_ms)
         const auto w1 = std::chrono::steady_clock::now();
         best = std::min(best, c1 - c0);
         wall_ms = std::min(
-            wall_ms, std::chrono::duration<double, std::milli>(w1 - w0).count());
+            wall_ms,
+            std::chrono::duration<double, std::milli>(w1 - w0).count());
     }
     return best;
 }
@@ -389,7 +390,8 @@ bool load_gt(const SetSpec &s, const std::string &path, cv::Mat &gt,
         cv::cvtColor(raw, raw, cv::COLOR_BGR2GRAY);
     else if (raw.channels() == 4)
         cv::cvtColor(raw, raw, cv::COLOR_BGRA2GRAY);
-    if (raw.channels() != 1 || (raw.depth() != CV_8U && raw.depth() != CV_16U)) {
+    if (raw.channels() != 1 ||
+        (raw.depth() != CV_8U && raw.depth() != CV_16U)) {
         err = "GT '" + path + "': unsupported pixel type";
         return false;
     }
@@ -404,8 +406,8 @@ int run_negobs(const Options &opt, const SetSpec &spec, const cv::Mat &left,
                const cv::Mat &right, const cv::Mat &eval_mask, SetResult &res)
 {
     Metrics &mn = res.m[M_NEGOBS];
-    const std::string limit =
-        negobs_tools::check_engine_limits(res.range, left.cols, left.rows);
+    const std::string limit = negobs_tools::check_engine_limits(
+        res.range, left.cols, left.rows);
     if (!limit.empty()) {
         std::printf("  [%s] negobs skipped: %s\n", spec.name.c_str(),
                     limit.c_str());
@@ -423,8 +425,8 @@ int run_negobs(const Options &opt, const SetSpec &spec, const cv::Mat &left,
     cv::Mat q4, conf;
     bool ok = true;
     mn.ms = best_of(
-        opt.repeat, [&] { return nm.process(left, right, q4, conf, err); },
-        ok, mn.wall_ms);
+        opt.repeat, [&] { return nm.process(left, right, q4, conf, err); }, ok,
+        mn.wall_ms);
     if (!ok) {
         std::fprintf(stderr, "negobs_eval: %s: %s\n", spec.name.c_str(),
                      err.c_str());
@@ -504,8 +506,9 @@ int evaluate(const Options &opt, const SetSpec &spec, SetResult &res)
     if (!spec.mask.empty()) {
         cv::Mat mask = cv::imread(spec.mask, cv::IMREAD_GRAYSCALE);
         if (mask.empty() || mask.size() != left.size()) {
-            std::fprintf(stderr, "negobs_eval: %s: cannot read mask '%s' or "
-                                 "its size differs\n",
+            std::fprintf(stderr,
+                         "negobs_eval: %s: cannot read mask '%s' or "
+                         "its size differs\n",
                          spec.name.c_str(), spec.mask.c_str());
             return EXIT_DATA;
         }
@@ -590,12 +593,13 @@ int evaluate(const Options &opt, const SetSpec &spec, SetResult &res)
         cv::Mat d16;
         bool ok = true;
         try {
-            m.ms = best_of(opt.repeat,
-                           [&] {
-                               sm->compute(left, right, d16);
-                               return true;
-                           },
-                           ok, m.wall_ms);
+            m.ms = best_of(
+                opt.repeat,
+                [&] {
+                    sm->compute(left, right, d16);
+                    return true;
+                },
+                ok, m.wall_ms);
         } catch (const cv::Exception &e) {
             std::fprintf(stderr, "negobs_eval: %s: %s failed: %s\n",
                          spec.name.c_str(), kMatcherName[id], e.what());
@@ -660,8 +664,8 @@ std::string ratio(const SetResult &r, int other)
 
 void print_table(const std::vector<SetResult> &res)
 {
-    std::printf("\n%-32s %-7s %8s %7s %8s %7s %7s %9s %9s %9s %9s\n",
-                "set", "matcher", "density", "bad1", "bad1all", "bad2", "rms",
+    std::printf("\n%-32s %-7s %8s %7s %8s %7s %7s %9s %9s %9s %9s\n", "set",
+                "matcher", "density", "bad1", "bad1all", "bad2", "rms",
                 "cpu ms", "wall ms", "neg/BM", "neg/SGBM");
     for (const SetResult &r : res) {
         for (int id = 0; id < M_COUNT; ++id) {
@@ -683,7 +687,8 @@ void print_table(const std::vector<SetResult> &res)
 
 // density / bad1 of each matcher on non-occluded pixels, against the
 // paper's bad1. Console and Markdown share the rows.
-std::vector<std::vector<std::string>> nonocc_rows(const std::vector<SetResult> &res)
+std::vector<std::vector<std::string>> nonocc_rows(
+    const std::vector<SetResult> &res)
 {
     std::vector<std::vector<std::string>> rows;
     for (const SetResult &r : res) {
@@ -703,17 +708,24 @@ std::vector<std::vector<std::string>> nonocc_rows(const std::vector<SetResult> &
     return rows;
 }
 
-const char *const kNonoccHead[] = {
-    "set", "non-occluded pixels from", "px", "negobs density %",
-    "negobs bad1 %", "BM density %", "BM bad1 %", "SGBM density %",
-    "SGBM bad1 %", "paper bad1 %"};
+const char *const kNonoccHead[] = {"set",
+                                   "non-occluded pixels from",
+                                   "px",
+                                   "negobs density %",
+                                   "negobs bad1 %",
+                                   "BM density %",
+                                   "BM bad1 %",
+                                   "SGBM density %",
+                                   "SGBM bad1 %",
+                                   "paper bad1 %"};
 
 void print_nonocc(const std::vector<SetResult> &res)
 {
     const auto rows = nonocc_rows(res);
     if (rows.empty())
         return;
-    std::printf("\nNon-occluded pixels only (the paper's Table 5 protocol):\n");
+    std::printf(
+        "\nNon-occluded pixels only (the paper's Table 5 protocol):\n");
     // columns of nonocc_rows: set, from, px, then density and bad1 of
     // negobs, BM, SGBM, then the paper's bad1
     std::printf("%-32s %8s %8s %8s %8s %8s %8s %8s %6s\n", "set", "px",
@@ -728,25 +740,28 @@ void print_nonocc(const std::vector<SetResult> &res)
 
 // negobs after each stage: density and bad1 on every known pixel and on
 // non-occluded ones. Console and Markdown share the rows.
-std::vector<std::vector<std::string>> stage_rows(const std::vector<SetResult> &res)
+std::vector<std::vector<std::string>> stage_rows(
+    const std::vector<SetResult> &res)
 {
     std::vector<std::vector<std::string>> rows;
     for (const SetResult &r : res)
         for (const SetResult::StageScore &sc : r.stages) {
-            rows.push_back({r.spec.name, sc.name, fmt("%.1f", sc.all.density),
-                            fmt("%.1f", sc.all.bad1),
-                            fmt("%.1f", sc.all.bad1all),
-                            sc.nonocc.ran ? fmt("%.1f", sc.nonocc.density)
-                                          : "-",
-                            sc.nonocc.ran ? fmt("%.1f", sc.nonocc.bad1)
-                                          : "-"});
+            rows.push_back(
+                {r.spec.name, sc.name, fmt("%.1f", sc.all.density),
+                 fmt("%.1f", sc.all.bad1), fmt("%.1f", sc.all.bad1all),
+                 sc.nonocc.ran ? fmt("%.1f", sc.nonocc.density) : "-",
+                 sc.nonocc.ran ? fmt("%.1f", sc.nonocc.bad1) : "-"});
         }
     return rows;
 }
 
-const char *const kStageHead[] = {
-    "set", "after stage", "density %", "bad1 %", "bad1all %",
-    "density % non-occluded", "bad1 % non-occluded"};
+const char *const kStageHead[] = {"set",
+                                  "after stage",
+                                  "density %",
+                                  "bad1 %",
+                                  "bad1all %",
+                                  "density % non-occluded",
+                                  "bad1 % non-occluded"};
 
 void print_stages(const std::vector<SetResult> &res)
 {
@@ -820,7 +835,8 @@ bool write_markdown(const std::string &path, const Options &opt,
               << (id == 0 ? std::to_string(r.range.min_disp) + "-" +
                                 std::to_string(r.range.max_disp)
                           : std::string())
-              << " | " << (id == 0 ? std::to_string(r.evaluated) : std::string())
+              << " | "
+              << (id == 0 ? std::to_string(r.evaluated) : std::string())
               << " | " << kMatcherName[id] << " | ";
             if (!m.ran) {
                 o << "*" << m.note << "* | | | | | | | |\n";
@@ -926,8 +942,8 @@ std::string short_name(const std::string &n)
     return s;
 }
 
-const cv::Scalar kBarColour[M_COUNT] = {cv::Scalar(40, 140, 230),  // orange
-                                        cv::Scalar(200, 120, 40),  // blue
+const cv::Scalar kBarColour[M_COUNT] = {cv::Scalar(40, 140, 230), // orange
+                                        cv::Scalar(200, 120, 40), // blue
                                         cv::Scalar(90, 170, 60)}; // green
 
 // Grouped bar plot: one group per set, one bar per matcher. log_scale: y is
@@ -1005,8 +1021,9 @@ cv::Mat bar_plot(const std::vector<SetResult> &res, const std::string &title,
                       cv::FILLED);
         std::string label = kMatcherName[id];
         if (!any)
-            label += " (" + (res.empty() ? std::string("n/a")
-                                         : res[0].m[id].note) + ")";
+            label += " (" +
+                     (res.empty() ? std::string("n/a") : res[0].m[id].note) +
+                     ")";
         cv::putText(img, label, cv::Point(lx + 18, 46), font, 0.45, black, 1,
                     cv::LINE_AA);
         int base = 0;
@@ -1035,7 +1052,8 @@ cv::Mat bar_plot(const std::vector<SetResult> &res, const std::string &title,
         int base = 0;
         double scale = 0.45;
         while (scale > 0.3 &&
-               cv::getTextSize(label, font, scale, 1, &base).width > group_w - 4)
+               cv::getTextSize(label, font, scale, 1, &base).width >
+                   group_w - 4)
             scale -= 0.03;
         const int tw = cv::getTextSize(label, font, scale, 1, &base).width;
         cv::putText(img, label,
@@ -1078,14 +1096,13 @@ bool write_picture(const Options &opt, const SetResult &r)
     cv::hconcat(panels, row);
     const int max_w = opt.pictures_width;
     if (row.cols > max_w)
-        cv::resize(row, row,
-                   cv::Size(max_w, row.rows * max_w / row.cols), 0, 0,
-                   cv::INTER_AREA);
+        cv::resize(row, row, cv::Size(max_w, row.rows * max_w / row.cols), 0,
+                   0, cv::INTER_AREA);
     try {
-        return cv::imwrite(opt.pictures + "/eval_" + r.spec.name + "." +
-                               opt.pictures_ext,
-                           row, {cv::IMWRITE_JPEG_QUALITY, 85,
-                                 cv::IMWRITE_PNG_COMPRESSION, 9});
+        return cv::imwrite(
+            opt.pictures + "/eval_" + r.spec.name + "." + opt.pictures_ext,
+            row,
+            {cv::IMWRITE_JPEG_QUALITY, 85, cv::IMWRITE_PNG_COMPRESSION, 9});
     } catch (const cv::Exception &) {
         return false;
     }
@@ -1175,8 +1192,7 @@ int run(int argc, char **argv)
                     return EXIT_USAGE;
                 }
                 opt.pictures_width = static_cast<int>(wv);
-            }
-            else if (a == "--matchers") {
+            } else if (a == "--matchers") {
                 if (!parse_matchers(v, opt)) {
                     std::fprintf(stderr, "negobs_eval: --matchers takes a "
                                          "comma list of negobs,bm,sgbm\n");
@@ -1228,9 +1244,9 @@ int run(int argc, char **argv)
     // Collect the sets.
     if (opt.data.empty()) {
         const char *env = std::getenv("NEGOBS_DATA");
-        opt.data = env && *env ? env
-                               : std::string(NEGOBS_SOURCE_ROOT) +
-                                     "/../shared/data";
+        opt.data = env && *env
+                       ? env
+                       : std::string(NEGOBS_SOURCE_ROOT) + "/../shared/data";
     }
     std::vector<SetSpec> all;
     if (is_dir(opt.data)) {
@@ -1274,8 +1290,9 @@ int run(int argc, char **argv)
         chosen = all;
     } else {
         for (const std::string &n : opt.sets) {
-            auto it = std::find_if(all.begin(), all.end(),
-                                   [&](const SetSpec &s) { return s.name == n; });
+            auto it = std::find_if(
+                all.begin(), all.end(),
+                [&](const SetSpec &s) { return s.name == n; });
             if (it == all.end()) {
                 const bool skip = opt.check;
                 std::fprintf(skip ? stdout : stderr,
@@ -1321,11 +1338,13 @@ int run(int argc, char **argv)
     }
     if (!opt.plots.empty()) {
         const cv::Mat p1 = bar_plot(
-            results, "bad1all: wrong by > 1 px or no value", "% of evaluated px",
-            [](const Metrics &m) { return m.bad1all; }, false);
+            results, "bad1all: wrong by > 1 px or no value",
+            "% of evaluated px", [](const Metrics &m) { return m.bad1all; },
+            false);
         const cv::Mat p2 = bar_plot(
-            results, "CPU time per pair, 1 thread, best of " +
-                         std::to_string(opt.repeat),
+            results,
+            "CPU time per pair, 1 thread, best of " +
+                std::to_string(opt.repeat),
             "ms, log scale", [](const Metrics &m) { return m.ms; }, true);
         if (!write_png(opt.plots + "/eval_bad1all.png", p1) ||
             !write_png(opt.plots + "/eval_time.png", p2)) {
@@ -1337,8 +1356,9 @@ int run(int argc, char **argv)
     if (!opt.pictures.empty()) {
         for (const SetResult &r : results)
             if (!write_picture(opt, r)) {
-                std::fprintf(stderr, "negobs_eval: cannot write pictures into "
-                                     "'%s'\n",
+                std::fprintf(stderr,
+                             "negobs_eval: cannot write pictures into "
+                             "'%s'\n",
                              opt.pictures.c_str());
                 rc = EXIT_DATA;
                 break;
@@ -1368,8 +1388,7 @@ int run(int argc, char **argv)
 int main(int argc, char **argv)
 {
     try {
-        cv::utils::logging::setLogLevel(
-            cv::utils::logging::LOG_LEVEL_ERROR);
+        cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
         return run(argc, argv);
     } catch (const std::exception &e) {
         std::fprintf(stderr, "negobs_eval: internal error: %s\n", e.what());

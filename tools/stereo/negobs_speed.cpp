@@ -52,7 +52,8 @@ uint32_t map_hash(const cv::Mat &m)
     uint32_t h = 2166136261u;
     for (int y = 0; y < m.rows; ++y) {
         const uint8_t *p = m.ptr<uint8_t>(y);
-        for (size_t i = 0; i < static_cast<size_t>(m.cols) * m.elemSize(); ++i) {
+        for (size_t i = 0; i < static_cast<size_t>(m.cols) * m.elemSize();
+             ++i) {
             h = (h ^ p[i]) * 16777619u;
         }
     }
@@ -64,9 +65,8 @@ int usage(const char *msg)
     if (msg != nullptr) {
         std::fprintf(stderr, "negobs_speed: %s\n", msg);
     }
-    std::fprintf(stderr,
-                 "usage: negobs_speed LEFT RIGHT [--crop X,Y,W,H] "
-                 "[--max-disp D] [--profile compact|fast]\n");
+    std::fprintf(stderr, "usage: negobs_speed LEFT RIGHT [--crop X,Y,W,H] "
+                         "[--max-disp D] [--profile compact|fast]\n");
     return 1;
 }
 
@@ -84,7 +84,8 @@ int main(int argc, char **argv)
             return 0;
         }
         if (a == "--crop" && i + 1 < argc) {
-            if (std::sscanf(argv[++i], "%d,%d,%d,%d", &cx, &cy, &cw, &ch) != 4 ||
+            if (std::sscanf(argv[++i], "%d,%d,%d,%d", &cx, &cy, &cw, &ch) !=
+                    4 ||
                 cw <= 0 || ch <= 0 || cx < 0 || cy < 0) {
                 return usage("--crop takes X,Y,W,H");
             }
@@ -146,13 +147,16 @@ int main(int argc, char **argv)
     void *p = ws.data();
     size_t space = ws.size() * 8;
     p = std::align(16, bytes, p, space);
-    if (p == nullptr || negobs_stereo_init(&ctx, &cfg, p, bytes) != NEGOBS_OK) {
+    if (p == nullptr ||
+        negobs_stereo_init(&ctx, &cfg, p, bytes) != NEGOBS_OK) {
         std::fprintf(stderr, "negobs_speed: negobs init failed\n");
         return 2;
     }
     cv::Mat disp(l.rows, l.cols, CV_16SC1);
-    negobs_image_u8_t li = {l.data, l.cols, l.rows, static_cast<int32_t>(l.step)};
-    negobs_image_u8_t ri = {r.data, r.cols, r.rows, static_cast<int32_t>(r.step)};
+    negobs_image_u8_t li = {l.data, l.cols, l.rows,
+                            static_cast<int32_t>(l.step)};
+    negobs_image_u8_t ri = {r.data, r.cols, r.rows,
+                            static_cast<int32_t>(r.step)};
     negobs_image_s16_t di = {reinterpret_cast<int16_t *>(disp.data), disp.cols,
                              disp.rows, static_cast<int32_t>(disp.step / 2)};
 

@@ -147,10 +147,9 @@ std::string check_engine_range(const negobs_tools::Range &r, int width,
         return std::string();
     }
     return "--max-disp " + std::to_string(r.max_disp) +
-           " is beyond the engine's range for " + frame +
-           " with --min-disp " + std::to_string(r.min_disp) +
-           ": --max-disp must be " + std::to_string(r.min_disp + 1) + ".." +
-           std::to_string(top);
+           " is beyond the engine's range for " + frame + " with --min-disp " +
+           std::to_string(r.min_disp) + ": --max-disp must be " +
+           std::to_string(r.min_disp + 1) + ".." + std::to_string(top);
 }
 
 bool write_png(const std::string &path, const cv::Mat &img)
@@ -209,21 +208,23 @@ bool align_right(const cv::Mat &left, const cv::Mat &right,
     std::snprintf(buf, sizeof buf,
                   "alignment %s: right row = left row + %.3f %+.5f (y - %d) "
                   "%+.5f (x - %d) px; %d tiles, residual %.3f px",
-                  vs.accepted ? "estimated" : "not estimated (too little "
-                                              "texture), rows unchanged",
-                  vs.model.offset_q16 / 65536.0, vs.model.slope_y_q16 / 65536.0,
-                  left.rows / 2, vs.model.slope_x_q16 / 65536.0, left.cols / 2,
-                  vs.tiles_used, vs.resid_q4 / 16.0);
+                  vs.accepted ? "estimated"
+                              : "not estimated (too little "
+                                "texture), rows unchanged",
+                  vs.model.offset_q16 / 65536.0,
+                  vs.model.slope_y_q16 / 65536.0, left.rows / 2,
+                  vs.model.slope_x_q16 / 65536.0, left.cols / 2, vs.tiles_used,
+                  vs.resid_q4 / 16.0);
     text = buf;
     return true;
 }
 
 // LEFT and the map after every stage in one picture, two rows of tiles,
 // each under a caption with the stage and the share of pixels with a value.
-cv::Mat stage_montage(const cv::Mat &left,
-                      const std::vector<negobs_tools::NegobsMatcher::Snapshot>
-                          &snaps,
-                      const negobs_tools::Range &range)
+cv::Mat stage_montage(
+    const cv::Mat &left,
+    const std::vector<negobs_tools::NegobsMatcher::Snapshot> &snaps,
+    const negobs_tools::Range &range)
 {
     const int cap = 22;
     const int w = left.cols;
@@ -312,8 +313,9 @@ int run(int argc, char **argv)
         } else if (a == "--dense") {
             dense = true;
         } else if (a.size() > 1 && a[0] == '-') {
-            std::fprintf(stderr, "negobs_stereo: unknown option '%s' (see "
-                                 "--help)\n",
+            std::fprintf(stderr,
+                         "negobs_stereo: unknown option '%s' (see "
+                         "--help)\n",
                          a.c_str());
             return EXIT_USAGE;
         } else {
@@ -321,8 +323,9 @@ int run(int argc, char **argv)
         }
     }
     if (pos.size() != 3) {
-        std::fprintf(stderr, "negobs_stereo: need LEFT RIGHT OUT.png (got %zu "
-                             "file names); see --help\n",
+        std::fprintf(stderr,
+                     "negobs_stereo: need LEFT RIGHT OUT.png (got %zu "
+                     "file names); see --help\n",
                      pos.size());
         return EXIT_USAGE;
     }
@@ -332,7 +335,8 @@ int run(int argc, char **argv)
             return false;
         std::string t = p.substr(p.size() - e.size());
         for (char &ch : t)
-            ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+            ch = static_cast<char>(
+                std::tolower(static_cast<unsigned char>(ch)));
         return t == e;
     };
     auto picture_ext = [&](const std::string &p) {
@@ -381,9 +385,8 @@ int run(int argc, char **argv)
     if (err.empty())
         err = negobs_tools::check_engine_limits(range, left.cols, left.rows);
     if (err.empty()) {
-        const std::string frame =
-            "a " + std::to_string(left.cols) + "x" + std::to_string(left.rows) +
-            " frame";
+        const std::string frame = "a " + std::to_string(left.cols) + "x" +
+                                  std::to_string(left.rows) + " frame";
         err = check_engine_range(range, left.cols, left.rows, frame.c_str());
     }
     if (!err.empty()) {
@@ -415,8 +418,8 @@ int run(int argc, char **argv)
         std::fprintf(stderr, "negobs_stereo: %s\n", err.c_str());
         return EXIT_LIBRARY;
     }
-    const double ms =
-        1000.0 * double(cv::getTickCount() - t0) / cv::getTickFrequency();
+    const double ms = 1000.0 * double(cv::getTickCount() - t0) /
+                      cv::getTickFrequency();
     if (stats) {
         std::fprintf(stderr,
                      "negobs_stereo: %dx%d range %d..%d: %.1f ms, "
@@ -484,8 +487,7 @@ int run(int argc, char **argv)
 int main(int argc, char **argv)
 {
     try {
-        cv::utils::logging::setLogLevel(
-            cv::utils::logging::LOG_LEVEL_ERROR);
+        cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
         return run(argc, argv);
     } catch (const std::exception &e) {
         std::fprintf(stderr, "negobs_stereo: internal error: %s\n", e.what());

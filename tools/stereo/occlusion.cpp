@@ -50,8 +50,11 @@ Name split_name(const std::string &p)
 {
     Name n;
     const size_t slash = p.find_last_of('/');
-    n.dir = (slash == std::string::npos) ? std::string() : p.substr(0, slash + 1);
-    const std::string base = (slash == std::string::npos) ? p : p.substr(slash + 1);
+    n.dir = (slash == std::string::npos) ? std::string()
+                                         : p.substr(0, slash + 1);
+    const std::string base = (slash == std::string::npos)
+                                 ? p
+                                 : p.substr(slash + 1);
     const size_t dot = base.find_last_of('.');
     n.stem = (dot == std::string::npos) ? base : base.substr(0, dot);
     n.ext = (dot == std::string::npos) ? std::string() : base.substr(dot);
@@ -88,7 +91,8 @@ std::string right_gt_path(const std::string &left_image,
         return std::string();
     }
     const std::string stem = g.stem.substr(0, g.stem.size() - nl.size()) + nr;
-    for (const std::string &ext : {g.ext, std::string(".png"), std::string(".pgm")}) {
+    for (const std::string &ext :
+         {g.ext, std::string(".png"), std::string(".pgm")}) {
         const std::string p = g.dir + stem + ext;
         if (is_file(p)) {
             return p;

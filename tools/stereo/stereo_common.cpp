@@ -25,7 +25,8 @@ bool load_grey(const std::string &path, cv::Mat &grey, std::string &err)
         return false;
     }
     if (img.empty()) {
-        err = "cannot read '" + path + "' (missing, unreadable or not an "
+        err = "cannot read '" + path +
+              "' (missing, unreadable or not an "
               "image format OpenCV decodes)";
         return false;
     }
@@ -36,18 +37,10 @@ bool load_grey(const std::string &path, cv::Mat &grey, std::string &err)
         return false;
     }
     switch (img.channels()) {
-    case 1:
-        grey = img;
-        break;
-    case 3:
-        cv::cvtColor(img, grey, cv::COLOR_BGR2GRAY);
-        break;
-    case 4:
-        cv::cvtColor(img, grey, cv::COLOR_BGRA2GRAY);
-        break;
-    default:
-        err = "'" + path + "': unsupported channel count";
-        return false;
+    case 1: grey = img; break;
+    case 3: cv::cvtColor(img, grey, cv::COLOR_BGR2GRAY); break;
+    case 4: cv::cvtColor(img, grey, cv::COLOR_BGRA2GRAY); break;
+    default: err = "'" + path + "': unsupported channel count"; return false;
     }
     if (!grey.isContinuous())
         grey = grey.clone();
@@ -127,8 +120,7 @@ static std::string status_text(const char *what, negobs_status_t st)
 }
 
 bool NegobsMatcher::init(int width, int height, const Range &r,
-                         std::string &err, int gap_fill,
-                         int keep_out_of_view)
+                         std::string &err, int gap_fill, int keep_out_of_view)
 {
     impl_.reset(new Impl());
     std::memset(&impl_->ctx, 0, sizeof impl_->ctx);
@@ -189,8 +181,8 @@ static void observe_stage(void *user, negobs_stereo_stage_t stage,
                           const negobs_image_s16_t *disp)
 {
     static const char *const names[NEGOBS_STEREO_STAGE_COUNT] = {
-        "vertical", "range", "windows", "Canny", "GCS (seeds + growth)",
-        "DP", "LR check", "speckles", "gap fill", "adaptive mean",
+        "vertical", "range",    "windows",  "Canny",    "GCS (seeds + growth)",
+        "DP",       "LR check", "speckles", "gap fill", "adaptive mean",
         "output"};
     auto *impl = static_cast<NegobsMatcher::Impl *>(user);
     // the view may be a crop of the frame's lower rows: place it
@@ -214,9 +206,8 @@ static void observe_stage(void *user, negobs_stereo_stage_t stage,
 void NegobsMatcher::keep_stages(bool on)
 {
     if (impl_)
-        (void)negobs_stereo_set_observer(&impl_->ctx,
-                                         on ? observe_stage : nullptr,
-                                         impl_.get());
+        (void)negobs_stereo_set_observer(
+            &impl_->ctx, on ? observe_stage : nullptr, impl_.get());
 }
 
 const std::vector<NegobsMatcher::Snapshot> &NegobsMatcher::stages() const
@@ -263,8 +254,8 @@ bool NegobsMatcher::process(const cv::Mat &left, const cv::Mat &right,
     impl_->snaps.clear();
     negobs_stereo_stats_t stats;
     std::memset(&stats, 0, sizeof stats);
-    negobs_status_t st =
-        negobs_stereo_process(&impl_->ctx, &l, &rr, &d, &c, &stats);
+    negobs_status_t st = negobs_stereo_process(&impl_->ctx, &l, &rr, &d, &c,
+                                               &stats);
     if (st != NEGOBS_OK) {
         err = status_text("negobs_stereo_process", st);
         return false;
@@ -284,8 +275,8 @@ bool NegobsMatcher::process(const cv::Mat &left, const cv::Mat &right,
 #endif
     if (profile_) {
         static const char *const names[NEGOBS_STEREO_STAGE_COUNT] = {
-            "vertical", "range", "windows", "canny", "gcs", "dp",
-            "lr", "speckle", "gap_fill", "mean", "output"};
+            "vertical", "range",   "windows",  "canny", "gcs",   "dp",
+            "lr",       "speckle", "gap_fill", "mean",  "output"};
         char buf[64];
         stats_text_ += "; stage ms:";
         for (int k = 0; k < NEGOBS_STEREO_STAGE_COUNT; ++k) {

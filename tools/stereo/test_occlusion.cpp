@@ -75,8 +75,8 @@ int main()
               "unknown GT on either side is not non-occluded");
         // a right GT off by 2 px is inconsistent at tol 1, consistent at 2
         cv::Mat gr3 = gr + 2.0f;
-        check(cv::countNonZero(negobs_tools::nonocc_from_right_gt(
-                  gl, kl, gr3, kr)) == 0,
+        check(cv::countNonZero(
+                  negobs_tools::nonocc_from_right_gt(gl, kl, gr3, kr)) == 0,
               "a right GT 2 px off matches nothing at 1 px tolerance");
         check(cv::countNonZero(negobs_tools::nonocc_from_right_gt(
                   gl, kl, gr3, kr, 2.0)) > 0,
@@ -93,15 +93,15 @@ int main()
     check(dir != nullptr, "temporary folder");
     if (dir != nullptr) {
         const std::string d = std::string(dir) + "/";
-        for (const char *f : {"view1.png", "view5.png", "disp1.png",
-                              "disp5.png", "im2.ppm", "im6.ppm", "disp2.pgm",
-                              "disp6.pgm", "aloeL.jpg", "aloeR.jpg",
-                              "aloeGT.png", "a3.png", "b4.png", "gt3.png"}) {
+        for (const char *f :
+             {"view1.png", "view5.png", "disp1.png", "disp5.png", "im2.ppm",
+              "im6.ppm", "disp2.pgm", "disp6.pgm", "aloeL.jpg", "aloeR.jpg",
+              "aloeGT.png", "a3.png", "b4.png", "gt3.png"}) {
             touch(d + f);
         }
         using negobs_tools::right_gt_path;
-        check(right_gt_path(d + "view1.png", d + "view5.png", d + "disp1.png") ==
-                  d + "disp5.png",
+        check(right_gt_path(d + "view1.png", d + "view5.png",
+                            d + "disp1.png") == d + "disp5.png",
               "2006 naming: disp1 -> disp5");
         check(right_gt_path(d + "im2.ppm", d + "im6.ppm", d + "disp2.pgm") ==
                   d + "disp6.pgm",
@@ -114,10 +114,10 @@ int main()
         check(right_gt_path(d + "view1.png", d + "view1.png", d + "disp1.png")
                   .empty(),
               "the same view twice: none");
-        for (const char *f : {"view1.png", "view5.png", "disp1.png",
-                              "disp5.png", "im2.ppm", "im6.ppm", "disp2.pgm",
-                              "disp6.pgm", "aloeL.jpg", "aloeR.jpg",
-                              "aloeGT.png", "a3.png", "b4.png", "gt3.png"}) {
+        for (const char *f :
+             {"view1.png", "view5.png", "disp1.png", "disp5.png", "im2.ppm",
+              "im6.ppm", "disp2.pgm", "disp6.pgm", "aloeL.jpg", "aloeR.jpg",
+              "aloeGT.png", "a3.png", "b4.png", "gt3.png"}) {
             std::remove((d + f).c_str());
         }
         rmdir(dir);

@@ -39,11 +39,11 @@ struct Options {
     bool cx_set = false, cy_set = false;
     int frames = 1;
     bool single = false;
-    double speed = 1.2;      // m/s
+    double speed = 1.2; // m/s
     double fps = 10.0;
-    double bob_mm = 25.0;    // vertical amplitude
-    double bob_hz = 1.8;     // step frequency
-    double sway_deg = 1.0;   // pitch sway amplitude
+    double bob_mm = 25.0;  // vertical amplitude
+    double bob_hz = 1.8;   // step frequency
+    double sway_deg = 1.0; // pitch sway amplitude
     double roll_sway_deg = 0.5;
     uint64_t seed = 1;
     bool texture_seed_set = false;
@@ -66,89 +66,89 @@ struct Options {
 void usage(FILE *fp, const char *argv0)
 {
     std::fprintf(fp,
-"usage: %s --out DIR [options]\n"
-"Renders rectified 8-bit grey stereo pairs (left_NNNN.png, right_NNNN.png)\n"
-"and ground truth (gt.json) by exact per-pixel ray casting.\n"
-"\n"
-"Scene:\n"
-"  --scene S            curb|stairs|hole|upstep|wall|flat|ramp (default curb)\n"
-"  --edge-mm D          horizontal distance from the start position to the\n"
-"                       hazard's near edge (default 4000)\n"
-"  --drop-mm H          curb/hole depth, up-step height (default 150)\n"
-"  --steps N            stairs: number of steps (default 3)\n"
-"  --rise-mm R          stairs: riser height (default 170)\n"
-"  --run-mm R           stairs: tread depth (default 300)\n"
-"  --hole-width-mm W    hole: lateral size (default 1000)\n"
-"  --hole-length-mm L   hole: size along the walking direction (default 800)\n"
-"  --hole-offset-mm X   hole: lateral centre, + = right (default 0)\n"
-"  --wall-height-mm H   wall height (default 2500)\n"
-"  --grade-pct G        ramp: fall of the ground beyond the edge, %% of the\n"
-"                       horizontal distance; negative = uphill (default\n"
-"                       8.33, a 1:12 curb cut)\n"
-"  --ramp-mm L          ramp: horizontal length of the slope, then level\n"
-"                       ground again; 0 = it never ends (default 1800)\n"
-"                       The walker follows the ground: on the ramp the\n"
-"                       camera stays --height-mm above the surface under it\n"
-"  --lower-shade K      brightness of surfaces below the near ground (0.9)\n"
-"  --distractors N      N random intensity-only distractors on the near\n"
-"                       ground: painted stripes, hard shadows, dark patches,\n"
-"                       manhole covers (default 0; never to be alarmed)\n"
-"  --texture-kind K     asphalt|paving|concrete|worn procedural texture\n"
-"                       (default asphalt; concrete and worn are weak,\n"
-"                       low-contrast textures)\n"
-"  --texture FILE       tile a grey photo on all surfaces instead\n"
-"  --texture-mm S       photo: millimetres per photo pixel (default 2)\n"
-"  --texture-seed N     seed of the procedural texture (default: --seed)\n"
-"Camera (left = reference; right shifted by the baseline to the right):\n"
-"  --width W --height H image size (default 320 240)\n"
-"  --f F                focal length in px (default 250)\n"
-"  --cx X --cy Y        principal point (default (W-1)/2, (H-1)/2)\n"
-"  --baseline-mm B      stereo baseline (default 120)\n"
-"  --height-mm H        camera height above the near ground (default 1200)\n"
-"  --pitch-deg P        downward pitch (default 20)\n"
-"  --roll-deg R         roll, + = right side down (default 0)\n"
-"  --yaw-deg Y          heading relative to the edge normal (default 0)\n"
-"Sequence:\n"
-"  --single             one pair, no motion (same as --frames 1 without\n"
-"                       bobbing or sway)\n"
-"  --frames N           number of frames (default 1)\n"
-"  --speed V            walking speed m/s (default 1.2)\n"
-"  --fps F              frame rate (default 10)\n"
-"  --bob-mm A           vertical bobbing amplitude (default 25)\n"
-"  --bob-hz F           bobbing (step) frequency (default 1.8)\n"
-"  --sway-deg A         pitch sway amplitude (default 1.0)\n"
-"  --roll-sway-deg A    roll sway amplitude, half step frequency (0.5)\n"
-"  --seed N             seed for motion phases, texture and noise (default 1)\n"
-"Sensor:\n"
-"  --noise S            Gaussian noise sigma in grey levels (default 0)\n"
-"  --gain-right G       right exposure/gain factor (default 1)\n"
-"  --offset-right O     right offset in grey levels (default 0)\n"
-"  --brightness K       gain of both cameras (default 1)\n"
-"  --exposure-pct P     auto-exposure changes within a sequence: every\n"
-"                       --exposure-every frames the exposure of both\n"
-"                       cameras moves to a new random level within +-P %%\n"
-"                       of the start, over 3 frames (default 0: none)\n"
-"  --exposure-every N   frames between exposure changes (default 10)\n"
-"  --exposure-lag-right N  the right camera's exposure follows N frames\n"
-"                       late (independent auto-exposure; default 0)\n"
-"  --blur S             lens blur, Gaussian PSF sigma in px (default 0)\n"
-"  --vshift-right R     vertical misalignment: right image content moved\n"
-"                       down by R rows, sub-pixel allowed (default 0)\n"
-"  --ss N               NxN supersampling per pixel, 1..4 (default 2)\n"
-"Output:\n"
-"  --out DIR            output folder (created)\n"
-"  --gt-disparity       also write disp_NNNN.png (16-bit, disparity*16,\n"
-"                       0 = no surface) of the left image\n"
-"  --gt-disparity-right also write dispr_NNNN.png, the right image's GT\n"
-"                       disparity (same encoding; its match is at x + d)\n"
-"  --threads N          worker threads (default: OpenCV's choice, all cores)\n"
-"  --preview            also write preview_NNNN.png: left image with the GT\n"
-"                       edge line, next to the GT disparity (brighter = nearer)\n"
-"  --quiet              no progress/timing line\n"
-"  --help               this text\n"
-"Example:\n"
-"  %s --scene curb --drop-mm 150 --edge-mm 4000 --frames 60 --speed 1.2 \\\n"
-"     --fps 10 --noise 2 --seed 7 --out /tmp/curb\n",
+                 "usage: %s --out DIR [options]\n"
+                 "Renders rectified 8-bit grey stereo pairs (left_NNNN.png, right_NNNN.png)\n"
+                 "and ground truth (gt.json) by exact per-pixel ray casting.\n"
+                 "\n"
+                 "Scene:\n"
+                 "  --scene S            curb|stairs|hole|upstep|wall|flat|ramp (default curb)\n"
+                 "  --edge-mm D          horizontal distance from the start position to the\n"
+                 "                       hazard's near edge (default 4000)\n"
+                 "  --drop-mm H          curb/hole depth, up-step height (default 150)\n"
+                 "  --steps N            stairs: number of steps (default 3)\n"
+                 "  --rise-mm R          stairs: riser height (default 170)\n"
+                 "  --run-mm R           stairs: tread depth (default 300)\n"
+                 "  --hole-width-mm W    hole: lateral size (default 1000)\n"
+                 "  --hole-length-mm L   hole: size along the walking direction (default 800)\n"
+                 "  --hole-offset-mm X   hole: lateral centre, + = right (default 0)\n"
+                 "  --wall-height-mm H   wall height (default 2500)\n"
+                 "  --grade-pct G        ramp: fall of the ground beyond the edge, %% of the\n"
+                 "                       horizontal distance; negative = uphill (default\n"
+                 "                       8.33, a 1:12 curb cut)\n"
+                 "  --ramp-mm L          ramp: horizontal length of the slope, then level\n"
+                 "                       ground again; 0 = it never ends (default 1800)\n"
+                 "                       The walker follows the ground: on the ramp the\n"
+                 "                       camera stays --height-mm above the surface under it\n"
+                 "  --lower-shade K      brightness of surfaces below the near ground (0.9)\n"
+                 "  --distractors N      N random intensity-only distractors on the near\n"
+                 "                       ground: painted stripes, hard shadows, dark patches,\n"
+                 "                       manhole covers (default 0; never to be alarmed)\n"
+                 "  --texture-kind K     asphalt|paving|concrete|worn procedural texture\n"
+                 "                       (default asphalt; concrete and worn are weak,\n"
+                 "                       low-contrast textures)\n"
+                 "  --texture FILE       tile a grey photo on all surfaces instead\n"
+                 "  --texture-mm S       photo: millimetres per photo pixel (default 2)\n"
+                 "  --texture-seed N     seed of the procedural texture (default: --seed)\n"
+                 "Camera (left = reference; right shifted by the baseline to the right):\n"
+                 "  --width W --height H image size (default 320 240)\n"
+                 "  --f F                focal length in px (default 250)\n"
+                 "  --cx X --cy Y        principal point (default (W-1)/2, (H-1)/2)\n"
+                 "  --baseline-mm B      stereo baseline (default 120)\n"
+                 "  --height-mm H        camera height above the near ground (default 1200)\n"
+                 "  --pitch-deg P        downward pitch (default 20)\n"
+                 "  --roll-deg R         roll, + = right side down (default 0)\n"
+                 "  --yaw-deg Y          heading relative to the edge normal (default 0)\n"
+                 "Sequence:\n"
+                 "  --single             one pair, no motion (same as --frames 1 without\n"
+                 "                       bobbing or sway)\n"
+                 "  --frames N           number of frames (default 1)\n"
+                 "  --speed V            walking speed m/s (default 1.2)\n"
+                 "  --fps F              frame rate (default 10)\n"
+                 "  --bob-mm A           vertical bobbing amplitude (default 25)\n"
+                 "  --bob-hz F           bobbing (step) frequency (default 1.8)\n"
+                 "  --sway-deg A         pitch sway amplitude (default 1.0)\n"
+                 "  --roll-sway-deg A    roll sway amplitude, half step frequency (0.5)\n"
+                 "  --seed N             seed for motion phases, texture and noise (default 1)\n"
+                 "Sensor:\n"
+                 "  --noise S            Gaussian noise sigma in grey levels (default 0)\n"
+                 "  --gain-right G       right exposure/gain factor (default 1)\n"
+                 "  --offset-right O     right offset in grey levels (default 0)\n"
+                 "  --brightness K       gain of both cameras (default 1)\n"
+                 "  --exposure-pct P     auto-exposure changes within a sequence: every\n"
+                 "                       --exposure-every frames the exposure of both\n"
+                 "                       cameras moves to a new random level within +-P %%\n"
+                 "                       of the start, over 3 frames (default 0: none)\n"
+                 "  --exposure-every N   frames between exposure changes (default 10)\n"
+                 "  --exposure-lag-right N  the right camera's exposure follows N frames\n"
+                 "                       late (independent auto-exposure; default 0)\n"
+                 "  --blur S             lens blur, Gaussian PSF sigma in px (default 0)\n"
+                 "  --vshift-right R     vertical misalignment: right image content moved\n"
+                 "                       down by R rows, sub-pixel allowed (default 0)\n"
+                 "  --ss N               NxN supersampling per pixel, 1..4 (default 2)\n"
+                 "Output:\n"
+                 "  --out DIR            output folder (created)\n"
+                 "  --gt-disparity       also write disp_NNNN.png (16-bit, disparity*16,\n"
+                 "                       0 = no surface) of the left image\n"
+                 "  --gt-disparity-right also write dispr_NNNN.png, the right image's GT\n"
+                 "                       disparity (same encoding; its match is at x + d)\n"
+                 "  --threads N          worker threads (default: OpenCV's choice, all cores)\n"
+                 "  --preview            also write preview_NNNN.png: left image with the GT\n"
+                 "                       edge line, next to the GT disparity (brighter = nearer)\n"
+                 "  --quiet              no progress/timing line\n"
+                 "  --help               this text\n"
+                 "Example:\n"
+                 "  %s --scene curb --drop-mm 150 --edge-mm 4000 --frames 60 --speed 1.2 \\\n"
+                 "     --fps 10 --noise 2 --seed 7 --out /tmp/curb\n",
                  argv0, argv0);
 }
 
@@ -218,11 +218,22 @@ int parse(int argc, char **argv, Options &o)
             return -1;
         }
         bool is_flag = false;
-        if (flag("--single")) { o.single = true; is_flag = true; }
-        else if (flag("--gt-disparity")) { o.gt_disparity = true; is_flag = true; }
-        else if (flag("--gt-disparity-right")) { o.gt_disparity_right = true; is_flag = true; }
-        else if (flag("--quiet")) { o.quiet = true; is_flag = true; }
-        else if (flag("--preview")) { o.preview = true; is_flag = true; }
+        if (flag("--single")) {
+            o.single = true;
+            is_flag = true;
+        } else if (flag("--gt-disparity")) {
+            o.gt_disparity = true;
+            is_flag = true;
+        } else if (flag("--gt-disparity-right")) {
+            o.gt_disparity_right = true;
+            is_flag = true;
+        } else if (flag("--quiet")) {
+            o.quiet = true;
+            is_flag = true;
+        } else if (flag("--preview")) {
+            o.preview = true;
+            is_flag = true;
+        }
         if (is_flag) {
             if (has_val)
                 return fail(a0, "option " + arg + " takes no value");
@@ -243,8 +254,8 @@ int parse(int argc, char **argv, Options &o)
                 return fail(a0, "option " + arg + ": '" + val + "' is not a number");
             if (d < lo || d > hi) {
                 char buf[160];
-                std::snprintf(buf, sizeof buf, "option %s: %g is outside [%g, %g]",
-                              arg.c_str(), d, lo, hi);
+                std::snprintf(buf, sizeof buf, "option %s: %g is outside [%g, %g]", arg.c_str(), d,
+                              lo, hi);
                 return fail(a0, buf);
             }
             dst = d;
@@ -255,8 +266,8 @@ int parse(int argc, char **argv, Options &o)
                 return fail(a0, "option " + arg + ": '" + val + "' is not an integer");
             if (n < lo || n > hi) {
                 char buf[160];
-                std::snprintf(buf, sizeof buf, "option %s: %d is outside [%d, %d]",
-                              arg.c_str(), n, lo, hi);
+                std::snprintf(buf, sizeof buf, "option %s: %d is outside [%d, %d]", arg.c_str(), n,
+                              lo, hi);
                 return fail(a0, buf);
             }
             dst = n;
@@ -266,8 +277,8 @@ int parse(int argc, char **argv, Options &o)
         double mm = 0.0;
         if (arg == "--scene") {
             if (!synth::hazard_from_name(val, o.scene.hazard))
-                return fail(a0, "unknown scene '" + val +
-                                    "' (curb|stairs|hole|upstep|wall|flat|ramp)");
+                return fail(a0,
+                            "unknown scene '" + val + "' (curb|stairs|hole|upstep|wall|flat|ramp)");
         } else if (arg == "--edge-mm") {
             rc = num(mm, -1e6, 1e6);
             o.scene.edge_z = mm * 1e-3;
@@ -307,8 +318,8 @@ int parse(int argc, char **argv, Options &o)
         } else if (arg == "--texture-kind") {
             o.texture_kind = val;
             if (val != "asphalt" && val != "paving" && val != "concrete" && val != "worn")
-                return fail(a0, "unknown texture kind '" + val +
-                                    "' (asphalt|paving|concrete|worn)");
+                return fail(a0,
+                            "unknown texture kind '" + val + "' (asphalt|paving|concrete|worn)");
         } else if (arg == "--distractors") {
             rc = integer(o.distractors, 0, 1000);
         } else if (arg == "--texture") {
@@ -317,7 +328,8 @@ int parse(int argc, char **argv, Options &o)
             rc = num(o.texture_mm, 0.01, 1000.0);
         } else if (arg == "--texture-seed") {
             if (!parse_u64(v, o.texture_seed))
-                return fail(a0, "option --texture-seed: '" + val + "' is not a non-negative integer");
+                return fail(a0,
+                            "option --texture-seed: '" + val + "' is not a non-negative integer");
             o.texture_seed_set = true;
         } else if (arg == "--width") {
             rc = integer(o.rig.width, 16, 8192);
@@ -526,8 +538,7 @@ int main(int argc, char **argv)
     // ground), on the Y = 0 surfaces only.
     o.scene.distractors = synth::random_distractors(
         o.distractors, 1.0,
-        o.scene.hazard == synth::Hazard::Flat ? 8.0 : std::max(2.0, o.scene.edge_z + 2.0),
-        o.seed);
+        o.scene.hazard == synth::Hazard::Flat ? 8.0 : std::max(2.0, o.scene.edge_z + 2.0), o.seed);
     const synth::Scene scene(o.scene);
     const bool sequence = !o.single;
     // Motion phases from the seed, so every sequence bobs differently.
@@ -562,9 +573,8 @@ int main(int argc, char **argv)
                  "\"camera\": {\"f\": %.6g, \"B_mm\": %.6g, \"cx\": %.6g, \"cy\": %.6g, "
                  "\"H_mm\": %.6g, \"pitch\": %.6g, \"roll\": %.6g, \"yaw\": %.6g, "
                  "\"width\": %d, \"height\": %d, \"right_row_shift\": %.6g},\n",
-                 o.rig.f, o.rig.baseline * 1e3, o.rig.cx, o.rig.cy, o.height_mm,
-                 o.pitch_deg, o.roll_deg, o.yaw_deg, o.rig.width, o.rig.height,
-                 o.rig.right_row_shift);
+                 o.rig.f, o.rig.baseline * 1e3, o.rig.cx, o.rig.cy, o.height_mm, o.pitch_deg,
+                 o.roll_deg, o.yaw_deg, o.rig.width, o.rig.height, o.rig.right_row_shift);
     std::fprintf(gt,
                  "\"scene\": {\"hazard\": \"%s\", \"negative\": %s, \"edge_mm\": %.6g, "
                  "\"drop_mm\": %.6g, \"steps\": %d, \"rise_mm\": %.6g, \"run_mm\": %.6g, "
@@ -574,12 +584,13 @@ int main(int argc, char **argv)
                  "\"texture\": \"%s\", \"texture_seed\": %llu, \"distractors\": [%s]},\n",
                  synth::hazard_name(sp.hazard),
                  (sp.hazard == synth::Hazard::Curb || sp.hazard == synth::Hazard::Stairs ||
-                  sp.hazard == synth::Hazard::Hole) ? "true" : "false",
+                  sp.hazard == synth::Hazard::Hole)
+                     ? "true"
+                     : "false",
                  sp.edge_z * 1e3, sp.drop * 1e3, sp.steps, sp.rise * 1e3, sp.run * 1e3,
                  sp.hole_width * 1e3, sp.hole_length * 1e3, sp.hole_offset * 1e3,
                  sp.wall_height * 1e3, sp.ramp_grade * 1e2,
-                 std::isfinite(sp.ramp_length) ? fmt("%.6g", sp.ramp_length * 1e3).c_str()
-                                               : "null",
+                 std::isfinite(sp.ramp_length) ? fmt("%.6g", sp.ramp_length * 1e3).c_str() : "null",
                  json_escape(o.texture_file.empty() ? o.texture_kind : o.texture_file).c_str(),
                  static_cast<unsigned long long>(o.texture_seed), dlist.c_str());
     std::fprintf(gt,
@@ -591,10 +602,10 @@ int main(int argc, char **argv)
                  "\"exposure_lag_right\": %d},\n",
                  o.render.supersample, o.sensor.noise_sigma, o.sensor.gain_right,
                  o.sensor.offset_right, o.sensor.brightness, o.sensor.blur,
-                 static_cast<unsigned long long>(o.seed), sequence ? o.speed : 0.0, o.fps,
-                 o.bob_mm, o.bob_hz, o.sway_deg, o.roll_sway_deg,
-                 o.gt_disparity ? "true" : "false", o.gt_disparity_right ? "true" : "false",
-                 o.exposure_pct, o.exposure_every, o.exposure_lag);
+                 static_cast<unsigned long long>(o.seed), sequence ? o.speed : 0.0, o.fps, o.bob_mm,
+                 o.bob_hz, o.sway_deg, o.roll_sway_deg, o.gt_disparity ? "true" : "false",
+                 o.gt_disparity_right ? "true" : "false", o.exposure_pct, o.exposure_every,
+                 o.exposure_lag);
     std::fprintf(gt, "\"frames\": [\n");
 
     double render_ms = 0.0;
@@ -622,7 +633,8 @@ int main(int argc, char **argv)
                            o.gt_disparity_right ? &dispr : nullptr);
         synth::apply_blur(lf, o.sensor.blur);
         synth::apply_blur(rf, o.sensor.blur);
-        const uint64_t fseed = o.seed * 0xD1B54A32D192ED03ull + static_cast<uint64_t>(i) * 7919u + 1;
+        const uint64_t fseed = o.seed * 0xD1B54A32D192ED03ull + static_cast<uint64_t>(i) * 7919u +
+                               1;
         cv::Mat l8, r8;
         synth::SensorOptions sl = o.sensor, sr = o.sensor;
         const double exp_l = exposure[static_cast<size_t>(i)];
@@ -632,8 +644,9 @@ int main(int argc, char **argv)
         synth::apply_sensor(lf, 0, sl, fseed, l8);
         synth::apply_sensor(rf, 1, sr, fseed, r8);
         const synth::EdgeGT eg = synth::edge_ground_truth(scene, o.rig, pose);
-        render_ms += std::chrono::duration<double, std::milli>(
-                         std::chrono::steady_clock::now() - t0).count();
+        render_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
+                                                               t0)
+                         .count();
 
         const std::string ln = fmt("left_%04d.png", i), rn = fmt("right_%04d.png", i);
         const std::string dn = fmt("disp_%04d.png", i);
@@ -652,8 +665,8 @@ int main(int argc, char **argv)
             // Left image with the GT edge line | GT disparity (0..max -> 0..255).
             cv::Mat l = l8.clone(), d8;
             if (eg.visible)
-                cv::line(l, cv::Point2d(eg.u_min, eg.v_at_u_min), cv::Point2d(eg.u_max, eg.v_at_u_max),
-                         cv::Scalar(255), 1, cv::LINE_8);
+                cv::line(l, cv::Point2d(eg.u_min, eg.v_at_u_min),
+                         cv::Point2d(eg.u_max, eg.v_at_u_max), cv::Scalar(255), 1, cv::LINE_8);
             double dmax = 0.0;
             cv::minMaxLoc(disp, nullptr, &dmax);
             disp.convertTo(d8, CV_8U, dmax > 0.0 ? 255.0 / dmax : 0.0);
@@ -698,34 +711,34 @@ int main(int argc, char **argv)
         case synth::Hazard::Upstep: drop = -sp.drop; break;
         default: drop = 0.0; break;
         }
-        std::fprintf(gt,
-                     "{\"i\": %d, \"t_s\": %.4f, \"left\": \"%s\", \"right\": \"%s\", "
-                     "\"disparity\": %s, \"hazard\": \"%s\", \"edge_range_mm\": %s, "
-                     "\"drop_mm\": %.1f, \"total_drop_mm\": %.1f, \"edge_visible\": %s, "
-                     "\"edge_cols\": %d, \"edge_rows\": %s, \"edge_box\": %s, \"edge_line\": %s, "
-                     "\"edge_row_at_cx\": %s, \"H_mm\": %.2f, \"pitch\": %.4f, "
-                     "\"roll\": %.4f, \"yaw\": %.4f, \"cam_x_mm\": %.1f, \"cam_z_mm\": %.1f, "
-                     "\"ground_y_mm\": %.1f, \"exposure\": [%.4f, %.4f]%s}%s\n",
-                     i, t, ln.c_str(), rn.c_str(),
-                     o.gt_disparity ? ("\"" + dn + "\"").c_str() : "null",
-                     synth::hazard_name(sp.hazard), edge.c_str(), drop * 1e3,
-                     (sp.hazard == synth::Hazard::Stairs ? sp.rise * sp.steps : drop) * 1e3,
-                     eg.visible ? "true" : "false", eg.cols_visible, rows.c_str(), box.c_str(), line.c_str(),
-                     rowc.c_str(), (pose.y - ground_y) * 1e3, pose.pitch, pose.roll,
-                     pose.yaw, pose.x * 1e3, pose.z * 1e3, ground_y * 1e3, exp_l, exp_r, extra.c_str(),
-                     i + 1 < o.frames ? "," : "");
+        std::fprintf(
+            gt,
+            "{\"i\": %d, \"t_s\": %.4f, \"left\": \"%s\", \"right\": \"%s\", "
+            "\"disparity\": %s, \"hazard\": \"%s\", \"edge_range_mm\": %s, "
+            "\"drop_mm\": %.1f, \"total_drop_mm\": %.1f, \"edge_visible\": %s, "
+            "\"edge_cols\": %d, \"edge_rows\": %s, \"edge_box\": %s, \"edge_line\": %s, "
+            "\"edge_row_at_cx\": %s, \"H_mm\": %.2f, \"pitch\": %.4f, "
+            "\"roll\": %.4f, \"yaw\": %.4f, \"cam_x_mm\": %.1f, \"cam_z_mm\": %.1f, "
+            "\"ground_y_mm\": %.1f, \"exposure\": [%.4f, %.4f]%s}%s\n",
+            i, t, ln.c_str(), rn.c_str(), o.gt_disparity ? ("\"" + dn + "\"").c_str() : "null",
+            synth::hazard_name(sp.hazard), edge.c_str(), drop * 1e3,
+            (sp.hazard == synth::Hazard::Stairs ? sp.rise * sp.steps : drop) * 1e3,
+            eg.visible ? "true" : "false", eg.cols_visible, rows.c_str(), box.c_str(), line.c_str(),
+            rowc.c_str(), (pose.y - ground_y) * 1e3, pose.pitch, pose.roll, pose.yaw, pose.x * 1e3,
+            pose.z * 1e3, ground_y * 1e3, exp_l, exp_r, extra.c_str(), i + 1 < o.frames ? "," : "");
     }
     std::fprintf(gt, "]\n}\n");
     if (std::fclose(gt) != 0)
         return fail(a0, "cannot write '" + gt_path + "'");
     if (!o.quiet) {
         const double total = std::chrono::duration<double, std::milli>(
-                                 std::chrono::steady_clock::now() - t_start).count();
+                                 std::chrono::steady_clock::now() - t_start)
+                                 .count();
         std::fprintf(stderr,
                      "negobs_synth: %d frame(s) %dx%d ss=%d into %s: render %.1f ms/frame, "
                      "total %.1f ms/frame\n",
-                     o.frames, o.rig.width, o.rig.height, o.render.supersample,
-                     o.out.c_str(), render_ms / o.frames, total / o.frames);
+                     o.frames, o.rig.width, o.rig.height, o.render.supersample, o.out.c_str(),
+                     render_ms / o.frames, total / o.frames);
     }
     return 0;
 }

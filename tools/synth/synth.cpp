@@ -15,20 +15,38 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kPi = 3.14159265358979323846;
 
-double deg2rad(double d) { return d * kPi / 180.0; }
+double deg2rad(double d)
+{
+    return d * kPi / 180.0;
+}
 
-Vec3 add(const Vec3 &a, const Vec3 &b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-Vec3 sub(const Vec3 &a, const Vec3 &b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-Vec3 mul(const Vec3 &a, double s) { return {a.x * s, a.y * s, a.z * s}; }
-double dot(const Vec3 &a, const Vec3 &b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+Vec3 add(const Vec3 &a, const Vec3 &b)
+{
+    return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+Vec3 sub(const Vec3 &a, const Vec3 &b)
+{
+    return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+Vec3 mul(const Vec3 &a, double s)
+{
+    return {a.x * s, a.y * s, a.z * s};
+}
+double dot(const Vec3 &a, const Vec3 &b)
+{
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 Vec3 cross(const Vec3 &a, const Vec3 &b)
 {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-double comp(const Vec3 &v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
+double comp(const Vec3 &v, int axis)
+{
+    return axis == 0 ? v.x : (axis == 1 ? v.y : v.z);
+}
 
-Rect make_rect(int axis, double pos, double lo_a, double hi_a, double lo_b,
-               double hi_b, float shade, double tex_offset)
+Rect make_rect(int axis, double pos, double lo_a, double hi_a, double lo_b, double hi_b,
+               float shade, double tex_offset)
 {
     // lo_a/hi_a bound the first other axis ((axis+1)%3), lo_b/hi_b the
     // second ((axis+2)%3).
@@ -53,15 +71,13 @@ Rect horiz(double y, double x0, double x1, double z0, double z1, float shade)
     return make_rect(1, y, z0, z1, x0, x1, shade, 0.0);
 }
 // Face of constant Z: X in [x0, x1], Y in [y0, y1].
-Rect zface(double z, double x0, double x1, double y0, double y1, float shade,
-           double off)
+Rect zface(double z, double x0, double x1, double y0, double y1, float shade, double off)
 {
     // axis 2: first other axis is X (0), second is Y (1).
     return make_rect(2, z, x0, x1, y0, y1, shade, off);
 }
 // Face of constant X: Y in [y0, y1], Z in [z0, z1].
-Rect xface(double x, double y0, double y1, double z0, double z1, float shade,
-           double off)
+Rect xface(double x, double y0, double y1, double z0, double z1, float shade, double off)
 {
     // axis 0: first other axis is Y (1), second is Z (2).
     return make_rect(0, x, y0, y1, z0, z1, shade, off);
@@ -98,7 +114,10 @@ uint64_t Rng::next()
     return z ^ (z >> 31);
 }
 
-double Rng::uniform() { return static_cast<double>(next() >> 11) * (1.0 / 9007199254740992.0); }
+double Rng::uniform()
+{
+    return static_cast<double>(next() >> 11) * (1.0 / 9007199254740992.0);
+}
 
 double Rng::gauss()
 {
@@ -127,9 +146,8 @@ const char *hazard_name(Hazard h)
 
 bool hazard_from_name(const std::string &s, Hazard &out)
 {
-    const Hazard all[] = {Hazard::Curb, Hazard::Stairs, Hazard::Hole,
-                          Hazard::Upstep, Hazard::Wall, Hazard::Flat,
-                          Hazard::Ramp};
+    const Hazard all[] = {Hazard::Curb, Hazard::Stairs, Hazard::Hole, Hazard::Upstep,
+                          Hazard::Wall, Hazard::Flat,   Hazard::Ramp};
     for (Hazard h : all) {
         if (s == hazard_name(h)) {
             out = h;
@@ -144,9 +162,7 @@ Scene::Scene(const SceneParams &p) : p_(p)
     const double ze = p.edge_z;
     const auto lower = static_cast<float>(p.lower_shade);
     switch (p.hazard) {
-    case Hazard::Flat:
-        rects_.push_back(horiz(0.0, -kInf, kInf, -kInf, kInf, 1.0f));
-        break;
+    case Hazard::Flat: rects_.push_back(horiz(0.0, -kInf, kInf, -kInf, kInf, 1.0f)); break;
     case Hazard::Curb:
         rects_.push_back(horiz(0.0, -kInf, kInf, -kInf, ze, 1.0f));
         rects_.push_back(horiz(-p.drop, -kInf, kInf, ze, kInf, lower));
@@ -159,8 +175,7 @@ Scene::Scene(const SceneParams &p) : p_(p)
             const double z1 = (k == p.steps - 1) ? kInf : z0 + p.run;
             const double y = -(k + 1) * p.rise;
             rects_.push_back(horiz(y, -kInf, kInf, z0, z1, lower));
-            rects_.push_back(zface(z0, -kInf, kInf, y, y + p.rise, kRiserShade,
-                                   3.3 + 0.7 * k));
+            rects_.push_back(zface(z0, -kInf, kInf, y, y + p.rise, kRiserShade, 3.3 + 0.7 * k));
         }
         break;
     }
@@ -243,8 +258,7 @@ int Scene::intersect(const Vec3 &c, const Vec3 &d, double &t) const
 bool Scene::edge_segment(double &x0, double &x1) const
 {
     switch (p_.hazard) {
-    case Hazard::Flat:
-        return false;
+    case Hazard::Flat: return false;
     case Hazard::Hole:
         x0 = p_.hole_offset - 0.5 * p_.hole_width;
         x1 = p_.hole_offset + 0.5 * p_.hole_width;
@@ -350,8 +364,8 @@ void add_octave(std::vector<float> &acc, int n, int cell, double amp, Rng &rng)
     std::vector<int> widx(4 * static_cast<size_t>(n));
     for (int x = 0; x < n; ++x)
         for (int k = 0; k < 4; ++k)
-            widx[4 * static_cast<size_t>(x) + static_cast<size_t>(k)] =
-                wrap(idx[static_cast<size_t>(x)] - 1 + k);
+            widx[4 * static_cast<size_t>(x) + static_cast<size_t>(k)] = wrap(
+                idx[static_cast<size_t>(x)] - 1 + k);
     // Rows: tmp[gy][x].
     std::vector<float> tmp(static_cast<size_t>(g) * static_cast<size_t>(n));
     for (int gy = 0; gy < g; ++gy) {
@@ -403,7 +417,7 @@ bool Texture::make_procedural(uint64_t seed, const std::string &kind, std::strin
         err = "unknown texture kind '" + kind + "' (asphalt|paving|concrete|worn)";
         return false;
     }
-    const int n = 2048;      // 2048 texels of 4 mm: 8.19 m period
+    const int n = 2048; // 2048 texels of 4 mm: 8.19 m period
     texel_s_ = texel_t_ = 0.004;
     Rng rng(seed * 0x2545F4914F6CDD1Dull + 0x1234567ull);
     std::vector<float> acc(static_cast<size_t>(n) * static_cast<size_t>(n), 0.0f);
@@ -447,8 +461,8 @@ bool Texture::make_procedural(uint64_t seed, const std::string &kind, std::strin
             o = static_cast<float>(1.2 * (rng.uniform() - 0.5));
         for (int y = 0; y < n; ++y) {
             for (int x = 0; x < n; ++x) {
-                float &a = acc[static_cast<size_t>(y) * static_cast<size_t>(n) +
-                               static_cast<size_t>(x)];
+                float &a =
+                    acc[static_cast<size_t>(y) * static_cast<size_t>(n) + static_cast<size_t>(x)];
                 a = 0.7f * a + off[static_cast<size_t>(y / slab) * static_cast<size_t>(ns) +
                                    static_cast<size_t>(x / slab)];
                 if (x % slab < 2 || y % slab < 2)
@@ -533,8 +547,8 @@ void Texture::build_mips(std::vector<float> base, int w, int h)
                     for (int dx = 0; dx < sx; ++dx)
                         s += p.px[static_cast<size_t>(y * sy + dy) * static_cast<size_t>(p.w) +
                                   static_cast<size_t>(x * sx + dx)];
-                q.px[static_cast<size_t>(y) * static_cast<size_t>(q.w) +
-                     static_cast<size_t>(x)] = s / static_cast<float>(sx * sy);
+                q.px[static_cast<size_t>(y) * static_cast<size_t>(q.w) + static_cast<size_t>(x)] =
+                    s / static_cast<float>(sx * sy);
             }
         }
         levels_.push_back(std::move(q));
@@ -561,8 +575,7 @@ inline float Texture::bilinear(int level, float x, float y) const
     return top + ay * (bot - top);
 }
 
-float Texture::sample(double s, double t, double a_s, double a_t, double b_s,
-                      double b_t) const
+float Texture::sample(double s, double t, double a_s, double a_t, double b_s, double b_t) const
 {
     // Footprint in level-0 texels; anisotropic filtering: up to 16 trilinear
     // probes along the longer footprint axis, mip level from the shorter.
@@ -659,8 +672,8 @@ Vec3 pixel_ray(const Rig &rig, const CameraFrame &cf, int which, double u, doubl
     return add(cf.az, add(mul(cf.ax, xn), mul(cf.ay, yn)));
 }
 
-bool project(const Rig &rig, const CameraFrame &cf, int which, const Vec3 &p,
-             double &u, double &v, double &depth)
+bool project(const Rig &rig, const CameraFrame &cf, int which, const Vec3 &p, double &u, double &v,
+             double &depth)
 {
     const Vec3 q = sub(p, cf.c);
     depth = dot(q, cf.az);
@@ -685,8 +698,8 @@ struct RowJob {
     double sky;
     cv::Mat *img;
     cv::Mat *disp;
-    cv::Mat *hit;    // CV_32S, rect index of the centre ray (-1 = sky)
-    cv::Mat *hit_t;  // CV_64F, its depth
+    cv::Mat *hit;   // CV_32S, rect index of the centre ray (-1 = sky)
+    cv::Mat *hit_t; // CV_64F, its depth
 };
 
 // Texture value of a hit on rect `r` at ray parameter t, with the footprint
@@ -703,8 +716,7 @@ double cover1(double c, double e, double a, double b)
 
 // Paint, shadows and patches on the near ground, filtered over the
 // footprint half-extents (ex, ez).
-float distract(const std::vector<Distractor> &ds, double x, double z, double ex, double ez,
-               float v)
+float distract(const std::vector<Distractor> &ds, double x, double z, double ex, double ez, float v)
 {
     for (const Distractor &d : ds) {
         double c;
@@ -732,8 +744,8 @@ float distract(const std::vector<Distractor> &ds, double x, double z, double ex,
     return v;
 }
 
-float shade_hit(const Texture &tex, const std::vector<Distractor> &ds, const Rect &r,
-                const Vec3 &c, const Vec3 &d, double t, const Vec3 &du, const Vec3 &dv)
+float shade_hit(const Texture &tex, const std::vector<Distractor> &ds, const Rect &r, const Vec3 &c,
+                const Vec3 &d, double t, const Vec3 &du, const Vec3 &dv)
 {
     const Vec3 p = add(c, mul(d, t));
     const double dn = normal_comp(r, d);
@@ -813,8 +825,7 @@ void render_rows(const RowJob &job, int y0, int y1)
             if (uniform) {
                 row[x] = rc < 0 ? sky
                                 : shade_hit(*job.tex, ds, rects[static_cast<size_t>(rc)], cf.c,
-                                            pixel_ray(rig, cf, job.which, x, y), ht[x],
-                                            du1, dv1);
+                                            pixel_ray(rig, cf, job.which, x, y), ht[x], du1, dv1);
                 continue;
             }
             float acc = 0.0f;
@@ -837,27 +848,28 @@ void render_rows(const RowJob &job, int y0, int y1)
 
 } // namespace
 
-void render_view(const Scene &scene, const Texture &tex, const Rig &rig,
-                 const Pose &pose, int which, const RenderOptions &opt,
-                 cv::Mat &img, cv::Mat *disp)
+void render_view(const Scene &scene, const Texture &tex, const Rig &rig, const Pose &pose,
+                 int which, const RenderOptions &opt, cv::Mat &img, cv::Mat *disp)
 {
     img.create(rig.height, rig.width, CV_32F);
     if (disp)
         disp->create(rig.height, rig.width, CV_32F);
     cv::Mat hit(rig.height, rig.width, CV_32S), hit_t(rig.height, rig.width, CV_64F);
-    RowJob job{&scene, &tex, &rig, camera_frame(rig, pose, which), which,
-               std::clamp(opt.supersample, 1, 4), opt.sky, &img, disp, &hit, &hit_t};
+    RowJob job{&scene,  &tex,
+               &rig,    camera_frame(rig, pose, which),
+               which,   std::clamp(opt.supersample, 1, 4),
+               opt.sky, &img,
+               disp,    &hit,
+               &hit_t};
     // Rows are independent, so threading does not change the result.
-    cv::parallel_for_(cv::Range(0, rig.height), [&job](const cv::Range &r) {
-        centre_rows(job, r.start, r.end);
-    });
-    cv::parallel_for_(cv::Range(0, rig.height), [&job](const cv::Range &r) {
-        render_rows(job, r.start, r.end);
-    });
+    cv::parallel_for_(cv::Range(0, rig.height),
+                      [&job](const cv::Range &r) { centre_rows(job, r.start, r.end); });
+    cv::parallel_for_(cv::Range(0, rig.height),
+                      [&job](const cv::Range &r) { render_rows(job, r.start, r.end); });
 }
 
-float render_point(const Scene &scene, const Texture &tex, const Rig &rig,
-                   const Pose &pose, int which, double u, double v, double sky)
+float render_point(const Scene &scene, const Texture &tex, const Rig &rig, const Pose &pose,
+                   int which, double u, double v, double sky)
 {
     const CameraFrame cf = camera_frame(rig, pose, which);
     const Vec3 d = pixel_ray(rig, cf, which, u, v);
@@ -865,9 +877,8 @@ float render_point(const Scene &scene, const Texture &tex, const Rig &rig,
     const int r = scene.intersect(cf.c, d, t);
     if (r < 0)
         return static_cast<float>(sky);
-    return shade_hit(tex, scene.params().distractors, scene.rects()[static_cast<size_t>(r)],
-                     cf.c, d, t,
-                     mul(cf.ax, 1.0 / rig.f), mul(cf.ay, 1.0 / rig.f));
+    return shade_hit(tex, scene.params().distractors, scene.rects()[static_cast<size_t>(r)], cf.c,
+                     d, t, mul(cf.ax, 1.0 / rig.f), mul(cf.ay, 1.0 / rig.f));
 }
 
 void apply_blur(cv::Mat &linear, double sigma)
@@ -934,8 +945,8 @@ EdgeGT edge_ground_truth(const Scene &scene, const Rig &rig, const Pose &pose)
 
 // ---------------------------------------------------------------- Sensor
 
-void apply_sensor(const cv::Mat &linear, int which, const SensorOptions &s,
-                  uint64_t seed, cv::Mat &out8)
+void apply_sensor(const cv::Mat &linear, int which, const SensorOptions &s, uint64_t seed,
+                  cv::Mat &out8)
 {
     out8.create(linear.rows, linear.cols, CV_8U);
     Rng rng(seed ^ (which == 1 ? 0xA5A5A5A5DEADBEEFull : 0x5A5A5A5A0BADF00Dull));

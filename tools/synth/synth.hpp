@@ -26,18 +26,18 @@ struct Vec3 {
 struct Rig {
     int width = 320;
     int height = 240;
-    double f = 250.0;            // focal length, px (square pixels)
-    double cx = 159.5;           // principal point, px (pixel centres are integers)
+    double f = 250.0;  // focal length, px (square pixels)
+    double cx = 159.5; // principal point, px (pixel centres are integers)
     double cy = 119.5;
-    double baseline = 0.12;      // m, right camera to the right of the left one
+    double baseline = 0.12;       // m, right camera to the right of the left one
     double right_row_shift = 0.0; // px, right image content moved down by this
 };
 
 // Camera pose for one frame.
 struct Pose {
-    double x = 0.0;     // m, world position of the left camera centre
-    double y = 1.2;     // m, height above the near ground (Y = 0)
-    double z = 0.0;     // m
+    double x = 0.0;      // m, world position of the left camera centre
+    double y = 1.2;      // m, height above the near ground (Y = 0)
+    double z = 0.0;      // m
     double pitch = 20.0; // deg, down positive
     double roll = 0.0;   // deg, positive = right side of the camera down
     double yaw = 0.0;    // deg, positive = heading turned to the right (+X)
@@ -53,7 +53,7 @@ bool hazard_from_name(const std::string &s, Hazard &out);
 struct Distractor {
     enum Kind { Stripe, Shadow, Patch, Manhole } kind = Stripe;
     double x0 = 0, x1 = 0, z0 = 0, z1 = 0; // m; manhole: centre and radius in x0, z0, x1
-    double value = 1.0;  // Stripe: paint grey level; others: brightness factor
+    double value = 1.0;                    // Stripe: paint grey level; others: brightness factor
 };
 const char *distractor_name(Distractor::Kind k);
 // N random distractors between z_near and z_far, deterministic from seed.
@@ -61,37 +61,37 @@ std::vector<Distractor> random_distractors(int n, double z_near, double z_far, u
 
 struct SceneParams {
     Hazard hazard = Hazard::Curb;
-    double edge_z = 4.0;        // m, world Z of the hazard's near edge
-    double drop = 0.15;         // m, curb/hole depth, up-step height
-    int steps = 3;              // stairs
-    double rise = 0.17;         // m, stairs riser height
-    double run = 0.30;          // m, stairs tread depth
-    double hole_width = 1.0;    // m, along X
-    double hole_length = 0.8;   // m, along Z
-    double hole_offset = 0.0;   // m, lateral centre of the hole
-    double wall_height = 2.5;   // m
+    double edge_z = 4.0;      // m, world Z of the hazard's near edge
+    double drop = 0.15;       // m, curb/hole depth, up-step height
+    int steps = 3;            // stairs
+    double rise = 0.17;       // m, stairs riser height
+    double run = 0.30;        // m, stairs tread depth
+    double hole_width = 1.0;  // m, along X
+    double hole_length = 0.8; // m, along Z
+    double hole_offset = 0.0; // m, lateral centre of the hole
+    double wall_height = 2.5; // m
     // Ramp (a curb cut, a sloped path): beyond edge_z the ground falls by
     // ramp_grade metres per metre of Z (negative: rises) over ramp_length
     // metres of Z, then continues level at -ramp_grade * ramp_length.
     double ramp_grade = 1.0 / 12.0;
-    double ramp_length = 1.8;   // m along Z; infinity: a slope that never ends
-    double lower_shade = 0.9;   // brightness factor of surfaces below Y = 0
+    double ramp_length = 1.8; // m along Z; infinity: a slope that never ends
+    double lower_shade = 0.9; // brightness factor of surfaces below Y = 0
     std::vector<Distractor> distractors;
 };
 
 // Axis-aligned planar rectangle (bounds may be +-infinity).
 struct Rect {
-    int axis = 1;               // 0: X = pos, 1: Y = pos, 2: Z = pos
+    int axis = 1; // 0: X = pos, 1: Y = pos, 2: Z = pos
     double pos = 0.0;
     // Horizontal rects only (axis 1): the plane Y = pos + slope * (Z -
     // slope_z), i.e. a surface tilted about the X axis (a ramp). Bounds
     // stay on X and Z.
     double slope = 0.0;
     double slope_z = 0.0;
-    double lo[3] = {0, 0, 0};   // bounds on the two other axes (index = axis)
+    double lo[3] = {0, 0, 0}; // bounds on the two other axes (index = axis)
     double hi[3] = {0, 0, 0};
     float shade = 1.0f;
-    double tex_offset = 0.0;    // decorrelates faces that share texture axes
+    double tex_offset = 0.0; // decorrelates faces that share texture axes
 };
 
 class Scene {
@@ -122,8 +122,7 @@ public:
     bool load_photo(const std::string &path, double mm_per_px, std::string &err);
     // Filtered lookup: (s, t) in metres, footprint vectors (ds/du, dt/du),
     // (ds/dv, dt/dv) in metres per sample.
-    float sample(double s, double t, double a_s, double a_t, double b_s,
-                 double b_t) const;
+    float sample(double s, double t, double a_s, double a_t, double b_s, double b_t) const;
 
 private:
     void build_mips(std::vector<float> base, int w, int h);
@@ -138,39 +137,37 @@ private:
 };
 
 struct RenderOptions {
-    int supersample = 2;   // NxN samples per pixel
-    double sky = 205.0;    // grey level where the ray hits nothing
+    int supersample = 2; // NxN samples per pixel
+    double sky = 205.0;  // grey level where the ray hits nothing
 };
 
 struct Frame {
-    cv::Mat left, right;   // CV_32F, linear grey levels before sensor effects
-    cv::Mat disparity;     // CV_32F, left GT disparity (0 = no surface)
+    cv::Mat left, right; // CV_32F, linear grey levels before sensor effects
+    cv::Mat disparity;   // CV_32F, left GT disparity (0 = no surface)
 };
 
 // Renders one camera; `which` 0 = left, 1 = right.  `disp` (optional)
 // receives the pixel-centre ground-truth disparity of that camera.
-void render_view(const Scene &scene, const Texture &tex, const Rig &rig,
-                 const Pose &pose, int which, const RenderOptions &opt,
-                 cv::Mat &img, cv::Mat *disp);
+void render_view(const Scene &scene, const Texture &tex, const Rig &rig, const Pose &pose,
+                 int which, const RenderOptions &opt, cv::Mat &img, cv::Mat *disp);
 
 // Shades one pixel-sized sample centred at (u, v) of camera `which`, the
 // way render_view shades pixels away from depth edges (test helper).
-float render_point(const Scene &scene, const Texture &tex, const Rig &rig,
-                   const Pose &pose, int which, double u, double v, double sky);
+float render_point(const Scene &scene, const Texture &tex, const Rig &rig, const Pose &pose,
+                   int which, double u, double v, double sky);
 
 // Camera geometry helpers shared by the renderer, the ground truth and tests.
 struct CameraFrame {
-    Vec3 c;              // centre
-    Vec3 ax, ay, az;     // unit axes in world
+    Vec3 c;          // centre
+    Vec3 ax, ay, az; // unit axes in world
 };
 CameraFrame camera_frame(const Rig &rig, const Pose &pose, int which);
 // Ray direction (unnormalised, z component 1 in the camera frame) for a
 // pixel position of camera `which`.
-Vec3 pixel_ray(const Rig &rig, const CameraFrame &cf, int which, double u,
-               double v);
+Vec3 pixel_ray(const Rig &rig, const CameraFrame &cf, int which, double u, double v);
 // Projects a world point; returns false behind the camera.
-bool project(const Rig &rig, const CameraFrame &cf, int which, const Vec3 &p,
-             double &u, double &v, double &depth);
+bool project(const Rig &rig, const CameraFrame &cf, int which, const Vec3 &p, double &u, double &v,
+             double &depth);
 
 // Image-space ground truth of the hazard edge in the left image.
 struct EdgeGT {
@@ -185,18 +182,18 @@ EdgeGT edge_ground_truth(const Scene &scene, const Rig &rig, const Pose &pose);
 
 // Sensor model applied after rendering.
 struct SensorOptions {
-    double noise_sigma = 0.0;  // grey levels, independent per camera
-    double gain_right = 1.0;   // right = gain * right + offset
+    double noise_sigma = 0.0; // grey levels, independent per camera
+    double gain_right = 1.0;  // right = gain * right + offset
     double offset_right = 0.0;
-    double brightness = 1.0;   // both cameras
-    double blur = 0.0;         // Gaussian optics PSF sigma, px (0 = none)
+    double brightness = 1.0; // both cameras
+    double blur = 0.0;       // Gaussian optics PSF sigma, px (0 = none)
 };
 // Lens blur (Gaussian PSF, reflective border) on a linear image, in place.
 void apply_blur(cv::Mat &linear, double sigma);
 // Converts to 8-bit with the sensor effects; deterministic from `seed`.
 // (apply_blur is not applied here; call it first.)
-void apply_sensor(const cv::Mat &linear, int which, const SensorOptions &s,
-                  uint64_t seed, cv::Mat &out8);
+void apply_sensor(const cv::Mat &linear, int which, const SensorOptions &s, uint64_t seed,
+                  cv::Mat &out8);
 
 // Deterministic, platform-independent random numbers (splitmix64).
 struct Rng {

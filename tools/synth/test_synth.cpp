@@ -120,8 +120,8 @@ int test_flat_gt()
         for (int v : {30, 60, 90, 120, 150, 180, 210, 239}) {
             if (v < horizon + 1.0)
                 continue;
-            const double expect =
-                rig.baseline / pose.y * (rig.f * std::sin(th) + std::cos(th) * (v - rig.cy));
+            const double expect = rig.baseline / pose.y *
+                                  (rig.f * std::sin(th) + std::cos(th) * (v - rig.cy));
             for (int u : {0, 57, 160, 251, 319}) {
                 const double got = disp.at<float>(v, u);
                 worst = std::max(worst, std::fabs(got - expect));
@@ -140,7 +140,8 @@ int test_flat_gt()
     // Same through the CLI: 16-bit PNG (disparity*16) and the edge row.
     const fs::path out = scratch("flat_gt");
     const int rc = run("--single --scene curb --edge-mm 4000 --pitch-deg 20 --height-mm 1200 "
-                       "--gt-disparity --quiet --out '" + out.string() + "'");
+                       "--gt-disparity --quiet --out '" +
+                       out.string() + "'");
     check(rc == 0, "flat_gt: CLI single curb run");
     if (rc == 0) {
         const cv::Mat d16 = cv::imread((out / "disp_0000.png").string(), cv::IMREAD_UNCHANGED);
@@ -149,8 +150,8 @@ int test_flat_gt()
             const double th = 20.0 * kPi / 180.0;
             double worst = 0.0;
             for (int v : {150, 180, 210, 239}) { // near ground, before the edge
-                const double expect = 0.12 / 1.2 * (250.0 * std::sin(th) +
-                                                    std::cos(th) * (v - 119.5));
+                const double expect = 0.12 / 1.2 *
+                                      (250.0 * std::sin(th) + std::cos(th) * (v - 119.5));
                 worst = std::max(worst, std::fabs(d16.at<uint16_t>(v, 100) / 16.0 - expect));
             }
             check(worst <= 1.0 / 32.0 + 1e-9, "flat_gt: PNG disparity quantised to 1/16");
@@ -159,8 +160,8 @@ int test_flat_gt()
         double row = 0.0;
         check(json_number(gt, "edge_row_at_cx", row), "flat_gt: gt.json has edge_row_at_cx");
         const double expect = 119.5 - 250.0 * std::tan((20.0 * kPi / 180.0) - std::atan(1.2 / 4.0));
-        check(std::fabs(row - expect) < 0.01, "flat_gt: edge row " + std::to_string(row) +
-                                                  " vs " + std::to_string(expect));
+        check(std::fabs(row - expect) < 0.01,
+              "flat_gt: edge row " + std::to_string(row) + " vs " + std::to_string(expect));
         double range = 0.0;
         check(json_number(gt, "edge_range_mm", range) && std::fabs(range - 4000.0) < 0.05,
               "flat_gt: edge range 4000 mm");
@@ -190,8 +191,8 @@ int test_flat_gt()
         h_min = std::min(h_min, h);
         h_max = std::max(h_max, h);
         if (json_number(line, "edge_row_at_cx", row)) {
-            const double expect = 119.5 - 250.0 * std::tan(pitch * kPi / 180.0 -
-                                                           std::atan(h / range));
+            const double expect = 119.5 -
+                                  250.0 * std::tan(pitch * kPi / 180.0 - std::atan(h / range));
             // pitch and H are printed with 4 and 2 decimals.
             check(std::fabs(row - expect) < 0.02, "flat_gt: sequence edge row " +
                                                       std::to_string(row) + " vs " +
@@ -343,8 +344,7 @@ int test_warp()
                 if (ur < 0 || vr < 0 || ur > rig.width - 2 || vr > rig.height - 2)
                     continue;
                 // Visible from the right camera?
-                const synth::Vec3 rd{(p.x - cr.c.x) / dr, (p.y - cr.c.y) / dr,
-                                     (p.z - cr.c.z) / dr};
+                const synth::Vec3 rd{(p.x - cr.c.x) / dr, (p.y - cr.c.y) / dr, (p.z - cr.c.z) / dr};
                 double t;
                 const int ri = scene.intersect(cr.c, rd, t);
                 if (ri >= 0 && t < dr * (1.0 - 1e-4)) {
@@ -363,10 +363,9 @@ int test_warp()
                 // Exact check without image interpolation: shade the right
                 // camera's ray through (ur, vr) directly.
                 if ((x + 7 * y) % 5 == 0) {
-                    point_sum += std::fabs(synth::render_point(scene, tex, rig, pose, 1, ur,
-                                                               vr, ro.sky) -
-                                           synth::render_point(scene, tex, rig, pose, 0, x, y,
-                                                               ro.sky));
+                    point_sum += std::fabs(
+                        synth::render_point(scene, tex, rig, pose, 1, ur, vr, ro.sky) -
+                        synth::render_point(scene, tex, rig, pose, 0, x, y, ro.sky));
                     ++point_n;
                 }
             }
@@ -383,11 +382,11 @@ int test_warp()
                     "(point samples %.3f)\n",
                     synth::hazard_name(wc.hazard), wc.pitch, wc.roll, wc.yaw, wc.vshift, wc.ss,
                     wc.blur, n, occluded, mae, point_mae);
-        check(point_mae < 0.5, std::string("warp: point samples agree for ") +
-                                   synth::hazard_name(wc.hazard));
+        check(point_mae < 0.5,
+              std::string("warp: point samples agree for ") + synth::hazard_name(wc.hazard));
         check(n > 20000, std::string("warp: enough pixels for ") + synth::hazard_name(wc.hazard));
-        check(mae < 3.0, std::string("warp: mean abs error < 3 for ") +
-                             synth::hazard_name(wc.hazard));
+        check(mae < 3.0,
+              std::string("warp: mean abs error < 3 for ") + synth::hazard_name(wc.hazard));
         check(disp_err == 0, "warp: right position is (x - d, y + shift)");
         if (wc.distractors > 0) {
             // Distractors change the image but not the geometry.
@@ -509,8 +508,8 @@ int test_ramp_gt()
         }
         const std::string g = " (grade " + std::to_string(grade) + ")";
         // The GT is float: 1e-7 relative of the depth.
-        check(worst < 1e-4, "ramp_gt: point off the surface by " + std::to_string(worst) +
-                                " m" + g);
+        check(worst < 1e-4,
+              "ramp_gt: point off the surface by " + std::to_string(worst) + " m" + g);
         check(part[0] > 100 && part[1] > 100, "ramp_gt: level and sloped parts seen" + g);
         if (std::isfinite(sp.ramp_length))
             check(part[2] > 20, "ramp_gt: level part after the slope seen" + g);
@@ -527,7 +526,8 @@ int test_ramp_gt()
     const fs::path seq = scratch("ramp_seq");
     const int rs = run("--scene ramp --grade-pct 8 --ramp-mm 1500 --edge-mm 1000 --frames 12 "
                        "--speed 1.0 --fps 4 --bob-mm 0 --sway-deg 0 --roll-sway-deg 0 --quiet "
-                       "--out '" + seq.string() + "'");
+                       "--out '" +
+                       seq.string() + "'");
     check(rs == 0, "ramp_gt: CLI ramp sequence run");
     std::ifstream f(seq / "gt.json");
     std::string line;
@@ -602,9 +602,9 @@ int test_roll_gt()
                 }
             }
             check(n >= 40, "roll_gt: enough ground samples");
-            check(worst < 1e-3, "roll_gt: flat GT under roll " + std::to_string(roll) +
-                                    " pitch " + std::to_string(pitch) + " off by " +
-                                    std::to_string(worst) + " px");
+            check(worst < 1e-3, "roll_gt: flat GT under roll " + std::to_string(roll) + " pitch " +
+                                    std::to_string(pitch) + " off by " + std::to_string(worst) +
+                                    " px");
         }
     }
     // A 15 cm curb 3 m ahead, camera rolled 8 deg: in every column where
@@ -695,7 +695,8 @@ int test_sensor()
     const fs::path e = scratch("expo");
     check(run("--scene flat --frames 14 --speed 0 --bob-mm 0 --sway-deg 0 --roll-sway-deg 0 "
               "--noise 0 --exposure-pct 30 --exposure-every 4 --exposure-lag-right 2 --seed 9 "
-              "--quiet --out '" + e.string() + "'") == 0,
+              "--quiet --out '" +
+              e.string() + "'") == 0,
           "sensor: exposure run");
     std::ifstream f(e / "gt.json");
     std::string line;
@@ -712,8 +713,10 @@ int test_sensor()
     check(el.size() == 14, "sensor: 14 frames with exposure factors");
     double spread = 0.0;
     if (el.size() == 14) {
-        const double m0l = mean_of(cv::imread((e / "left_0000.png").string(), cv::IMREAD_GRAYSCALE));
-        const double m0r = mean_of(cv::imread((e / "right_0000.png").string(), cv::IMREAD_GRAYSCALE));
+        const double m0l = mean_of(
+            cv::imread((e / "left_0000.png").string(), cv::IMREAD_GRAYSCALE));
+        const double m0r = mean_of(
+            cv::imread((e / "right_0000.png").string(), cv::IMREAD_GRAYSCALE));
         for (size_t i = 0; i < el.size(); ++i) {
             char nm[64];
             std::snprintf(nm, sizeof nm, "left_%04zu.png", i);
@@ -757,7 +760,8 @@ int test_sensor()
     contrast("concrete", sd_c, g_c);
     contrast("worn", sd_w, g_w);
     std::printf("texture sd / mean |dx|: asphalt %.1f / %.2f, worn %.1f / %.2f, concrete "
-                "%.1f / %.2f\n", sd_a, g_a, sd_w, g_w, sd_c, g_c);
+                "%.1f / %.2f\n",
+                sd_a, g_a, sd_w, g_w, sd_c, g_c);
     check(sd_c < 0.4 * sd_a && g_c < 0.25 * g_a, "sensor: concrete is weak");
     check(sd_w < 0.7 * sd_a && g_w < 0.6 * g_a && g_w > g_c, "sensor: worn asphalt in between");
     return failures;
@@ -770,12 +774,29 @@ int test_bad_options()
     const fs::path out = scratch("bad");
     const std::string o = " --out '" + out.string() + "'";
     const char *bad[] = {
-        "--scene nope",  "--f abc",          "--frames 0",       "--bogus 1",
-        "--width",       "--single --frames 3", "--noise -1",    "--ss 9",
-        "--seed -3",     "--pitch-deg 95",   "--texture /nonexistent/x.png",
-        "--texture-kind marble", "--single=1", "stray",         "--drop-mm 1e400", "--threads 0",
-        "--grade-pct 60", "--grade-pct x", "--ramp-mm -1",
-        "--exposure-pct -5", "--exposure-pct 95", "--exposure-every 0", "--exposure-lag-right x",
+        "--scene nope",
+        "--f abc",
+        "--frames 0",
+        "--bogus 1",
+        "--width",
+        "--single --frames 3",
+        "--noise -1",
+        "--ss 9",
+        "--seed -3",
+        "--pitch-deg 95",
+        "--texture /nonexistent/x.png",
+        "--texture-kind marble",
+        "--single=1",
+        "stray",
+        "--drop-mm 1e400",
+        "--threads 0",
+        "--grade-pct 60",
+        "--grade-pct x",
+        "--ramp-mm -1",
+        "--exposure-pct -5",
+        "--exposure-pct 95",
+        "--exposure-every 0",
+        "--exposure-lag-right x",
     };
     for (const char *args : bad) {
         std::string err;

@@ -96,9 +96,9 @@ typedef struct negobs_alert_input {
 
 /** A stretch of constant motor output. */
 typedef struct negobs_motor_segment {
-    uint32_t start_ms;      /**< absolute start time (ms)             */
-    int32_t on;             /**< 1 = motor on                         */
-    int32_t duty_permille;  /**< PWM duty when on, 0 when off         */
+    uint32_t start_ms;     /**< absolute start time (ms)             */
+    int32_t on;            /**< 1 = motor on                         */
+    int32_t duty_permille; /**< PWM duty when on, 0 when off         */
 } negobs_motor_segment_t;
 
 /** Motor command: what to do now and what is scheduled next. */

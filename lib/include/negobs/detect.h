@@ -47,26 +47,26 @@ extern "C" {
  * noise bands 2 + 2 KiB, the disparity Canny window 3 x w x 2 + 16 x w
  * bytes, plus arena guards.)
  */
-#define NEGOBS_DETECT_WORKSPACE_MAX(w, h, max_disp_px)                      \
-    ((size_t)8192u + (size_t)(h) * ((size_t)(max_disp_px) * 2u + 2u) * 2u + \
-     (size_t)16640u + ((size_t)(w) / 4u + 1u) * 176u + (size_t)(w) * 22u + \
+#define NEGOBS_DETECT_WORKSPACE_MAX(w, h, max_disp_px)                        \
+    ((size_t)8192u + (size_t)(h) * ((size_t)(max_disp_px)*2u + 2u) * 2u +     \
+     (size_t)16640u + ((size_t)(w) / 4u + 1u) * 176u + (size_t)(w)*22u +      \
      (size_t)4608u)
 
 /** Why the detector cannot vouch for "no hazard" (bitmask). */
 typedef enum negobs_degraded_reason {
-    NEGOBS_DEGRADED_TOO_DARK = 1u << 0,     /**< mean/dark share       */
-    NEGOBS_DEGRADED_SATURATED = 1u << 1,    /**< blown-out share       */
-    NEGOBS_DEGRADED_LOW_TEXTURE = 1u << 2,  /**< mean gradient too low */
-    NEGOBS_DEGRADED_FEW_GROUND = 1u << 3,   /**< valid ground pixels, or
+    NEGOBS_DEGRADED_TOO_DARK = 1u << 0,        /**< mean/dark share       */
+    NEGOBS_DEGRADED_SATURATED = 1u << 1,       /**< blown-out share       */
+    NEGOBS_DEGRADED_LOW_TEXTURE = 1u << 2,     /**< mean gradient too low */
+    NEGOBS_DEGRADED_FEW_GROUND = 1u << 3,      /**< valid ground pixels, or
                                                  support ends the vouched
                                                  range under near_min_mm */
     NEGOBS_DEGRADED_GROUND_REJECTED = 1u << 4, /**< no planar support, or
                                                  not a floor (priors) */
-    NEGOBS_DEGRADED_STALE = 1u << 5,        /**< frame too old / gap   */
-    NEGOBS_DEGRADED_UNSYNCED = 1u << 6,     /**< L/R timestamps apart  */
-    NEGOBS_DEGRADED_NOISY = 1u << 7,        /**< local noise ends the vouched
+    NEGOBS_DEGRADED_STALE = 1u << 5,           /**< frame too old / gap   */
+    NEGOBS_DEGRADED_UNSYNCED = 1u << 6,        /**< L/R timestamps apart  */
+    NEGOBS_DEGRADED_NOISY = 1u << 7,     /**< local noise ends the vouched
                                                  range under near_min_mm */
-    NEGOBS_DEGRADED_BAD_INPUT = 1u << 8,    /**< missing/unusable frame */
+    NEGOBS_DEGRADED_BAD_INPUT = 1u << 8, /**< missing/unusable frame */
     /** No reference yet for the ground under the feet, and the camera
      *  height fitted to the ground in view differs from the height hint
      *  by ground_verify_mm or more (or there is no hint): an edge nearer
@@ -119,15 +119,15 @@ typedef struct negobs_hazard {
     negobs_alert_level_t level; /**< urgency (tracks only)            */
     uint32_t flags;             /**< NEGOBS_HAZARD_F_*                */
     uint32_t track_id;          /**< 0 for raw candidates             */
-    int32_t range_mm;      /**< forward floor distance to the edge (mm) */
-    int32_t lateral_mm;    /**< floor offset, right > 0 (mm)          */
-    int32_t bearing_mdeg;  /**< atan2(lateral, range), right > 0      */
-    int32_t depth_mm;      /**< camera depth Z of the edge point (mm) */
-    int32_t drop_mm;       /**< H*(d_ground/d_far - 1) (mm)           */
-    int16_t u0, v0, u1, v1; /**< image box, inclusive (pixels)        */
-    int16_t conf_q15;      /**< confidence 0..32767                   */
-    int16_t strips;        /**< column strips that agreed             */
-    int32_t edge_angle_mdeg; /**< edge direction against the lateral
+    int32_t range_mm;           /**< forward floor distance to the edge (mm) */
+    int32_t lateral_mm;         /**< floor offset, right > 0 (mm)          */
+    int32_t bearing_mdeg;       /**< atan2(lateral, range), right > 0      */
+    int32_t depth_mm;           /**< camera depth Z of the edge point (mm) */
+    int32_t drop_mm;            /**< H*(d_ground/d_far - 1) (mm)           */
+    int16_t u0, v0, u1, v1;     /**< image box, inclusive (pixels)        */
+    int16_t conf_q15;           /**< confidence 0..32767                   */
+    int16_t strips;             /**< column strips that agreed             */
+    int32_t edge_angle_mdeg;    /**< edge direction against the lateral
                                   axis: 0 = square across the path,
                                   > 0 = nearer on the left (mdeg)      */
 } negobs_hazard_t;
@@ -158,93 +158,93 @@ typedef struct negobs_mount {
 
 /** Configuration. Zero it, call negobs_detect_config_default(). */
 typedef struct negobs_detect_config {
-    negobs_camera_t cam;       /**< intrinsics (see negobs_camera_t)   */
+    negobs_camera_t cam; /**< intrinsics (see negobs_camera_t)   */
     /* Mounting: measured from the floor every frame (docs/DETECTION.md,
      * "Mounting estimate"). The configured height and pitch are hints,
      * never gates: a fit is rejected only outside the physical priors. */
-    int32_t cam_height_mm;     /**< height hint (default 1200 mm; 0 = no
+    int32_t cam_height_mm;         /**< height hint (default 1200 mm; 0 = no
                                     hint: every start is verified by
                                     time, see ground_verify_mm)         */
-    int32_t cam_pitch_mdeg;    /**< pitch hint (default 20000 mdeg),
+    int32_t cam_pitch_mdeg;        /**< pitch hint (default 20000 mdeg),
                                     reported until a fit measures it   */
-    int32_t mount_height_min_mm; /**< prior: lowest camera (600 mm)    */
-    int32_t mount_height_max_mm; /**< prior: highest camera (2000 mm)  */
-    int32_t mount_pitch_min_mdeg;/**< prior: least pitch down (0)      */
-    int32_t mount_pitch_max_mdeg;/**< prior: most pitch down (60000)   */
-    int32_t mount_roll_max_mdeg; /**< prior: largest |roll| (20000)    */
-    int32_t mount_gain_q15;    /**< slow height/roll track gain per
+    int32_t mount_height_min_mm;   /**< prior: lowest camera (600 mm)    */
+    int32_t mount_height_max_mm;   /**< prior: highest camera (2000 mm)  */
+    int32_t mount_pitch_min_mdeg;  /**< prior: least pitch down (0)      */
+    int32_t mount_pitch_max_mdeg;  /**< prior: most pitch down (60000)   */
+    int32_t mount_roll_max_mdeg;   /**< prior: largest |roll| (20000)    */
+    int32_t mount_gain_q15;        /**< slow height/roll track gain per
                                     measuring frame (default 2048 =
                                     1/16, ~1.6 s at 10 fps)             */
-    int32_t mount_reacquire_ms;/**< no measurement for this long: the
+    int32_t mount_reacquire_ms;    /**< no measurement for this long: the
                                     next fits re-acquire the mounting
                                     from scratch (default 2000 ms)      */
-    int32_t mount_verify_near_mm; /**< a fit whose bottom row meets the
+    int32_t mount_verify_near_mm;  /**< a fit whose bottom row meets the
                                     floor this near the feet saw the
                                     ground under them: it verifies the
                                     start ("look at your feet"; default
                                     600 mm; 0 = off)                    */
-    int32_t max_disp_q4;       /**< largest disparity (default 64*16)  */
-    int32_t min_confidence;    /**< deficit test: confidence below is
+    int32_t max_disp_q4;           /**< largest disparity (default 64*16)  */
+    int32_t min_confidence;        /**< deficit test: confidence below is
                                     not a vote (def. 120, i.e. grown
                                     pixels with NCC >= 0.47)           */
     int32_t ground_min_confidence; /**< ground fit and its validity share:
                                     confidence below: unused (def. 64) */
 
     /* Ground model. */
-    int32_t fit_rows_pct;      /**< bottom rows used for the fit (25 %) */
-    int32_t fit_step_px;       /**< fit subsampling (default 2 px)      */
-    int32_t ground_min_valid_pct; /**< valid share in fit ROI (25 %)   */
-    int32_t ground_min_inlier_pct;/**< inliers among valid (30 %)      */
-    int32_t track_gain_q15;    /**< plane smoothing gain (32768 = 1.0:
+    int32_t fit_rows_pct;          /**< bottom rows used for the fit (25 %) */
+    int32_t fit_step_px;           /**< fit subsampling (default 2 px)      */
+    int32_t ground_min_valid_pct;  /**< valid share in fit ROI (25 %)   */
+    int32_t ground_min_inlier_pct; /**< inliers among valid (30 %)      */
+    int32_t track_gain_q15;        /**< plane smoothing gain (32768 = 1.0:
                                     follow each accepted fit)           */
-    int32_t track_gate_q4;     /**< plane jump gate at ref rows (24)   */
-    int32_t sigma_min_q4;      /**< noise floor (default 2 = 1/8 px)   */
-    int32_t sigma_max_q4;      /**< rows noisier are not vouched (24)  */
+    int32_t track_gate_q4;         /**< plane jump gate at ref rows (24)   */
+    int32_t sigma_min_q4;          /**< noise floor (default 2 = 1/8 px)   */
+    int32_t sigma_max_q4;          /**< rows noisier are not vouched (24)  */
 
     /* Detection rule. */
-    int32_t range_max_mm;      /**< scan limit (default 5000 mm)       */
-    int32_t range_warn_mm;     /**< CAUTION inside (default 4000 mm)   */
-    int32_t range_imminent_mm; /**< IMMINENT inside (default 1500 mm)  */
-    int32_t near_min_mm;       /**< near-zone minimum: a frame that
+    int32_t range_max_mm;           /**< scan limit (default 5000 mm)       */
+    int32_t range_warn_mm;          /**< CAUTION inside (default 4000 mm)   */
+    int32_t range_imminent_mm;      /**< IMMINENT inside (default 1500 mm)  */
+    int32_t near_min_mm;            /**< near-zone minimum: a frame that
                                     vouches less (clear_to_mm) is NO_INFO
                                     (default 1500 mm: walking speed x
                                     verdict latency + reaction, beyond
                                     the cane; docs/DETECTION.md)        */
-    int32_t ttc_imminent_ms;   /**< IMMINENT if time to edge < (1200)  */
+    int32_t ttc_imminent_ms;        /**< IMMINENT if time to edge < (1200)  */
     int32_t corridor_half_width_mm; /**< lateral scan (default 600 mm) */
-    int32_t strip_px;          /**< column strip width (default 16 px) */
-    int32_t h_min_far_mm;      /**< smallest drop beyond near (100 mm) */
-    int32_t h_min_near_mm;     /**< smallest drop within near (50 mm)  */
-    int32_t h_near_range_mm;   /**< near zone limit (default 2000 mm)  */
-    int32_t h_thresh_pct;      /**< geometric threshold as % of h_min
+    int32_t strip_px;               /**< column strip width (default 16 px) */
+    int32_t h_min_far_mm;           /**< smallest drop beyond near (100 mm) */
+    int32_t h_min_near_mm;          /**< smallest drop within near (50 mm)  */
+    int32_t h_near_range_mm;        /**< near zone limit (default 2000 mm)  */
+    int32_t h_thresh_pct;           /**< geometric threshold as % of h_min
                                     (default 80)                        */
-    int32_t k_sigma_q4;        /**< noise multiplier (default 48 = 3.0) */
-    int32_t min_edge_rows;     /**< deficit rows in a run (default 3)  */
-    int32_t min_support_mm;    /**< ground before the edge (250 mm)    */
-    int32_t min_gap_mm;        /**< missing-ground band (default 400)  */
-    int32_t max_hole_mm;       /**< hole: ground again within (1000)   */
-    int32_t merge_range_mm;    /**< strips merge within (default 300)  */
-    int32_t min_strips;        /**< strips per hazard (default 2)      */
-    int32_t missing_policy;    /**< negobs_missing_policy_t (CAUTION)  */
-    int32_t canny_thresh_permille; /**< Canny high threshold, share of
+    int32_t k_sigma_q4;             /**< noise multiplier (default 48 = 3.0) */
+    int32_t min_edge_rows;          /**< deficit rows in a run (default 3)  */
+    int32_t min_support_mm;         /**< ground before the edge (250 mm)    */
+    int32_t min_gap_mm;             /**< missing-ground band (default 400)  */
+    int32_t max_hole_mm;            /**< hole: ground again within (1000)   */
+    int32_t merge_range_mm;         /**< strips merge within (default 300)  */
+    int32_t min_strips;             /**< strips per hazard (default 2)      */
+    int32_t missing_policy;         /**< negobs_missing_policy_t (CAUTION)  */
+    int32_t canny_thresh_permille;  /**< Canny high threshold, share of
                                     the largest gradient (default 70)   */
-    int32_t canny_low_permille;    /**< Canny low threshold, share of the
+    int32_t canny_low_permille;     /**< Canny low threshold, share of the
                                     high one (default 400: the ratio
                                     MATLAB's edge() takes for a scalar
                                     threshold)                          */
 
     /* Temporal logic. */
-    int32_t confirm_k;         /**< confirm when seen k ... (default 3) */
-    int32_t confirm_n;         /**< ... of the last n frames (5, <= 31) */
-    int32_t clear_m;           /**< clean frames to clear (default 5)  */
-    int32_t hold_ms;           /**< latch after leaving image (3000)   */
-    int32_t hold_speed_mm_s;   /**< dead-reckoning speed (1400 mm/s)   */
-    int32_t max_speed_mm_s;    /**< association speed (2000 mm/s)      */
-    int32_t assoc_range_mm;    /**< association tolerance (400 mm)     */
-    int32_t assoc_lateral_mm;  /**< association tolerance (600 mm)     */
-    int32_t hold_bottom_rows;  /**< edge this close to the bottom row
+    int32_t confirm_k;          /**< confirm when seen k ... (default 3) */
+    int32_t confirm_n;          /**< ... of the last n frames (5, <= 31) */
+    int32_t clear_m;            /**< clean frames to clear (default 5)  */
+    int32_t hold_ms;            /**< latch after leaving image (3000)   */
+    int32_t hold_speed_mm_s;    /**< dead-reckoning speed (1400 mm/s)   */
+    int32_t max_speed_mm_s;     /**< association speed (2000 mm/s)      */
+    int32_t assoc_range_mm;     /**< association tolerance (400 mm)     */
+    int32_t assoc_lateral_mm;   /**< association tolerance (600 mm)     */
+    int32_t hold_bottom_rows;   /**< edge this close to the bottom row
                                     is held when lost (default 24 rows) */
-    int32_t ground_drop_mm;    /**< rise of the estimated camera height
+    int32_t ground_drop_mm;     /**< rise of the estimated camera height
                                     over the height under the feet that
                                     means the ground in view is lower:
                                     a drop nearer than the view's bottom
@@ -259,7 +259,7 @@ typedef struct negobs_detect_config {
                                     rule found a drop within
                                     h_near_range_mm (default 70 mm;
                                     0 = off)                            */
-    int32_t ground_verify_mm;  /**< before the first reference: a fitted
+    int32_t ground_verify_mm; /**< before the first reference: a fitted
                                     camera height this much or more away
                                     from cam_height_mm (any height when
                                     cam_height_mm is 0) is GROUND_UNVERIFIED,
@@ -269,20 +269,20 @@ typedef struct negobs_detect_config {
                                     ground_drop_mm > 0)                 */
 
     /* Gating. */
-    int32_t sync_tol_ms;       /**< L/R timestamp skew (default 5 ms)  */
-    int32_t max_frame_age_ms;  /**< capture-to-now (default 150 ms)    */
-    int32_t dark_mean_min;     /**< mean below: too dark (default 20)  */
-    int32_t dark_max_permille; /**< dark share above (default 700)     */
+    int32_t sync_tol_ms;            /**< L/R timestamp skew (default 5 ms)  */
+    int32_t max_frame_age_ms;       /**< capture-to-now (default 150 ms)    */
+    int32_t dark_mean_min;          /**< mean below: too dark (default 20)  */
+    int32_t dark_max_permille;      /**< dark share above (default 700)     */
     int32_t saturated_max_permille; /**< saturated share (default 250) */
-    int32_t texture_min_q4;    /**< mean gradient below (default 24)   */
+    int32_t texture_min_q4;         /**< mean gradient below (default 24)   */
 } negobs_detect_config_t;
 
 /** One frame's input. Images must match cfg->cam width and height. */
 typedef struct negobs_detect_frame {
-    const negobs_image_s16_t *disp_q4;   /**< required                    */
-    const negobs_image_u8_t *confidence; /**< may be NULL                 */
-    const negobs_image_u8_t *left;       /**< may be NULL                 */
-    const negobs_photo_stats_t *left_stats;  /**< may be NULL: from left  */
+    const negobs_image_s16_t *disp_q4;      /**< required                    */
+    const negobs_image_u8_t *confidence;    /**< may be NULL                 */
+    const negobs_image_u8_t *left;          /**< may be NULL                 */
+    const negobs_photo_stats_t *left_stats; /**< may be NULL: from left  */
     const negobs_photo_stats_t *right_stats; /**< may be NULL             */
     uint32_t t_left_ms;  /**< capture time of the left image (ms)     */
     uint32_t t_right_ms; /**< capture time of the right image (ms)    */
@@ -296,12 +296,12 @@ typedef struct negobs_detect_frame {
 /** Frame result. */
 typedef struct negobs_detect_result {
     negobs_detect_state_t state;
-    uint32_t reasons;              /**< NEGOBS_DEGRADED_* bitmask       */
-    negobs_alert_level_t level;    /**< most urgent confirmed hazard    */
-    int32_t nearest_range_mm;      /**< of that hazard, -1 if none      */
-    uint32_t n_hazards;            /**< confirmed or held tracks        */
+    uint32_t reasons;           /**< NEGOBS_DEGRADED_* bitmask       */
+    negobs_alert_level_t level; /**< most urgent confirmed hazard    */
+    int32_t nearest_range_mm;   /**< of that hazard, -1 if none      */
+    uint32_t n_hazards;         /**< confirmed or held tracks        */
     negobs_hazard_t hazards[NEGOBS_DETECT_MAX_HAZARDS];
-    uint32_t n_candidates;         /**< raw detections of this frame    */
+    uint32_t n_candidates; /**< raw detections of this frame    */
     negobs_hazard_t candidates[NEGOBS_DETECT_MAX_HAZARDS];
     uint32_t candidates_dropped;   /**< beyond the bound (farthest)     */
     int32_t ground_valid;          /**< 1 if a ground model was used    */
@@ -333,7 +333,7 @@ typedef struct negobs_detect_result {
     /** 1 when the state is CLEAR but clear_to_mm is below range_warn_mm
      *  (short sight): the wearer gets the gentle short-sight pattern. */
     int32_t short_sight;
-    negobs_mount_t mount;          /**< camera mounting used this frame */
+    negobs_mount_t mount; /**< camera mounting used this frame */
 } negobs_detect_result_t;
 
 /** Context; place it anywhere. Fields are private. */

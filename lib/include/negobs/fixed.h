@@ -40,9 +40,12 @@ extern "C" {
  */
 typedef char negobs_assert_arithmetic_rshift_s32
     [(((int32_t)-5 >> 1) == -3 && ((int32_t)-1 >> 31) == -1) ? 1 : -1];
-typedef char negobs_assert_arithmetic_rshift_s64
-    [(((int64_t)-5 >> 1) == -3 && ((int64_t)-1 >> 63) == -1 &&
-      ((int64_t)INT64_MIN >> 62) == -2) ? 1 : -1];
+typedef char
+    negobs_assert_arithmetic_rshift_s64[(((int64_t)-5 >> 1) == -3 &&
+                                         ((int64_t)-1 >> 63) == -1 &&
+                                         ((int64_t)INT64_MIN >> 62) == -2)
+                                            ? 1
+                                            : -1];
 
 /** @brief Clamp a 32-bit value into [lo, hi]. */
 static inline int32_t negobs_clamp_s32(int32_t x, int32_t lo, int32_t hi)

@@ -47,8 +47,8 @@ typedef struct negobs_ground_pose {
 typedef struct negobs_ground_frame {
     int32_t nx_q30;
     int32_t ny_q30;
-    int32_t nz_q30;       /**< sin(pitch)                         */
-    int32_t cos_pitch_q30;/**< sqrt(nx^2 + ny^2)                  */
+    int32_t nz_q30;        /**< sin(pitch)                         */
+    int32_t cos_pitch_q30; /**< sqrt(nx^2 + ny^2)                  */
     int32_t height_mm;
 } negobs_ground_frame_t;
 
@@ -76,10 +76,9 @@ int32_t negobs_ground_disp_q4(const negobs_ground_plane_t *plane, int32_t u,
  * @return NEGOBS_OK, NEGOBS_ERR_INVAL (NULL, bad camera) or
  *         NEGOBS_ERR_RANGE (degenerate plane: no ground in front).
  */
-negobs_status_t negobs_ground_pose_from_plane(const negobs_camera_t *cam,
-                                              const negobs_ground_plane_t *plane,
-                                              negobs_ground_pose_t *pose,
-                                              negobs_ground_frame_t *frame);
+negobs_status_t negobs_ground_pose_from_plane(
+    const negobs_camera_t *cam, const negobs_ground_plane_t *plane,
+    negobs_ground_pose_t *pose, negobs_ground_frame_t *frame);
 
 /**
  * @brief Forward distance along the floor to a ground point at camera depth

@@ -81,11 +81,11 @@ typedef uint32_t (*negobs_pipeline_clock_fn)(void *user);
 
 /** What one frame produced. */
 typedef struct negobs_pipeline_result {
-    negobs_status_t stereo_status;  /**< NEGOBS_OK or why no disparity */
-    negobs_valign_stats_t valign;   /**< alignment (valign.enable)     */
-    negobs_stereo_stats_t stereo;   /**< matcher statistics            */
-    negobs_detect_result_t detect;  /**< state, reasons, hazards       */
-    negobs_motor_cmd_t motor;       /**< what the motor does now/next  */
+    negobs_status_t stereo_status; /**< NEGOBS_OK or why no disparity */
+    negobs_valign_stats_t valign;  /**< alignment (valign.enable)     */
+    negobs_stereo_stats_t stereo;  /**< matcher statistics            */
+    negobs_detect_result_t detect; /**< state, reasons, hazards       */
+    negobs_motor_cmd_t motor;      /**< what the motor does now/next  */
     /** clock ticks per stage (negobs_pipeline_set_clock); all 0 without
      *  a clock. Not part of the output: timings differ between runs. */
     uint64_t stage_ticks[NEGOBS_PIPELINE_STAGE_COUNT];

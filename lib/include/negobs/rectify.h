@@ -72,7 +72,7 @@ typedef enum negobs_rectify_camera {
 } negobs_rectify_camera_t;
 
 /** Grid nodes along a side of `n` pixels: ((n - 1) >> shift) + 2. */
-#define NEGOBS_RECTIFY_GRID_NODES(n, shift) ((((n) - 1) >> (shift)) + 2)
+#define NEGOBS_RECTIFY_GRID_NODES(n, shift) ((((n)-1) >> (shift)) + 2)
 
 /**
  * Upper bound of negobs_rectify_workspace_size() for frames up to `width`
@@ -80,7 +80,7 @@ typedef enum negobs_rectify_camera {
  * interpolated nodes (x and y, int32) for the finest grid, plus alignment
  * and debug guard slack.
  */
-#define NEGOBS_RECTIFY_WORKSPACE_MAX(width) \
+#define NEGOBS_RECTIFY_WORKSPACE_MAX(width)                                   \
     ((size_t)8 * (size_t)((width) + 1) + (size_t)64)
 
 /** Decoded table header (everything but the maps). */
@@ -196,8 +196,8 @@ typedef struct negobs_rectify {
 } negobs_rectify_t;
 
 /** @brief Defaults for a width x height frame (no table, border 0). */
-void negobs_rectify_config_default(negobs_rectify_config_t *cfg,
-                                   int32_t width, int32_t height);
+void negobs_rectify_config_default(negobs_rectify_config_t *cfg, int32_t width,
+                                   int32_t height);
 
 /**
  * @brief Exact workspace bytes for cfg (depends on width only; <=
@@ -235,8 +235,7 @@ negobs_status_t negobs_rectify_rows(negobs_rectify_t *ctx,
                                     negobs_rectify_camera_t camera,
                                     const negobs_image_u8_t *raw,
                                     negobs_image_u8_t *rect, int32_t y0,
-                                    int32_t y1,
-                                    negobs_rectify_stats_t *stats);
+                                    int32_t y1, negobs_rectify_stats_t *stats);
 
 /**
  * @brief Rectify a stereo pair (both cameras, all rows).

@@ -56,34 +56,35 @@ typedef struct negobs_stereo_config {
                                   left row y matches right row y + offset */
 
     /* seeds (stage 2) */
-    int32_t canny_low;    /**< L1 Sobel magnitude of a weak edge (60)    */
-    int32_t canny_high;   /**< L1 Sobel magnitude of a strong edge (120) */
-    int32_t seed_step;    /**< try every n-th edge pixel of a row (4)    */
-    int32_t seed_tau_q14; /**< seed MNCC floor (0.8 = 13107)             */
+    int32_t canny_low;       /**< L1 Sobel magnitude of a weak edge (60)    */
+    int32_t canny_high;      /**< L1 Sobel magnitude of a strong edge (120) */
+    int32_t seed_step;       /**< try every n-th edge pixel of a row (4)    */
+    int32_t seed_tau_q14;    /**< seed MNCC floor (0.8 = 13107)             */
     int32_t seed_margin_q14; /**< best minus 2nd best (|dd| >= 2) (819)   */
 
     /* growing (stage 3) */
-    int32_t ncc_tau_q14;  /**< growing MNCC threshold tau (0.5 = 8192)   */
-    int32_t ncc_mu_q14;   /**< growth margin mu (0.1 = 1638)             */
-    int32_t ssk_beta_q8;  /**< stable-matching margin, share of c (0)    */
-    int32_t zonegap;      /**< d difference that does not inhibit (1)    */
-    int32_t texture_min;  /**< VL+VR floor, n^2 x variance units (100)   */
+    int32_t ncc_tau_q14;    /**< growing MNCC threshold tau (0.5 = 8192)   */
+    int32_t ncc_mu_q14;     /**< growth margin mu (0.1 = 1638)             */
+    int32_t ssk_beta_q8;    /**< stable-matching margin, share of c (0)    */
+    int32_t zonegap;        /**< d difference that does not inhibit (1)    */
+    int32_t texture_min;    /**< VL+VR floor, n^2 x variance units (100)   */
     int32_t queue_capacity; /**< seed queue entries (8192)               */
-    int32_t strip_rows;   /**< rows per processing strip, 8..255 (32)    */
+    int32_t strip_rows;     /**< rows per processing strip, 8..255 (32)    */
 
     /* DP (stage 4) */
-    int32_t band;         /**< DP band half-width around GCS d, 1..16 (2) */
+    int32_t band;           /**< DP band half-width around GCS d, 1..16 (2) */
     int32_t dp_neutral_q14; /**< score of unvisited band cells (0)       */
-    int32_t dp_jump_q14;  /**< penalty of a jump |dd| > 1 (8192)         */
-    int32_t dp_rescore;   /**< 1: score every band cell with MNCC, 0: only
+    int32_t dp_jump_q14;    /**< penalty of a jump |dd| > 1 (8192)         */
+    int32_t dp_rescore;     /**< 1: score every band cell with MNCC, 0: only
                                the GCS cell (1.0), the rest neutral (0)  */
 
     /* refinement (stage 5) */
-    int32_t lr_check;     /**< 1: drop pixels occluded in the right view (1) */
-    int32_t speckle_size; /**< regions below this many px removed, 0..256 (100) */
-    int32_t speckle_diff_q4; /**< largest step inside a region (12)     */
-    int32_t adaptive_mean; /**< 1: adaptive mean filter (1)              */
-    int32_t gap_fill;     /**< row gaps up to this many px filled from
+    int32_t lr_check; /**< 1: drop pixels occluded in the right view (1) */
+    int32_t
+        speckle_size; /**< regions below this many px removed, 0..256 (100) */
+    int32_t speckle_diff_q4;  /**< largest step inside a region (12)     */
+    int32_t adaptive_mean;    /**< 1: adaptive mean filter (1)              */
+    int32_t gap_fill;         /**< row gaps up to this many px filled from
                                their ends, 0 = off, 0..1024 (64)          */
     int32_t keep_out_of_view; /**< 1: keep the values whose match x - d
                                falls left of the right image (a dense map;
@@ -158,32 +159,31 @@ typedef struct negobs_stereo_config {
  * Includes debug guards and alignment slack. Use it to size a static workspace; the unit tests check
  * it against the exact query over a grid of sizes.
  */
-#define NEGOBS_STEREO_WORKSPACE_MAX_COMPACT(w, h, dmax)                              \
-    ((size_t)(w) * 36u * 22u +                                               \
-     (size_t)(w) * 32u * (((size_t)(dmax) + 1u) / 8u + 2u) +                 \
-     (size_t)8192u * 8u + 257u * 4u + 2048u * 12u +                          \
-     (size_t)(w) * (size_t)(h) / 16u * 3u +                                  \
-     ((size_t)(w) / 8u + 2u) * ((size_t)(h) / 8u + 2u) * 4u +                \
-     ((size_t)(dmax) + 4u) * 32u +                                           \
-     (size_t)(w) * ((size_t)(dmax) + 1u) * 3u + (size_t)(w) * 12u +          \
-     (size_t)(h) * ((size_t)(dmax) + 4u) +                                   \
-     ((size_t)(w) + (size_t)(h) + 16u) * 4u +                                \
+#define NEGOBS_STEREO_WORKSPACE_MAX_COMPACT(w, h, dmax)                       \
+    ((size_t)(w)*36u * 22u +                                                  \
+     (size_t)(w)*32u * (((size_t)(dmax) + 1u) / 8u + 2u) +                    \
+     (size_t)8192u * 8u + 257u * 4u + 2048u * 12u +                           \
+     (size_t)(w) * (size_t)(h) / 16u * 3u +                                   \
+     ((size_t)(w) / 8u + 2u) * ((size_t)(h) / 8u + 2u) * 4u +                 \
+     ((size_t)(dmax) + 4u) * 32u + (size_t)(w) * ((size_t)(dmax) + 1u) * 3u + \
+     (size_t)(w)*12u + (size_t)(h) * ((size_t)(dmax) + 4u) +                  \
+     ((size_t)(w) + (size_t)(h) + 16u) * 4u +                                 \
      (size_t)(w) * (size_t)(h) / 4u + 257u * 4u + 8192u)
 
 /** The same bound for the fast profile: the compact one plus the memo
  *  (strip_rows x w x NEGOBS_STEREO_MEMO_LEVELS words and a byte per strip
  *  pixel) with its guards and alignment. */
-#define NEGOBS_STEREO_WORKSPACE_MAX_FAST(w, h, dmax)                         \
-    (NEGOBS_STEREO_WORKSPACE_MAX_COMPACT(w, h, dmax) +                       \
-     (size_t)(w) * 32u * (4u * NEGOBS_STEREO_MEMO_LEVELS + 1u) + 128u)
+#define NEGOBS_STEREO_WORKSPACE_MAX_FAST(w, h, dmax)                          \
+    (NEGOBS_STEREO_WORKSPACE_MAX_COMPACT(w, h, dmax) +                        \
+     (size_t)(w)*32u * (4u * NEGOBS_STEREO_MEMO_LEVELS + 1u) + 128u)
 
 /** The bound for the profile negobs_stereo_config_default() picks
  *  (NEGOBS_STEREO_PROFILE_DEFAULT). */
 #if NEGOBS_STEREO_PROFILE_DEFAULT == NEGOBS_STEREO_PROFILE_FAST
-#define NEGOBS_STEREO_WORKSPACE_MAX(w, h, dmax)                              \
+#define NEGOBS_STEREO_WORKSPACE_MAX(w, h, dmax)                               \
     NEGOBS_STEREO_WORKSPACE_MAX_FAST(w, h, dmax)
 #else
-#define NEGOBS_STEREO_WORKSPACE_MAX(w, h, dmax)                              \
+#define NEGOBS_STEREO_WORKSPACE_MAX(w, h, dmax)                               \
     NEGOBS_STEREO_WORKSPACE_MAX_COMPACT(w, h, dmax)
 #endif
 
@@ -235,28 +235,28 @@ typedef void (*negobs_stereo_observer_fn)(void *user,
 
 /** Per-frame statistics. */
 typedef struct negobs_stereo_stats {
-    uint32_t seeds;           /**< seeds accepted                  */
-    uint32_t queue_peak;      /**< largest queue fill              */
-    uint32_t queue_overflows; /**< pushes dropped by the bound     */
-    uint32_t visited_cells;   /**< disparity-space cells scored    */
-    int32_t band;             /**< DP band half-width used (px)    */
-    uint32_t edges;           /**< Canny edge pixels               */
-    uint32_t grown;           /**< candidates accepted by growing  */
-    uint32_t gcs_matched;     /**< pixels matched after GCS        */
-    uint32_t valid;           /**< valid output pixels             */
-    uint32_t lr_rejected;     /**< pixels dropped by the LR check  */
+    uint32_t seeds;            /**< seeds accepted                  */
+    uint32_t queue_peak;       /**< largest queue fill              */
+    uint32_t queue_overflows;  /**< pushes dropped by the bound     */
+    uint32_t visited_cells;    /**< disparity-space cells scored    */
+    int32_t band;              /**< DP band half-width used (px)    */
+    uint32_t edges;            /**< Canny edge pixels               */
+    uint32_t grown;            /**< candidates accepted by growing  */
+    uint32_t gcs_matched;      /**< pixels matched after GCS        */
+    uint32_t valid;            /**< valid output pixels             */
+    uint32_t lr_rejected;      /**< pixels dropped by the LR check  */
     uint32_t speckles_removed; /**< pixels dropped as speckles     */
-    uint32_t gap_filled;      /**< pixels filled by the gap fill   */
-    uint32_t out_of_view;     /**< values dropped because their match
+    uint32_t gap_filled;       /**< pixels filled by the gap fill   */
+    uint32_t out_of_view;      /**< values dropped because their match
                                    lies left of the right image
                                    (keep_out_of_view 0), summed over
                                    the drops after the DP and after
                                    each refinement: a pixel a later
                                    stage refills counts again        */
-    int32_t range_min;        /**< search range used (pixels)      */
+    int32_t range_min;         /**< search range used (pixels)      */
     int32_t range_max;
-    int32_t vertical_offset;  /**< rows: left y matches right y+off */
-    int32_t first_row;        /**< first row matched (set_first_row) */
+    int32_t vertical_offset; /**< rows: left y matches right y+off */
+    int32_t first_row;       /**< first row matched (set_first_row) */
     /** clock ticks per stage (negobs_stereo_set_clock); all 0 without a
      *  clock. Not part of the output: timings differ from run to run. */
     uint64_t stage_ticks[NEGOBS_STEREO_STAGE_COUNT];

@@ -65,30 +65,30 @@ extern "C" {
 
 /** What the fit may vary. */
 typedef enum negobs_valign_kind {
-    NEGOBS_VALIGN_CONST = 0,  /**< one offset for the frame               */
-    NEGOBS_VALIGN_ROWS = 1,   /**< offset + slope_y (scale difference)    */
-    NEGOBS_VALIGN_AFFINE = 2  /**< offset + slope_y + slope_x (and roll)  */
+    NEGOBS_VALIGN_CONST = 0, /**< one offset for the frame               */
+    NEGOBS_VALIGN_ROWS = 1,  /**< offset + slope_y (scale difference)    */
+    NEGOBS_VALIGN_AFFINE = 2 /**< offset + slope_y + slope_x (and roll)  */
 } negobs_valign_kind_t;
 
 /** Configuration; zero it, then call negobs_valign_config_default(). */
 typedef struct negobs_valign_config {
-    int32_t enable;      /**< used by the pipeline only: 1 runs this stage
+    int32_t enable;        /**< used by the pipeline only: 1 runs this stage
                               before the matcher (0)                     */
-    int32_t width;       /**< frame width (pixels)                       */
-    int32_t height;      /**< frame height (pixels)                      */
-    int32_t min_disp;    /**< horizontal search while estimating (px, 0)  */
-    int32_t max_disp;    /**< (px, 63)                                    */
-    int32_t max_offset;  /**< |vertical offset| searched, rows 1..4 (4)   */
-    int32_t kind;        /**< negobs_valign_kind_t (AFFINE)               */
-    int32_t tiles_x;     /**< estimate grid, 1..16 (8)                    */
-    int32_t tiles_y;     /**< 1..16 (6)                                   */
-    int32_t samples;     /**< sample points per tile side, 1..8 (3)      */
-    int32_t texture_min; /**< 7x7 window: 49 * sum(g^2) - sum(g)^2 floor
+    int32_t width;         /**< frame width (pixels)                       */
+    int32_t height;        /**< frame height (pixels)                      */
+    int32_t min_disp;      /**< horizontal search while estimating (px, 0)  */
+    int32_t max_disp;      /**< (px, 63)                                    */
+    int32_t max_offset;    /**< |vertical offset| searched, rows 1..4 (4)   */
+    int32_t kind;          /**< negobs_valign_kind_t (AFFINE)               */
+    int32_t tiles_x;       /**< estimate grid, 1..16 (8)                    */
+    int32_t tiles_y;       /**< 1..16 (6)                                   */
+    int32_t samples;       /**< sample points per tile side, 1..8 (3)      */
+    int32_t texture_min;   /**< 7x7 window: 49 * sum(g^2) - sum(g)^2 floor
                               (49^2 * 9, a grey-level deviation of 3)    */
     int32_t match_min_q14; /**< a sample counts when its best MNCC over
                               offsets and disparities is >= this (0.5)   */
-    int32_t min_tiles;   /**< fewer usable tiles: keep the old model (4)  */
-    int32_t smooth_q15;  /**< weight of a new frame's estimate in the
+    int32_t min_tiles;     /**< fewer usable tiles: keep the old model (4)  */
+    int32_t smooth_q15;    /**< weight of a new frame's estimate in the
                               tracked model, 1..32768 (8192 = 1/4);
                               32768 forgets the past                     */
 } negobs_valign_config_t;

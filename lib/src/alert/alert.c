@@ -25,8 +25,8 @@ typedef struct pat {
 } pat_t;
 
 static const seg_t seg_ready[] = {{100, 1}, {100, 0}, {100, 1}, {100, 0}};
-static const seg_t seg_batt[] = {{80, 1},  {120, 0}, {80, 1}, {120, 0},
-                                 {80, 1},  {120, 0}, {80, 1}, {120, 0}};
+static const seg_t seg_batt[] = {{80, 1}, {120, 0}, {80, 1}, {120, 0},
+                                 {80, 1}, {120, 0}, {80, 1}, {120, 0}};
 static const seg_t seg_noinfo_entry[] = {{400, 1}, {200, 0}, {400, 1},
                                          {200, 0}, {400, 1}, {200, 0}};
 static const seg_t seg_noinfo[] = {{600, 1}, {2400, 0}};
@@ -160,8 +160,7 @@ negobs_status_t negobs_alert_init(negobs_alert_t *ctx,
     /* A heartbeat is one brief pulse: at least the shortest pulse that is
      * felt, at most a quarter of its period (longer reads as a pattern). */
     if (cfg->heartbeat_period_ms != 0 &&
-        (cfg->heartbeat_period_ms < 1000 ||
-         cfg->heartbeat_period_ms > 60000 ||
+        (cfg->heartbeat_period_ms < 1000 || cfg->heartbeat_period_ms > 60000 ||
          cfg->heartbeat_pulse_ms < cfg->min_pulse_ms ||
          cfg->heartbeat_pulse_ms > cfg->heartbeat_period_ms / 4)) {
         return NEGOBS_ERR_INVAL;
@@ -177,8 +176,7 @@ negobs_status_t negobs_alert_init(negobs_alert_t *ctx,
 static int is_caution(negobs_alert_pattern_t p)
 {
     return p == NEGOBS_PATTERN_CAUTION_FAR ||
-           p == NEGOBS_PATTERN_CAUTION_MID ||
-           p == NEGOBS_PATTERN_CAUTION_NEAR;
+           p == NEGOBS_PATTERN_CAUTION_MID || p == NEGOBS_PATTERN_CAUTION_NEAR;
 }
 
 static int is_noinfo(negobs_alert_pattern_t p)
@@ -232,8 +230,7 @@ static int locate(const negobs_alert_t *c, negobs_alert_pattern_t p,
 static negobs_alert_pattern_t desired(negobs_alert_t *c, uint32_t now)
 {
     const negobs_alert_config_t *cfg = &c->cfg;
-    int stale = !c->have_input ||
-                since(now, c->in.verdict_ms) > cfg->stale_ms;
+    int stale = !c->have_input || since(now, c->in.verdict_ms) > cfg->stale_ms;
     if (!stale && c->in.level == NEGOBS_LEVEL_IMMINENT) {
         c->imminent_seen = 1;
         c->last_imminent_ms = now;
@@ -399,11 +396,13 @@ negobs_status_t negobs_alert_update(negobs_alert_t *c, uint32_t now,
     }
     if (c->pat == NEGOBS_PATTERN_IMMINENT && c->imminent_seen &&
         since(now, c->last_imminent_ms) <= c->cfg.imminent_hold_ms) {
-        next = earlier(now, next, c->last_imminent_ms +
-                                      (uint32_t)c->cfg.imminent_hold_ms + 1u);
+        next = earlier(now, next,
+                       c->last_imminent_ms +
+                           (uint32_t)c->cfg.imminent_hold_ms + 1u);
     }
     if (c->in.battery_low && c->battery_played) {
-        uint32_t due = c->battery_start_ms + (uint32_t)c->cfg.battery_period_ms;
+        uint32_t due = c->battery_start_ms +
+                       (uint32_t)c->cfg.battery_period_ms;
         if (since(due, now) > 0) {
             next = earlier(now, next, due);
         }
@@ -442,8 +441,9 @@ negobs_status_t negobs_alert_update(negobs_alert_t *c, uint32_t now,
             }
             cmd->segments[i].start_ms = t;
             cmd->segments[i].on = seg_on(c->pat, k);
-            cmd->segments[i].duty_permille =
-                seg_on(c->pat, k) ? c->cfg.intensity_permille : 0;
+            cmd->segments[i].duty_permille = seg_on(c->pat, k)
+                                                 ? c->cfg.intensity_permille
+                                                 : 0;
             cmd->n_segments = i + 1;
             t += (uint32_t)seg_dur(c, c->pat, k);
         }
@@ -465,6 +465,7 @@ void negobs_alert_input_from_result(const negobs_detect_result_t *res,
     in->level = res->level;
     in->range_mm = res->nearest_range_mm;
     in->no_info = (res->state == NEGOBS_DETECT_NO_INFO) ? 1 : 0;
-    in->short_sight =
-        (res->state == NEGOBS_DETECT_CLEAR && res->short_sight) ? 1 : 0;
+    in->short_sight = (res->state == NEGOBS_DETECT_CLEAR && res->short_sight)
+                          ? 1
+                          : 0;
 }

@@ -29,8 +29,7 @@ static int64_t asr64(int64_t x, int n)
     return -(int64_t)((uint64_t)(-(x + 1)) >> n) - 1;
 }
 
-void negobs_camera_default(negobs_camera_t *cam, int32_t width,
-                           int32_t height)
+void negobs_camera_default(negobs_camera_t *cam, int32_t width, int32_t height)
 {
     cam->width = width;
     cam->height = height;
@@ -172,8 +171,7 @@ int32_t negobs_atan2_mdeg(int64_t y, int64_t x)
     return (int32_t)z;
 }
 
-void negobs_sincos_q30(int32_t angle_mdeg, int32_t *sin_q30,
-                       int32_t *cos_q30)
+void negobs_sincos_q30(int32_t angle_mdeg, int32_t *sin_q30, int32_t *cos_q30)
 {
     int64_t a = angle_mdeg % 360000;
     int64_t x = CORDIC_K_Q30;

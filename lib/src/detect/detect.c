@@ -105,13 +105,13 @@ static void warn_diagnostics(const scan_ctx_t *s, negobs_detect_result_t *res)
     const negobs_detect_config_t *cfg = s->cfg;
     int32_t d_w = negobs_disp_q4_from_depth_mm(&cfg->cam, cfg->range_warn_mm);
     int32_t v_w = cfg->cam.height - 1;
-    while (v_w > 0 && negobs_ground_disp_q4(s->plane, cfg->cam.width / 2,
-                                            v_w) > d_w) {
+    while (v_w > 0 &&
+           negobs_ground_disp_q4(s->plane, cfg->cam.width / 2, v_w) > d_w) {
         v_w--;
     }
     res->sigma_warn_q4 = det_sigma_at(s, v_w);
-    res->sigma_strip_warn_q8 =
-        det_strip_sigma_at(s, v_w, &res->offset_strip_warn_q8);
+    res->sigma_strip_warn_q8 = det_strip_sigma_at(s, v_w,
+                                                  &res->offset_strip_warn_q8);
 }
 
 /* Hold zone: an edge lost within the bottom rows, or so near that the
@@ -176,8 +176,7 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
     /* A hazard already confirmed or held nearer than the view's bottom is
      * this drop: the cue's range (an upper bound) would only pull its
      * dead-reckoned range back. */
-    if (det_ground_drop(p, cfg, &s, g, frame->now_ms, &hz,
-                        &fw->unverified) &&
+    if (det_ground_drop(p, cfg, &s, g, frame->now_ms, &hz, &fw->unverified) &&
         !temporal_covers(&p->temporal, hz.range_mm, frame->now_ms) &&
         res->n_candidates < NEGOBS_DETECT_MAX_HAZARDS) {
         res->candidates[res->n_candidates++] = hz;
@@ -201,11 +200,11 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
      * wall at 3 m ends the walk there and leaves the cue intact). */
     for (i = 0; i < res->n_candidates && i < NEGOBS_DETECT_MAX_HAZARDS; i++) {
         const negobs_hazard_t *c = &res->candidates[i];
-        fw->trusted[i] = (uint8_t)(
-            (c->flags & NEGOBS_HAZARD_F_GROUND_DROP) != 0u
-                ? fw->walk_to >= cfg->near_min_mm
-                : (fw->walk_to >= cfg->range_warn_mm ||
-                   det_vouch_candidate(&s, p, c)));
+        fw->trusted[i] = (uint8_t)((c->flags & NEGOBS_HAZARD_F_GROUND_DROP) !=
+                                           0u
+                                       ? fw->walk_to >= cfg->near_min_mm
+                                       : (fw->walk_to >= cfg->range_warn_mm ||
+                                          det_vouch_candidate(&s, p, c)));
         fw->n_trusted += fw->trusted[i];
     }
     canny_support(p, cfg, frame, res);
@@ -276,8 +275,7 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
                             res->n_candidates, reasons == 0u, fw.walk_to,
                             fw.hold_range, frame->now_ms);
     res->n_hazards = temporal_report(&p->temporal, res->hazards,
-                                     NEGOBS_DETECT_MAX_HAZARDS,
-                                     frame->now_ms);
+                                     NEGOBS_DETECT_MAX_HAZARDS, frame->now_ms);
     for (i = 0; i < res->n_hazards; i++) {
         if (res->hazards[i].level > res->level ||
             (res->hazards[i].level == res->level &&

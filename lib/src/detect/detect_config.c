@@ -104,8 +104,7 @@ negobs_status_t negobs_detect_config_preset(negobs_detect_config_t *cfg,
         cfg->confirm_k = 4;
         cfg->confirm_n = 6;
         break;
-    default:
-        return NEGOBS_ERR_INVAL;
+    default: return NEGOBS_ERR_INVAL;
     }
     return NEGOBS_OK;
 }
@@ -141,8 +140,7 @@ static negobs_status_t config_check(const negobs_detect_config_t *c)
         !in_range(c->ttc_imminent_ms, 0, 10000) ||
         !in_range(c->corridor_half_width_mm, 100, 5000) ||
         !in_range(c->strip_px, 4, MAX_STRIP_PX) ||
-        c->strip_px > c->cam.width ||
-        !in_range(c->h_min_far_mm, 10, 2000) ||
+        c->strip_px > c->cam.width || !in_range(c->h_min_far_mm, 10, 2000) ||
         !in_range(c->h_min_near_mm, 10, 2000) ||
         !in_range(c->h_near_range_mm, 0, 50000) ||
         !in_range(c->h_thresh_pct, 10, 200) ||
@@ -199,17 +197,15 @@ static negobs_status_t carve(negobs_arena_t *ar,
     }
     p->n_strips = cfg->cam.width / cfg->strip_px;
     p->hits = negobs_arena_take(ar, (size_t)p->n_strips * sizeof(strip_hit_t));
-    p->band_hist = negobs_arena_take(
-        ar, (size_t)NOISE_BANDS * NOISE_BINS * sizeof(uint32_t));
-    p->strip_hist = negobs_arena_take(
-        ar, (size_t)NOISE_BANDS * STRIP_BINS * sizeof(uint16_t));
+    p->band_hist = negobs_arena_take(ar, (size_t)NOISE_BANDS * NOISE_BINS *
+                                             sizeof(uint32_t));
+    p->strip_hist = negobs_arena_take(ar, (size_t)NOISE_BANDS * STRIP_BINS *
+                                              sizeof(uint16_t));
     p->cells = negobs_arena_take(ar, (size_t)p->n_strips * NOISE_BANDS *
                                          sizeof(vouch_cell_t));
-    p->reach_v =
-        negobs_arena_take(ar, (size_t)p->n_strips * sizeof(int32_t));
+    p->reach_v = negobs_arena_take(ar, (size_t)p->n_strips * sizeof(int32_t));
     p->canny.mag = negobs_arena_take(ar, dcanny_mag_bytes(cfg->cam.width));
-    p->canny.label =
-        negobs_arena_take(ar, dcanny_label_bytes(cfg->cam.width));
+    p->canny.label = negobs_arena_take(ar, dcanny_label_bytes(cfg->cam.width));
     p->canny.width = cfg->cam.width;
     *out = (p == &tmp) ? NULL : p;
     return negobs_arena_status(ar);

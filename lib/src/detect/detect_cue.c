@@ -129,9 +129,8 @@ void det_near_candidate_note(detect_priv_t *p,
 }
 
 int det_ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
-                    const scan_ctx_t *s, const gfit_out_t *g,
-                    uint32_t now_ms, negobs_hazard_t *hz,
-                    int *unverified)
+                    const scan_ctx_t *s, const gfit_out_t *g, uint32_t now_ms,
+                    negobs_hazard_t *hz, int *unverified)
 {
     int32_t dh;
     int32_t dp;
@@ -187,8 +186,7 @@ int det_ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
  * clean frames: the model of a NOISY frame can be far off (945 mm for a
  * 1.2 m camera in test_detect_start_near_drop_is_not_clear), and as the
  * reference it hid the drop. */
-void det_ground_ref_follow(detect_priv_t *p,
-                           const negobs_detect_config_t *cfg,
+void det_ground_ref_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
                            const gfit_out_t *g, int unverified)
 {
     int32_t dh = g->pose.height_mm - p->ref_height_mm;
@@ -198,8 +196,7 @@ void det_ground_ref_follow(detect_priv_t *p,
         }
         return;
     }
-    if (p->drop_on ||
-        2 * negobs_abs_s32(dh) >= cfg->ground_drop_mm) {
+    if (p->drop_on || 2 * negobs_abs_s32(dh) >= cfg->ground_drop_mm) {
         return;
     }
     p->ref_height_mm += dh / 4;

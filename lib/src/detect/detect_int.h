@@ -27,8 +27,7 @@ int32_t negobs_atan2_mdeg(int64_t y, int64_t x);
  * CORDIC in rotation mode, 24 iterations; absolute error below 2^-22.
  * Any angle is accepted (reduced to (-180, 180] degrees first).
  */
-void negobs_sincos_q30(int32_t angle_mdeg, int32_t *sin_q30,
-                       int32_t *cos_q30);
+void negobs_sincos_q30(int32_t angle_mdeg, int32_t *sin_q30, int32_t *cos_q30);
 
 /** @brief Bearing of a point (lateral X, forward D) in mdeg, right > 0. */
 static inline int32_t negobs_bearing_mdeg(int32_t lateral_mm,

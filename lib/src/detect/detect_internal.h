@@ -44,8 +44,8 @@ typedef struct strip_hit {
     negobs_hazard_type_t type;
     int32_t u0;
     int32_t u1;
-    int32_t edge_v;   /* last ground row (bottom of the box)         */
-    int32_t top_v;    /* farthest row examined for this hazard       */
+    int32_t edge_v; /* last ground row (bottom of the box)         */
+    int32_t top_v;  /* farthest row examined for this hazard       */
     int32_t range_mm;
     int32_t lateral_mm;
     int32_t depth_mm;
@@ -90,11 +90,11 @@ typedef struct detect_priv {
     temporal_t temporal;
     strip_hit_t *hits;
     int32_t n_strips;
-    uint32_t *band_hist; /* NOISE_BANDS x NOISE_BINS |horizontal diff| */
-    uint16_t *strip_hist; /* NOISE_BANDS x STRIP_BINS strip medians    */
+    uint32_t *band_hist;    /* NOISE_BANDS x NOISE_BINS |horizontal diff| */
+    uint16_t *strip_hist;   /* NOISE_BANDS x STRIP_BINS strip medians    */
     dcanny_scratch_t canny; /* disparity Canny around a hazard's edge  */
-    vouch_cell_t *cells;  /* n_strips x NOISE_BANDS local-noise cells   */
-    int32_t *reach_v;     /* per strip: farthest row vouched from the
+    vouch_cell_t *cells;    /* n_strips x NOISE_BANDS local-noise cells   */
+    int32_t *reach_v;       /* per strip: farthest row vouched from the
                              bottom without a break (height: none)      */
     /* ground-drop cue: the camera height and pitch over the ground under
      * the feet, followed on clean frames only */
@@ -122,7 +122,6 @@ typedef struct detect_priv {
     mount_track_t mount; /* the mounting the results report (mount.c) */
 } detect_priv_t;
 
-
 /* Scan context shared by the strips of one frame. */
 typedef struct scan_ctx {
     const negobs_detect_config_t *cfg;
@@ -132,9 +131,9 @@ typedef struct scan_ctx {
     const negobs_ground_plane_t *plane;
     const negobs_ground_frame_t *frame;
     int32_t sigma_q4;
-    int32_t d_min_q4; /* ground disparity at range_max */
-    int32_t band_v0;  /* first row of the noise bands    */
-    int32_t band_rows;/* rows per band (>= 1)            */
+    int32_t d_min_q4;  /* ground disparity at range_max */
+    int32_t band_v0;   /* first row of the noise bands    */
+    int32_t band_rows; /* rows per band (>= 1)            */
     int32_t band_sigma_q4[NOISE_BANDS];
     /* Measured spread and offset of the strip median (1/256 px), per
      * band pooled with the next nearer one; spread 0: too few strip rows
@@ -142,7 +141,6 @@ typedef struct scan_ctx {
     int32_t band_strip_q8[NOISE_BANDS];
     int32_t band_bias_q8[NOISE_BANDS];
 } scan_ctx_t;
-
 
 uint32_t det_photo_reasons(const negobs_detect_config_t *cfg,
                            const negobs_photo_stats_t *s);
@@ -153,28 +151,26 @@ void det_band_noise(scan_ctx_t *s, uint32_t *hist, int32_t v_top);
 
 int32_t det_h_min_at(const negobs_detect_config_t *cfg, int32_t range_mm);
 
-void det_model_point(const scan_ctx_t *s, int32_t u, int32_t v,
-                     int32_t dg_q4, int32_t *range_mm, int32_t *lat_mm,
-                     int32_t *depth_mm);
+void det_model_point(const scan_ctx_t *s, int32_t u, int32_t v, int32_t dg_q4,
+                     int32_t *range_mm, int32_t *lat_mm, int32_t *depth_mm);
 
 int det_in_corridor(const scan_ctx_t *s, int32_t uc, int32_t dg_q4);
 
 int32_t det_strip_u0(const negobs_detect_config_t *cfg, int32_t n_strips,
                      int32_t si);
 
-int det_strip_in_corridor(const scan_ctx_t *s, int32_t n_strips,
-                          int32_t si, int32_t v);
+int det_strip_in_corridor(const scan_ctx_t *s, int32_t n_strips, int32_t si,
+                          int32_t v);
 
 void det_scan_strip(const scan_ctx_t *s, int32_t u0, int32_t u1,
                     strip_hit_t *hit);
 
-int det_strip_row_e(const scan_ctx_t *s, const detect_priv_t *p,
-                    int32_t v, int32_t si, int32_t *rr, int32_t *e_out);
+int det_strip_row_e(const scan_ctx_t *s, const detect_priv_t *p, int32_t v,
+                    int32_t si, int32_t *rr, int32_t *e_out);
 
 void det_strip_noise(scan_ctx_t *s, detect_priv_t *p, uint16_t *hist);
 
-int32_t det_strip_sigma_at(const scan_ctx_t *s, int32_t v,
-                           int32_t *offset_q8);
+int32_t det_strip_sigma_at(const scan_ctx_t *s, int32_t v, int32_t *offset_q8);
 
 void det_vouch_collect(const scan_ctx_t *s, detect_priv_t *p);
 
@@ -197,12 +193,10 @@ void det_near_candidate_note(detect_priv_t *p,
                              uint32_t now_ms);
 
 int det_ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
-                    const scan_ctx_t *s, const gfit_out_t *g,
-                    uint32_t now_ms, negobs_hazard_t *hz,
-                    int *unverified);
+                    const scan_ctx_t *s, const gfit_out_t *g, uint32_t now_ms,
+                    negobs_hazard_t *hz, int *unverified);
 
-void det_ground_ref_follow(detect_priv_t *p,
-                           const negobs_detect_config_t *cfg,
+void det_ground_ref_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
                            const gfit_out_t *g, int unverified);
 
 #endif /* NEGOBS_DETECT_INTERNAL_H */

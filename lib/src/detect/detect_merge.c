@@ -105,8 +105,8 @@ void det_merge_strips(const scan_ctx_t *s, detect_priv_t *p,
                 sxy += x * y;
             }
             if (n >= 2 && n * sxx - sx * sx > 0) {
-                h.edge_angle_mdeg =
-                    negobs_atan2_mdeg(n * sxy - sx * sy, n * sxx - sx * sx);
+                h.edge_angle_mdeg = negobs_atan2_mdeg(n * sxy - sx * sy,
+                                                      n * sxx - sx * sx);
             }
         }
         /* Confidence: agreement across strips (4 strips = full) times the

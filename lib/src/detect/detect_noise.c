@@ -124,14 +124,14 @@ static void hist_median_spread_q8(const uint16_t *ha, const uint16_t *hb,
 /* Strip-median residual e (1/32 px) of strip si on row v, against the
  * nearer of the ground and a reported drop's plateau past its edge; 0
  * when the row is outside the corridor or has too few voting pixels. */
-int det_strip_row_e(const scan_ctx_t *s, const detect_priv_t *p,
-                    int32_t v, int32_t si, int32_t *rr, int32_t *e_out)
+int det_strip_row_e(const scan_ctx_t *s, const detect_priv_t *p, int32_t v,
+                    int32_t si, int32_t *rr, int32_t *e_out)
 {
     const negobs_detect_config_t *cfg = s->cfg;
     const strip_hit_t *hit = &p->hits[si];
     const int16_t *row = negobs_image_s16_row(s->disp, v);
-    const uint8_t *crow =
-        (s->conf != NULL) ? negobs_image_u8_row(s->conf, v) : NULL;
+    const uint8_t *crow = (s->conf != NULL) ? negobs_image_u8_row(s->conf, v)
+                                            : NULL;
     int32_t u0 = det_strip_u0(cfg, p->n_strips, si);
     int32_t u1 = u0 + cfg->strip_px;
     int32_t uc = (u0 + u1) / 2;
@@ -250,8 +250,7 @@ void det_strip_noise(scan_ctx_t *s, detect_priv_t *p, uint16_t *hist)
     for (b = 0; b < NOISE_BANDS; b++) {
         hist_median_spread_q8(
             hist + (size_t)b * STRIP_BINS,
-            (b + 1 < NOISE_BANDS) ? hist + (size_t)(b + 1) * STRIP_BINS
-                                  : NULL,
+            (b + 1 < NOISE_BANDS) ? hist + (size_t)(b + 1) * STRIP_BINS : NULL,
             &s->band_bias_q8[b], &s->band_strip_q8[b]);
     }
 }
@@ -262,8 +261,7 @@ void det_strip_noise(scan_ctx_t *s, detect_priv_t *p, uint16_t *hist)
  * 1.25 * sigma / sqrt(strip_px) stands in, with offset 0: with so little
  * data in the band the rule itself reads those rows as INVALID, not as
  * ground. */
-int32_t det_strip_sigma_at(const scan_ctx_t *s, int32_t v,
-                           int32_t *offset_q8)
+int32_t det_strip_sigma_at(const scan_ctx_t *s, int32_t v, int32_t *offset_q8)
 {
     int32_t b = (v - s->band_v0) / s->band_rows;
     b = negobs_clamp_s32(b, 0, NOISE_BANDS - 1);
@@ -274,7 +272,7 @@ int32_t det_strip_sigma_at(const scan_ctx_t *s, int32_t v,
     }
     /* sigma_q4 * 16 * 1.25 / sqrt(strip) = sigma_q4 * 20 * 16 /
      * sqrt(256 * strip). */
-    return (int32_t)(((int64_t)det_sigma_at(s, v) * 320) /
-                     (int64_t)negobs_isqrt_u32(
-                         (uint32_t)s->cfg->strip_px * 256u));
+    return (
+        int32_t)(((int64_t)det_sigma_at(s, v) * 320) /
+                 (int64_t)negobs_isqrt_u32((uint32_t)s->cfg->strip_px * 256u));
 }

@@ -58,9 +58,8 @@ void det_band_noise(scan_ctx_t *s, uint32_t *hist, int32_t v_top)
     memset(hist, 0, (size_t)NOISE_BANDS * NOISE_BINS * sizeof(uint32_t));
     for (v = v_top; v < h; v += 2) {
         const int16_t *row = negobs_image_s16_row(d, v);
-        uint32_t *hb = hist + (size_t)(geom_min_s32(
-                                  (v - v_top) / s->band_rows,
-                                  NOISE_BANDS - 1)) *
+        uint32_t *hb = hist + (size_t)(geom_min_s32((v - v_top) / s->band_rows,
+                                                    NOISE_BANDS - 1)) *
                                   NOISE_BINS;
         for (u = 0; u + 1 < d->width; u++) {
             int32_t a = row[u];
@@ -101,7 +100,7 @@ void det_band_noise(scan_ctx_t *s, uint32_t *hist, int32_t v_top)
 typedef struct row_stat {
     int32_t n;
     int32_t tau;
-    int32_t dg;       /* model at the strip centre, q4 */
+    int32_t dg; /* model at the strip centre, q4 */
     int32_t n_def;
     int32_t n_gnd;
     int32_t n_pos;
@@ -122,15 +121,14 @@ int32_t det_h_min_at(const negobs_detect_config_t *cfg, int32_t range_mm)
  * Classify one row of a strip. rho1_q15 > 0 additionally counts pixels
  * deeper than the first plateau (relative deficit rho1) by tau.
  */
-static enum row_class classify_row(const scan_ctx_t *s, int32_t u0,
-                                   int32_t u1, int32_t v, int32_t range_mm,
+static enum row_class classify_row(const scan_ctx_t *s, int32_t u0, int32_t u1,
+                                   int32_t v, int32_t range_mm,
                                    int32_t rho1_q15, row_stat_t *st)
 {
     const negobs_detect_config_t *cfg = s->cfg;
     const int16_t *row = negobs_image_s16_row(s->disp, v);
-    const uint8_t *crow = (s->conf != NULL)
-                              ? negobs_image_u8_row(s->conf, v)
-                              : NULL;
+    const uint8_t *crow = (s->conf != NULL) ? negobs_image_u8_row(s->conf, v)
+                                            : NULL;
     int32_t rr[MAX_STRIP_PX];
     int32_t gg[MAX_STRIP_PX];
     int32_t dd[MAX_STRIP_PX];
@@ -201,9 +199,8 @@ static enum row_class classify_row(const scan_ctx_t *s, int32_t u0,
 }
 
 /* Floor distance and depth of the ground model at (u, v). */
-void det_model_point(const scan_ctx_t *s, int32_t u, int32_t v,
-                     int32_t dg_q4, int32_t *range_mm, int32_t *lat_mm,
-                     int32_t *depth_mm)
+void det_model_point(const scan_ctx_t *s, int32_t u, int32_t v, int32_t dg_q4,
+                     int32_t *range_mm, int32_t *lat_mm, int32_t *depth_mm)
 {
     int32_t z = negobs_depth_mm_from_disp_q4(&s->cfg->cam, dg_q4);
     if (z < 0) {
@@ -234,8 +231,8 @@ int32_t det_strip_u0(const negobs_detect_config_t *cfg, int32_t n_strips,
 
 /* 1 when the centre of strip si lies in the walking corridor at row v of
  * the ground model. */
-int det_strip_in_corridor(const scan_ctx_t *s, int32_t n_strips,
-                          int32_t si, int32_t v)
+int det_strip_in_corridor(const scan_ctx_t *s, int32_t n_strips, int32_t si,
+                          int32_t v)
 {
     int32_t uc = det_strip_u0(s->cfg, n_strips, si) + s->cfg->strip_px / 2;
     int32_t dgc = negobs_ground_disp_q4(s->plane, uc, v);
@@ -325,7 +322,7 @@ static int32_t edge_change_point(const scan_ctx_t *s, int32_t u0, int32_t u1,
 typedef struct scan_state {
     int32_t sup_start; /* range of the first ground row, -1: none */
     int32_t supported;
-    int32_t sup_v;     /* row where the support became long enough */
+    int32_t sup_v; /* row where the support became long enough */
     int32_t last_g_v;
     int32_t last_g_r;
     int32_t last_g_dg;
@@ -341,7 +338,7 @@ typedef struct scan_state {
     int32_t rho1;
     int32_t back;
     int32_t deeper;
-    int32_t settle;   /* rows after the edge run, before classifying */
+    int32_t settle; /* rows after the edge run, before classifying */
     int64_t s2dg;
     int64_t s2d;
 } scan_state_t;
@@ -370,8 +367,7 @@ static void scan_settle(const scan_ctx_t *s, int32_t u0, int32_t u1,
     }
     if (ss->settle == cfg->min_edge_rows && ss->s2d > 0 &&
         ss->s2dg > ss->s2d) {
-        int32_t rho2 =
-            (int32_t)(((ss->s2dg - ss->s2d) * 32768) / ss->s2dg);
+        int32_t rho2 = (int32_t)(((ss->s2dg - ss->s2d) * 32768) / ss->s2dg);
         if (rho2 > ss->rho1) {
             ss->rho1 = rho2;
             hit->rho1_q15 = ss->rho1;
@@ -389,10 +385,8 @@ static void scan_settle(const scan_ctx_t *s, int32_t u0, int32_t u1,
                                        ss->rho1);
         if (ev != hit->edge_v) {
             hit->edge_v = ev;
-            det_model_point(s, uc, ev,
-                            negobs_ground_disp_q4(s->plane, uc, ev),
-                            &hit->range_mm, &hit->lateral_mm,
-                            &hit->depth_mm);
+            det_model_point(s, uc, ev, negobs_ground_disp_q4(s->plane, uc, ev),
+                            &hit->range_mm, &hit->lateral_mm, &hit->depth_mm);
         }
     }
 }
@@ -555,11 +549,11 @@ static void scan_missing(const scan_ctx_t *s, int32_t u0, int32_t u1,
     hit->top_v = geom_max_s32(v, 0);
     det_model_point(s, uc, ss->last_g_v, ss->last_g_dg, &hit->range_mm,
                     &hit->lateral_mm, &hit->depth_mm);
-    hit->drop_mm =
-        (hit->range_mm > 0)
-            ? (int32_t)(((int64_t)s->frame->height_mm * ss->miss_len) /
-                        hit->range_mm)
-            : 0;
+    hit->drop_mm = (hit->range_mm > 0)
+                       ? (int32_t)(((int64_t)s->frame->height_mm *
+                                    ss->miss_len) /
+                                   hit->range_mm)
+                       : 0;
     hit->h_lower = 1;
     hit->margin_q8 = 256;
     /* Missing ground: a bland band is "unknown" (nothing to match); a band

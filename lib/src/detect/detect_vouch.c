@@ -37,8 +37,7 @@ static inline int32_t band_of(const scan_ctx_t *s, int32_t v)
 }
 
 /* Floor distance of the ground model at (u, v). */
-static inline int32_t model_range_mm(const scan_ctx_t *s, int32_t u,
-                                     int32_t v)
+static inline int32_t model_range_mm(const scan_ctx_t *s, int32_t u, int32_t v)
 {
     int32_t r = 0;
     det_model_point(s, u, v, negobs_ground_disp_q4(s->plane, u, v), &r, NULL,
@@ -212,7 +211,8 @@ int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
             any_alive |= p->reach_v[si] == v;
         }
         if (walking) {
-            if (n_corr > 0 && 2 * n_ok >= n_corr && max_bad < cfg->min_strips) {
+            if (n_corr > 0 && 2 * n_ok >= n_corr &&
+                max_bad < cfg->min_strips) {
                 walk_v = v;
             } else {
                 walking = 0;
@@ -237,8 +237,7 @@ int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
         walk_v > hgt - 1 - (hgt * cfg->fit_rows_pct) / 100) {
         return 0;
     }
-    return (walk_v < hgt) ? model_range_mm(s, cfg->cam.width / 2, walk_v)
-                          : 0;
+    return (walk_v < hgt) ? model_range_mm(s, cfg->cam.width / 2, walk_v) : 0;
 }
 
 /* The band-pooled test of vouch_cell_ok at row v (no cell): the band's

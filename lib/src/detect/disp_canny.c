@@ -48,8 +48,7 @@ static int sobel_q4(const negobs_image_s16_t *d, int32_t u, int32_t v,
 
 /* L1 Sobel magnitude at (u, v), 1 <= u < width - 1, 1 <= v < height - 1;
  * 0 near an invalid pixel, saturated at 65535. */
-static int32_t dcanny_grad(const negobs_image_s16_t *d, int32_t u,
-                           int32_t v)
+static int32_t dcanny_grad(const negobs_image_s16_t *d, int32_t u, int32_t v)
 {
     int32_t gx;
     int32_t gy;
@@ -91,9 +90,8 @@ static void mag_row(const negobs_image_s16_t *d, int32_t v, int32_t c0,
 }
 
 int32_t dcanny_support(const negobs_image_s16_t *d, int32_t gmax,
-                       int32_t high_permille, int32_t low_permille,
-                       int32_t u0, int32_t u1, int32_t edge_v,
-                       const dcanny_scratch_t *sc)
+                       int32_t high_permille, int32_t low_permille, int32_t u0,
+                       int32_t u1, int32_t edge_v, const dcanny_scratch_t *sc)
 {
     int32_t hi = (int32_t)(((int64_t)gmax * high_permille) / 1000);
     int32_t lo = (int32_t)(((int64_t)hi * low_permille) / 1000);

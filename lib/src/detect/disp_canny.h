@@ -25,7 +25,7 @@
 #define DCANNY_ROWS_ABOVE 2
 #define DCANNY_ROWS_BELOW 1
 /* Window rows = counted rows + both margins. */
-#define DCANNY_WIN_ROWS \
+#define DCANNY_WIN_ROWS                                                       \
     (DCANNY_ROWS_ABOVE + DCANNY_ROWS_BELOW + 1 + 2 * DCANNY_MARGIN)
 
 typedef struct dcanny_scratch {
@@ -53,8 +53,7 @@ int32_t dcanny_band_max(const negobs_image_s16_t *d, int32_t v_top);
  * threshold below 1. sc must be sized for d->width.
  */
 int32_t dcanny_support(const negobs_image_s16_t *d, int32_t gmax,
-                       int32_t high_permille, int32_t low_permille,
-                       int32_t u0, int32_t u1, int32_t edge_v,
-                       const dcanny_scratch_t *sc);
+                       int32_t high_permille, int32_t low_permille, int32_t u0,
+                       int32_t u1, int32_t edge_v, const dcanny_scratch_t *sc);
 
 #endif

@@ -40,7 +40,8 @@ negobs_status_t negobs_ground_plane_from_pose(const negobs_camera_t *cam,
     ny = geom_rshift_round_s64((int64_t)cp * cr, 30);
     nz = sp;
     /* k = B/H, Q24: B_um < 2^20, so the shifted numerator is < 2^44. */
-    k_q24 = ((int64_t)cam->baseline_um << 24) / ((int64_t)pose->height_mm * 1000);
+    k_q24 = ((int64_t)cam->baseline_um << 24) /
+            ((int64_t)pose->height_mm * 1000);
     /* a = k*nx: Q24 * Q30 = Q54 -> Q20. k < 10, so the product < 2^58. */
     plane->a_q20 = (int32_t)geom_rshift_round_s64(k_q24 * nx, 34);
     plane->b_q20 = (int32_t)geom_rshift_round_s64(k_q24 * ny, 34);
@@ -53,10 +54,9 @@ negobs_status_t negobs_ground_plane_from_pose(const negobs_camera_t *cam,
     return NEGOBS_OK;
 }
 
-negobs_status_t negobs_ground_pose_from_plane(const negobs_camera_t *cam,
-                                              const negobs_ground_plane_t *plane,
-                                              negobs_ground_pose_t *pose,
-                                              negobs_ground_frame_t *frame)
+negobs_status_t negobs_ground_pose_from_plane(
+    const negobs_camera_t *cam, const negobs_ground_plane_t *plane,
+    negobs_ground_pose_t *pose, negobs_ground_frame_t *frame)
 {
     int64_t a;
     int64_t b;
@@ -107,8 +107,8 @@ negobs_status_t negobs_ground_pose_from_plane(const negobs_camera_t *cam,
         frame->nx_q30 = (int32_t)nx;
         frame->ny_q30 = (int32_t)ny;
         frame->nz_q30 = (int32_t)nz;
-        frame->cos_pitch_q30 =
-            (int32_t)negobs_isqrt_u64((uint64_t)(nx * nx + ny * ny));
+        frame->cos_pitch_q30 = (int32_t)negobs_isqrt_u64(
+            (uint64_t)(nx * nx + ny * ny));
         frame->height_mm = pose->height_mm;
     }
     return NEGOBS_OK;
@@ -134,9 +134,9 @@ void negobs_ground_floor_point(const negobs_camera_t *cam,
                                      cam->focal_q4);
     int64_t cosp = frame->cos_pitch_q30;
     /* Height of the point below the camera along the normal, mm. */
-    int64_t np = geom_rshift_round_s64(
-        frame->nx_q30 * x + frame->ny_q30 * y + (int64_t)frame->nz_q30 * z_mm,
-        30);
+    int64_t np = geom_rshift_round_s64(frame->nx_q30 * x + frame->ny_q30 * y +
+                                           (int64_t)frame->nz_q30 * z_mm,
+                                       30);
     int64_t fwd;
     int64_t lat;
 

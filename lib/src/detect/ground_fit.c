@@ -92,10 +92,12 @@ negobs_status_t gfit_carve(gfit_t *g, negobs_arena_t *ar,
     }
     /* Slopes s = B*cos/H in px/row Q12. */
     smin = (int32_t)(((int64_t)cam->baseline_um * cosmin /
-                      ((int64_t)hmax * 1000)) >> 18);
+                      ((int64_t)hmax * 1000)) >>
+                     18);
     {
         int32_t smax = (int32_t)(((int64_t)cam->baseline_um * cosmax /
-                                  ((int64_t)hmin * 1000)) >> 18);
+                                  ((int64_t)hmin * 1000)) >>
+                                 18);
         int32_t span = smax - smin;
         g->n_slopes = GFIT_N_SLOPES;
         for (i = 0; i < GFIT_N_SLOPES; i++) {
@@ -147,8 +149,8 @@ negobs_status_t gfit_carve(gfit_t *g, negobs_arena_t *ar,
                   (g->rows / g->step + 1);
     }
 
-    g->vhist = negobs_arena_take(
-        ar, (size_t)g->rows * (size_t)g->nbins * sizeof(uint16_t));
+    g->vhist = negobs_arena_take(ar, (size_t)g->rows * (size_t)g->nbins *
+                                         sizeof(uint16_t));
     g->acc = negobs_arena_take(ar, (size_t)GFIT_N_SLOPES * GFIT_N_K *
                                        sizeof(uint32_t));
     g->absres = negobs_arena_take(ar, GFIT_ABS_BINS * sizeof(uint32_t));
@@ -233,7 +235,7 @@ static int hough_line(gfit_t *g, negobs_ground_plane_t *plane)
         plane->a_q20 = 0;
         plane->b_q20 = g->s_q12[best_i] * 256;
         plane->c_q20 = (int32_t)geom_clamp_s64(-k * 256, -INT32_MAX,
-                                                INT32_MAX);
+                                               INT32_MAX);
     }
     return 1;
 }
@@ -306,7 +308,8 @@ static int32_t refine_step(const gfit_t *g, const negobs_image_s16_t *disp,
             }
             r = geom_rshift_round_s64(
                 (int64_t)d * 65536 - (base + (int64_t)plane->a_q20 * u), 8);
-            if (r > (int64_t)gate_q4 * 256 || r < -(int64_t)neg_gate_q4 * 256) {
+            if (r > (int64_t)gate_q4 * 256 ||
+                r < -(int64_t)neg_gate_q4 * 256) {
                 continue;
             }
             x = u - uc;
@@ -365,9 +368,9 @@ static int32_t refine_step(const gfit_t *g, const negobs_image_s16_t *disp,
                                            INT32_MAX);
     plane->b_q20 = (int32_t)geom_clamp_s64(plane->b_q20 + be_q16, -INT32_MAX,
                                            INT32_MAX);
-    plane->c_q20 = (int32_t)geom_clamp_s64(
-        plane->c_q20 + ga_q16 - al_q16 * uc - be_q16 * vc, -INT32_MAX,
-        INT32_MAX);
+    plane->c_q20 = (int32_t)geom_clamp_s64(plane->c_q20 + ga_q16 -
+                                               al_q16 * uc - be_q16 * vc,
+                                           -INT32_MAX, INT32_MAX);
     return (int32_t)n;
 }
 
@@ -467,8 +470,7 @@ void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
     int ok = 0;
 
     memset(out, 0, sizeof *out);
-    memset(g->vhist, 0,
-           (size_t)g->rows * (size_t)g->nbins * sizeof(uint16_t));
+    memset(g->vhist, 0, (size_t)g->rows * (size_t)g->nbins * sizeof(uint16_t));
     for (v = cam->height - 1; v >= g->v_lo; v -= g->step) {
         const int16_t *row = negobs_image_s16_row(disp, v);
         uint16_t *h = g->vhist + (size_t)(v - g->v_lo) * (size_t)g->nbins;
@@ -484,8 +486,7 @@ void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
             }
         }
     }
-    out->valid_permille =
-        samples ? (int32_t)((valid * 1000u) / samples) : 0;
+    out->valid_permille = samples ? (int32_t)((valid * 1000u) / samples) : 0;
     if (out->valid_permille < cfg->ground_min_valid_pct * 10) {
         out->reasons |= NEGOBS_DEGRADED_FEW_GROUND;
     } else if (hough_line(g, &fit)) {
@@ -511,7 +512,8 @@ void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
                           geom_max_s32(2 * sigma, 6), g->v_lo);
         sigma = noise_sigma(g, disp, conf, &fit);
         out->inliers = inl;
-        if ((int64_t)inl * 100 >= (int64_t)valid * cfg->ground_min_inlier_pct &&
+        if ((int64_t)inl * 100 >=
+                (int64_t)valid * cfg->ground_min_inlier_pct &&
             inl >= 64 &&
             negobs_ground_pose_from_plane(cam, &fit, &pose, NULL) ==
                 NEGOBS_OK &&

@@ -26,7 +26,7 @@ typedef struct gfit {
     int32_t nbins;    /* disparity bins                               */
     int32_t bin_q4;   /* bin width (q4)                               */
     int32_t step;     /* sampling step (px)                           */
-    int32_t s_q12[GFIT_N_SLOPES];  /* candidate slopes, px/row Q12    */
+    int32_t s_q12[GFIT_N_SLOPES]; /* candidate slopes, px/row Q12    */
     int64_t k_lo_q12[GFIT_N_SLOPES];
     int64_t k_bin_q12[GFIT_N_SLOPES];
     int32_t n_slopes;
@@ -39,8 +39,8 @@ typedef struct gfit {
 } gfit_t;
 
 typedef struct gfit_out {
-    int32_t ok;           /* plane usable for detection this frame    */
-    uint32_t reasons;     /* NEGOBS_DEGRADED_FEW_GROUND / _REJECTED   */
+    int32_t ok;       /* plane usable for detection this frame    */
+    uint32_t reasons; /* NEGOBS_DEGRADED_FEW_GROUND / _REJECTED   */
     negobs_ground_plane_t plane;
     negobs_ground_pose_t pose;
     negobs_ground_frame_t frame;

@@ -159,8 +159,7 @@ void mount_update(mount_track_t *m, const negobs_detect_config_t *cfg,
         mount_report(m, cfg, out);
         return;
     }
-    if (m->have &&
-        (int32_t)(now_ms - m->last_ms) > cfg->mount_reacquire_ms) {
+    if (m->have && (int32_t)(now_ms - m->last_ms) > cfg->mount_reacquire_ms) {
         m->n = 0; /* looked away: start again */
     }
     m->pitch_mdeg = pose->pitch_mdeg;

@@ -21,12 +21,12 @@ typedef struct mount_box {
 } mount_box_t;
 
 typedef struct mount_track {
-    int32_t have;        /* an estimate exists                          */
-    int32_t n;           /* measuring frames since (re)acquisition      */
-    int32_t height_mm;   /* slow                                        */
-    int32_t roll_mdeg;   /* slow                                        */
-    int32_t pitch_mdeg;  /* last measuring frame's                      */
-    uint32_t last_ms;    /* time of the last measuring frame            */
+    int32_t have;       /* an estimate exists                          */
+    int32_t n;          /* measuring frames since (re)acquisition      */
+    int32_t height_mm;  /* slow                                        */
+    int32_t roll_mdeg;  /* slow                                        */
+    int32_t pitch_mdeg; /* last measuring frame's                      */
+    uint32_t last_ms;   /* time of the last measuring frame            */
 } mount_track_t;
 
 /* Defaults of the mounting fields of the detector config. */

@@ -175,7 +175,8 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
             negobs_hazard_type_t old_type = tr->hz.type;
             if (age > 0) {
                 int32_t inst = (int32_t)(((int64_t)(tr->hz.range_mm -
-                                                    c->range_mm) * 1000) /
+                                                    c->range_mm) *
+                                          1000) /
                                          age);
                 inst = negobs_clamp_s32(inst, 0, cfg->max_speed_mm_s);
                 tr->speed_mm_s += (inst - tr->speed_mm_s) / 4;

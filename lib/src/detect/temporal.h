@@ -14,12 +14,12 @@ typedef struct tmp_track {
     int32_t active;
     int32_t confirmed;
     int32_t held;
-    uint32_t hist;         /* bit 0 = this frame, 1 = seen            */
-    int32_t misses;        /* consecutive observed frames without it  */
+    uint32_t hist;  /* bit 0 = this frame, 1 = seen            */
+    int32_t misses; /* consecutive observed frames without it  */
     uint32_t last_seen_ms;
     uint32_t hold_start_ms;
-    int32_t speed_mm_s;    /* approach speed estimate, >= 0           */
-    negobs_hazard_t hz;    /* latest observation (range as observed)  */
+    int32_t speed_mm_s; /* approach speed estimate, >= 0           */
+    negobs_hazard_t hz; /* latest observation (range as observed)  */
 } tmp_track_t;
 
 typedef struct temporal {

@@ -10,8 +10,8 @@
 /* The public storage must hold the private layout (C99: no static_assert;
  * a negative array size stops the build). Same members, so the alignment
  * is the same too. */
-typedef char negobs_pipeline_storage_fits[
-    (sizeof(negobs_pipeline_priv_t) <= sizeof(negobs_pipeline_t)) ? 1 : -1];
+typedef char negobs_pipeline_storage_fits
+    [(sizeof(negobs_pipeline_priv_t) <= sizeof(negobs_pipeline_t)) ? 1 : -1];
 
 void negobs_pipeline_config_default(negobs_pipeline_config_t *cfg,
                                     int32_t width, int32_t height)
@@ -52,8 +52,7 @@ int32_t negobs_pipeline_roi_first_row(const negobs_pipeline_config_t *cfg,
     int32_t fit_top;
     int32_t v;
     int32_t top;
-    if (cfg == NULL || det == NULL || !cfg->stereo_roi ||
-        !det->ground_valid) {
+    if (cfg == NULL || det == NULL || !cfg->stereo_roi || !det->ground_valid) {
         return 0;
     }
     d = &cfg->detect;
@@ -141,9 +140,8 @@ static negobs_status_t check_config(const negobs_pipeline_config_t *cfg)
         cfg->detect.cam.height != cfg->stereo.height) {
         return NEGOBS_ERR_INVAL;
     }
-    if (cfg->valign.enable &&
-        (cfg->valign.width != cfg->stereo.width ||
-         cfg->valign.height != cfg->stereo.height)) {
+    if (cfg->valign.enable && (cfg->valign.width != cfg->stereo.width ||
+                               cfg->valign.height != cfg->stereo.height)) {
         return NEGOBS_ERR_INVAL;
     }
     if (cfg->stereo_roi < 0 || cfg->stereo_roi > 1 ||
@@ -335,10 +333,9 @@ negobs_status_t negobs_pipeline_process(negobs_pipeline_t *ctx,
     /* next frame: only the rows the detector will read, as far as this
      * frame's ground model says; every row without one */
     (void)negobs_stereo_set_first_row(
-        &p->stereo, (st == NEGOBS_OK)
-                        ? negobs_pipeline_roi_first_row(&p->cfg,
-                                                        &result->detect)
-                        : 0);
+        &p->stereo, (st == NEGOBS_OK) ? negobs_pipeline_roi_first_row(
+                                            &p->cfg, &result->detect)
+                                      : 0);
     lap(p, &t0, result, NEGOBS_PIPELINE_STAGE_STEREO);
     negobs_alert_input_from_result(&result->detect, frame->battery_low,
                                    frame->now_ms, &in);

@@ -18,8 +18,8 @@
 
 #define RECTIFY_READY 0x52454354u /* "RECT" */
 
-void negobs_rectify_config_default(negobs_rectify_config_t *cfg,
-                                   int32_t width, int32_t height)
+void negobs_rectify_config_default(negobs_rectify_config_t *cfg, int32_t width,
+                                   int32_t height)
 {
     if (cfg == NULL) {
         return;
@@ -43,8 +43,7 @@ static int size_ok(int32_t width, int32_t height)
  * The row buffer is sized for the finest grid (shift 0), so the size does
  * not depend on the table and a static buffer fits any table of this size.
  */
-static negobs_status_t carve(negobs_arena_t *a, int32_t width,
-                             int32_t **row_q)
+static negobs_status_t carve(negobs_arena_t *a, int32_t width, int32_t **row_q)
 {
     size_t nodes = (size_t)NEGOBS_RECTIFY_GRID_NODES(width, 0);
     *row_q = (int32_t *)negobs_arena_take(a, 2u * nodes * sizeof(int32_t));
@@ -57,7 +56,8 @@ negobs_status_t negobs_rectify_workspace_size(
     negobs_arena_t a;
     int32_t *row_q;
     negobs_status_t st;
-    if (cfg == NULL || bytes_out == NULL || !size_ok(cfg->width, cfg->height)) {
+    if (cfg == NULL || bytes_out == NULL ||
+        !size_ok(cfg->width, cfg->height)) {
         return NEGOBS_ERR_INVAL;
     }
     negobs_arena_init(&a, NULL, 0);
@@ -81,7 +81,8 @@ negobs_status_t negobs_rectify_init(negobs_rectify_t *ctx,
         return NEGOBS_ERR_INVAL;
     }
     memset(ctx, 0, sizeof *ctx);
-    if (cfg == NULL || workspace == NULL || !size_ok(cfg->width, cfg->height)) {
+    if (cfg == NULL || workspace == NULL ||
+        !size_ok(cfg->width, cfg->height)) {
         return NEGOBS_ERR_INVAL;
     }
     st = negobs_rectify_table_check(cfg->table, cfg->table_bytes, cfg->width,
@@ -97,8 +98,8 @@ negobs_status_t negobs_rectify_init(negobs_rectify_t *ctx,
     per_map = (size_t)ctx->info.grid_w * (size_t)ctx->info.grid_h *
               RT_NODE_BYTES;
     ctx->cfg = cfg;
-    ctx->map[0] =
-        cfg->table + negobs_rd_u32le(cfg->table + RT_OFF_HEADER_BYTES);
+    ctx->map[0] = cfg->table +
+                  negobs_rd_u32le(cfg->table + RT_OFF_HEADER_BYTES);
     ctx->map[1] = ctx->map[0] + per_map;
     ctx->ready = RECTIFY_READY;
     return NEGOBS_OK;
@@ -181,8 +182,8 @@ static uint32_t remap_row(const negobs_rectify_t *ctx,
     const uint8_t border = ctx->cfg->border_u8;
     const int32_t *q = ctx->row_q;
     const int sh = (int)(2 * s);
-    const int32_t bias_round =
-        RECTIFY_BIAS + ((sh > 0) ? ((int32_t)1 << (sh - 1)) : 0);
+    const int32_t bias_round = RECTIFY_BIAS +
+                               ((sh > 0) ? ((int32_t)1 << (sh - 1)) : 0);
     uint32_t nborder = 0;
     int32_t x0;
 
@@ -214,11 +215,13 @@ static uint32_t remap_row(const negobs_rectify_t *ctx,
 static int overlaps(const negobs_image_u8_t *a, const negobs_image_u8_t *b)
 {
     uintptr_t a0 = (uintptr_t)a->data;
-    uintptr_t a1 = a0 + (uintptr_t)((size_t)(a->height - 1) *
-                                    (size_t)a->stride + (size_t)a->width);
+    uintptr_t a1 = a0 +
+                   (uintptr_t)((size_t)(a->height - 1) * (size_t)a->stride +
+                               (size_t)a->width);
     uintptr_t b0 = (uintptr_t)b->data;
-    uintptr_t b1 = b0 + (uintptr_t)((size_t)(b->height - 1) *
-                                    (size_t)b->stride + (size_t)b->width);
+    uintptr_t b1 = b0 +
+                   (uintptr_t)((size_t)(b->height - 1) * (size_t)b->stride +
+                               (size_t)b->width);
     return a0 < b1 && b0 < a1;
 }
 
@@ -244,8 +247,7 @@ negobs_status_t negobs_rectify_rows(negobs_rectify_t *ctx,
                                     negobs_rectify_camera_t camera,
                                     const negobs_image_u8_t *raw,
                                     negobs_image_u8_t *rect, int32_t y0,
-                                    int32_t y1,
-                                    negobs_rectify_stats_t *stats)
+                                    int32_t y1, negobs_rectify_stats_t *stats)
 {
     const uint8_t *map;
     negobs_status_t st;

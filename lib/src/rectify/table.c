@@ -109,8 +109,8 @@ negobs_status_t negobs_rectify_table_check(const uint8_t *table, size_t len,
     header_bytes = negobs_rd_u32le(table + RT_OFF_HEADER_BYTES);
     total = negobs_rd_u32le(table + RT_OFF_TOTAL_BYTES);
     if (header_bytes < (uint32_t)NEGOBS_RECTIFY_HEADER_BYTES ||
-        (header_bytes % 4u) != 0u || total < 4u ||
-        header_bytes > total - 4u || (size_t)total > len) {
+        (header_bytes % 4u) != 0u || total < 4u || header_bytes > total - 4u ||
+        (size_t)total > len) {
         return NEGOBS_ERR_CORRUPT;
     }
     if (negobs_rectify_crc32(0, table, (size_t)total - 4u) !=
@@ -197,8 +197,8 @@ negobs_status_t negobs_rectify_table_write(const negobs_rectify_info_t *info,
     if (info == NULL || left_q8 == NULL || right_q8 == NULL || out == NULL) {
         return NEGOBS_ERR_INVAL;
     }
-    st = negobs_rectify_table_size(info->width, info->height,
-                                   info->grid_shift, &total);
+    st = negobs_rectify_table_size(info->width, info->height, info->grid_shift,
+                                   &total);
     if (st != NEGOBS_OK) {
         return st;
     }

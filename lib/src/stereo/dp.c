@@ -108,8 +108,8 @@ static inline int32_t stage1_run(stx_t *s, int32_t y, int keep)
     int32_t bestp = 0;
     int32_t argp = 0;
     int32_t plo = 0;
-    int32_t phi = -1;  /* band of yc's stale content (column x-2) */
-    int32_t qlo = 0;   /* band of yp's content (column x-1)          */
+    int32_t phi = -1; /* band of yc's stale content (column x-2) */
+    int32_t qlo = 0;  /* band of yp's content (column x-1)          */
     int32_t qhi = -1;
     int32_t lo;
     int32_t hi;
@@ -358,16 +358,15 @@ static void score3(stx_t *s, int32_t x, int32_t y, int32_t d, int32_t c[3])
         b = negobs_image_u8_row(s->right, y + s->voff - STX_WIN_R) + ur -
             STX_WIN_R;
 #if defined(STX_CROSS5_SIMD)
-        xs = (x + 5 < w) ? stx_cross5_simd(a, s->left->stride, b,
-                                           s->right->stride)
-                         : stx_cross5_ref(a, s->left->stride, b,
-                                          s->right->stride);
+        xs = (x + 5 < w)
+                 ? stx_cross5_simd(a, s->left->stride, b, s->right->stride)
+                 : stx_cross5_ref(a, s->left->stride, b, s->right->stride);
 #else
         xs = stx_cross5_ref(a, s->left->stride, b, s->right->stride);
 #endif
         if (stx_mncc_num_den(xs, s->sl[il], s->vl[il], s->sr[il - dj],
-                             s->vr[il - dj], (uint32_t)s->cfg.texture_min,
-                             &n2, &den)) {
+                             s->vr[il - dj], (uint32_t)s->cfg.texture_min, &n2,
+                             &den)) {
             c[j] = stx_frac_q14(n2, den);
         }
     }

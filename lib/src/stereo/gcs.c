@@ -77,8 +77,8 @@ static inline int table_has(const stx_t *s, size_t bit)
 
 /* Accept candidate (u, v, d) with score c (>= tau, not in the table) when
  * the margin rule holds; push it when accepted. */
-static int accept_scored(stx_t *s, int32_t u, int32_t v, int32_t d,
-                         int32_t c, size_t bit)
+static int accept_scored(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t c,
+                         size_t bit)
 {
     int32_t w = s->w;
     int32_t vr = v - s->y0;
@@ -97,10 +97,8 @@ static int accept_scored(stx_t *s, int32_t u, int32_t v, int32_t d,
         return 0;
     }
     s->tbits[bit >> 3] = (uint8_t)(s->tbits[bit >> 3] | (1u << (bit & 7u)));
-    table_update(&s->ld[il], &s->lc[il], &s->lc2[il], dr, c8,
-                 s->cfg.zonegap);
-    table_update(&s->rd[ir], &s->rc[ir], &s->rc2[ir], dr, c8,
-                 s->cfg.zonegap);
+    table_update(&s->ld[il], &s->lc[il], &s->lc2[il], dr, c8, s->cfg.zonegap);
+    table_update(&s->rd[ir], &s->rc[ir], &s->rc2[ir], dr, c8, s->cfg.zonegap);
     s->st.grown++;
     stx_queue_push(&s->q, stx_pack(u, vr, dr), c >> 6);
     return 1;
@@ -127,8 +125,9 @@ static int try_accept(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t c)
 #if defined(__GNUC__)
 __attribute__((always_inline))
 #endif
-static inline int try_accept_frac(stx_t *s, int32_t u, int32_t v, int32_t d,
-                           int32_t num2, int32_t den, size_t bit)
+static inline int
+try_accept_frac(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t num2,
+                int32_t den, size_t bit)
 {
     int32_t c;
     if (table_has(s, bit) ||
@@ -151,21 +150,20 @@ static int32_t eval(stx_t *s, int32_t u, int32_t v, int32_t d)
 /* The 16-point neighbourhood as (du, dd, dv), dd = du - du', grouped in
  * the sets N1 (left, 3), N2 (right, 3), N3 (up, 5), N4 (down, 5). */
 static const int16_t nb_cell[16][3] = {
-    {-1, 0, 0}, {-2, -1, 0}, {-1, 1, 0},
-    {1, 0, 0}, {2, 1, 0}, {1, -1, 0},
-    {0, 0, -1}, {1, 1, -1}, {-1, -1, -1}, {0, -1, -1}, {0, 1, -1},
-    {0, 0, 1}, {1, 1, 1}, {-1, -1, 1}, {0, -1, 1}, {0, 1, 1},
+    {-1, 0, 0}, {-2, -1, 0}, {-1, 1, 0},   {1, 0, 0},   {2, 1, 0},  {1, -1, 0},
+    {0, 0, -1}, {1, 1, -1},  {-1, -1, -1}, {0, -1, -1}, {0, 1, -1}, {0, 0, 1},
+    {1, 1, 1},  {-1, -1, 1}, {0, -1, 1},   {0, 1, 1},
 };
 
 /* Per-strip offsets of a neighbour relative to the popped cell, in every
  * index space the growing loop touches, so a cell costs additions only. */
 typedef struct nb_off {
     int32_t du, dd, dv;
-    ptrdiff_t pix;   /* strip pixel index (left window statistics)      */
-    ptrdiff_t bit;   /* matching-table bit                               */
-    ptrdiff_t lp;    /* left image pointer                               */
-    ptrdiff_t rp;    /* right image pointer                              */
-    uint32_t key;    /* packed cache key (fields never borrow: checked) */
+    ptrdiff_t pix; /* strip pixel index (left window statistics)      */
+    ptrdiff_t bit; /* matching-table bit                               */
+    ptrdiff_t lp;  /* left image pointer                               */
+    ptrdiff_t rp;  /* right image pointer                              */
+    uint32_t key;  /* packed cache key (fields never borrow: checked) */
 } nb_off_t;
 
 /* What the growing loop reads: hoisted from stx_t once per strip, plus the
@@ -177,7 +175,7 @@ typedef struct grow_env {
     const uint32_t *vl, *vr;
     const uint8_t *tbits;
     stx_cache_entry_t *cache;
-    uint32_t *memo;          /* NULL: compact profile                  */
+    uint32_t *memo; /* NULL: compact profile                  */
     const uint8_t *memo_base;
     uint32_t memo_k, memo_tag; /* tag: the strip's stamp << 21         */
     ptrdiff_t ls, rs;
@@ -244,18 +242,17 @@ static inline int set_best(const grow_env_t *g, int first, int end,
         } else {
             int ok = 0;
             (*visited)++;
-            if (g->interior ||
-                (qu >= STX_WIN_R && qu < g->w - STX_WIN_R &&
-                 qur >= STX_WIN_R && qur < g->w - STX_WIN_R)) {
+            if (g->interior || (qu >= STX_WIN_R && qu < g->w - STX_WIN_R &&
+                                qur >= STX_WIN_R && qur < g->w - STX_WIN_R)) {
                 ptrdiff_t il = g->pix + o->pix;
                 ptrdiff_t ir = il + (qur - qu);
                 uint32_t vl = g->vl[il];
                 uint32_t vrr = g->vr[ir];
                 if (vl != 0u && vrr != 0u) {
-                    const uint8_t *a =
-                        g->la + o->lp - STX_WIN_R * g->ls - STX_WIN_R;
-                    const uint8_t *b =
-                        g->rb + o->rp - STX_WIN_R * g->rs - STX_WIN_R;
+                    const uint8_t *a = g->la + o->lp - STX_WIN_R * g->ls -
+                                       STX_WIN_R;
+                    const uint8_t *b = g->rb + o->rp - STX_WIN_R * g->rs -
+                                       STX_WIN_R;
                     uint32_t x;
                     uint32_t *mw = NULL;
                     if (use_memo) {
@@ -315,7 +312,8 @@ static inline int set_best(const grow_env_t *g, int first, int end,
 #if defined(__GNUC__)
 __attribute__((always_inline))
 #endif
-static inline void grow_run(stx_t *s, int use_memo)
+static inline void
+grow_run(stx_t *s, int use_memo)
 {
     const int32_t nd = s->ndisp;
     const int32_t dmin = s->dmin;
@@ -395,18 +393,24 @@ static inline void grow_run(stx_t *s, int use_memo)
                 bm = set_best(&g, 11, 16, use_memo, &bn, &bden, &visited);
             }
             if (bm >= 0 && bden != 0) {
-                (void)try_accept_frac(
-                    s, g.u + g.nb[bm].du, g.vrow + g.nb[bm].dv + s->y0,
-                    g.dr + g.nb[bm].dd + dmin, bn, bden,
-                    (size_t)(g.bit0 + g.nb[bm].bit));
+                (void)try_accept_frac(s, g.u + g.nb[bm].du,
+                                      g.vrow + g.nb[bm].dv + s->y0,
+                                      g.dr + g.nb[bm].dd + dmin, bn, bden,
+                                      (size_t)(g.bit0 + g.nb[bm].bit));
             }
         }
     }
     s->st.visited_cells += visited;
 }
 
-static void grow_compact(stx_t *s) { grow_run(s, 0); }
-static void grow_fast(stx_t *s) { grow_run(s, 1); }
+static void grow_compact(stx_t *s)
+{
+    grow_run(s, 0);
+}
+static void grow_fast(stx_t *s)
+{
+    grow_run(s, 1);
+}
 
 static void grow(stx_t *s)
 {
@@ -420,8 +424,8 @@ static void grow(stx_t *s)
 /* eval(s, u, v, d) for d = lo .. hi into sc[d - lo] (lo, hi inside the
  * global range, hi <= u - STX_WIN_R): the left window, its statistics and
  * bounds are looked up once for the whole range. */
-static void seed_scores(stx_t *s, int32_t u, int32_t v, int32_t lo,
-                        int32_t hi, int32_t *sc)
+static void seed_scores(stx_t *s, int32_t u, int32_t v, int32_t lo, int32_t hi,
+                        int32_t *sc)
 {
     int32_t w = s->w;
     ptrdiff_t il = (ptrdiff_t)(v - s->y0) * w + u;
@@ -461,8 +465,8 @@ static void seed_scores(stx_t *s, int32_t u, int32_t v, int32_t lo,
 #else
         x = stx_cross5_ref(a, ls, b, rs);
 #endif
-        if (stx_mncc_num_den(x, sl, vl, s->sr[il - d], s->vr[il - d], tex,
-                             &n2, &den)) {
+        if (stx_mncc_num_den(x, sl, vl, s->sr[il - d], s->vr[il - d], tex, &n2,
+                             &den)) {
             sc[d - lo] = stx_frac_q14(n2, den);
         }
     }
@@ -494,8 +498,8 @@ static void seed_edges(stx_t *s)
             stx_tile_range(s, u, v, &lo, &hi);
             lo = (lo < s->gdmin) ? s->gdmin : lo;
             hi = (hi > s->gdmax) ? s->gdmax : hi;
-            seed_scores(s, u, v, lo,
-                        (hi < u - STX_WIN_R) ? hi : u - STX_WIN_R, sc);
+            seed_scores(s, u, v, lo, (hi < u - STX_WIN_R) ? hi : u - STX_WIN_R,
+                        sc);
             for (d = lo; d <= hi && d <= u - STX_WIN_R; d++) {
                 int32_t c = sc[d - lo];
                 if (c != STX_FLAT && (best == STX_FLAT || c > best)) {
@@ -515,8 +519,7 @@ static void seed_edges(stx_t *s)
                     second = c;
                 }
             }
-            if (second != STX_FLAT &&
-                best - second < s->cfg.seed_margin_q14) {
+            if (second != STX_FLAT && best - second < s->cfg.seed_margin_q14) {
                 continue;
             }
             if (try_accept(s, u, v, bestd, best)) {
@@ -576,10 +579,10 @@ static void memo_strip(stx_t *s)
             int32_t hi;
             int32_t n = (u + s->tile < s->w) ? s->tile : s->w - u;
             stx_tile_range(s, u, v, &lo, &hi);
-            memset(b + u,
-                   (int)negobs_clamp_s32((lo + hi) / 2 - s->dmin - k / 2, 0,
-                                         top),
-                   (size_t)n);
+            memset(
+                b + u,
+                (int)negobs_clamp_s32((lo + hi) / 2 - s->dmin - k / 2, 0, top),
+                (size_t)n);
         }
     }
 }

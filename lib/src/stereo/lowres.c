@@ -38,7 +38,8 @@ static void downsample(const negobs_image_u8_t *img, int32_t voff,
         const uint8_t *rows[4];
         int32_t k;
         for (k = 0; k < 4; k++) {
-            int32_t y = negobs_clamp_s32(4 * y4 + k + voff, 0, img->height - 1);
+            int32_t y = negobs_clamp_s32(4 * y4 + k + voff, 0,
+                                         img->height - 1);
             rows[k] = negobs_image_u8_row(img, y);
         }
         for (x4 = 0; x4 < lw; x4++) {
@@ -73,7 +74,8 @@ static int32_t zsad3(const uint8_t *a, int32_t sa, const uint8_t *b,
     int32_t j;
     for (k = -1; k <= 1; k++) {
         for (j = -1; j <= 1; j++) {
-            int32_t t = 9 * ((int32_t)a[k * stride + j] - (int32_t)b[k * stride + j]) -
+            int32_t t = 9 * ((int32_t)a[k * stride + j] -
+                             (int32_t)b[k * stride + j]) -
                         (sa - sb);
             c += (t < 0) ? -t : t;
         }
@@ -124,7 +126,8 @@ void stx_lowres_range(stx_t *s)
             int32_t d4;
             int32_t costs[80];
             for (k = 0; k < 9; k++) {
-                int32_t t = 9 * (int32_t)a[(k / 3 - 1) * lw + (k % 3 - 1)] - sa;
+                int32_t t = 9 * (int32_t)a[(k / 3 - 1) * lw + (k % 3 - 1)] -
+                            sa;
                 tex += (t < 0) ? -t : t;
             }
             if (tex < 9 * 9 * 3) {

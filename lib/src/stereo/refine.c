@@ -224,8 +224,8 @@ static inline int32_t near_edge_column(const int16_t *row, const uint8_t *img,
     return (c1 > x + 1) ? strongest_step(img, x + 1, c1) : x + 1;
 }
 
-static uint32_t gap_fill_row(int16_t *row, uint8_t *crow,
-                             const uint8_t *img, int32_t w, int32_t max_len)
+static uint32_t gap_fill_row(int16_t *row, uint8_t *crow, const uint8_t *img,
+                             int32_t w, int32_t max_len)
 {
     uint32_t filled = 0;
     int32_t x = 0;

@@ -24,18 +24,18 @@ void negobs_stereo_config_default(negobs_stereo_config_t *cfg, int32_t width,
     cfg->canny_low = 60;
     cfg->canny_high = 120;
     cfg->seed_step = 4;
-    cfg->seed_tau_q14 = 13107;   /* 0.8 */
-    cfg->seed_margin_q14 = 819;  /* 0.05 */
-    cfg->ncc_tau_q14 = 8192;     /* 0.5 */
-    cfg->ncc_mu_q14 = 1638;      /* 0.1 */
-    cfg->ssk_beta_q8 = 0;        /* plain stable matching; DP fills */
+    cfg->seed_tau_q14 = 13107;  /* 0.8 */
+    cfg->seed_margin_q14 = 819; /* 0.05 */
+    cfg->ncc_tau_q14 = 8192;    /* 0.5 */
+    cfg->ncc_mu_q14 = 1638;     /* 0.1 */
+    cfg->ssk_beta_q8 = 0;       /* plain stable matching; DP fills */
     cfg->zonegap = 1;
     cfg->texture_min = 100;
     cfg->queue_capacity = 8192;
     cfg->strip_rows = 32;
     cfg->band = 2;
     cfg->dp_neutral_q14 = 0;
-    cfg->dp_jump_q14 = 8192;     /* 0.5 */
+    cfg->dp_jump_q14 = 8192; /* 0.5 */
     cfg->dp_rescore = 0;
     cfg->lr_check = 1;
     cfg->speckle_size = 100;
@@ -85,10 +85,9 @@ static negobs_status_t check_config(const negobs_stereo_config_t *c)
         return NEGOBS_ERR_INVAL;
     }
     if (c->band < 1 || c->band > NEGOBS_STEREO_MAX_BAND ||
-        c->dp_neutral_q14 < -STX_ONE_Q14 ||
-        c->dp_neutral_q14 > STX_ONE_Q14 || c->dp_jump_q14 < 0 ||
-        c->dp_jump_q14 > 2 * STX_ONE_Q14 || c->dp_rescore < 0 ||
-        c->dp_rescore > 1) {
+        c->dp_neutral_q14 < -STX_ONE_Q14 || c->dp_neutral_q14 > STX_ONE_Q14 ||
+        c->dp_jump_q14 < 0 || c->dp_jump_q14 > 2 * STX_ONE_Q14 ||
+        c->dp_rescore < 0 || c->dp_rescore > 1) {
         return NEGOBS_ERR_INVAL;
     }
     if (c->speckle_size < 0 || c->speckle_size > 65536 ||
@@ -104,12 +103,12 @@ static negobs_status_t check_config(const negobs_stereo_config_t *c)
     return NEGOBS_OK;
 }
 
-#define TAKE(ptr, type, count)                                               \
-    do {                                                                     \
-        void *p_ = negobs_arena_take(a, (size_t)(count) * sizeof(type));     \
-        if (s != NULL) {                                                     \
-            (ptr) = (type *)p_;                                              \
-        }                                                                    \
+#define TAKE(ptr, type, count)                                                \
+    do {                                                                      \
+        void *p_ = negobs_arena_take(a, (size_t)(count) * sizeof(type));      \
+        if (s != NULL) {                                                      \
+            (ptr) = (type *)p_;                                               \
+        }                                                                     \
     } while (0)
 
 /*
@@ -148,8 +147,9 @@ static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c)
         s->q.cap = c->queue_capacity;
     }
     if (c->memory_profile == NEGOBS_STEREO_PROFILE_FAST) {
-        int32_t k = (nd < NEGOBS_STEREO_MEMO_LEVELS) ? nd
-                                                     : NEGOBS_STEREO_MEMO_LEVELS;
+        int32_t k = (nd < NEGOBS_STEREO_MEMO_LEVELS)
+                        ? nd
+                        : NEGOBS_STEREO_MEMO_LEVELS;
         if (s != NULL) {
             s->memo_k = k;
         }
@@ -257,8 +257,7 @@ negobs_status_t negobs_stereo_init(negobs_stereo_t *ctx,
     return NEGOBS_OK;
 }
 
-static negobs_status_t check_frame(const stx_t *s,
-                                   const negobs_image_u8_t *l,
+static negobs_status_t check_frame(const stx_t *s, const negobs_image_u8_t *l,
                                    const negobs_image_u8_t *r,
                                    const negobs_image_s16_t *d,
                                    const negobs_image_u8_t *c)
@@ -337,7 +336,8 @@ negobs_status_t negobs_stereo_set_first_row(negobs_stereo_t *ctx,
         return NEGOBS_ERR_STATE;
     }
     s = (stx_t *)ctx->priv;
-    if (first_row < 0 || first_row > s->cfg.height - NEGOBS_STEREO_MIN_HEIGHT) {
+    if (first_row < 0 ||
+        first_row > s->cfg.height - NEGOBS_STEREO_MIN_HEIGHT) {
         return NEGOBS_ERR_INVAL;
     }
     s->first_row = first_row;
@@ -410,8 +410,7 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
             int16_t *row = negobs_image_s16_row(disp_q4, y);
             memcpy(s->rowd, row, (size_t)s->w * sizeof *row);
             stx_dp_row(s, y, s->rowd, 1, row,
-                       confidence ? negobs_image_u8_row(confidence, y)
-                                  : NULL);
+                       confidence ? negobs_image_u8_row(confidence, y) : NULL);
         }
         stx_lap(s, NEGOBS_STEREO_STAGE_DP);
     }
@@ -466,8 +465,7 @@ static negobs_image_u8_t crop_u8(const negobs_image_u8_t *img, int32_t top)
     return c;
 }
 
-static negobs_image_s16_t crop_s16(const negobs_image_s16_t *img,
-                                   int32_t top)
+static negobs_image_s16_t crop_s16(const negobs_image_s16_t *img, int32_t top)
 {
     negobs_image_s16_t c = *img;
     c.data = negobs_image_s16_row(img, top);

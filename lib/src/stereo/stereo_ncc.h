@@ -96,9 +96,9 @@ void stx_strip_stats(stx_t *s, int32_t y0, int32_t y1);
 
 /* ---- hot MNCC kernels (inline: called millions of times) ---------- */
 /* 2*num and den of the MNCC (no division); 0 when flat. */
-static inline int stx_mncc_num_den(uint32_t sum_lr, uint32_t sl, uint32_t vl, uint32_t sr,
-                     uint32_t vr, uint32_t tex_min, int32_t *num2,
-                     int32_t *den)
+static inline int stx_mncc_num_den(uint32_t sum_lr, uint32_t sl, uint32_t vl,
+                                   uint32_t sr, uint32_t vr, uint32_t tex_min,
+                                   int32_t *num2, int32_t *den)
 {
     uint32_t d = vl + vr;
     int32_t num;
@@ -143,9 +143,10 @@ static inline uint32_t stx_cross5_simd(const uint8_t *a, ptrdiff_t sa,
     __m128i x;
     __m128i y;
     __m128i acc;
-    x = _mm_and_si128(_mm_unpacklo_epi64(_mm_loadl_epi64((const __m128i *)a),
-                                         _mm_loadl_epi64((const __m128i *)(a + sa))),
-                      m5);
+    x = _mm_and_si128(
+        _mm_unpacklo_epi64(_mm_loadl_epi64((const __m128i *)a),
+                           _mm_loadl_epi64((const __m128i *)(a + sa))),
+        m5);
     y = _mm_unpacklo_epi64(_mm_loadl_epi64((const __m128i *)b),
                            _mm_loadl_epi64((const __m128i *)(b + sb)));
     acc = _mm_add_epi32(
@@ -153,24 +154,22 @@ static inline uint32_t stx_cross5_simd(const uint8_t *a, ptrdiff_t sa,
         _mm_madd_epi16(_mm_unpackhi_epi8(x, z), _mm_unpackhi_epi8(y, z)));
     a += 2 * sa;
     b += 2 * sb;
-    x = _mm_and_si128(_mm_unpacklo_epi64(_mm_loadl_epi64((const __m128i *)a),
-                                         _mm_loadl_epi64((const __m128i *)(a + sa))),
-                      m5);
+    x = _mm_and_si128(
+        _mm_unpacklo_epi64(_mm_loadl_epi64((const __m128i *)a),
+                           _mm_loadl_epi64((const __m128i *)(a + sa))),
+        m5);
     y = _mm_unpacklo_epi64(_mm_loadl_epi64((const __m128i *)b),
                            _mm_loadl_epi64((const __m128i *)(b + sb)));
     acc = _mm_add_epi32(
-        acc,
-        _mm_madd_epi16(_mm_unpacklo_epi8(x, z), _mm_unpacklo_epi8(y, z)));
+        acc, _mm_madd_epi16(_mm_unpacklo_epi8(x, z), _mm_unpacklo_epi8(y, z)));
     acc = _mm_add_epi32(
-        acc,
-        _mm_madd_epi16(_mm_unpackhi_epi8(x, z), _mm_unpackhi_epi8(y, z)));
+        acc, _mm_madd_epi16(_mm_unpackhi_epi8(x, z), _mm_unpackhi_epi8(y, z)));
     a += 2 * sa;
     b += 2 * sb;
     x = _mm_and_si128(_mm_loadl_epi64((const __m128i *)a), m5);
     y = _mm_loadl_epi64((const __m128i *)b);
     acc = _mm_add_epi32(
-        acc,
-        _mm_madd_epi16(_mm_unpacklo_epi8(x, z), _mm_unpacklo_epi8(y, z)));
+        acc, _mm_madd_epi16(_mm_unpacklo_epi8(x, z), _mm_unpacklo_epi8(y, z)));
     acc = _mm_add_epi32(acc, _mm_shuffle_epi32(acc, 0x4E));
     acc = _mm_add_epi32(acc, _mm_shuffle_epi32(acc, 0xB1));
     return (uint32_t)_mm_cvtsi128_si32(acc);
@@ -191,8 +190,7 @@ static inline uint32_t stx_cross5_simd(const uint8_t *a, ptrdiff_t sa,
     uint32x4_t acc = vdupq_n_u32(0);
     int32_t k;
     for (k = 0; k < 5; k++) {
-        acc = vpadalq_u16(acc, vmull_u8(vand_u8(vld1_u8(a), m5),
-                                        vld1_u8(b)));
+        acc = vpadalq_u16(acc, vmull_u8(vand_u8(vld1_u8(a), m5), vld1_u8(b)));
         a += sa;
         b += sb;
     }
@@ -202,8 +200,9 @@ static inline uint32_t stx_cross5_simd(const uint8_t *a, ptrdiff_t sa,
 
 /* Raw 5x5 cross sum at left (u, yl) and right (ur, yr); both windows
  * inside their images, ur <= u. */
-static inline uint32_t stx_cross5(const negobs_image_u8_t *l, int32_t u, int32_t yl,
-                    const negobs_image_u8_t *r, int32_t ur, int32_t yr)
+static inline uint32_t stx_cross5(const negobs_image_u8_t *l, int32_t u,
+                                  int32_t yl, const negobs_image_u8_t *r,
+                                  int32_t ur, int32_t yr)
 {
     const uint8_t *a = negobs_image_u8_row(l, yl - STX_WIN_R) + u - STX_WIN_R;
     const uint8_t *b = negobs_image_u8_row(r, yr - STX_WIN_R) + ur - STX_WIN_R;
@@ -217,8 +216,8 @@ static inline uint32_t stx_cross5(const negobs_image_u8_t *l, int32_t u, int32_t
 }
 
 /* Strip-statistics MNCC as a fraction; 0 when out of bounds or flat. */
-static inline int stx_mncc_frac(const stx_t *s, int32_t u, int32_t v, int32_t d,
-                  int32_t *num2, int32_t *den)
+static inline int stx_mncc_frac(const stx_t *s, int32_t u, int32_t v,
+                                int32_t d, int32_t *num2, int32_t *den)
 {
     int32_t ur = u - d;
     ptrdiff_t il;

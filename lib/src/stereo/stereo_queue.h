@@ -7,16 +7,16 @@
 
 #include <stdint.h>
 
-#define STX_NBUCKET 257             /* bucket queue: c_q14 >> 6        */
+#define STX_NBUCKET 257 /* bucket queue: c_q14 >> 6        */
 
 typedef struct stx_queue {
-    uint32_t *item;   /* packed u:12 | v:12 | d:8                       */
-    int32_t *next;    /* singly linked LIFO per bucket / spare list     */
-    int32_t *head;    /* STX_NBUCKET heads, -1 = empty                  */
+    uint32_t *item; /* packed u:12 | v:12 | d:8                       */
+    int32_t *next;  /* singly linked LIFO per bucket / spare list     */
+    int32_t *head;  /* STX_NBUCKET heads, -1 = empty                  */
     int32_t free_head;
     int32_t cap;
     int32_t count;
-    int32_t top;      /* highest possibly non-empty bucket              */
+    int32_t top; /* highest possibly non-empty bucket              */
     uint32_t peak;
     uint32_t overflows;
 } stx_queue_t;
@@ -33,11 +33,17 @@ static inline uint32_t stx_pack(int32_t u, int32_t v, int32_t d)
 {
     return ((uint32_t)u << 20) | ((uint32_t)v << 8) | (uint32_t)d;
 }
-static inline int32_t stx_unpack_u(uint32_t p) { return (int32_t)(p >> 20); }
+static inline int32_t stx_unpack_u(uint32_t p)
+{
+    return (int32_t)(p >> 20);
+}
 static inline int32_t stx_unpack_v(uint32_t p)
 {
     return (int32_t)((p >> 8) & 0xFFFu);
 }
-static inline int32_t stx_unpack_d(uint32_t p) { return (int32_t)(p & 0xFFu); }
+static inline int32_t stx_unpack_d(uint32_t p)
+{
+    return (int32_t)(p & 0xFFu);
+}
 
 #endif /* NEGOBS_STEREO_QUEUE_H */

@@ -25,39 +25,39 @@
 #include "negobs/stereo.h"
 #include "stereo/stereo_queue.h"
 
-#define STX_WIN_R 2                 /* 5x5 window                      */
-#define STX_WIN_N 25                /* pixels per window               */
+#define STX_WIN_R 2  /* 5x5 window                      */
+#define STX_WIN_N 25 /* pixels per window               */
 #define STX_ONE_Q14 16384
-#define STX_FLAT INT32_MIN          /* "no texture": score undefined   */
-#define STX_LOWRES 4                /* elementary map scale (1/4)      */
-#define STX_NONE8 0xFFu             /* empty u8 disparity slot         */
-#define STX_CACHE_BITS 11           /* growth score cache: 2048 entries */
+#define STX_FLAT INT32_MIN /* "no texture": score undefined   */
+#define STX_LOWRES 4       /* elementary map scale (1/4)      */
+#define STX_NONE8 0xFFu    /* empty u8 disparity slot         */
+#define STX_CACHE_BITS 11  /* growth score cache: 2048 entries */
 
 /* One cached correlation of the growth stage (key 0 = empty). */
 typedef struct stx_cache_entry {
-    uint32_t key;   /* stx_pack(u, v - y0, d - dmin) + 1                 */
-    int32_t num2;   /* MNCC fraction, den == 0: flat / no score          */
+    uint32_t key; /* stx_pack(u, v - y0, d - dmin) + 1                 */
+    int32_t num2; /* MNCC fraction, den == 0: flat / no score          */
     int32_t den;
 } stx_cache_entry_t;
 
 /* Private state of one context (negobs_stereo_t.priv). */
 typedef struct stx {
     negobs_stereo_config_t cfg;
-    int32_t w, h;          /* frame being matched (h: a crop's height)   */
-    int32_t first_row;     /* negobs_stereo_set_first_row (0 = all rows) */
-    int32_t dmin, ndisp;   /* configured range: dmin .. dmin+ndisp-1     */
-    int32_t sh;            /* strip rows                                 */
+    int32_t w, h;        /* frame being matched (h: a crop's height)   */
+    int32_t first_row;   /* negobs_stereo_set_first_row (0 = all rows) */
+    int32_t dmin, ndisp; /* configured range: dmin .. dmin+ndisp-1     */
+    int32_t sh;          /* strip rows                                 */
 
     /* frame inputs (set by process) */
     const negobs_image_u8_t *left;
     const negobs_image_u8_t *right;
-    int32_t voff;          /* right row = left row + voff                */
-    int32_t gdmin, gdmax;  /* global search range of this frame          */
+    int32_t voff;         /* right row = left row + voff                */
+    int32_t gdmin, gdmax; /* global search range of this frame          */
 
     /* strip window statistics, strip-relative rows */
-    int32_t y0, y1;        /* strip rows [y0, y1)                        */
-    uint16_t *sl, *sr;     /* 5x5 sums                                   */
-    uint32_t *vl, *vr;     /* 25*Q - S^2 (= n^2 var), 0 = no window      */
+    int32_t y0, y1;    /* strip rows [y0, y1)                        */
+    uint16_t *sl, *sr; /* 5x5 sums                                   */
+    uint32_t *vl, *vr; /* 25*Q - S^2 (= n^2 var), 0 = no window      */
 
     /* Canny (strip + 1 halo row each side) */
     uint16_t *mag;
@@ -66,55 +66,55 @@ typedef struct stx {
     /* GCS matching table for one strip (u8 Q8 scores, d - dmin) */
     uint8_t *ld, *lc, *lc2;
     uint8_t *rd, *rc, *rc2;
-    uint8_t *tbits;        /* (v, u, d) triple membership, 1 bit each    */
+    uint8_t *tbits; /* (v, u, d) triple membership, 1 bit each    */
     stx_queue_t q;
     stx_cache_entry_t *cache; /* direct-mapped, 1 << STX_CACHE_BITS       */
     /* fast profile: cross-sum memo of the strip (NULL in compact) */
-    uint32_t *memo;        /* (strip pixel, level) -> gen << 21 | sum    */
-    uint8_t *memo_base;    /* strip pixel: first memoised d - dmin       */
-    int32_t memo_k;        /* levels per pixel (0 = no memo)             */
-    uint32_t memo_gen;     /* stamp of the current strip, 1 .. 2047      */
+    uint32_t *memo;     /* (strip pixel, level) -> gen << 21 | sum    */
+    uint8_t *memo_base; /* strip pixel: first memoised d - dmin       */
+    int32_t memo_k;     /* levels per pixel (0 = no memo)             */
+    uint32_t memo_gen;  /* stamp of the current strip, 1 .. 2047      */
 
     /* elementary low-resolution map and per-tile ranges */
-    int32_t lw, lh;        /* low-res size                               */
+    int32_t lw, lh; /* low-res size                               */
     uint8_t *lo_l, *lo_r;
-    uint8_t *lo_d;         /* low-res disparity (d4 - dmin4), 0xFF none   */
-    int32_t tile, tw, th;  /* tile size (px) and tile grid               */
+    uint8_t *lo_d;        /* low-res disparity (d4 - dmin4), 0xFF none   */
+    int32_t tile, tw, th; /* tile size (px) and tile grid               */
     int16_t *tile_lo, *tile_hi;
-    uint32_t *hist;        /* ndisp/4 + 2 bins                           */
+    uint32_t *hist; /* ndisp/4 + 2 bins                           */
 
     /* DP */
-    int32_t *yprev, *ycur; /* ndisp + 2 scores each (stage 1)            */
-    int64_t *zprev, *zcur; /* ndisp (stage 2)                            */
-    uint8_t *p1;           /* w x ndisp stage-1 pointers of one row      */
-    int16_t *cost;         /* w x ndisp Q14 costs of one row (sub-pixel) */
-    int16_t *jump_to;      /* w: argmax of previous column               */
-    int16_t *blo, *bhi;    /* w: band per column                         */
-    uint8_t *bscored;      /* w: 1 = band cells scored (GCS match)       */
-    int16_t *rowd;         /* w: GCS disparities of the current row      */
+    int32_t *yprev, *ycur;  /* ndisp + 2 scores each (stage 1)            */
+    int64_t *zprev, *zcur;  /* ndisp (stage 2)                            */
+    uint8_t *p1;            /* w x ndisp stage-1 pointers of one row      */
+    int16_t *cost;          /* w x ndisp Q14 costs of one row (sub-pixel) */
+    int16_t *jump_to;       /* w: argmax of previous column               */
+    int16_t *blo, *bhi;     /* w: band per column                         */
+    uint8_t *bscored;       /* w: 1 = band cells scored (GCS match)       */
+    int16_t *rowd;          /* w: GCS disparities of the current row      */
     const int16_t *gcs_cur; /* GCS row being processed by the DP          */
-    uint8_t *p2;           /* h x ndisp stage-2 pointers                 */
-    int16_t *dend;         /* h: stage-2 end disparity per row          */
-    int16_t *zarg;         /* h: argmax of stage-2 scores per row       */
-    int32_t zrows;         /* rows fed to stage 2 so far                */
+    uint8_t *p2;            /* h x ndisp stage-2 pointers                 */
+    int16_t *dend;          /* h: stage-2 end disparity per row          */
+    int16_t *zarg;          /* h: argmax of stage-2 scores per row       */
+    int32_t zrows;          /* rows fed to stage 2 so far                */
 
     /* refinement */
-    int16_t *line;         /* max(w, h) + 16 scratch                     */
+    int16_t *line; /* max(w, h) + 16 scratch                     */
     int16_t *line2;
-    uint8_t *vis;          /* w*h bits: speckle visited                  */
-    uint8_t *keep;         /* w*h bits: speckle "big region"             */
-    uint32_t *flood;       /* speckle_size + 1 entries                   */
+    uint8_t *vis;    /* w*h bits: speckle visited                  */
+    uint8_t *keep;   /* w*h bits: speckle "big region"             */
+    uint32_t *flood; /* speckle_size + 1 entries                   */
 
     /* optional profiling clock (negobs_stereo_set_clock) */
     negobs_stereo_clock_fn clock;
     void *clock_user;
-    uint32_t lap;          /* clock value at the end of the last stage   */
+    uint32_t lap; /* clock value at the end of the last stage   */
     /* optional observer of intermediate maps (negobs_stereo_set_observer) */
     negobs_stereo_observer_fn observer;
     void *observer_user;
 
     negobs_stereo_stats_t st;
-    negobs_arena_t arena;  /* the carve, for negobs_arena_check()        */
+    negobs_arena_t arena; /* the carve, for negobs_arena_check()        */
 } stx_t;
 
 /* Fast profile: the cross-sum memo's word layout (gcs.c). */

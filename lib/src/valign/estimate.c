@@ -57,8 +57,8 @@ static negobs_status_t check_config(const negobs_valign_config_t *c)
         c->tiles_y < 1 || c->tiles_y > NEGOBS_VALIGN_MAX_TILES ||
         c->samples < 1 || c->samples > NEGOBS_VALIGN_MAX_SAMPLES ||
         c->texture_min < 0 || c->match_min_q14 < 0 ||
-        c->match_min_q14 > 16384 || c->min_tiles < 1 ||
-        c->smooth_q15 < 1 || c->smooth_q15 > 32768 ||
+        c->match_min_q14 > 16384 || c->min_tiles < 1 || c->smooth_q15 < 1 ||
+        c->smooth_q15 > 32768 ||
         /* each tile must hold a window plus the vertical search */
         c->width / c->tiles_x < 2 * VALIGN_WIN_R + 1 ||
         c->height / c->tiles_y < 2 * VALIGN_WIN_R + 1) {
@@ -129,7 +129,8 @@ negobs_status_t negobs_valign_set_disp_range(negobs_valign_t *ctx,
     if (min_disp > max_disp) {
         return NEGOBS_ERR_INVAL;
     }
-    ctx->dmin = negobs_clamp_s32(min_disp, ctx->cfg.min_disp, ctx->cfg.max_disp);
+    ctx->dmin = negobs_clamp_s32(min_disp, ctx->cfg.min_disp,
+                                 ctx->cfg.max_disp);
     ctx->dmax = negobs_clamp_s32(max_disp, ctx->dmin, ctx->cfg.max_disp);
     return NEGOBS_OK;
 }
@@ -224,8 +225,8 @@ static int32_t score_tiles(negobs_valign_t *ctx, const negobs_image_u8_t *l,
                     continue;
                 }
                 for (si = 0; si < c->samples; si++) {
-                    int32_t x =
-                        x0 + (2 * si + 1) * (x1 - x0) / (2 * c->samples);
+                    int32_t x = x0 +
+                                (2 * si + 1) * (x1 - x0) / (2 * c->samples);
                     int32_t best[2 * NEGOBS_VALIGN_MAX_OFFSET + 1] = {0};
                     int32_t top = INT32_MIN;
                     int32_t sl;
@@ -341,9 +342,8 @@ static int32_t fit_eval_q4(const fit_t *f, int32_t u, int32_t v)
     if (f->det <= 0) {
         return 0; /* no fit: callers only pass fits with tiles */
     }
-    return (int32_t)negobs_div_round_s64(f->num[0] + f->num[1] * v +
-                                             f->num[2] * u,
-                                         f->det);
+    return (int32_t)negobs_div_round_s64(
+        f->num[0] + f->num[1] * v + f->num[2] * u, f->det);
 }
 
 static int32_t fit_tiles(const negobs_valign_t *ctx, const fit_t *prev,
@@ -437,8 +437,8 @@ static int32_t fit_mad_q4(const negobs_valign_t *ctx, const fit_t *f,
                 negobs_abs_s32(o - fit_eval_q4(gate, u, vv)) > cut) {
                 continue;
             }
-            hist[negobs_clamp_s32(negobs_abs_s32(o - fit_eval_q4(f, u, vv)),
-                                  0, 255)]++;
+            hist[negobs_clamp_s32(negobs_abs_s32(o - fit_eval_q4(f, u, vv)), 0,
+                                  255)]++;
             n++;
         }
     }
@@ -465,10 +465,10 @@ static void fit_model(const negobs_valign_config_t *c, const fit_t *f,
     cu_q16 = negobs_div_round_s64(f->num[2] * 4096, f->det);
     /* one half-tile unit is h / (2 * tiles_y) rows */
     m->offset_q16 = (int32_t)negobs_div_round_s64(f->num[0] * 4096, f->det);
-    m->slope_y_q16 =
-        (int32_t)negobs_div_round_s64(cv_q16 * 2 * c->tiles_y, c->height);
-    m->slope_x_q16 =
-        (int32_t)negobs_div_round_s64(cu_q16 * 2 * c->tiles_x, c->width);
+    m->slope_y_q16 = (int32_t)negobs_div_round_s64(cv_q16 * 2 * c->tiles_y,
+                                                   c->height);
+    m->slope_x_q16 = (int32_t)negobs_div_round_s64(cu_q16 * 2 * c->tiles_x,
+                                                   c->width);
 }
 
 /* Residual gate of the second fit: 3 MADs, never below 1/4 px. */
@@ -478,8 +478,7 @@ static inline int32_t geom_cut(int32_t mad_q4)
 }
 
 /* One pass: offsets within +-n rows, robust fit; 1 when accepted. */
-static int32_t estimate_pass(negobs_valign_t *ctx,
-                             const negobs_image_u8_t *l,
+static int32_t estimate_pass(negobs_valign_t *ctx, const negobs_image_u8_t *l,
                              const negobs_image_u8_t *r, int32_t n,
                              negobs_valign_model_t *m,
                              negobs_valign_stats_t *st)
@@ -537,11 +536,10 @@ static negobs_status_t check_images(const negobs_valign_t *ctx,
 {
     if (negobs_image_u8_check(l) != NEGOBS_OK ||
         negobs_image_u8_check(r) != NEGOBS_OK ||
-        negobs_image_u8_check(o) != NEGOBS_OK ||
-        l->width != ctx->cfg.width || l->height != ctx->cfg.height ||
-        r->width != l->width || r->height != l->height ||
-        o->width != l->width || o->height != l->height ||
-        o->data == r->data || o->data == l->data) {
+        negobs_image_u8_check(o) != NEGOBS_OK || l->width != ctx->cfg.width ||
+        l->height != ctx->cfg.height || r->width != l->width ||
+        r->height != l->height || o->width != l->width ||
+        o->height != l->height || o->data == r->data || o->data == l->data) {
         return NEGOBS_ERR_INVAL;
     }
     return NEGOBS_OK;
@@ -670,12 +668,12 @@ negobs_status_t negobs_valign_process(negobs_valign_t *ctx,
             ctx->have_model = 1;
         } else {
             int32_t g = ctx->cfg.smooth_q15;
-            ctx->model.offset_q16 =
-                blend_q15(ctx->model.offset_q16, m.offset_q16, g);
-            ctx->model.slope_y_q16 =
-                blend_q15(ctx->model.slope_y_q16, m.slope_y_q16, g);
-            ctx->model.slope_x_q16 =
-                blend_q15(ctx->model.slope_x_q16, m.slope_x_q16, g);
+            ctx->model.offset_q16 = blend_q15(ctx->model.offset_q16,
+                                              m.offset_q16, g);
+            ctx->model.slope_y_q16 = blend_q15(ctx->model.slope_y_q16,
+                                               m.slope_y_q16, g);
+            ctx->model.slope_x_q16 = blend_q15(ctx->model.slope_x_q16,
+                                               m.slope_x_q16, g);
         }
     } else if (ctx->have_model && ctx->misses < VALIGN_REACQUIRE) {
         /* a run of frames the residual search cannot place (a jolt moved

@@ -23,8 +23,8 @@ static inline int32_t floor_div16(int32_t a)
 /* The two source rows and the weight of an offset of q4/16 rows at row y
  * (rows clamped to the image). */
 static inline void row_pair(const negobs_image_u8_t *right, int32_t y,
-                            int32_t q4, const uint8_t **r0,
-                            const uint8_t **r1, int32_t *f)
+                            int32_t q4, const uint8_t **r0, const uint8_t **r1,
+                            int32_t *f)
 {
     int32_t k = floor_div16(q4);
     int32_t h = right->height;

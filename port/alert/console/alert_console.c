@@ -20,8 +20,8 @@ static negobs_status_t console_set(void *ctx, uint16_t duty)
     }
     st->last = duty;
     if (fprintf(st->out, "motor %6lu ms: %s %4u permille\n",
-                (unsigned long)(now - st->t0_ms),
-                duty > 0 ? "ON " : "off", (unsigned)duty) < 0) {
+                (unsigned long)(now - st->t0_ms), duty > 0 ? "ON " : "off",
+                (unsigned)duty) < 0) {
         return NEGOBS_ERR_IO;
     }
     (void)fflush(st->out);
@@ -37,7 +37,10 @@ static void console_close(void *ctx)
 }
 
 static const negobs_alert_ops_t console_ops = {
-    "console", console_set, NULL, console_close,
+    "console",
+    console_set,
+    NULL,
+    console_close,
 };
 
 negobs_status_t negobs_alert_console_open(negobs_alert_console_t *st,

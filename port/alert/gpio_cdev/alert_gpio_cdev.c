@@ -72,8 +72,7 @@ static int set_line(const negobs_alert_gpio_t *st, int on)
 }
 
 /* uAPI v1 request: one output line, default 0. */
-static int request_v1(negobs_alert_gpio_t *st, uint32_t line,
-                      bool active_low)
+static int request_v1(negobs_alert_gpio_t *st, uint32_t line, bool active_low)
 {
     struct gpiohandle_request r;
     memset(&r, 0, sizeof r);
@@ -84,8 +83,7 @@ static int request_v1(negobs_alert_gpio_t *st, uint32_t line,
         r.flags |= GPIOHANDLE_REQUEST_ACTIVE_LOW;
     }
     r.default_values[0] = 0;
-    (void)snprintf(r.consumer_label, sizeof r.consumer_label,
-                   "negobs-motor");
+    (void)snprintf(r.consumer_label, sizeof r.consumer_label, "negobs-motor");
     if (ioctl(st->chip_fd, GPIO_GET_LINEHANDLE_IOCTL, &r) < 0) {
         return -1;
     }
@@ -197,7 +195,10 @@ static void gpio_close(void *ctx)
 }
 
 static const negobs_alert_ops_t gpio_ops = {
-    "gpio", gpio_set, gpio_off_async, gpio_close,
+    "gpio",
+    gpio_set,
+    gpio_off_async,
+    gpio_close,
 };
 
 /* Label of an open chip ("" when the kernel does not say). */

@@ -15,7 +15,10 @@ static void none_close(void *ctx)
 }
 
 static const negobs_alert_ops_t none_ops = {
-    "none", none_set, NULL, none_close,
+    "none",
+    none_set,
+    NULL,
+    none_close,
 };
 
 negobs_status_t negobs_alert_none_open(negobs_motor_out_t *alert)

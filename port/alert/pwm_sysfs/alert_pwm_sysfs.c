@@ -156,7 +156,10 @@ static void pwm_close(void *ctx)
 }
 
 static const negobs_alert_ops_t pwm_ops = {
-    "pwm", pwm_set, pwm_off_async, pwm_close,
+    "pwm",
+    pwm_set,
+    pwm_off_async,
+    pwm_close,
 };
 
 static bool is_dir(const char *path)
@@ -165,9 +168,9 @@ static bool is_dir(const char *path)
     return stat(path, &sb) == 0 && S_ISDIR(sb.st_mode);
 }
 
-negobs_status_t negobs_alert_pwm_open(negobs_alert_pwm_t *st,
-                                      const char *root, uint32_t chip,
-                                      uint32_t channel, uint32_t period_ns,
+negobs_status_t negobs_alert_pwm_open(negobs_alert_pwm_t *st, const char *root,
+                                      uint32_t chip, uint32_t channel,
+                                      uint32_t period_ns,
                                       negobs_motor_out_t *alert)
 {
     char path[256];

@@ -127,9 +127,9 @@ struct Mapping {
 
 struct Side {
     Impl *owner = nullptr;
-    int index = 0;            /* 0 left, 1 right                        */
-    int32_t spec_index = -1;  /* "libcamera:N", until resolved to an id */
-    std::string id;           /* camera id, kept for reopening          */
+    int index = 0;           /* 0 left, 1 right                        */
+    int32_t spec_index = -1; /* "libcamera:N", until resolved to an id */
+    std::string id;          /* camera id, kept for reopening          */
 
     std::shared_ptr<Camera> cam;
     bool acquired = false;
@@ -405,8 +405,8 @@ negobs_status_t side_setup(Impl &im, Side &s)
                   std::strerror(-r));
         return errno_status(-r);
     }
-    const std::vector<std::unique_ptr<FrameBuffer>> &bufs =
-        s.alloc->buffers(s.stream);
+    const std::vector<std::unique_ptr<FrameBuffer>> &bufs = s.alloc->buffers(
+        s.stream);
     if (bufs.size() < NEGOBS_LIBCAMERA_MIN_BUFFERS ||
         bufs.size() > NEGOBS_LIBCAMERA_MAX_BUFFERS) {
         set_error(st, "libcamera: %s: got %lu buffers, need %u..%u",
@@ -439,8 +439,8 @@ negobs_status_t side_setup(Impl &im, Side &s)
     const libcamera::ControlInfoMap &ci = s.cam->controls();
     s.has_exposure = ci.count(&libcamera::controls::ExposureTime) > 0;
     s.has_gain = ci.count(&libcamera::controls::AnalogueGain) > 0;
-    s.has_frame_duration =
-        ci.count(&libcamera::controls::FrameDurationLimits) > 0;
+    s.has_frame_duration = ci.count(
+                               &libcamera::controls::FrameDurationLimits) > 0;
     s.cam->requestCompleted.connect(&s, &Side::on_request_completed);
     s.cam->disconnected.connect(&s, &Side::on_disconnected);
     return NEGOBS_OK;
@@ -468,8 +468,7 @@ ControlList start_controls(Impl &im)
     }
     if (rate) {
         int64_t frame_us = 1000000 / im.cfg.fps;
-        c.set(libcamera::controls::FrameDurationLimits,
-              {frame_us, frame_us});
+        c.set(libcamera::controls::FrameDurationLimits, {frame_us, frame_us});
     }
     return c;
 }
@@ -497,8 +496,8 @@ negobs_status_t side_start(Impl &im, Side &s)
         req->reuse(Request::ReuseBuffers);
         r = s.cam->queueRequest(req.get());
         if (r < 0) {
-            set_error(im.st, "libcamera: %s: queueRequest: %s",
-                      s.id.c_str(), std::strerror(-r));
+            set_error(im.st, "libcamera: %s: queueRequest: %s", s.id.c_str(),
+                      std::strerror(-r));
             return errno_status(-r);
         }
     }
@@ -567,8 +566,9 @@ bool frozen_check(Impl &im)
     for (int i = 0; i < im.nsides; i++) {
         Side &s = im.side[i];
         if (s.pend_frozen) {
-            set_error(im.st, "frozen: libcamera %s image unchanged for %lu "
-                             "frames",
+            set_error(im.st,
+                      "frozen: libcamera %s image unchanged for %lu "
+                      "frames",
                       s.id.c_str(),
                       static_cast<unsigned long>(s.frozen.repeats) + 1u);
             frozen = true;
@@ -595,8 +595,7 @@ void drain(Impl &im, Side &s)
         FrameBuffer *b = r->findBuffer(s.stream);
         if (b == nullptr || r->status() != Request::RequestComplete ||
             b->metadata().status != FrameMetadata::FrameSuccess ||
-            b->metadata().planes().empty() ||
-            r->cookie() >= s.maps.size()) {
+            b->metadata().planes().empty() || r->cookie() >= s.maps.size()) {
             im.st->stats.short_frames++;
             requeue(s, r);
             continue;
@@ -611,8 +610,8 @@ void drain(Impl &im, Side &s)
         s.pend_seq = b->metadata().sequence;
         /* SensorTimestamp: start of exposure, CLOCK_MONOTONIC; the
          * buffer's timestamp is the same clock where it is missing. */
-        std::optional<int64_t> ts =
-            r->metadata().get(libcamera::controls::SensorTimestamp);
+        std::optional<int64_t> ts = r->metadata().get(
+            libcamera::controls::SensorTimestamp);
         s.pend_ts = (ts && *ts > 0) ? static_cast<uint64_t>(*ts)
                                     : b->metadata().timestamp;
         if (s.pend_ts == 0) {
@@ -661,8 +660,10 @@ negobs_status_t parse_side(negobs_libcamera_t *st, Side &s, const char *src)
     int32_t index = -1;
     const char *id = nullptr;
     if (negobs_libcamera_parse_source(src, &index, &id) != NEGOBS_OK) {
-        set_error(st, "libcamera: bad source '%s' (want libcamera:N or "
-                      "libcamera:ID)", src);
+        set_error(st,
+                  "libcamera: bad source '%s' (want libcamera:N or "
+                  "libcamera:ID)",
+                  src);
         return NEGOBS_ERR_INVAL;
     }
     s.spec_index = index;
@@ -709,8 +710,10 @@ negobs_status_t open_impl(negobs_libcamera_t *st,
         std::shared_ptr<Camera> a = find_camera(*im, im->side[0], &n);
         std::shared_ptr<Camera> b = find_camera(*im, im->side[1], &n);
         if (a && b && a->id() == b->id()) {
-            set_error(st, "libcamera: left and right are the same camera "
-                          "('%s')", a->id().c_str());
+            set_error(st,
+                      "libcamera: left and right are the same camera "
+                      "('%s')",
+                      a->id().c_str());
             s = NEGOBS_ERR_INVAL;
         }
     }
@@ -720,7 +723,8 @@ negobs_status_t open_impl(negobs_libcamera_t *st,
     if (s == NEGOBS_OK && im->nsides == 2 &&
         (im->side[0].width != im->side[1].width ||
          im->side[0].height != im->side[1].height)) {
-        set_error(st, "libcamera: cameras disagree on size: %ldx%ld vs %ldx%ld",
+        set_error(st,
+                  "libcamera: cameras disagree on size: %ldx%ld vs %ldx%ld",
                   static_cast<long>(im->side[0].width),
                   static_cast<long>(im->side[0].height),
                   static_cast<long>(im->side[1].width),
@@ -828,8 +832,8 @@ int get_pair_impl(Impl &im, negobs_frame_pair_t *pair, int32_t timeout_ms)
             return NEGOBS_OK;
         }
         if (im.nsides == 2 && l.pending != nullptr && r.pending != nullptr) {
-            negobs_pair_action_t a =
-                negobs_pair_decide(l.pend_ts, r.pend_ts, tol_ns);
+            negobs_pair_action_t a = negobs_pair_decide(l.pend_ts, r.pend_ts,
+                                                        tol_ns);
             if (a == NEGOBS_PAIR_MATCH) {
                 negobs_status_t sl = make_frame(im, l, &pair->left);
                 negobs_status_t sr = make_frame(im, r, &pair->right);
@@ -890,8 +894,7 @@ int get_pair_impl(Impl &im, negobs_frame_pair_t *pair, int32_t timeout_ms)
 }
 
 /* No exception may unwind into C: each op catches everything. */
-template <typename F>
-int guarded(negobs_libcamera_t *st, F f)
+template <typename F> int guarded(negobs_libcamera_t *st, F f)
 {
     try {
         return f();
@@ -917,7 +920,10 @@ negobs_status_t lc_open(void *ctx, const negobs_camera_config_t *cfg)
         /* an exception mid-open: drop what was built, keep the message */
         char keep[sizeof st->errmsg];
         std::memcpy(keep, st->errmsg, sizeof keep);
-        (void)guarded(st, [&] { close_impl(st); return 0; });
+        (void)guarded(st, [&] {
+            close_impl(st);
+            return 0;
+        });
         std::memcpy(st->errmsg, keep, sizeof keep);
     }
     return static_cast<negobs_status_t>(r);
@@ -963,7 +969,10 @@ void lc_release(void *ctx, negobs_frame_pair_t *pair)
     Impl *im = static_cast<Impl *>(st->impl);
     (void)pair;
     if (im != nullptr) {
-        (void)guarded(st, [&] { release_impl(*im); return 0; });
+        (void)guarded(st, [&] {
+            release_impl(*im);
+            return 0;
+        });
     }
 }
 
@@ -995,7 +1004,10 @@ void lc_stop(void *ctx)
 void lc_close(void *ctx)
 {
     negobs_libcamera_t *st = static_cast<negobs_libcamera_t *>(ctx);
-    (void)guarded(st, [&] { close_impl(st); return 0; });
+    (void)guarded(st, [&] {
+        close_impl(st);
+        return 0;
+    });
 }
 
 void lc_stats(void *ctx, negobs_camera_stats_t *out)

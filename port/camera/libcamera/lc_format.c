@@ -30,13 +30,12 @@
 /* Preference: Y plane in place, then packed YUV (one byte per pixel
  * copied), then RGB (a weighted sum per pixel). */
 static const uint32_t format_order[] = {
-    FCC_R8,   FCC_NV12, FCC_NV21, FCC_YU12, FCC_YV12, FCC_NV16, FCC_NV61,
-    FCC_YUYV, FCC_UYVY, FCC_YVYU, FCC_VYUY, FCC_RG24, FCC_BG24, FCC_XR24,
-    FCC_XB24,
+    FCC_R8,   FCC_NV12, FCC_NV21, FCC_YU12, FCC_YV12,
+    FCC_NV16, FCC_NV61, FCC_YUYV, FCC_UYVY, FCC_YVYU,
+    FCC_VYUY, FCC_RG24, FCC_BG24, FCC_XR24, FCC_XB24,
 };
 
-negobs_status_t negobs_libcamera_parse_source(const char *src,
-                                              int32_t *index,
+negobs_status_t negobs_libcamera_parse_source(const char *src, int32_t *index,
                                               const char **id)
 {
     const size_t plen = sizeof NEGOBS_LIBCAMERA_PREFIX - 1u;
@@ -84,11 +83,11 @@ int negobs_libcamera_format_rank(uint32_t fourcc)
 
 /* Bytes per pixel of plane 0 and, for packed formats, where luma is. */
 typedef struct lc_layout {
-    uint32_t bpp;     /* bytes per pixel in plane 0 (YUYV: 2 per pixel) */
-    bool packed;      /* luma must be computed                          */
-    bool rgb;         /* weighted sum of three channels                 */
-    uint32_t y_off;   /* packed YUV: offset of luma in a pixel           */
-    uint32_t r_off;   /* RGB: offsets of R, G, B in a pixel              */
+    uint32_t bpp;   /* bytes per pixel in plane 0 (YUYV: 2 per pixel) */
+    bool packed;    /* luma must be computed                          */
+    bool rgb;       /* weighted sum of three channels                 */
+    uint32_t y_off; /* packed YUV: offset of luma in a pixel           */
+    uint32_t r_off; /* RGB: offsets of R, G, B in a pixel              */
     uint32_t g_off;
     uint32_t b_off;
 } lc_layout_t;
@@ -104,8 +103,7 @@ static bool layout_of(uint32_t fourcc, lc_layout_t *l)
     case FCC_YU12:
     case FCC_YV12:
     case FCC_NV16:
-    case FCC_NV61:
-        return true;
+    case FCC_NV61: return true;
     case FCC_YUYV:
     case FCC_YVYU:
         l->bpp = 2;
@@ -135,8 +133,7 @@ static bool layout_of(uint32_t fourcc, lc_layout_t *l)
         l->g_off = 1;
         l->b_off = 2;
         return true;
-    default:
-        return false;
+    default: return false;
     }
 }
 
@@ -188,8 +185,7 @@ negobs_status_t negobs_libcamera_luma(uint32_t fourcc, uint8_t *base,
         out->stride = (int32_t)stride;
         return NEGOBS_OK;
     }
-    if (scratch == NULL ||
-        scratch_bytes < (size_t)width * (size_t)height) {
+    if (scratch == NULL || scratch_bytes < (size_t)width * (size_t)height) {
         return NEGOBS_ERR_NOSPACE;
     }
     for (y = 0; y < height; y++) {

@@ -63,8 +63,8 @@ static const negobs_camera_ops_t stub_ops = {
     stub_void,   stub_void, stub_stats, stub_errmsg,
 };
 
-negobs_status_t negobs_libcamera_init(negobs_libcamera_t *st,
-                                      uint8_t *scratch, size_t scratch_bytes,
+negobs_status_t negobs_libcamera_init(negobs_libcamera_t *st, uint8_t *scratch,
+                                      size_t scratch_bytes,
                                       negobs_capture_t *cam)
 {
     (void)scratch;

@@ -42,8 +42,7 @@ static void rec_msg(negobs_recorder_t *rec, const char *a, const char *b,
     }
 }
 
-static int join_path(char *buf, size_t len, const char *dir,
-                     const char *leaf)
+static int join_path(char *buf, size_t len, const char *dir, const char *leaf)
 {
     int n = snprintf(buf, len, "%s/%s", dir, leaf);
     return (n < 0 || (size_t)n >= len) ? -1 : 0;
@@ -84,8 +83,7 @@ static ssize_t plain_write(int fd, const void *buf, size_t n)
 }
 
 /* All of buf, through the hook; -1 with errno set on failure. */
-static int write_all(negobs_recorder_t *rec, int fd, const void *buf,
-                     size_t n)
+static int write_all(negobs_recorder_t *rec, int fd, const void *buf, size_t n)
 {
     const uint8_t *p = buf;
     while (n > 0) {
@@ -105,8 +103,7 @@ static int write_all(negobs_recorder_t *rec, int fd, const void *buf,
     return 0;
 }
 
-static int create_in(negobs_recorder_t *rec, const char *dir,
-                     const char *leaf)
+static int create_in(negobs_recorder_t *rec, const char *dir, const char *leaf)
 {
     char path[NEGOBS_REPLAY_PATH_MAX + 32];
     int fd;
@@ -120,7 +117,8 @@ static int create_in(negobs_recorder_t *rec, const char *dir,
         if (e == EEXIST) {
             (void)snprintf(rec->errmsg, sizeof rec->errmsg,
                            "%s already holds a session (%s): refusing to "
-                           "record over it", dir, leaf);
+                           "record over it",
+                           dir, leaf);
         } else {
             rec_msg(rec, path, "", e);
         }

@@ -234,10 +234,11 @@ static negobs_status_t check_session_damage(negobs_replay_t *st)
     nr = n64 > UINT32_MAX - 1u ? UINT32_MAX - 1u : (uint32_t)n64;
     st->n_play = nl < nr ? nl : nr;
     if (st->n_play == 0) {
-        rp_error(st, "%s: damaged session, no complete pair to replay "
+        rp_error(st,
+                 "%s: damaged session, no complete pair to replay "
                  "(frames.txt lists %lu, left.y %llu bytes, right.y %llu "
-                 "bytes, %lu per frame)", st->dir,
-                 (unsigned long)st->n_index, (unsigned long long)lb,
+                 "bytes, %lu per frame)",
+                 st->dir, (unsigned long)st->n_index, (unsigned long long)lb,
                  (unsigned long long)rb, (unsigned long)frame);
         return NEGOBS_ERR_CORRUPT;
     }
@@ -385,8 +386,8 @@ static int read_pgm_pair(negobs_replay_t *st, uint32_t idx, int32_t *w,
     }
     /* Right image right after the left one, so frames stay packed. */
     s = negobs_pgm_read(path, st->buf + (size_t)*w * (size_t)*h,
-                        st->buf_bytes - (size_t)*w * (size_t)*h, &rw, &rh,
-                        err, sizeof err);
+                        st->buf_bytes - (size_t)*w * (size_t)*h, &rw, &rh, err,
+                        sizeof err);
     if (s != NEGOBS_OK) {
         rp_error(st, "%s", err);
         return s == NEGOBS_ERR_NODEV ? NEGOBS_ERR_CORRUPT : s;
@@ -517,11 +518,13 @@ static int rp_read_next(negobs_replay_t *st)
     }
     if (rc == NEGOBS_CAMERA_END && st->session && st->damage[0] != '\0') {
         /* the end of a damaged session is not a clean end */
-        rp_error(st, "damaged session: all %lu recoverable pairs replayed "
+        rp_error(st,
+                 "damaged session: all %lu recoverable pairs replayed "
                  "(%lu of them without a frames.txt record)",
                  (unsigned long)st->n_play,
                  (unsigned long)(st->n_play > st->n_index
-                                     ? st->n_play - st->n_index : 0u));
+                                     ? st->n_play - st->n_index
+                                     : 0u));
         return NEGOBS_ERR_CORRUPT;
     }
     if (rc != NEGOBS_OK) {
@@ -540,8 +543,7 @@ static int rp_read_next(negobs_replay_t *st)
         }
         st->width = w;
         st->height = h;
-        tl = st->fps > 0 ? (uint64_t)st->next * 1000000000u /
-                               (uint64_t)st->fps
+        tl = st->fps > 0 ? (uint64_t)st->next * 1000000000u / (uint64_t)st->fps
                          : 0;
         tr = tl;
     }

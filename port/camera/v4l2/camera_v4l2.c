@@ -154,8 +154,7 @@ static negobs_status_t dev_set_format(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
     s = negobs_v4l2_check_format(f.fmt.pix.pixelformat,
                                  (int32_t)f.fmt.pix.width,
                                  (int32_t)f.fmt.pix.height,
-                                 f.fmt.pix.bytesperline,
-                                 f.fmt.pix.sizeimage);
+                                 f.fmt.pix.bytesperline, f.fmt.pix.sizeimage);
     if (s != NEGOBS_OK) {
         v_error(st, 0, "%s: driver returned an unusable format", d->path);
         return s;
@@ -203,8 +202,7 @@ static int dev_set_ctrl(negobs_v4l2_dev_t *d, uint32_t id, int32_t value)
     return xioctl(d->fd, VIDIOC_S_CTRL, &c);
 }
 
-static negobs_status_t dev_map_buffers(negobs_v4l2_t *st,
-                                       negobs_v4l2_dev_t *d)
+static negobs_status_t dev_map_buffers(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
 {
     struct v4l2_requestbuffers rb;
     uint32_t i;
@@ -483,8 +481,7 @@ static void try_reopen(negobs_v4l2_t *st, negobs_v4l2_dev_t *d, uint64_t now)
  * at the camera's rate, whatever the pipeline's. The raw bytes of the
  * first plane are sampled (rows of bytesperline): any pixel format's bytes
  * change with sensor noise. */
-static bool frame_frozen(negobs_v4l2_t *st, negobs_v4l2_dev_t *d,
-                         uint32_t idx)
+static bool frame_frozen(negobs_v4l2_t *st, negobs_v4l2_dev_t *d, uint32_t idx)
 {
     negobs_image_u8_t raw;
     raw.data = d->buf[idx].start;
@@ -515,7 +512,8 @@ static void drain(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
         }
         if ((b.flags & V4L2_BUF_FLAG_ERROR) != 0 ||
             b.bytesused < negobs_v4l2_frame_bytes(d->fourcc, d->height,
-                                                  d->bytesperline) / 2u) {
+                                                  d->bytesperline) /
+                              2u) {
             st->stats.short_frames++;
             (void)dev_queue(d, b.index);
             continue;
@@ -610,8 +608,7 @@ static void timeout_message(negobs_v4l2_t *st, uint32_t drops,
     }
 }
 
-static int v_get_pair(void *ctx, negobs_frame_pair_t *pair,
-                      int32_t timeout_ms)
+static int v_get_pair(void *ctx, negobs_frame_pair_t *pair, int32_t timeout_ms)
 {
     negobs_v4l2_t *st = ctx;
     uint64_t deadline;
@@ -622,8 +619,8 @@ static int v_get_pair(void *ctx, negobs_frame_pair_t *pair,
     }
     v_release(st, pair); /* a pair not released is released now */
     tol_ns = (uint64_t)st->cfg.pair_tol_ms * 1000000u;
-    deadline = negobs_clock_now_ms() + (uint64_t)(timeout_ms > 0 ? timeout_ms
-                                                                 : 0);
+    deadline = negobs_clock_now_ms() +
+               (uint64_t)(timeout_ms > 0 ? timeout_ms : 0);
     for (;;) {
         struct pollfd pfd[2];
         int map[2];
@@ -668,8 +665,8 @@ static int v_get_pair(void *ctx, negobs_frame_pair_t *pair,
         if (st->dev[0].pending && st->dev[1].pending) {
             negobs_v4l2_dev_t *l = &st->dev[0];
             negobs_v4l2_dev_t *r = &st->dev[1];
-            negobs_pair_action_t a =
-                negobs_pair_decide(l->pend_ts, r->pend_ts, tol_ns);
+            negobs_pair_action_t a = negobs_pair_decide(l->pend_ts, r->pend_ts,
+                                                        tol_ns);
             if (a == NEGOBS_PAIR_MATCH) {
                 negobs_status_t sl = make_frame(st, 0, &pair->left);
                 negobs_status_t sr = make_frame(st, 1, &pair->right);
@@ -785,7 +782,7 @@ static const char *v_errmsg(void *ctx)
 }
 
 static const negobs_camera_ops_t v4l2_ops = {
-    "v4l2", v_open, v_start, v_get_pair, v_release,
+    "v4l2", v_open,  v_start, v_get_pair, v_release,
     v_stop, v_close, v_stats, v_errmsg,
 };
 

@@ -54,8 +54,7 @@ size_t negobs_v4l2_frame_bytes(uint32_t fourcc, int32_t height,
 }
 
 negobs_status_t negobs_v4l2_check_format(uint32_t fourcc, int32_t width,
-                                         int32_t height,
-                                         uint32_t bytesperline,
+                                         int32_t height, uint32_t bytesperline,
                                          uint32_t sizeimage)
 {
     uint32_t bpp;
@@ -71,8 +70,8 @@ negobs_status_t negobs_v4l2_check_format(uint32_t fourcc, int32_t width,
         bytesperline > 4u * (uint32_t)NEGOBS_MAX_DIM * bpp) {
         return NEGOBS_ERR_INVAL;
     }
-    if ((size_t)sizeimage < negobs_v4l2_frame_bytes(fourcc, height,
-                                                    bytesperline)) {
+    if ((size_t)sizeimage <
+        negobs_v4l2_frame_bytes(fourcc, height, bytesperline)) {
         return NEGOBS_ERR_INVAL;
     }
     return NEGOBS_OK;

@@ -92,22 +92,23 @@ typedef struct negobs_motor_out {
 
 /** Console backend state. */
 typedef struct negobs_alert_console {
-    FILE *out;         /**< where level changes are printed */
-    uint16_t last;     /**< last level printed               */
+    FILE *out;     /**< where level changes are printed */
+    uint16_t last; /**< last level printed               */
     bool started;
-    uint64_t t0_ms;    /**< time base for printed stamps     */
+    uint64_t t0_ms; /**< time base for printed stamps     */
 } negobs_alert_console_t;
 
 /** @brief Console backend writing lines "motor <t> ms: 1000 permille". */
 negobs_status_t negobs_alert_console_open(negobs_alert_console_t *st,
-                                          FILE *out, negobs_motor_out_t *alert);
+                                          FILE *out,
+                                          negobs_motor_out_t *alert);
 
 /** @brief Backend that accepts and discards everything. */
 negobs_status_t negobs_alert_none_open(negobs_motor_out_t *alert);
 
 /** Sysfs PWM backend state (caller-owned; fields private). */
 typedef struct negobs_alert_pwm {
-    char root[128];     /**< class root, default "/sys/class/pwm"   */
+    char root[128]; /**< class root, default "/sys/class/pwm"   */
     uint32_t chip;
     uint32_t channel;
     uint32_t period_ns;
@@ -131,9 +132,9 @@ typedef struct negobs_alert_pwm {
  *         NEGOBS_ERR_IO (a write failed, see st->errmsg),
  *         NEGOBS_ERR_INVAL (bad arguments).
  */
-negobs_status_t negobs_alert_pwm_open(negobs_alert_pwm_t *st,
-                                      const char *root, uint32_t chip,
-                                      uint32_t channel, uint32_t period_ns,
+negobs_status_t negobs_alert_pwm_open(negobs_alert_pwm_t *st, const char *root,
+                                      uint32_t chip, uint32_t channel,
+                                      uint32_t period_ns,
                                       negobs_motor_out_t *alert);
 
 /** Re-request back-off of a lost GPIO line (ms), doubled per failure. */
@@ -146,14 +147,14 @@ typedef struct negobs_alert_gpio {
     int line_fd;
     uint32_t line;
     int value;
-    bool uapi_v1;       /**< kernel < 5.10: line held through uAPI v1 */
+    bool uapi_v1; /**< kernel < 5.10: line held through uAPI v1 */
     bool active_low;
-    char path[128];     /**< chip device, kept to request the line again */
-    char label[32];     /**< chip label, to find it again if renumbered */
-    bool lost;          /**< a write failed: line released, re-request  */
+    char path[128]; /**< chip device, kept to request the line again */
+    char label[32]; /**< chip label, to find it again if renumbered */
+    bool lost;      /**< a write failed: line released, re-request  */
     uint64_t retry_at_ms;
     uint32_t backoff_ms;
-    uint32_t reopens;   /**< successful re-requests                     */
+    uint32_t reopens; /**< successful re-requests                     */
     int last_errno;
     char errmsg[NEGOBS_PORT_ERRMSG_LEN];
 } negobs_alert_gpio_t;
@@ -204,11 +205,11 @@ static inline void negobs_alert_close(negobs_motor_out_t *a)
 typedef struct negobs_motor_exec {
     negobs_motor_out_t *out;
     negobs_motor_schedule_t sched;
-    bool active;          /**< a schedule is playing                    */
-    uint8_t seg;          /**< current segment index                    */
-    uint64_t seg_end_ms;  /**< when the current segment ends            */
-    int32_t level;        /**< level last written, -1 = unknown         */
-    uint32_t set_errors;  /**< output writes that failed                */
+    bool active;         /**< a schedule is playing                    */
+    uint8_t seg;         /**< current segment index                    */
+    uint64_t seg_end_ms; /**< when the current segment ends            */
+    int32_t level;       /**< level last written, -1 = unknown         */
+    uint32_t set_errors; /**< output writes that failed                */
     negobs_status_t last_status;
 } negobs_motor_exec_t;
 
@@ -279,7 +280,7 @@ typedef struct negobs_motor_thread {
     uint32_t out_faults;    /**< times the output started failing       */
     uint64_t hold_until_ms; /**< stale forced until then (recovery)     */
     uint64_t last_refresh_ms;
-    int32_t ok_level;       /**< last level a write confirmed, -1 none  */
+    int32_t ok_level; /**< last level a write confirmed, -1 none  */
     pthread_mutex_t lock;
     pthread_cond_t wake;
     pthread_t thread;

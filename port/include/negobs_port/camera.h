@@ -63,16 +63,16 @@ void negobs_camera_config_default(negobs_camera_config_t *cfg);
 
 /** One frame: luma plane and its capture time. */
 typedef struct negobs_frame {
-    negobs_image_u8_t y;  /**< luma plane, stride = bytesperline      */
-    uint64_t ts_ns;       /**< capture time, CLOCK_MONOTONIC ns       */
-    uint32_t sequence;    /**< driver or file sequence number         */
+    negobs_image_u8_t y; /**< luma plane, stride = bytesperline      */
+    uint64_t ts_ns;      /**< capture time, CLOCK_MONOTONIC ns       */
+    uint32_t sequence;   /**< driver or file sequence number         */
 } negobs_frame_t;
 
 /** A synchronised pair. */
 typedef struct negobs_frame_pair {
     negobs_frame_t left;
     negobs_frame_t right;
-    uint32_t index;       /**< pairs delivered before this one         */
+    uint32_t index; /**< pairs delivered before this one         */
 } negobs_frame_pair_t;
 
 /** Counters kept by every source. */
@@ -160,9 +160,9 @@ static inline const char *negobs_camera_errmsg(negobs_capture_t *c)
 
 /** What to do with the two oldest unpaired frames. */
 typedef enum negobs_pair_action {
-    NEGOBS_PAIR_MATCH = 0,      /**< |dt| <= tolerance: deliver the pair */
-    NEGOBS_PAIR_DROP_LEFT = 1,  /**< left is older by more: drop it      */
-    NEGOBS_PAIR_DROP_RIGHT = 2  /**< right is older by more: drop it     */
+    NEGOBS_PAIR_MATCH = 0,     /**< |dt| <= tolerance: deliver the pair */
+    NEGOBS_PAIR_DROP_LEFT = 1, /**< left is older by more: drop it      */
+    NEGOBS_PAIR_DROP_RIGHT = 2 /**< right is older by more: drop it     */
 } negobs_pair_action_t;
 
 /**
@@ -179,7 +179,7 @@ negobs_pair_action_t negobs_pair_decide(uint64_t left_ns, uint64_t right_ns,
 /** Per-camera state: signature of the last frame and repeats in a row. */
 typedef struct negobs_frozen {
     uint32_t last_sig;
-    uint32_t repeats;  /**< frames equal to the one before, in a row */
+    uint32_t repeats; /**< frames equal to the one before, in a row */
     bool have_last;
 } negobs_frozen_t;
 

@@ -61,13 +61,13 @@ extern "C" {
 
 /** Four-character code as DRM (and libcamera's PixelFormat) builds it. */
 #define NEGOBS_DRM_FOURCC(a, b, c, d)                                         \
-    ((uint32_t)(a) | ((uint32_t)(b) << 8) | ((uint32_t)(c) << 16) |         \
+    ((uint32_t)(a) | ((uint32_t)(b) << 8) | ((uint32_t)(c) << 16) |           \
      ((uint32_t)(d) << 24))
 
 /** State of a libcamera source (caller-owned, fields private). */
 typedef struct negobs_libcamera {
-    void *impl;              /**< C++ state, from open() to close()     */
-    uint8_t *scratch;        /**< luma of packed formats, 2 * w * h     */
+    void *impl;       /**< C++ state, from open() to close()     */
+    uint8_t *scratch; /**< luma of packed formats, 2 * w * h     */
     size_t scratch_bytes;
     negobs_camera_stats_t stats;
     char errmsg[NEGOBS_PORT_ERRMSG_LEN];
@@ -81,8 +81,8 @@ typedef struct negobs_libcamera {
  *         NEGOBS_ERR_UNSUPPORTED when built without libcamera (the handle
  *         is still filled: its errmsg() says why, its ops refuse).
  */
-negobs_status_t negobs_libcamera_init(negobs_libcamera_t *st,
-                                      uint8_t *scratch, size_t scratch_bytes,
+negobs_status_t negobs_libcamera_init(negobs_libcamera_t *st, uint8_t *scratch,
+                                      size_t scratch_bytes,
                                       negobs_capture_t *cam);
 
 /** @brief True when this build has the libcamera backend compiled in. */
@@ -97,8 +97,7 @@ bool negobs_libcamera_available(void);
  * @return NEGOBS_OK; NEGOBS_ERR_INVAL (NULL, no prefix, nothing after it,
  *         an index above 999, or an id of NEGOBS_LIBCAMERA_ID_LEN or more).
  */
-negobs_status_t negobs_libcamera_parse_source(const char *src,
-                                              int32_t *index,
+negobs_status_t negobs_libcamera_parse_source(const char *src, int32_t *index,
                                               const char **id);
 
 /**

@@ -35,27 +35,27 @@ extern "C" {
 /** Replay state (caller-owned; fields private). */
 typedef struct negobs_replay {
     char dir[NEGOBS_REPLAY_PATH_MAX];
-    uint8_t *buf;          /**< caller's pixel buffer (2 images)       */
+    uint8_t *buf; /**< caller's pixel buffer (2 images)       */
     size_t buf_bytes;
-    bool session;          /**< recorded-session layout                */
+    bool session; /**< recorded-session layout                */
     bool started;
     bool loop;
-    int32_t width;         /**< 0 until the first frame is read        */
+    int32_t width; /**< 0 until the first frame is read        */
     int32_t height;
-    int32_t want_w;        /**< size the caller asked for, 0 = any     */
+    int32_t want_w; /**< size the caller asked for, 0 = any     */
     int32_t want_h;
     int32_t fps;
-    uint32_t next;         /**< next pair index                        */
-    uint32_t n_index;      /**< session: records in frames.txt         */
-    uint32_t n_play;       /**< session: complete pairs in left/right.y */
-    FILE *frames_txt;      /**< session: timestamp list                */
-    FILE *left_f;          /**< session: raw left frames               */
+    uint32_t next;    /**< next pair index                        */
+    uint32_t n_index; /**< session: records in frames.txt         */
+    uint32_t n_play;  /**< session: complete pairs in left/right.y */
+    FILE *frames_txt; /**< session: timestamp list                */
+    FILE *left_f;     /**< session: raw left frames               */
     FILE *right_f;
-    uint64_t t0_ns;        /**< pacing: clock at start                 */
-    uint64_t ts0_ns;       /**< pacing: first frame timestamp          */
-    uint64_t last_due_ns;  /**< delivery time of the last pair         */
-    bool held;             /**< a pair is read but not yet due         */
-    int32_t cur_w;         /**< the held pair: size, stamps, sequence  */
+    uint64_t t0_ns;       /**< pacing: clock at start                 */
+    uint64_t ts0_ns;      /**< pacing: first frame timestamp          */
+    uint64_t last_due_ns; /**< delivery time of the last pair         */
+    bool held;            /**< a pair is read but not yet due         */
+    int32_t cur_w;        /**< the held pair: size, stamps, sequence  */
     int32_t cur_h;
     uint64_t cur_tl;
     uint64_t cur_tr;
@@ -122,8 +122,8 @@ typedef struct negobs_recorder {
     bool is_open;
     int32_t width;
     int32_t height;
-    uint32_t count;        /**< pairs written                          */
-    uint32_t unsynced;     /**< pairs since the last fdatasync         */
+    uint32_t count;    /**< pairs written                          */
+    uint32_t unsynced; /**< pairs since the last fdatasync         */
     /** write(2) by default; set after open() to inject failures. */
     ssize_t (*write_fn)(int fd, const void *buf, size_t n);
     char errmsg[NEGOBS_PORT_ERRMSG_LEN];

@@ -43,7 +43,7 @@ extern "C" {
 
 /** Four-character code as V4L2 builds it. */
 #define NEGOBS_FOURCC(a, b, c, d)                                             \
-    ((uint32_t)(a) | ((uint32_t)(b) << 8) | ((uint32_t)(c) << 16) |         \
+    ((uint32_t)(a) | ((uint32_t)(b) << 8) | ((uint32_t)(c) << 16) |           \
      ((uint32_t)(d) << 24))
 
 /** One node (fields private). */
@@ -61,13 +61,13 @@ typedef struct negobs_v4l2_dev {
     } buf[NEGOBS_V4L2_MAX_BUFFERS];
     uint32_t nbuf;
     bool streaming;
-    bool pending;          /**< a dequeued frame waits for a partner   */
+    bool pending; /**< a dequeued frame waits for a partner   */
     uint32_t pend_idx;
     uint32_t pend_bytes;
     uint32_t pend_seq;
     uint64_t pend_ts;
-    uint64_t pend_at_ms;   /**< when the pending frame was dequeued    */
-    int32_t held_idx;      /**< buffer lent to the app, -1 if none     */
+    uint64_t pend_at_ms; /**< when the pending frame was dequeued    */
+    int32_t held_idx;    /**< buffer lent to the app, -1 if none     */
     bool lost;
     uint64_t retry_at_ms;
     uint32_t backoff_ms;
@@ -75,14 +75,14 @@ typedef struct negobs_v4l2_dev {
     bool has_exposure;
     bool has_gain;
     negobs_frozen_t frozen;
-    bool pend_frozen;      /**< the pending frame ends a frozen run    */
+    bool pend_frozen; /**< the pending frame ends a frozen run    */
 } negobs_v4l2_dev_t;
 
 /** State of a stereo V4L2 source (caller-owned, fields private). */
 typedef struct negobs_v4l2 {
     negobs_v4l2_dev_t dev[2];
     negobs_camera_config_t cfg;
-    uint8_t *scratch;       /**< luma of packed formats, 2 * w * h      */
+    uint8_t *scratch; /**< luma of packed formats, 2 * w * h      */
     size_t scratch_bytes;
     bool started;
     negobs_camera_stats_t stats;
@@ -126,8 +126,7 @@ size_t negobs_v4l2_frame_bytes(uint32_t fourcc, int32_t height,
  *         width, sizeimage smaller than the frame).
  */
 negobs_status_t negobs_v4l2_check_format(uint32_t fourcc, int32_t width,
-                                         int32_t height,
-                                         uint32_t bytesperline,
+                                         int32_t height, uint32_t bytesperline,
                                          uint32_t sizeimage);
 
 /**

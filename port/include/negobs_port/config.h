@@ -28,25 +28,26 @@ extern "C" {
 #define NEGOBS_CONFIG_LINE_MAX 255
 
 typedef enum negobs_cfg_type {
-    NEGOBS_CFG_INT = 0,   /**< int32_t; value in [min, max]                */
-    NEGOBS_CFG_BOOL = 1,  /**< bool; 0/1, true/false, yes/no, on/off       */
-    NEGOBS_CFG_STRING = 2 /**< char[max]; text up to max-1 bytes (min unused) */
+    NEGOBS_CFG_INT = 0,  /**< int32_t; value in [min, max]                */
+    NEGOBS_CFG_BOOL = 1, /**< bool; 0/1, true/false, yes/no, on/off       */
+    NEGOBS_CFG_STRING =
+        2 /**< char[max]; text up to max-1 bytes (min unused) */
 } negobs_cfg_type_t;
 
 /** One setting. */
 typedef struct negobs_cfg_key {
-    const char *key;        /**< name as written in the file            */
+    const char *key; /**< name as written in the file            */
     negobs_cfg_type_t type;
-    void *ptr;              /**< int32_t *, bool * or char[max]         */
-    int64_t min;            /**< INT: smallest value                    */
-    int64_t max;            /**< INT: largest value; STRING: buffer size */
-    const char *help;       /**< one line for --help and docs           */
+    void *ptr;        /**< int32_t *, bool * or char[max]         */
+    int64_t min;      /**< INT: smallest value                    */
+    int64_t max;      /**< INT: largest value; STRING: buffer size */
+    const char *help; /**< one line for --help and docs           */
 } negobs_cfg_key_t;
 
 /** Where and why parsing failed. */
 typedef struct negobs_cfg_error {
-    int32_t line;      /**< 1-based line number, 0 when not line-related */
-    char msg[192];     /**< "line 3: unknown key 'fsp'"                  */
+    int32_t line;  /**< 1-based line number, 0 when not line-related */
+    char msg[192]; /**< "line 3: unknown key 'fsp'"                  */
 } negobs_cfg_error_t;
 
 /**

@@ -42,10 +42,10 @@ extern "C" {
 
 /** Where a recording stands. */
 typedef enum negobs_recq_state {
-    NEGOBS_RECQ_OFF = 0,      /**< not started                         */
-    NEGOBS_RECQ_WAITING = 1,  /**< started, no pair yet                */
+    NEGOBS_RECQ_OFF = 0,     /**< not started                         */
+    NEGOBS_RECQ_WAITING = 1, /**< started, no pair yet                */
     NEGOBS_RECQ_RECORDING = 2,
-    NEGOBS_RECQ_FAILED = 3    /**< stopped by an error (see errmsg)    */
+    NEGOBS_RECQ_FAILED = 3 /**< stopped by an error (see errmsg)    */
 } negobs_recq_state_t;
 
 typedef struct negobs_recq_slot {
@@ -59,7 +59,7 @@ typedef struct negobs_recq_slot {
 /** Queue and writer state (caller-owned; fields private). */
 typedef struct negobs_record_queue {
     char dir[NEGOBS_REPLAY_PATH_MAX];
-    uint8_t *buf;            /**< n_slots * slot_bytes                 */
+    uint8_t *buf; /**< n_slots * slot_bytes                 */
     size_t slot_bytes;
     uint32_t n_slots;
     negobs_recq_slot_t meta[NEGOBS_RECQ_SLOTS_MAX];
@@ -70,14 +70,14 @@ typedef struct negobs_record_queue {
     pthread_mutex_t lock;
     pthread_cond_t cond;
     /* under lock */
-    uint32_t head;           /**< oldest queued slot                   */
-    uint32_t count;          /**< queued slots                         */
+    uint32_t head;  /**< oldest queued slot                   */
+    uint32_t count; /**< queued slots                         */
     bool stop;
-    bool busy;               /**< the writer holds the head slot       */
+    bool busy; /**< the writer holds the head slot       */
     negobs_recq_state_t state;
     uint32_t written;
-    uint32_t dropped;        /**< queue full: newest pair not recorded */
-    uint32_t discarded;      /**< queued when the recording failed     */
+    uint32_t dropped;   /**< queue full: newest pair not recorded */
+    uint32_t discarded; /**< queued when the recording failed     */
     char errmsg[NEGOBS_PORT_ERRMSG_LEN];
     bool running;
 } negobs_record_queue_t;

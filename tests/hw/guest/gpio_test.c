@@ -29,16 +29,16 @@
 
 static int fails;
 
-#define CHECK(cond, ...)                                        \
-	do {                                                    \
-		if (cond) {                                     \
-			printf("  ok   ");                      \
-		} else {                                        \
-			printf("  FAIL ");                      \
-			fails++;                                \
-		}                                               \
-		printf(__VA_ARGS__);                            \
-		putchar('\n');                                  \
+#define CHECK(cond, ...)                                                       \
+	do {                                                                   \
+		if (cond) {                                                    \
+			printf("  ok   ");                                     \
+		} else {                                                       \
+			printf("  FAIL ");                                     \
+			fails++;                                               \
+		}                                                              \
+		printf(__VA_ARGS__);                                           \
+		putchar('\n');                                                 \
 	} while (0)
 
 static int open_chip(const char *label, char *path, size_t n,
@@ -124,11 +124,20 @@ int main(int argc, char **argv)
 
 	while ((opt = getopt(argc, argv, "l:o:s:c:")) != -1) {
 		switch (opt) {
-		case 'l': label = optarg; break;
-		case 'o': off = atoi(optarg); break;
-		case 's': simfile = optarg; break;
-		case 'c': consumer = optarg; break;
-		default: goto usage;
+		case 'l':
+			label = optarg;
+			break;
+		case 'o':
+			off = atoi(optarg);
+			break;
+		case 's':
+			simfile = optarg;
+			break;
+		case 'c':
+			consumer = optarg;
+			break;
+		default:
+			goto usage;
 		}
 	}
 	if (!label || off < 0)
@@ -168,9 +177,9 @@ int main(int argc, char **argv)
 	memset(&li, 0, sizeof li);
 	li.offset = (unsigned)off;
 	CHECK(ioctl(cfd, GPIO_V2_GET_LINEINFO_IOCTL, &li) == 0 &&
-		      (li.flags & GPIO_V2_LINE_FLAG_USED) &&
-		      (li.flags & GPIO_V2_LINE_FLAG_OUTPUT) &&
-		      strcmp(li.consumer, consumer) == 0,
+		  (li.flags & GPIO_V2_LINE_FLAG_USED) &&
+		  (li.flags & GPIO_V2_LINE_FLAG_OUTPUT) &&
+		  strcmp(li.consumer, consumer) == 0,
 	      "LINEINFO: used by '%s', output (flags 0x%llx)", li.consumer,
 	      (unsigned long long)li.flags);
 
@@ -187,8 +196,8 @@ int main(int argc, char **argv)
 		lv.bits = 0;
 		lv.mask = 1;
 		got = ioctl(req.fd, GPIO_V2_LINE_GET_VALUES_IOCTL, &lv) == 0
-			      ? (int)(lv.bits & 1)
-			      : -1;
+			  ? (int)(lv.bits & 1)
+			  : -1;
 		obs = simfile ? sysfs_value(simfile)
 			      : debugfs_value(ci.label, (unsigned)off);
 		CHECK(got == pattern[i] && obs == pattern[i],
@@ -200,7 +209,7 @@ int main(int argc, char **argv)
 	memset(&li, 0, sizeof li);
 	li.offset = (unsigned)off;
 	CHECK(ioctl(cfd, GPIO_V2_GET_LINEINFO_IOCTL, &li) == 0 &&
-		      !(li.flags & GPIO_V2_LINE_FLAG_USED),
+		  !(li.flags & GPIO_V2_LINE_FLAG_USED),
 	      "line released after close (flags 0x%llx)",
 	      (unsigned long long)li.flags);
 	close(cfd);

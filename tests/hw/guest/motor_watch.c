@@ -77,7 +77,8 @@ int main(int argc, char **argv)
 	} else if (argc == 2) {
 		path = argv[1];
 	} else {
-		fprintf(stderr, "usage: motor_watch [-i ms] FILE | motor_watch now\n");
+		fprintf(stderr,
+			"usage: motor_watch [-i ms] FILE | motor_watch now\n");
 		return 2;
 	}
 	memset(&sa, 0, sizeof sa);

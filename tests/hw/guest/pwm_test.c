@@ -32,16 +32,16 @@
 static int fails;
 static int fake; /* no device links: plain files, skip kernel-only checks */
 
-#define CHECK(cond, ...)                                        \
-	do {                                                    \
-		if (cond) {                                     \
-			printf("  ok   ");                      \
-		} else {                                        \
-			printf("  FAIL ");                      \
-			fails++;                                \
-		}                                               \
-		printf(__VA_ARGS__);                            \
-		putchar('\n');                                  \
+#define CHECK(cond, ...)                                                       \
+	do {                                                                   \
+		if (cond) {                                                    \
+			printf("  ok   ");                                     \
+		} else {                                                       \
+			printf("  FAIL ");                                     \
+			fails++;                                               \
+		}                                                              \
+		printf(__VA_ARGS__);                                           \
+		putchar('\n');                                                 \
 	} while (0)
 
 /* writes `val` to dir/name with one write(); returns 0 or errno.  Opened
@@ -122,10 +122,18 @@ int main(int argc, char **argv)
 
 	while ((opt = getopt(argc, argv, "r:d:n:D:")) != -1) {
 		switch (opt) {
-		case 'r': root = optarg; break;
-		case 'd': dev = optarg; break;
-		case 'n': ch = atoi(optarg); break;
-		case 'D': dbg = optarg; break;
+		case 'r':
+			root = optarg;
+			break;
+		case 'd':
+			dev = optarg;
+			break;
+		case 'n':
+			ch = atoi(optarg);
+			break;
+		case 'D':
+			dbg = optarg;
+			break;
 		default:
 			fprintf(stderr, "usage: pwm_test [-r CLASSDIR] "
 					"[-d DEVNAME] [-n CH] [-D DEBUGFS]\n");
@@ -188,10 +196,10 @@ int main(int argc, char **argv)
 	CHECK(is_dir(pwm), "%s appeared", pwm);
 
 	CHECK(put(pwm, "period", "1000000") == 0 &&
-		      get(pwm, "period") == 1000000,
+		  get(pwm, "period") == 1000000,
 	      "period 1000000 ns reads %lld", get(pwm, "period"));
 	CHECK(put(pwm, "duty_cycle", "250000") == 0 &&
-		      get(pwm, "duty_cycle") == 250000,
+		  get(pwm, "duty_cycle") == 250000,
 	      "duty_cycle 250000 ns reads %lld", get(pwm, "duty_cycle"));
 	CHECK(put(pwm, "enable", "1") == 0 && get(pwm, "enable") == 1,
 	      "enable 1 reads %lld", get(pwm, "enable"));
@@ -202,15 +210,15 @@ int main(int argc, char **argv)
 		      e ? strerror(e) : "accepted", get(pwm, "duty_cycle"));
 	}
 	CHECK(put(pwm, "duty_cycle", "750000") == 0 &&
-		      get(pwm, "duty_cycle") == 750000,
+		  get(pwm, "duty_cycle") == 750000,
 	      "duty_cycle 750000 ns reads %lld", get(pwm, "duty_cycle"));
 	if (dbg[0]) {
 		int ok = debugfs_line(dbg, dev, ch, line, sizeof line) == 0;
 		CHECK(ok && strstr(line, " requested") &&
-			      strstr(line, " enabled") &&
-			      strstr(line, " period: 1000000 ns") &&
-			      strstr(line, " duty: 750000 ns") &&
-			      strstr(line, " polarity: normal"),
+			  strstr(line, " enabled") &&
+			  strstr(line, " period: 1000000 ns") &&
+			  strstr(line, " duty: 750000 ns") &&
+			  strstr(line, " polarity: normal"),
 		      "debugfs: %s", ok ? line : "(no line)");
 	}
 	CHECK(put(pwm, "enable", "0") == 0 && get(pwm, "enable") == 0,

@@ -87,8 +87,8 @@ struct node {
 static unsigned g_w = 640, g_h = 480, g_nframes = 8, g_nbufs = 4;
 static uint32_t g_fourcc = V4L2_PIX_FMT_GREY;
 static int g_timeout_ms = 5000, g_quiet;
-static int g_hold_ms;      /* -P: file frame i shown from i*ms after start */
-static double g_play_t0;   /* start of the -P playback (0: not started) */
+static int g_hold_ms;	 /* -P: file frame i shown from i*ms after start */
+static double g_play_t0; /* start of the -P playback (0: not started) */
 static const char *g_noise_off; /* -N: noise unless this file exists */
 static uint64_t g_rng = 0x9E3779B97F4A7C15ull;
 static size_t g_size; /* bytes per frame */
@@ -102,11 +102,11 @@ static int xioctl(int fd, unsigned long req, void *arg)
 	return r;
 }
 
-#define DIE(...)                                                   \
-	do {                                                       \
-		fprintf(stderr, "v4l2_loop: " __VA_ARGS__);        \
-		fputc('\n', stderr);                               \
-		exit(2);                                           \
+#define DIE(...)                                                               \
+	do {                                                                   \
+		fprintf(stderr, "v4l2_loop: " __VA_ARGS__);                    \
+		fputc('\n', stderr);                                           \
+		exit(2);                                                       \
 	} while (0)
 
 static unsigned bpp(void)
@@ -138,15 +138,21 @@ static void gen_frame(uint8_t *dst, uint32_t n, unsigned eye)
 				row[x] = l;
 			} else {
 				row[2 * x] = l;
-				row[2 * x + 1] = (uint8_t)(128 + (eye ? 20 : -20));
+				row[2 * x + 1] =
+				    (uint8_t)(128 + (eye ? 20 : -20));
 			}
 		}
 	}
 	/* header: magic, counter (LE), eye; in the luma bytes of row 0 */
 	{
-		uint8_t hdr[9] = {MAGIC0, MAGIC1, MAGIC2, MAGIC3,
-				  (uint8_t)n, (uint8_t)(n >> 8),
-				  (uint8_t)(n >> 16), (uint8_t)(n >> 24),
+		uint8_t hdr[9] = {MAGIC0,
+				  MAGIC1,
+				  MAGIC2,
+				  MAGIC3,
+				  (uint8_t)n,
+				  (uint8_t)(n >> 8),
+				  (uint8_t)(n >> 16),
+				  (uint8_t)(n >> 24),
 				  (uint8_t)eye};
 		unsigned i;
 		for (i = 0; i < sizeof hdr; i++)
@@ -253,7 +259,7 @@ static void open_node(struct node *nd, const char *path, int is_out)
 	if (xioctl(nd->fd, VIDIOC_QUERYCAP, &cap) < 0)
 		DIE("%s: QUERYCAP: %s", path, strerror(errno));
 	caps = (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps
-							  : cap.capabilities;
+							 : cap.capabilities;
 	want = (is_out ? V4L2_CAP_VIDEO_OUTPUT : V4L2_CAP_VIDEO_CAPTURE) |
 	       V4L2_CAP_STREAMING;
 	if ((caps & want) != want)
@@ -262,7 +268,8 @@ static void open_node(struct node *nd, const char *path, int is_out)
 	if (!g_quiet)
 		printf("%s: driver %s card '%s' bus %s %s\n", path,
 		       (const char *)cap.driver, (const char *)cap.card,
-		       (const char *)cap.bus_info, is_out ? "output" : "capture");
+		       (const char *)cap.bus_info,
+		       is_out ? "output" : "capture");
 }
 
 static void setup_bufs(struct node *nd)
@@ -343,9 +350,10 @@ static void stream(struct node *nd, int on)
 /* ---- frame sources for the output side ---------------------------------- */
 
 struct source {
-	FILE *f[2];       /* raw files, or NULL for generated frames */
-	long nfile[2];    /* frames per file */
-	uint32_t counter; /* next generated frame number (shared by both eyes) */
+	FILE *f[2];    /* raw files, or NULL for generated frames */
+	long nfile[2]; /* frames per file */
+	uint32_t
+	    counter; /* next generated frame number (shared by both eyes) */
 	uint32_t next[2]; /* next frame number per eye */
 };
 
@@ -380,9 +388,9 @@ static void fill_out(struct source *s, unsigned eye, uint8_t *dst)
 		if (g_hold_ms > 0) {
 			/* paced playback: the frame for the time since the
 			 * start, once through, then the last frame held */
-			idx = g_play_t0 > 0
-			      ? (long)((now_s() - g_play_t0) * 1000.0 / g_hold_ms)
-			      : 0;
+			idx = g_play_t0 > 0 ? (long)((now_s() - g_play_t0) *
+						     1000.0 / g_hold_ms)
+					    : 0;
 			if (idx >= s->nfile[eye])
 				idx = s->nfile[eye] - 1;
 		}
@@ -399,13 +407,14 @@ static void fill_out(struct source *s, unsigned eye, uint8_t *dst)
 
 static void usage(void)
 {
-	fprintf(stderr,
-		"usage: v4l2_loop check  [opts] CAP0 CAP1 OUT0 OUT1\n"
-		"       v4l2_loop inject [opts] [-t s] [-L left.raw -R right.raw] "
-		"[-P hold_ms] [-N nonoise_file] [-r readyfile] CAP0 CAP1 OUT0 OUT1\n"
-		"       v4l2_loop capture [opts] [-x] [-O dir] CAP0 CAP1\n"
-		"       v4l2_loop ctrl DEV 'Control Name' VALUE\n"
-		"opts: -W w -H h -f GREY|YUYV -n frames -b bufs -T poll_ms -q\n");
+	fprintf(
+	    stderr,
+	    "usage: v4l2_loop check  [opts] CAP0 CAP1 OUT0 OUT1\n"
+	    "       v4l2_loop inject [opts] [-t s] [-L left.raw -R right.raw] "
+	    "[-P hold_ms] [-N nonoise_file] [-r readyfile] CAP0 CAP1 OUT0 OUT1\n"
+	    "       v4l2_loop capture [opts] [-x] [-O dir] CAP0 CAP1\n"
+	    "       v4l2_loop ctrl DEV 'Control Name' VALUE\n"
+	    "opts: -W w -H h -f GREY|YUYV -n frames -b bufs -T poll_ms -q\n");
 	exit(2);
 }
 
@@ -467,10 +476,15 @@ int main(int argc, char **argv)
 	else if (strcmp(mode, "check") != 0)
 		usage();
 	optind = 2;
-	while ((opt = getopt(argc, argv, "W:H:f:n:b:T:t:L:R:O:r:P:N:xq")) != -1) {
+	while ((opt = getopt(argc, argv, "W:H:f:n:b:T:t:L:R:O:r:P:N:xq")) !=
+	       -1) {
 		switch (opt) {
-		case 'W': g_w = (unsigned)atoi(optarg); break;
-		case 'H': g_h = (unsigned)atoi(optarg); break;
+		case 'W':
+			g_w = (unsigned)atoi(optarg);
+			break;
+		case 'H':
+			g_h = (unsigned)atoi(optarg);
+			break;
 		case 'f':
 			if (strcmp(optarg, "GREY") == 0)
 				g_fourcc = V4L2_PIX_FMT_GREY;
@@ -479,19 +493,44 @@ int main(int argc, char **argv)
 			else
 				usage();
 			break;
-		case 'n': g_nframes = (unsigned)atoi(optarg); break;
-		case 'b': g_nbufs = (unsigned)atoi(optarg); break;
-		case 'T': g_timeout_ms = atoi(optarg); break;
-		case 't': seconds = atof(optarg); break;
-		case 'L': lf = optarg; break;
-		case 'R': rf = optarg; break;
-		case 'O': savedir = optarg; break;
-		case 'r': readyfile = optarg; break;
-		case 'P': g_hold_ms = atoi(optarg); break;
-		case 'N': g_noise_off = optarg; break;
-		case 'x': verify = 0; break;
-		case 'q': g_quiet = 1; break;
-		default: usage();
+		case 'n':
+			g_nframes = (unsigned)atoi(optarg);
+			break;
+		case 'b':
+			g_nbufs = (unsigned)atoi(optarg);
+			break;
+		case 'T':
+			g_timeout_ms = atoi(optarg);
+			break;
+		case 't':
+			seconds = atof(optarg);
+			break;
+		case 'L':
+			lf = optarg;
+			break;
+		case 'R':
+			rf = optarg;
+			break;
+		case 'O':
+			savedir = optarg;
+			break;
+		case 'r':
+			readyfile = optarg;
+			break;
+		case 'P':
+			g_hold_ms = atoi(optarg);
+			break;
+		case 'N':
+			g_noise_off = optarg;
+			break;
+		case 'x':
+			verify = 0;
+			break;
+		case 'q':
+			g_quiet = 1;
+			break;
+		default:
+			usage();
 		}
 	}
 	if (argc - optind != (capture_only ? 2 : 4) || g_w < 64 || g_h < 16 ||
@@ -511,8 +550,7 @@ int main(int argc, char **argv)
 			if (!src.f[e] || fstat(fileno(src.f[e]), &st) < 0)
 				DIE("open %s: %s", fn[e], strerror(errno));
 			src.nfile[e] = (long)(st.st_size / (off_t)g_size);
-			if (src.nfile[e] < 1 ||
-			    st.st_size % (off_t)g_size != 0)
+			if (src.nfile[e] < 1 || st.st_size % (off_t)g_size != 0)
 				DIE("%s: size %lld is not a multiple of the "
 				    "frame size %zu",
 				    fn[e], (long long)st.st_size, g_size);
@@ -551,10 +589,10 @@ int main(int argc, char **argv)
 		/* capture nodes stay configured for the program under test */
 		for (e = 0; e < 2; e++)
 			close(cap[e].fd);
-		printf("v4l2_loop: injecting %ux%u %s frames (%s) into %s, %s\n",
-		       g_w, g_h, g_fourcc == V4L2_PIX_FMT_GREY ? "GREY" : "YUYV",
-		       lf ? "from files" : "generated", out[0].path,
-		       out[1].path);
+		printf(
+		    "v4l2_loop: injecting %ux%u %s frames (%s) into %s, %s\n",
+		    g_w, g_h, g_fourcc == V4L2_PIX_FMT_GREY ? "GREY" : "YUYV",
+		    lf ? "from files" : "generated", out[0].path, out[1].path);
 		/* capture nodes configured and frames waiting: a consumer
 		 * may start now */
 		if (readyfile) {
