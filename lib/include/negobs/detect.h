@@ -319,7 +319,7 @@ typedef struct negobs_detect_result {
     int32_t ground_inliers;        /**< plane-fit inliers               */
     negobs_photo_stats_t stats;    /**< left stats used (or zero)       */
     /** Farthest forward floor distance (mm) up to which the walking
-     *  corridor is vouched free of a minimum drop (5 cm within 1.5 m,
+     *  corridor is vouched clear of a minimum drop (5 cm within 1.5 m,
      *  10 cm beyond) by this frame's measured noise. The vouched stretch
      *  starts at the nearest ground row in view. In HAZARD it is at most
      *  the nearest hazard's range; in NO_INFO it is still reported

@@ -71,7 +71,7 @@ typedef enum negobs_pipeline_stage {
 } negobs_pipeline_stage_t;
 
 /**
- * Caller's clock for per-stage timings: any free-running 32-bit counter
+ * Caller's clock for per-stage timings: any continuously running 32-bit counter
  * (microseconds, nanoseconds, cycles). Differences are taken modulo 2^32,
  * so one stage of one frame must stay below one period (4.29 s for a
  * nanosecond counter). The same clock is handed to the matcher for its
