@@ -9,7 +9,7 @@
 
 #include "negobs/version.h"
 #include "negobs_port/clock.h"
-#include "negobs_port/config.h"
+#include "app_config.h"
 #include "run_app.h"
 
 run_settings_t run_cfg;
@@ -18,104 +18,101 @@ uint64_t run_log_t0_ms;
 
 #define N_KEYS (sizeof config_keys / sizeof config_keys[0])
 
-static const negobs_cfg_key_t config_keys[] = {
-    {"alert", NEGOBS_CFG_STRING, run_cfg.alert, 0, sizeof run_cfg.alert,
+static const app_cfg_key_t config_keys[] = {
+    {"alert", APP_CFG_STRING, run_cfg.alert, 0, sizeof run_cfg.alert,
      "gpio:CHIP:LINE | pwm:CHIP:CHANNEL | console | none"},
-    {"width", NEGOBS_CFG_INT, &run_cfg.width, 16, NEGOBS_RUN_MAX_W,
+    {"width", APP_CFG_INT, &run_cfg.width, 16, NEGOBS_RUN_MAX_W,
      "capture width in pixels (default 640)"},
-    {"height", NEGOBS_CFG_INT, &run_cfg.height, 16, NEGOBS_RUN_MAX_H,
+    {"height", APP_CFG_INT, &run_cfg.height, 16, NEGOBS_RUN_MAX_H,
      "capture height in pixels (default 480)"},
-    {"fps", NEGOBS_CFG_INT, &run_cfg.fps, 0, 240,
+    {"fps", APP_CFG_INT, &run_cfg.fps, 0, 240,
      "frame rate; replay: pacing, 0 = as fast as possible (default 30)"},
-    {"frames", NEGOBS_CFG_INT, &run_cfg.frames, 0, INT32_MAX,
+    {"frames", APP_CFG_INT, &run_cfg.frames, 0, INT32_MAX,
      "stop after this many pairs, 0 = run until stopped (default 0)"},
-    {"record", NEGOBS_CFG_STRING, run_cfg.record, 0, sizeof run_cfg.record,
+    {"record", APP_CFG_STRING, run_cfg.record, 0, sizeof run_cfg.record,
      "record every pair to this folder (default: off)"},
-    {"log_level", NEGOBS_CFG_STRING, run_cfg.log_level, 0,
+    {"log_level", APP_CFG_STRING, run_cfg.log_level, 0,
      sizeof run_cfg.log_level, "error | warn | info | debug (default info)"},
-    {"pair_tolerance_ms", NEGOBS_CFG_INT, &run_cfg.pair_tol_ms, 0, 1000,
+    {"pair_tolerance_ms", APP_CFG_INT, &run_cfg.pair_tol_ms, 0, 1000,
      "max left/right timestamp difference of a pair (default 10)"},
-    {"frozen_frames", NEGOBS_CFG_INT, &run_cfg.frozen_frames, 0, 10000,
+    {"frozen_frames", APP_CFG_INT, &run_cfg.frozen_frames, 0, 10000,
      "identical frames in a row after which a V4L2 camera counts as "
      "frozen -> no-info; 0 = off (default 10)"},
-    {"watchdog_ms", NEGOBS_CFG_INT, &run_cfg.watchdog_ms, 50, 10000,
+    {"watchdog_ms", APP_CFG_INT, &run_cfg.watchdog_ms, 50, 10000,
      "no fresh pair for this long -> no-info pattern (default 300)"},
-    {"exposure", NEGOBS_CFG_INT, &run_cfg.exposure, -1, INT32_MAX,
+    {"exposure", APP_CFG_INT, &run_cfg.exposure, -1, INT32_MAX,
      "manual exposure for both cameras, driver units; -1 auto (default)"},
-    {"gain", NEGOBS_CFG_INT, &run_cfg.gain, -1, INT32_MAX,
+    {"gain", APP_CFG_INT, &run_cfg.gain, -1, INT32_MAX,
      "gain for both cameras, driver units; -1 leave as is (default)"},
-    {"pwm_period_ns", NEGOBS_CFG_INT, &run_cfg.pwm_period_ns, 1000, 1000000000,
+    {"pwm_period_ns", APP_CFG_INT, &run_cfg.pwm_period_ns, 1000, 1000000000,
      "PWM period (default 1000000 = 1 kHz)"},
-    {"pwm_sysfs_root", NEGOBS_CFG_STRING, run_cfg.pwm_sysfs_root, 0,
+    {"pwm_sysfs_root", APP_CFG_STRING, run_cfg.pwm_sysfs_root, 0,
      sizeof run_cfg.pwm_sysfs_root,
      "sysfs PWM class folder (default /sys/class/pwm)"},
-    {"gpio_active_low", NEGOBS_CFG_BOOL, &run_cfg.gpio_active_low, 0, 1,
+    {"gpio_active_low", APP_CFG_BOOL, &run_cfg.gpio_active_low, 0, 1,
      "motor on = line low (default false)"},
-    {"replay_loop", NEGOBS_CFG_BOOL, &run_cfg.replay_loop, 0, 1,
+    {"replay_loop", APP_CFG_BOOL, &run_cfg.replay_loop, 0, 1,
      "start a replay over at its end (default false)"},
-    {"status_interval_ms", NEGOBS_CFG_INT, &run_cfg.status_interval_ms, 100,
+    {"status_interval_ms", APP_CFG_INT, &run_cfg.status_interval_ms, 100,
      600000, "period of the status line (default 1000)"},
-    {"dark_mean_min", NEGOBS_CFG_INT, &run_cfg.app.dark_mean_min, 0, 255,
+    {"dark_mean_min", APP_CFG_INT, &run_cfg.app.dark_mean_min, 0, 255,
      "mean grey below this -> no-info (default 20)"},
-    {"saturation_permille_max", NEGOBS_CFG_INT, &run_cfg.app.sat_permille_max,
-     0, 1000, "share of pixels >= 250 above this -> no-info (default 300)"},
-    {"texture_std_min", NEGOBS_CFG_INT, &run_cfg.app.texture_std_min, 0, 127,
+    {"saturation_permille_max", APP_CFG_INT, &run_cfg.app.sat_permille_max, 0,
+     1000, "share of pixels >= 250 above this -> no-info (default 300)"},
+    {"texture_std_min", APP_CFG_INT, &run_cfg.app.texture_std_min, 0, 127,
      "5x5 std dev that counts as texture (default 4)"},
-    {"texture_permille_min", NEGOBS_CFG_INT, &run_cfg.app.texture_permille_min,
-     0, 1000, "share of textured windows below this -> no-info (default 20)"},
-    {"lr_mean_diff_max", NEGOBS_CFG_INT, &run_cfg.app.lr_mean_diff_max, 0, 255,
+    {"texture_permille_min", APP_CFG_INT, &run_cfg.app.texture_permille_min, 0,
+     1000, "share of textured windows below this -> no-info (default 20)"},
+    {"lr_mean_diff_max", APP_CFG_INT, &run_cfg.app.lr_mean_diff_max, 0, 255,
      "left/right mean grey difference above this -> no-info (default 60)"},
-    {"focal_px", NEGOBS_CFG_INT, &run_cfg.app.focal_px, 50, 4000,
+    {"focal_px", APP_CFG_INT, &run_cfg.app.focal_px, 50, 4000,
      "focal length of the rectified frames, pixels (default 250)"},
-    {"baseline_mm", NEGOBS_CFG_INT, &run_cfg.app.baseline_mm, 10, 1000,
+    {"baseline_mm", APP_CFG_INT, &run_cfg.app.baseline_mm, 10, 1000,
      "stereo baseline, mm (default 120)"},
-    {"cam_height_mm", NEGOBS_CFG_INT, &run_cfg.app.cam_height_mm, 0, 3000,
+    {"cam_height_mm", APP_CFG_INT, &run_cfg.app.cam_height_mm, 0, 3000,
      "camera height hint, mm (default 1200; 0: no hint); the detector "
      "measures the mounting, the hint only verifies the start"},
-    {"cam_pitch_mdeg", NEGOBS_CFG_INT, &run_cfg.app.cam_pitch_mdeg, 0, 60000,
+    {"cam_pitch_mdeg", APP_CFG_INT, &run_cfg.app.cam_pitch_mdeg, 0, 60000,
      "downward pitch hint, 1/1000 degree (default 20000)"},
-    {"max_disp", NEGOBS_CFG_INT, &run_cfg.app.max_disp, 8, 255,
+    {"max_disp", APP_CFG_INT, &run_cfg.app.max_disp, 8, 255,
      "largest disparity searched, pixels (default 63)"},
-    {"vertical_align", NEGOBS_CFG_BOOL, &run_cfg.vertical_align, 0, 1,
+    {"vertical_align", APP_CFG_BOOL, &run_cfg.vertical_align, 0, 1,
      "estimate and remove a sub-pixel, row-varying vertical misalignment "
      "before matching, for rigs without a calibration table (default "
      "false)"},
-    {"row_crop", NEGOBS_CFG_BOOL, &run_cfg.row_crop, 0, 1,
+    {"row_crop", APP_CFG_BOOL, &run_cfg.row_crop, 0, 1,
      "match only the rows from the top of the warning range down, found "
      "from the last frame's ground (about 15-30 % less matching time); "
      "false matches every row (default true)"},
-    {"calib", NEGOBS_CFG_STRING, run_cfg.calib, 0, sizeof run_cfg.calib,
+    {"calib", APP_CFG_STRING, run_cfg.calib, 0, sizeof run_cfg.calib,
      "rectification table from negobs_calib; its f, B, cx, cy replace "
      "focal_px and baseline_mm (default: none, frames are rectified)"},
-    {"alert_intensity_permille", NEGOBS_CFG_INT,
+    {"alert_intensity_permille", APP_CFG_INT,
      &run_cfg.alert_cfg.intensity_permille, 1, 1000,
      "drive level of every pulse (default 1000)"},
-    {"caution_far_mm", NEGOBS_CFG_INT, &run_cfg.alert_cfg.band_far_mm, 0,
-     100000,
+    {"caution_far_mm", APP_CFG_INT, &run_cfg.alert_cfg.band_far_mm, 0, 100000,
      "caution range >= this: slow double pulse every 1.0 s (default 3000)"},
-    {"caution_mid_mm", NEGOBS_CFG_INT, &run_cfg.alert_cfg.band_mid_mm, 0,
-     100000,
+    {"caution_mid_mm", APP_CFG_INT, &run_cfg.alert_cfg.band_mid_mm, 0, 100000,
      "caution range >= this: every 0.6 s, nearer every 0.4 s (default "
      "2200; <= caution_far_mm)"},
-    {"alert_binary", NEGOBS_CFG_BOOL, &run_cfg.alert_binary, 0, 1,
+    {"alert_binary", APP_CFG_BOOL, &run_cfg.alert_binary, 0, 1,
      "one caution pattern (every 0.6 s) whatever the range (default false)"},
-    {"imminent_hold_ms", NEGOBS_CFG_INT, &run_cfg.alert_cfg.imminent_hold_ms,
-     0, 5000,
+    {"imminent_hold_ms", APP_CFG_INT, &run_cfg.alert_cfg.imminent_hold_ms, 0,
+     5000,
      "imminent keeps playing this long after its last verdict "
      "(default 1000)"},
-    {"heartbeat_period_ms", NEGOBS_CFG_INT,
+    {"heartbeat_period_ms", APP_CFG_INT,
      &run_cfg.alert_cfg.heartbeat_period_ms, 0, 60000,
      "while clear, one brief pulse this often so a dead device is noticed; "
      "0 = off, else >= 1000 (default 5000)"},
-    {"heartbeat_pulse_ms", NEGOBS_CFG_INT,
-     &run_cfg.alert_cfg.heartbeat_pulse_ms, 0, 15000,
+    {"heartbeat_pulse_ms", APP_CFG_INT, &run_cfg.alert_cfg.heartbeat_pulse_ms,
+     0, 15000,
      "length of the heartbeat pulse, 80 .. a quarter of the "
      "period (default 80)"},
-    {"max_frame_age_ms", NEGOBS_CFG_INT, &run_cfg.app.max_frame_age_ms, 1,
-     60000,
+    {"max_frame_age_ms", APP_CFG_INT, &run_cfg.app.max_frame_age_ms, 1, 60000,
      "age of a pair when its processing starts above which it is stale -> "
      "no-info (default 150; raise only for slow emulators)"},
-    {"latency_budget_ms", NEGOBS_CFG_INT, &run_cfg.app.latency_budget_ms, 0,
+    {"latency_budget_ms", APP_CFG_INT, &run_cfg.app.latency_budget_ms, 0,
      60000,
      "capture-to-verdict time above which a clear verdict is not trusted "
      "-> no-info; warnings pass (default 250; 0 = off)"},
@@ -291,7 +288,7 @@ int parse_args(int argc, char **argv, run_args_t *a)
         {"motor-off", required_argument, NULL, O_MOTOR_OFF},
         {NULL, 0, NULL, 0},
     };
-    negobs_cfg_error_t err;
+    app_cfg_error_t err;
     int i;
     int c;
 
@@ -304,7 +301,7 @@ int parse_args(int argc, char **argv, run_args_t *a)
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             usage(stdout);
             printf("\nConfig file keys (key = value, '#' comments):\n");
-            negobs_config_print_keys(stdout, config_keys, N_KEYS);
+            app_config_print_keys(stdout, config_keys, N_KEYS);
             return EXIT_OK;
         }
         if (strcmp(argv[i], "--version") == 0) {
@@ -319,9 +316,9 @@ int parse_args(int argc, char **argv, run_args_t *a)
     }
     if (a->config != NULL) {
         memset(&err, 0, sizeof err);
-        if (negobs_config_parse_file_checked(a->config, config_keys, N_KEYS,
-                                             check_config_value, NULL,
-                                             &err) != NEGOBS_OK) {
+        if (app_config_parse_file_checked(a->config, config_keys, N_KEYS,
+                                          check_config_value, NULL,
+                                          &err) != NEGOBS_OK) {
             fprintf(stderr, "negobs_run: %s: %s\n", a->config, err.msg);
             return EXIT_CONFIG;
         }
@@ -355,7 +352,7 @@ int parse_args(int argc, char **argv, run_args_t *a)
         default: return usage_error("unknown option '%s'", argv[optind - 1]);
         }
         memset(&err, 0, sizeof err);
-        if (negobs_config_set(config_keys, N_KEYS, key, optarg, &err) !=
+        if (app_config_set(config_keys, N_KEYS, key, optarg, &err) !=
             NEGOBS_OK) {
             return usage_error("%s", err.msg);
         }

@@ -5,7 +5,6 @@
 #include "negobs_port/camera_v4l2.h"
 #include "negobs_port/camera_replay.h"
 #include "negobs_port/clock.h"
-#include "negobs_port/config.h"
 int main(void)
 {
     return 0;
