@@ -429,3 +429,16 @@ int rectify_pair(const negobs_image_u8_t *l, const negobs_image_u8_t *r,
     }
     return 0;
 }
+
+/* Which table this is, for a recorded session's meta.txt: its CRC-32
+ * (the table's last 4 bytes, docs/CALIBRATION.md) and length. */
+void calib_identity(uint32_t *crc32, size_t *bytes)
+{
+    uint32_t total = calib_bytes >= NEGOBS_RECTIFY_HEADER_BYTES
+                         ? rd_u32le(calib_table + 16)
+                         : 0u;
+    *crc32 = (total >= 4u && (size_t)total <= calib_bytes)
+                 ? rd_u32le(calib_table + total - 4u)
+                 : 0u;
+    *bytes = calib_bytes;
+}

@@ -116,6 +116,25 @@ static const app_cfg_key_t config_keys[] = {
      60000,
      "capture-to-verdict time above which a clear verdict is not trusted "
      "-> no-info; warnings pass (default 250; 0 = off)"},
+    {"camera_left", APP_CFG_STRING, run_cfg.camera_left, 0,
+     sizeof run_cfg.camera_left,
+     "LEFT camera when the command line names none (the service's way)"},
+    {"camera_right", APP_CFG_STRING, run_cfg.camera_right, 0,
+     sizeof run_cfg.camera_right,
+     "RIGHT camera, likewise (empty for replay:DIR)"},
+    {"log_json", APP_CFG_STRING, run_cfg.log_json, 0, sizeof run_cfg.log_json,
+     "one JSON line per judged pair to this file, negobs_png's fields "
+     "(default: off)"},
+    {"button", APP_CFG_STRING, run_cfg.button, 0, sizeof run_cfg.button,
+     "push button input gpio:CHIP:LINE: long press pause/resume, short "
+     "press next sensitivity preset (default: none)"},
+    {"button_active_low", APP_CFG_BOOL, &run_cfg.button_active_low, 0, 1,
+     "pressed = line low, a button to ground with a pull-up (default true)"},
+    {"button_long_ms", APP_CFG_INT, &run_cfg.button_long_ms, 300, 10000,
+     "a press held this long is a long press (default 1000)"},
+    {"sensitivity", APP_CFG_INT, &run_cfg.sensitivity, 0, 2,
+     "preset at start: 0 every warning, 1 caution only nearer than "
+     "caution_mid_mm, 2 imminent only (default 0)"},
 };
 
 void settings_default(void)
@@ -137,6 +156,8 @@ void settings_default(void)
                    "/sys/class/pwm");
     run_cfg.status_interval_ms = 1000;
     run_cfg.row_crop = true;
+    run_cfg.button_active_low = true;
+    run_cfg.button_long_ms = 1000;
     negobs_alert_config_default(&run_cfg.alert_cfg);
     app_pipeline_config_default(&run_cfg.app);
 }
@@ -152,6 +173,9 @@ void logmsg(int level, const char *fmt, ...)
         return;
     }
     t = negobs_clock_now_ms() - run_log_t0_ms;
+    if (run_log_journal) {
+        fprintf(stderr, "<%d>", service_log_priority(level));
+    }
     fprintf(stderr, "[%5lu.%03lu] %s: ", (unsigned long)(t / 1000u),
             (unsigned long)(t % 1000u), tag[level]);
     va_start(ap, fmt);
@@ -183,7 +207,8 @@ static void usage(FILE *out)
         out,
         "Usage: negobs_run [options] LEFT RIGHT\n"
         "       negobs_run [options] replay:DIR\n"
-        "       negobs_run [--config FILE] --motor-off SPEC\n"
+        "       negobs_run --config FILE      (cameras from camera_left/right)\n"
+        "       negobs_run [--config FILE] --motor-off SPEC|config\n"
         "\n"
         "Warns of drop-offs ahead through a vibration motor, from a stereo pair.\n"
         "LEFT/RIGHT: /dev/videoN (V4L2) or replay:DIR (a folder of left_NNNN.pgm /\n"
@@ -212,8 +237,11 @@ static void usage(FILE *out)
         "  --frames N           stop after N pairs (default: run until stopped)\n"
         "  --record DIR         record every pair as a session (see docs/RUNNING.md)\n"
         "  --log-level LEVEL    error | warn | info | debug (default info)\n"
+        "  --log-json FILE      one JSON line per judged pair (negobs_png's fields)\n"
+        "  --set KEY=VALUE      any config key below (after --config; repeatable)\n"
         "  --motor-off SPEC     switch the motor output SPEC off and exit (the\n"
-        "                       service's ExecStopPost; no camera arguments)\n"
+        "                       service's ExecStopPost; no camera arguments);\n"
+        "                       'config': the config's alert\n"
         "  --help               this text, then the config keys\n"
         "  --version            print the version\n"
         "\n"
@@ -238,7 +266,30 @@ int usage_error(const char *fmt, const char *arg)
 static int check_config_value(void *user, const char *key, const char *value,
                               char *why, size_t why_len)
 {
+    char kind[16];
+    char f1[64];
+    char f2[16];
+    uint32_t u;
     (void)user;
+    if (strcmp(key, "focal_px") == 0) {
+        run_cfg.focal_given = true;
+    } else if (strcmp(key, "baseline_mm") == 0) {
+        run_cfg.baseline_given = true;
+    } else if (strcmp(key, "width") == 0 || strcmp(key, "height") == 0) {
+        if (user != NULL) {
+            /* --set, as --width/--height: no longer the replay's size */
+            run_cfg.size_given = true;
+        }
+    }
+    if (strcmp(key, "button") == 0 && value[0] != '\0' &&
+        (split_spec(value, kind, sizeof kind, f1, sizeof f1, f2, sizeof f2) !=
+             2 ||
+         strcmp(kind, "gpio") != 0 || f1[0] == '\0' ||
+         parse_u32(f2, &u) != 0)) {
+        (void)snprintf(why, why_len, "bad button '%s' (want gpio:CHIP:LINE)",
+                       value);
+        return -1;
+    }
     if (strcmp(key, "alert") == 0 && check_alert_spec(value) != 0) {
         (void)snprintf(why, why_len,
                        "bad alert '%s' (want gpio:CHIP:LINE, "
@@ -256,6 +307,32 @@ static int check_config_value(void *user, const char *key, const char *value,
     return 0;
 }
 
+/* --set KEY=VALUE: any key of the table, vetted as in the config file;
+ * -1 to go on, else the exit code (2: a usage error). */
+static int set_option(const char *kv)
+{
+    char key[64];
+    char why[128];
+    const char *eq = strchr(kv, '=');
+    app_cfg_error_t err;
+    size_t n = eq != NULL ? (size_t)(eq - kv) : 0u;
+    if (eq == NULL || n == 0u || n >= sizeof key) {
+        return usage_error("--set wants KEY=VALUE, got '%s'", kv);
+    }
+    memcpy(key, kv, n);
+    key[n] = '\0';
+    memset(&err, 0, sizeof err);
+    if (app_config_set(config_keys, N_KEYS, key, eq + 1, &err) != NEGOBS_OK) {
+        return usage_error("--set: %s", err.msg);
+    }
+    why[0] = '\0';
+    if (check_config_value(&run_cfg, key, eq + 1, why, sizeof why) != 0) {
+        fprintf(stderr, "negobs_run: --set %s: %s\n", key, why);
+        return usage_error("%s", "bad --set value");
+    }
+    return -1;
+}
+
 /* Returns -1 to continue, else an exit code. */
 int parse_args(int argc, char **argv, run_args_t *a)
 {
@@ -271,7 +348,9 @@ int parse_args(int argc, char **argv, run_args_t *a)
         O_HELP,
         O_VERSION,
         O_CALIB,
-        O_MOTOR_OFF
+        O_MOTOR_OFF,
+        O_SET,
+        O_LOG_JSON
     };
     static const struct option opts[] = {
         {"config", required_argument, NULL, O_CONFIG},
@@ -286,6 +365,8 @@ int parse_args(int argc, char **argv, run_args_t *a)
         {"help", no_argument, NULL, O_HELP},
         {"version", no_argument, NULL, O_VERSION},
         {"motor-off", required_argument, NULL, O_MOTOR_OFF},
+        {"set", required_argument, NULL, O_SET},
+        {"log-json", required_argument, NULL, O_LOG_JSON},
         {NULL, 0, NULL, 0},
     };
     app_cfg_error_t err;
@@ -346,6 +427,14 @@ int parse_args(int argc, char **argv, run_args_t *a)
         case O_RECORD: key = "record"; break;
         case O_CALIB: key = "calib"; break;
         case O_LOG: key = "log_level"; break;
+        case O_LOG_JSON: key = "log_json"; break;
+        case O_SET: {
+            int rc = set_option(optarg);
+            if (rc >= 0) {
+                return rc;
+            }
+            continue;
+        }
         case ':':
             return usage_error("option '%s' needs a value", argv[optind - 1]);
         case '?':
@@ -368,8 +457,15 @@ int parse_args(int argc, char **argv, run_args_t *a)
         }
         return -1;
     }
+    if (optind >= argc && run_cfg.camera_left[0] != '\0') {
+        a->left = run_cfg.camera_left;
+        a->right = run_cfg.camera_right[0] != '\0' ? run_cfg.camera_right
+                                                   : NULL;
+        return -1;
+    }
     if (optind >= argc) {
-        return usage_error("%s", "missing camera arguments LEFT RIGHT");
+        return usage_error("%s", "missing camera arguments LEFT RIGHT (or "
+                                 "camera_left/camera_right in the config)");
     }
     a->left = argv[optind++];
     if (optind < argc) {
@@ -453,4 +549,50 @@ int check_alert_spec(const char *spec)
         return 0;
     }
     return -1;
+}
+
+/* Wrong geometry silently mis-ranges every drop-off: say so when the
+ * rig's f or B, or the rectification, are the built-in guesses. The
+ * mounting needs no warning: the detector measures it on the floor. */
+void warn_default_geometry(void)
+{
+    if (calib_loaded()) {
+        return; /* the table's measured f, B, cx, cy are used */
+    }
+    if (!run_cfg.focal_given) {
+        logmsg(LOG_WARN,
+               "geometry: focal_px %ld is the built-in default, not this "
+               "rig's: ranges will be wrong (set focal_px, or --calib)",
+               (long)run_cfg.app.focal_px);
+    }
+    if (!run_cfg.baseline_given) {
+        logmsg(LOG_WARN,
+               "geometry: baseline_mm %ld is the built-in default, not this "
+               "rig's: ranges will be wrong (set baseline_mm, or --calib)",
+               (long)run_cfg.app.baseline_mm);
+    }
+    logmsg(LOG_WARN, "geometry: no calibration table: the frames are taken "
+                     "as rectified (negobs_calib, then calib = TABLE)");
+}
+
+/* Every key as `key = value` (the config file's syntax). */
+void settings_write_prefixed(FILE *out, const char *prefix)
+{
+    size_t i;
+    for (i = 0; i < N_KEYS; i++) {
+        const app_cfg_key_t *k = &config_keys[i];
+        switch (k->type) {
+        case APP_CFG_INT:
+            fprintf(out, "%s%s = %ld\n", prefix, k->key,
+                    (long)*(const int32_t *)k->ptr);
+            break;
+        case APP_CFG_BOOL:
+            fprintf(out, "%s%s = %s\n", prefix, k->key,
+                    *(const bool *)k->ptr ? "true" : "false");
+            break;
+        default:
+            fprintf(out, "%s%s = %s\n", prefix, k->key, (const char *)k->ptr);
+            break;
+        }
+    }
 }
