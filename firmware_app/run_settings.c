@@ -239,6 +239,8 @@ static void usage(FILE *out)
         "  --log-level LEVEL    error | warn | info | debug (default info)\n"
         "  --log-json FILE      one JSON line per judged pair (negobs_png's fields)\n"
         "  --set KEY=VALUE      any config key below (after --config; repeatable)\n"
+        "  --print-config       print the settings in effect (config file syntax)\n"
+        "                       and exit\n"
         "  --motor-off SPEC     switch the motor output SPEC off and exit (the\n"
         "                       service's ExecStopPost; no camera arguments);\n"
         "                       'config': the config's alert\n"
@@ -350,7 +352,8 @@ int parse_args(int argc, char **argv, run_args_t *a)
         O_CALIB,
         O_MOTOR_OFF,
         O_SET,
-        O_LOG_JSON
+        O_LOG_JSON,
+        O_PRINT_CONFIG
     };
     static const struct option opts[] = {
         {"config", required_argument, NULL, O_CONFIG},
@@ -367,9 +370,11 @@ int parse_args(int argc, char **argv, run_args_t *a)
         {"motor-off", required_argument, NULL, O_MOTOR_OFF},
         {"set", required_argument, NULL, O_SET},
         {"log-json", required_argument, NULL, O_LOG_JSON},
+        {"print-config", no_argument, NULL, O_PRINT_CONFIG},
         {NULL, 0, NULL, 0},
     };
     app_cfg_error_t err;
+    bool print_config = false;
     int i;
     int c;
 
@@ -428,6 +433,7 @@ int parse_args(int argc, char **argv, run_args_t *a)
         case O_CALIB: key = "calib"; break;
         case O_LOG: key = "log_level"; break;
         case O_LOG_JSON: key = "log_json"; break;
+        case O_PRINT_CONFIG: print_config = true; continue;
         case O_SET: {
             int rc = set_option(optarg);
             if (rc >= 0) {
@@ -448,6 +454,11 @@ int parse_args(int argc, char **argv, run_args_t *a)
     }
     if (parse_log_level(run_cfg.log_level) < 0) {
         return usage_error("bad log level '%s'", run_cfg.log_level);
+    }
+    if (print_config) {
+        /* what the service would run with, as a config file */
+        settings_write_prefixed(stdout, "");
+        return EXIT_OK;
     }
     run_log_level = parse_log_level(run_cfg.log_level);
     if (a->motor_off != NULL) {
@@ -591,7 +602,9 @@ void settings_write_prefixed(FILE *out, const char *prefix)
                     *(const bool *)k->ptr ? "true" : "false");
             break;
         default:
-            fprintf(out, "%s%s = %s\n", prefix, k->key, (const char *)k->ptr);
+            fprintf(out, "%s%s =%s%s\n", prefix, k->key,
+                    ((const char *)k->ptr)[0] != '\0' ? " " : "",
+                    (const char *)k->ptr);
             break;
         }
     }
