@@ -12,6 +12,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -20,6 +22,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "detect_common.hpp"
+#include "rect_table.hpp"
 
 namespace fs = std::filesystem;
 using namespace negobs_detect_tools;
@@ -31,12 +34,18 @@ void usage(FILE *f)
     std::fprintf(
         f, "usage: negobs_png LEFT RIGHT --out DIR [options]\n"
            "       negobs_png --seq DIR --out OUTDIR [options]\n"
+           "DIR: negobs_synth output, a folder of left_NNNN.png/right_NNNN.png, or a\n"
+           "session recorded by negobs_run --record (session.txt, left.y, right.y;\n"
+           "its meta.txt gives the rig geometry and names its calibration table).\n"
            "Runs the whole negobs pipeline and writes OUTDIR/overlay_NNNN.png and\n"
            "one JSON line per frame (stdout, or --json FILE).\n"
            "Camera: read from DIR/gt.json when present (negobs_synth), else:\n"
            "  --f PX            focal length (250 at 320 px width, scaled)\n"
            "  --baseline-mm B   baseline (120)\n"
            "  --cx PX --cy PX   principal point (image centre)\n"
+           "  --calib TABLE     rectify every pair with a negobs_calib table (the\n"
+           "                    library's remap, as negobs_run --calib); its f, B,\n"
+           "                    cx, cy replace the camera values\n"
            "  --height-mm H     camera height hint (1200; 0: no hint). The detector\n"
            "                    measures the mounting on the floor; the hint only\n"
            "                    verifies the start (docs/DETECTION.md)\n"
@@ -137,13 +146,110 @@ std::string check_gt_camera(const GtSeq &gt, bool f_set, bool b_set, bool cx_set
 struct Item {
     std::string left, right, name;
     const GtFrame *gt = nullptr;
+    long raw = -1;    // recorded session: frame index in left.y/right.y
+    double t_ms = -1; // recorded session: capture time from frames.txt
 };
+
+// A session recorded by negobs_run --record (docs/RUNNING.md, "Replay
+// folders and the recorded-session format"), and its meta.txt.
+struct Session {
+    int w = 0, h = 0;
+    long frames = 0;
+    std::map<std::string, std::string> meta;
+};
+
+std::string read_session(const fs::path &dir, Session &s, std::vector<Item> &items)
+{
+    std::ifstream st(dir / "session.txt");
+    std::string word;
+    int version = 0;
+    if (!(st >> word >> version) || word != "negobs-session" || version != 1) {
+        return (dir / "session.txt").string() + ": not a negobs-session 1 header";
+    }
+    std::string line;
+    while (std::getline(st, line)) {
+        std::istringstream ls(line);
+        std::string k;
+        long v = 0;
+        if (!(ls >> k) || k[0] == '#') {
+            continue;
+        }
+        if ((k == "width" || k == "height") && (ls >> v) && v >= 16 && v <= 4096) {
+            (k == "width" ? s.w : s.h) = static_cast<int>(v);
+        }
+    }
+    if (s.w == 0 || s.h == 0) {
+        return (dir / "session.txt").string() + ": no valid width/height";
+    }
+    std::error_code ec;
+    const auto lb = fs::file_size(dir / "left.y", ec);
+    const auto rb = ec ? 0 : fs::file_size(dir / "right.y", ec);
+    if (ec) {
+        return (dir / "left.y").string() + " or right.y: " + ec.message();
+    }
+    const uintmax_t fb = static_cast<uintmax_t>(s.w) * static_cast<uintmax_t>(s.h);
+    s.frames = static_cast<long>(std::min(lb, rb) / fb); // complete pairs only
+    std::ifstream ft(dir / "frames.txt");
+    std::map<long, double> ts;
+    double t0 = -1;
+    while (std::getline(ft, line)) {
+        std::istringstream ls(line);
+        long idx = 0;
+        unsigned long long tl = 0;
+        if (line.empty() || line[0] == '#' || !(ls >> idx >> tl)) {
+            continue;
+        }
+        if (t0 < 0) {
+            t0 = static_cast<double>(tl);
+        }
+        ts[idx] = (static_cast<double>(tl) - t0) / 1e6;
+    }
+    for (long k = 0; k < s.frames; ++k) {
+        Item it;
+        it.left = (dir / "left.y").string();
+        it.right = (dir / "right.y").string();
+        char name[32];
+        std::snprintf(name, sizeof name, "pair_%06ld", k);
+        it.name = name;
+        it.raw = k;
+        const auto f = ts.find(k);
+        it.t_ms = f != ts.end() ? f->second : -1;
+        items.push_back(it);
+    }
+    std::ifstream mt(dir / "meta.txt");
+    while (std::getline(mt, line)) {
+        const auto eq = line.find('=');
+        if (line.empty() || line[0] == '#' || eq == std::string::npos) {
+            continue;
+        }
+        auto trim = [](std::string x) {
+            const auto a = x.find_first_not_of(" \t");
+            const auto b = x.find_last_not_of(" \t\r");
+            return a == std::string::npos ? std::string() : x.substr(a, b - a + 1);
+        };
+        s.meta[trim(line.substr(0, eq))] = trim(line.substr(eq + 1));
+    }
+    return s.frames > 0 ? std::string() : "no complete pair in " + dir.string();
+}
+
+bool read_raw(const std::string &path, long index, int w, int h, cv::Mat &m,
+              std::string &err)
+{
+    std::ifstream f(path, std::ios::binary);
+    m.create(h, w, CV_8UC1);
+    f.seekg(static_cast<std::streamoff>(index) * w * h);
+    if (!f.read(reinterpret_cast<char *>(m.data), static_cast<std::streamsize>(w) * h)) {
+        err = path + ": cannot read frame " + std::to_string(index);
+        return false;
+    }
+    return true;
+}
 
 } // namespace
 
 int main(int argc, char **argv)
 {
-    std::string seq, out, json_path;
+    std::string seq, out, json_path, calib_path;
     std::vector<std::string> pos;
     double overlay_scale = 1.0;
     double f = -1, B = -1, cx = -1, cy = -1, H = -1, pitch = -1e9, fps = -1;
@@ -166,7 +272,7 @@ int main(int argc, char **argv)
                                  a == "--pitch-deg" || a == "--max-disp" ||
                                  a == "--vshift" || a == "--fps" || a == "--repeat" ||
                                  a == "--first" || a == "--count" ||
-                                 a == "--overlay-scale";
+                                 a == "--overlay-scale" || a == "--calib";
         if (a == "--help" || a == "-h") {
             usage(stdout);
             return 0;
@@ -183,6 +289,8 @@ int main(int argc, char **argv)
                 out = v;
             } else if (a == "--json") {
                 json_path = v;
+            } else if (a == "--calib") {
+                calib_path = v;
             } else if (a == "--f") {
                 ok = parse_double(v, f) && f >= 1 && f <= 8192;
             } else if (a == "--baseline-mm") {
@@ -244,13 +352,58 @@ int main(int argc, char **argv)
     GtSeq gt;
     bool have_gt = false;
     std::vector<Item> items;
+    Session session;
+    negobs_rect_tools::RectTable rect;
+    if (!calib_path.empty()) {
+        const std::string err = rect.load(calib_path);
+        if (!err.empty()) {
+            return fail(err);
+        }
+    }
     if (!seq.empty()) {
         if (!fs::is_directory(seq)) {
             return fail("sequence folder " + seq + " does not exist");
         }
         const std::string gp = (fs::path(seq) / "gt.json").string();
         std::string err;
-        if (fs::exists(gp)) {
+        if (fs::exists(fs::path(seq) / "session.txt")) {
+            err = read_session(seq, session, items);
+            if (!err.empty()) {
+                return fail(err);
+            }
+            // the rig geometry the device used, unless given here
+            auto num = [&](const char *k, double div, double &dst) {
+                const auto m = session.meta.find(k);
+                if (dst < 0 && m != session.meta.end()) {
+                    const double v = std::strtod(m->second.c_str(), nullptr) / div;
+                    if (std::isfinite(v) && v > 0) {
+                        dst = v;
+                    }
+                }
+            };
+            if (calib_path.empty()) {
+                num("focal_q4", 16.0, f);
+                num("baseline_um", 1000.0, B);
+                num("cx_q4", 16.0, cx);
+                num("cy_q4", 16.0, cy);
+            }
+            const auto cf = session.meta.find("calib_file");
+            if (cf != session.meta.end() && !cf->second.empty()) {
+                const auto cc = session.meta.find("calib_crc32");
+                const std::string crc = cc != session.meta.end() ? cc->second : "?";
+                if (calib_path.empty()) {
+                    std::fprintf(stderr,
+                                 "negobs_png: warning: %s was recorded raw with the "
+                                 "calibration table %s (CRC %s): give it with --calib\n",
+                                 seq.c_str(), cf->second.c_str(), crc.c_str());
+                } else if (std::strtoul(crc.c_str(), nullptr, 16) != rect.crc32()) {
+                    std::fprintf(stderr,
+                                 "negobs_png: warning: --calib %s is not the table the "
+                                 "session was recorded with (%s, CRC %s)\n",
+                                 calib_path.c_str(), cf->second.c_str(), crc.c_str());
+                }
+            }
+        } else if (fs::exists(gp)) {
             if (!read_gt(gp, gt, err)) {
                 return fail(err);
             }
@@ -286,7 +439,7 @@ int main(int argc, char **argv)
             }
         }
         if (items.empty()) {
-            return fail("no frames (left_NNNN.png or gt.json) in " + seq);
+            return fail("no frames (left_NNNN.png, gt.json or session.txt) in " + seq);
         }
         if (first >= static_cast<int>(items.size())) {
             return bad("--first beyond the last frame");
@@ -314,6 +467,22 @@ int main(int argc, char **argv)
         cam.cx = cx;
     if (cy >= 0)
         cam.cy = cy;
+    if (!calib_path.empty()) {
+        // the table's measured geometry, unless given on the command line
+        const bool f_cli = f > 0, b_cli = B > 0;
+        if (!f_cli) {
+            cam.f = f = rect.f_px();
+        }
+        if (!b_cli) {
+            cam.baseline_mm = B = rect.baseline_mm();
+        }
+        if (cx < 0 && rect.info().cx_q16 >= 0) {
+            cam.cx = rect.cx();
+        }
+        if (cy < 0 && rect.info().cy_q16 >= 0) {
+            cam.cy = rect.cy();
+        }
+    }
     if (H >= 0)
         cam.height_mm = H;
     if (pitch > -1e8)
@@ -354,8 +523,19 @@ int main(int argc, char **argv)
         const Item &it = items[k];
         cv::Mat L, R;
         std::string err;
-        if (!load_grey(it.left, L, err) || !load_grey(it.right, R, err)) {
+        if (it.raw >= 0) {
+            if (!read_raw(it.left, it.raw, session.w, session.h, L, err) ||
+                !read_raw(it.right, it.raw, session.w, session.h, R, err)) {
+                return fail(err);
+            }
+        } else if (!load_grey(it.left, L, err) || !load_grey(it.right, R, err)) {
             return fail(err);
+        }
+        if (!calib_path.empty()) {
+            err = rect.apply(L, R);
+            if (!err.empty()) {
+                return fail(err);
+            }
         }
         if (L.size() != R.size()) {
             return fail("size mismatch: " + it.left + " is " + std::to_string(L.cols) +
@@ -380,8 +560,8 @@ int main(int argc, char **argv)
         } else if (L.cols != w || L.rows != h) {
             return fail("size mismatch: " + it.left + " differs from frame 0");
         }
-        const uint32_t t_ms = 1000u +
-                              static_cast<uint32_t>(std::lround(1000.0 * k / fps));
+        const uint32_t t_ms = 1000u + static_cast<uint32_t>(std::lround(
+                                          it.t_ms >= 0 ? it.t_ms : 1000.0 * k / fps));
         FrameOut o;
         if (!runner.process(L, R, t_ms, o, err)) {
             return fail(err);

@@ -20,6 +20,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "rect_table.hpp"
 #include "stereo_common.hpp"
 
 extern "C" {
@@ -74,6 +75,10 @@ const char *const kHelp =
     "                 row and column slopes; negobs/valign.h) and resample\n"
     "                 RIGHT to LEFT's rows before matching: for pairs that\n"
     "                 are not rectified (e.g. the SurDis wearable)\n"
+    "  --calib TABLE  rectify LEFT/RIGHT first with a negobs_calib table (the\n"
+    "                 library's remap, as negobs_run --calib); the images must\n"
+    "                 have the table's size (exit 3 otherwise, 2 for an\n"
+    "                 unreadable or corrupt table)\n"
     "  --dense        keep the values whose match falls left of the right\n"
     "                 image (the library's default); without it they get\n"
     "                 no value: the right camera never saw those points\n"
@@ -267,6 +272,7 @@ int run(int argc, char **argv)
     std::string colour_path;
     std::string conf_path;
     std::string stages_path;
+    std::string calib_path;
     bool stats = false;
     bool align = false;
     bool dense = false;
@@ -306,6 +312,13 @@ int run(int argc, char **argv)
                 return EXIT_USAGE;
             }
             conf_path = argv[++i];
+        } else if (a == "--calib") {
+            if (i + 1 >= argc) {
+                std::fprintf(stderr, "negobs_stereo: %s needs a file name\n",
+                             a.c_str());
+                return EXIT_USAGE;
+            }
+            calib_path = argv[++i];
         } else if (a == "--stats") {
             stats = true;
         } else if (a == "--align") {
@@ -373,6 +386,19 @@ int run(int argc, char **argv)
                      "negobs_stereo: size mismatch: left %dx%d, right %dx%d\n",
                      left.cols, left.rows, right.cols, right.rows);
         return EXIT_SIZE;
+    }
+    if (!calib_path.empty()) {
+        negobs_rect_tools::RectTable rect;
+        err = rect.load(calib_path);
+        if (!err.empty()) {
+            std::fprintf(stderr, "negobs_stereo: %s\n", err.c_str());
+            return EXIT_INPUT;
+        }
+        err = rect.apply(left, right);
+        if (!err.empty()) {
+            std::fprintf(stderr, "negobs_stereo: %s\n", err.c_str());
+            return EXIT_SIZE;
+        }
     }
     // Size first (with a trivial range), then the range against the size.
     err = negobs_tools::check_engine_limits(negobs_tools::Range{0, 1},
