@@ -6,7 +6,7 @@
  *   long press   pause / resume. Paused, pairs are still taken from the
  *                cameras (so the watchdogs stay fed and a lost camera is
  *                still noticed) but not judged; the motor plays one short
- *                reminder pulse every APP_PAUSED_REMINDER_MS, so a paused
+ *                reminder pulse every APP_PAUSED_PERIOD_MS, so a paused
  *                device never feels like a dead one or a clear path.
  *   short press  next sensitivity preset:
  *                  0 "all"       every warning (the default);
@@ -33,9 +33,6 @@
 #include "negobs_port/clock.h"
 #include "negobs_port/input.h"
 #include "run_app.h"
-
-#define APP_PAUSED_REMINDER_MS 10000u
-#define APP_BUTTON_PRESETS 3
 
 static negobs_input_gpio_t button_in;
 static app_button_t button_sm;
@@ -134,60 +131,36 @@ void button_stop(void)
     negobs_input_gpio_close(&button_in);
 }
 
-/* Pulses (on_ms, off_ms) * n, then the no-information loop. */
-static void confirm(uint32_t n, uint16_t on_ms, uint16_t off_ms)
+/* Play a confirmation; verdicts (or the paused pattern) take over 50 ms
+ * into its closing gap, before the no-information tail could start. */
+static void confirm(app_button_confirm_t kind)
 {
     negobs_motor_schedule_t s;
-    uint32_t i;
-    uint32_t total = 0;
-    uint16_t level = (uint16_t)run_cfg.alert_cfg.intensity_permille;
-    memset(&s, 0, sizeof s);
-    for (i = 0; i < n; i++) {
-        s.seg[s.count].duty_permille = level;
-        s.seg[s.count++].duration_ms = on_ms;
-        s.seg[s.count].duty_permille = 0;
-        s.seg[s.count++].duration_ms = off_ms;
-        total += (uint32_t)on_ms + off_ms;
-    }
-    /* a pause after the pattern so it stands apart from what follows */
-    s.seg[s.count - 1u].duration_ms = 400u;
-    total += 400u - off_ms;
-    s.loop_start = s.count;
-    for (i = 0;
-         i < noinfo_tail.count && s.count < (uint8_t)NEGOBS_MOTOR_MAX_SEGMENTS;
-         i++) {
-        s.seg[s.count++] = noinfo_tail.seg[i];
-    }
-    if (noinfo_tail.loop_start != NEGOBS_MOTOR_NO_LOOP) {
-        s.loop_start = (uint8_t)(s.loop_start + noinfo_tail.loop_start);
+    uint32_t ms = 0;
+    if (app_button_confirm_schedule(
+            kind, preset, (uint16_t)run_cfg.alert_cfg.intensity_permille,
+            &noinfo_tail, &s, &ms) != NEGOBS_OK) {
+        return; /* cannot happen: the tail is the checked no-info schedule */
     }
     negobs_motor_thread_post_restart(&run_motor, &s);
-    /* verdicts (or the paused pattern) take over 50 ms into the closing
-     * 400 ms gap: before the no-information tail could start */
-    confirm_until_ms = negobs_clock_now_ms() + total - 350u;
+    confirm_until_ms = negobs_clock_now_ms() + ms - (APP_CONFIRM_GAP_MS - 50u);
 }
 
 /* Silence with a reminder pulse, looped: what a paused device plays. */
 static void post_paused(void)
 {
     negobs_motor_schedule_t s;
-    memset(&s, 0, sizeof s);
-    s.seg[0].duty_permille = 0;
-    s.seg[0].duration_ms = APP_PAUSED_REMINDER_MS;
-    s.seg[1].duty_permille = (uint16_t)run_cfg.alert_cfg.intensity_permille;
-    s.seg[1].duration_ms = 120u;
-    s.count = 2;
-    s.loop_start = 0;
+    app_button_paused_schedule((uint16_t)run_cfg.alert_cfg.intensity_permille,
+                               &s);
     negobs_motor_thread_post(&run_motor, &s);
 }
 
-static const char *const preset_names[APP_BUTTON_PRESETS] = {"all", "near",
-                                                             "imminent"};
+static const char *const preset_names[APP_PRESET_COUNT] = {"all", "near",
+                                                           "imminent"};
 
 const char *button_preset_name(void)
 {
-    return preset_names[preset >= 0 && preset < APP_BUTTON_PRESETS ? preset
-                                                                   : 0];
+    return preset_names[preset >= 0 && preset < APP_PRESET_COUNT ? preset : 0];
 }
 
 bool button_poll(void)
@@ -213,17 +186,17 @@ bool button_poll(void)
                paused ? "paused" : "resumed");
         service_status(paused ? "paused by the wearer" : "judging pairs");
         if (paused) {
-            confirm(1u, 700u, 300u);
+            confirm(APP_CONFIRM_PAUSE);
         } else {
             alert_restart();
-            confirm(2u, 300u, 200u);
+            confirm(APP_CONFIRM_RESUME);
         }
     }
     for (; shorts > 0u; shorts--) {
-        preset = (preset + 1) % APP_BUTTON_PRESETS;
+        preset = (preset + 1) % APP_PRESET_COUNT;
         logmsg(LOG_INFO, "button: short press: sensitivity preset %ld (%s)",
                (long)preset, button_preset_name());
-        confirm((uint32_t)preset + 1u, 120u, 180u);
+        confirm(APP_CONFIRM_PRESET);
     }
     if (paused && !button_confirming()) {
         post_paused();
@@ -238,13 +211,6 @@ bool button_confirming(void)
 
 app_verdict_t button_filter(app_verdict_t v, const app_frame_stats_t *st)
 {
-    if (v != APP_VERDICT_CAUTION) {
-        return v; /* imminent and no-information always pass */
-    }
-    if (preset == 2 ||
-        (preset == 1 && st->nearest_range_mm >= 0 &&
-         st->nearest_range_mm >= run_cfg.alert_cfg.band_mid_mm)) {
-        return APP_VERDICT_CLEAR;
-    }
-    return v;
+    return app_button_filter(preset, v, st->nearest_range_mm,
+                             run_cfg.alert_cfg.band_mid_mm);
 }

@@ -224,6 +224,126 @@ static void test_button_clock_wrap(void **state)
     assert_int_equal(s, 0);
 }
 
+/* ---- what a press does ------------------------------------------------- */
+
+static void test_preset_filter_never_hides_imminent_or_noinfo(void **state)
+{
+    int32_t p;
+    (void)state;
+    for (p = 0; p < APP_PRESET_COUNT; p++) {
+        assert_int_equal(app_button_filter(p, APP_VERDICT_IMMINENT, 500, 2200),
+                         APP_VERDICT_IMMINENT);
+        assert_int_equal(app_button_filter(p, APP_VERDICT_NO_INFO, -1, 2200),
+                         APP_VERDICT_NO_INFO);
+        assert_int_equal(app_button_filter(p, APP_VERDICT_CLEAR, -1, 2200),
+                         APP_VERDICT_CLEAR);
+    }
+    /* all: every caution */
+    assert_int_equal(
+        app_button_filter(APP_PRESET_ALL, APP_VERDICT_CAUTION, 4000, 2200),
+        APP_VERDICT_CAUTION);
+    /* near: only those nearer than caution_mid_mm */
+    assert_int_equal(
+        app_button_filter(APP_PRESET_NEAR, APP_VERDICT_CAUTION, 2199, 2200),
+        APP_VERDICT_CAUTION);
+    assert_int_equal(
+        app_button_filter(APP_PRESET_NEAR, APP_VERDICT_CAUTION, 2200, 2200),
+        APP_VERDICT_CLEAR);
+    /* an unknown range is never quieted */
+    assert_int_equal(
+        app_button_filter(APP_PRESET_NEAR, APP_VERDICT_CAUTION, -1, 2200),
+        APP_VERDICT_CAUTION);
+    /* imminent only */
+    assert_int_equal(
+        app_button_filter(APP_PRESET_IMMINENT, APP_VERDICT_CAUTION, 800, 2200),
+        APP_VERDICT_CLEAR);
+}
+
+/* Pulses of a schedule before its tail: count and on-lengths. */
+static uint32_t pulses(const negobs_motor_schedule_t *s, uint32_t upto,
+                       uint16_t *on_ms)
+{
+    uint32_t i;
+    uint32_t n = 0;
+    for (i = 0; i < upto; i++) {
+        if (s->seg[i].duty_permille > 0u) {
+            on_ms[n++] = s->seg[i].duration_ms;
+        }
+    }
+    return n;
+}
+
+static void test_confirmations_are_distinct_and_end_in_noinfo(void **state)
+{
+    negobs_motor_schedule_t tail;
+    negobs_motor_schedule_t s;
+    uint32_t ms = 0;
+    uint16_t on[8];
+    int32_t p;
+    (void)state;
+    /* a stand-in no-information loop: 600 on / 2400 off */
+    memset(&tail, 0, sizeof tail);
+    tail.seg[0].duty_permille = 1000;
+    tail.seg[0].duration_ms = 600;
+    tail.seg[1].duration_ms = 2400;
+    tail.count = 2;
+    tail.loop_start = 0;
+
+    assert_int_equal(
+        app_button_confirm_schedule(APP_CONFIRM_PAUSE, 0, 800, &tail, &s, &ms),
+        NEGOBS_OK);
+    assert_int_equal(pulses(&s, 2, on), 1);
+    assert_int_equal(on[0], 700);
+    assert_int_equal(s.seg[0].duty_permille, 800);
+    assert_int_equal(s.seg[1].duration_ms, APP_CONFIRM_GAP_MS);
+    assert_int_equal(ms, 700 + APP_CONFIRM_GAP_MS);
+    /* the tail follows and loops: no silence after a dead main loop */
+    assert_int_equal(s.count, 4);
+    assert_int_equal(s.loop_start, 2);
+    assert_int_equal(s.seg[2].duration_ms, 600);
+
+    assert_int_equal(app_button_confirm_schedule(APP_CONFIRM_RESUME, 0, 1000,
+                                                 &tail, &s, &ms),
+                     NEGOBS_OK);
+    assert_int_equal(pulses(&s, 4, on), 2);
+    assert_int_equal(on[0], 300);
+    assert_int_equal(ms, 300 + 200 + 300 + APP_CONFIRM_GAP_MS);
+
+    for (p = 0; p < APP_PRESET_COUNT; p++) {
+        assert_int_equal(app_button_confirm_schedule(APP_CONFIRM_PRESET, p,
+                                                     1000, &tail, &s, &ms),
+                         NEGOBS_OK);
+        assert_int_equal(pulses(&s, (uint32_t)s.loop_start, on),
+                         (uint32_t)p + 1u);
+        assert_int_equal(on[0], 120);
+        assert_int_equal(s.seg[s.loop_start - 1].duration_ms,
+                         APP_CONFIRM_GAP_MS);
+    }
+    assert_int_equal(app_button_confirm_schedule(APP_CONFIRM_PRESET, 3, 1000,
+                                                 &tail, &s, &ms),
+                     NEGOBS_ERR_INVAL);
+    assert_int_equal(
+        app_button_confirm_schedule(APP_CONFIRM_PAUSE, 0, 0, &tail, &s, &ms),
+        NEGOBS_ERR_INVAL);
+    tail.count = NEGOBS_MOTOR_MAX_SEGMENTS;
+    assert_int_equal(app_button_confirm_schedule(APP_CONFIRM_PAUSE, 0, 1000,
+                                                 &tail, &s, &ms),
+                     NEGOBS_ERR_INVAL);
+}
+
+static void test_paused_schedule_reminds(void **state)
+{
+    negobs_motor_schedule_t s;
+    (void)state;
+    app_button_paused_schedule(1000, &s);
+    assert_int_equal(negobs_motor_schedule_check(&s), NEGOBS_OK);
+    assert_int_equal(s.loop_start, 0); /* for ever */
+    assert_int_equal(s.seg[0].duty_permille, 0);
+    assert_int_equal(s.seg[0].duration_ms, APP_PAUSED_PERIOD_MS);
+    assert_int_equal(s.seg[1].duty_permille, 1000);
+    assert_int_equal(s.seg[1].duration_ms, APP_PAUSED_PULSE_MS);
+}
+
 /* ---- the GPIO input --------------------------------------------------- */
 
 static void test_input_request_and_samples(void **state)
@@ -313,6 +433,9 @@ int main(void)
         cmocka_unit_test(test_button_bounce_is_ignored),
         cmocka_unit_test(test_button_held_at_start_needs_a_release),
         cmocka_unit_test(test_button_clock_wrap),
+        cmocka_unit_test(test_preset_filter_never_hides_imminent_or_noinfo),
+        cmocka_unit_test(test_confirmations_are_distinct_and_end_in_noinfo),
+        cmocka_unit_test(test_paused_schedule_reminds),
         cmocka_unit_test_setup(test_input_request_and_samples, reset),
         cmocka_unit_test_setup(test_input_active_high_pulls_down, reset),
         cmocka_unit_test_setup(test_input_without_bias_support, reset),
