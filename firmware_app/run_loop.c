@@ -308,13 +308,14 @@ static int judge_pair(negobs_frame_pair_t *pair, uint64_t now, uint32_t done,
             &pipeline, v, (int32_t)((age_ms > 600000u) ? 600000u : age_ms));
     }
     v = button_filter(v, &pipeline.last);
-    json_log_pair(done, pair->left.ts_ns, pair->right.ts_ns, img_l->width,
-                  img_l->height, v, &pipeline, alert_pattern_now(),
-                  button_preset_name());
     app_alert_input(v, &pipeline.last, 0u, &in);
     if (!button_confirming()) {
         alert_post(&in);
     }
+    /* after the post: the pattern this verdict set */
+    json_log_pair(done, pair->left.ts_ns, pair->right.ts_ns, img_l->width,
+                  img_l->height, v, &pipeline, alert_pattern_now(),
+                  button_preset_name());
     logmsg(LOG_DEBUG, "pair %lu verdict %s first_row %ld", (unsigned long)done,
            app_verdict_name(v), (long)pipeline.last.first_row);
     if (run_log_level >= LOG_DEBUG && pipeline.last.stereo_us > 0u) {
