@@ -136,6 +136,53 @@ PY
     if [ "$(grep -c '^WATCHDOG=1' "$T/notify.log")" -ge 10 ]; then ok "sd_notify: WATCHDOG=1 while pairs are judged"; else bad "sd_notify: WATCHDOG=1 while pairs are judged"; fi
     has "sd_notify: STOPPING=1 at the end" "^STOPPING=1"
     if [ "$(sed -n 1p "$T/notify.log" | cut -c1-7)" = READY=1 ]; then ok "sd_notify: nothing before READY"; else bad "sd_notify: nothing before READY"; fi
+
+    # A camera that stops delivering while the loop lives on: a recorded
+    # session with a 2.9 s hole in its timestamps, replayed at its pace,
+    # gives the main loop camera timeouts (as a stalled driver does) between
+    # 4 pairs 33 ms apart and 8 pairs 100 ms apart. No keep-alive may come
+    # in the hole (systemd restarts the service), and they come back with
+    # the pairs.
+    mkdir "$T/stall"
+    printf 'negobs-session 1\nwidth 64\nheight 48\n' >"$T/stall/session.txt"
+    : >"$T/stall/right.y"
+    : >"$T/stall/left.y"
+    { echo "# index left_ns right_ns sequence"; k=0; while [ $k -lt 12 ]; do
+          if [ $k -lt 4 ]; then ts=$((k * 33000000)); else ts=$((3000000000 + (k - 4) * 100000000)); fi
+          echo "$k $ts $ts $k"; k=$((k + 1)); done; } >"$T/stall/frames.txt"
+    for k in 0 1 2 3 0 1 2 3 0 1 2 3; do
+        tail -c 3072 "$T/rp/right_000$k.pgm" >>"$T/stall/right.y"
+        tail -c 3072 "$T/rp/left_000$k.pgm" >>"$T/stall/left.y"
+    done
+    python3 - "$T/notify2.sock" "$T/notify2.log" <<'PY' &
+import socket, sys, time
+s = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
+s.bind(sys.argv[1])
+s.settimeout(30)
+t0 = time.monotonic()
+with open(sys.argv[2], "w") as f:
+    while True:
+        try:
+            m = s.recv(4096).decode()
+        except OSError:
+            break
+        f.write("%d %s\n" % ((time.monotonic() - t0) * 1000, m.replace("\n", " ")))
+        f.flush()
+PY
+    LISTENER=$!
+    n=0
+    while [ ! -S "$T/notify2.sock" ] && [ $n -lt 50 ]; do sleep 0.1; n=$((n + 1)); done
+    printf 'fps = 30\nalert = none\nwatchdog_ms = 300\n' >"$T/stall.conf"
+    NOTIFY_SOCKET="$T/notify2.sock" WATCHDOG_USEC=200000 "$RUN" --config "$T/stall.conf" replay:"$T/stall" >/dev/null 2>"$T/err"
+    sleep 0.3
+    kill "$LISTENER" 2>/dev/null
+    LISTENER=
+    cat "$T/notify2.log" >>"$T/err"
+    # the longest gap between keep-alives, and keep-alives after it
+    gap=$(awk '$2 == "WATCHDOG=1" { if (last != "" && $1 - last > g) { g = $1 - last; after = 0 } else if (last != "") after++; last = $1 } END { printf "%d %d", g, after }' "$T/notify2.log")
+    echo "     | longest keep-alive gap, keep-alives after it: $gap" >>"$T/err"
+    if [ "${gap% *}" -ge 2000 ]; then ok "sd_notify: no WATCHDOG=1 while the camera stalls"; else bad "sd_notify: no WATCHDOG=1 while the camera stalls"; fi
+    if [ "${gap#* }" -ge 3 ]; then ok "sd_notify: WATCHDOG=1 again once pairs come back"; else bad "sd_notify: WATCHDOG=1 again once pairs come back"; fi
 else
     echo "skip - sd_notify (built without libsystemd)"
 fi
