@@ -335,6 +335,45 @@ static int set_option(const char *kv)
     return -1;
 }
 
+/* Pass 1 of the command line: --help/--version win; the config file is
+ * read first so that options override it whatever their order. -1 to go
+ * on, else the exit code. */
+static int read_config_first(int argc, char **argv, run_args_t *a)
+{
+    app_cfg_error_t err;
+    int i;
+    for (i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--") == 0) {
+            break;
+        }
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            usage(stdout);
+            printf("\nConfig file keys (key = value, '#' comments):\n");
+            app_config_print_keys(stdout, config_keys, N_KEYS);
+            return EXIT_OK;
+        }
+        if (strcmp(argv[i], "--version") == 0) {
+            printf("negobs_run %s\n", NEGOBS_VERSION_STRING);
+            return EXIT_OK;
+        }
+        if (strcmp(argv[i], "--config") == 0 && i + 1 < argc) {
+            a->config = argv[i + 1];
+        } else if (strncmp(argv[i], "--config=", 9) == 0) {
+            a->config = argv[i] + 9;
+        }
+    }
+    if (a->config != NULL) {
+        memset(&err, 0, sizeof err);
+        if (app_config_parse_file_checked(a->config, config_keys, N_KEYS,
+                                          check_config_value, NULL,
+                                          &err) != NEGOBS_OK) {
+            fprintf(stderr, "negobs_run: %s: %s\n", a->config, err.msg);
+            return EXIT_CONFIG;
+        }
+    }
+    return -1;
+}
+
 /* Returns -1 to continue, else an exit code. */
 int parse_args(int argc, char **argv, run_args_t *a)
 {
@@ -375,39 +414,12 @@ int parse_args(int argc, char **argv, run_args_t *a)
     };
     app_cfg_error_t err;
     bool print_config = false;
-    int i;
+    int rc;
     int c;
 
-    /* Pass 1: --help/--version win; the config file comes first so that
-     * options override it whatever their order. */
-    for (i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--") == 0) {
-            break;
-        }
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            usage(stdout);
-            printf("\nConfig file keys (key = value, '#' comments):\n");
-            app_config_print_keys(stdout, config_keys, N_KEYS);
-            return EXIT_OK;
-        }
-        if (strcmp(argv[i], "--version") == 0) {
-            printf("negobs_run %s\n", NEGOBS_VERSION_STRING);
-            return EXIT_OK;
-        }
-        if (strcmp(argv[i], "--config") == 0 && i + 1 < argc) {
-            a->config = argv[i + 1];
-        } else if (strncmp(argv[i], "--config=", 9) == 0) {
-            a->config = argv[i] + 9;
-        }
-    }
-    if (a->config != NULL) {
-        memset(&err, 0, sizeof err);
-        if (app_config_parse_file_checked(a->config, config_keys, N_KEYS,
-                                          check_config_value, NULL,
-                                          &err) != NEGOBS_OK) {
-            fprintf(stderr, "negobs_run: %s: %s\n", a->config, err.msg);
-            return EXIT_CONFIG;
-        }
+    rc = read_config_first(argc, argv, a);
+    if (rc >= 0) {
+        return rc;
     }
 
     /* Pass 2: options, through the same table as the config file. */
@@ -434,13 +446,12 @@ int parse_args(int argc, char **argv, run_args_t *a)
         case O_LOG: key = "log_level"; break;
         case O_LOG_JSON: key = "log_json"; break;
         case O_PRINT_CONFIG: print_config = true; continue;
-        case O_SET: {
-            int rc = set_option(optarg);
+        case O_SET:
+            rc = set_option(optarg);
             if (rc >= 0) {
                 return rc;
             }
             continue;
-        }
         case ':':
             return usage_error("option '%s' needs a value", argv[optind - 1]);
         case '?':

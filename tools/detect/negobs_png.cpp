@@ -232,6 +232,48 @@ std::string read_session(const fs::path &dir, Session &s, std::vector<Item> &ite
     return s.frames > 0 ? std::string() : "no complete pair in " + dir.string();
 }
 
+// A recorded session's meta.txt: the rig geometry the device used (unless
+// given on the command line or by --calib), and whether the frames need
+// the calibration table they were recorded with.
+void session_geometry(const Session &session, const std::string &seq,
+                      const std::string &calib_path,
+                      const negobs_rect_tools::RectTable &rect, double &f, double &B,
+                      double &cx, double &cy)
+{
+    auto num = [&](const char *k, double div, double &dst) {
+        const auto m = session.meta.find(k);
+        if (dst < 0 && m != session.meta.end()) {
+            const double v = std::strtod(m->second.c_str(), nullptr) / div;
+            if (std::isfinite(v) && v > 0) {
+                dst = v;
+            }
+        }
+    };
+    if (calib_path.empty()) {
+        num("focal_q4", 16.0, f);
+        num("baseline_um", 1000.0, B);
+        num("cx_q4", 16.0, cx);
+        num("cy_q4", 16.0, cy);
+    }
+    const auto cf = session.meta.find("calib_file");
+    if (cf == session.meta.end() || cf->second.empty()) {
+        return;
+    }
+    const auto cc = session.meta.find("calib_crc32");
+    const std::string crc = cc != session.meta.end() ? cc->second : "?";
+    if (calib_path.empty()) {
+        std::fprintf(stderr,
+                     "negobs_png: warning: %s was recorded raw with the "
+                     "calibration table %s (CRC %s): give it with --calib\n",
+                     seq.c_str(), cf->second.c_str(), crc.c_str());
+    } else if (std::strtoul(crc.c_str(), nullptr, 16) != rect.crc32()) {
+        std::fprintf(stderr,
+                     "negobs_png: warning: --calib %s is not the table the "
+                     "session was recorded with (%s, CRC %s)\n",
+                     calib_path.c_str(), cf->second.c_str(), crc.c_str());
+    }
+}
+
 bool read_raw(const std::string &path, long index, int w, int h, cv::Mat &m,
               std::string &err)
 {
@@ -371,38 +413,7 @@ int main(int argc, char **argv)
             if (!err.empty()) {
                 return fail(err);
             }
-            // the rig geometry the device used, unless given here
-            auto num = [&](const char *k, double div, double &dst) {
-                const auto m = session.meta.find(k);
-                if (dst < 0 && m != session.meta.end()) {
-                    const double v = std::strtod(m->second.c_str(), nullptr) / div;
-                    if (std::isfinite(v) && v > 0) {
-                        dst = v;
-                    }
-                }
-            };
-            if (calib_path.empty()) {
-                num("focal_q4", 16.0, f);
-                num("baseline_um", 1000.0, B);
-                num("cx_q4", 16.0, cx);
-                num("cy_q4", 16.0, cy);
-            }
-            const auto cf = session.meta.find("calib_file");
-            if (cf != session.meta.end() && !cf->second.empty()) {
-                const auto cc = session.meta.find("calib_crc32");
-                const std::string crc = cc != session.meta.end() ? cc->second : "?";
-                if (calib_path.empty()) {
-                    std::fprintf(stderr,
-                                 "negobs_png: warning: %s was recorded raw with the "
-                                 "calibration table %s (CRC %s): give it with --calib\n",
-                                 seq.c_str(), cf->second.c_str(), crc.c_str());
-                } else if (std::strtoul(crc.c_str(), nullptr, 16) != rect.crc32()) {
-                    std::fprintf(stderr,
-                                 "negobs_png: warning: --calib %s is not the table the "
-                                 "session was recorded with (%s, CRC %s)\n",
-                                 calib_path.c_str(), cf->second.c_str(), crc.c_str());
-                }
-            }
+            session_geometry(session, seq, calib_path, rect, f, B, cx, cy);
         } else if (fs::exists(gp)) {
             if (!read_gt(gp, gt, err)) {
                 return fail(err);
