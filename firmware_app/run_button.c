@@ -26,7 +26,9 @@
  */
 #define _POSIX_C_SOURCE 200809L
 
+#include <errno.h>
 #include <pthread.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "app_button.h"
@@ -35,6 +37,10 @@
 #include "run_app.h"
 
 static negobs_input_gpio_t button_in;
+/* button = file:PATH: the first byte of PATH, '1' pressed (a developer
+ * aid, as replay is for cameras: tests press it from a script) */
+static char button_file[sizeof run_cfg.button];
+static char button_file_err[NEGOBS_INPUT_ERRMSG_LEN];
 static app_button_t button_sm;
 static pthread_t button_thread;
 static pthread_mutex_t button_lock = PTHREAD_MUTEX_INITIALIZER;
@@ -50,12 +56,29 @@ static int32_t preset;
 static uint64_t confirm_until_ms;
 static negobs_motor_schedule_t noinfo_tail;
 
+static int read_file_level(void)
+{
+    char c = '0';
+    FILE *f = fopen(button_file, "r");
+    if (f == NULL) {
+        (void)snprintf(button_file_err, sizeof button_file_err, "%.100s: %s",
+                       button_file, strerror(errno));
+        return NEGOBS_ERR_IO;
+    }
+    if (fread(&c, 1, 1, f) != 1) {
+        c = '0';
+    }
+    (void)fclose(f);
+    return c == '1' ? 1 : 0;
+}
+
 static void *button_main(void *arg)
 {
     uint64_t next = negobs_clock_now_ms();
     (void)arg;
     while (!button_quit) {
-        int v = negobs_input_gpio_read(&button_in);
+        int v = button_file[0] != '\0' ? read_file_level()
+                                       : negobs_input_gpio_read(&button_in);
         app_button_event_t ev = APP_BUTTON_NONE;
         if (v >= 0) {
             ev = app_button_sample(&button_sm, v, (uint32_t)next);
@@ -64,7 +87,8 @@ static void *button_main(void *arg)
         if (v < 0 && button_errno_seen == 0) {
             button_errno_seen = 1;
             (void)snprintf(button_err, sizeof button_err, "%s",
-                           button_in.errmsg);
+                           button_file[0] != '\0' ? button_file_err
+                                                  : button_in.errmsg);
         }
         if (ev == APP_BUTTON_SHORT) {
             shorts_pending++;
@@ -92,16 +116,22 @@ void button_start(const negobs_motor_schedule_t *noinfo)
     if (run_cfg.button[0] == '\0') {
         return;
     }
-    (void)split_spec(run_cfg.button, kind, sizeof kind, chip, sizeof chip,
-                     line, sizeof line);
-    (void)parse_u32(line, &off);
-    if (negobs_input_gpio_open(&button_in, chip, off,
+    app_button_init(&button_sm, (uint32_t)run_cfg.button_long_ms);
+    if (strncmp(run_cfg.button, "file:", 5) == 0) {
+        size_t n = strlen(run_cfg.button + 5); /* < sizeof button_file */
+        memcpy(button_file, run_cfg.button + 5, n + 1u);
+    } else {
+        (void)split_spec(run_cfg.button, kind, sizeof kind, chip, sizeof chip,
+                         line, sizeof line);
+        (void)parse_u32(line, &off);
+    }
+    if (button_file[0] == '\0' &&
+        negobs_input_gpio_open(&button_in, chip, off,
                                run_cfg.button_active_low) != NEGOBS_OK) {
         logmsg(LOG_ERROR, "button %s: %s; running without the button",
                run_cfg.button, button_in.errmsg);
         return;
     }
-    app_button_init(&button_sm, (uint32_t)run_cfg.button_long_ms);
     button_quit = false;
     /* signals go to the main thread */
     (void)sigfillset(&all);
@@ -118,7 +148,9 @@ void button_start(const negobs_motor_schedule_t *noinfo)
     logmsg(LOG_INFO, "button: %s (%s, long press %ld ms)%s", run_cfg.button,
            run_cfg.button_active_low ? "pressed = low" : "pressed = high",
            (long)run_cfg.button_long_ms,
-           button_in.biased ? "" : "; no internal pull resistor");
+           (button_file[0] != '\0' || button_in.biased)
+               ? ""
+               : "; no internal pull resistor");
 }
 
 void button_stop(void)

@@ -126,8 +126,9 @@ static const app_cfg_key_t config_keys[] = {
      "one JSON line per judged pair to this file, negobs_png's fields "
      "(default: off)"},
     {"button", APP_CFG_STRING, run_cfg.button, 0, sizeof run_cfg.button,
-     "push button input gpio:CHIP:LINE: long press pause/resume, short "
-     "press next sensitivity preset (default: none)"},
+     "push button input gpio:CHIP:LINE (file:PATH: its first byte, '1' "
+     "pressed; tests): long press pause/resume, short press next "
+     "sensitivity preset (default: none)"},
     {"button_active_low", APP_CFG_BOOL, &run_cfg.button_active_low, 0, 1,
      "pressed = line low, a button to ground with a pull-up (default true)"},
     {"button_long_ms", APP_CFG_INT, &run_cfg.button_long_ms, 300, 10000,
@@ -284,11 +285,13 @@ static int check_config_value(void *user, const char *key, const char *value,
         }
     }
     if (strcmp(key, "button") == 0 && value[0] != '\0' &&
+        !(strncmp(value, "file:", 5) == 0 && value[5] != '\0') &&
         (split_spec(value, kind, sizeof kind, f1, sizeof f1, f2, sizeof f2) !=
              2 ||
          strcmp(kind, "gpio") != 0 || f1[0] == '\0' ||
          parse_u32(f2, &u) != 0)) {
-        (void)snprintf(why, why_len, "bad button '%s' (want gpio:CHIP:LINE)",
+        (void)snprintf(why, why_len,
+                       "bad button '%s' (want gpio:CHIP:LINE or file:PATH)",
                        value);
         return -1;
     }
