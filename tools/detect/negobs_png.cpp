@@ -12,8 +12,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -23,6 +21,7 @@
 
 #include "detect_common.hpp"
 #include "rect_table.hpp"
+#include "session.hpp"
 
 namespace fs = std::filesystem;
 using namespace negobs_detect_tools;
@@ -150,143 +149,6 @@ struct Item {
     double t_ms = -1; // recorded session: capture time from frames.txt
 };
 
-// A session recorded by negobs_run --record (docs/RUNNING.md, "Replay
-// folders and the recorded-session format"), and its meta.txt.
-struct Session {
-    int w = 0, h = 0;
-    long frames = 0;
-    std::map<std::string, std::string> meta;
-};
-
-std::string read_session(const fs::path &dir, Session &s, std::vector<Item> &items)
-{
-    std::ifstream st(dir / "session.txt");
-    std::string word;
-    int version = 0;
-    if (!(st >> word >> version) || word != "negobs-session" || version != 1) {
-        return (dir / "session.txt").string() + ": not a negobs-session 1 header";
-    }
-    std::string line;
-    while (std::getline(st, line)) {
-        std::istringstream ls(line);
-        std::string k;
-        long v = 0;
-        if (!(ls >> k) || k[0] == '#') {
-            continue;
-        }
-        if ((k == "width" || k == "height") && (ls >> v) && v >= 16 && v <= 4096) {
-            (k == "width" ? s.w : s.h) = static_cast<int>(v);
-        }
-    }
-    if (s.w == 0 || s.h == 0) {
-        return (dir / "session.txt").string() + ": no valid width/height";
-    }
-    std::error_code ec;
-    const auto lb = fs::file_size(dir / "left.y", ec);
-    const auto rb = ec ? 0 : fs::file_size(dir / "right.y", ec);
-    if (ec) {
-        return (dir / "left.y").string() + " or right.y: " + ec.message();
-    }
-    const uintmax_t fb = static_cast<uintmax_t>(s.w) * static_cast<uintmax_t>(s.h);
-    s.frames = static_cast<long>(std::min(lb, rb) / fb); // complete pairs only
-    std::ifstream ft(dir / "frames.txt");
-    std::map<long, double> ts;
-    double t0 = -1;
-    while (std::getline(ft, line)) {
-        std::istringstream ls(line);
-        long idx = 0;
-        unsigned long long tl = 0;
-        if (line.empty() || line[0] == '#' || !(ls >> idx >> tl)) {
-            continue;
-        }
-        if (t0 < 0) {
-            t0 = static_cast<double>(tl);
-        }
-        ts[idx] = (static_cast<double>(tl) - t0) / 1e6;
-    }
-    for (long k = 0; k < s.frames; ++k) {
-        Item it;
-        it.left = (dir / "left.y").string();
-        it.right = (dir / "right.y").string();
-        char name[32];
-        std::snprintf(name, sizeof name, "pair_%06ld", k);
-        it.name = name;
-        it.raw = k;
-        const auto f = ts.find(k);
-        it.t_ms = f != ts.end() ? f->second : -1;
-        items.push_back(it);
-    }
-    std::ifstream mt(dir / "meta.txt");
-    while (std::getline(mt, line)) {
-        const auto eq = line.find('=');
-        if (line.empty() || line[0] == '#' || eq == std::string::npos) {
-            continue;
-        }
-        auto trim = [](std::string x) {
-            const auto a = x.find_first_not_of(" \t");
-            const auto b = x.find_last_not_of(" \t\r");
-            return a == std::string::npos ? std::string() : x.substr(a, b - a + 1);
-        };
-        s.meta[trim(line.substr(0, eq))] = trim(line.substr(eq + 1));
-    }
-    return s.frames > 0 ? std::string() : "no complete pair in " + dir.string();
-}
-
-// A recorded session's meta.txt: the rig geometry the device used (unless
-// given on the command line or by --calib), and whether the frames need
-// the calibration table they were recorded with.
-void session_geometry(const Session &session, const std::string &seq,
-                      const std::string &calib_path,
-                      const negobs_rect_tools::RectTable &rect, double &f, double &B,
-                      double &cx, double &cy)
-{
-    auto num = [&](const char *k, double div, double &dst) {
-        const auto m = session.meta.find(k);
-        if (dst < 0 && m != session.meta.end()) {
-            const double v = std::strtod(m->second.c_str(), nullptr) / div;
-            if (std::isfinite(v) && v > 0) {
-                dst = v;
-            }
-        }
-    };
-    if (calib_path.empty()) {
-        num("focal_q4", 16.0, f);
-        num("baseline_um", 1000.0, B);
-        num("cx_q4", 16.0, cx);
-        num("cy_q4", 16.0, cy);
-    }
-    const auto cf = session.meta.find("calib_file");
-    if (cf == session.meta.end() || cf->second.empty()) {
-        return;
-    }
-    const auto cc = session.meta.find("calib_crc32");
-    const std::string crc = cc != session.meta.end() ? cc->second : "?";
-    if (calib_path.empty()) {
-        std::fprintf(stderr,
-                     "negobs_png: warning: %s was recorded raw with the "
-                     "calibration table %s (CRC %s): give it with --calib\n",
-                     seq.c_str(), cf->second.c_str(), crc.c_str());
-    } else if (std::strtoul(crc.c_str(), nullptr, 16) != rect.crc32()) {
-        std::fprintf(stderr,
-                     "negobs_png: warning: --calib %s is not the table the "
-                     "session was recorded with (%s, CRC %s)\n",
-                     calib_path.c_str(), cf->second.c_str(), crc.c_str());
-    }
-}
-
-bool read_raw(const std::string &path, long index, int w, int h, cv::Mat &m,
-              std::string &err)
-{
-    std::ifstream f(path, std::ios::binary);
-    m.create(h, w, CV_8UC1);
-    f.seekg(static_cast<std::streamoff>(index) * w * h);
-    if (!f.read(reinterpret_cast<char *>(m.data), static_cast<std::streamsize>(w) * h)) {
-        err = path + ": cannot read frame " + std::to_string(index);
-        return false;
-    }
-    return true;
-}
-
 } // namespace
 
 int main(int argc, char **argv)
@@ -408,12 +270,22 @@ int main(int argc, char **argv)
         }
         const std::string gp = (fs::path(seq) / "gt.json").string();
         std::string err;
-        if (fs::exists(fs::path(seq) / "session.txt")) {
-            err = read_session(seq, session, items);
+        if (is_session(seq)) {
+            err = read_session(seq, session);
             if (!err.empty()) {
                 return fail(err);
             }
-            session_geometry(session, seq, calib_path, rect, f, B, cx, cy);
+            for (long k = 0; k < session.frames; ++k) {
+                Item it;
+                char name[32];
+                std::snprintf(name, sizeof name, "pair_%06ld", k);
+                it.name = name;
+                it.raw = k;
+                it.t_ms = session.t_ms[static_cast<size_t>(k)];
+                items.push_back(it);
+            }
+            session_geometry(session, seq, !calib_path.empty(), rect.crc32(), f, B, cx,
+                             cy);
         } else if (fs::exists(gp)) {
             if (!read_gt(gp, gt, err)) {
                 return fail(err);
@@ -535,8 +407,8 @@ int main(int argc, char **argv)
         cv::Mat L, R;
         std::string err;
         if (it.raw >= 0) {
-            if (!read_raw(it.left, it.raw, session.w, session.h, L, err) ||
-                !read_raw(it.right, it.raw, session.w, session.h, R, err)) {
+            if (!read_session_frame(seq, "left", it.raw, session, L, err) ||
+                !read_session_frame(seq, "right", it.raw, session, R, err)) {
                 return fail(err);
             }
         } else if (!load_grey(it.left, L, err) || !load_grey(it.right, R, err)) {
