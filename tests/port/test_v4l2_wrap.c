@@ -675,7 +675,7 @@ static void test_v4l2_too_few_buffers_or_formats_fail_open(void **state)
     assert_int_equal(open_cam(-1), NEGOBS_ERR_NOSPACE);
     assert_false(fk[0].is_open || fk[1].is_open);
     fk[1].reqbufs_count = 4;
-    fk[0].fmts[0] = V4L2_PIX_FMT_MJPEG;
+    fk[0].fmts[0] = V4L2_PIX_FMT_H264;
     fk[0].nfmts = 1;
     assert_int_equal(open_cam(-1), NEGOBS_ERR_UNSUPPORTED);
     assert_non_null(strstr(negobs_camera_errmsg(&cam), "format"));
