@@ -668,6 +668,87 @@ static void test_v4l2_exposure_only_when_both_offer_it(void **state)
     negobs_camera_close(&cam);
 }
 
+/* One node carrying both eyes side by side (ELP/Arducam/ZED style): each
+ * frame is one pair, the halves described in the driver's buffer. */
+static void test_v4l2_side_by_side_one_node(void **state)
+{
+    static const uint32_t ts[] = {1000, 1033, 1066};
+    negobs_camera_config_t cfg;
+    negobs_frame_pair_t p;
+    (void)state;
+    fk[0].fmts[0] = V4L2_PIX_FMT_GREY;
+    fk[0].nfmts = 1;
+    script(0, ts, 3);
+    negobs_camera_config_default(&cfg);
+    cfg.left = "/fake/video0";
+    cfg.right = NULL;
+    cfg.side_by_side = true;
+    cfg.width = FW / 2;
+    cfg.height = FH;
+    assert_int_equal(negobs_v4l2_init(&st, NULL, 0, &cam), NEGOBS_OK);
+    assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_OK);
+    assert_int_equal(negobs_camera_start(&cam), NEGOBS_OK);
+    assert_false(fk[1].is_open); /* the second node is never touched */
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(p.left.y.width, FW / 2);
+    assert_int_equal(p.right.y.width, FW / 2);
+    assert_ptr_equal(p.right.y.data, p.left.y.data + FW / 2);
+    assert_int_equal(p.left.y.stride, FW + 16);
+    assert_true(p.left.y.data >= &fk[0].mem[0][0] &&
+                p.left.y.data < &fk[0].mem[0][0] + sizeof fk[0].mem);
+    assert_int_equal(p.left.ts_ns, p.right.ts_ns);
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(p.index, 1);
+    negobs_camera_stop(&cam);
+    negobs_camera_close(&cam);
+    assert_false(fk[0].is_open || fk[1].is_open);
+}
+
+/* A capture size larger than the processing size: 2x2 binned into the
+ * scratch buffer (YUYV: every other byte, averaged). */
+static void test_v4l2_capture_binned_to_processing_size(void **state)
+{
+    static const uint32_t ts[] = {1000};
+    negobs_camera_config_t cfg;
+    negobs_frame_pair_t p;
+    (void)state;
+    fk[0].nfmts = 1; /* YUYV only */
+    fk[1].nfmts = 1;
+    script(0, ts, 1);
+    script(1, ts, 1);
+    negobs_camera_config_default(&cfg);
+    cfg.left = "/fake/video0";
+    cfg.right = "/fake/video1";
+    cfg.capture_width = FW;
+    cfg.capture_height = FH;
+    cfg.width = FW / 2;
+    cfg.height = FH / 2;
+    assert_int_equal(negobs_v4l2_init(&st, scratch, sizeof scratch, &cam),
+                     NEGOBS_OK);
+    assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_OK);
+    assert_int_equal(st.dev[0].conv.plan.k, 2);
+    assert_int_equal(negobs_camera_start(&cam), NEGOBS_OK);
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(p.left.y.width, FW / 2);
+    assert_int_equal(p.left.y.height, FH / 2);
+    assert_int_equal(p.left.y.stride, FW / 2);
+    assert_true(p.left.y.data >= scratch &&
+                p.left.y.data < scratch + sizeof scratch);
+    assert_int_equal(p.left.y.data[0], 0x10);
+    negobs_camera_close(&cam);
+    /* too little scratch: open refuses and says how much it needs */
+    assert_int_equal(negobs_v4l2_init(&st, scratch, 100, &cam), NEGOBS_OK);
+    assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_ERR_NOSPACE);
+    assert_non_null(strstr(negobs_camera_errmsg(&cam), "scratch"));
+    /* a processing size the frames cannot give: refused */
+    cfg.width = FW * 2;
+    assert_int_equal(negobs_v4l2_init(&st, scratch, sizeof scratch, &cam),
+                     NEGOBS_OK);
+    assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_ERR_INVAL);
+    assert_non_null(strstr(negobs_camera_errmsg(&cam), "cannot give"));
+    assert_false(fk[0].is_open || fk[1].is_open);
+}
+
 static void test_v4l2_too_few_buffers_or_formats_fail_open(void **state)
 {
     (void)state;
@@ -688,6 +769,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         T(test_v4l2_negotiates_planar_and_hands_out_y_in_place),
         T(test_v4l2_packed_only_extracts_luma_to_scratch),
+        T(test_v4l2_side_by_side_one_node),
+        T(test_v4l2_capture_binned_to_processing_size),
         T(test_v4l2_pairs_by_timestamp_and_counts_drops),
         T(test_v4l2_frozen_camera_withholds_pairs_until_it_changes),
         T(test_v4l2_frozen_check_off_delivers_repeats),
