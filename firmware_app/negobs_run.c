@@ -194,6 +194,9 @@ int main(int argc, char **argv)
     if (rc >= 0) {
         return rc;
     }
+    if (args.list_cameras) {
+        return list_cameras(&args);
+    }
     if (args.motor_off != NULL) {
         return motor_off(args.motor_off);
     }
@@ -211,6 +214,10 @@ int main(int argc, char **argv)
         if (rc >= 0) {
             return rc;
         }
+    }
+    rc = camera_geometry(&args);
+    if (rc >= 0) {
+        return rc;
     }
     rc = loop_setup(&noinfo_sched);
     if (rc >= 0) {

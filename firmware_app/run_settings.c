@@ -25,6 +25,13 @@ static const negobs_cfg_key_t config_keys[] = {
      "capture width in pixels (default 640)"},
     {"height", NEGOBS_CFG_INT, &run_cfg.height, 16, NEGOBS_RUN_MAX_H,
      "capture height in pixels (default 480)"},
+    {"capture_width", NEGOBS_CFG_INT, &run_cfg.capture_width, 0,
+     NEGOBS_MAX_DIM,
+     "V4L2: frame width asked of the camera (both eyes when side by side); "
+     "each eye is cropped and binned to width x height, focal_px is for "
+     "this size; 0 = no binning (default 0)"},
+    {"capture_height", NEGOBS_CFG_INT, &run_cfg.capture_height, 0,
+     NEGOBS_MAX_DIM, "V4L2: frame height asked of the camera (default 0)"},
     {"fps", NEGOBS_CFG_INT, &run_cfg.fps, 0, 240,
      "frame rate; replay: pacing, 0 = as fast as possible (default 30)"},
     {"frames", NEGOBS_CFG_INT, &run_cfg.frames, 0, INT32_MAX,
@@ -187,8 +194,10 @@ static void usage(FILE *out)
         "Usage: negobs_run [options] LEFT RIGHT\n"
         "       negobs_run [options] replay:DIR\n"
         "       negobs_run [--config FILE] --motor-off SPEC\n"
+        "       negobs_run --list-cameras [/dev/videoN...]\n"
         "\n"
         "Warns of drop-offs ahead through a vibration motor, from a stereo pair.\n"
+        "One V4L2 node alone (or twice): both eyes side by side in each frame.\n"
         "LEFT/RIGHT: /dev/videoN (V4L2) or replay:DIR (a folder of left_NNNN.pgm /\n"
         "right_NNNN.pgm pairs or a session recorded with --record) or libcamera:N /\n"
         "libcamera:ID (index or id of a libcamera camera). A bare name uses\n"
@@ -217,6 +226,10 @@ static void usage(FILE *out)
         "  --log-level LEVEL    error | warn | info | debug (default info)\n"
         "  --motor-off SPEC     switch the motor output SPEC off and exit (the\n"
         "                       service's ExecStopPost; no camera arguments)\n"
+        "  --list-cameras [NODE...]  list V4L2 nodes (all /dev/video*, or those\n"
+        "                       named) and libcamera cameras with their formats,\n"
+        "                       sizes and rates, and whether negobs can use them;\n"
+        "                       exit 0 when one is usable, else 4\n"
         "  --help               this text, then the config keys\n"
         "  --version            print the version\n"
         "\n"
@@ -274,7 +287,8 @@ int parse_args(int argc, char **argv, run_args_t *a)
         O_HELP,
         O_VERSION,
         O_CALIB,
-        O_MOTOR_OFF
+        O_MOTOR_OFF,
+        O_LIST_CAMERAS
     };
     static const struct option opts[] = {
         {"config", required_argument, NULL, O_CONFIG},
@@ -289,6 +303,7 @@ int parse_args(int argc, char **argv, run_args_t *a)
         {"help", no_argument, NULL, O_HELP},
         {"version", no_argument, NULL, O_VERSION},
         {"motor-off", required_argument, NULL, O_MOTOR_OFF},
+        {"list-cameras", no_argument, NULL, O_LIST_CAMERAS},
         {NULL, 0, NULL, 0},
     };
     negobs_cfg_error_t err;
@@ -335,6 +350,7 @@ int parse_args(int argc, char **argv, run_args_t *a)
         switch (c) {
         case O_CONFIG: continue;
         case O_MOTOR_OFF: a->motor_off = optarg; continue;
+        case O_LIST_CAMERAS: a->list_cameras = true; continue;
         case O_ALERT: key = "alert"; break;
         case O_WIDTH:
             key = "width";
@@ -364,6 +380,11 @@ int parse_args(int argc, char **argv, run_args_t *a)
         return usage_error("bad log level '%s'", run_cfg.log_level);
     }
     run_log_level = parse_log_level(run_cfg.log_level);
+    if (a->list_cameras) {
+        a->list_nodes = (const char *const *)(argv + optind);
+        a->n_list_nodes = argc - optind;
+        return -1;
+    }
     if (a->motor_off != NULL) {
         if (optind < argc) {
             return usage_error("--motor-off takes no camera argument ('%s')",

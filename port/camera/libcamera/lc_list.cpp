@@ -6,6 +6,7 @@
  * source is open), so it has its own camera manager.
  */
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <memory>
 #include <string>
@@ -20,6 +21,11 @@ namespace {
 int list_impl(FILE *out)
 {
     using namespace libcamera;
+    /* The listing is the output; libcamera's INFO/WARN lines (version,
+     * missing IPA modules) would bury it. LIBCAMERA_LOG_LEVELS, when
+     * set, still rules. */
+    (void)setenv("LIBCAMERA_LOG_LEVELS", "*:ERROR", 0);
+    logSetLevel("*", "ERROR");
     CameraManager cm;
     int rc = cm.start();
     if (rc != 0) {
