@@ -1,6 +1,6 @@
 /*
  * libcamera discovery for negobs_run --list-cameras: each camera's id,
- * model and the formats and sizes of a viewfinder stream, as `cam -l`
+ * model and the formats and sizes of a video-recording stream (the role the source opens), as `cam -l`
  * and `cam -I` print them, each format marked usable or not by
  * negobs_libcamera_format_rank(). Runs alone (before any libcamera
  * source is open), so it has its own camera manager.
@@ -46,9 +46,9 @@ int list_impl(FILE *out)
                      cam->id().c_str(), model ? model->c_str() : "no model");
         index++;
         std::unique_ptr<CameraConfiguration> cfg = cam->generateConfiguration(
-            {StreamRole::Viewfinder});
+            {StreamRole::VideoRecording});
         if (!cfg || cfg->size() == 0) {
-            std::fprintf(out, "    nothing usable: no viewfinder stream\n");
+            std::fprintf(out, "    nothing usable: no video stream\n");
             continue;
         }
         const StreamFormats &formats = cfg->at(0).formats();

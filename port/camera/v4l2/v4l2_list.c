@@ -157,8 +157,11 @@ static void fourcc_str(uint32_t f, char s[5])
 {
     int i;
     for (i = 0; i < 4; i++) {
-        char c = (char)((f >> (8 * i)) & 0xFFu);
-        s[i] = (c >= 32 && c < 127) ? c : '.';
+        char c = (char)((f >> (8 * i)) & 0x7Fu);
+        if (c < 32 || c == 127) {
+            c = '.';
+        }
+        s[i] = c;
     }
     s[4] = '\0';
 }

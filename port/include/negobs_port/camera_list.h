@@ -7,7 +7,7 @@
  * VIDIOC_ENUM_FRAMEINTERVALS, and printed like `v4l2-ctl
  * --list-formats-ext`, each format marked with whether negobs can use it.
  * libcamera: every camera the camera manager lists, with the pixel formats
- * and sizes of a viewfinder stream, like `cam -l` and `cam --list-properties`.
+ * and sizes of a video-recording stream, like `cam -l` and `cam --list-properties`.
  */
 #ifndef NEGOBS_PORT_CAMERA_LIST_H
 #define NEGOBS_PORT_CAMERA_LIST_H
