@@ -117,8 +117,8 @@ static void put16(uint8_t *p, uint32_t v)
 
 static void test_y10_and_y16_become_the_top_8_bits(void **state)
 {
-    uint8_t buf[2][8]; /* 4x2 samples, 16-bit LE */
-    uint8_t dst[4];
+    uint8_t buf[2][8] = {{0}}; /* 4x2 samples, 16-bit LE */
+    uint8_t dst[8];            /* 4x2 out */
     negobs_bin_plan_t p;
     (void)state;
     assert_int_equal(negobs_bin_plan(4, 2, 0, 0, &p), NEGOBS_OK);
