@@ -12,6 +12,7 @@
 #include <linux/videodev2.h>
 
 #include "cmocka_all.h"
+#include "negobs_port/camera.h"
 #include "negobs_port/camera_list.h"
 #include "negobs_port/camera_v4l2.h"
 #include "negobs_port/frame_convert.h"
@@ -433,6 +434,53 @@ static void test_mjpeg_side_by_side_through_the_capture_path(void **state)
                      NEGOBS_ERR_CORRUPT);
 }
 
+/* The frozen-stream check signs MJPEG frames by their compressed bytes
+ * (bytesperline is 0 for them: signing "rows of bytesperline" signed
+ * nothing, every frame had the same signature and every MJPEG camera read
+ * as frozen after frozen_frames frames). */
+static void test_mjpeg_frames_are_signed_by_their_data(void **state)
+{
+    enum { W = 64, H = 32 };
+    static uint8_t px[H][W];
+    static uint8_t jpeg_a[16 * 1024];
+    static uint8_t jpeg_b[16 * 1024];
+    negobs_v4l2_conv_t c;
+    negobs_image_u8_t va;
+    negobs_image_u8_t vb;
+    unsigned long na;
+    unsigned long nb;
+    uint32_t seed = 3;
+    int x;
+    int y;
+    (void)state;
+    for (y = 0; y < H; y++) {
+        for (x = 0; x < W; x++) {
+            px[y][x] = (uint8_t)(test_lcg_next(&seed) & 0xFFu);
+        }
+    }
+    na = encode(&px[0][0], W, H, TJPF_GRAY, TJSAMP_GRAY, jpeg_a,
+                sizeof jpeg_a);
+    px[H / 2][W / 2] ^= 0x40u; /* one pixel of sensor noise */
+    nb = encode(&px[0][0], W, H, TJPF_GRAY, TJSAMP_GRAY, jpeg_b,
+                sizeof jpeg_b);
+    assert_int_equal(
+        negobs_v4l2_conv_setup(&c, V4L2_PIX_FMT_MJPEG, W, H, 0, false, 0, 0),
+        NEGOBS_OK);
+    negobs_v4l2_conv_raw_view(&c, jpeg_a, na, &va);
+    negobs_v4l2_conv_raw_view(&c, jpeg_b, nb, &vb);
+    assert_true(va.width > 0 && va.height > 0);
+    assert_int_not_equal(negobs_frame_signature(&va),
+                         negobs_frame_signature(&vb));
+    assert_int_equal(negobs_frame_signature(&va), negobs_frame_signature(&va));
+    /* uncompressed formats: the plane's rows as before */
+    assert_int_equal(
+        negobs_v4l2_conv_setup(&c, V4L2_PIX_FMT_GREY, W, H, 80, false, 0, 0),
+        NEGOBS_OK);
+    negobs_v4l2_conv_raw_view(&c, jpeg_a, 80u * H, &va);
+    assert_int_equal(va.width, 80);
+    assert_int_equal(va.height, H);
+}
+
 /* A colour 4:2:0 JPEG (what UVC cameras send): the grey decode is its
  * luma, BT.601 as JPEG defines it. */
 static void test_mjpeg_colour_gives_its_luma(void **state)
@@ -475,6 +523,7 @@ int main(void)
 #ifdef NEGOBS_TEST_MJPEG
         cmocka_unit_test(test_mjpeg_side_by_side_through_the_capture_path),
         cmocka_unit_test(test_mjpeg_colour_gives_its_luma),
+        cmocka_unit_test(test_mjpeg_frames_are_signed_by_their_data),
 #endif
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -512,15 +512,14 @@ static void try_reopen(negobs_v4l2_t *st, negobs_v4l2_dev_t *d, uint64_t now)
 
 /* Every dequeued frame counts, not only those paired: the check then runs
  * at the camera's rate, whatever the pipeline's. The raw bytes of the
- * first plane are sampled (rows of bytesperline): any pixel format's bytes
- * change with sensor noise. */
-static bool frame_frozen(negobs_v4l2_t *st, negobs_v4l2_dev_t *d, uint32_t idx)
+ * first plane are sampled (rows of bytesperline; MJPEG: the compressed
+ * data, negobs_v4l2_conv_raw_view()): any format's bytes change with
+ * sensor noise. */
+static bool frame_frozen(negobs_v4l2_t *st, negobs_v4l2_dev_t *d, uint32_t idx,
+                         uint32_t bytesused)
 {
     negobs_image_u8_t raw;
-    raw.data = d->buf[idx].start;
-    raw.width = (int32_t)d->bytesperline;
-    raw.height = d->height;
-    raw.stride = (int32_t)d->bytesperline;
+    negobs_v4l2_conv_raw_view(&d->conv, d->buf[idx].start, bytesused, &raw);
     return negobs_frozen_update(&d->frozen, negobs_frame_signature(&raw),
                                 st->cfg.frozen_frames);
 }
@@ -544,6 +543,7 @@ static void drain(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
             continue; /* cannot happen with a sane driver; never index it */
         }
         if ((b.flags & V4L2_BUF_FLAG_ERROR) != 0 ||
+            b.bytesused > d->buf[b.index].length ||
             b.bytesused < negobs_v4l2_frame_bytes(d->fourcc, d->height,
                                                   d->bytesperline) /
                               2u) {
@@ -557,7 +557,7 @@ static void drain(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
         }
         d->pending = true;
         d->pend_at_ms = negobs_clock_now_ms();
-        d->pend_frozen = frame_frozen(st, d, b.index);
+        d->pend_frozen = frame_frozen(st, d, b.index, b.bytesused);
         d->pend_idx = b.index;
         d->pend_bytes = b.bytesused;
         d->pend_seq = b.sequence;

@@ -151,3 +151,19 @@ negobs_status_t negobs_v4l2_conv_frame(const negobs_v4l2_conv_t *c,
     }
     return NEGOBS_OK;
 }
+
+void negobs_v4l2_conv_raw_view(const negobs_v4l2_conv_t *c, uint8_t *base,
+                               size_t bytesused, negobs_image_u8_t *out)
+{
+    out->data = base;
+    if (c->fourcc != FCC_MJPG) {
+        out->width = (int32_t)c->bytesperline;
+        out->height = c->height;
+        out->stride = (int32_t)c->bytesperline;
+        return;
+    }
+    out->width = bytesused > (size_t)INT32_MAX ? INT32_MAX
+                                               : (int32_t)bytesused;
+    out->height = bytesused > 0u ? 1 : 0;
+    out->stride = out->width;
+}

@@ -71,6 +71,17 @@ negobs_status_t negobs_v4l2_conv_frame(const negobs_v4l2_conv_t *c,
                                        negobs_image_u8_t *left,
                                        negobs_image_u8_t *right);
 
+/**
+ * @brief The bytes of a buffer that the frozen-stream check signs
+ *        (negobs_frame_signature(), every 3rd byte of every 2nd row): the
+ *        first plane's rows, bytesperline wide, or for MJPEG (bytesperline
+ *        0) the whole compressed frame as one row, so that the
+ *        entropy-coded data is sampled and not only the headers, which
+ *        are the same in every frame. width 0 when there are no bytes.
+ */
+void negobs_v4l2_conv_raw_view(const negobs_v4l2_conv_t *c, uint8_t *base,
+                               size_t bytesused, negobs_image_u8_t *out);
+
 #ifdef __cplusplus
 }
 #endif
