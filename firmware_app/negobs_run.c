@@ -195,6 +195,9 @@ int main(int argc, char **argv)
     if (rc >= 0) {
         return rc;
     }
+    if (args.list_cameras) {
+        return list_cameras(&args);
+    }
     if (args.motor_off != NULL) {
         /* "config": the unit's ExecStopPost needs no copy of the spec */
         return motor_off(strcmp(args.motor_off, "config") == 0
@@ -215,6 +218,10 @@ int main(int argc, char **argv)
         if (rc >= 0) {
             return rc;
         }
+    }
+    rc = camera_geometry(&args);
+    if (rc >= 0) {
+        return rc;
     }
     rc = loop_setup(&noinfo_sched);
     if (rc >= 0) {

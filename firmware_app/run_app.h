@@ -76,6 +76,8 @@ typedef struct run_settings {
     char calib[256];
     negobs_alert_config_t alert_cfg;
     app_pipeline_config_t app;
+    int32_t capture_width; /* V4L2 frame asked of the camera, 0 = off */
+    int32_t capture_height;
     bool size_given;        /* --width/--height given                   */
     bool alert_binary;      /* config alert_binary                      */
     bool vertical_align;    /* config vertical_align                    */
@@ -100,6 +102,9 @@ typedef struct run_args {
     const char *motor_off; /* --motor-off SPEC: switch it off, exit */
     const char *left;
     const char *right;
+    bool list_cameras;             /* --list-cameras [NODE...]          */
+    const char *const *list_nodes; /* the nodes named after it         */
+    int n_list_nodes;
 } run_args_t;
 
 void settings_default(void);
@@ -131,6 +136,13 @@ int open_alert(const char *spec);
 const char *alert_errmsg(void);
 int motor_off(const char *spec);
 int check_camera_args(const run_args_t *a);
+/** --list-cameras: print what is there; EXIT_OK when a camera is usable,
+ *  else EXIT_CAMERA. */
+int list_cameras(const run_args_t *a);
+/** V4L2 capture size: check it against the processing size and scale
+ *  focal_px by the binning (before the pipeline is set up); -1 to
+ *  continue, else an exit code. */
+int camera_geometry(const run_args_t *a);
 int open_camera(const run_args_t *a);
 const char *camera_status_words(int rc);
 /** Returns -1 to continue, else an exit code. */

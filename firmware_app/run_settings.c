@@ -25,6 +25,12 @@ static const app_cfg_key_t config_keys[] = {
      "capture width in pixels (default 640)"},
     {"height", APP_CFG_INT, &run_cfg.height, 16, NEGOBS_RUN_MAX_H,
      "capture height in pixels (default 480)"},
+    {"capture_width", APP_CFG_INT, &run_cfg.capture_width, 0, NEGOBS_MAX_DIM,
+     "V4L2: frame width asked of the camera (both eyes when side by side); "
+     "each eye is cropped and binned to width x height, focal_px is for "
+     "this size; 0 = no binning (default 0)"},
+    {"capture_height", APP_CFG_INT, &run_cfg.capture_height, 0, NEGOBS_MAX_DIM,
+     "V4L2: frame height asked of the camera (default 0)"},
     {"fps", APP_CFG_INT, &run_cfg.fps, 0, 240,
      "frame rate; replay: pacing, 0 = as fast as possible (default 30)"},
     {"frames", APP_CFG_INT, &run_cfg.frames, 0, INT32_MAX,
@@ -210,8 +216,10 @@ static void usage(FILE *out)
         "       negobs_run [options] replay:DIR\n"
         "       negobs_run --config FILE      (cameras from camera_left/right)\n"
         "       negobs_run [--config FILE] --motor-off SPEC|config\n"
+        "       negobs_run --list-cameras [/dev/videoN...]\n"
         "\n"
         "Warns of drop-offs ahead through a vibration motor, from a stereo pair.\n"
+        "One V4L2 node alone (or twice): both eyes side by side in each frame.\n"
         "LEFT/RIGHT: /dev/videoN (V4L2) or replay:DIR (a folder of left_NNNN.pgm /\n"
         "right_NNNN.pgm pairs or a session recorded with --record) or libcamera:N /\n"
         "libcamera:ID (index or id of a libcamera camera). A bare name uses\n"
@@ -245,6 +253,10 @@ static void usage(FILE *out)
         "  --motor-off SPEC     switch the motor output SPEC off and exit (the\n"
         "                       service's ExecStopPost; no camera arguments);\n"
         "                       'config': the config's alert\n"
+        "  --list-cameras [NODE...]  list V4L2 nodes (all /dev/video*, or those\n"
+        "                       named) and libcamera cameras with their formats,\n"
+        "                       sizes and rates, and whether negobs can use them;\n"
+        "                       exit 0 when one is usable, else 4\n"
         "  --help               this text, then the config keys\n"
         "  --version            print the version\n"
         "\n"
@@ -395,7 +407,8 @@ int parse_args(int argc, char **argv, run_args_t *a)
         O_MOTOR_OFF,
         O_SET,
         O_LOG_JSON,
-        O_PRINT_CONFIG
+        O_PRINT_CONFIG,
+        O_LIST_CAMERAS
     };
     static const struct option opts[] = {
         {"config", required_argument, NULL, O_CONFIG},
@@ -413,6 +426,7 @@ int parse_args(int argc, char **argv, run_args_t *a)
         {"set", required_argument, NULL, O_SET},
         {"log-json", required_argument, NULL, O_LOG_JSON},
         {"print-config", no_argument, NULL, O_PRINT_CONFIG},
+        {"list-cameras", no_argument, NULL, O_LIST_CAMERAS},
         {NULL, 0, NULL, 0},
     };
     app_cfg_error_t err;
@@ -433,6 +447,7 @@ int parse_args(int argc, char **argv, run_args_t *a)
         switch (c) {
         case O_CONFIG: continue;
         case O_MOTOR_OFF: a->motor_off = optarg; continue;
+        case O_LIST_CAMERAS: a->list_cameras = true; continue;
         case O_ALERT: key = "alert"; break;
         case O_WIDTH:
             key = "width";
@@ -475,6 +490,11 @@ int parse_args(int argc, char **argv, run_args_t *a)
         return EXIT_OK;
     }
     run_log_level = parse_log_level(run_cfg.log_level);
+    if (a->list_cameras) {
+        a->list_nodes = (const char *const *)(argv + optind);
+        a->n_list_nodes = argc - optind;
+        return -1;
+    }
     if (a->motor_off != NULL) {
         if (optind < argc) {
             return usage_error("--motor-off takes no camera argument ('%s')",
