@@ -191,7 +191,8 @@ int run(int argc, char **argv)
     }
     opterr = 0;
     int c;
-    while ((c = getopt_long(argc, argv, ":hVo:j:q", long_opts, nullptr)) != -1) {
+    int li = -1;
+    while ((c = getopt_long(argc, argv, ":hVo:j:q", long_opts, &li)) != -1) {
         const char *v = optarg;
         const std::string a = c == ':' || c == '?' ? std::string(argv[optind - 1])
                                                    : std::string();
@@ -232,8 +233,10 @@ int run(int argc, char **argv)
         default: return bad("unknown option " + a);
         }
         if (!ok) {
-            return bad("bad value '" + std::string(v) + "' for " + argv[optind - 1]);
+            return bad("bad value '" + std::string(v) + "' for --" +
+                       (li >= 0 ? long_opts[li].name : "?"));
         }
+        li = -1;
     }
     for (int i = optind; i < argc; ++i) {
         pos.emplace_back(argv[i]);
