@@ -2177,7 +2177,10 @@ int main(int argc, char **argv)
         };
         bool ok = true;
         switch (c) {
-        case 'h': usage(stdout); return 0;
+        case 'h':
+            usage(stdout);
+            std::printf("Default --synth here: %s\n", opt.synth.c_str());
+            return 0;
         case 'V': negobs_cli::print_version("negobs_detect_eval"); return 0;
         case O_QUICK: opt.quick = true; break;
         case O_ALL: break; // the default: the whole synthetic suite
