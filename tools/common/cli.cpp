@@ -68,6 +68,27 @@ double double_arg(const char *opt, const char *s, double lo, double hi)
     return v;
 }
 
+std::string default_data_dir()
+{
+    const char *env = std::getenv("NEGOBS_DATA");
+    if (env != nullptr && *env != '\0') {
+        return env;
+    }
+#if defined(NEGOBS_SOURCE_ROOT) && defined(NEGOBS_BUILD_ROOT)
+    char self[4096];
+    const ssize_t n = ::readlink("/proc/self/exe", self, sizeof self - 1);
+    if (n > 0) {
+        self[n] = '\0';
+        const std::string exe(self);
+        const std::string build = std::string(NEGOBS_BUILD_ROOT) + "/";
+        if (exe.compare(0, build.size(), build) == 0) {
+            return std::string(NEGOBS_SOURCE_ROOT) + "/../shared/data";
+        }
+    }
+#endif
+    return std::string();
+}
+
 const char *version()
 {
     return negobs_version();

@@ -42,6 +42,12 @@ const char *version();
 // Prints "TOOL (negobs X.Y.Z)" to stdout, the --version line of every tool.
 void print_version(const char *tool);
 
+// The data folder a tool reads when not told: $NEGOBS_DATA; else, for a
+// binary running inside the build tree it was built in, the source
+// tree's ../shared/data; else "" (an installed binary has no source tree
+// and must not keep the build machine's paths).
+std::string default_data_dir();
+
 // Runs run(argc, argv) and turns what escapes it into a message and an
 // exit code: UsageError -> kExitUsage, any other exception -> error_code
 // (kExitData unless the tool documents another). No OpenCV error can end

@@ -2264,22 +2264,20 @@ int main(int argc, char **argv)
             return 1;
         }
     }
+    // $NEGOBS_DATA, else the source tree's data beside a build-tree binary;
+    // an installed binary without NEGOBS_DATA needs the folder given
+    const std::string data = negobs_cli::default_data_dir();
     if (opt.oakd) {
         if (opt.oakd_dir.empty()) {
-            const char *env = std::getenv("NEGOBS_DATA");
-            opt.oakd_dir = env != nullptr && *env
-                               ? (fs::path(env) / "oakd").string()
-                               : std::string(NEGOBS_SOURCE_ROOT "/../shared/data/oakd");
+            opt.oakd_dir = data.empty() ? std::string("oakd")
+                                        : (fs::path(data) / "oakd").string();
         }
         return evaluate_oakd(opt);
     }
     if (opt.surdis) {
         if (opt.surdis_dir.empty()) {
-            const char *env = std::getenv("NEGOBS_DATA");
-            opt.surdis_dir = env != nullptr && *env
-                                 ? (fs::path(env) / "surdis").string()
-                                 : std::string(NEGOBS_SOURCE_ROOT
-                                               "/../shared/data/surdis");
+            opt.surdis_dir = data.empty() ? std::string("surdis")
+                                          : (fs::path(data) / "surdis").string();
         }
         return evaluate_surdis(opt);
     }

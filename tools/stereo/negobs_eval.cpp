@@ -34,9 +34,6 @@
 #include "occlusion.hpp"
 #include "stereo_common.hpp"
 
-#ifndef NEGOBS_SOURCE_ROOT
-#define NEGOBS_SOURCE_ROOT "."
-#endif
 #ifndef NEGOBS_BUILD_TYPE
 #define NEGOBS_BUILD_TYPE "unknown"
 #endif
@@ -92,7 +89,9 @@ const char *const kHelp =
     "\n"
     "Options:\n"
     "  --data DIR        data folder (default $NEGOBS_DATA, else\n"
-    "                    <repo>/../shared/data); absent -> its sets are skipped\n"
+    "                    <repo>/../shared/data for a binary in its build\n"
+    "                    tree, none when installed); absent -> its sets are\n"
+    "                    skipped\n"
     "  --opencv-doc DIR  folder with aloeL.jpg, aloeR.jpg, aloeGT.png\n"
     "                    (default /usr/share/doc/opencv-doc/examples/data)\n"
     "  --all             every available set (the default selection)\n"
@@ -1368,12 +1367,8 @@ int run(int argc, char **argv)
     cv::setNumThreads(0); // sequential: same footing as the C library
 
     // Collect the sets.
-    if (opt.data.empty()) {
-        const char *env = std::getenv("NEGOBS_DATA");
-        opt.data = env && *env
-                       ? env
-                       : std::string(NEGOBS_SOURCE_ROOT) + "/../shared/data";
-    }
+    if (opt.data.empty())
+        opt.data = negobs_cli::default_data_dir();
     std::vector<SetSpec> all;
     if (is_dir(opt.data)) {
         std::string err;
@@ -1388,7 +1383,8 @@ int run(int argc, char **argv)
     } else {
         std::printf("negobs_eval: data folder '%s' absent: skipping the "
                     "manifest sets (set NEGOBS_DATA or --data)\n",
-                    opt.data.c_str());
+                    opt.data.empty() ? "(none: an installed binary)"
+                                     : opt.data.c_str());
     }
     {
         SetSpec aloe;
