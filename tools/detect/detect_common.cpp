@@ -1,5 +1,7 @@
 #include "detect_common.hpp"
 
+#include "colour_bar.hpp"
+
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -627,8 +629,10 @@ cv::Mat overlay(const cv::Mat &left, const cv::Mat &disp_q4, int max_disp, int f
                       cv::Point(tx + ts.width, ty + 2), cv::Scalar(0, 0, 0), cv::FILLED);
         cv::putText(l3, txt, cv::Point(tx, ty), font, fs, c, 1, cv::LINE_AA);
     }
+    // the disparity panel's scale (JET over 0..dmax px, black = no value)
     cv::Mat top;
-    cv::hconcat(l3, dc, top);
+    cv::hconcat(l3, negobs_cli::with_colour_bar(dc, cv::COLORMAP_JET, 0, dmax, "px"),
+                top);
     const int bar_h = 40;
     cv::Mat bar(bar_h, top.cols, CV_8UC3, cv::Scalar(40, 40, 40));
     cv::Scalar sc = d.state == NEGOBS_DETECT_HAZARD    ? cv::Scalar(0, 128, 255)

@@ -30,6 +30,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cli.hpp"
+#include "colour_bar.hpp"
 #include "eval_score.hpp"
 #include "occlusion.hpp"
 #include "stereo_common.hpp"
@@ -1114,6 +1115,9 @@ bool write_picture(const Options &opt, const SetResult &r)
     }
     panels.push_back(
         labelled(negobs_tools::colourise(r.gt, r.gt_valid, lo, hi), "GT"));
+    // one scale for the four panels, which share the colour range
+    panels.push_back(
+        negobs_cli::colour_bar(r.height, cv::COLORMAP_TURBO, lo, hi, "px"));
     cv::Mat row;
     cv::hconcat(panels, row);
     const int max_w = opt.pictures_width;

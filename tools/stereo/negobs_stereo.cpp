@@ -23,6 +23,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cli.hpp"
+#include "colour_bar.hpp"
 #include "disp_io.hpp"
 #include "stereo_common.hpp"
 
@@ -76,7 +77,8 @@ const char *const kHelp =
     "                 0 <= N < max-disp\n"
     "  -f, --format F png16 (default), kitti or pfm, see above\n"
     "  -c, --color FILE  also write a colour picture (TURBO map over\n"
-    "                 [min-disp, max-disp], black = no value)\n"
+    "                 [min-disp, max-disp], black = no value) with its\n"
+    "                 colour bar and scale on the right\n"
     "  --confidence FILE  also write the engine's confidence map as an 8-bit\n"
     "                 grey PNG: 0 = no value, 2 = filled from neighbours,\n"
     "                 4 = textureless, 8..255 = matched (~255 x NCC);\n"
@@ -493,9 +495,13 @@ int run(int argc, char **argv)
     if (!colour_path.empty()) {
         cv::Mat d, v;
         negobs_tools::negobs_q4_to_float(disp_q4, d, v);
+        // the scale beside the picture: which colour is which disparity
         if (!write_png(colour_path,
-                       negobs_tools::colourise(d, v, range.min_disp,
-                                               range.max_disp))) {
+                       negobs_cli::with_colour_bar(
+                           negobs_tools::colourise(d, v, range.min_disp,
+                                                   range.max_disp),
+                           cv::COLORMAP_TURBO, range.min_disp, range.max_disp,
+                           "px"))) {
             std::fprintf(stderr, "negobs_stereo: cannot write '%s'\n",
                          colour_path.c_str());
             return EXIT_OUTPUT;
