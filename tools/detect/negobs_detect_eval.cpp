@@ -2114,7 +2114,13 @@ const struct option kLongOpts[] = {
 // build tree's layout (tools/detect/../synth/).
 std::string default_synth(const char *argv0)
 {
-    const fs::path self = fs::absolute(argv0).parent_path();
+    // /proc/self/exe: argv[0] is a bare name when the tool is found on PATH
+    std::error_code ec;
+    fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (ec || exe.empty()) {
+        exe = fs::absolute(argv0);
+    }
+    const fs::path self = exe.parent_path();
     const fs::path beside = self / "negobs_synth";
     if (fs::exists(beside)) {
         return beside.string();
