@@ -196,9 +196,10 @@ static void strip_hist_add(const scan_ctx_t *s, uint16_t *hist, int32_t v,
  * BAR_RUN_MM of the foot's floor distance, nearer or farther. A point at
  * disparity d on the ray of row v, where the floor has d_g, stands
  * h = H (d - d_g) / d above it (similar triangles along the ray; d_g <= 0
- * above the horizon keeps the formula). Rows are read to the top of the
- * image, without the corridor test: the face of a near obstacle rises
- * into rows whose floor lies beyond the corridor's width.
+ * above the horizon keeps the formula). Rows are read upward without the
+ * corridor test (the face of a near obstacle rises into rows whose floor
+ * lies beyond the corridor's width) until BLOCK_ROWS rows in a row lie
+ * beyond the band, or to the top of the image.
  */
 static int closure_bars(const scan_ctx_t *s, const detect_priv_t *p,
                         int32_t si, int32_t foot_v, int32_t *rr)
@@ -208,10 +209,12 @@ static int closure_bars(const scan_ctx_t *s, const detect_priv_t *p,
     int32_t uc = u0 + cfg->strip_px / 2;
     int32_t foot_mm = 0;
     int32_t n_tall = 0;
+    int32_t n_past = 0;
     int32_t v;
     det_model_point(s, uc, foot_v, negobs_ground_disp_q4(s->plane, uc, foot_v),
                     &foot_mm, NULL, NULL);
-    for (v = foot_v; v >= 0 && n_tall < BLOCK_ROWS; v--) {
+    for (v = foot_v; v >= 0 && n_tall < BLOCK_ROWS && n_past < BLOCK_ROWS;
+         v--) {
         const int16_t *row = negobs_image_s16_row(s->disp, v);
         const uint8_t *crow = (s->conf != NULL)
                                   ? negobs_image_u8_row(s->conf, v)
@@ -233,12 +236,16 @@ static int closure_bars(const scan_ctx_t *s, const detect_priv_t *p,
         }
         d_q4 = median2_s32(rr, n) / 2;
         dg_q4 = negobs_ground_disp_q4(s->plane, uc, v);
-        if (d_q4 <= 0 || (int64_t)s->frame->height_mm * (d_q4 - dg_q4) <
-                             (int64_t)BAR_H_MM * d_q4) {
+        if (d_q4 <= 0) {
             continue;
         }
         det_model_point(s, uc, v, d_q4, &r_mm, NULL, NULL);
-        n_tall += negobs_abs_s32(r_mm - foot_mm) <= BAR_RUN_MM;
+        /* BLOCK_ROWS rows in a row beyond the band: the face, if any, is
+         * below (the top of an up-step, the floor past a low object) */
+        n_past = (r_mm > foot_mm + BAR_RUN_MM) ? n_past + 1 : 0;
+        n_tall += (int64_t)s->frame->height_mm * (d_q4 - dg_q4) >=
+                      (int64_t)BAR_H_MM * d_q4 &&
+                  negobs_abs_s32(r_mm - foot_mm) <= BAR_RUN_MM;
     }
     return n_tall >= BLOCK_ROWS;
 }
