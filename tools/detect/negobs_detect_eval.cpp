@@ -1975,6 +1975,9 @@ int evaluate_oakd(const Options &opt)
         if (d.short_sight) {
             verdict += " (short sight)";
         }
+        if (d.blocked_at_mm > 0) {
+            verdict += " (blocked at " + std::to_string(d.blocked_at_mm) + " mm)";
+        }
         if (!rs.empty()) {
             verdict += " (" + rs + ")";
         }
@@ -2045,7 +2048,8 @@ void usage(FILE *f)
         "--oakd: every NAME_left.png / NAME_right.png pair of DIR (default\n"
         "$NEGOBS_DATA/oakd) with f, B, cx, cy from DIR/calibration.json and no\n"
         "mounting hint, each fed N times; prints one Markdown table row per pair\n"
-        "(verdict, clear_to_mm, mounting, the frame's fit, noise_vouch_mm).\n"
+        "(verdict with blocked_at_mm when set, clear_to_mm, mounting, the frame's fit,\n"
+        "noise_vouch_mm).\n"
         "--img-dir DIR: created (with parents) and checked writable before the run.\n"
         "Without arguments: this text and exit 2 (the suite takes many minutes;\n"
         "--all runs it). -h/--help, -V/--version; options take their value as\n"
