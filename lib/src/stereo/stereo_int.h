@@ -20,6 +20,26 @@
 #include "stereo/stereo_queue.h"
 #include "stereo/stereo_state.h"
 
+/* Attribute the clock ticks since the last lap to `stage`. */
+static inline void stx_lap(stx_t *s, negobs_stereo_stage_t stage)
+{
+    if (s->clock != NULL) {
+        uint32_t now = s->clock(s->clock_user);
+        s->st.stage_ticks[stage] += (uint32_t)(now - s->lap);
+        s->lap = now;
+    }
+}
+
+/* ---- bands.c ---------------------------------------------------------- */
+/* Init: give every extra worker the context's geometry, empty its memo. */
+void stx_bands_init(stx_t *s);
+/* Stages 2-4 up to the end of the second DP stage, band by band (on the
+ * executor when one is set): disp_q4 gets the GCS disparities (px). */
+void stx_bands_pass0(stx_t *s, negobs_image_s16_t *disp_q4);
+/* Back-track, sub-pixel and confidence of every row, band by band. */
+void stx_bands_pass1(stx_t *s, negobs_image_s16_t *disp_q4,
+                     negobs_image_u8_t *confidence);
+
 /* ---- canny.c ---------------------------------------------------------- */
 /* Edge map of strip rows [y0, y1) into s->edge (1 = edge). Returns count. */
 uint32_t stx_canny_strip(stx_t *s, int32_t y0, int32_t y1);
@@ -48,6 +68,8 @@ void stx_memo_clear(stx_t *s);
 void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
                 int16_t *outrow, uint8_t *confrow);
 void stx_dp_stage2_reset(stx_t *s);
+/* With several band workers (s->yend): feed the stored rows 0 .. h-1. */
+void stx_dp_stage2_feed_stored(stx_t *s);
 void stx_dp_stage2_finish(stx_t *s);
 
 /* ---- refine.c --------------------------------------------------------- */

@@ -98,6 +98,15 @@ typedef struct stx {
     int16_t *zarg;          /* h: argmax of stage-2 scores per row       */
     int32_t zrows;          /* rows fed to stage 2 so far                */
 
+    /* row bands (bands.c): per-row stage-1 end scores when several
+     * workers run pass 0 at once (NULL with one worker: the rows then
+     * reach stage 2 in order and are fed to it directly) */
+    int32_t band_y0;        /* first row of the band being grown            */
+    int32_t *yend;          /* h x ndisp stage-1 end scores                 */
+    uint8_t *yhave;         /* h: 1 = the row had a GCS match               */
+    struct stx *wk;         /* band_workers - 1 worker states (bands.c)     */
+    negobs_executor_t exec; /* run == NULL: the caller's thread       */
+
     /* refinement */
     int16_t *line; /* max(w, h) + 16 scratch                     */
     int16_t *line2;
