@@ -77,6 +77,7 @@ typedef struct run_settings {
     bool alert_binary;   /* config alert_binary                      */
     bool vertical_align; /* config vertical_align                    */
     bool row_crop;       /* config row_crop                          */
+    int32_t threads;     /* config threads (0: online cores)         */
 } run_settings_t;
 
 extern run_settings_t run_cfg;

@@ -10,6 +10,7 @@
 #include "negobs/version.h"
 #include "negobs_port/clock.h"
 #include "negobs_port/config.h"
+#include "negobs_port/pool.h"
 #include "run_app.h"
 
 run_settings_t run_cfg;
@@ -84,6 +85,9 @@ static const negobs_cfg_key_t config_keys[] = {
      "match only the rows from the top of the warning range down, found "
      "from the last frame's ground (about 15-30 % less matching time); "
      "false matches every row (default true)"},
+    {"threads", NEGOBS_CFG_INT, &run_cfg.threads, 0, NEGOBS_POOL_MAX_THREADS,
+     "threads that run the matcher's row bands; the disparities are the "
+     "same for every count; 0 = one per online core (default 0)"},
     {"calib", NEGOBS_CFG_STRING, run_cfg.calib, 0, sizeof run_cfg.calib,
      "rectification table from negobs_calib; its f, B, cx, cy replace "
      "focal_px and baseline_mm (default: none, frames are rectified)"},
@@ -215,6 +219,7 @@ static void usage(FILE *out)
         "  --frames N           stop after N pairs (default: run until stopped)\n"
         "  --record DIR         record every pair as a session (see docs/RUNNING.md)\n"
         "  --log-level LEVEL    error | warn | info | debug (default info)\n"
+        "  --threads N          matcher threads (default: online cores; same output)\n"
         "  --motor-off SPEC     switch the motor output SPEC off and exit (the\n"
         "                       service's ExecStopPost; no camera arguments)\n"
         "  --help               this text, then the config keys\n"
@@ -274,7 +279,8 @@ int parse_args(int argc, char **argv, run_args_t *a)
         O_HELP,
         O_VERSION,
         O_CALIB,
-        O_MOTOR_OFF
+        O_MOTOR_OFF,
+        O_THREADS
     };
     static const struct option opts[] = {
         {"config", required_argument, NULL, O_CONFIG},
@@ -289,6 +295,7 @@ int parse_args(int argc, char **argv, run_args_t *a)
         {"help", no_argument, NULL, O_HELP},
         {"version", no_argument, NULL, O_VERSION},
         {"motor-off", required_argument, NULL, O_MOTOR_OFF},
+        {"threads", required_argument, NULL, O_THREADS},
         {NULL, 0, NULL, 0},
     };
     negobs_cfg_error_t err;
@@ -349,6 +356,7 @@ int parse_args(int argc, char **argv, run_args_t *a)
         case O_RECORD: key = "record"; break;
         case O_CALIB: key = "calib"; break;
         case O_LOG: key = "log_level"; break;
+        case O_THREADS: key = "threads"; break;
         case ':':
             return usage_error("option '%s' needs a value", argv[optind - 1]);
         case '?':
