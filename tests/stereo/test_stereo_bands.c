@@ -175,9 +175,9 @@ static void same_for_every_worker_count(int32_t bands, int32_t strip_rows,
         process(&g_run[1]);
         assert_same();
         if (n > 1 && bands > 1) {
-            /* both passes went through the executor, every band each */
+            /* growth, DP stage 1, back-track: 3 runs a frame, 2 frames */
             assert_int_equal(f.jobs_seen,
-                             4 * negobs_stereo_band_count(&g_run[1].ctx.cfg,
+                             6 * negobs_stereo_band_count(&g_run[1].ctx.cfg,
                                                           H - first_row));
         }
     }
@@ -206,6 +206,69 @@ static void test_same_bands5_crop(void **state)
     (void)state;
     /* 104 rows of 8-row strips: 13 strips in 5 bands (2, 3, 2, 3, 3) */
     same_for_every_worker_count(5, 8, 16);
+}
+
+/* xorshift32: repeatable texture */
+static uint32_t rnd(uint32_t *x)
+{
+    *x ^= *x << 13;
+    *x ^= *x >> 17;
+    *x ^= *x << 5;
+    return *x;
+}
+
+/*
+ * The seam rule. A fronto-parallel plane at 12 px: full-contrast random
+ * texture in rows 0-31 (the first band), below a texture of 6 grey levels,
+ * whose Sobel magnitude (at most 48) stays under canny_low (60): no edges,
+ * so the lower bands have no seed of their own, yet their windows
+ * correlate perfectly. Growth from the first band carries down strip by
+ * strip in a sequential run; with bands, the seam rule must grow the
+ * seedless bands again from the rows above their borders, or they stay
+ * empty.
+ */
+static void test_seam_rule_fills_seedless_bands(void **state)
+{
+    uint32_t seed = 12345u;
+    int32_t x;
+    int32_t y;
+    int i;
+    (void)state;
+    for (y = 0; y < H; y++) {
+        for (x = 0; x < W; x++) {
+            uint32_t r = rnd(&seed);
+            left[y * W + x] = (y < 32) ? (uint8_t)(r & 255u)
+                                       : (uint8_t)(100u + r % 6u);
+        }
+    }
+    for (y = 0; y < H; y++) {
+        for (x = 0; x < W; x++) {
+            right[y * W + x] = left[y * W + (x + 12 < W ? x + 12 : W - 1)];
+        }
+    }
+    for (i = 0; i < 2; i++) {
+        negobs_image_u8_t li = {left, W, H, W};
+        negobs_image_u8_t ri = {right, W, H, W};
+        negobs_image_s16_t di = {g_run[i].disp, W, H, W};
+        int32_t good = 0;
+        init_run(&g_run[i], i == 0 ? 1 : 4, 1, 16);
+        assert_int_equal(negobs_stereo_process(&g_run[i].ctx, &li, &ri, &di,
+                                               NULL, &g_run[i].st),
+                         NEGOBS_OK);
+        /* rows 64.. (bands 2 and 3 of 4): the plane, nearly everywhere */
+        for (y = 64; y < H - 4; y++) {
+            for (x = 20; x < W - 4; x++) {
+                int32_t d = g_run[i].disp[y * W + x];
+                good += (d != NEGOBS_DISP_INVALID && d >= 11 * 16 &&
+                         d <= 13 * 16);
+            }
+        }
+        assert_true(good * 10 >= (H - 68) * (W - 24) * 9);
+    }
+    assert_int_equal(g_run[0].st.seam_regrown, 0);
+    /* bands 2 and 3; band 1 has seeds on its first rows, whose Sobel
+     * window reaches the textured band above */
+    assert_int_equal(g_run[1].st.seam_regrown, 2);
 }
 
 static void test_executor_checks(void **state)
@@ -278,6 +341,7 @@ int main(void)
         cmocka_unit_test(test_same_bands3),
         cmocka_unit_test(test_same_bands4),
         cmocka_unit_test(test_same_bands5_crop),
+        cmocka_unit_test(test_seam_rule_fills_seedless_bands),
         cmocka_unit_test(test_executor_checks),
         cmocka_unit_test(test_config_and_workspace),
     };

@@ -294,6 +294,9 @@ typedef struct negobs_stereo_stats {
     int32_t range_max;
     int32_t vertical_offset; /**< rows: left y matches right y+off */
     int32_t first_row;       /**< first row matched (set_first_row) */
+    uint32_t seam_regrown;   /**< bands grown again with the matches
+                                  above their border as seeds (the seam
+                                  rule, docs/DISPARITY.md)          */
     /** clock ticks per stage (negobs_stereo_set_clock); all 0 without a
      *  clock. Not part of the output: timings differ from run to run. */
     uint64_t stage_ticks[NEGOBS_STEREO_STAGE_COUNT];

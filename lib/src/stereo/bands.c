@@ -11,11 +11,15 @@
  * Each worker owns one scratch area (the strip buffers, the queue, the
  * score cache, the memo and a DP row): worker 0 is the context itself, the
  * others are copies of the context (s->wk) with their own scratch and
- * statistics, merged after each parallel pass. Pass 0 (window sums, Canny,
- * GCS, DP stage 1) keeps every row's stage-1 end scores in s->yend when
- * several workers exist; the second DP stage then takes the rows in order
- * on the caller's thread (h x ndisp steps, about 1 % of the frame). Pass 1
- * (the back-track with sub-pixel refinement) is row-independent.
+ * statistics, merged after each parallel pass.
+ *
+ * Per frame: (a) every band grows on its own (window sums, Canny, GCS);
+ * (b) the seam rule (seam_pass) grows a band again, on the caller's
+ * thread, with the matches above its border as seeds where it lacks them;
+ * (c) DP stage 1 of every row, band by band, keeping each row's end scores
+ * in s->yend when several workers exist; (d) the second DP stage takes the
+ * rows in order on the caller's thread (h x ndisp steps, about 1 % of the
+ * frame); (e) the back-track with sub-pixel refinement, band by band.
  */
 #include <string.h>
 
@@ -135,8 +139,55 @@ static stx_t *worker_state(stx_t *s, int32_t worker)
     return (worker == 0) ? s : &s->wk[worker - 1];
 }
 
-/* Window sums, Canny, GCS and DP stage 1 of band `band`. */
-static void pass0_job(void *arg, int32_t band, int32_t worker)
+/* GCS of band rows [yb0, yb1): window sums, Canny, seeds and growth,
+ * strip by strip. With `carry` the first strip also takes the matches of
+ * row yb0 - 1 as seeds, as every later strip does from the strip above. */
+static void grow_band(stx_t *x, negobs_image_s16_t *disp, int32_t yb0,
+                      int32_t yb1, int carry)
+{
+    int32_t y0;
+    x->band_y0 = carry ? -1 : yb0;
+    for (y0 = yb0; y0 < yb1; y0 += x->sh) {
+        int32_t y1 = (y0 + x->sh < yb1) ? y0 + x->sh : yb1;
+        stx_strip_stats(x, y0, y1);
+        stx_lap(x, NEGOBS_STEREO_STAGE_WINDOWS);
+        x->st.edges += stx_canny_strip(x, y0, y1);
+        stx_lap(x, NEGOBS_STEREO_STAGE_CANNY);
+        stx_gcs_strip(x, disp);
+        stx_lap(x, NEGOBS_STEREO_STAGE_GCS);
+    }
+}
+
+/* The result counts of one band's growth (kept per band, so a band grown
+ * again at the seam counts once). */
+static void band_result(const negobs_stereo_stats_t *after,
+                        const negobs_stereo_stats_t *before,
+                        stx_band_result_t *r)
+{
+    r->seeds = after->seeds - before->seeds;
+    r->grown = after->grown - before->grown;
+    r->gcs_matched = after->gcs_matched - before->gcs_matched;
+    r->edges = after->edges - before->edges;
+}
+
+static void pass0_grow_job(void *arg, int32_t band, int32_t worker)
+{
+    band_job_t *j = (band_job_t *)arg;
+    stx_t *x = worker_state(j->s, worker);
+    negobs_stereo_stats_t before = x->st;
+    int32_t yb0;
+    int32_t yb1;
+    if (negobs_stereo_band_rows(&x->cfg, x->h, band, &yb0, &yb1) !=
+        NEGOBS_OK) {
+        return;
+    }
+    grow_band(x, j->disp, yb0, yb1, 0);
+    band_result(&x->st, &before, &j->s->band_res[band]);
+}
+
+/* DP stage 1 of the rows of band `band` (the window sums again only for
+ * dp_rescore, the one case that correlates). */
+static void pass0_dp_job(void *arg, int32_t band, int32_t worker)
 {
     band_job_t *j = (band_job_t *)arg;
     stx_t *x = worker_state(j->s, worker);
@@ -147,20 +198,75 @@ static void pass0_job(void *arg, int32_t band, int32_t worker)
         NEGOBS_OK) {
         return;
     }
-    x->band_y0 = yb0;
     for (y0 = yb0; y0 < yb1; y0 += x->sh) {
         int32_t y1 = (y0 + x->sh < yb1) ? y0 + x->sh : yb1;
         int32_t y;
-        stx_strip_stats(x, y0, y1);
-        stx_lap(x, NEGOBS_STEREO_STAGE_WINDOWS);
-        x->st.edges += stx_canny_strip(x, y0, y1);
-        stx_lap(x, NEGOBS_STEREO_STAGE_CANNY);
-        stx_gcs_strip(x, j->disp);
-        stx_lap(x, NEGOBS_STEREO_STAGE_GCS);
+        if (x->cfg.dp_rescore) {
+            stx_strip_stats(x, y0, y1);
+            stx_lap(x, NEGOBS_STEREO_STAGE_WINDOWS);
+        }
         for (y = y0; y < y1; y++) {
             stx_dp_row(x, y, negobs_image_s16_row(j->disp, y), 0, NULL, NULL);
         }
         stx_lap(x, NEGOBS_STEREO_STAGE_DP);
+    }
+}
+
+/*
+ * Seam rule: pixels of the last row above a band border whose GCS match
+ * the first row below lacks (no value, or one more than a level away).
+ * Growth only flows down the image (each strip takes the last row of the
+ * strip above as seeds), so a band without seeds of its own, a weakly
+ * textured floor at the bottom of the frame, would otherwise stay empty
+ * where the sequential growth filled it from above.
+ */
+static int32_t seam_missing(const stx_t *s, const negobs_image_s16_t *disp,
+                            int32_t y0)
+{
+    const int16_t *above = negobs_image_s16_row(disp, y0 - 1);
+    const int16_t *below = negobs_image_s16_row(disp, y0);
+    int32_t n = 0;
+    int32_t u;
+    for (u = 0; u < s->w; u++) {
+        int32_t dd;
+        if (above[u] == NEGOBS_DISP_INVALID) {
+            continue;
+        }
+        dd = (int32_t)below[u] - (int32_t)above[u];
+        if (below[u] == NEGOBS_DISP_INVALID || dd > 1 || dd < -1) {
+            n++;
+        }
+    }
+    return n;
+}
+
+/* After the bands grew on their own: top to bottom, a band whose first row
+ * lacks more than a quarter of a row of the matches just above its border
+ * (a seedless band; textured bands miss a few percent) grows again here,
+ * with those matches as seeds, as the sequential growth would have. The
+ * rule reads finished bands only, so the result depends on the layout
+ * alone, not on the threads. */
+static void seam_pass(stx_t *s, negobs_image_s16_t *disp, int32_t nb)
+{
+    int32_t b;
+    for (b = 1; b < nb; b++) {
+        int32_t yb0;
+        int32_t yb1;
+        negobs_stereo_stats_t before;
+        stx_band_result_t *r = &s->band_res[b];
+        if (negobs_stereo_band_rows(&s->cfg, s->h, b, &yb0, &yb1) !=
+                NEGOBS_OK ||
+            seam_missing(s, disp, yb0) * 4 <= s->w) {
+            continue;
+        }
+        s->st.seeds -= r->seeds;
+        s->st.grown -= r->grown;
+        s->st.gcs_matched -= r->gcs_matched;
+        s->st.edges -= r->edges;
+        before = s->st;
+        grow_band(s, disp, yb0, yb1, 1);
+        band_result(&s->st, &before, r);
+        s->st.seam_regrown++;
     }
 }
 
@@ -221,8 +327,11 @@ void stx_bands_pass0(stx_t *s, negobs_image_s16_t *disp_q4)
     job.s = s;
     job.disp = disp_q4;
     job.conf = NULL;
+    run_bands(s, pass0_grow_job, &job, NEGOBS_STEREO_STAGE_GCS);
+    seam_pass(s, disp_q4, negobs_stereo_band_count(&s->cfg, s->h));
+    stx_lap(s, NEGOBS_STEREO_STAGE_GCS);
     stx_dp_stage2_reset(s);
-    run_bands(s, pass0_job, &job, NEGOBS_STEREO_STAGE_GCS);
+    run_bands(s, pass0_dp_job, &job, NEGOBS_STEREO_STAGE_DP);
     if (s->yend != NULL) {
         stx_dp_stage2_feed_stored(s);
     }

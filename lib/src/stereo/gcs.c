@@ -534,7 +534,7 @@ static void seed_carry(stx_t *s, const negobs_image_s16_t *out)
 {
     const int16_t *prev;
     int32_t u;
-    if (s->y0 == s->band_y0) {
+    if (s->y0 == 0 || s->y0 == s->band_y0) {
         return; /* growth never crosses a band border */
     }
     prev = negobs_image_s16_row(out, s->y0 - 1);
