@@ -56,6 +56,10 @@ void usage(FILE *f)
            "  --overlay-scale K scale the pictures by K (0.1..4, default 1; below 1\n"
            "                    also 32 grey levels per channel: small files)\n"
            "  --whole           time only the whole frame (no per-stage clock)\n"
+           "  --threads N       threads for the matcher's row bands, 1..64 (default:\n"
+           "                    the online cores); the output is the same for every\n"
+           "                    N; the times are CPU time, summed over the threads\n"
+           "                    for the stages, the calling thread's for the total\n"
            "  --summary         one summary line at the end (stdout)\n"
            "  --quiet           no JSON lines on stdout\n"
            "Exit: 0 ok, 1 data error, 2 bad command line.\n");
@@ -147,6 +151,7 @@ int main(int argc, char **argv)
     std::vector<std::string> pos;
     double overlay_scale = 1.0;
     double f = -1, B = -1, cx = -1, cy = -1, H = -1, pitch = -1e9, fps = -1;
+    int threads = negobs_pool_online_cores();
     int max_disp = -1, vshift = 0, repeat = 1, first = 0, count = -1;
     bool valign = false;
     bool vshift_set = false, overlay_on = true, summary = false, quiet = false,
@@ -166,7 +171,7 @@ int main(int argc, char **argv)
                                  a == "--pitch-deg" || a == "--max-disp" ||
                                  a == "--vshift" || a == "--fps" || a == "--repeat" ||
                                  a == "--first" || a == "--count" ||
-                                 a == "--overlay-scale";
+                                 a == "--overlay-scale" || a == "--threads";
         if (a == "--help" || a == "-h") {
             usage(stdout);
             return 0;
@@ -213,6 +218,9 @@ int main(int argc, char **argv)
             } else if (a == "--overlay-scale") {
                 ok = parse_double(v, overlay_scale) && overlay_scale >= 0.1 &&
                      overlay_scale <= 4;
+            } else if (a == "--threads") {
+                ok = parse_int(v, threads) && threads >= 1 &&
+                     threads <= NEGOBS_POOL_MAX_THREADS;
             } else if (a == "--count") {
                 ok = parse_int(v, count) && count >= 1;
             }
@@ -344,6 +352,7 @@ int main(int argc, char **argv)
     }
 
     Runner runner;
+    runner.set_threads(threads);
     int w = 0, h = 0;
     int n = 0, nhaz = 0, nnoinfo = 0, first_conf = -1;
     int first_conf_range = -1;

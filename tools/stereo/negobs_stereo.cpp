@@ -20,6 +20,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "negobs_port/pool.h"
 #include "stereo_common.hpp"
 
 extern "C" {
@@ -41,7 +42,7 @@ enum Exit {
 const char *const kHelp =
     "usage: negobs_stereo LEFT RIGHT OUT.png [--max-disp N] [--min-disp N]\n"
     "                     [--color PICTURE.png] [--confidence CONF.png]\n"
-    "                     [--align] [--stats]\n"
+    "                     [--align] [--stats] [--threads N]\n"
     "\n"
     "Computes the disparity of the rectified pair LEFT (reference) / RIGHT\n"
     "with the negobs fixed-point engine and writes OUT.png.\n"
@@ -79,6 +80,8 @@ const char *const kHelp =
     "                 no value: the right camera never saw those points\n"
     "  --stats        print the engine statistics and timing (total and per\n"
     "                 stage, thread CPU time) to stderr\n"
+    "  --threads N    threads for the engine's row bands, 1..64 (default:\n"
+    "                 the online cores); the output is the same for every N\n"
     "  --stages FILE  also write one picture of the map after every stage\n"
     "                 (GCS, DP, LR check, speckles, gap fill, adaptive\n"
     "                 mean) beside LEFT, colours as --color, each tile\n"
@@ -270,6 +273,7 @@ int run(int argc, char **argv)
     bool stats = false;
     bool align = false;
     bool dense = false;
+    int threads = negobs_pool_online_cores();
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "-h" || a == "--help") {
@@ -306,6 +310,18 @@ int run(int argc, char **argv)
                 return EXIT_USAGE;
             }
             conf_path = argv[++i];
+        } else if (a == "--threads") {
+            int v = 0;
+            if (i + 1 >= argc || !parse_int(argv[i + 1], v) || v < 1 ||
+                v > NEGOBS_POOL_MAX_THREADS) {
+                std::fprintf(stderr,
+                             "negobs_stereo: --threads needs an integer "
+                             "1..%d\n",
+                             NEGOBS_POOL_MAX_THREADS);
+                return EXIT_USAGE;
+            }
+            threads = v;
+            ++i;
         } else if (a == "--stats") {
             stats = true;
         } else if (a == "--align") {
@@ -395,6 +411,7 @@ int run(int argc, char **argv)
     }
 
     negobs_tools::NegobsMatcher m;
+    m.set_threads(threads);
     if (!m.init(left.cols, left.rows, range, err, -1, dense ? 1 : 0)) {
         std::fprintf(stderr, "negobs_stereo: %s (size %dx%d, range %d..%d)\n",
                      err.c_str(), left.cols, left.rows, range.min_disp,
