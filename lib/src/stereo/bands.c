@@ -241,11 +241,12 @@ static int32_t seam_missing(const stx_t *s, const negobs_image_s16_t *disp,
 }
 
 /* After the bands grew on their own: top to bottom, a band whose first row
- * lacks more than a quarter of a row of the matches just above its border
- * (a seedless band; textured bands miss a few percent) grows again here,
- * with those matches as seeds, as the sequential growth would have. The
- * rule reads finished bands only, so the result depends on the layout
- * alone, not on the threads. */
+ * lacks more than an eighth of a row of the matches just above its border
+ * grows again here, with those matches as seeds, as the sequential growth
+ * would have. Textured bands miss a few percent there; a quarter let
+ * Flowerpots lose 0.5 point of bad1all, an eighth none (docs/DISPARITY.md,
+ * "Row bands and threads"). The rule reads finished bands only, so the
+ * result depends on the layout alone, not on the threads. */
 static void seam_pass(stx_t *s, negobs_image_s16_t *disp, int32_t nb)
 {
     int32_t b;
@@ -256,7 +257,7 @@ static void seam_pass(stx_t *s, negobs_image_s16_t *disp, int32_t nb)
         stx_band_result_t *r = &s->band_res[b];
         if (negobs_stereo_band_rows(&s->cfg, s->h, b, &yb0, &yb1) !=
                 NEGOBS_OK ||
-            seam_missing(s, disp, yb0) * 4 <= s->w) {
+            seam_missing(s, disp, yb0) * 8 <= s->w) {
             continue;
         }
         s->st.seeds -= r->seeds;
