@@ -10,8 +10,8 @@
  * disparities and statistics bit for bit. Wall time on a shared machine is
  * noisy: the best of REPS runs is kept and the online cores printed.
  *
- * `bench_threads --once N` runs one 320x240 frame on N threads and
- * nothing else (callgrind --separate-threads=yes counts instructions per
+ * `bench_threads --once N` runs one 320x240 frame on N threads of the pool
+ * and nothing else (no projection) (callgrind --separate-threads=yes counts instructions per
  * thread; tools/negobs bench prints them).
  */
 #define _POSIX_C_SOURCE 200809L
@@ -181,7 +181,7 @@ static int time_stereo(int32_t w, int32_t h, int32_t threads, int reps,
         }
     }
     /* the projection: the same engine on the simulating executor */
-    if (threads > 1) {
+    if (threads > 1 && reps > 1) {
         t->proj = 1e30;
         for (r = 0; r < reps; r++) {
             sim_exec_t sim;
