@@ -94,6 +94,8 @@ static void worker_sync(const stx_t *s, stx_t *x)
     x->bhi = own.bhi;
     x->bscored = own.bscored;
     x->rowd = own.rowd;
+    x->line = own.line;
+    x->line2 = own.line2;
     memset(&x->st, 0, sizeof x->st);
     if (x->clock != NULL) {
         x->lap = x->clock(x->clock_user);
@@ -114,6 +116,8 @@ static void stats_merge(negobs_stereo_stats_t *to,
     to->edges += from->edges;
     to->grown += from->grown;
     to->gcs_matched += from->gcs_matched;
+    to->lr_rejected += from->lr_rejected;
+    to->gap_filled += from->gap_filled;
     for (i = 0; i < NEGOBS_STEREO_STAGE_COUNT; i++) {
         to->stage_ticks[i] += from->stage_ticks[i];
     }
@@ -132,6 +136,10 @@ typedef struct band_job {
     stx_t *s;
     negobs_image_s16_t *disp;
     negobs_image_u8_t *conf;
+    /* line filters (stx_bands_filter) */
+    stx_line_filter_t filter;
+    uint8_t *conf_data;
+    int32_t conf_stride;
 } band_job_t;
 
 static stx_t *worker_state(stx_t *s, int32_t worker)
@@ -300,7 +308,8 @@ static void pass1_job(void *arg, int32_t band, int32_t worker)
 
 /* Every band through fn: on the executor when one is set (and there is
  * more than one worker), else here, in order. The wait for the slowest
- * band goes to `wait_stage`. */
+ * band goes to `wait_stage` (NEGOBS_STEREO_STAGE_COUNT: to the caller's
+ * next lap). */
 static void run_bands(stx_t *s, negobs_job_fn fn, band_job_t *job,
                       negobs_stereo_stage_t wait_stage)
 {
@@ -319,7 +328,9 @@ static void run_bands(stx_t *s, negobs_job_fn fn, band_job_t *job,
     for (k = 1; k < s->exec.workers; k++) {
         stats_merge(&s->st, &s->wk[k - 1].st);
     }
-    stx_lap(s, wait_stage);
+    if (wait_stage < NEGOBS_STEREO_STAGE_COUNT) {
+        stx_lap(s, wait_stage);
+    }
 }
 
 void stx_bands_pass0(stx_t *s, negobs_image_s16_t *disp_q4)
@@ -348,4 +359,65 @@ void stx_bands_pass1(stx_t *s, negobs_image_s16_t *disp_q4,
     job.disp = disp_q4;
     job.conf = confidence;
     run_bands(s, pass1_job, &job, NEGOBS_STEREO_STAGE_DP);
+}
+
+/* Line filter over band `band`'s rows, or over the band-th of as many
+ * column slices (the mean's vertical pass). */
+static void filter_job(void *arg, int32_t band, int32_t worker)
+{
+    band_job_t *j = (band_job_t *)arg;
+    stx_t *x = worker_state(j->s, worker);
+    int32_t a;
+    int32_t b;
+    if (negobs_stereo_band_rows(&x->cfg, x->h, band, &a, &b) != NEGOBS_OK) {
+        return;
+    }
+    switch (j->filter) {
+    case STX_FILTER_LR:
+        stx_lr_check_rows(x, j->disp, j->conf_data, j->conf_stride, a, b);
+        break;
+    case STX_FILTER_GAP_FILL:
+        stx_gap_fill_rows(x, j->disp, j->conf_data, j->conf_stride, a, b);
+        break;
+    case STX_FILTER_MEAN_ROWS:
+        stx_amean_rows(x, j->disp, j->conf_data, j->conf_stride, a, b);
+        break;
+    case STX_FILTER_MEAN_COLS:
+    default: {
+        int32_t nb = negobs_stereo_band_count(&x->cfg, x->h);
+        a = (int32_t)((int64_t)x->w * band / nb);
+        b = (int32_t)((int64_t)x->w * (band + 1) / nb);
+        stx_amean_cols(x, j->disp, j->conf_data, j->conf_stride, a, b);
+        break;
+    }
+    }
+}
+
+void stx_bands_filter(stx_t *s, stx_line_filter_t f,
+                      negobs_image_s16_t *disp_q4, uint8_t *conf,
+                      int32_t conf_stride)
+{
+    band_job_t job;
+    if (s->exec.run == NULL || s->exec.workers < 2) {
+        /* one thread: the whole-frame filters, in their own order */
+        if (f == STX_FILTER_LR) {
+            stx_lr_check(s, disp_q4, conf, conf_stride);
+        } else if (f == STX_FILTER_GAP_FILL) {
+            stx_gap_fill(s, disp_q4, conf, conf_stride);
+        } else {
+            stx_adaptive_mean(s, disp_q4, conf, conf_stride);
+        }
+        return;
+    }
+    job.s = s;
+    job.disp = disp_q4;
+    job.conf = NULL;
+    job.filter = (f == STX_FILTER_MEAN) ? STX_FILTER_MEAN_ROWS : f;
+    job.conf_data = conf;
+    job.conf_stride = conf_stride;
+    run_bands(s, filter_job, &job, NEGOBS_STEREO_STAGE_COUNT);
+    if (f == STX_FILTER_MEAN) {
+        job.filter = STX_FILTER_MEAN_COLS;
+        run_bands(s, filter_job, &job, NEGOBS_STEREO_STAGE_COUNT);
+    }
 }

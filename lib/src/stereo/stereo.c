@@ -127,6 +127,7 @@ static void carve_scratch(negobs_arena_t *a, stx_t *x,
     int32_t w = c->width;
     int32_t nd = c->max_disp - c->min_disp + 1;
     size_t spx = (size_t)c->strip_rows * (size_t)w;
+    int32_t maxwh = (w > c->height) ? w : c->height;
     if (c->memory_profile == NEGOBS_STEREO_PROFILE_FAST) {
         int32_t k = (nd < NEGOBS_STEREO_MEMO_LEVELS)
                         ? nd
@@ -163,6 +164,8 @@ static void carve_scratch(negobs_arena_t *a, stx_t *x,
     TAKE(x->bhi, int16_t, w);
     TAKE(x->bscored, uint8_t, w);
     TAKE(x->rowd, int16_t, w);
+    TAKE(x->line, int16_t, maxwh + 16);
+    TAKE(x->line2, int16_t, maxwh + 16);
     if (x != NULL) {
         x->q.cap = c->queue_capacity;
     }
@@ -184,7 +187,6 @@ static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c)
     int32_t tw = (w + c->tile_size - 1) / c->tile_size;
     int32_t th = (h + c->tile_size - 1) / c->tile_size;
     int32_t nd4 = (c->max_disp + 3) / 4 - c->min_disp / 4 + 1;
-    int32_t maxwh = (w > h) ? w : h;
     size_t npx = (size_t)w * (size_t)h;
 
     if (s != NULL) {
@@ -214,8 +216,6 @@ static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c)
     TAKE(s->p2, uint8_t, (size_t)h * (size_t)nd);
     TAKE(s->dend, int16_t, h);
     TAKE(s->zarg, int16_t, h);
-    TAKE(s->line, int16_t, maxwh + 16);
-    TAKE(s->line2, int16_t, maxwh + 16);
     TAKE(s->vis, uint8_t, (npx + 7u) / 8u);
     TAKE(s->keep, uint8_t, (npx + 7u) / 8u);
     TAKE(s->flood, uint32_t, c->speckle_size + 2);
@@ -436,8 +436,9 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
     drop_out_of_view(s, disp_q4);
     stx_observe(s, NEGOBS_STEREO_STAGE_DP, disp_q4);
     if (s->cfg.lr_check) {
-        stx_lr_check(s, disp_q4, confidence ? confidence->data : NULL,
-                     confidence ? confidence->stride : 0);
+        stx_bands_filter(s, STX_FILTER_LR, disp_q4,
+                         confidence ? confidence->data : NULL,
+                         confidence ? confidence->stride : 0);
         drop_out_of_view(s, disp_q4);
         stx_lap(s, NEGOBS_STEREO_STAGE_LR);
         stx_observe(s, NEGOBS_STEREO_STAGE_LR, disp_q4);
@@ -447,15 +448,17 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
     stx_lap(s, NEGOBS_STEREO_STAGE_SPECKLE);
     stx_observe(s, NEGOBS_STEREO_STAGE_SPECKLE, disp_q4);
     if (s->cfg.gap_fill > 0) {
-        stx_gap_fill(s, disp_q4, confidence ? confidence->data : NULL,
-                     confidence ? confidence->stride : 0);
+        stx_bands_filter(s, STX_FILTER_GAP_FILL, disp_q4,
+                         confidence ? confidence->data : NULL,
+                         confidence ? confidence->stride : 0);
         drop_out_of_view(s, disp_q4);
         stx_lap(s, NEGOBS_STEREO_STAGE_GAP_FILL);
         stx_observe(s, NEGOBS_STEREO_STAGE_GAP_FILL, disp_q4);
     }
     if (s->cfg.adaptive_mean) {
-        stx_adaptive_mean(s, disp_q4, confidence ? confidence->data : NULL,
-                          confidence ? confidence->stride : 0);
+        stx_bands_filter(s, STX_FILTER_MEAN, disp_q4,
+                         confidence ? confidence->data : NULL,
+                         confidence ? confidence->stride : 0);
         drop_out_of_view(s, disp_q4);
         stx_lap(s, NEGOBS_STEREO_STAGE_MEAN);
         stx_observe(s, NEGOBS_STEREO_STAGE_MEAN, disp_q4);

@@ -39,6 +39,18 @@ void stx_bands_pass0(stx_t *s, negobs_image_s16_t *disp_q4);
 /* Back-track, sub-pixel and confidence of every row, band by band. */
 void stx_bands_pass1(stx_t *s, negobs_image_s16_t *disp_q4,
                      negobs_image_u8_t *confidence);
+/* A line filter of refine.c over the frame, band by band (rows) or in as
+ * many column slices (the mean's vertical pass). */
+typedef enum stx_line_filter {
+    STX_FILTER_LR,
+    STX_FILTER_GAP_FILL,
+    STX_FILTER_MEAN,      /* rows, then columns                       */
+    STX_FILTER_MEAN_ROWS, /* (the two passes of the mean, bands.c)    */
+    STX_FILTER_MEAN_COLS
+} stx_line_filter_t;
+void stx_bands_filter(stx_t *s, stx_line_filter_t f,
+                      negobs_image_s16_t *disp_q4, uint8_t *conf,
+                      int32_t conf_stride);
 
 /* ---- canny.c ---------------------------------------------------------- */
 /* Edge map of strip rows [y0, y1) into s->edge (1 = edge). Returns count. */
@@ -81,6 +93,17 @@ void stx_gap_fill(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
                   int32_t conf_stride);
 void stx_adaptive_mean(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
                        int32_t conf_stride);
+/* The same on rows [y0, y1) (LR check, gap fill, the mean's horizontal
+ * pass) or columns [x0, x1) (the mean's vertical pass): each line reads
+ * and writes only itself, so ranges can run at once (bands.c). */
+void stx_lr_check_rows(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                       int32_t conf_stride, int32_t y0, int32_t y1);
+void stx_gap_fill_rows(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                       int32_t conf_stride, int32_t y0, int32_t y1);
+void stx_amean_rows(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                    int32_t conf_stride, int32_t y0, int32_t y1);
+void stx_amean_cols(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                    int32_t conf_stride, int32_t x0, int32_t x1);
 /* keep_out_of_view == 0: drop values whose match lies left of the right
  * image (x - d < 0); the final pass then clears their confidence. */
 void stx_out_of_view(stx_t *s, negobs_image_s16_t *disp);
