@@ -56,10 +56,10 @@ void usage(FILE *f)
            "  --overlay-scale K scale the pictures by K (0.1..4, default 1; below 1\n"
            "                    also 32 grey levels per channel: small files)\n"
            "  --whole           time only the whole frame (no per-stage clock)\n"
-           "  --threads N       threads for the matcher's row bands, 1..64 (default:\n"
-           "                    the online cores); the output is the same for every\n"
-           "                    N; the times are CPU time, summed over the threads\n"
-           "                    for the stages, the calling thread's for the total\n"
+           "  --threads N       threads for the matcher's row bands, 1..64 (default 1);\n"
+           "                    the output is the same for every N; with N > 1 the\n"
+           "                    stage times add up the threads' CPU time and the\n"
+           "                    total is the calling thread's\n"
            "  --summary         one summary line at the end (stdout)\n"
            "  --quiet           no JSON lines on stdout\n"
            "Exit: 0 ok, 1 data error, 2 bad command line.\n");
@@ -151,7 +151,7 @@ int main(int argc, char **argv)
     std::vector<std::string> pos;
     double overlay_scale = 1.0;
     double f = -1, B = -1, cx = -1, cy = -1, H = -1, pitch = -1e9, fps = -1;
-    int threads = negobs_pool_online_cores();
+    int threads = 1; // the times stay one thread's CPU time
     int max_disp = -1, vshift = 0, repeat = 1, first = 0, count = -1;
     bool valign = false;
     bool vshift_set = false, overlay_on = true, summary = false, quiet = false,

@@ -82,8 +82,8 @@ const char *const kHelp =
     "                 stage, thread CPU time) to stderr; with --threads N > 1\n"
     "                 the stages add up every thread's time, the total is\n"
     "                 the calling thread's\n"
-    "  --threads N    threads for the engine's row bands, 1..64 (default:\n"
-    "                 the online cores); the output is the same for every N\n"
+    "  --threads N    threads for the engine's row bands, 1..64 (default 1);\n"
+    "                 the output is the same for every N\n"
     "  --stages FILE  also write one picture of the map after every stage\n"
     "                 (GCS, DP, LR check, speckles, gap fill, adaptive\n"
     "                 mean) beside LEFT, colours as --color, each tile\n"
@@ -275,7 +275,7 @@ int run(int argc, char **argv)
     bool stats = false;
     bool align = false;
     bool dense = false;
-    int threads = negobs_pool_online_cores();
+    int threads = 1; // the times of --stats stay one thread's CPU time
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "-h" || a == "--help") {
