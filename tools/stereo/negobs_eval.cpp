@@ -88,6 +88,9 @@ const char *const kHelp =
     "  --list            list the available sets and exit\n"
     "  --matchers LIST   comma list of negobs,bm,sgbm (default all three;\n"
     "                    negobs only with --check)\n"
+    "  --threads N       negobs' row bands on N threads (default 1; the maps\n"
+    "                    are the same, its CPU ms then counts the calling\n"
+    "                    thread only)\n"
     "  --repeat N        timing runs per matcher, best kept (default 3;\n"
     "                    1 with --check)\n"
     "  --markdown FILE   write the table as Markdown\n"
@@ -369,6 +372,7 @@ struct Options {
     bool matchers_given = false;
     int repeat = 3;
     bool repeat_given = false;
+    int threads = 1; // negobs' row bands on a port/ pool (--threads)
     std::string markdown, plots, pictures;
     std::string pictures_ext = "png";
     int pictures_width = 1600;
@@ -416,6 +420,7 @@ int run_negobs(const Options &opt, const SetSpec &spec, const cv::Mat &left,
     }
     std::string err;
     negobs_tools::NegobsMatcher nm;
+    nm.set_threads(opt.threads);
     if (!nm.init(left.cols, left.rows, res.range, err, -1,
                  opt.drop_oov ? 0 : -1)) {
         std::fprintf(stderr, "negobs_eval: %s: %s\n", spec.name.c_str(),
@@ -819,7 +824,13 @@ bool write_markdown(const std::string &path, const Options &opt,
     o << "Command: `" << opt.command_line << "`\n\n";
     o << "OpenCV " << CV_VERSION << ", cv::setNumThreads(0) (sequential), "
       << "time = CPU time of the calling thread, best of " << opt.repeat
-      << " runs, negobs build type `" << NEGOBS_BUILD_TYPE << "`.\n\n";
+      << " runs, negobs build type `" << NEGOBS_BUILD_TYPE << "`"
+      << (opt.threads > 1
+              ? ", negobs on " + std::to_string(opt.threads) +
+                    " threads (its CPU ms is the calling thread's share "
+                    "only; the maps are those of one thread)"
+              : std::string())
+      << ".\n\n";
     o << "| set | size | range (px) | eval px | matcher | density % | bad1 % "
          "| bad1all % | bad2 % | RMS px | CPU ms | negobs/BM | negobs/SGBM "
          "|\n";
@@ -1160,7 +1171,7 @@ int run(int argc, char **argv)
             opt.list = true;
         } else if (a == "--data" || a == "--opencv-doc" || a == "--set" ||
                    a == "--markdown" || a == "--plots" || a == "--pictures" ||
-                   a == "--matchers" || a == "--repeat" ||
+                   a == "--matchers" || a == "--repeat" || a == "--threads" ||
                    a == "--pictures-format" || a == "--pictures-width") {
             if (!need(1))
                 return EXIT_USAGE;
@@ -1199,6 +1210,15 @@ int run(int argc, char **argv)
                     return EXIT_USAGE;
                 }
                 opt.matchers_given = true;
+            } else if (a == "--threads") {
+                double t = 0;
+                if (!parse_double(v.c_str(), t) || t < 1 || t > 64 ||
+                    t != std::floor(t)) {
+                    std::fprintf(stderr, "negobs_eval: --threads takes an "
+                                         "integer 1..64\n");
+                    return EXIT_USAGE;
+                }
+                opt.threads = static_cast<int>(t);
             } else {
                 double r = 0;
                 if (!parse_double(v.c_str(), r) || r < 1 || r > 1000 ||
