@@ -272,6 +272,58 @@ static void test_seam_rule_fills_seedless_bands(void **state)
     assert_int_equal(g_run[1].st.seam_regrown, 2);
 }
 
+/* An executor that skips the last job (mode 0) or hands one job a worker
+ * index outside [0, workers) (mode 1). */
+typedef struct broken_exec {
+    int mode;
+    int32_t workers;
+} broken_exec_t;
+
+static void broken_run(void *user, int32_t n_jobs, negobs_job_fn fn, void *arg)
+{
+    broken_exec_t *b = (broken_exec_t *)user;
+    int32_t j;
+    for (j = 0; j < n_jobs; j++) {
+        if (b->mode == 0 && j == n_jobs - 1) {
+            continue;
+        }
+        fn(arg, j, (b->mode == 1 && j == 1) ? b->workers : 0);
+    }
+}
+
+/* A broken executor makes the frame fail (never a map with holes of
+ * unknown content), and the next frame on a sound one succeeds. */
+static void test_broken_executor_fails_the_frame(void **state)
+{
+    int mode;
+    (void)state;
+    render(21u);
+    for (mode = 0; mode < 2; mode++) {
+        broken_exec_t b = {mode, 2};
+        fake_exec_t f = {2, 0, 0};
+        negobs_executor_t e;
+        negobs_image_u8_t li = {left, W, H, W};
+        negobs_image_u8_t ri = {right, W, H, W};
+        negobs_image_s16_t di = {g_run[0].disp, W, H, W};
+        init_run(&g_run[0], 4, 2, 32);
+        e.workers = 2;
+        e.run = broken_run;
+        e.user = &b;
+        assert_int_equal(negobs_stereo_set_executor(&g_run[0].ctx, &e),
+                         NEGOBS_OK);
+        assert_int_equal(negobs_stereo_process(&g_run[0].ctx, &li, &ri, &di,
+                                               NULL, &g_run[0].st),
+                         NEGOBS_ERR_STATE);
+        e.run = fake_run;
+        e.user = &f;
+        assert_int_equal(negobs_stereo_set_executor(&g_run[0].ctx, &e),
+                         NEGOBS_OK);
+        assert_int_equal(negobs_stereo_process(&g_run[0].ctx, &li, &ri, &di,
+                                               NULL, &g_run[0].st),
+                         NEGOBS_OK);
+    }
+}
+
 static void test_executor_checks(void **state)
 {
     negobs_stereo_t none;
@@ -343,6 +395,7 @@ int main(void)
         cmocka_unit_test(test_same_bands4),
         cmocka_unit_test(test_same_bands5_crop),
         cmocka_unit_test(test_seam_rule_fills_seedless_bands),
+        cmocka_unit_test(test_broken_executor_fails_the_frame),
         cmocka_unit_test(test_executor_checks),
         cmocka_unit_test(test_config_and_workspace),
     };

@@ -403,8 +403,11 @@ negobs_status_t negobs_stereo_band_rows(const negobs_stereo_config_t *cfg,
  * @param[out] stats      may be NULL
  * @return NEGOBS_OK (also for textureless input: the map is then invalid),
  *         NEGOBS_ERR_INVAL for mismatched or bad images, NEGOBS_ERR_STATE
- *         without a successful init, NEGOBS_ERR_CORRUPT if a debug guard of
- *         the workspace was overwritten.
+ *         without a successful init or when the executor
+ *         (negobs_stereo_set_executor) skipped a job or named a worker
+ *         outside [0, workers) (the map is then not to be used),
+ *         NEGOBS_ERR_CORRUPT if a debug guard of the workspace was
+ *         overwritten.
  */
 negobs_status_t negobs_stereo_process(negobs_stereo_t *ctx,
                                       const negobs_image_u8_t *left,

@@ -142,9 +142,17 @@ typedef struct band_job {
     int32_t conf_stride;
 } band_job_t;
 
+/* The state of `worker`, or NULL for an index the executor must not
+ * use (the job is then not done, and run_bands() notices). */
 static stx_t *worker_state(stx_t *s, int32_t worker)
 {
-    return (worker == 0) ? s : &s->wk[worker - 1];
+    if (worker == 0) {
+        return s;
+    }
+    if (worker < 0 || s->exec.run == NULL || worker >= s->exec.workers) {
+        return NULL;
+    }
+    return &s->wk[worker - 1];
 }
 
 /* GCS of band rows [yb0, yb1): window sums, Canny, seeds and growth,
@@ -182,13 +190,15 @@ static void pass0_grow_job(void *arg, int32_t band, int32_t worker)
 {
     band_job_t *j = (band_job_t *)arg;
     stx_t *x = worker_state(j->s, worker);
-    negobs_stereo_stats_t before = x->st;
+    negobs_stereo_stats_t before;
     int32_t yb0;
     int32_t yb1;
-    if (negobs_stereo_band_rows(&x->cfg, x->h, band, &yb0, &yb1) !=
-        NEGOBS_OK) {
+    if (x == NULL || negobs_stereo_band_rows(&x->cfg, x->h, band, &yb0,
+                                             &yb1) != NEGOBS_OK) {
         return;
     }
+    j->s->band_done[band] = 1u;
+    before = x->st;
     grow_band(x, j->disp, yb0, yb1, 0);
     band_result(&x->st, &before, &j->s->band_res[band]);
 }
@@ -202,10 +212,11 @@ static void pass0_dp_job(void *arg, int32_t band, int32_t worker)
     int32_t yb0;
     int32_t yb1;
     int32_t y0;
-    if (negobs_stereo_band_rows(&x->cfg, x->h, band, &yb0, &yb1) !=
-        NEGOBS_OK) {
+    if (x == NULL || negobs_stereo_band_rows(&x->cfg, x->h, band, &yb0,
+                                             &yb1) != NEGOBS_OK) {
         return;
     }
+    j->s->band_done[band] = 1u;
     for (y0 = yb0; y0 < yb1; y0 += x->sh) {
         int32_t y1 = (y0 + x->sh < yb1) ? y0 + x->sh : yb1;
         int32_t y;
@@ -287,10 +298,11 @@ static void pass1_job(void *arg, int32_t band, int32_t worker)
     int32_t yb0;
     int32_t yb1;
     int32_t y0;
-    if (negobs_stereo_band_rows(&x->cfg, x->h, band, &yb0, &yb1) !=
-        NEGOBS_OK) {
+    if (x == NULL || negobs_stereo_band_rows(&x->cfg, x->h, band, &yb0,
+                                             &yb1) != NEGOBS_OK) {
         return;
     }
+    j->s->band_done[band] = 1u;
     for (y0 = yb0; y0 < yb1; y0 += x->sh) {
         int32_t y1 = (y0 + x->sh < yb1) ? y0 + x->sh : yb1;
         int32_t y;
@@ -324,9 +336,15 @@ static void run_bands(stx_t *s, negobs_job_fn fn, band_job_t *job,
     for (k = 1; k < s->exec.workers; k++) {
         worker_sync(s, &s->wk[k - 1]);
     }
+    memset(s->band_done, 0, sizeof s->band_done);
     s->exec.run(s->exec.user, nb, fn, job);
     for (k = 1; k < s->exec.workers; k++) {
         stats_merge(&s->st, &s->wk[k - 1].st);
+    }
+    for (k = 0; k < nb; k++) {
+        if (!s->band_done[k]) {
+            s->exec_failed = 1; /* the frame is not trustworthy */
+        }
     }
     if (wait_stage < NEGOBS_STEREO_STAGE_COUNT) {
         stx_lap(s, wait_stage);
@@ -369,9 +387,11 @@ static void filter_job(void *arg, int32_t band, int32_t worker)
     stx_t *x = worker_state(j->s, worker);
     int32_t a;
     int32_t b;
-    if (negobs_stereo_band_rows(&x->cfg, x->h, band, &a, &b) != NEGOBS_OK) {
+    if (x == NULL ||
+        negobs_stereo_band_rows(&x->cfg, x->h, band, &a, &b) != NEGOBS_OK) {
         return;
     }
+    j->s->band_done[band] = 1u;
     switch (j->filter) {
     case STX_FILTER_LR:
         stx_lr_check_rows(x, j->disp, j->conf_data, j->conf_stride, a, b);

@@ -558,6 +558,11 @@ negobs_status_t negobs_stereo_process(negobs_stereo_t *ctx,
     }
     s->st.first_row = top;
     stx_lap(s, NEGOBS_STEREO_STAGE_OUTPUT);
+    if (s->exec_failed) {
+        /* a broken executor: the map has holes of unknown content */
+        s->exec_failed = 0;
+        return NEGOBS_ERR_STATE;
+    }
     if (stats != NULL) {
         *stats = s->st;
     }

@@ -112,6 +112,8 @@ typedef struct stx {
     uint8_t *yhave;  /* h: 1 = the row had a GCS match               */
     struct stx *wk;  /* band_workers - 1 worker states (bands.c)     */
     stx_band_result_t band_res[NEGOBS_STEREO_MAX_BANDS];
+    uint8_t band_done[NEGOBS_STEREO_MAX_BANDS]; /* jobs of the last run */
+    int exec_failed; /* an executor skipped a job or named a bad worker */
     negobs_executor_t exec; /* run == NULL: the caller's thread       */
 
     /* refinement */
