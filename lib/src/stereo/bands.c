@@ -4,9 +4,11 @@
  *
  * A band is a run of whole strips; its layout depends on cfg.bands and the
  * frame's rows only (negobs_stereo_band_rows), never on the executor, and
- * the growth never crosses a band border (gcs.c: seed_carry). Each band is
- * therefore the same computation whichever worker runs it, in whatever
- * order: the output is bit-identical for every thread count.
+ * the growth crosses a band border only by the seam rule (gcs.c:
+ * seed_carry; seam_pass below). Each band is therefore the same
+ * computation whichever worker runs it, in whatever order: the output is
+ * bit-identical for every thread count. An executor that skips a job or
+ * names a worker it does not have fails the frame (NEGOBS_ERR_STATE).
  *
  * Each worker owns one scratch area (the strip buffers, the queue, the
  * score cache, the memo and a DP row): worker 0 is the context itself, the
@@ -19,7 +21,9 @@
  * (c) DP stage 1 of every row, band by band, keeping each row's end scores
  * in s->yend when several workers exist; (d) the second DP stage takes the
  * rows in order on the caller's thread (h x ndisp steps, about 1 % of the
- * frame); (e) the back-track with sub-pixel refinement, band by band.
+ * frame); (e) the back-track with sub-pixel refinement, band by band;
+ * (f) the LR check, the gap fill and the mean's rows by bands, the mean's
+ * columns by as many column slices (each line is independent).
  */
 #include <string.h>
 
