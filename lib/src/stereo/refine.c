@@ -32,10 +32,16 @@
 void stx_lr_check(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
                   int32_t conf_stride)
 {
+    stx_lr_check_rows(s, disp, conf, conf_stride, 0, s->h);
+}
+
+void stx_lr_check_rows(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                       int32_t conf_stride, int32_t y0, int32_t y1)
+{
     int32_t w = s->w;
     int32_t y;
     int16_t *zb = s->line;
-    for (y = 0; y < s->h; y++) {
+    for (y = y0; y < y1; y++) {
         int16_t *row = negobs_image_s16_row(disp, y);
         int32_t x;
         for (x = 0; x < w; x++) {
@@ -302,8 +308,14 @@ static uint32_t gap_fill_row(int16_t *row, uint8_t *crow, const uint8_t *img,
 void stx_gap_fill(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
                   int32_t conf_stride)
 {
+    stx_gap_fill_rows(s, disp, conf, conf_stride, 0, s->h);
+}
+
+void stx_gap_fill_rows(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                       int32_t conf_stride, int32_t y0, int32_t y1)
+{
     int32_t y;
-    for (y = 0; y < s->h; y++) {
+    for (y = y0; y < y1; y++) {
         s->st.gap_filled += gap_fill_row(
             negobs_image_s16_row(disp, y),
             (conf != NULL) ? conf + (ptrdiff_t)y * conf_stride : NULL,
@@ -391,14 +403,20 @@ static void amean_line(const int16_t *in, int16_t *out, int32_t n)
 void stx_adaptive_mean(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
                        int32_t conf_stride)
 {
+    stx_amean_rows(s, disp, conf, conf_stride, 0, s->h);
+    stx_amean_cols(s, disp, conf, conf_stride, 0, s->w);
+}
+
+/* A hole the mean fills was not measured there: it is marked like the gap
+ * fill's pixels, not left with the confidence it had before the LR check
+ * or the speckle filter removed its value. */
+void stx_amean_rows(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                    int32_t conf_stride, int32_t y0, int32_t y1)
+{
     int32_t w = s->w;
-    int32_t h = s->h;
     int32_t x;
     int32_t y;
-    /* a hole the mean fills was not measured there: it is marked like the
-     * gap fill's pixels, not left with the confidence it had before the
-     * LR check or the speckle filter removed its value */
-    for (y = 0; y < h; y++) {
+    for (y = y0; y < y1; y++) {
         int16_t *row = negobs_image_s16_row(disp, y);
         memcpy(s->line, row, (size_t)w * sizeof *row);
         amean_line(s->line, row, w);
@@ -410,7 +428,15 @@ void stx_adaptive_mean(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
             }
         }
     }
-    for (x = 0; x < w; x++) {
+}
+
+void stx_amean_cols(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                    int32_t conf_stride, int32_t x0, int32_t x1)
+{
+    int32_t h = s->h;
+    int32_t x;
+    int32_t y;
+    for (x = x0; x < x1; x++) {
         for (y = 0; y < h; y++) {
             s->line[y] = negobs_image_s16_row(disp, y)[x];
         }
