@@ -1384,8 +1384,12 @@ static void test_detect_shallow_drop_first_seen_near_corroborated(void **state)
     print_message("70 mm first at 1.7 m: %d late CLEAR frames (corroboration "
                   "off: %d)\n",
                   late_on, late_off);
+    /* Without the corroboration this walk had 5 or more late CLEAR frames
+     * while the ground fit still leaned on the lower surface beyond the
+     * edge; the fit now stops at the edge (ground_fit.c, ground_top), the
+     * rule's ranges stay right and the hold covers it too, so late_off is
+     * only printed. */
     assert_true(late_on <= 1);
-    assert_true(late_off >= 5);
 }
 
 /* Switched on within 1.4 m of a 150 mm drop, the lower surface fills the

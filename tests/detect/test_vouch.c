@@ -38,6 +38,43 @@ static double row_floor_m(const synth_scene_t *s, int32_t v)
     return s->h_m / tan(s->pitch_deg * d2r + atan((v - cy) / f));
 }
 
+/* A 10 cm drop crossed at 30 deg whose corridor part begins at 4.4 m:
+ * in most strips its lower surface lies past the scan's end (5 m), so no
+ * deficit row shows and nothing past it is vouched. The vouched range
+ * stops where a minimum drop's lower surface would still be in the scan,
+ * range_max * H / (H + h), and the frame stays CLEAR (at least the
+ * warning range). The clean floor shows the same limit. */
+static void test_vouch_stops_where_a_drop_would_hide_past_the_scan(
+    void **state)
+{
+    synth_scene_t s;
+    int i;
+    const int32_t lim = (5000 * 1200) / (1200 + 100);
+    (void)state;
+    rig_setup(&rig, NULL);
+    for (i = 0; i < 3; i++) {
+        scene(&s, 0.1, (uint32_t)i + 21u);
+        if (i > 0) {
+            s.yaw_deg = 30.0;
+            /* perpendicular distance of the edge line: its corridor part
+             * (+-0.6 m) begins at (d - 0.3) / cos 30 = 4.4 m */
+            synth_step(&s, 4.4 * 0.8660254 + 0.3, -0.10);
+        }
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        print_message("%s: state %d, clear_to %d mm, candidates %u\n",
+                      (i == 0) ? "flat" : "10 cm at 4.4 m, yaw 30",
+                      (int)rig.res.state, rig.res.clear_to_mm,
+                      rig.res.n_candidates);
+        assert_true(rig.res.clear_to_mm <= lim);
+        assert_true(rig.res.clear_to_mm <= (int32_t)(1.1 * 4400.0));
+        if (i == 0) {
+            assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+            assert_true(rig.res.clear_to_mm >= lim - 200);
+        }
+    }
+    rig_teardown(&rig);
+}
+
 /* A textureless patch across the corridor at 2.4-2.8 m (no disparity
  * there) is unknown there: it limits clear_to_mm to the floor before it,
  * it does not make the frame NO_INFO. The same patch beside the corridor
@@ -301,6 +338,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_vouch_textureless_patch_limits_the_range),
+        cmocka_unit_test(
+            test_vouch_stops_where_a_drop_would_hide_past_the_scan),
         cmocka_unit_test(test_vouch_drop_in_clean_strips_despite_far_noise),
         cmocka_unit_test(test_vouch_no_false_vouch_on_walks),
         cmocka_unit_test(test_vouch_bounds_by_state),

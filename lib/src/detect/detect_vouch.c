@@ -103,6 +103,21 @@ void det_vouch_collect(const scan_ctx_t *s, detect_priv_t *p)
 
 enum vouch_verdict { VOUCH_OK = 0, VOUCH_NOISE = 1, VOUCH_UNSEEN = 2 };
 
+/* 1 when a minimum drop at range_mm would show its lower surface before
+ * the scan's end. Past an edge at R the camera first sees the lower
+ * surface at R * (H + h) / H (the edge hides the rest); the scan stops
+ * at range_max, so an edge nearer than range_max but whose lower surface
+ * lies beyond it shows no deficit row at all, and the rows up to it
+ * cannot be vouched (a 10 cm curb at 4.37 m, crossed at 30 deg, stood
+ * under a vouched 4.89 m: its lower surface lay past 5 m in most
+ * strips). */
+static inline int vouch_in_scan(const scan_ctx_t *s, int32_t range_mm)
+{
+    const int64_t hgt = s->frame->height_mm;
+    return (int64_t)range_mm * (hgt + vouch_h_mm(range_mm)) <=
+           (int64_t)s->cfg->range_max_mm * hgt;
+}
+
 /*
  * Can strip si see a minimum drop at row v? The drop's deficit there is
  * D = d_g * h / (H + h) (h the minimum drop at that range); the rule tests
@@ -192,7 +207,8 @@ int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
                 continue;
             }
             n_corr++;
-            if (v < first_row + 2 || v < p->hits[si].sup_v) {
+            if (v < first_row + 2 || v < p->hits[si].sup_v ||
+                !vouch_in_scan(s, range)) {
                 vd = VOUCH_UNSEEN;
             } else {
                 vd = vouch_cell_ok(s, p, si, v, range);
