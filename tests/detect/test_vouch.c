@@ -75,6 +75,35 @@ static void test_vouch_stops_where_a_drop_would_hide_past_the_scan(
     rig_teardown(&rig);
 }
 
+/* A 15 cm drop approached at 1.2 m/s is confirmed; then one frame reads
+ * it 18 % too far (as a ground model tilted by the drop itself did in the
+ * suite at 1.4-1.6 m). clear_to_mm must not follow that sighting past the
+ * drop: the track's own approach predicts the edge at 2.28 m, and the
+ * frame vouches no farther than the nearer of the two. */
+static void test_vouch_hazard_bound_by_its_track(void **state)
+{
+    synth_scene_t s;
+    int i;
+    (void)state;
+    rig_setup(&rig, NULL);
+    for (i = 0; i <= 6; i++) {
+        double edge = 3.0 - 0.12 * i;
+        scene(&s, 0.1, (uint32_t)i + 31u);
+        synth_step(&s, (i < 6) ? edge : edge * 1.18, -0.15);
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        print_message("frame %d: edge %.2f m, state %d, hazards %u (%d mm), "
+                      "clear_to %d mm\n",
+                      i, edge, (int)rig.res.state, rig.res.n_hazards,
+                      rig.res.n_hazards ? rig.res.hazards[0].range_mm : -1,
+                      rig.res.clear_to_mm);
+        if (i >= 3) {
+            assert_int_equal(rig.res.state, NEGOBS_DETECT_HAZARD);
+        }
+        assert_true(rig.res.clear_to_mm <= (int32_t)(1.1 * edge * 1000.0));
+    }
+    rig_teardown(&rig);
+}
+
 /* A textureless patch across the corridor at 2.4-2.8 m (no disparity
  * there) is unknown there: it limits clear_to_mm to the floor before it,
  * it does not make the frame NO_INFO. The same patch beside the corridor
@@ -338,6 +367,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_vouch_textureless_patch_limits_the_range),
+        cmocka_unit_test(test_vouch_hazard_bound_by_its_track),
         cmocka_unit_test(
             test_vouch_stops_where_a_drop_would_hide_past_the_scan),
         cmocka_unit_test(test_vouch_drop_in_clean_strips_despite_far_noise),
