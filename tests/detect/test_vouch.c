@@ -104,6 +104,33 @@ static void test_vouch_hazard_bound_by_its_track(void **state)
     rig_teardown(&rig);
 }
 
+/* A camera told 1.5 m that sits at 1.2 m cannot verify the ground under
+ * the feet (GROUND_UNVERIFIED, NO_INFO: it could be a lower floor beyond an
+ * edge below the view), but the floor in view is measured as on any frame:
+ * clear_to_mm, which starts at the bottom row, still reports it. */
+static void test_vouch_unverified_start_reports_the_floor_in_view(void **state)
+{
+    synth_scene_t s;
+    negobs_detect_config_t c;
+    int i;
+    (void)state;
+    negobs_detect_config_default(&c, RIG_W, RIG_H);
+    c.cam_height_mm = 1500;
+    rig_setup(&rig, &c);
+    for (i = 0; i < 3; i++) {
+        scene(&s, 0.1, (uint32_t)i + 41u);
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        print_message("frame %d: state %d, reasons %u, clear_to %d mm\n", i,
+                      (int)rig.res.state, rig.res.reasons,
+                      rig.res.clear_to_mm);
+        assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+        assert_int_equal(rig.res.reasons, NEGOBS_DEGRADED_GROUND_UNVERIFIED);
+        assert_true(rig.res.clear_to_mm >= 4000);
+        assert_int_equal(rig.res.clear_to_mm, rig.res.noise_vouch_mm);
+    }
+    rig_teardown(&rig);
+}
+
 /* A textureless patch across the corridor at 2.4-2.8 m (no disparity
  * there) is unknown there: it limits clear_to_mm to the floor before it,
  * it does not make the frame NO_INFO. The same patch beside the corridor
@@ -368,6 +395,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_vouch_textureless_patch_limits_the_range),
         cmocka_unit_test(test_vouch_hazard_bound_by_its_track),
+        cmocka_unit_test(
+            test_vouch_unverified_start_reports_the_floor_in_view),
         cmocka_unit_test(
             test_vouch_stops_where_a_drop_would_hide_past_the_scan),
         cmocka_unit_test(test_vouch_drop_in_clean_strips_despite_far_noise),

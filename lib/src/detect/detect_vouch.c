@@ -316,7 +316,8 @@ int det_vouch_candidate(const scan_ctx_t *s, const detect_priv_t *p,
  * clear_to_mm is the vouched walk, cut at the nearest candidate of this
  * frame (a suspected drop is not vouched past, confirmed or not) and at
  * the nearest reported hazard. A gating or ground reason is NO_INFO with
- * clear_to_mm 0; a confirmed or held hazard is HAZARD; a vouched range
+ * clear_to_mm 0 (unverified ground alone keeps the vouched range); a
+ * confirmed or held hazard is HAZARD; a vouched range
  * below near_min_mm is NO_INFO (with the reason the walk stopped); else
  * CLEAR, short-sighted below range_warn_mm.
  */
@@ -337,7 +338,12 @@ void det_verdict(const negobs_detect_config_t *cfg,
     res->short_sight = 0;
     if (reasons != 0u) {
         res->state = NEGOBS_DETECT_NO_INFO;
-        clear_to = 0;
+        /* Unverified ground (detect_cue.c) is about the floor under the
+         * feet, below the view, which clear_to_mm never covers: the floor
+         * in view was measured as on any frame and is still reported. */
+        if ((reasons & ~(uint32_t)NEGOBS_DEGRADED_GROUND_UNVERIFIED) != 0u) {
+            clear_to = 0;
+        }
     } else if (res->n_hazards > 0u) {
         res->state = NEGOBS_DETECT_HAZARD;
     } else if (clear_to < cfg->near_min_mm) {
