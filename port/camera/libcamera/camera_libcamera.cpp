@@ -57,7 +57,7 @@ bool frozen_check(Impl &im)
     for (int i = 0; i < im.nsides; i++) {
         Side &s = im.side[i];
         if (s.pend_frozen) {
-            set_error(im.st,
+            set_error(im.st, 0,
                       "frozen: libcamera %s image unchanged for %lu "
                       "frames",
                       s.id.c_str(),
@@ -151,7 +151,7 @@ negobs_status_t parse_side(negobs_libcamera_t *st, Side &s, const char *src)
     int32_t index = -1;
     const char *id = nullptr;
     if (negobs_libcamera_parse_source(src, &index, &id) != NEGOBS_OK) {
-        set_error(st,
+        set_error(st, 0,
                   "libcamera: bad source '%s' (want libcamera:N or "
                   "libcamera:ID)",
                   src);
@@ -201,7 +201,7 @@ negobs_status_t open_impl(negobs_libcamera_t *st,
         std::shared_ptr<Camera> a = find_camera(*im, im->side[0], &n);
         std::shared_ptr<Camera> b = find_camera(*im, im->side[1], &n);
         if (a && b && a->id() == b->id()) {
-            set_error(st,
+            set_error(st, 0,
                       "libcamera: left and right are the same camera "
                       "('%s')",
                       a->id().c_str());
@@ -214,7 +214,7 @@ negobs_status_t open_impl(negobs_libcamera_t *st,
     if (s == NEGOBS_OK && im->nsides == 2 &&
         (im->side[0].width != im->side[1].width ||
          im->side[0].height != im->side[1].height)) {
-        set_error(st,
+        set_error(st, 0,
                   "libcamera: cameras disagree on size: %ldx%ld vs %ldx%ld",
                   static_cast<long>(im->side[0].width),
                   static_cast<long>(im->side[0].height),
@@ -232,7 +232,7 @@ negobs_status_t open_impl(negobs_libcamera_t *st,
                       static_cast<size_t>(im->side[0].width) *
                       static_cast<size_t>(im->side[0].height);
         if (packed && (st->scratch == nullptr || st->scratch_bytes < need)) {
-            set_error(st, "libcamera: %s needs %lu bytes of scratch",
+            set_error(st, 0, "libcamera: %s needs %lu bytes of scratch",
                       fourcc_str(im->side[0].fourcc).c_str(),
                       static_cast<unsigned long>(need));
             s = NEGOBS_ERR_NOSPACE;
@@ -390,11 +390,11 @@ template <typename F> int guarded(negobs_libcamera_t *st, F f)
     try {
         return f();
     } catch (const std::bad_alloc &) {
-        set_error(st, "libcamera: out of memory");
+        set_error(st, 0, "libcamera: out of memory");
     } catch (const std::exception &e) {
-        set_error(st, "libcamera: %s", e.what());
+        set_error(st, 0, "libcamera: %s", e.what());
     } catch (...) {
-        set_error(st, "libcamera: unknown C++ exception");
+        set_error(st, 0, "libcamera: unknown C++ exception");
     }
     return NEGOBS_ERR_IO;
 }
@@ -403,7 +403,7 @@ negobs_status_t lc_open(void *ctx, const negobs_camera_config_t *cfg)
 {
     negobs_libcamera_t *st = static_cast<negobs_libcamera_t *>(ctx);
     if (cfg == nullptr || cfg->left == nullptr) {
-        set_error(st, "libcamera: no left camera given");
+        set_error(st, 0, "libcamera: no left camera given");
         return NEGOBS_ERR_INVAL;
     }
     int r = guarded(st, [&] { return static_cast<int>(open_impl(st, cfg)); });
@@ -425,7 +425,7 @@ negobs_status_t lc_start(void *ctx)
     negobs_libcamera_t *st = static_cast<negobs_libcamera_t *>(ctx);
     Impl *im = static_cast<Impl *>(st->impl);
     if (im == nullptr) {
-        set_error(st, "libcamera: start before a successful open");
+        set_error(st, 0, "libcamera: start before a successful open");
         return NEGOBS_ERR_STATE;
     }
     if (im->started) {
@@ -511,10 +511,23 @@ const char *lc_errmsg(void *ctx)
     return static_cast<negobs_libcamera_t *>(ctx)->errmsg;
 }
 
-const negobs_camera_ops_t libcamera_ops = {
-    "libcamera", lc_open,  lc_start, lc_get_pair, lc_release,
-    lc_stop,     lc_close, lc_stats, lc_errmsg,
-};
+/* C++17 has no designated initialisers: the table is filled by name. */
+negobs_camera_ops_t make_ops()
+{
+    negobs_camera_ops_t o{};
+    o.name = "libcamera";
+    o.open = lc_open;
+    o.start = lc_start;
+    o.get_pair = lc_get_pair;
+    o.release = lc_release;
+    o.stop = lc_stop;
+    o.close = lc_close;
+    o.stats = lc_stats;
+    o.errmsg = lc_errmsg;
+    return o;
+}
+
+const negobs_camera_ops_t libcamera_ops = make_ops();
 
 } // namespace
 } // namespace negobs_lc

@@ -35,9 +35,10 @@ using libcamera::Stream;
 using libcamera::StreamConfiguration;
 using libcamera::StreamRole;
 
-/* Formats st->errmsg (printf-style). */
-void set_error(negobs_libcamera_t *st, const char *fmt, ...)
-    __attribute__((format(printf, 2, 3)));
+/* Formats st->errmsg (printf-style), with ": strerror(err)" when
+ * err != 0 (negobs_port_verrmsg). */
+void set_error(negobs_libcamera_t *st, int err, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
 
 /* ENODEV/ENOENT/ENXIO: the camera is gone; anything else: I/O. */
 negobs_status_t errno_status(int e);

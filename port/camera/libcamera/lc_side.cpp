@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "lc_internal.hpp"
+#include "negobs_port/errmsg.h"
 #include "negobs_port/clock.h"
 
 namespace negobs_lc {
@@ -24,11 +25,11 @@ namespace negobs_lc {
 constexpr uint32_t kBackoffMinMs = 100;
 constexpr uint32_t kBackoffMaxMs = 2000;
 
-void set_error(negobs_libcamera_t *st, const char *fmt, ...)
+void set_error(negobs_libcamera_t *st, int err, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    (void)std::vsnprintf(st->errmsg, sizeof st->errmsg, fmt, ap);
+    negobs_port_verrmsg(st->errmsg, sizeof st->errmsg, err, fmt, ap);
     va_end(ap);
 }
 
@@ -59,8 +60,7 @@ negobs_status_t cm_get(negobs_libcamera_t *st, CameraManager **out)
         std::unique_ptr<CameraManager> cm(new CameraManager());
         int r = cm->start();
         if (r < 0) {
-            set_error(st, "libcamera: CameraManager::start: %s",
-                      std::strerror(-r));
+            set_error(st, -r, "libcamera: CameraManager::start");
             return errno_status(-r);
         }
         g_cm = cm.release();
@@ -141,7 +141,8 @@ static negobs_status_t map_buffer(negobs_libcamera_t *st, Side &s,
 {
     const std::vector<FrameBuffer::Plane> &pl = b.planes();
     if (pl.empty() || pl[0].fd.get() < 0) {
-        set_error(st, "libcamera: %s: buffer without a plane", s.id.c_str());
+        set_error(st, 0, "libcamera: %s: buffer without a plane",
+                  s.id.c_str());
         return NEGOBS_ERR_IO;
     }
     int fd = pl[0].fd.get();
@@ -158,8 +159,7 @@ static negobs_status_t map_buffer(negobs_libcamera_t *st, Side &s,
     }
     if (a == MAP_FAILED) {
         int e = errno;
-        set_error(st, "libcamera: %s: mmap: %s", s.id.c_str(),
-                  std::strerror(e));
+        set_error(st, e, "libcamera: %s: mmap", s.id.c_str());
         return NEGOBS_ERR_IO;
     }
     m->addr = a;
@@ -232,11 +232,11 @@ negobs_status_t side_setup(Impl &im, Side &s)
     s.cam = find_camera(im, s, &ncams);
     if (!s.cam) {
         if (s.id.empty()) {
-            set_error(st, "libcamera: no camera %ld (%lu found)",
+            set_error(st, 0, "libcamera: no camera %ld (%lu found)",
                       static_cast<long>(s.spec_index),
                       static_cast<unsigned long>(ncams));
         } else {
-            set_error(st, "libcamera: no camera '%s' (%lu found)",
+            set_error(st, 0, "libcamera: no camera '%s' (%lu found)",
                       s.id.c_str(), static_cast<unsigned long>(ncams));
         }
         return NEGOBS_ERR_NODEV;
@@ -244,9 +244,13 @@ negobs_status_t side_setup(Impl &im, Side &s)
     s.id = s.cam->id(); /* an index resolves once; reopen by id */
     int r = s.cam->acquire();
     if (r < 0) {
-        set_error(st, "libcamera: %s: acquire: %s", s.id.c_str(),
-                  r == -EBUSY ? "in use by another process"
-                              : std::strerror(-r));
+        if (r == -EBUSY) {
+            set_error(st, 0,
+                      "libcamera: %s: acquire: in use by another process",
+                      s.id.c_str());
+        } else {
+            set_error(st, -r, "libcamera: %s: acquire", s.id.c_str());
+        }
         s.cam.reset();
         return r == -EBUSY ? NEGOBS_ERR_IO : errno_status(-r);
     }
@@ -254,14 +258,14 @@ negobs_status_t side_setup(Impl &im, Side &s)
 
     s.config = s.cam->generateConfiguration({StreamRole::VideoRecording});
     if (!s.config || s.config->empty()) {
-        set_error(st, "libcamera: %s: no video stream configuration",
+        set_error(st, 0, "libcamera: %s: no video stream configuration",
                   s.id.c_str());
         return NEGOBS_ERR_UNSUPPORTED;
     }
     StreamConfiguration &sc = s.config->at(0);
     PixelFormat pf = best_format(sc);
     if (!pf.isValid()) {
-        set_error(st, "libcamera: %s: no Y/YUV/RGB format (offers %s)",
+        set_error(st, 0, "libcamera: %s: no Y/YUV/RGB format (offers %s)",
                   s.id.c_str(), format_list(sc).c_str());
         return NEGOBS_ERR_UNSUPPORTED;
     }
@@ -271,7 +275,7 @@ negobs_status_t side_setup(Impl &im, Side &s)
     sc.bufferCount = std::max<unsigned int>(sc.bufferCount,
                                             NEGOBS_LIBCAMERA_BUFFERS);
     if (s.config->validate() == CameraConfiguration::Invalid) {
-        set_error(st, "libcamera: %s: %s %dx%d not accepted", s.id.c_str(),
+        set_error(st, 0, "libcamera: %s: %s %dx%d not accepted", s.id.c_str(),
                   pf.toString().c_str(), static_cast<int>(im.cfg.width),
                   static_cast<int>(im.cfg.height));
         return NEGOBS_ERR_UNSUPPORTED;
@@ -281,14 +285,14 @@ negobs_status_t side_setup(Impl &im, Side &s)
     if (negobs_libcamera_format_rank(fcc) < 0 || sc.size.width == 0 ||
         sc.size.height == 0 || sc.size.width > NEGOBS_MAX_DIM ||
         sc.size.height > NEGOBS_MAX_DIM) {
-        set_error(st, "libcamera: %s: adjusted to unusable %s", s.id.c_str(),
-                  sc.toString().c_str());
+        set_error(st, 0, "libcamera: %s: adjusted to unusable %s",
+                  s.id.c_str(), sc.toString().c_str());
         return NEGOBS_ERR_UNSUPPORTED;
     }
     r = s.cam->configure(s.config.get());
     if (r < 0) {
-        set_error(st, "libcamera: %s: configure %s: %s", s.id.c_str(),
-                  sc.toString().c_str(), std::strerror(-r));
+        set_error(st, -r, "libcamera: %s: configure %s", s.id.c_str(),
+                  sc.toString().c_str());
         return r == -EINVAL ? NEGOBS_ERR_UNSUPPORTED : errno_status(-r);
     }
     s.fourcc = fcc;
@@ -300,15 +304,14 @@ negobs_status_t side_setup(Impl &im, Side &s)
     s.alloc = std::make_unique<FrameBufferAllocator>(s.cam);
     r = s.alloc->allocate(s.stream);
     if (r < 0) {
-        set_error(st, "libcamera: %s: allocating buffers: %s", s.id.c_str(),
-                  std::strerror(-r));
+        set_error(st, -r, "libcamera: %s: allocating buffers", s.id.c_str());
         return errno_status(-r);
     }
     const std::vector<std::unique_ptr<FrameBuffer>> &bufs = s.alloc->buffers(
         s.stream);
     if (bufs.size() < NEGOBS_LIBCAMERA_MIN_BUFFERS ||
         bufs.size() > NEGOBS_LIBCAMERA_MAX_BUFFERS) {
-        set_error(st, "libcamera: %s: got %lu buffers, need %u..%u",
+        set_error(st, 0, "libcamera: %s: got %lu buffers, need %u..%u",
                   s.id.c_str(), static_cast<unsigned long>(bufs.size()),
                   static_cast<unsigned>(NEGOBS_LIBCAMERA_MIN_BUFFERS),
                   static_cast<unsigned>(NEGOBS_LIBCAMERA_MAX_BUFFERS));
@@ -322,7 +325,7 @@ negobs_status_t side_setup(Impl &im, Side &s)
         }
         std::unique_ptr<Request> req = s.cam->createRequest(i);
         if (!req || req->addBuffer(s.stream, bufs[i].get()) < 0) {
-            set_error(st, "libcamera: %s: cannot build request %lu",
+            set_error(st, 0, "libcamera: %s: cannot build request %lu",
                       s.id.c_str(), static_cast<unsigned long>(i));
             return NEGOBS_ERR_IO;
         }
@@ -386,8 +389,7 @@ negobs_status_t side_start(Impl &im, Side &s)
     ControlList c = start_controls(im);
     int r = s.cam->start(&c);
     if (r < 0) {
-        set_error(im.st, "libcamera: %s: start: %s", s.id.c_str(),
-                  std::strerror(-r));
+        set_error(im.st, -r, "libcamera: %s: start", s.id.c_str());
         return errno_status(-r);
     }
     s.running = true;
@@ -395,8 +397,7 @@ negobs_status_t side_start(Impl &im, Side &s)
         req->reuse(Request::ReuseBuffers);
         r = s.cam->queueRequest(req.get());
         if (r < 0) {
-            set_error(im.st, "libcamera: %s: queueRequest: %s", s.id.c_str(),
-                      std::strerror(-r));
+            set_error(im.st, -r, "libcamera: %s: queueRequest", s.id.c_str());
             return errno_status(-r);
         }
     }
@@ -406,7 +407,7 @@ negobs_status_t side_start(Impl &im, Side &s)
 
 void mark_lost(Impl &im, Side &s, const char *what)
 {
-    set_error(im.st, "libcamera: %s: %s, reopening", s.id.c_str(), what);
+    set_error(im.st, 0, "libcamera: %s: %s, reopening", s.id.c_str(), what);
     side_teardown(im, s);
     s.lost = true;
     s.backoff_ms = kBackoffMinMs;
@@ -423,7 +424,7 @@ void try_reopen(Impl &im, Side &s, uint64_t now)
     const Side &other = im.side[1 - s.index];
     if (r == NEGOBS_OK && im.nsides == 2 && other.cam &&
         (s.width != other.width || s.height != other.height)) {
-        set_error(im.st, "libcamera: %s: came back with another size",
+        set_error(im.st, 0, "libcamera: %s: came back with another size",
                   s.id.c_str());
         r = NEGOBS_ERR_UNSUPPORTED;
     }

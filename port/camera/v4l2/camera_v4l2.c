@@ -470,8 +470,15 @@ static const char *v_errmsg(void *ctx)
 }
 
 static const negobs_camera_ops_t v4l2_ops = {
-    "v4l2", v_open,  v_start, v_get_pair, v_release,
-    v_stop, v_close, v_stats, v_errmsg,
+    .name = "v4l2",
+    .open = v_open,
+    .start = v_start,
+    .get_pair = v_get_pair,
+    .release = v_release,
+    .stop = v_stop,
+    .close = v_close,
+    .stats = v_stats,
+    .errmsg = v_errmsg,
 };
 
 negobs_status_t negobs_v4l2_init(negobs_v4l2_t *st, uint8_t *scratch,

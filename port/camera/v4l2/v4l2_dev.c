@@ -16,22 +16,18 @@
 
 #include <linux/videodev2.h>
 
+#include "negobs_port/errmsg.h"
 #include "v4l2_internal.h"
 
 void v4l2_error(negobs_v4l2_t *st, int err, const char *fmt, ...)
 {
     va_list ap;
-    int n;
     va_start(ap, fmt);
     /* va_start() is above; clang-tidy 14 reports this false positive
      * only when it analyses several files in one run. */
     /* NOLINTNEXTLINE(clang-analyzer-valist.Uninitialized) */
-    n = vsnprintf(st->errmsg, sizeof st->errmsg, fmt, ap);
+    negobs_port_verrmsg(st->errmsg, sizeof st->errmsg, err, fmt, ap);
     va_end(ap);
-    if (n >= 0 && err != 0 && (size_t)n < sizeof st->errmsg) {
-        (void)snprintf(st->errmsg + n, sizeof st->errmsg - (size_t)n, ": %s",
-                       strerror(err));
-    }
 }
 
 int v4l2_xioctl(int fd, unsigned long req, void *arg)
