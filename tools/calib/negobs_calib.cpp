@@ -28,6 +28,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "calib_common.hpp"
+#include "cli_parse.hpp"
 
 extern "C" {
 #include "negobs/rectify.h"
@@ -36,6 +37,8 @@ extern "C" {
 namespace {
 
 using negobs_calib::ImagePair;
+using negobs_tools::parse_double;
+using negobs_tools::parse_int;
 
 struct Options {
     std::string list;
@@ -82,24 +85,6 @@ int usage(const char *argv0, int code)
         "  --help            this text\n",
         argv0, NEGOBS_RECTIFY_MAX_GRID_SHIFT);
     return code;
-}
-
-bool parse_double(const char *s, double &v)
-{
-    char *end = nullptr;
-    v = std::strtod(s, &end);
-    return end != s && *end == '\0' && std::isfinite(v);
-}
-
-bool parse_int(const char *s, int &v)
-{
-    char *end = nullptr;
-    long l = std::strtol(s, &end, 10);
-    if (end == s || *end != '\0' || l < -1000000 || l > 1000000) {
-        return false;
-    }
-    v = static_cast<int>(l);
-    return true;
 }
 
 // 0 = parsed, otherwise the exit code to return.

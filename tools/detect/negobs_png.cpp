@@ -19,12 +19,16 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "cli_parse.hpp"
 #include "detect_common.hpp"
 
 namespace fs = std::filesystem;
 using namespace negobs_detect_tools;
 
 namespace {
+
+using negobs_tools::parse_double;
+using negobs_tools::parse_int;
 
 void usage(FILE *f)
 {
@@ -59,24 +63,6 @@ void usage(FILE *f)
            "  --summary         one summary line at the end (stdout)\n"
            "  --quiet           no JSON lines on stdout\n"
            "Exit: 0 ok, 1 data error, 2 bad command line.\n");
-}
-
-bool parse_double(const char *s, double &v)
-{
-    char *end = nullptr;
-    v = std::strtod(s, &end);
-    return end != s && *end == '\0' && std::isfinite(v);
-}
-
-bool parse_int(const char *s, int &v)
-{
-    char *end = nullptr;
-    long x = std::strtol(s, &end, 10);
-    if (end == s || *end != '\0' || x < -1000000 || x > 1000000) {
-        return false;
-    }
-    v = static_cast<int>(x);
-    return true;
 }
 
 int bad(const std::string &msg)
