@@ -1,31 +1,15 @@
 /*
- * Image-quality gate, then the library's whole pipeline (see the header).
- *
- * Each image is first subsampled by an integer factor to at most
- * APP_DEC_MAX_W x APP_DEC_MAX_H, so the static scratch is a few hundred
- * kilobytes whatever the camera size and the cost is bounded. On that
- * small image we measure the mean grey level, the share of saturated
- * pixels (>= 250) and the share of 5x5 windows whose standard deviation
- * reaches texture_std_min (from negobs_boxsum_u8: 25 * Q - S^2 >=
- * (5 * std)^2, all in int32: S <= 6375, Q <= 1 625 625).
+ * The library's whole pipeline behind negobs_run (see the header). The
+ * photometric gate is the detector's, on both images (the pipeline passes
+ * it the right image's statistics); this file only maps its reasons to
+ * the app's and adds the left/right brightness check.
  */
 #include <stddef.h>
 #include <string.h>
 
 #include "app_pipeline.h"
-#include "negobs/boxsum.h"
 #include "negobs/pipeline.h"
 #include "negobs_port/pool.h"
-
-#define APP_DEC_MAX_W 320
-#define APP_DEC_MAX_H 240
-#define APP_TEX_RADIUS 2
-#define APP_SAT_LEVEL 250
-
-static uint8_t dec_img[APP_DEC_MAX_W * APP_DEC_MAX_H];
-static uint16_t box_sum[APP_DEC_MAX_W * APP_DEC_MAX_H];
-static uint32_t box_sq[APP_DEC_MAX_W * APP_DEC_MAX_H];
-static uint32_t col_buf[2 * APP_DEC_MAX_W];
 
 /*
  * The library pipeline lives in static memory: its workspace at the
@@ -48,10 +32,16 @@ static int32_t lib_pool_threads;
 
 void app_pipeline_config_default(app_pipeline_config_t *cfg)
 {
-    cfg->dark_mean_min = 20;
-    cfg->sat_permille_max = 300;
-    cfg->texture_std_min = 4;
-    cfg->texture_permille_min = 20;
+    negobs_detect_config_t d;
+    /* The photometric thresholds have one home, the detector's defaults
+     * (the size does not matter for them). */
+    negobs_detect_config_default(&d, 320, 240);
+    cfg->dark_mean_min = d.dark_mean_min;
+    cfg->sat_permille_max = d.saturated_max_permille;
+    cfg->texture_min_q4 = d.texture_min_q4;
+    /* Left and right see the same scene through the same kind of sensor:
+     * 60 grey levels apart (a quarter of the range) is a covered lens, a
+     * lens in the sun or a broken exposure control, not a scene. */
     cfg->lr_mean_diff_max = 60;
     cfg->focal_px = 250;
     cfg->baseline_mm = 120;
@@ -75,9 +65,8 @@ negobs_status_t app_pipeline_init(app_pipeline_t *p,
 {
     if (p == NULL || cfg == NULL || cfg->dark_mean_min < 0 ||
         cfg->dark_mean_min > 255 || cfg->sat_permille_max < 0 ||
-        cfg->sat_permille_max > 1000 || cfg->texture_std_min < 0 ||
-        cfg->texture_std_min > 127 || cfg->texture_permille_min < 0 ||
-        cfg->texture_permille_min > 1000 || cfg->lr_mean_diff_max < 0 ||
+        cfg->sat_permille_max > 1000 || cfg->texture_min_q4 < 0 ||
+        cfg->texture_min_q4 > 4096 || cfg->lr_mean_diff_max < 0 ||
         cfg->lr_mean_diff_max > 255 || cfg->focal_px < 50 ||
         cfg->focal_px > 4000 || cfg->baseline_mm < 10 ||
         cfg->baseline_mm > 1000 ||
@@ -108,69 +97,6 @@ void app_pipeline_set_clock(app_pipeline_t *p, negobs_stereo_clock_fn now_ns,
         p->clock_ns = now_ns;
         p->clock_user = user;
     }
-}
-
-static int32_t ceil_div(int32_t a, int32_t b)
-{
-    return (a + b - 1) / b;
-}
-
-/* Measure one image; returns NEGOBS_OK or _INVAL. */
-static negobs_status_t measure(const negobs_image_u8_t *img, int32_t tex_std,
-                               int32_t *mean, int32_t *sat_pm, int32_t *tex_pm)
-{
-    negobs_image_u8_t d;
-    int32_t f;
-    int32_t x;
-    int32_t y;
-    uint32_t total = 0;
-    uint32_t sat = 0;
-    uint32_t textured = 0;
-    uint32_t windows = 0;
-    int32_t thr = (5 * tex_std) * (5 * tex_std);
-    if (negobs_image_u8_check(img) != NEGOBS_OK) {
-        return NEGOBS_ERR_INVAL;
-    }
-    f = ceil_div(img->width, APP_DEC_MAX_W);
-    if (ceil_div(img->height, APP_DEC_MAX_H) > f) {
-        f = ceil_div(img->height, APP_DEC_MAX_H);
-    }
-    d.data = dec_img;
-    d.width = img->width / f;
-    d.height = img->height / f;
-    d.stride = d.width;
-    if (d.width < 2 * APP_TEX_RADIUS + 1 ||
-        d.height < 2 * APP_TEX_RADIUS + 1) {
-        return NEGOBS_ERR_INVAL;
-    }
-    for (y = 0; y < d.height; y++) {
-        const uint8_t *src = negobs_image_u8_row(img, y * f);
-        uint8_t *dst = negobs_image_u8_row(&d, y);
-        for (x = 0; x < d.width; x++) {
-            uint8_t v = src[x * f];
-            dst[x] = v;
-            total += v;
-            sat += v >= APP_SAT_LEVEL ? 1u : 0u;
-        }
-    }
-    if (negobs_boxsum_u8(&d, APP_TEX_RADIUS, box_sum, d.width, box_sq, d.width,
-                         col_buf) != NEGOBS_OK) {
-        return NEGOBS_ERR_INVAL;
-    }
-    for (y = APP_TEX_RADIUS; y < d.height - APP_TEX_RADIUS; y++) {
-        for (x = APP_TEX_RADIUS; x < d.width - APP_TEX_RADIUS; x++) {
-            size_t i = (size_t)y * (size_t)d.width + (size_t)x;
-            int32_t s = (int32_t)box_sum[i];
-            int32_t var25 = 25 * (int32_t)box_sq[i] - s * s;
-            windows++;
-            textured += var25 >= thr ? 1u : 0u;
-        }
-    }
-    *mean = (int32_t)(total / ((uint32_t)d.width * (uint32_t)d.height));
-    *sat_pm = (int32_t)((uint64_t)sat * 1000u /
-                        ((uint32_t)d.width * (uint32_t)d.height));
-    *tex_pm = (int32_t)((uint64_t)textured * 1000u / windows);
-    return NEGOBS_OK;
 }
 
 /* The band threads: a pool of `threads` (kept across re-initialisations of
@@ -233,6 +159,9 @@ static negobs_status_t lib_setup(const app_pipeline_config_t *c, int32_t w,
     /* One limit for "a pair": what the capture pairs, the detector takes. */
     pc.detect.sync_tol_ms = c->sync_tol_ms;
     pc.detect.max_frame_age_ms = c->max_frame_age_ms;
+    pc.detect.dark_mean_min = c->dark_mean_min;
+    pc.detect.saturated_max_permille = c->sat_permille_max;
+    pc.detect.texture_min_q4 = c->texture_min_q4;
     /* One scratch area per thread; fewer threads where the workspace
      * cannot hold them all (the disparities do not depend on it). */
     for (pc.stereo.band_workers = c->threads;; pc.stereo.band_workers--) {
@@ -261,21 +190,62 @@ static negobs_status_t lib_setup(const app_pipeline_config_t *c, int32_t w,
     return NEGOBS_OK;
 }
 
+/* The statistics the detector's gate judged, for logs and the pair check. */
+static void photo_of(const negobs_pipeline_result_t *r, app_frame_stats_t *st)
+{
+    const negobs_photo_stats_t *ph[2];
+    int i;
+    ph[0] = &r->detect.stats;
+    ph[1] = &r->right_stats;
+    for (i = 0; i < 2; i++) {
+        st->mean[i] = ph[i]->mean;
+        st->sat_permille[i] = ph[i]->saturated_permille;
+        st->texture_q4[i] = ph[i]->texture_q4;
+    }
+}
+
+/* The detector's photometric reasons, named as the app's; DETECTOR for
+ * none of them. */
+static app_reason_t reason_of(uint32_t detect_reasons)
+{
+    if ((detect_reasons & NEGOBS_DEGRADED_TOO_DARK) != 0) {
+        return APP_REASON_DARK;
+    }
+    if ((detect_reasons & NEGOBS_DEGRADED_SATURATED) != 0) {
+        return APP_REASON_SATURATED;
+    }
+    if ((detect_reasons & NEGOBS_DEGRADED_LOW_TEXTURE) != 0) {
+        return APP_REASON_TEXTURELESS;
+    }
+    return APP_REASON_DETECTOR;
+}
+
 /* Detector verdict -> app verdict; "clear" only when it really looked. */
-static app_verdict_t verdict_of(const negobs_pipeline_result_t *r,
+static app_verdict_t verdict_of(const app_pipeline_t *p,
+                                const negobs_pipeline_result_t *r,
                                 app_frame_stats_t *st)
 {
     const negobs_detect_result_t *d = &r->detect;
+    int32_t lr = st->mean[0] - st->mean[1];
     st->detect_reasons = d->reasons;
     st->nearest_range_mm = d->nearest_range_mm;
     st->clear_to_mm = d->clear_to_mm;
     st->short_sight = d->short_sight;
     st->hazards = d->n_hazards;
     st->mount = d->mount;
-    if (d->state == NEGOBS_DETECT_NO_INFO) {
-        st->reason = APP_REASON_DETECTOR;
+    /* An image the gate refused names the reason; else two images that
+     * each passed but disagree: no match between them can be trusted,
+     * whatever the detector made of it. */
+    st->reason = reason_of(d->reasons);
+    if (st->reason == APP_REASON_DETECTOR &&
+        (lr < 0 ? -lr : lr) > p->cfg.lr_mean_diff_max) {
+        st->reason = APP_REASON_MISMATCH;
         return APP_VERDICT_NO_INFO;
     }
+    if (d->state == NEGOBS_DETECT_NO_INFO) {
+        return APP_VERDICT_NO_INFO;
+    }
+    st->reason = APP_REASON_NONE;
     if (d->level == NEGOBS_LEVEL_IMMINENT) {
         return APP_VERDICT_IMMINENT;
     }
@@ -298,90 +268,57 @@ app_verdict_t app_process_pair_at(app_pipeline_t *p,
                                   uint32_t t_left_ms, uint32_t t_right_ms,
                                   uint32_t now_ms)
 {
-    const negobs_image_u8_t *img[2];
     app_frame_stats_t *st = &p->last;
-    int i;
-    img[0] = left;
-    img[1] = right;
+    negobs_pipeline_frame_t fr;
+    negobs_pipeline_result_t res;
     memset(st, 0, sizeof *st);
     st->latency_ms = -1;
     p->res_valid = 0;
     if (left == NULL || right == NULL || left->width != right->width ||
-        left->height != right->height) {
+        left->height != right->height ||
+        negobs_image_u8_check(left) != NEGOBS_OK ||
+        negobs_image_u8_check(right) != NEGOBS_OK) {
         st->reason = APP_REASON_BAD_INPUT;
-        return APP_VERDICT_NO_INFO;
-    }
-    for (i = 0; i < 2; i++) {
-        if (measure(img[i], p->cfg.texture_std_min, &st->mean[i],
-                    &st->sat_permille[i],
-                    &st->texture_permille[i]) != NEGOBS_OK) {
-            st->reason = APP_REASON_BAD_INPUT;
-            return APP_VERDICT_NO_INFO;
-        }
-    }
-    for (i = 0; i < 2 && st->reason == APP_REASON_NONE; i++) {
-        if (st->mean[i] < p->cfg.dark_mean_min) {
-            st->reason = APP_REASON_DARK;
-        } else if (st->sat_permille[i] > p->cfg.sat_permille_max) {
-            st->reason = APP_REASON_SATURATED;
-        } else if (st->texture_permille[i] < p->cfg.texture_permille_min) {
-            st->reason = APP_REASON_TEXTURELESS;
-        }
-    }
-    if (st->reason == APP_REASON_NONE) {
-        int32_t d = st->mean[0] - st->mean[1];
-        if (d < 0) {
-            d = -d;
-        }
-        if (d > p->cfg.lr_mean_diff_max) {
-            st->reason = APP_REASON_MISMATCH;
-        }
-    }
-    if (st->reason != APP_REASON_NONE) {
         return APP_VERDICT_NO_INFO;
     }
     if (lib_setup(&p->cfg, left->width, left->height) != NEGOBS_OK) {
         st->reason = APP_REASON_BAD_INPUT;
         return APP_VERDICT_NO_INFO;
     }
-    {
-        negobs_pipeline_frame_t fr;
-        negobs_pipeline_result_t res;
-        memset(&fr, 0, sizeof fr);
-        fr.left = left;
-        fr.right = right;
-        fr.t_left_ms = t_left_ms;
-        fr.t_right_ms = t_right_ms;
-        fr.now_ms = now_ms;
-        /* set on every pair: lib_setup may have initialised it again */
-        (void)negobs_pipeline_set_clock(&lib_pipe, p->clock_ns, p->clock_user);
-        if (negobs_pipeline_process(&lib_pipe, &fr, &res) != NEGOBS_OK) {
-            st->reason = APP_REASON_BAD_INPUT;
-            return APP_VERDICT_NO_INFO;
-        }
-        p->res = res;
-        p->res_valid = 1;
-        if (res.stereo_status != NEGOBS_OK) {
-            st->reason = APP_REASON_BAD_INPUT;
-            return APP_VERDICT_NO_INFO;
-        }
-        st->valid_permille = (int32_t)((uint64_t)res.stereo.valid * 1000u /
-                                       ((uint64_t)left->width *
-                                        (uint64_t)left->height));
-        st->first_row = res.stereo.first_row;
-        {
-            int k;
-            uint64_t sum = 0;
-            for (k = 0; k < NEGOBS_STEREO_STAGE_COUNT; k++) {
-                uint64_t us = res.stereo.stage_ticks[k] / 1000u;
-                st->stage_us[k] = (uint32_t)((us > UINT32_MAX) ? UINT32_MAX
-                                                               : us);
-                sum += us;
-            }
-            st->stereo_us = (uint32_t)((sum > UINT32_MAX) ? UINT32_MAX : sum);
-        }
-        return verdict_of(&res, st);
+    memset(&fr, 0, sizeof fr);
+    fr.left = left;
+    fr.right = right;
+    fr.t_left_ms = t_left_ms;
+    fr.t_right_ms = t_right_ms;
+    fr.now_ms = now_ms;
+    /* set on every pair: lib_setup may have initialised it again */
+    (void)negobs_pipeline_set_clock(&lib_pipe, p->clock_ns, p->clock_user);
+    if (negobs_pipeline_process(&lib_pipe, &fr, &res) != NEGOBS_OK) {
+        st->reason = APP_REASON_BAD_INPUT;
+        return APP_VERDICT_NO_INFO;
     }
+    p->res = res;
+    p->res_valid = 1;
+    if (res.stereo_status != NEGOBS_OK) {
+        st->reason = APP_REASON_BAD_INPUT;
+        return APP_VERDICT_NO_INFO;
+    }
+    photo_of(&res, st);
+    st->valid_permille = (int32_t)((uint64_t)res.stereo.valid * 1000u /
+                                   ((uint64_t)left->width *
+                                    (uint64_t)left->height));
+    st->first_row = res.stereo.first_row;
+    {
+        int k;
+        uint64_t sum = 0;
+        for (k = 0; k < NEGOBS_STEREO_STAGE_COUNT; k++) {
+            uint64_t us = res.stereo.stage_ticks[k] / 1000u;
+            st->stage_us[k] = (uint32_t)((us > UINT32_MAX) ? UINT32_MAX : us);
+            sum += us;
+        }
+        st->stereo_us = (uint32_t)((sum > UINT32_MAX) ? UINT32_MAX : sum);
+    }
+    return verdict_of(p, &res, st);
 }
 
 app_verdict_t app_pipeline_latency_gate(app_pipeline_t *p, app_verdict_t v,

@@ -1,12 +1,14 @@
 /*
  * The processing hook of negobs_run: one call per synchronised pair.
  *
- * app_process_pair() first checks whether the images can carry
- * information at all (brightness, saturation, texture, from the library's
- * box sums) and answers NO_INFO when they cannot. A usable pair then goes
- * through the library's whole pipeline (negobs/pipeline.h: stereo ->
- * ground model -> drop-off detection with temporal confirmation), and the
- * detector's verdict decides: no-information, clear, caution or imminent.
+ * app_process_pair() runs the library's whole pipeline (negobs/pipeline.h:
+ * stereo -> ground model -> drop-off detection with temporal confirmation)
+ * and the detector's verdict decides: no-information, clear, caution or
+ * imminent. Whether the images can carry information at all (too dark,
+ * saturated, textureless) is the detector's photometric gate, on both
+ * images, with the thresholds below passed to it; the app adds only the
+ * pair check the detector lacks (left and right brightness far apart),
+ * on the same statistics.
  */
 #ifndef NEGOBS_APP_PIPELINE_H
 #define NEGOBS_APP_PIPELINE_H
@@ -31,22 +33,27 @@ typedef enum app_verdict {
 typedef enum app_reason {
     APP_REASON_NONE = 0,
     APP_REASON_BAD_INPUT,   /**< invalid descriptor or size mismatch      */
-    APP_REASON_DARK,        /**< mean grey below dark_mean_min            */
-    APP_REASON_SATURATED,   /**< too many pixels at >= 250                */
-    APP_REASON_TEXTURELESS, /**< too few windows with local contrast      */
+    APP_REASON_DARK,        /**< detector: TOO_DARK                       */
+    APP_REASON_SATURATED,   /**< detector: SATURATED (pixels >= 250)      */
+    APP_REASON_TEXTURELESS, /**< detector: LOW_TEXTURE                    */
     APP_REASON_MISMATCH,    /**< left and right brightness far apart      */
     APP_REASON_DETECTOR,    /**< the detector cannot see (detect_reasons) */
     APP_REASON_LATE         /**< "clear" judged a view older than the
                                  latency budget (app_pipeline_latency_gate) */
 } app_reason_t;
 
-/** Thresholds (all integers; defaults in brackets). */
+/**
+ * Thresholds (all integers; defaults in brackets). The three photometric
+ * ones are the detector's (negobs_detect_config_t, whose defaults
+ * app_pipeline_config_default copies), passed through unchanged.
+ */
 typedef struct app_pipeline_config {
-    int32_t dark_mean_min;        /**< grey level [20]                     */
-    int32_t sat_permille_max;     /**< share of pixels >= 250 [300]        */
-    int32_t texture_std_min;      /**< 5x5 std dev for "textured" [4]      */
-    int32_t texture_permille_min; /**< share of textured windows [20]      */
-    int32_t lr_mean_diff_max;     /**< |mean L - mean R| [60]              */
+    int32_t dark_mean_min;    /**< mean grey below: dark [detector's 20] */
+    int32_t sat_permille_max; /**< share of pixels >= 250 above:
+                                     saturated [detector's 250]            */
+    int32_t texture_min_q4;   /**< mean |horizontal gradient| below:
+                                     textureless, 1/16 grey [detector's 24] */
+    int32_t lr_mean_diff_max; /**< |mean L - mean R| [60]              */
     /* Camera geometry for the detector (rectified pair). */
     int32_t focal_px;       /**< focal length, pixels [250]          */
     int32_t baseline_mm;    /**< stereo baseline [120]               */
@@ -81,9 +88,9 @@ typedef struct app_pipeline_config {
 
 /** Statistics of the last pair, per image (0 = left, 1 = right). */
 typedef struct app_frame_stats {
-    int32_t mean[2];
-    int32_t sat_permille[2];
-    int32_t texture_permille[2];
+    int32_t mean[2];         /**< mean grey (the detector's statistics) */
+    int32_t sat_permille[2]; /**< share of pixels >= 250                */
+    int32_t texture_q4[2];   /**< mean |horizontal gradient|, 1/16 grey */
     app_reason_t reason;
     uint32_t detect_reasons;  /**< NEGOBS_DEGRADED_* of the detector     */
     int32_t nearest_range_mm; /**< nearest confirmed hazard, -1 if none  */
@@ -131,7 +138,7 @@ void app_pipeline_set_clock(app_pipeline_t *p, negobs_stereo_clock_fn now_ns,
 
 /**
  * @brief Process one synchronised pair (images are only read).
- * Uses static scratch buffers and one static library pipeline (set up on
+ * Uses one static library pipeline (set up on
  * the first pair and again when the frame size changes): not reentrant,
  * one pipeline per process. Times are the caller's monotonic ms.
  */

@@ -95,9 +95,7 @@ static void on_write_signal(int sig, siginfo_t *si, void *uctx)
  * default action runs (SA_RESETHAND). */
 static void on_fatal_signal(int sig)
 {
-    if (run_alert.ops != NULL && run_alert.ops->off_async != NULL) {
-        run_alert.ops->off_async(run_alert.ctx);
-    }
+    negobs_alert_off_async(&run_alert);
     (void)raise(sig);
 }
 

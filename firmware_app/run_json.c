@@ -252,12 +252,11 @@ void json_log_pair(uint32_t index, uint64_t ts_left_ns, uint64_t ts_right_ns,
     fprintf(f,
             ",\"ts_left_ns\":%llu,\"ts_right_ns\":%llu,\"verdict\":\"%s\","
             "\"app_reason\":\"%s\",\"mean\":[%ld,%ld],"
-            "\"texture_permille\":[%ld,%ld],\"preset\":\"%s\"}\n",
+            "\"texture_q4\":[%ld,%ld],\"preset\":\"%s\"}\n",
             (unsigned long long)ts_left_ns, (unsigned long long)ts_right_ns,
             app_verdict_name(v), app_reason_name(st->reason),
-            (long)st->mean[0], (long)st->mean[1],
-            (long)st->texture_permille[0], (long)st->texture_permille[1],
-            preset);
+            (long)st->mean[0], (long)st->mean[1], (long)st->texture_q4[0],
+            (long)st->texture_q4[1], preset);
     if (fflush(f) != 0 || ferror(f)) {
         json_failed = true;
         logmsg(LOG_ERROR,

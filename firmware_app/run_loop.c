@@ -120,15 +120,14 @@ static void status_line(run_status_t *st, uint64_t now)
     logmsg(LOG_INFO,
            "status fps=%lu.%lu latency_ms=%lu.%lu max=%lu dropped=%lu "
            "timeouts=%lu reopens=%lu verdict=%s reason=%s mean=%ld/%ld "
-           "texture=%ld/%ld watchdog=%lu pattern=%s mount=%ld/%ld/%ld/%s",
+           "texture_q4=%ld/%ld watchdog=%lu pattern=%s mount=%ld/%ld/%ld/%s",
            fps10 / 10u, fps10 % 10u, lat / 10u, lat % 10u,
            (unsigned long)(st->lat_max_us / 1000u),
            (unsigned long)cs.dropped_pairs, (unsigned long)cs.timeouts,
            (unsigned long)cs.reopens, app_verdict_name(st->verdict),
            app_reason_name(pipeline.last.reason), (long)pipeline.last.mean[0],
-           (long)pipeline.last.mean[1],
-           (long)pipeline.last.texture_permille[0],
-           (long)pipeline.last.texture_permille[1],
+           (long)pipeline.last.mean[1], (long)pipeline.last.texture_q4[0],
+           (long)pipeline.last.texture_q4[1],
            (unsigned long)negobs_motor_thread_watchdog_fires(&run_motor),
            app_alert_pattern_name(app_alert_pattern(&alert_sm)),
            (long)pipeline.last.mount.height_mm,

@@ -63,13 +63,15 @@ static const app_cfg_key_t config_keys[] = {
     {"status_interval_ms", APP_CFG_INT, &run_cfg.status_interval_ms, 100,
      600000, "period of the status line (default 1000)"},
     {"dark_mean_min", APP_CFG_INT, &run_cfg.app.dark_mean_min, 0, 255,
-     "mean grey below this -> no-info (default 20)"},
+     "mean grey of either image below this -> no-info (default: the "
+     "detector's, 20)"},
     {"saturation_permille_max", APP_CFG_INT, &run_cfg.app.sat_permille_max, 0,
-     1000, "share of pixels >= 250 above this -> no-info (default 300)"},
-    {"texture_std_min", APP_CFG_INT, &run_cfg.app.texture_std_min, 0, 127,
-     "5x5 std dev that counts as texture (default 4)"},
-    {"texture_permille_min", APP_CFG_INT, &run_cfg.app.texture_permille_min, 0,
-     1000, "share of textured windows below this -> no-info (default 20)"},
+     1000,
+     "share of pixels >= 250 in either image above this -> no-info "
+     "(default: the detector's, 250)"},
+    {"texture_min_q4", APP_CFG_INT, &run_cfg.app.texture_min_q4, 0, 4096,
+     "mean |horizontal gradient| of either image below this, 1/16 grey "
+     "level -> no-info (default: the detector's, 24)"},
     {"lr_mean_diff_max", APP_CFG_INT, &run_cfg.app.lr_mean_diff_max, 0, 255,
      "left/right mean grey difference above this -> no-info (default 60)"},
     {"focal_px", APP_CFG_INT, &run_cfg.app.focal_px, 50, 4000,

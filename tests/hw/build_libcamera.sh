@@ -103,7 +103,7 @@ LCSO=$(ls "$SYS"/usr/lib/$ML/libcamera.so.0.0.* 2>/dev/null | head -n 1)
 
 # ---- 3. lc_capture, cross-built with the backend -------------------------
 LC_SRC=("$ROOT/port/camera/libcamera" "$ROOT/port/include" "$ROOT/port/camera/camera_common.c"
-        "$ROOT/port/clock/clock_posix.c" "$ROOT/lib/include" "$HW/guest/lc_capture.c" "${BASH_SOURCE[0]}")
+        "$ROOT/port/clock/clock_posix.c" "$ROOT/port/common" "$ROOT/lib/include" "$HW/guest/lc_capture.c" "${BASH_SOURCE[0]}")
 if [[ -x $LR/bin/lc_capture && -f $LR/lib/$ML/libudev.so.1 &&
       -z $(find "${LC_SRC[@]}" "$SYS/.done" -newer "$LR/bin/lc_capture" 2>/dev/null | head -n 1) ]]; then
   echo "lc_capture and the overlay are up to date"
@@ -114,8 +114,9 @@ CF=(-O2 -Wall -Wextra -I"$ROOT/port/include" -I"$ROOT/lib/include")
 echo "cross-compiling lc_capture (aarch64, libcamera $(basename "$LCSO"))"
 aarch64-linux-gnu-g++ -std=c++17 "${CF[@]}" -I"$SYS/usr/include/libcamera" \
   -c "$ROOT/port/camera/libcamera/camera_libcamera.cpp" -o "$OUT/obj/camera_libcamera.o" || exit 1
-for c in port/camera/libcamera/lc_format.c port/camera/libcamera/lc_pair.c \
-         port/camera/camera_common.c port/clock/clock_posix.c \
+aarch64-linux-gnu-g++ -std=c++17 "${CF[@]}" -I"$SYS/usr/include/libcamera" \
+  -c "$ROOT/port/camera/libcamera/lc_side.cpp" -o "$OUT/obj/lc_side.o" || exit 1
+for c in port/camera/libcamera/lc_format.c port/camera/libcamera/lc_pair.c port/camera/camera_common.c port/clock/clock_posix.c port/common/errmsg.c \
          tests/hw/guest/lc_capture.c; do
   aarch64-linux-gnu-gcc -std=c99 "${CF[@]}" -c "$ROOT/$c" -o "$OUT/obj/$(basename "$c" .c).o" || exit 1
 done

@@ -160,8 +160,11 @@ static void fake_close(void *ctx)
     (void)ctx;
 }
 
-static const negobs_alert_ops_t fake_ops = {"fake", fake_set, NULL,
-                                            fake_close};
+static const negobs_alert_ops_t fake_ops = {
+    .name = "fake",
+    .set = fake_set,
+    .close = fake_close,
+};
 
 static uint32_t lcg(uint32_t *s)
 {

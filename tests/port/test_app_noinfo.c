@@ -67,7 +67,11 @@ static void rec_close(void *ctx)
     (void)ctx;
 }
 
-static const negobs_alert_ops_t rec_ops = {"rec", rec_set, NULL, rec_close};
+static const negobs_alert_ops_t rec_ops = {
+    .name = "rec",
+    .set = rec_set,
+    .close = rec_close,
+};
 
 static rec_out_t rec;
 static negobs_motor_out_t out;

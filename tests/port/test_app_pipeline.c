@@ -1,4 +1,5 @@
-/* negobs_run's processing hook: the image-quality gate and its verdicts. */
+/* negobs_run's processing hook: the detector's photometric gate on both
+ * images, the left/right check, and their verdicts. */
 #include <string.h>
 
 #include "app_pipeline.h"
@@ -54,7 +55,7 @@ static void test_unrelated_textured_pair_is_never_clear(void **state)
     (void)state;
     fill(left_px, W, H, S, 1, 40, 160);
     fill(right_px, W, H, S, 2, 40, 160);
-    /* Passes the quality gate, but two unrelated noise images show no
+    /* Passes the photometric gate, but two unrelated noise images show no
      * ground: the detector must say no-information, not clear. */
     assert_int_equal(run(&p), APP_VERDICT_NO_INFO);
     assert_int_equal(p.last.reason, APP_REASON_DETECTOR);
@@ -62,9 +63,12 @@ static void test_unrelated_textured_pair_is_never_clear(void **state)
     assert_in_range(p.last.mean[0], 110, 130);
     /* The 255 padding beyond the width is not counted as saturation. */
     assert_int_equal(p.last.sat_permille[0], 0);
-    assert_true(p.last.texture_permille[1] > 900);
+    assert_true(p.last.texture_q4[1] > 16 * 24);
 }
 
+/* The right image alone decides each of these: the pipeline's one gate
+ * judges both images (it judged only the left before the app's own gate
+ * was folded into it). */
 static void test_unusable_images_give_no_info_with_reason(void **state)
 {
     app_pipeline_t p = pipe_init();
@@ -79,7 +83,7 @@ static void test_unusable_images_give_no_info_with_reason(void **state)
     fill(right_px, W, H, S, 2, 128, 0); /* flat: lens covered, fog */
     assert_int_equal(run(&p), APP_VERDICT_NO_INFO);
     assert_int_equal(p.last.reason, APP_REASON_TEXTURELESS);
-    assert_int_equal(p.last.texture_permille[1], 0);
+    assert_int_equal(p.last.texture_q4[1], 0);
     fill(left_px, W, H, S, 1, 40, 100);   /* mean ~90 */
     fill(right_px, W, H, S, 2, 140, 100); /* mean ~190 */
     assert_int_equal(run(&p), APP_VERDICT_NO_INFO);
@@ -114,18 +118,44 @@ static void test_bad_input_gives_no_info(void **state)
     assert_int_equal(app_pipeline_init(&p, &c), NEGOBS_OK);
 }
 
-static void test_large_frames_are_subsampled(void **state)
+static void test_too_large_frames_give_no_info(void **state)
 {
     app_pipeline_t p = pipe_init();
     negobs_image_u8_t l = {big, 1280, 800, 1280};
     (void)state;
     fill(big, 1280, 800, 1280, 3, 40, 160);
-    /* The gate measures the big frame on a subsampled copy; the pipeline's
-     * static workspace does not fit 1280x800, which must give no-info,
-     * not a crash or "clear". */
+    /* The pipeline's static workspace does not fit 1280x800, which must
+     * give no-info, not a crash or "clear". */
     assert_int_equal(app_process_pair(&p, &l, &l), APP_VERDICT_NO_INFO);
     assert_int_equal(p.last.reason, APP_REASON_BAD_INPUT);
-    assert_in_range(p.last.mean[0], 110, 130);
+}
+
+/* One home for the photometric thresholds: the app's defaults are the
+ * detector's, and what the user sets reaches the detector's gate. */
+static void test_gate_thresholds_are_the_detectors(void **state)
+{
+    app_pipeline_t p = pipe_init();
+    app_pipeline_config_t c;
+    negobs_detect_config_t d;
+    (void)state;
+    negobs_detect_config_default(&d, W, H);
+    app_pipeline_config_default(&c);
+    assert_int_equal(c.dark_mean_min, d.dark_mean_min);
+    assert_int_equal(c.sat_permille_max, d.saturated_max_permille);
+    assert_int_equal(c.texture_min_q4, d.texture_min_q4);
+    fill(left_px, W, H, S, 1, 40, 160);
+    fill(right_px, W, H, S, 2, 40, 160);
+    assert_int_equal(run(&p), APP_VERDICT_NO_INFO);
+    assert_int_equal(p.last.reason, APP_REASON_DETECTOR);
+    c.texture_min_q4 = 4096; /* no image is that textured */
+    assert_int_equal(app_pipeline_init(&p, &c), NEGOBS_OK);
+    assert_int_equal(run(&p), APP_VERDICT_NO_INFO);
+    assert_int_equal(p.last.reason, APP_REASON_TEXTURELESS);
+    app_pipeline_config_default(&c);
+    c.dark_mean_min = 200; /* both images have a mean near 120 */
+    assert_int_equal(app_pipeline_init(&p, &c), NEGOBS_OK);
+    assert_int_equal(run(&p), APP_VERDICT_NO_INFO);
+    assert_int_equal(p.last.reason, APP_REASON_DARK);
 }
 
 static void test_late_clear_is_not_trusted(void **state)
@@ -215,7 +245,8 @@ int main(void)
         cmocka_unit_test(test_unrelated_textured_pair_is_never_clear),
         cmocka_unit_test(test_unusable_images_give_no_info_with_reason),
         cmocka_unit_test(test_bad_input_gives_no_info),
-        cmocka_unit_test(test_large_frames_are_subsampled),
+        cmocka_unit_test(test_too_large_frames_give_no_info),
+        cmocka_unit_test(test_gate_thresholds_are_the_detectors),
         cmocka_unit_test(test_late_clear_is_not_trusted),
         cmocka_unit_test(test_stage_clock_fills_stage_times),
     };

@@ -42,7 +42,11 @@ static void rec_close(void *ctx)
     (void)ctx;
 }
 
-static const negobs_alert_ops_t rec_ops = {"rec", rec_set, NULL, rec_close};
+static const negobs_alert_ops_t rec_ops = {
+    .name = "rec",
+    .set = rec_set,
+    .close = rec_close,
+};
 
 static uint16_t last_level(const rec_out_t *r)
 {

@@ -30,6 +30,7 @@
 
 #include "calib_common.hpp"
 #include "cli.hpp"
+#include "cli_parse.hpp"
 
 extern "C" {
 #include "negobs/rectify.h"
@@ -38,6 +39,8 @@ extern "C" {
 namespace {
 
 using negobs_calib::ImagePair;
+using negobs_tools::parse_double;
+using negobs_tools::parse_int;
 
 struct Options {
     std::string list;

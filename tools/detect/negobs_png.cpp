@@ -21,6 +21,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cli.hpp"
+#include "cli_parse.hpp"
 #include "detect_common.hpp"
 #include "rect_table.hpp"
 #include "session.hpp"
@@ -29,6 +30,9 @@ namespace fs = std::filesystem;
 using namespace negobs_detect_tools;
 
 namespace {
+
+using negobs_tools::parse_double;
+using negobs_tools::parse_int;
 
 void usage(FILE *f)
 {

@@ -85,8 +85,12 @@ typedef struct negobs_pipeline_result {
     negobs_status_t stereo_status; /**< NEGOBS_OK or why no disparity */
     negobs_valign_stats_t valign;  /**< alignment (valign.enable)     */
     negobs_stereo_stats_t stereo;  /**< matcher statistics            */
-    negobs_detect_result_t detect; /**< state, reasons, hazards       */
-    negobs_motor_cmd_t motor;      /**< what the motor does now/next  */
+    negobs_detect_result_t detect; /**< state, reasons, hazards; its
+                                        stats are the left image's     */
+    /** The right image's photometric statistics, judged by the same gate
+     *  as the left's (detect.stats); zero when the matcher did not run. */
+    negobs_photo_stats_t right_stats;
+    negobs_motor_cmd_t motor; /**< what the motor does now/next  */
     /** clock ticks per stage (negobs_pipeline_set_clock); all 0 without
      *  a clock. Not part of the output: timings differ between runs. */
     uint64_t stage_ticks[NEGOBS_PIPELINE_STAGE_COUNT];
@@ -128,8 +132,20 @@ int32_t negobs_pipeline_roi_first_row(const negobs_pipeline_config_t *cfg,
                                       const negobs_detect_result_t *det);
 
 /**
- * @brief Defaults of every stage for a width x height frame, with the
- *        detector's camera size and disparity limit tied to the matcher's.
+ * @brief The product profile: every stage's default for a width x height
+ *        frame, then these overrides (the only place they are made):
+ *  - stereo.texture_min 100 -> 2500 and stereo.ncc_tau_q14 0.5 -> 0.6
+ *    (9830): for drop detection a missing match is safer than a carried
+ *    one; the matcher's own defaults suit dense maps
+ *    (docs/decisions/0001-pipeline-strict-matcher.md);
+ *  - valign.min_disp / max_disp = the matcher's range, and
+ *    detect.max_disp_q4 = (stereo.max_disp + 1) px: one disparity range;
+ *  - stereo_roi = 1, roi_margin_rows = height / 8.
+ * Defaults have one order: the stage's *_config_default(), then this
+ * profile, then the application (firmware_app's app_pipeline and
+ * negobs_run's settings, which change only what the user set).
+ * The photometric gate (too dark, saturated, low texture) is the
+ * detector's (detect.dark_mean_min ...), applied to both images.
  */
 void negobs_pipeline_config_default(negobs_pipeline_config_t *cfg,
                                     int32_t width, int32_t height);

@@ -2,6 +2,15 @@
  * (docs/DETECTION.md section 5, step 6). */
 #include "detect_internal.h"
 
+/*
+ * MAD to sigma of the strip medians, Q14 (unit-less): the MAD comes in
+ * 1/32 px times 256 and sigma goes out in 1/256 px (Q8), so
+ * sigma_q8 = MAD_x256 * 8 / 256 * 1.4826 = MAD_x256 * 0.046331
+ * ~= 759/16384 (0.01 % low). 1.4826 is the normal distribution's
+ * MAD-to-sigma factor.
+ */
+enum { MAD_X256_TO_SIGMA_Q8_Q14 = 759 };
+
 /* Median of n (1..MAX_STRIP_PX) values, times 2 (the two middle values
  * summed for even n), so no precision is lost. Sorts x in place. */
 static int32_t median2_s32(int32_t *x, int32_t n)
@@ -83,8 +92,8 @@ static void hist_median_spread_q8(const uint16_t *ha, const uint16_t *hb,
     }
     /* 1/32 px x 256 -> 1/256 px: x 8 / 256. */
     *median_q8 = (int32_t)((med_x256 - (int64_t)(STRIP_BINS / 2) * 256) / 32);
-    *spread_q8 = (int32_t)geom_clamp_s64((mad_x256 * 759 + 8192) / 16384, 1,
-                                         1 << 20);
+    *spread_q8 = (int32_t)geom_clamp_s64(
+        (mad_x256 * MAD_X256_TO_SIGMA_Q8_Q14 + 8192) / 16384, 1, 1 << 20);
 }
 
 /*

@@ -32,6 +32,39 @@ int32_t det_sigma_at(const scan_ctx_t *s, int32_t v)
 }
 
 /*
+ * MAD of the differences of horizontal neighbours to the sigma of one
+ * pixel, Q10 (unit-less): sigma = 1.4826 * MAD / sqrt(2) = 1.0484 * MAD
+ * ~= 1073/1024 (0.05 % low). 1.4826 is the normal distribution's
+ * MAD-to-sigma factor; sqrt(2) because a difference of two pixels has
+ * twice the variance of one.
+ */
+enum { DIFF_MAD_TO_SIGMA_Q10 = 1073 };
+
+/*
+ * How far past the hole limit (mm) the type scan goes on reading before it
+ * stops: a far rim at max_hole_mm needs min_edge_rows confirming rows,
+ * which lie farther still, and a second plateau (stairs) one tread beyond
+ * the edge must be reached. 0.5 m is slack for both, the value the
+ * classifier was tuned with (docs/DETECTION.md, "Type"); it only bounds
+ * the scan's cost, the hole test itself stays within max_hole_mm.
+ */
+enum { TYPE_SCAN_PAST_HOLE_MM = 500 };
+
+/*
+ * Threshold margin (mean deficit / tau, Q8: 256 = 1.0) of a missing-ground
+ * strip, which has no measured deficit: 1.0 without a left image to tell
+ * its kind; 1.5 for a band as textured as its ground (it should have
+ * matched: an occlusion or drop cue), 0.5 for a bland band (nothing to
+ * match, "unknown"). With 4 strips these give confidences 0.5, 0.75 and
+ * 0.25 (docs/DETECTION.md, "Missing ground").
+ */
+enum {
+    MISSING_MARGIN_Q8 = 256,
+    MISSING_MARGIN_TEXTURED_Q8 = 384,
+    MISSING_MARGIN_BLAND_Q8 = 128
+};
+
+/*
  * Noise per band of rows from horizontal neighbours: for a smooth surface
  * d(u+1) - d(u) has sigma*sqrt(2) and no model term, so a drop (a
  * horizontal edge) does not inflate it. sigma = 1.4826 * MAD / sqrt(2)
@@ -92,7 +125,7 @@ void det_band_noise(scan_ctx_t *s, uint32_t *hist, int32_t v_top)
                 break;
             }
         }
-        s->band_sigma_q4[b] = (mad * 1073 + 512) / 1024;
+        s->band_sigma_q4[b] = (mad * DIFF_MAD_TO_SIGMA_Q10 + 512) / 1024;
     }
 }
 
@@ -403,7 +436,7 @@ static enum scan_step scan_classify(const scan_ctx_t *s, int32_t u0,
 {
     const negobs_detect_config_t *cfg = s->cfg;
     hit->top_v = v;
-    if (range - hit->range_mm > cfg->max_hole_mm + 500) {
+    if (range - hit->range_mm > cfg->max_hole_mm + TYPE_SCAN_PAST_HOLE_MM) {
         return SCAN_STOP;
     }
     if (ss->settle < cfg->min_edge_rows) {
@@ -558,7 +591,7 @@ static void scan_missing(const scan_ctx_t *s, int32_t u0, int32_t u1,
                                    hit->range_mm)
                        : 0;
     hit->h_lower = 1;
-    hit->margin_q8 = 256;
+    hit->margin_q8 = MISSING_MARGIN_Q8;
     /* Missing ground: a bland band is "unknown" (nothing to match); a band
      * as textured as the matched ground before it, at least half of its
      * gradient, failed to match where it should have: an occlusion or
@@ -574,9 +607,9 @@ static void scan_missing(const scan_ctx_t *s, int32_t u0, int32_t u1,
                                        hit->edge_v + rows);
         if (t_band >= 0 && t_gnd > 0 && 2 * t_band >= t_gnd) {
             hit->textured = 1;
-            hit->margin_q8 = 384;
+            hit->margin_q8 = MISSING_MARGIN_TEXTURED_Q8;
         } else {
-            hit->margin_q8 = 128;
+            hit->margin_q8 = MISSING_MARGIN_BLAND_Q8;
         }
     }
 }

@@ -379,6 +379,10 @@ static int32_t refine_step(const gfit_t *g, const negobs_image_s16_t *disp,
     return (int32_t)n;
 }
 
+/* The normal distribution's MAD-to-sigma factor 1.4826 ~= 759/512, Q9
+ * (unit-less, 0.01 % low). */
+enum { NORMAL_MAD_TO_SIGMA_Q9 = 759 };
+
 /*
  * The last ground row seen from the feet: walking up from row v_from
  * (exclusive) to v_limit in sampling steps, the first two sampled rows in
@@ -484,8 +488,9 @@ static int32_t noise_sigma(gfit_t *g, const negobs_image_s16_t *disp,
             break;
         }
     }
-    /* 1.4826 ~= 759/512; +0.5 q4 for the integer quantisation of r. */
-    return geom_max_s32((mad * 759 + 256 + 380) / 512, g->cfg->sigma_min_q4);
+    /* +0.5 q4 for the integer quantisation of r. */
+    return geom_max_s32((mad * NORMAL_MAD_TO_SIGMA_Q9 + 256 + 380) / 512,
+                        g->cfg->sigma_min_q4);
 }
 
 /* Largest disparity difference of two planes at 3 reference points. */

@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "arena.h"
+#include "detect/detect_int.h"
 #include "pipeline_private.h"
 
 #define PIPELINE_MAGIC 0x4E50494Cu /* "NPIL" */
@@ -320,6 +321,11 @@ negobs_status_t negobs_pipeline_process(negobs_pipeline_t *ctx,
         df.disp_q4 = &p->disp_q4;
         df.confidence = &p->confidence;
         df.left = frame->left;
+        /* the one photometric gate judges both images */
+        if (negobs_detect_photo_stats(frame->right, &result->right_stats) ==
+            NEGOBS_OK) {
+            df.right_stats = &result->right_stats;
+        }
         df.t_left_ms = frame->t_left_ms;
         df.t_right_ms = frame->t_right_ms;
         df.now_ms = frame->now_ms;

@@ -37,10 +37,9 @@ static void console_close(void *ctx)
 }
 
 static const negobs_alert_ops_t console_ops = {
-    "console",
-    console_set,
-    NULL,
-    console_close,
+    .name = "console",
+    .set = console_set,
+    .close = console_close,
 };
 
 negobs_status_t negobs_alert_console_open(negobs_alert_console_t *st,

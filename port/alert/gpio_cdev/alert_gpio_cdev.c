@@ -30,23 +30,19 @@
 #include <linux/gpio.h>
 
 #include "negobs_port/alert.h"
+#include "negobs_port/errmsg.h"
 #include "negobs_port/clock.h"
 
 static void gpio_error(negobs_alert_gpio_t *st, int err, const char *fmt, ...)
 {
     va_list ap;
-    int n;
     st->last_errno = err;
     va_start(ap, fmt);
     /* va_start() is above; clang-tidy 14 reports this false positive
      * only when it analyses several files in one run. */
     /* NOLINTNEXTLINE(clang-analyzer-valist.Uninitialized) */
-    n = vsnprintf(st->errmsg, sizeof st->errmsg, fmt, ap);
+    negobs_port_verrmsg(st->errmsg, sizeof st->errmsg, err, fmt, ap);
     va_end(ap);
-    if (n >= 0 && err != 0 && (size_t)n < sizeof st->errmsg) {
-        (void)snprintf(st->errmsg + n, sizeof st->errmsg - (size_t)n, ": %s",
-                       strerror(err));
-    }
 }
 
 static int set_line(const negobs_alert_gpio_t *st, int on)
@@ -195,10 +191,10 @@ static void gpio_close(void *ctx)
 }
 
 static const negobs_alert_ops_t gpio_ops = {
-    "gpio",
-    gpio_set,
-    gpio_off_async,
-    gpio_close,
+    .name = "gpio",
+    .set = gpio_set,
+    .off_async = gpio_off_async,
+    .close = gpio_close,
 };
 
 /* Label of an open chip ("" when the kernel does not say). */

@@ -15,10 +15,9 @@ static void none_close(void *ctx)
 }
 
 static const negobs_alert_ops_t none_ops = {
-    "none",
-    none_set,
-    NULL,
-    none_close,
+    .name = "none",
+    .set = none_set,
+    .close = none_close,
 };
 
 negobs_status_t negobs_alert_none_open(negobs_motor_out_t *alert)

@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "negobs_port/alert.h"
+#include "negobs_port/errmsg.h"
 #include "negobs_port/clock.h"
 
 #define PWM_DEFAULT_ROOT "/sys/class/pwm"
@@ -27,18 +28,13 @@
 static void pwm_error(negobs_alert_pwm_t *st, int err, const char *fmt, ...)
 {
     va_list ap;
-    int n;
     st->last_errno = err;
     va_start(ap, fmt);
     /* va_start() is above; clang-tidy 14 reports this false positive
      * only when it analyses several files in one run. */
     /* NOLINTNEXTLINE(clang-analyzer-valist.Uninitialized) */
-    n = vsnprintf(st->errmsg, sizeof st->errmsg, fmt, ap);
+    negobs_port_verrmsg(st->errmsg, sizeof st->errmsg, err, fmt, ap);
     va_end(ap);
-    if (n >= 0 && err != 0 && (size_t)n < sizeof st->errmsg) {
-        (void)snprintf(st->errmsg + n, sizeof st->errmsg - (size_t)n, ": %s",
-                       strerror(err));
-    }
 }
 
 static int chan_path(const negobs_alert_pwm_t *st, char *buf, size_t len,
@@ -156,10 +152,10 @@ static void pwm_close(void *ctx)
 }
 
 static const negobs_alert_ops_t pwm_ops = {
-    "pwm",
-    pwm_set,
-    pwm_off_async,
-    pwm_close,
+    .name = "pwm",
+    .set = pwm_set,
+    .off_async = pwm_off_async,
+    .close = pwm_close,
 };
 
 static bool is_dir(const char *path)

@@ -18,529 +18,20 @@
  * and counted stale), and negobs_pair_decide() matches the two or drops the
  * older.
  */
-#include <sys/mman.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
-#include <condition_variable>
-#include <cstdarg>
-#include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <exception>
-#include <memory>
 #include <mutex>
 #include <new>
 #include <optional>
-#include <string>
-#include <vector>
 
-#include <libcamera/libcamera.h>
-
+#include "lc_internal.hpp"
 #include "negobs_port/camera_libcamera.h"
 #include "negobs_port/clock.h"
 
+namespace negobs_lc {
 namespace {
-
-using libcamera::Camera;
-using libcamera::CameraConfiguration;
-using libcamera::CameraManager;
-using libcamera::ControlList;
-using libcamera::FrameBuffer;
-using libcamera::FrameBufferAllocator;
-using libcamera::FrameMetadata;
-using libcamera::PixelFormat;
-using libcamera::Request;
-using libcamera::Size;
-using libcamera::Stream;
-using libcamera::StreamConfiguration;
-using libcamera::StreamRole;
-
-constexpr uint32_t kBackoffMinMs = 100;
-constexpr uint32_t kBackoffMaxMs = 2000;
-
-void set_error(negobs_libcamera_t *st, const char *fmt, ...)
-    __attribute__((format(printf, 2, 3)));
-
-void set_error(negobs_libcamera_t *st, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    (void)std::vsnprintf(st->errmsg, sizeof st->errmsg, fmt, ap);
-    va_end(ap);
-}
-
-negobs_status_t errno_status(int e)
-{
-    return (e == ENODEV || e == ENOENT || e == ENXIO) ? NEGOBS_ERR_NODEV
-                                                      : NEGOBS_ERR_IO;
-}
-
-/* ---- the process's one CameraManager (libcamera allows one) -------- */
-
-std::mutex g_cm_mu;
-CameraManager *g_cm = nullptr;
-int g_cm_users = 0;
-
-negobs_status_t cm_get(negobs_libcamera_t *st, CameraManager **out)
-{
-    std::lock_guard<std::mutex> lk(g_cm_mu);
-    if (g_cm == nullptr) {
-        /* libcamera logs INFO lines to stderr by default; keep warnings
-         * unless the user chose levels. Categories are created lazily,
-         * so this takes effect before libcamera's first message. */
-        (void)setenv("LIBCAMERA_LOG_LEVELS", "*:WARN", 0);
-        std::unique_ptr<CameraManager> cm(new CameraManager());
-        int r = cm->start();
-        if (r < 0) {
-            set_error(st, "libcamera: CameraManager::start: %s",
-                      std::strerror(-r));
-            return errno_status(-r);
-        }
-        g_cm = cm.release();
-    }
-    g_cm_users++;
-    *out = g_cm;
-    return NEGOBS_OK;
-}
-
-void cm_put()
-{
-    std::lock_guard<std::mutex> lk(g_cm_mu);
-    if (g_cm_users > 0 && --g_cm_users == 0) {
-        g_cm->stop();
-        delete g_cm;
-        g_cm = nullptr;
-    }
-}
-
-/* ---- one camera ------------------------------------------------------ */
-
-struct Impl;
-
-struct Mapping {
-    void *addr = nullptr;
-    size_t len = 0;
-    uint8_t *y = nullptr; /* plane 0 inside the mapping */
-};
-
-struct Side {
-    Impl *owner = nullptr;
-    int index = 0;           /* 0 left, 1 right                        */
-    int32_t spec_index = -1; /* "libcamera:N", until resolved to an id */
-    std::string id;          /* camera id, kept for reopening          */
-
-    std::shared_ptr<Camera> cam;
-    bool acquired = false;
-    bool running = false;
-    std::unique_ptr<CameraConfiguration> config;
-    Stream *stream = nullptr;
-    std::unique_ptr<FrameBufferAllocator> alloc;
-    std::vector<std::unique_ptr<Request>> requests;
-    std::vector<Mapping> maps; /* by request cookie */
-    uint32_t fourcc = 0;
-    int32_t width = 0;
-    int32_t height = 0;
-    uint32_t stride = 0;
-    bool has_exposure = false;
-    bool has_gain = false;
-    bool has_frame_duration = false;
-
-    /* written by libcamera's thread, under Impl::mu */
-    std::vector<Request *> ring;
-    size_t ring_head = 0;
-    size_t ring_count = 0;
-    bool disconnected = false;
-
-    /* caller's thread only */
-    Request *pending = nullptr;
-    uint64_t pend_ts = 0;
-    uint32_t pend_seq = 0;
-    size_t pend_bytes = 0;
-    bool pend_frozen = false;
-    negobs_frozen_t frozen{};
-    Request *held = nullptr;
-    bool lost = false;
-    uint64_t retry_at_ms = 0;
-    uint32_t backoff_ms = 0;
-    uint32_t timeouts_in_row = 0;
-
-    void on_request_completed(Request *r);
-    void on_disconnected();
-};
-
-struct Impl {
-    negobs_libcamera_t *st = nullptr;
-    CameraManager *cm = nullptr;
-    negobs_camera_config_t cfg{};
-    int nsides = 0;
-    Side side[2];
-    bool started = false;
-    std::mutex mu;
-    std::condition_variable cv;
-};
-
-void Side::on_request_completed(Request *r)
-{
-    if (r->status() == Request::RequestCancelled) {
-        return; /* stop() cancels what is queued; nobody waits for it */
-    }
-    std::lock_guard<std::mutex> lk(owner->mu);
-    if (ring_count < ring.size()) {
-        ring[(ring_head + ring_count) % ring.size()] = r;
-        ring_count++;
-    }
-    owner->cv.notify_all();
-}
-
-void Side::on_disconnected()
-{
-    std::lock_guard<std::mutex> lk(owner->mu);
-    disconnected = true;
-    owner->cv.notify_all();
-}
-
-std::string fourcc_str(uint32_t f)
-{
-    char s[5];
-    for (int i = 0; i < 4; i++) {
-        char c = static_cast<char>((f >> (8 * i)) & 0xffu);
-        s[i] = (c >= 32 && c < 127) ? c : '?';
-    }
-    s[4] = '\0';
-    return s;
-}
-
-std::shared_ptr<Camera> find_camera(Impl &im, Side &s, size_t *count)
-{
-    std::vector<std::shared_ptr<Camera>> cams = im.cm->cameras();
-    *count = cams.size();
-    if (!s.id.empty()) {
-        return im.cm->get(s.id);
-    }
-    if (s.spec_index >= 0 && static_cast<size_t>(s.spec_index) < cams.size()) {
-        return cams[static_cast<size_t>(s.spec_index)];
-    }
-    return nullptr;
-}
-
-void unmap_all(Side &s)
-{
-    for (Mapping &m : s.maps) {
-        if (m.addr != nullptr) {
-            (void)munmap(m.addr, m.len);
-        }
-    }
-    s.maps.clear();
-}
-
-/* Map plane 0's dmabuf once: from offset 0 to the end of the last plane
- * sharing its fd (mmap offsets must be page-aligned, plane offsets not). */
-negobs_status_t map_buffer(negobs_libcamera_t *st, Side &s,
-                           const FrameBuffer &b, Mapping *m)
-{
-    const std::vector<FrameBuffer::Plane> &pl = b.planes();
-    if (pl.empty() || pl[0].fd.get() < 0) {
-        set_error(st, "libcamera: %s: buffer without a plane", s.id.c_str());
-        return NEGOBS_ERR_IO;
-    }
-    int fd = pl[0].fd.get();
-    size_t len = 0;
-    for (const FrameBuffer::Plane &p : pl) {
-        if (p.fd.get() == fd) {
-            len = std::max(len, static_cast<size_t>(p.offset) + p.length);
-        }
-    }
-    void *a = mmap(nullptr, len, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
-    if (a == MAP_FAILED) {
-        /* some exporters refuse writable maps; the library only reads */
-        a = mmap(nullptr, len, PROT_READ, MAP_SHARED, fd, 0);
-    }
-    if (a == MAP_FAILED) {
-        int e = errno;
-        set_error(st, "libcamera: %s: mmap: %s", s.id.c_str(),
-                  std::strerror(e));
-        return NEGOBS_ERR_IO;
-    }
-    m->addr = a;
-    m->len = len;
-    m->y = static_cast<uint8_t *>(a) + pl[0].offset;
-    return NEGOBS_OK;
-}
-
-/* Everything side_setup() built, undone in reverse; safe on a partial
- * setup and on a side never set up. */
-void side_teardown(Impl &im, Side &s)
-{
-    if (s.cam && s.running) {
-        (void)s.cam->stop(); /* waits for libcamera's thread */
-    }
-    s.running = false;
-    if (s.cam) {
-        s.cam->requestCompleted.disconnect(&s);
-        s.cam->disconnected.disconnect(&s);
-    }
-    {
-        std::lock_guard<std::mutex> lk(im.mu);
-        s.ring.clear();
-        s.ring_head = 0;
-        s.ring_count = 0;
-        s.disconnected = false;
-    }
-    s.pending = nullptr;
-    s.held = nullptr;
-    s.frozen = negobs_frozen_t{};
-    s.requests.clear(); /* before the buffers they point to */
-    unmap_all(s);
-    s.alloc.reset();
-    s.stream = nullptr;
-    s.config.reset();
-    if (s.cam && s.acquired) {
-        (void)s.cam->release();
-    }
-    s.acquired = false;
-    s.cam.reset();
-}
-
-PixelFormat best_format(const StreamConfiguration &sc)
-{
-    PixelFormat best;
-    int best_rank = -1;
-    for (const PixelFormat &f : sc.formats().pixelformats()) {
-        int r = negobs_libcamera_format_rank(f.fourcc());
-        if (r >= 0 && (best_rank < 0 || r < best_rank)) {
-            best_rank = r;
-            best = f;
-        }
-    }
-    return best;
-}
-
-std::string format_list(const StreamConfiguration &sc)
-{
-    std::string s;
-    for (const PixelFormat &f : sc.formats().pixelformats()) {
-        s += (s.empty() ? "" : " ") + f.toString();
-    }
-    return s.empty() ? "none" : s;
-}
-
-negobs_status_t side_setup(Impl &im, Side &s)
-{
-    negobs_libcamera_t *st = im.st;
-    size_t ncams = 0;
-    s.cam = find_camera(im, s, &ncams);
-    if (!s.cam) {
-        if (s.id.empty()) {
-            set_error(st, "libcamera: no camera %ld (%lu found)",
-                      static_cast<long>(s.spec_index),
-                      static_cast<unsigned long>(ncams));
-        } else {
-            set_error(st, "libcamera: no camera '%s' (%lu found)",
-                      s.id.c_str(), static_cast<unsigned long>(ncams));
-        }
-        return NEGOBS_ERR_NODEV;
-    }
-    s.id = s.cam->id(); /* an index resolves once; reopen by id */
-    int r = s.cam->acquire();
-    if (r < 0) {
-        set_error(st, "libcamera: %s: acquire: %s", s.id.c_str(),
-                  r == -EBUSY ? "in use by another process"
-                              : std::strerror(-r));
-        s.cam.reset();
-        return r == -EBUSY ? NEGOBS_ERR_IO : errno_status(-r);
-    }
-    s.acquired = true;
-
-    s.config = s.cam->generateConfiguration({StreamRole::VideoRecording});
-    if (!s.config || s.config->empty()) {
-        set_error(st, "libcamera: %s: no video stream configuration",
-                  s.id.c_str());
-        return NEGOBS_ERR_UNSUPPORTED;
-    }
-    StreamConfiguration &sc = s.config->at(0);
-    PixelFormat pf = best_format(sc);
-    if (!pf.isValid()) {
-        set_error(st, "libcamera: %s: no Y/YUV/RGB format (offers %s)",
-                  s.id.c_str(), format_list(sc).c_str());
-        return NEGOBS_ERR_UNSUPPORTED;
-    }
-    sc.pixelFormat = pf;
-    sc.size = Size(static_cast<unsigned int>(im.cfg.width),
-                   static_cast<unsigned int>(im.cfg.height));
-    sc.bufferCount = std::max<unsigned int>(sc.bufferCount,
-                                            NEGOBS_LIBCAMERA_BUFFERS);
-    if (s.config->validate() == CameraConfiguration::Invalid) {
-        set_error(st, "libcamera: %s: %s %dx%d not accepted", s.id.c_str(),
-                  pf.toString().c_str(), static_cast<int>(im.cfg.width),
-                  static_cast<int>(im.cfg.height));
-        return NEGOBS_ERR_UNSUPPORTED;
-    }
-    /* validate() may adjust anything: believe what it left */
-    uint32_t fcc = sc.pixelFormat.fourcc();
-    if (negobs_libcamera_format_rank(fcc) < 0 || sc.size.width == 0 ||
-        sc.size.height == 0 || sc.size.width > NEGOBS_MAX_DIM ||
-        sc.size.height > NEGOBS_MAX_DIM) {
-        set_error(st, "libcamera: %s: adjusted to unusable %s", s.id.c_str(),
-                  sc.toString().c_str());
-        return NEGOBS_ERR_UNSUPPORTED;
-    }
-    r = s.cam->configure(s.config.get());
-    if (r < 0) {
-        set_error(st, "libcamera: %s: configure %s: %s", s.id.c_str(),
-                  sc.toString().c_str(), std::strerror(-r));
-        return r == -EINVAL ? NEGOBS_ERR_UNSUPPORTED : errno_status(-r);
-    }
-    s.fourcc = fcc;
-    s.width = static_cast<int32_t>(sc.size.width);
-    s.height = static_cast<int32_t>(sc.size.height);
-    s.stride = sc.stride;
-    s.stream = sc.stream();
-
-    s.alloc = std::make_unique<FrameBufferAllocator>(s.cam);
-    r = s.alloc->allocate(s.stream);
-    if (r < 0) {
-        set_error(st, "libcamera: %s: allocating buffers: %s", s.id.c_str(),
-                  std::strerror(-r));
-        return errno_status(-r);
-    }
-    const std::vector<std::unique_ptr<FrameBuffer>> &bufs = s.alloc->buffers(
-        s.stream);
-    if (bufs.size() < NEGOBS_LIBCAMERA_MIN_BUFFERS ||
-        bufs.size() > NEGOBS_LIBCAMERA_MAX_BUFFERS) {
-        set_error(st, "libcamera: %s: got %lu buffers, need %u..%u",
-                  s.id.c_str(), static_cast<unsigned long>(bufs.size()),
-                  static_cast<unsigned>(NEGOBS_LIBCAMERA_MIN_BUFFERS),
-                  static_cast<unsigned>(NEGOBS_LIBCAMERA_MAX_BUFFERS));
-        return NEGOBS_ERR_NOSPACE;
-    }
-    s.maps.assign(bufs.size(), Mapping());
-    for (size_t i = 0; i < bufs.size(); i++) {
-        negobs_status_t ms = map_buffer(st, s, *bufs[i], &s.maps[i]);
-        if (ms != NEGOBS_OK) {
-            return ms;
-        }
-        std::unique_ptr<Request> req = s.cam->createRequest(i);
-        if (!req || req->addBuffer(s.stream, bufs[i].get()) < 0) {
-            set_error(st, "libcamera: %s: cannot build request %lu",
-                      s.id.c_str(), static_cast<unsigned long>(i));
-            return NEGOBS_ERR_IO;
-        }
-        s.requests.push_back(std::move(req));
-    }
-    {
-        std::lock_guard<std::mutex> lk(im.mu);
-        s.ring.assign(bufs.size(), nullptr);
-        s.ring_head = 0;
-        s.ring_count = 0;
-        s.disconnected = false;
-    }
-    const libcamera::ControlInfoMap &ci = s.cam->controls();
-    s.has_exposure = ci.count(&libcamera::controls::ExposureTime) > 0;
-    s.has_gain = ci.count(&libcamera::controls::AnalogueGain) > 0;
-    s.has_frame_duration = ci.count(
-                               &libcamera::controls::FrameDurationLimits) > 0;
-    s.cam->requestCompleted.connect(&s, &Side::on_request_completed);
-    s.cam->disconnected.connect(&s, &Side::on_disconnected);
-    return NEGOBS_OK;
-}
-
-/* Exposure, gain and rate go to every camera alike, or to none. */
-ControlList start_controls(Impl &im)
-{
-    ControlList c(libcamera::controls::controls);
-    bool exposure = im.cfg.exposure >= 0;
-    bool gain = im.cfg.gain >= 0;
-    bool rate = im.cfg.fps > 0;
-    for (int i = 0; i < im.nsides; i++) {
-        exposure = exposure && im.side[i].has_exposure;
-        gain = gain && im.side[i].has_gain;
-        rate = rate && im.side[i].has_frame_duration;
-    }
-    if (exposure) {
-        c.set(libcamera::controls::AeEnable, false);
-        c.set(libcamera::controls::ExposureTime, im.cfg.exposure);
-    }
-    if (gain) {
-        c.set(libcamera::controls::AnalogueGain,
-              static_cast<float>(im.cfg.gain) / 100.0f);
-    }
-    if (rate) {
-        int64_t frame_us = 1000000 / im.cfg.fps;
-        c.set(libcamera::controls::FrameDurationLimits, {frame_us, frame_us});
-    }
-    return c;
-}
-
-void requeue(Side &s, Request *r)
-{
-    if (r == nullptr || !s.running) {
-        return;
-    }
-    r->reuse(Request::ReuseBuffers);
-    (void)s.cam->queueRequest(r); /* a failure shows up as a timeout */
-}
-
-negobs_status_t side_start(Impl &im, Side &s)
-{
-    ControlList c = start_controls(im);
-    int r = s.cam->start(&c);
-    if (r < 0) {
-        set_error(im.st, "libcamera: %s: start: %s", s.id.c_str(),
-                  std::strerror(-r));
-        return errno_status(-r);
-    }
-    s.running = true;
-    for (std::unique_ptr<Request> &req : s.requests) {
-        req->reuse(Request::ReuseBuffers);
-        r = s.cam->queueRequest(req.get());
-        if (r < 0) {
-            set_error(im.st, "libcamera: %s: queueRequest: %s", s.id.c_str(),
-                      std::strerror(-r));
-            return errno_status(-r);
-        }
-    }
-    s.timeouts_in_row = 0;
-    return NEGOBS_OK;
-}
-
-void mark_lost(Impl &im, Side &s, const char *what)
-{
-    set_error(im.st, "libcamera: %s: %s, reopening", s.id.c_str(), what);
-    side_teardown(im, s);
-    s.lost = true;
-    s.backoff_ms = kBackoffMinMs;
-    s.retry_at_ms = negobs_clock_now_ms() + s.backoff_ms;
-    im.st->stats.device_losses++;
-}
-
-void try_reopen(Impl &im, Side &s, uint64_t now)
-{
-    if (now < s.retry_at_ms) {
-        return;
-    }
-    negobs_status_t r = side_setup(im, s);
-    const Side &other = im.side[1 - s.index];
-    if (r == NEGOBS_OK && im.nsides == 2 && other.cam &&
-        (s.width != other.width || s.height != other.height)) {
-        set_error(im.st, "libcamera: %s: came back with another size",
-                  s.id.c_str());
-        r = NEGOBS_ERR_UNSUPPORTED;
-    }
-    if (r == NEGOBS_OK) {
-        r = side_start(im, s);
-    }
-    if (r == NEGOBS_OK) {
-        s.lost = false;
-        im.st->stats.reopens++;
-        return;
-    }
-    side_teardown(im, s);
-    s.backoff_ms = s.backoff_ms >= kBackoffMaxMs / 2u ? kBackoffMaxMs
-                                                      : s.backoff_ms * 2u;
-    s.retry_at_ms = now + s.backoff_ms;
-}
 
 /* Every completed frame counts, not only those paired, as in the V4L2
  * source: the raw bytes of plane 0 (rows of `stride` bytes, whatever the
@@ -566,7 +57,7 @@ bool frozen_check(Impl &im)
     for (int i = 0; i < im.nsides; i++) {
         Side &s = im.side[i];
         if (s.pend_frozen) {
-            set_error(im.st,
+            set_error(im.st, 0,
                       "frozen: libcamera %s image unchanged for %lu "
                       "frames",
                       s.id.c_str(),
@@ -660,7 +151,7 @@ negobs_status_t parse_side(negobs_libcamera_t *st, Side &s, const char *src)
     int32_t index = -1;
     const char *id = nullptr;
     if (negobs_libcamera_parse_source(src, &index, &id) != NEGOBS_OK) {
-        set_error(st,
+        set_error(st, 0,
                   "libcamera: bad source '%s' (want libcamera:N or "
                   "libcamera:ID)",
                   src);
@@ -710,7 +201,7 @@ negobs_status_t open_impl(negobs_libcamera_t *st,
         std::shared_ptr<Camera> a = find_camera(*im, im->side[0], &n);
         std::shared_ptr<Camera> b = find_camera(*im, im->side[1], &n);
         if (a && b && a->id() == b->id()) {
-            set_error(st,
+            set_error(st, 0,
                       "libcamera: left and right are the same camera "
                       "('%s')",
                       a->id().c_str());
@@ -723,7 +214,7 @@ negobs_status_t open_impl(negobs_libcamera_t *st,
     if (s == NEGOBS_OK && im->nsides == 2 &&
         (im->side[0].width != im->side[1].width ||
          im->side[0].height != im->side[1].height)) {
-        set_error(st,
+        set_error(st, 0,
                   "libcamera: cameras disagree on size: %ldx%ld vs %ldx%ld",
                   static_cast<long>(im->side[0].width),
                   static_cast<long>(im->side[0].height),
@@ -741,7 +232,7 @@ negobs_status_t open_impl(negobs_libcamera_t *st,
                       static_cast<size_t>(im->side[0].width) *
                       static_cast<size_t>(im->side[0].height);
         if (packed && (st->scratch == nullptr || st->scratch_bytes < need)) {
-            set_error(st, "libcamera: %s needs %lu bytes of scratch",
+            set_error(st, 0, "libcamera: %s needs %lu bytes of scratch",
                       fourcc_str(im->side[0].fourcc).c_str(),
                       static_cast<unsigned long>(need));
             s = NEGOBS_ERR_NOSPACE;
@@ -900,11 +391,11 @@ template <typename F> int guarded(negobs_libcamera_t *st, F f)
     try {
         return f();
     } catch (const std::bad_alloc &) {
-        set_error(st, "libcamera: out of memory");
+        set_error(st, 0, "libcamera: out of memory");
     } catch (const std::exception &e) {
-        set_error(st, "libcamera: %s", e.what());
+        set_error(st, 0, "libcamera: %s", e.what());
     } catch (...) {
-        set_error(st, "libcamera: unknown C++ exception");
+        set_error(st, 0, "libcamera: unknown C++ exception");
     }
     return NEGOBS_ERR_IO;
 }
@@ -913,7 +404,7 @@ negobs_status_t lc_open(void *ctx, const negobs_camera_config_t *cfg)
 {
     negobs_libcamera_t *st = static_cast<negobs_libcamera_t *>(ctx);
     if (cfg == nullptr || cfg->left == nullptr) {
-        set_error(st, "libcamera: no left camera given");
+        set_error(st, 0, "libcamera: no left camera given");
         return NEGOBS_ERR_INVAL;
     }
     int r = guarded(st, [&] { return static_cast<int>(open_impl(st, cfg)); });
@@ -935,7 +426,7 @@ negobs_status_t lc_start(void *ctx)
     negobs_libcamera_t *st = static_cast<negobs_libcamera_t *>(ctx);
     Impl *im = static_cast<Impl *>(st->impl);
     if (im == nullptr) {
-        set_error(st, "libcamera: start before a successful open");
+        set_error(st, 0, "libcamera: start before a successful open");
         return NEGOBS_ERR_STATE;
     }
     if (im->started) {
@@ -1021,12 +512,26 @@ const char *lc_errmsg(void *ctx)
     return static_cast<negobs_libcamera_t *>(ctx)->errmsg;
 }
 
-const negobs_camera_ops_t libcamera_ops = {
-    "libcamera", lc_open,  lc_start, lc_get_pair, lc_release,
-    lc_stop,     lc_close, lc_stats, lc_errmsg,
-};
+/* C++17 has no designated initialisers: the table is filled by name. */
+negobs_camera_ops_t make_ops()
+{
+    negobs_camera_ops_t o{};
+    o.name = "libcamera";
+    o.open = lc_open;
+    o.start = lc_start;
+    o.get_pair = lc_get_pair;
+    o.release = lc_release;
+    o.stop = lc_stop;
+    o.close = lc_close;
+    o.stats = lc_stats;
+    o.errmsg = lc_errmsg;
+    return o;
+}
+
+const negobs_camera_ops_t libcamera_ops = make_ops();
 
 } // namespace
+} // namespace negobs_lc
 
 extern "C" negobs_status_t negobs_libcamera_init(negobs_libcamera_t *st,
                                                  uint8_t *scratch,
@@ -1039,7 +544,7 @@ extern "C" negobs_status_t negobs_libcamera_init(negobs_libcamera_t *st,
     std::memset(st, 0, sizeof *st);
     st->scratch = scratch;
     st->scratch_bytes = scratch != nullptr ? scratch_bytes : 0;
-    cam->ops = &libcamera_ops;
+    cam->ops = &negobs_lc::libcamera_ops;
     cam->ctx = st;
     return NEGOBS_OK;
 }

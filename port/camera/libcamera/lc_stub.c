@@ -59,8 +59,15 @@ static const char *stub_errmsg(void *ctx)
 }
 
 static const negobs_camera_ops_t stub_ops = {
-    "libcamera", stub_open, stub_start, stub_get_pair, stub_release,
-    stub_void,   stub_void, stub_stats, stub_errmsg,
+    .name = "libcamera",
+    .open = stub_open,
+    .start = stub_start,
+    .get_pair = stub_get_pair,
+    .release = stub_release,
+    .stop = stub_void,
+    .close = stub_void,
+    .stats = stub_stats,
+    .errmsg = stub_errmsg,
 };
 
 negobs_status_t negobs_libcamera_init(negobs_libcamera_t *st, uint8_t *scratch,

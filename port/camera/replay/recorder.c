@@ -29,6 +29,7 @@
 #include <unistd.h>
 
 #include "negobs_port/camera_replay.h"
+#include "negobs_port/errmsg.h"
 
 static const char *const session_files[4] = {"session.txt", "frames.txt",
                                              "left.y", "right.y"};
@@ -36,10 +37,7 @@ static const char *const session_files[4] = {"session.txt", "frames.txt",
 static void rec_msg(negobs_recorder_t *rec, const char *a, const char *b,
                     int err)
 {
-    if (snprintf(rec->errmsg, sizeof rec->errmsg, "%s%s: %s", a, b,
-                 strerror(err)) < 0) {
-        rec->errmsg[0] = '\0';
-    }
+    negobs_port_errmsg(rec->errmsg, sizeof rec->errmsg, err, "%s%s", a, b);
 }
 
 static int join_path(char *buf, size_t len, const char *dir, const char *leaf)
@@ -224,9 +222,9 @@ negobs_status_t negobs_recorder_write(negobs_recorder_t *rec,
         write_plane(rec, rec->right_fd, &pair->right.y) != 0 ||
         write_all(rec, rec->frames_fd, line, (size_t)n) != 0) {
         int e = errno;
-        (void)snprintf(rec->errmsg, sizeof rec->errmsg,
-                       "write failed at pair %lu: %s",
-                       (unsigned long)rec->count, strerror(e));
+        negobs_port_errmsg(rec->errmsg, sizeof rec->errmsg, e,
+                           "write failed at pair %lu",
+                           (unsigned long)rec->count);
         return NEGOBS_ERR_IO;
     }
     rec->count++;

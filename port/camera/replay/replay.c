@@ -18,15 +18,17 @@
 
 #include "negobs_port/camera_replay.h"
 #include "negobs_port/clock.h"
+#include "negobs_port/errmsg.h"
 
-static void rp_error(negobs_replay_t *st, const char *fmt, ...)
+/* errmsg, with ": strerror(err)" when err != 0 (negobs_port_verrmsg). */
+static void rp_error(negobs_replay_t *st, int err, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
     /* va_start() is above; clang-tidy 14 reports this false positive
      * only when it analyses several files in one run. */
     /* NOLINTNEXTLINE(clang-analyzer-valist.Uninitialized) */
-    (void)vsnprintf(st->errmsg, sizeof st->errmsg, fmt, ap);
+    negobs_port_verrmsg(st->errmsg, sizeof st->errmsg, err, fmt, ap);
     va_end(ap);
 }
 
@@ -103,7 +105,7 @@ static negobs_status_t read_session_header(negobs_replay_t *st)
     }
     f = fopen(path, "r");
     if (f == NULL) {
-        rp_error(st, "%s: %s", path, strerror(errno));
+        rp_error(st, errno, "%s", path);
         return NEGOBS_ERR_IO;
     }
     while (fgets(line, sizeof line, f) != NULL) {
@@ -132,11 +134,11 @@ static negobs_status_t read_session_header(negobs_replay_t *st)
     }
     (void)fclose(f);
     if (!magic) {
-        rp_error(st, "%s: not a version-1 negobs session", path);
+        rp_error(st, 0, "%s: not a version-1 negobs session", path);
         return NEGOBS_ERR_CORRUPT;
     }
     if (w < 1 || h < 1 || w > NEGOBS_MAX_DIM || h > NEGOBS_MAX_DIM) {
-        rp_error(st, "%s: bad or missing width/height", path);
+        rp_error(st, 0, "%s: bad or missing width/height", path);
         return NEGOBS_ERR_CORRUPT;
     }
     st->width = (int32_t)w;
@@ -160,7 +162,7 @@ static negobs_status_t open_session_files(negobs_replay_t *st)
         *slots[i] = fopen(path, i == 0 ? "r" : "rb");
         if (*slots[i] == NULL) {
             int e = errno;
-            rp_error(st, "%s: %s", path, strerror(e));
+            rp_error(st, e, "%s", path);
             close_files(st);
             return e == ENOENT ? NEGOBS_ERR_NODEV : NEGOBS_ERR_IO;
         }
@@ -234,7 +236,7 @@ static negobs_status_t check_session_damage(negobs_replay_t *st)
     nr = n64 > UINT32_MAX - 1u ? UINT32_MAX - 1u : (uint32_t)n64;
     st->n_play = nl < nr ? nl : nr;
     if (st->n_play == 0) {
-        rp_error(st,
+        rp_error(st, 0,
                  "%s: damaged session, no complete pair to replay "
                  "(frames.txt lists %lu, left.y %llu bytes, right.y %llu "
                  "bytes, %lu per frame)",
@@ -277,7 +279,7 @@ static negobs_status_t rp_open(void *ctx, const negobs_camera_config_t *cfg)
         dir += 7;
     }
     if (strlen(dir) >= sizeof st->dir) {
-        rp_error(st, "replay folder name too long");
+        rp_error(st, 0, "replay folder name too long");
         return NEGOBS_ERR_INVAL;
     }
     close_files(st);
@@ -302,7 +304,8 @@ static negobs_status_t rp_open(void *ctx, const negobs_camera_config_t *cfg)
             return NEGOBS_ERR_INVAL;
         }
         if (!file_exists(path)) {
-            rp_error(st, "%s: no left_0000.pgm and no session.txt", st->dir);
+            rp_error(st, 0, "%s: no left_0000.pgm and no session.txt",
+                     st->dir);
             return NEGOBS_ERR_NODEV;
         }
         st->session = true;
@@ -311,15 +314,15 @@ static negobs_status_t rp_open(void *ctx, const negobs_camera_config_t *cfg)
             return s;
         }
         if (2u * (size_t)st->width * (size_t)st->height > st->buf_bytes) {
-            rp_error(st, "%s: %ldx%ld frames exceed the replay buffer",
+            rp_error(st, 0, "%s: %ldx%ld frames exceed the replay buffer",
                      st->dir, (long)st->width, (long)st->height);
             return NEGOBS_ERR_NOSPACE;
         }
         if (cfg->width > 0 && cfg->height > 0 &&
             (cfg->width != st->width || cfg->height != st->height)) {
-            rp_error(st, "%s: session is %ldx%ld, %ldx%ld requested", st->dir,
-                     (long)st->width, (long)st->height, (long)cfg->width,
-                     (long)cfg->height);
+            rp_error(st, 0, "%s: session is %ldx%ld, %ldx%ld requested",
+                     st->dir, (long)st->width, (long)st->height,
+                     (long)cfg->width, (long)cfg->height);
             return NEGOBS_ERR_INVAL;
         }
         s = open_session_files(st);
@@ -377,7 +380,7 @@ static int read_pgm_pair(negobs_replay_t *st, uint32_t idx, int32_t *w,
         return NEGOBS_CAMERA_END;
     }
     if (s != NEGOBS_OK) {
-        rp_error(st, "%s", err);
+        rp_error(st, 0, "%s", err);
         return s;
     }
     (void)snprintf(leaf, sizeof leaf, "right_%04u.pgm", (unsigned)idx);
@@ -389,11 +392,11 @@ static int read_pgm_pair(negobs_replay_t *st, uint32_t idx, int32_t *w,
                         st->buf_bytes - (size_t)*w * (size_t)*h, &rw, &rh, err,
                         sizeof err);
     if (s != NEGOBS_OK) {
-        rp_error(st, "%s", err);
+        rp_error(st, 0, "%s", err);
         return s == NEGOBS_ERR_NODEV ? NEGOBS_ERR_CORRUPT : s;
     }
     if (rw != *w || rh != *h) {
-        rp_error(st, "%s: right image size differs from left", path);
+        rp_error(st, 0, "%s: right image size differs from left", path);
         return NEGOBS_ERR_CORRUPT;
     }
     return NEGOBS_OK;
@@ -432,7 +435,7 @@ static int read_session_pair(negobs_replay_t *st, uint64_t *tl, uint64_t *tr,
                 if (st->n_index == UINT32_MAX) {
                     return NEGOBS_CAMERA_END; /* a streamed index ended */
                 }
-                rp_error(st, "%s/frames.txt: changed while replaying",
+                rp_error(st, 0, "%s/frames.txt: changed while replaying",
                          st->dir);
                 return NEGOBS_ERR_CORRUPT;
             }
@@ -441,11 +444,11 @@ static int read_session_pair(negobs_replay_t *st, uint64_t *tl, uint64_t *tr,
             }
         }
         if (strchr(line, '\n') == NULL) {
-            rp_error(st, "%s/frames.txt: line too long", st->dir);
+            rp_error(st, 0, "%s/frames.txt: line too long", st->dir);
             return NEGOBS_ERR_CORRUPT;
         }
         if (parse_fields(line, fld, 4) != 4 || fld[0] != st->next) {
-            rp_error(st, "%s/frames.txt: bad record for pair %u", st->dir,
+            rp_error(st, 0, "%s/frames.txt: bad record for pair %u", st->dir,
                      (unsigned)st->next);
             return NEGOBS_ERR_CORRUPT;
         }
@@ -456,12 +459,12 @@ static int read_session_pair(negobs_replay_t *st, uint64_t *tl, uint64_t *tr,
         synth_stamp(st, tl, tr, seq);
     }
     if (fread(st->buf, 1, frame, st->left_f) != frame) {
-        rp_error(st, "%s/left.y: truncated at pair %u", st->dir,
+        rp_error(st, 0, "%s/left.y: truncated at pair %u", st->dir,
                  (unsigned)st->next);
         return NEGOBS_ERR_CORRUPT;
     }
     if (fread(st->buf + frame, 1, frame, st->right_f) != frame) {
-        rp_error(st, "%s/right.y: truncated at pair %u", st->dir,
+        rp_error(st, 0, "%s/right.y: truncated at pair %u", st->dir,
                  (unsigned)st->next);
         return NEGOBS_ERR_CORRUPT;
     }
@@ -518,7 +521,7 @@ static int rp_read_next(negobs_replay_t *st)
     }
     if (rc == NEGOBS_CAMERA_END && st->session && st->damage[0] != '\0') {
         /* the end of a damaged session is not a clean end */
-        rp_error(st,
+        rp_error(st, 0,
                  "damaged session: all %lu recoverable pairs replayed "
                  "(%lu of them without a frames.txt record)",
                  (unsigned long)st->n_play,
@@ -532,12 +535,13 @@ static int rp_read_next(negobs_replay_t *st)
     }
     if (!st->session) {
         if (st->want_w > 0 && (w != st->want_w || h != st->want_h)) {
-            rp_error(st, "%s: images are %ldx%ld, %ldx%ld requested", st->dir,
-                     (long)w, (long)h, (long)st->want_w, (long)st->want_h);
+            rp_error(st, 0, "%s: images are %ldx%ld, %ldx%ld requested",
+                     st->dir, (long)w, (long)h, (long)st->want_w,
+                     (long)st->want_h);
             return NEGOBS_ERR_INVAL;
         }
         if (st->width > 0 && (w != st->width || h != st->height)) {
-            rp_error(st, "%s: pair %u changes the image size", st->dir,
+            rp_error(st, 0, "%s: pair %u changes the image size", st->dir,
                      (unsigned)st->next);
             return NEGOBS_ERR_CORRUPT;
         }
@@ -639,8 +643,15 @@ const char *negobs_replay_damage(const negobs_replay_t *st)
 }
 
 static const negobs_camera_ops_t replay_ops = {
-    "replay", rp_open,  rp_start, rp_get_pair, rp_release,
-    rp_stop,  rp_close, rp_stats, rp_errmsg,
+    .name = "replay",
+    .open = rp_open,
+    .start = rp_start,
+    .get_pair = rp_get_pair,
+    .release = rp_release,
+    .stop = rp_stop,
+    .close = rp_close,
+    .stats = rp_stats,
+    .errmsg = rp_errmsg,
 };
 
 negobs_status_t negobs_replay_init(negobs_replay_t *st, uint8_t *buf,

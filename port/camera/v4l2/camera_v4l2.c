@@ -26,343 +26,22 @@
  * timeouts in a row mark a node lost: it is closed, and get_pair tries to
  * reopen it with exponential back-off, returning NEGOBS_ERR_NODEV (after
  * waiting at most its timeout) until it is back.
+ *
+ * One node's setup and teardown (open, format, buffers, controls) live in
+ * v4l2_dev.c.
  */
 #define _DEFAULT_SOURCE
 
 #include <errno.h>
-#include <fcntl.h>
 #include <poll.h>
-#include <stdarg.h>
-#include <stdio.h>
 #include <string.h>
-#include <sys/ioctl.h>
-#include <sys/mman.h>
-#include <unistd.h>
 
 #include <linux/videodev2.h>
 
 #include "negobs_port/camera_list.h"
 #include "negobs_port/camera_v4l2.h"
 #include "negobs_port/clock.h"
-
-static void v_error(negobs_v4l2_t *st, int err, const char *fmt, ...)
-{
-    va_list ap;
-    int n;
-    va_start(ap, fmt);
-    /* va_start() is above; clang-tidy 14 reports this false positive
-     * only when it analyses several files in one run. */
-    /* NOLINTNEXTLINE(clang-analyzer-valist.Uninitialized) */
-    n = vsnprintf(st->errmsg, sizeof st->errmsg, fmt, ap);
-    va_end(ap);
-    if (n >= 0 && err != 0 && (size_t)n < sizeof st->errmsg) {
-        (void)snprintf(st->errmsg + n, sizeof st->errmsg - (size_t)n, ": %s",
-                       strerror(err));
-    }
-}
-
-static int xioctl(int fd, unsigned long req, void *arg)
-{
-    int r;
-    do {
-        r = ioctl(fd, req, arg);
-    } while (r < 0 && errno == EINTR);
-    return r;
-}
-
-static negobs_status_t errno_status(int e)
-{
-    return (e == ENODEV || e == ENOENT || e == ENXIO) ? NEGOBS_ERR_NODEV
-                                                      : NEGOBS_ERR_IO;
-}
-
-static void dev_reset(negobs_v4l2_dev_t *d)
-{
-    d->fd = -1;
-    d->nbuf = 0;
-    d->streaming = false;
-    d->pending = false;
-    d->held_idx = -1;
-}
-
-static void dev_close(negobs_v4l2_dev_t *d)
-{
-    uint32_t i;
-    if (d->fd >= 0) {
-        if (d->streaming) {
-            enum v4l2_buf_type t = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-            (void)xioctl(d->fd, VIDIOC_STREAMOFF, &t);
-        }
-        for (i = 0; i < d->nbuf; i++) {
-            if (d->buf[i].start != NULL) {
-                (void)munmap(d->buf[i].start, d->buf[i].length);
-                d->buf[i].start = NULL;
-            }
-        }
-        if (d->nbuf > 0) {
-            struct v4l2_requestbuffers rb;
-            memset(&rb, 0, sizeof rb);
-            rb.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-            rb.memory = V4L2_MEMORY_MMAP;
-            (void)xioctl(d->fd, VIDIOC_REQBUFS, &rb);
-        }
-        (void)close(d->fd);
-    }
-    dev_reset(d);
-}
-
-/* The format the node lists for the capture size, S_FMT and re-read. */
-static negobs_status_t dev_set_format(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
-{
-    negobs_v4l2_mode_t modes[NEGOBS_V4L2_MAX_MODES];
-    struct v4l2_format f;
-    uint32_t best;
-    negobs_status_t s;
-    int32_t cap_w = st->cfg.capture_width > 0
-                        ? st->cfg.capture_width
-                        : st->cfg.width * (st->cfg.side_by_side ? 2 : 1);
-    int32_t cap_h = st->cfg.capture_height > 0 ? st->cfg.capture_height
-                                               : st->cfg.height;
-    size_t n = negobs_v4l2_enum_modes(d->fd, cap_w, cap_h, modes,
-                                      NEGOBS_V4L2_MAX_MODES);
-    best = negobs_v4l2_choose_format(modes, n, cap_w, cap_h, st->cfg.fps);
-    if (best == 0) {
-        v_error(st, 0,
-                "%s: no GREY/NV12/NV21/YU12/YV12/YUYV/UYVY/Y10/Y16/MJPG "
-                "format (negobs_run --list-cameras)",
-                d->path);
-        return NEGOBS_ERR_UNSUPPORTED;
-    }
-    memset(&f, 0, sizeof f);
-    f.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-    f.fmt.pix.width = (uint32_t)cap_w;
-    f.fmt.pix.height = (uint32_t)cap_h;
-    f.fmt.pix.pixelformat = best;
-    f.fmt.pix.field = V4L2_FIELD_NONE;
-    f.fmt.pix.bytesperline = 0; /* let the driver choose its stride */
-    if (xioctl(d->fd, VIDIOC_S_FMT, &f) != 0) {
-        int e = errno;
-        v_error(st, e, "%s: VIDIOC_S_FMT", d->path);
-        return e == EINVAL ? NEGOBS_ERR_UNSUPPORTED : errno_status(e);
-    }
-    /* S_FMT may change anything: believe what it returns. */
-    if (f.fmt.pix.width > (uint32_t)NEGOBS_MAX_DIM ||
-        f.fmt.pix.height > (uint32_t)NEGOBS_MAX_DIM) {
-        v_error(st, 0, "%s: driver size too large", d->path);
-        return NEGOBS_ERR_UNSUPPORTED;
-    }
-    s = negobs_v4l2_check_format(f.fmt.pix.pixelformat,
-                                 (int32_t)f.fmt.pix.width,
-                                 (int32_t)f.fmt.pix.height,
-                                 f.fmt.pix.bytesperline, f.fmt.pix.sizeimage);
-    if (s != NEGOBS_OK) {
-        v_error(st, 0, "%s: driver returned an unusable format", d->path);
-        return s;
-    }
-    d->fourcc = f.fmt.pix.pixelformat;
-    d->width = (int32_t)f.fmt.pix.width;
-    d->height = (int32_t)f.fmt.pix.height;
-    d->bytesperline = f.fmt.pix.bytesperline;
-    d->sizeimage = f.fmt.pix.sizeimage;
-    s = negobs_v4l2_conv_setup(&d->conv, d->fourcc, d->width, d->height,
-                               d->bytesperline, st->cfg.side_by_side,
-                               st->cfg.capture_width > 0 ? st->cfg.width : 0,
-                               st->cfg.capture_width > 0 ? st->cfg.height : 0);
-    if (s != NEGOBS_OK) {
-        v_error(st, 0, "%s: %ldx%ld frames cannot give %ldx%ld%s", d->path,
-                (long)d->width, (long)d->height, (long)st->cfg.width,
-                (long)st->cfg.height,
-                st->cfg.side_by_side ? " per eye side by side" : "");
-    }
-    return s;
-}
-
-static void dev_set_rate(negobs_v4l2_dev_t *d, int32_t fps)
-{
-    struct v4l2_streamparm p;
-    if (fps <= 0) {
-        return;
-    }
-    memset(&p, 0, sizeof p);
-    p.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-    if (xioctl(d->fd, VIDIOC_G_PARM, &p) != 0 ||
-        (p.parm.capture.capability & V4L2_CAP_TIMEPERFRAME) == 0) {
-        return; /* the driver has a fixed rate */
-    }
-    p.parm.capture.timeperframe.numerator = 1;
-    p.parm.capture.timeperframe.denominator = (uint32_t)fps;
-    (void)xioctl(d->fd, VIDIOC_S_PARM, &p);
-}
-
-static bool dev_has_ctrl(negobs_v4l2_dev_t *d, uint32_t id)
-{
-    struct v4l2_queryctrl q;
-    memset(&q, 0, sizeof q);
-    q.id = id;
-    return xioctl(d->fd, VIDIOC_QUERYCTRL, &q) == 0 &&
-           (q.flags & V4L2_CTRL_FLAG_DISABLED) == 0;
-}
-
-static int dev_set_ctrl(negobs_v4l2_dev_t *d, uint32_t id, int32_t value)
-{
-    struct v4l2_control c;
-    memset(&c, 0, sizeof c);
-    c.id = id;
-    c.value = value;
-    return xioctl(d->fd, VIDIOC_S_CTRL, &c);
-}
-
-static negobs_status_t dev_map_buffers(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
-{
-    struct v4l2_requestbuffers rb;
-    uint32_t i;
-    memset(&rb, 0, sizeof rb);
-    rb.count = NEGOBS_V4L2_BUFFERS;
-    rb.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-    rb.memory = V4L2_MEMORY_MMAP;
-    if (xioctl(d->fd, VIDIOC_REQBUFS, &rb) != 0) {
-        int e = errno;
-        v_error(st, e, "%s: VIDIOC_REQBUFS", d->path);
-        return e == EINVAL ? NEGOBS_ERR_UNSUPPORTED : errno_status(e);
-    }
-    d->nbuf = rb.count; /* so dev_close frees them whatever happens */
-    if (rb.count < NEGOBS_V4L2_MIN_BUFFERS ||
-        rb.count > NEGOBS_V4L2_MAX_BUFFERS) {
-        v_error(st, 0, "%s: driver gave %u buffers, need %u..%u", d->path,
-                (unsigned)rb.count, (unsigned)NEGOBS_V4L2_MIN_BUFFERS,
-                (unsigned)NEGOBS_V4L2_MAX_BUFFERS);
-        if (rb.count > NEGOBS_V4L2_MAX_BUFFERS) {
-            d->nbuf = 0;
-        }
-        return NEGOBS_ERR_NOSPACE;
-    }
-    for (i = 0; i < rb.count; i++) {
-        struct v4l2_buffer b;
-        void *p;
-        memset(&b, 0, sizeof b);
-        b.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-        b.memory = V4L2_MEMORY_MMAP;
-        b.index = i;
-        if (xioctl(d->fd, VIDIOC_QUERYBUF, &b) != 0) {
-            int e = errno;
-            v_error(st, e, "%s: VIDIOC_QUERYBUF", d->path);
-            return errno_status(e);
-        }
-        p = mmap(NULL, b.length, PROT_READ | PROT_WRITE, MAP_SHARED, d->fd,
-                 (off_t)b.m.offset);
-        if (p == MAP_FAILED) {
-            int e = errno;
-            v_error(st, e, "%s: mmap", d->path);
-            return errno_status(e);
-        }
-        d->buf[i].start = p;
-        d->buf[i].length = b.length;
-    }
-    return NEGOBS_OK;
-}
-
-static negobs_status_t dev_open(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
-{
-    struct v4l2_capability cap;
-    uint32_t caps;
-    negobs_status_t s;
-    d->fd = open(d->path, O_RDWR | O_NONBLOCK | O_CLOEXEC);
-    if (d->fd < 0) {
-        int e = errno;
-        v_error(st, e, "open %s", d->path);
-        d->fd = -1;
-        return errno_status(e);
-    }
-    memset(&cap, 0, sizeof cap);
-    if (xioctl(d->fd, VIDIOC_QUERYCAP, &cap) != 0) {
-        int e = errno;
-        v_error(st, e, "%s: VIDIOC_QUERYCAP (not a V4L2 device?)", d->path);
-        dev_close(d);
-        return (e == ENOTTY || e == ENOSYS || e == EINVAL)
-                   ? NEGOBS_ERR_UNSUPPORTED
-                   : errno_status(e);
-    }
-    caps = (cap.capabilities & V4L2_CAP_DEVICE_CAPS) != 0 ? cap.device_caps
-                                                          : cap.capabilities;
-    if ((caps & V4L2_CAP_VIDEO_CAPTURE) == 0 ||
-        (caps & V4L2_CAP_STREAMING) == 0) {
-        v_error(st, 0, "%s: no single-planar streaming capture", d->path);
-        dev_close(d);
-        return NEGOBS_ERR_UNSUPPORTED;
-    }
-    s = dev_set_format(st, d);
-    if (s == NEGOBS_OK) {
-        dev_set_rate(d, st->cfg.fps);
-        d->has_exposure = dev_has_ctrl(d, V4L2_CID_EXPOSURE_ABSOLUTE);
-        d->has_gain = dev_has_ctrl(d, V4L2_CID_GAIN);
-        s = dev_map_buffers(st, d);
-    }
-    if (s != NEGOBS_OK) {
-        dev_close(d);
-    }
-    return s;
-}
-
-static negobs_status_t dev_queue(negobs_v4l2_dev_t *d, uint32_t idx)
-{
-    struct v4l2_buffer b;
-    memset(&b, 0, sizeof b);
-    b.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-    b.memory = V4L2_MEMORY_MMAP;
-    b.index = idx;
-    return xioctl(d->fd, VIDIOC_QBUF, &b) == 0 ? NEGOBS_OK
-                                               : errno_status(errno);
-}
-
-static negobs_status_t dev_start(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
-{
-    enum v4l2_buf_type t = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-    uint32_t i;
-    for (i = 0; i < d->nbuf; i++) {
-        if (dev_queue(d, i) != NEGOBS_OK) {
-            int e = errno;
-            v_error(st, e, "%s: VIDIOC_QBUF", d->path);
-            return errno_status(e);
-        }
-    }
-    if (xioctl(d->fd, VIDIOC_STREAMON, &t) != 0) {
-        int e = errno;
-        v_error(st, e, "%s: VIDIOC_STREAMON", d->path);
-        return errno_status(e);
-    }
-    d->streaming = true;
-    d->timeouts_in_row = 0;
-    return NEGOBS_OK;
-}
-
-/* Exposure and gain: set on both nodes alike, or on neither. */
-static void apply_controls(negobs_v4l2_t *st)
-{
-    negobs_v4l2_dev_t *l = &st->dev[0];
-    negobs_v4l2_dev_t *r = &st->dev[1];
-    if (st->cfg.exposure >= 0) {
-        if (l->has_exposure && r->has_exposure) {
-            (void)dev_set_ctrl(l, V4L2_CID_EXPOSURE_AUTO,
-                               V4L2_EXPOSURE_MANUAL);
-            (void)dev_set_ctrl(r, V4L2_CID_EXPOSURE_AUTO,
-                               V4L2_EXPOSURE_MANUAL);
-            (void)dev_set_ctrl(l, V4L2_CID_EXPOSURE_ABSOLUTE,
-                               st->cfg.exposure);
-            (void)dev_set_ctrl(r, V4L2_CID_EXPOSURE_ABSOLUTE,
-                               st->cfg.exposure);
-        } else {
-            v_error(st, 0, "exposure not offered by both cameras: left as is");
-        }
-    }
-    if (st->cfg.gain >= 0) {
-        if (l->has_gain && r->has_gain) {
-            (void)dev_set_ctrl(l, V4L2_CID_GAIN, st->cfg.gain);
-            (void)dev_set_ctrl(r, V4L2_CID_GAIN, st->cfg.gain);
-        } else {
-            v_error(st, 0, "gain not offered by both cameras: left as is");
-        }
-    }
-}
+#include "v4l2_internal.h"
 
 /* Scratch per node: the larger need of the open nodes. */
 static size_t node_scratch_bytes(const negobs_v4l2_t *st)
@@ -415,26 +94,26 @@ static negobs_status_t v_open(void *ctx, const negobs_camera_config_t *cfg)
                                                                  : cfg->right);
         negobs_v4l2_dev_t *d = &st->dev[i];
         memset(d, 0, sizeof *d);
-        dev_reset(d);
+        v4l2_dev_reset(d);
         if (strlen(p) >= sizeof d->path) {
             return NEGOBS_ERR_INVAL;
         }
         memcpy(d->path, p, strlen(p) + 1u); /* length checked above */
     }
     for (i = 0; i < st->nodes; i++) {
-        s = dev_open(st, &st->dev[i]);
+        s = v4l2_dev_open(st, &st->dev[i]);
         if (s != NEGOBS_OK) {
-            dev_close(&st->dev[0]);
+            v4l2_dev_close(&st->dev[0]);
             return s;
         }
     }
     if (st->nodes == 2 && (st->dev[0].width != st->dev[1].width ||
                            st->dev[0].height != st->dev[1].height)) {
-        v_error(st, 0, "cameras disagree on size: %ldx%ld vs %ldx%ld",
-                (long)st->dev[0].width, (long)st->dev[0].height,
-                (long)st->dev[1].width, (long)st->dev[1].height);
-        dev_close(&st->dev[0]);
-        dev_close(&st->dev[1]);
+        v4l2_error(st, 0, "cameras disagree on size: %ldx%ld vs %ldx%ld",
+                   (long)st->dev[0].width, (long)st->dev[0].height,
+                   (long)st->dev[1].width, (long)st->dev[1].height);
+        v4l2_dev_close(&st->dev[0]);
+        v4l2_dev_close(&st->dev[1]);
         return NEGOBS_ERR_UNSUPPORTED;
     }
     {
@@ -442,14 +121,15 @@ static negobs_status_t v_open(void *ctx, const negobs_camera_config_t *cfg)
         size_t need = (size_t)st->nodes *
                       node_scratch_bytes(st); /* per node, the larger */
         if (need > 0u && (st->scratch == NULL || st->scratch_bytes < need)) {
-            v_error(st, 0, "format %s needs %lu bytes of scratch",
-                    fourcc_name(st->dev[0].fourcc, cc), (unsigned long)need);
-            dev_close(&st->dev[0]);
-            dev_close(&st->dev[1]);
+            v4l2_error(st, 0, "format %s needs %lu bytes of scratch",
+                       fourcc_name(st->dev[0].fourcc, cc),
+                       (unsigned long)need);
+            v4l2_dev_close(&st->dev[0]);
+            v4l2_dev_close(&st->dev[1]);
             return NEGOBS_ERR_NOSPACE;
         }
     }
-    apply_controls(st);
+    v4l2_apply_controls(st);
     return NEGOBS_OK;
 }
 
@@ -458,7 +138,7 @@ static negobs_status_t v_start(void *ctx)
     negobs_v4l2_t *st = ctx;
     int i;
     for (i = 0; i < st->nodes; i++) {
-        negobs_status_t s = dev_start(st, &st->dev[i]);
+        negobs_status_t s = v4l2_dev_start(st, &st->dev[i]);
         if (s != NEGOBS_OK) {
             return s;
         }
@@ -470,8 +150,8 @@ static negobs_status_t v_start(void *ctx)
 static void mark_lost(negobs_v4l2_t *st, negobs_v4l2_dev_t *d, int err,
                       const char *what)
 {
-    v_error(st, err, "%s: %s, reopening", d->path, what);
-    dev_close(d);
+    v4l2_error(st, err, "%s: %s, reopening", d->path, what);
+    v4l2_dev_close(d);
     d->lost = true;
     d->backoff_ms = negobs_v4l2_backoff_ms(0);
     d->retry_at_ms = negobs_clock_now_ms() + d->backoff_ms;
@@ -485,23 +165,23 @@ static void try_reopen(negobs_v4l2_t *st, negobs_v4l2_dev_t *d, uint64_t now)
     if (now < d->retry_at_ms) {
         return;
     }
-    s = dev_open(st, d);
+    s = v4l2_dev_open(st, d);
     if (s == NEGOBS_OK && other->fd >= 0 &&
         (d->width != other->width || d->height != other->height)) {
-        v_error(st, 0, "%s: came back with another size", d->path);
-        dev_close(d);
+        v4l2_error(st, 0, "%s: came back with another size", d->path);
+        v4l2_dev_close(d);
         s = NEGOBS_ERR_UNSUPPORTED;
     }
     if (s == NEGOBS_OK) {
-        s = dev_start(st, d);
+        s = v4l2_dev_start(st, d);
         if (s != NEGOBS_OK) {
-            dev_close(d);
+            v4l2_dev_close(d);
         }
     }
     if (s == NEGOBS_OK) {
         d->lost = false;
         st->stats.reopens++;
-        apply_controls(st);
+        v4l2_apply_controls(st);
         return;
     }
     d->backoff_ms = d->backoff_ms >= NEGOBS_V4L2_BACKOFF_MAX_MS / 2u
@@ -532,7 +212,7 @@ static void drain(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
         memset(&b, 0, sizeof b);
         b.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
         b.memory = V4L2_MEMORY_MMAP;
-        if (xioctl(d->fd, VIDIOC_DQBUF, &b) != 0) {
+        if (v4l2_xioctl(d->fd, VIDIOC_DQBUF, &b) != 0) {
             int e = errno;
             if (e != EAGAIN) {
                 mark_lost(st, d, e, "VIDIOC_DQBUF");
@@ -548,12 +228,12 @@ static void drain(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
                                                   d->bytesperline) /
                               2u) {
             st->stats.short_frames++;
-            (void)dev_queue(d, b.index);
+            (void)v4l2_dev_queue(d, b.index);
             continue;
         }
         if (d->pending) {
             st->stats.stale_frames++;
-            (void)dev_queue(d, d->pend_idx);
+            (void)v4l2_dev_queue(d, d->pend_idx);
         }
         d->pending = true;
         d->pend_at_ms = negobs_clock_now_ms();
@@ -601,7 +281,7 @@ static void v_release(void *ctx, negobs_frame_pair_t *pair)
     for (i = 0; i < 2; i++) {
         negobs_v4l2_dev_t *d = &st->dev[i];
         if (d->held_idx >= 0 && d->fd >= 0) {
-            if (dev_queue(d, (uint32_t)d->held_idx) != NEGOBS_OK &&
+            if (v4l2_dev_queue(d, (uint32_t)d->held_idx) != NEGOBS_OK &&
                 errno == ENODEV) {
                 mark_lost(st, d, errno, "VIDIOC_QBUF");
             }
@@ -618,8 +298,8 @@ static bool frozen_check(negobs_v4l2_t *st)
     for (i = 0; i < 2; i++) {
         negobs_v4l2_dev_t *d = &st->dev[i];
         if (d->pend_frozen) {
-            v_error(st, 0, "frozen: %s image unchanged for %lu frames",
-                    d->path, (unsigned long)d->frozen.repeats + 1u);
+            v4l2_error(st, 0, "frozen: %s image unchanged for %lu frames",
+                       d->path, (unsigned long)d->frozen.repeats + 1u);
             frozen = true;
         }
     }
@@ -632,17 +312,17 @@ static void timeout_message(negobs_v4l2_t *st, uint32_t drops,
                             const int *silent, nfds_t n_silent)
 {
     if (drops > 0) {
-        v_error(st, 0,
-                "left/right out of sync: %lu frames dropped, last |dt| "
-                "%lu ms > pair_tolerance_ms %ld",
-                (unsigned long)drops,
-                (unsigned long)(st->last_drop_dt_ns / 1000000u),
-                (long)st->cfg.pair_tol_ms);
+        v4l2_error(st, 0,
+                   "left/right out of sync: %lu frames dropped, last |dt| "
+                   "%lu ms > pair_tolerance_ms %ld",
+                   (unsigned long)drops,
+                   (unsigned long)(st->last_drop_dt_ns / 1000000u),
+                   (long)st->cfg.pair_tol_ms);
     } else if (n_silent == 1) {
-        v_error(st, 0, "no frames from %s", st->dev[silent[0]].path);
+        v4l2_error(st, 0, "no frames from %s", st->dev[silent[0]].path);
     } else {
-        v_error(st, 0, "no frames from %s and %s", st->dev[0].path,
-                st->dev[1].path);
+        v4l2_error(st, 0, "no frames from %s and %s", st->dev[0].path,
+                   st->dev[1].path);
     }
 }
 
@@ -655,11 +335,11 @@ static int sbs_pair(negobs_v4l2_t *st, negobs_frame_pair_t *pair)
     d->pending = false;
     if (s != NEGOBS_OK) {
         st->stats.short_frames++;
-        (void)dev_queue(d, d->pend_idx);
+        (void)v4l2_dev_queue(d, d->pend_idx);
         return NEGOBS_ERR_AGAIN;
     }
     if (frozen_check(st)) {
-        (void)dev_queue(d, d->pend_idx);
+        (void)v4l2_dev_queue(d, d->pend_idx);
         st->stats.frozen_pairs++;
         return NEGOBS_ERR_IO;
     }
@@ -723,7 +403,7 @@ static int v_get_pair(void *ctx, negobs_frame_pair_t *pair, int32_t timeout_ms)
             if (d->pending && !st->dev[1 - i].pending &&
                 now - d->pend_at_ms > NEGOBS_V4L2_PENDING_MAX_MS) {
                 d->pending = false;
-                (void)dev_queue(d, d->pend_idx);
+                (void)v4l2_dev_queue(d, d->pend_idx);
                 st->stats.dropped_pairs++;
                 drops++;
             }
@@ -741,13 +421,13 @@ static int v_get_pair(void *ctx, negobs_frame_pair_t *pair, int32_t timeout_ms)
                 r->pending = false;
                 if (sl != NEGOBS_OK || sr != NEGOBS_OK) {
                     st->stats.short_frames++;
-                    (void)dev_queue(l, l->pend_idx);
-                    (void)dev_queue(r, r->pend_idx);
+                    (void)v4l2_dev_queue(l, l->pend_idx);
+                    (void)v4l2_dev_queue(r, r->pend_idx);
                     continue;
                 }
                 if (frozen_check(st)) {
-                    (void)dev_queue(l, l->pend_idx);
-                    (void)dev_queue(r, r->pend_idx);
+                    (void)v4l2_dev_queue(l, l->pend_idx);
+                    (void)v4l2_dev_queue(r, r->pend_idx);
                     st->stats.frozen_pairs++;
                     return NEGOBS_ERR_IO;
                 }
@@ -759,7 +439,7 @@ static int v_get_pair(void *ctx, negobs_frame_pair_t *pair, int32_t timeout_ms)
             {
                 negobs_v4l2_dev_t *old = a == NEGOBS_PAIR_DROP_LEFT ? l : r;
                 old->pending = false;
-                (void)dev_queue(old, old->pend_idx);
+                (void)v4l2_dev_queue(old, old->pend_idx);
                 st->stats.dropped_pairs++;
                 drops++;
                 st->last_drop_dt_ns = l->pend_ts > r->pend_ts
@@ -787,7 +467,7 @@ static int v_get_pair(void *ctx, negobs_frame_pair_t *pair, int32_t timeout_ms)
             if (errno == EINTR) {
                 return NEGOBS_ERR_AGAIN;
             }
-            v_error(st, errno, "poll");
+            v4l2_error(st, errno, "poll");
             return NEGOBS_ERR_IO;
         }
         if (rc == 0) {
@@ -822,7 +502,7 @@ static void v_stop(void *ctx)
         negobs_v4l2_dev_t *d = &st->dev[i];
         if (d->fd >= 0 && d->streaming) {
             enum v4l2_buf_type t = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-            (void)xioctl(d->fd, VIDIOC_STREAMOFF, &t);
+            (void)v4l2_xioctl(d->fd, VIDIOC_STREAMOFF, &t);
             d->streaming = false;
         }
         d->pending = false;
@@ -834,8 +514,8 @@ static void v_stop(void *ctx)
 static void v_close(void *ctx)
 {
     negobs_v4l2_t *st = ctx;
-    dev_close(&st->dev[0]);
-    dev_close(&st->dev[1]);
+    v4l2_dev_close(&st->dev[0]);
+    v4l2_dev_close(&st->dev[1]);
 }
 
 static void v_stats(void *ctx, negobs_camera_stats_t *out)
@@ -849,8 +529,15 @@ static const char *v_errmsg(void *ctx)
 }
 
 static const negobs_camera_ops_t v4l2_ops = {
-    "v4l2", v_open,  v_start, v_get_pair, v_release,
-    v_stop, v_close, v_stats, v_errmsg,
+    .name = "v4l2",
+    .open = v_open,
+    .start = v_start,
+    .get_pair = v_get_pair,
+    .release = v_release,
+    .stop = v_stop,
+    .close = v_close,
+    .stats = v_stats,
+    .errmsg = v_errmsg,
 };
 
 negobs_status_t negobs_v4l2_init(negobs_v4l2_t *st, uint8_t *scratch,
@@ -860,8 +547,8 @@ negobs_status_t negobs_v4l2_init(negobs_v4l2_t *st, uint8_t *scratch,
         return NEGOBS_ERR_INVAL;
     }
     memset(st, 0, sizeof *st);
-    dev_reset(&st->dev[0]);
-    dev_reset(&st->dev[1]);
+    v4l2_dev_reset(&st->dev[0]);
+    v4l2_dev_reset(&st->dev[1]);
     st->scratch = scratch;
     st->scratch_bytes = scratch != NULL ? scratch_bytes : 0;
     cam->ops = &v4l2_ops;

@@ -66,7 +66,11 @@ bool negobs_motor_schedule_equal(const negobs_motor_schedule_t *a,
 /* ------------------------------------------------------------------ */
 /* Output backends                                                     */
 
-/** Operations of one output backend; `ctx` is the backend's state. */
+/**
+ * Operations of one output backend; `ctx` is the backend's state. Backends
+ * fill the table with designated initialisers; set and close are required,
+ * off_async is optional. Callers use the negobs_alert_*() wrappers below.
+ */
 typedef struct negobs_alert_ops {
     const char *name;
     /** Drive the motor at `duty_permille` (0..1000). */
@@ -189,6 +193,17 @@ static inline void negobs_alert_close(negobs_motor_out_t *a)
 {
     if (a->ops != NULL) {
         a->ops->close(a->ctx);
+    }
+}
+/**
+ * @brief The backend's async-signal-safe motor off, when it has one (and a
+ *        handle is open); nothing otherwise. Safe in a signal handler: it
+ *        only reads two pointers before the call.
+ */
+static inline void negobs_alert_off_async(negobs_motor_out_t *a)
+{
+    if (a->ops != NULL && a->ops->off_async != NULL) {
+        a->ops->off_async(a->ctx);
     }
 }
 

@@ -18,6 +18,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "negobs/image.h"
 #include "negobs/status.h"
@@ -96,11 +97,18 @@ typedef struct negobs_camera_stats {
     uint32_t frozen_pairs;  /**< pairs withheld: a camera was frozen     */
 } negobs_camera_stats_t;
 
-/** Operations of one source; `ctx` is its state struct. */
+/**
+ * Operations of one source; `ctx` is its state struct. Backends fill the
+ * table with designated initialisers. open, get_pair and close are
+ * required; start, release, stop, stats and errmsg may be NULL (a source
+ * with nothing to do there), and the negobs_camera_*() wrappers below
+ * then do nothing, report zero counters or an empty message. Callers use
+ * the wrappers, never the table.
+ */
 typedef struct negobs_camera_ops {
     const char *name;
     negobs_status_t (*open)(void *ctx, const negobs_camera_config_t *cfg);
-    negobs_status_t (*start)(void *ctx);
+    negobs_status_t (*start)(void *ctx); /**< optional: NEGOBS_OK */
     /**
      * Wait up to timeout_ms for the next pair.
      * @return NEGOBS_OK, NEGOBS_CAMERA_END, NEGOBS_ERR_TIMEOUT,
@@ -112,11 +120,11 @@ typedef struct negobs_camera_ops {
      *         frames arrive, "left/right out of sync: ...".
      */
     int (*get_pair)(void *ctx, negobs_frame_pair_t *pair, int32_t timeout_ms);
-    void (*release)(void *ctx, negobs_frame_pair_t *pair);
-    void (*stop)(void *ctx);
+    void (*release)(void *ctx, negobs_frame_pair_t *pair); /**< optional */
+    void (*stop)(void *ctx);                               /**< optional */
     void (*close)(void *ctx);
-    void (*stats)(void *ctx, negobs_camera_stats_t *out);
-    const char *(*errmsg)(void *ctx); /**< last diagnostic text */
+    void (*stats)(void *ctx, negobs_camera_stats_t *out); /**< optional */
+    const char *(*errmsg)(void *ctx); /**< last diagnostic text; optional */
 } negobs_camera_ops_t;
 
 /** A source handle. */
@@ -132,7 +140,7 @@ static inline negobs_status_t negobs_camera_open(
 }
 static inline negobs_status_t negobs_camera_start(negobs_capture_t *c)
 {
-    return c->ops->start(c->ctx);
+    return c->ops->start != NULL ? c->ops->start(c->ctx) : NEGOBS_OK;
 }
 static inline int negobs_camera_get_pair(negobs_capture_t *c,
                                          negobs_frame_pair_t *pair,
@@ -143,11 +151,15 @@ static inline int negobs_camera_get_pair(negobs_capture_t *c,
 static inline void negobs_camera_release(negobs_capture_t *c,
                                          negobs_frame_pair_t *pair)
 {
-    c->ops->release(c->ctx, pair);
+    if (c->ops->release != NULL) {
+        c->ops->release(c->ctx, pair);
+    }
 }
 static inline void negobs_camera_stop(negobs_capture_t *c)
 {
-    c->ops->stop(c->ctx);
+    if (c->ops->stop != NULL) {
+        c->ops->stop(c->ctx);
+    }
 }
 static inline void negobs_camera_close(negobs_capture_t *c)
 {
@@ -156,11 +168,16 @@ static inline void negobs_camera_close(negobs_capture_t *c)
 static inline void negobs_camera_get_stats(negobs_capture_t *c,
                                            negobs_camera_stats_t *out)
 {
-    c->ops->stats(c->ctx, out);
+    if (c->ops->stats != NULL) {
+        c->ops->stats(c->ctx, out);
+    } else {
+        memset(out, 0, sizeof *out);
+    }
 }
 static inline const char *negobs_camera_errmsg(negobs_capture_t *c)
 {
-    return c->ops->errmsg(c->ctx);
+    const char *m = c->ops->errmsg != NULL ? c->ops->errmsg(c->ctx) : NULL;
+    return m != NULL ? m : "";
 }
 
 /* ------------------------------------------------------------------ */
