@@ -129,7 +129,7 @@ static void fit_scene(const synth_scene_t *s, gfit_out_t *out)
     negobs_arena_init(&ar, mem, sizeof mem);
     assert_int_equal(gfit_carve(&g, &ar, &cfg), NEGOBS_OK);
     synth_render(s, &cfg.cam, d, RIG_W);
-    gfit_process(&g, &img, NULL, out);
+    gfit_process(&g, &img, NULL, NULL, NULL, out);
 }
 
 static void test_ground_fit_recovers_pose_with_noise_and_roll(void **state)

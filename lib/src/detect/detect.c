@@ -40,7 +40,38 @@ static int frame_malformed(const negobs_detect_config_t *cfg,
              frame->confidence->width != cfg->cam.width ||
              frame->confidence->height != cfg->cam.height)) ||
            (frame->left != NULL &&
-            negobs_image_u8_check(frame->left) != NEGOBS_OK);
+            negobs_image_u8_check(frame->left) != NEGOBS_OK) ||
+           (frame->right != NULL &&
+            negobs_image_u8_check(frame->right) != NEGOBS_OK);
+}
+
+static int same_size(const negobs_detect_config_t *cfg,
+                     const negobs_image_u8_t *img)
+{
+    return img != NULL && img->width == cfg->cam.width &&
+           img->height == cfg->cam.height;
+}
+
+/* The columns of each row in the view of the left and the right image
+ * (detect_fill.c); an image not given leaves every column in view. */
+static void view_extent(detect_priv_t *p, const negobs_detect_config_t *cfg,
+                        const negobs_detect_frame_t *frame)
+{
+    int32_t v;
+    for (v = 0; v < cfg->cam.height; v++) {
+        p->view_l_u0[v] = 0;
+        p->view_l_u1[v] = (int16_t)cfg->cam.width;
+        p->view_r_u0[v] = 0;
+        p->view_r_u1[v] = (int16_t)cfg->cam.width;
+    }
+    if (same_size(cfg, frame->left)) {
+        (void)negobs_detect_fill_extent(frame->left, p->view_l_u0,
+                                        p->view_l_u1);
+    }
+    if (same_size(cfg, frame->right)) {
+        (void)negobs_detect_fill_extent(frame->right, p->view_r_u0,
+                                        p->view_r_u1);
+    }
 }
 
 /* Step 0: validity gating (timestamps, photometry). */
@@ -151,10 +182,15 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
     s.cfg = cfg;
     s.disp = frame->disp_q4;
     s.conf = frame->confidence;
-    s.left = (frame->left != NULL && frame->left->width == cfg->cam.width &&
-              frame->left->height == cfg->cam.height)
-                 ? frame->left
-                 : NULL;
+    s.left = same_size(cfg, frame->left) ? frame->left : NULL;
+    if (same_size(cfg, frame->left)) {
+        s.view_l_u0 = p->view_l_u0;
+        s.view_l_u1 = p->view_l_u1;
+    }
+    if (same_size(cfg, frame->right)) {
+        s.view_r_u0 = p->view_r_u0;
+        s.view_r_u1 = p->view_r_u1;
+    }
     s.plane = &p->gfit.plane;
     s.frame = &g->frame;
     s.sigma_q4 = g->sigma_q4;
@@ -255,7 +291,9 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
     reasons = gate(cfg, frame, res);
 
     /* Step 1: ground model. */
-    gfit_process(&p->gfit, frame->disp_q4, frame->confidence, &g);
+    view_extent(p, cfg, frame);
+    gfit_process(&p->gfit, frame->disp_q4, frame->confidence, p->view_l_u0,
+                 p->view_l_u1, &g);
     reasons |= g.reasons;
     res->ground_valid_permille = g.valid_permille;
     res->ground_inliers = g.inliers;
