@@ -492,36 +492,43 @@ static void right_image(uint8_t *px, int32_t fill_px, int dark)
 static int32_t low_camera_with_border(const synth_scene_t *s0, int32_t fill_px,
                                       int dark)
 {
+    synth_scene_t s = *s0;
     negobs_image_u8_t left;
     negobs_image_u8_t right;
     int32_t u;
     int32_t v;
-    run_mounted(s0, 1);
-    synth_render(s0, &rig.cfg.cam, rig.disp, RIG_W);
-    for (v = 0; v < RIG_H; v++) {
-        for (u = 0; u < RIG_W; u++) {
-            int16_t *d = &rig.disp[v * RIG_W + u];
-            if ((*d != NEGOBS_DISP_INVALID && u * 16 < *d) ||
-                u >= RIG_W - fill_px ||
-                (*d != NEGOBS_DISP_INVALID && u * 16 - *d < fill_px * 16)) {
-                *d = NEGOBS_DISP_INVALID;
-            }
-        }
-    }
+    int i;
+    run_mounted(&s, 0);
     left_image(left_px, fill_px, 0, dark);
     left.data = left_px;
     left.width = RIG_W;
     left.height = RIG_H;
     left.stride = RIG_W;
-    rig.frame.left = &left;
     /* the right image: its first fill_px columns are fill (mirrored) */
     right_image(right_px, fill_px, dark);
     right.data = right_px;
     right.width = RIG_W;
     right.height = RIG_H;
     right.stride = RIG_W;
+    rig.frame.left = &left;
     rig.frame.right = &right;
-    assert_int_equal(rig_run(&rig), NEGOBS_OK);
+    /* 6 frames: a fill is taken in at most 8 px per frame */
+    for (i = 0; i < 6; i++) {
+        s.seed = s0->seed + (uint32_t)i;
+        synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+        for (v = 0; v < RIG_H; v++) {
+            for (u = 0; u < RIG_W; u++) {
+                int16_t *d = &rig.disp[v * RIG_W + u];
+                if ((*d != NEGOBS_DISP_INVALID && u * 16 < *d) ||
+                    u >= RIG_W - fill_px ||
+                    (*d != NEGOBS_DISP_INVALID &&
+                     u * 16 - *d < fill_px * 16)) {
+                    *d = NEGOBS_DISP_INVALID;
+                }
+            }
+        }
+        assert_int_equal(rig_run(&rig), NEGOBS_OK);
+    }
     rig.frame.left = NULL;
     rig.frame.right = NULL;
     print_message("border %d px (dark %d): state %d, clear_to %d, reasons "
@@ -561,9 +568,11 @@ static void test_vouch_rectification_fill_is_out_of_view(void **state)
 }
 
 /* The fill extent itself: constant fill and edge replication (each row its
- * own constant) are found per row; dark texture is not; a run over a
+ * own constant) are found per row, a curved fill cut at the lower quartile
+ * of its width; dark texture is not; a run over a
  * quarter of the width is not fill (a clipped scene, or a broken
- * rectification); too few rows with a run is not fill. */
+ * rectification); too few rows with a run is not fill; a clipped black
+ * object 20 rows high beside the fill does not widen it. */
 static void test_vouch_fill_extent(void **state)
 {
     negobs_image_u8_t img;
@@ -597,8 +606,20 @@ static void test_vouch_fill_extent(void **state)
     }
     assert_int_equal(negobs_detect_fill_extent(&img, u0, u1), NEGOBS_OK);
     for (v = 0; v < RIG_H; v++) {
-        assert_true(u0[v] >= 10 + v / 10 && u0[v] <= 10 + v / 10 + 1);
+        /* the row's own width, cut at the lower quartile (about 16) */
+        int32_t wd = 10 + v / 10;
+        assert_true(u0[v] >= (wd < 15 ? wd : 15) && u0[v] <= wd + 1);
         assert_int_equal(u1[v], RIG_W);
+    }
+    /* black fill of 24 px with a black object 60 px wide over rows
+     * 100-119 beside it */
+    left_image(left_px, 24, 0, 0);
+    for (v = 100; v < 120; v++) {
+        memset(left_px + v * RIG_W + RIG_W - 60, 0, 60);
+    }
+    assert_int_equal(negobs_detect_fill_extent(&img, u0, u1), NEGOBS_OK);
+    for (v = 0; v < RIG_H; v++) {
+        assert_int_equal(u1[v], RIG_W - 24);
     }
     /* a clipped region over half the width, and fill on too few rows */
     left_image(left_px, RIG_W / 2, 255, 0);
@@ -668,6 +689,7 @@ static void test_vouch_fill_is_not_in_the_valid_share(void **state)
     int32_t u;
     int32_t v;
     int with;
+    int i;
     (void)state;
     for (with = 0; with < 2; with++) {
         synth_flat(&s, 1.2, 20.0);
@@ -675,19 +697,22 @@ static void test_vouch_fill_is_not_in_the_valid_share(void **state)
         s.dropout = 0.7;
         s.seed = 41u;
         run_mounted(&s, 0);
-        synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
-        for (v = 0; v < RIG_H; v++) {
-            for (u = RIG_W - 70; u < RIG_W; u++) {
-                rig.disp[v * RIG_W + u] = NEGOBS_DISP_INVALID;
-            }
-        }
         left_image(left_px, with ? 70 : 0, 0, 0);
         left.data = left_px;
         left.width = RIG_W;
         left.height = RIG_H;
         left.stride = RIG_W;
         rig.frame.left = &left;
-        assert_int_equal(rig_run(&rig), NEGOBS_OK);
+        for (i = 0; i < 10; i++) { /* the fill is taken in 8 px a frame */
+            s.seed = 41u + (uint32_t)i;
+            synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+            for (v = 0; v < RIG_H; v++) {
+                for (u = RIG_W - 70; u < RIG_W; u++) {
+                    rig.disp[v * RIG_W + u] = NEGOBS_DISP_INVALID;
+                }
+            }
+            assert_int_equal(rig_run(&rig), NEGOBS_OK);
+        }
         rig.frame.left = NULL;
         print_message("fill %d: valid %d permille, reasons %u\n", with,
                       rig.res.ground_valid_permille, rig.res.reasons);

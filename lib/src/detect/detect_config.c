@@ -215,6 +215,10 @@ static negobs_status_t carve(negobs_arena_t *ar,
                                              sizeof(int16_t));
     p->view_r_u1 = negobs_arena_take(ar, (size_t)cfg->cam.height *
                                              sizeof(int16_t));
+    p->fill_u0 = negobs_arena_take(ar,
+                                   (size_t)cfg->cam.height * sizeof(int16_t));
+    p->fill_u1 = negobs_arena_take(ar,
+                                   (size_t)cfg->cam.height * sizeof(int16_t));
     *out = (p == &tmp) ? NULL : p;
     return negobs_arena_status(ar);
 }

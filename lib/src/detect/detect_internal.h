@@ -140,6 +140,10 @@ typedef struct detect_priv {
     int16_t *view_l_u1;
     int16_t *view_r_u0;
     int16_t *view_r_u1;
+    int32_t view_l_held; /* the left view arrays hold an earlier frame's */
+    int32_t view_r_held;
+    int16_t *fill_u0; /* scratch: this frame's fill of one image       */
+    int16_t *fill_u1;
 } detect_priv_t;
 
 /* Scan context shared by the strips of one frame. */
