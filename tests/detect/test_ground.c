@@ -158,7 +158,7 @@ static void fit_scene_rig(const synth_scene_t *s, int32_t baseline_um,
         }
         memcpy(d, sm, sizeof d);
     }
-    gfit_process(&g, &img, NULL, out);
+    gfit_process(&g, &img, NULL, NULL, NULL, out);
 }
 
 static void fit_scene(const synth_scene_t *s, gfit_out_t *out)

@@ -8,6 +8,7 @@
 
 #include "cmocka_all.h"
 #include "scene_util.h"
+#include "detect/detect_int.h"
 
 static rig_t rig;
 
@@ -536,6 +537,289 @@ static void test_vouch_floor_outside_the_stereo_view_is_not_unseen(
     rig_teardown(&rig);
 }
 
+/* A rectified left image: textured grey levels 40..199 (an LCG; no run of
+ * 8 equal neighbours), with the columns u >= W - fill_px set to fill_value
+ * (the rectification's constant fill) or, when dark, random levels 0..7
+ * (a real dark but textured region). */
+static void left_image(uint8_t *px, int32_t fill_px, int fill_value, int dark)
+{
+    uint32_t st = 77u;
+    int32_t u;
+    int32_t v;
+    for (v = 0; v < RIG_H; v++) {
+        for (u = 0; u < RIG_W; u++) {
+            st = st * 1664525u + 1013904223u;
+            if (u < RIG_W - fill_px) {
+                px[v * RIG_W + u] = (uint8_t)(40u + (st >> 24) % 160u);
+            } else {
+                px[v * RIG_W + u] = dark ? (uint8_t)((st >> 24) % 8u)
+                                         : (uint8_t)fill_value;
+            }
+        }
+    }
+}
+
+static uint8_t left_px[RIG_W * RIG_H];
+static uint8_t right_px[RIG_W * RIG_H];
+
+/* The right image of left_image: the fill at the first fill_px columns. */
+static void right_image(uint8_t *px, int32_t fill_px, int dark)
+{
+    int32_t u;
+    int32_t v;
+    left_image(px, fill_px, 0, dark);
+    for (v = 0; v < RIG_H; v++) {
+        for (u = 0; u < RIG_W / 2; u++) {
+            uint8_t t = px[v * RIG_W + u];
+            px[v * RIG_W + u] = px[v * RIG_W + RIG_W - 1 - u];
+            px[v * RIG_W + RIG_W - 1 - u] = t;
+        }
+    }
+}
+
+/* One frame of the low camera of the stereo-view test (0.6 m, 20 deg: at
+ * the bottom row the corridor is wider than the image) with the left
+ * image's last fill_px columns and the right image's first fill_px columns
+ * unmatched (no disparity where either falls) and fill or dark texture
+ * there in the images. Returns the result's clear_to_mm. */
+static int32_t low_camera_with_border(const synth_scene_t *s0, int32_t fill_px,
+                                      int dark)
+{
+    synth_scene_t s = *s0;
+    negobs_image_u8_t left;
+    negobs_image_u8_t right;
+    int32_t u;
+    int32_t v;
+    int i;
+    run_mounted(&s, 0);
+    left_image(left_px, fill_px, 0, dark);
+    left.data = left_px;
+    left.width = RIG_W;
+    left.height = RIG_H;
+    left.stride = RIG_W;
+    /* the right image: its first fill_px columns are fill (mirrored) */
+    right_image(right_px, fill_px, dark);
+    right.data = right_px;
+    right.width = RIG_W;
+    right.height = RIG_H;
+    right.stride = RIG_W;
+    rig.frame.left = &left;
+    rig.frame.right = &right;
+    /* 6 frames: a fill is taken in at most 8 px per frame */
+    for (i = 0; i < 6; i++) {
+        s.seed = s0->seed + (uint32_t)i;
+        synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+        for (v = 0; v < RIG_H; v++) {
+            for (u = 0; u < RIG_W; u++) {
+                int16_t *d = &rig.disp[v * RIG_W + u];
+                if ((*d != NEGOBS_DISP_INVALID && u * 16 < *d) ||
+                    u >= RIG_W - fill_px ||
+                    (*d != NEGOBS_DISP_INVALID &&
+                     u * 16 - *d < fill_px * 16)) {
+                    *d = NEGOBS_DISP_INVALID;
+                }
+            }
+        }
+        assert_int_equal(rig_run(&rig), NEGOBS_OK);
+    }
+    rig.frame.left = NULL;
+    rig.frame.right = NULL;
+    print_message("border %d px (dark %d): state %d, clear_to %d, reasons "
+                  "%u\n",
+                  fill_px, dark, (int)rig.res.state, rig.res.clear_to_mm,
+                  rig.res.reasons);
+    return rig.res.clear_to_mm;
+}
+
+/* A black rectification fill over the left image's last 40 columns and the
+ * right image's first 40, inside the corridor at the bottom rows: out of the camera's view, like floor
+ * outside the image, so the verdict is the one without the border (it used
+ * to stop the walk at the bottom row: NO_INFO, clear_to_mm 0). A real dark
+ * region there, textured under sensor noise, is not fill: unmatched floor
+ * in view, which stops the walk. */
+static void test_vouch_rectification_fill_is_out_of_view(void **state)
+{
+    synth_scene_t s;
+    int32_t ref;
+    int32_t with_fill;
+    (void)state;
+    synth_flat(&s, 0.6, 20.0);
+    s.noise_px = 0.2;
+    s.seed = 121u;
+    ref = low_camera_with_border(&s, 0, 0);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+    rig_teardown(&rig);
+    with_fill = low_camera_with_border(&s, 40, 0);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+    assert_true(with_fill >= rig.cfg.near_min_mm);
+    assert_true(with_fill * 10 >= ref * 9 && with_fill * 9 <= ref * 10);
+    rig_teardown(&rig);
+    (void)low_camera_with_border(&s, 40, 1);
+    assert_true(rig.res.state != NEGOBS_DETECT_CLEAR);
+    assert_true(rig.res.clear_to_mm < rig.cfg.near_min_mm);
+    rig_teardown(&rig);
+}
+
+/* The fill extent itself: constant fill and edge replication (each row its
+ * own constant) are found per row, a curved fill cut at the lower quartile
+ * of its width; dark texture is not; a run over a
+ * quarter of the width is not fill (a clipped scene, or a broken
+ * rectification); too few rows with a run is not fill; a clipped black
+ * object 20 rows high beside the fill does not widen it. */
+static void test_vouch_fill_extent(void **state)
+{
+    negobs_image_u8_t img;
+    int16_t u0[RIG_H];
+    int16_t u1[RIG_H];
+    int32_t u;
+    int32_t v;
+    (void)state;
+    img.data = left_px;
+    img.width = RIG_W;
+    img.height = RIG_H;
+    img.stride = RIG_W;
+    left_image(left_px, 24, 0, 0);
+    assert_int_equal(negobs_detect_fill_extent(&img, u0, u1), NEGOBS_OK);
+    for (v = 0; v < RIG_H; v++) {
+        assert_int_equal(u0[v], 0);
+        assert_int_equal(u1[v], RIG_W - 24);
+    }
+    left_image(left_px, 24, 0, 1);
+    assert_int_equal(negobs_detect_fill_extent(&img, u0, u1), NEGOBS_OK);
+    for (v = 0; v < RIG_H; v++) {
+        assert_int_equal(u1[v], RIG_W);
+    }
+    /* replication at the left border, width growing 10..33 px with the
+     * row, each row the grey level of its sensor edge pixel */
+    left_image(left_px, 0, 0, 0);
+    for (v = 0; v < RIG_H; v++) {
+        for (u = 0; u < 10 + v / 10; u++) {
+            left_px[v * RIG_W + u] = (uint8_t)(50 + v / 3);
+        }
+    }
+    assert_int_equal(negobs_detect_fill_extent(&img, u0, u1), NEGOBS_OK);
+    for (v = 0; v < RIG_H; v++) {
+        /* the row's own width, cut at the lower quartile (about 16) */
+        int32_t wd = 10 + v / 10;
+        assert_true(u0[v] >= (wd < 15 ? wd : 15) && u0[v] <= wd + 1);
+        assert_int_equal(u1[v], RIG_W);
+    }
+    /* black fill of 24 px with a black object 60 px wide over rows
+     * 100-119 beside it */
+    left_image(left_px, 24, 0, 0);
+    for (v = 100; v < 120; v++) {
+        memset(left_px + v * RIG_W + RIG_W - 60, 0, 60);
+    }
+    assert_int_equal(negobs_detect_fill_extent(&img, u0, u1), NEGOBS_OK);
+    for (v = 0; v < RIG_H; v++) {
+        assert_int_equal(u1[v], RIG_W - 24);
+    }
+    /* a clipped region over half the width, and fill on too few rows */
+    left_image(left_px, RIG_W / 2, 255, 0);
+    for (v = RIG_H / 8; v < RIG_H; v++) {
+        memset(left_px + v * RIG_W + RIG_W / 2, 200, RIG_W / 2 - 12);
+        for (u = RIG_W - 12; u < RIG_W; u++) {
+            left_px[v * RIG_W + u] = (uint8_t)(40 + (u * 7 + v * 3) % 50);
+        }
+    }
+    assert_int_equal(negobs_detect_fill_extent(&img, u0, u1), NEGOBS_OK);
+    for (v = 0; v < RIG_H; v++) {
+        assert_int_equal(u1[v], RIG_W);
+    }
+    assert_int_equal(negobs_detect_fill_extent(NULL, u0, u1),
+                     NEGOBS_ERR_INVAL);
+}
+
+/* A 20 cm drop 1.5 m ahead of a 1.2 m / 20 deg camera, with a black fill
+ * over the left image's last 40 columns: the drop in the visible part is
+ * still a hazard. */
+static void test_vouch_drop_beside_fill_is_found(void **state)
+{
+    synth_scene_t s;
+    negobs_image_u8_t left;
+    int32_t u;
+    int32_t v;
+    int i;
+    (void)state;
+    synth_flat(&s, 1.2, 20.0);
+    synth_step(&s, 1.5, -0.2);
+    s.noise_px = 0.25;
+    s.seed = 31u;
+    run_mounted(&s, 0);
+    left_image(left_px, 40, 0, 0);
+    left.data = left_px;
+    left.width = RIG_W;
+    left.height = RIG_H;
+    left.stride = RIG_W;
+    rig.frame.left = &left;
+    for (i = 0; i < 5; i++) {
+        s.seed = 31u + (uint32_t)i;
+        synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+        for (v = 0; v < RIG_H; v++) {
+            for (u = RIG_W - 40; u < RIG_W; u++) {
+                rig.disp[v * RIG_W + u] = NEGOBS_DISP_INVALID;
+            }
+        }
+        assert_int_equal(rig_run(&rig), NEGOBS_OK);
+    }
+    print_message("drop beside fill: state %d, level %d, range %d, "
+                  "clear_to %d\n",
+                  (int)rig.res.state, (int)rig.res.level,
+                  rig.res.nearest_range_mm, rig.res.clear_to_mm);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_HAZARD);
+    assert_true(rig.res.clear_to_mm <= 1500 + 150);
+    rig.frame.left = NULL;
+    rig_teardown(&rig);
+}
+
+/* The ground fit's valid share (FEW_GROUND under 25 %) counts only samples
+ * in view: 70 % of the pixels unmatched at random and a fill over the last
+ * 70 columns leave 23 % of all samples valid, but 30 % of those in view. */
+static void test_vouch_fill_is_not_in_the_valid_share(void **state)
+{
+    synth_scene_t s;
+    negobs_image_u8_t left;
+    int32_t u;
+    int32_t v;
+    int with;
+    int i;
+    (void)state;
+    for (with = 0; with < 2; with++) {
+        synth_flat(&s, 1.2, 20.0);
+        s.noise_px = 0.25;
+        s.dropout = 0.7;
+        s.seed = 41u;
+        run_mounted(&s, 0);
+        left_image(left_px, with ? 70 : 0, 0, 0);
+        left.data = left_px;
+        left.width = RIG_W;
+        left.height = RIG_H;
+        left.stride = RIG_W;
+        rig.frame.left = &left;
+        for (i = 0; i < 10; i++) { /* the fill is taken in 8 px a frame */
+            s.seed = 41u + (uint32_t)i;
+            synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+            for (v = 0; v < RIG_H; v++) {
+                for (u = RIG_W - 70; u < RIG_W; u++) {
+                    rig.disp[v * RIG_W + u] = NEGOBS_DISP_INVALID;
+                }
+            }
+            assert_int_equal(rig_run(&rig), NEGOBS_OK);
+        }
+        rig.frame.left = NULL;
+        print_message("fill %d: valid %d permille, reasons %u\n", with,
+                      rig.res.ground_valid_permille, rig.res.reasons);
+        if (with) {
+            assert_true(rig.res.ground_valid_permille >= 280);
+            assert_int_equal(rig.res.ground_valid, 1);
+        } else {
+            assert_true(rig.res.ground_valid_permille < 250);
+            assert_true((rig.res.reasons & NEGOBS_DEGRADED_FEW_GROUND) != 0u);
+        }
+        rig_teardown(&rig);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -545,6 +829,10 @@ int main(void)
             test_vouch_unverified_start_reports_the_floor_in_view),
         cmocka_unit_test(
             test_vouch_stops_where_a_drop_would_hide_past_the_scan),
+        cmocka_unit_test(test_vouch_rectification_fill_is_out_of_view),
+        cmocka_unit_test(test_vouch_fill_extent),
+        cmocka_unit_test(test_vouch_fill_is_not_in_the_valid_share),
+        cmocka_unit_test(test_vouch_drop_beside_fill_is_found),
         cmocka_unit_test(test_vouch_drop_in_clean_strips_despite_far_noise),
         cmocka_unit_test(test_vouch_no_false_vouch_on_walks),
         cmocka_unit_test(test_vouch_bounds_by_state),

@@ -40,7 +40,44 @@ static int frame_malformed(const negobs_detect_config_t *cfg,
              frame->confidence->width != cfg->cam.width ||
              frame->confidence->height != cfg->cam.height)) ||
            (frame->left != NULL &&
-            negobs_image_u8_check(frame->left) != NEGOBS_OK);
+            negobs_image_u8_check(frame->left) != NEGOBS_OK) ||
+           (frame->right != NULL &&
+            negobs_image_u8_check(frame->right) != NEGOBS_OK);
+}
+
+static int same_size(const negobs_detect_config_t *cfg,
+                     const negobs_image_u8_t *img)
+{
+    return img != NULL && img->width == cfg->cam.width &&
+           img->height == cfg->cam.height;
+}
+
+/* A side's out-of-view part grows by at most this per frame (px). The
+ * fill is fixed by the calibration, so it is accepted within a few frames
+ * (a 30 px fill in 4, at 10 fps in 0.4 s); a clipped object entering at
+ * the border is taken for fill no faster, and one that leaves is back in
+ * view on the next frame. */
+#define FILL_GROW_PX 8
+
+/* Follow one image's columns in view [u0, u1) per row: this frame's fill
+ * (fill_u0 / fill_u1), its growth limited to FILL_GROW_PX per frame. */
+static void view_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
+                        const negobs_image_u8_t *img, int16_t *u0, int16_t *u1,
+                        int32_t *held)
+{
+    int32_t v;
+    if (!same_size(cfg, img) ||
+        negobs_detect_fill_extent(img, p->fill_u0, p->fill_u1) != NEGOBS_OK) {
+        *held = 0;
+        return; /* not known: every column in view (det_in_view) */
+    }
+    for (v = 0; v < cfg->cam.height; v++) {
+        int32_t a = *held ? u0[v] : 0;
+        int32_t b = *held ? u1[v] : cfg->cam.width;
+        u0[v] = (int16_t)geom_min_s32(p->fill_u0[v], a + FILL_GROW_PX);
+        u1[v] = (int16_t)geom_max_s32(p->fill_u1[v], b - FILL_GROW_PX);
+    }
+    *held = 1;
 }
 
 /* Step 0: validity gating (timestamps, photometry). */
@@ -161,10 +198,15 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
     s.cfg = cfg;
     s.disp = frame->disp_q4;
     s.conf = frame->confidence;
-    s.left = (frame->left != NULL && frame->left->width == cfg->cam.width &&
-              frame->left->height == cfg->cam.height)
-                 ? frame->left
-                 : NULL;
+    s.left = same_size(cfg, frame->left) ? frame->left : NULL;
+    if (p->view_l_held) {
+        s.view_l_u0 = p->view_l_u0;
+        s.view_l_u1 = p->view_l_u1;
+    }
+    if (p->view_r_held) {
+        s.view_r_u0 = p->view_r_u0;
+        s.view_r_u1 = p->view_r_u1;
+    }
     s.plane = &p->gfit.plane;
     s.frame = &g->frame;
     s.sigma_q4 = g->sigma_q4;
@@ -265,7 +307,13 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
     reasons = gate(cfg, frame, res);
 
     /* Step 1: ground model. */
-    gfit_process(&p->gfit, frame->disp_q4, frame->confidence, &g);
+    view_follow(p, cfg, frame->left, p->view_l_u0, p->view_l_u1,
+                &p->view_l_held);
+    view_follow(p, cfg, frame->right, p->view_r_u0, p->view_r_u1,
+                &p->view_r_held);
+    gfit_process(&p->gfit, frame->disp_q4, frame->confidence,
+                 p->view_l_held ? p->view_l_u0 : NULL,
+                 p->view_l_held ? p->view_l_u1 : NULL, &g);
     reasons |= g.reasons;
     res->ground_valid_permille = g.valid_permille;
     res->ground_inliers = g.inliers;

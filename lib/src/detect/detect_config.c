@@ -207,6 +207,18 @@ static negobs_status_t carve(negobs_arena_t *ar,
     p->canny.mag = negobs_arena_take(ar, dcanny_mag_bytes(cfg->cam.width));
     p->canny.label = negobs_arena_take(ar, dcanny_label_bytes(cfg->cam.width));
     p->canny.width = cfg->cam.width;
+    p->view_l_u0 = negobs_arena_take(ar, (size_t)cfg->cam.height *
+                                             sizeof(int16_t));
+    p->view_l_u1 = negobs_arena_take(ar, (size_t)cfg->cam.height *
+                                             sizeof(int16_t));
+    p->view_r_u0 = negobs_arena_take(ar, (size_t)cfg->cam.height *
+                                             sizeof(int16_t));
+    p->view_r_u1 = negobs_arena_take(ar, (size_t)cfg->cam.height *
+                                             sizeof(int16_t));
+    p->fill_u0 = negobs_arena_take(ar,
+                                   (size_t)cfg->cam.height * sizeof(int16_t));
+    p->fill_u1 = negobs_arena_take(ar,
+                                   (size_t)cfg->cam.height * sizeof(int16_t));
     *out = (p == &tmp) ? NULL : p;
     return negobs_arena_status(ar);
 }

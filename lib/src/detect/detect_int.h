@@ -44,4 +44,17 @@ static inline int32_t negobs_bearing_mdeg(int32_t lateral_mm,
 negobs_status_t negobs_detect_photo_stats(const negobs_image_u8_t *img,
                                           negobs_photo_stats_t *out);
 
+/**
+ * @brief Columns of each row of a rectified image that lie in the field of
+ *        view: the rectification fill (a run of at least 8 exactly equal
+ *        pixels reaching the left or right border, on at least a quarter of
+ *        the rows of that side, shorter than a quarter of the width) is
+ *        left out (docs/DETECTION.md 10.2, "Out of view").
+ * @param view_u0 per row (img->height entries): first column in view
+ * @param view_u1 per row: one past the last column in view
+ * @return NEGOBS_OK or NEGOBS_ERR_INVAL.
+ */
+negobs_status_t negobs_detect_fill_extent(const negobs_image_u8_t *img,
+                                          int16_t *view_u0, int16_t *view_u1);
+
 #endif /* NEGOBS_DETECT_INT_H */

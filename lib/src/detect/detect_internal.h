@@ -5,6 +5,7 @@
  *
  *   detect_config.c  config defaults, presets, checks, workspace, init
  *   detect_gate.c    photometric image gate
+ *   detect_fill.c    rectification fill: the columns out of view
  *   detect_scan.c    per-strip scan (the rule of docs/DETECTION.md 5)
  *   detect_noise.c   measured strip-median noise per band (step 6)
  *   detect_vouch.c   the vouched range and the verdict (section 10)
@@ -133,6 +134,16 @@ typedef struct detect_priv {
     uint32_t near_cand_ms;
     int32_t near_cand_on;
     mount_track_t mount; /* the mounting the results report (mount.c) */
+    /* per row: the columns of the left / right image in the field of view
+     * [u0, u1) (detect_fill.c); height entries each */
+    int16_t *view_l_u0;
+    int16_t *view_l_u1;
+    int16_t *view_r_u0;
+    int16_t *view_r_u1;
+    int32_t view_l_held; /* the left view arrays hold an earlier frame's */
+    int32_t view_r_held;
+    int16_t *fill_u0; /* scratch: this frame's fill of one image       */
+    int16_t *fill_u1;
 } detect_priv_t;
 
 /* Scan context shared by the strips of one frame. */
@@ -141,6 +152,12 @@ typedef struct scan_ctx {
     const negobs_image_s16_t *disp;
     const negobs_image_u8_t *conf;
     const negobs_image_u8_t *left; /* NULL: no texture check */
+    /* per row: columns in the field of view of the left and the right image
+     * [u0, u1) (detect_priv_t) */
+    const int16_t *view_l_u0;
+    const int16_t *view_l_u1;
+    const int16_t *view_r_u0;
+    const int16_t *view_r_u1;
     const negobs_ground_plane_t *plane;
     const negobs_ground_frame_t *frame;
     int32_t sigma_q4;
@@ -168,6 +185,8 @@ void det_model_point(const scan_ctx_t *s, int32_t u, int32_t v, int32_t dg_q4,
                      int32_t *range_mm, int32_t *lat_mm, int32_t *depth_mm);
 
 int det_in_corridor(const scan_ctx_t *s, int32_t uc, int32_t dg_q4);
+
+int det_in_view(const scan_ctx_t *s, int32_t uc, int32_t v, int32_t dg_q4);
 
 int32_t det_strip_u0(const negobs_detect_config_t *cfg, int32_t n_strips,
                      int32_t si);

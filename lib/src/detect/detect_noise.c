@@ -132,7 +132,8 @@ static void hist_median_spread_q8(const uint16_t *ha, const uint16_t *hb,
  */
 /* Strip-median residual e (1/32 px) of strip si on row v, against the
  * nearer of the ground and a reported drop's plateau past its edge; 0
- * when the row is outside the corridor or has too few voting pixels. */
+ * when the row is outside the corridor or the view (det_in_view) or has
+ * too few voting pixels. */
 static int strip_row_e(const scan_ctx_t *s, const detect_priv_t *p, int32_t v,
                        int32_t si, int32_t *rr, int32_t *e_out,
                        int corridor_only)
@@ -151,7 +152,8 @@ static int strip_row_e(const scan_ctx_t *s, const detect_priv_t *p, int32_t v,
     int32_t n = 0;
     int32_t e;
     int32_t u;
-    if (dgc <= 0 || (corridor_only && !det_in_corridor(s, uc, dgc))) {
+    if (dgc <= 0 || (corridor_only && (!det_in_view(s, uc, v, dgc) ||
+                                       !det_in_corridor(s, uc, dgc)))) {
         return 0;
     }
     for (u = u0; u < u1; u++, acc += s->plane->a_q20) {

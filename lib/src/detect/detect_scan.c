@@ -262,17 +262,37 @@ int32_t det_strip_u0(const negobs_detect_config_t *cfg, int32_t n_strips,
            si * cfg->strip_px;
 }
 
+/* 1 when the floor point of column uc on row v (ground disparity dg_q4)
+ * is in the field of view of both cameras: in the left image's columns
+ * outside its rectification fill, and at uc - d_g in the right image,
+ * inside it and outside its fill. Elsewhere no frame can match it, like
+ * floor outside the image (docs/DETECTION.md 10.2, "Out of view"). */
+int det_in_view(const scan_ctx_t *s, int32_t uc, int32_t v, int32_t dg_q4)
+{
+    int32_t ur_q4 = uc * 16 - dg_q4; /* the point in the right image */
+    if (ur_q4 < 0) {
+        return 0;
+    }
+    if (s->view_l_u0 != NULL &&
+        (uc < s->view_l_u0[v] || uc >= s->view_l_u1[v])) {
+        return 0;
+    }
+    return s->view_r_u0 == NULL ||
+           (ur_q4 >= s->view_r_u0[v] * 16 && ur_q4 < s->view_r_u1[v] * 16);
+}
+
 /* 1 when the centre of strip si lies in the walking corridor at row v of
- * the ground model and in the stereo view: the right camera sees the
- * floor point of column u at u - d_g, so where u < d_g (the left image's
- * first columns near the feet) no frame can match it, like floor outside
- * the image (docs/DETECTION.md 10.2). */
+ * the ground model and in the view of both cameras (det_in_view): the
+ * right camera sees the floor point of column u at u - d_g, so where
+ * u < d_g (the left image's first columns near the feet) no frame can
+ * match it. */
 int det_strip_in_corridor(const scan_ctx_t *s, int32_t n_strips, int32_t si,
                           int32_t v)
 {
     int32_t uc = det_strip_u0(s->cfg, n_strips, si) + s->cfg->strip_px / 2;
     int32_t dgc = negobs_ground_disp_q4(s->plane, uc, v);
-    return dgc > 0 && uc * 16 >= dgc && det_in_corridor(s, uc, dgc);
+    return dgc > 0 && det_in_view(s, uc, v, dgc) &&
+           det_in_corridor(s, uc, dgc);
 }
 
 /*

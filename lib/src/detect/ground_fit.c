@@ -524,7 +524,8 @@ static int32_t blend(int32_t old, int32_t now, int32_t gain_q15)
 }
 
 void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
-                  const negobs_image_u8_t *conf, gfit_out_t *out)
+                  const negobs_image_u8_t *conf, const int16_t *view_u0,
+                  const int16_t *view_u1, gfit_out_t *out)
 {
     const negobs_detect_config_t *cfg = g->cfg;
     const negobs_camera_t *cam = &cfg->cam;
@@ -545,6 +546,9 @@ void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
         uint16_t *h = g->vhist + (size_t)(v - g->v_lo) * (size_t)g->nbins;
         for (u = g->step / 2; u < cam->width; u += g->step) {
             int32_t d = row[u];
+            if (view_u0 != NULL && (u < view_u0[v] || u >= view_u1[v])) {
+                continue; /* out of view: no floor to find there */
+            }
             samples++;
             if (!sample_valid(conf, cfg->ground_min_confidence, u, v, d)) {
                 continue;

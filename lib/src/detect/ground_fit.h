@@ -57,9 +57,13 @@ negobs_status_t gfit_carve(gfit_t *g, negobs_arena_t *ar,
 /* Forget the track. */
 void gfit_reset(gfit_t *g);
 
-/* Fit the ground for one disparity map (valid size checked by caller). */
+/* Fit the ground for one disparity map (valid size checked by caller).
+ * view_u0 / view_u1 (per row, may be NULL: all in view): the columns in
+ * the left image's field of view; samples outside it are not counted in
+ * the valid share (out of view, not unmatched floor). */
 void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
-                  const negobs_image_u8_t *conf, gfit_out_t *out);
+                  const negobs_image_u8_t *conf, const int16_t *view_u0,
+                  const int16_t *view_u1, gfit_out_t *out);
 
 /* One-shot fit without tracking, for tests: same as gfit_process on a
  * fresh track. */

@@ -276,6 +276,7 @@ negobs_status_t negobs_pipeline_process(negobs_pipeline_t *ctx,
 {
     negobs_pipeline_priv_t *p;
     negobs_detect_frame_t df;
+    const negobs_image_u8_t *right = NULL; /* the right image matched */
     negobs_alert_input_t in;
     negobs_status_t st;
     uint32_t t0 = 0;
@@ -294,7 +295,7 @@ negobs_status_t negobs_pipeline_process(negobs_pipeline_t *ctx,
     if (frame->left == NULL || frame->right == NULL) {
         st = NEGOBS_ERR_INVAL;
     } else {
-        const negobs_image_u8_t *right = frame->right;
+        right = frame->right;
         st = NEGOBS_OK;
         if (p->cfg.valign.enable) {
             st = negobs_valign_process(&p->valign, frame->left, right,
@@ -326,6 +327,7 @@ negobs_status_t negobs_pipeline_process(negobs_pipeline_t *ctx,
             NEGOBS_OK) {
             df.right_stats = &result->right_stats;
         }
+        df.right = right;
         df.t_left_ms = frame->t_left_ms;
         df.t_right_ms = frame->t_right_ms;
         df.now_ms = frame->now_ms;
