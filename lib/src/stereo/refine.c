@@ -411,6 +411,18 @@ static void amean_line(const int16_t *in, int16_t *out, int32_t n)
         }
         stx_amean8_simd(tap, 4, 4, out + i);
     }
+    /* one more block ending 4 samples before the end, overlapping the
+     * previous one (same values) */
+    if (i < n - 4 && n - 12 >= 4) {
+        const int16_t *tap[9];
+        int32_t j;
+        i = n - 12;
+        for (j = 0; j < 9; j++) {
+            tap[j] = in + i + j - 4;
+        }
+        stx_amean8_simd(tap, 4, 4, out + i);
+        i += 8;
+    }
 #endif
     for (; i < n; i++) {
         out[i] = amean_at(in, n, i);

@@ -149,6 +149,13 @@ void stx_stats_row(const uint8_t *const rows[5], int32_t w, uint16_t *so,
     for (; x + 13 < w; x += 8) {
         stats8(rows, x, so, vo);
     }
+    /* one more block ending at the last column, overlapping the previous
+     * one (it writes the same values) */
+    if (x < w - 6 && w - 14 >= STX_WIN_R) {
+        x = w - 14;
+        stats8(rows, x, so, vo);
+        x += 8;
+    }
     for (; x < w - STX_WIN_R; x++) {
         stats_at(rows, x, so, vo);
     }
