@@ -8,7 +8,9 @@
 // valgrind the requests are no-ops and the tool prints CPU times only.
 //
 // usage: negobs_speed LEFT RIGHT [--crop X,Y,W,H] [--max-disp D]
-//                    [--profile compact|fast]
+//                    [--profile compact|fast] [--write-pgm PREFIX]
+// --write-pgm also writes the (cropped) grey pair as PREFIXleft.pgm and
+// PREFIXright.pgm, the input of bench_frames on targets without OpenCV.
 // The callgrind dumps are named "negobs" and "sgbm" in that order
 // (tools/negobs bench reads them).
 #include <cstdio>
@@ -22,6 +24,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #if defined(__has_include)
 #if __has_include(<valgrind/callgrind.h>)
@@ -66,7 +69,8 @@ int usage(const char *msg)
         std::fprintf(stderr, "negobs_speed: %s\n", msg);
     }
     std::fprintf(stderr, "usage: negobs_speed LEFT RIGHT [--crop X,Y,W,H] "
-                         "[--max-disp D] [--profile compact|fast]\n");
+                         "[--max-disp D] [--profile compact|fast] "
+                         "[--write-pgm PREFIX]\n");
     return 1;
 }
 
@@ -77,6 +81,7 @@ int main(int argc, char **argv)
     std::vector<std::string> pos;
     int cx = 0, cy = 0, cw = 0, ch = 0, max_disp = 63;
     int profile = -1;
+    std::string pgm_prefix;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "-h" || a == "--help") {
@@ -89,6 +94,8 @@ int main(int argc, char **argv)
                 cw <= 0 || ch <= 0 || cx < 0 || cy < 0) {
                 return usage("--crop takes X,Y,W,H");
             }
+        } else if (a == "--write-pgm" && i + 1 < argc) {
+            pgm_prefix = argv[++i];
         } else if (a == "--max-disp" && i + 1 < argc) {
             max_disp = std::atoi(argv[++i]);
         } else if (a == "--profile" && i + 1 < argc) {
@@ -126,6 +133,12 @@ int main(int argc, char **argv)
         }
         l = l(cv::Rect(cx, cy, cw, ch)).clone();
         r = r(cv::Rect(cx, cy, cw, ch)).clone();
+    }
+    if (!pgm_prefix.empty() && (!cv::imwrite(pgm_prefix + "left.pgm", l) ||
+                                !cv::imwrite(pgm_prefix + "right.pgm", r))) {
+        std::fprintf(stderr, "negobs_speed: cannot write %s*.pgm\n",
+                     pgm_prefix.c_str());
+        return 2;
     }
     cv::setNumThreads(0); // SGBM single-threaded, like negobs
 
