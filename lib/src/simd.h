@@ -8,7 +8,7 @@
  *                     ARM compiled with -mfpu=neon (meson -Darm_neon=true:
  *                     Debian's armhf baseline does not guarantee NEON, so
  *                     an armhf build uses the plain C kernels unless asked;
- *                     docs/PERFORMANCE.md)
+ *                     docs/SIMD.md)
  * NEGOBS_NO_SIMD (meson -Dsimd=false) keeps every kernel on its plain C
  * reference. Under -mgeneral-regs-only (the integer-only hygiene check)
  * __ARM_NEON is undefined, so the reference paths are what it compiles.
