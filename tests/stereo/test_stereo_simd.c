@@ -116,6 +116,59 @@ static void test_stats_rows_strided(void **state)
     }
 }
 
+/* ---- 1/4-scale zero-mean SAD runs -------------------------------------- */
+
+/* A run of n windows in an image of 3 rows exactly n + 2 columns wide
+ * (one heap block: a read past the last window's right column or below
+ * its bottom row leaves it), the fixed window in a second image. */
+static void check_zsad_run(uint32_t seed, int32_t n, int flat)
+{
+    int32_t stride = n + 2;
+    uint8_t *img = malloc((size_t)(3 * stride));
+    uint8_t fixed[9];
+    int32_t want[64];
+    int32_t got[64];
+    int32_t i;
+    assert_non_null(img);
+    for (i = 0; i < 3 * stride; i++) {
+        img[i] = flat ? (uint8_t)(200 + (test_lcg_next(&seed) % 3u))
+                      : (uint8_t)test_lcg_next(&seed);
+    }
+    for (i = 0; i < 9; i++) {
+        /* the extremes too: 0 and 255 give the largest terms */
+        fixed[i] = (seed % 7u == 0u) ? (uint8_t)((i & 1) ? 255 : 0)
+                                     : (uint8_t)test_lcg_next(&seed);
+    }
+    memset(want, 0x5A, sizeof want);
+    memset(got, 0x5A, sizeof got);
+    /* the fixed window uses the run image's stride */
+    {
+        uint8_t *fx = malloc((size_t)(3 * stride));
+        assert_non_null(fx);
+        memset(fx, 0, (size_t)(3 * stride));
+        for (i = 0; i < 9; i++) {
+            fx[(i / 3) * stride + (i % 3)] = fixed[i];
+        }
+        stx_zsad3_run_ref(fx + stride + 1, img + stride + 1, stride, n, want);
+        stx_zsad3_run(fx + stride + 1, img + stride + 1, stride, n, got);
+        free(fx);
+    }
+    assert_memory_equal(got, want, sizeof want);
+    free(img);
+}
+
+static void test_zsad3_run_matches_reference(void **state)
+{
+    int32_t n;
+    uint32_t rep;
+    (void)state;
+    for (n = 1; n <= 64; n++) {
+        for (rep = 0; rep < 8; rep++) {
+            check_zsad_run(77u * (uint32_t)n + rep, n, rep == 3u);
+        }
+    }
+}
+
 /* ---- adaptive mean --------------------------------------------------- */
 
 static int16_t disp_value(uint32_t *seed, int32_t base, int holes)
@@ -285,6 +338,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_stats_row_matches_reference),
         cmocka_unit_test(test_stats_rows_strided),
+        cmocka_unit_test(test_zsad3_run_matches_reference),
         cmocka_unit_test(test_amean8_matches_reference),
         cmocka_unit_test(test_adaptive_mean_matches_reference),
     };

@@ -39,6 +39,19 @@ void stx_amean8_simd(const int16_t *const tap[9], int32_t kl, int32_t kr,
                      int16_t *out);
 #endif
 
+/* ---- 1/4-scale matching: zero-mean 3x3 SAD along a row (lowres.c,
+ * zsad_simd.c) ------------------------------------------------------- */
+/* out[l] = sum over the 3x3 window of |9 (a - b_l) - (Sa - Sb_l)| for the
+ * fixed window centred at a and the n windows centred at b + l (S the
+ * window sums; all windows inside their images, row stride `stride`).
+ * Each cost is <= 9 * (9 * 255 + 2 295) = 41 310. Plain C reference. */
+void stx_zsad3_run_ref(const uint8_t *a, const uint8_t *b, int32_t stride,
+                       int32_t n, int32_t *out);
+/* Same results; 8 windows per step (their loads stay inside the windows
+ * of the run). */
+void stx_zsad3_run(const uint8_t *a, const uint8_t *b, int32_t stride,
+                   int32_t n, int32_t *out);
+
 /* sd / sw rounded half away from zero (|sd| < 2^25, sw > 0): the adaptive
  * mean's division, shared by the reference and the SIMD forms. */
 static inline int32_t stx_div_round_pos(int32_t sd, int32_t sw)
