@@ -39,6 +39,7 @@
 #include <unistd.h>
 
 #include "negobs_port/clock.h"
+#include "negobs_port/cpu.h"
 #include "run_app.h"
 
 /* Longest wait for the library's READY pattern before the cameras open. */
@@ -196,6 +197,14 @@ int main(int argc, char **argv)
     }
     if (args.motor_off != NULL) {
         return motor_off(args.motor_off);
+    }
+    {
+        /* a NEON build on a CPU without NEON would die in the first frame */
+        char why[256];
+        if (negobs_port_cpu_check(why, sizeof why) != NEGOBS_OK) {
+            fprintf(stderr, "negobs_run: %s\n", why);
+            return EXIT_RUNTIME;
+        }
     }
     if (check_alert_spec(run_cfg.alert) != 0) {
         return usage_error("bad alert '%s' (want gpio:CHIP:LINE, "

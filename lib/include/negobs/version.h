@@ -14,6 +14,14 @@ extern "C" {
 /** @brief Version of the linked library, e.g. "0.1.0". */
 const char *negobs_version(void);
 
+/**
+ * @brief SIMD instruction set the library's hot kernels were compiled for:
+ *        "sse2", "neon" or "none" (docs/SIMD.md). A 32-bit ARM library
+ *        built with NEON needs a CPU that has it; port/ checks that at
+ *        start-up (negobs_port/cpu.h).
+ */
+const char *negobs_simd(void);
+
 #ifdef __cplusplus
 }
 #endif
