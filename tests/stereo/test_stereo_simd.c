@@ -116,46 +116,6 @@ static void test_stats_rows_strided(void **state)
     }
 }
 
-/* ---- Canny's gradient magnitude ---------------------------------------- */
-
-static void check_sobel(uint32_t seed, int32_t w, int edge)
-{
-    uint8_t *row[3];
-    uint16_t want[MAXW];
-    uint16_t got[MAXW];
-    int32_t k;
-    int32_t x;
-    for (k = 0; k < 3; k++) {
-        row[k] = malloc((size_t)w);
-        assert_non_null(row[k]);
-        for (x = 0; x < w; x++) {
-            /* edge: a 0/255 step, the largest gradients */
-            row[k][x] = edge ? (uint8_t)(((x + k) % 5 < 2) ? 0 : 255)
-                             : (uint8_t)test_lcg_next(&seed);
-        }
-    }
-    memset(want, 0xC3, sizeof want);
-    memset(got, 0xC3, sizeof got);
-    stx_sobel_mag_row_ref(row[0], row[1], row[2], w, want);
-    stx_sobel_mag_row(row[0], row[1], row[2], w, got);
-    assert_memory_equal(got, want, sizeof want);
-    for (k = 0; k < 3; k++) {
-        free(row[k]);
-    }
-}
-
-static void test_sobel_mag_row_matches_reference(void **state)
-{
-    int32_t w;
-    uint32_t rep;
-    (void)state;
-    for (w = 3; w <= MAXW; w++) {
-        for (rep = 0; rep < 4; rep++) {
-            check_sobel(31u * (uint32_t)w + rep, w, rep == 2u);
-        }
-    }
-}
-
 /* ---- 1/4-scale zero-mean SAD runs -------------------------------------- */
 
 /* A run of n windows in an image of 3 rows exactly n + 2 columns wide
@@ -378,7 +338,6 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_stats_row_matches_reference),
         cmocka_unit_test(test_stats_rows_strided),
-        cmocka_unit_test(test_sobel_mag_row_matches_reference),
         cmocka_unit_test(test_zsad3_run_matches_reference),
         cmocka_unit_test(test_amean8_matches_reference),
         cmocka_unit_test(test_adaptive_mean_matches_reference),

@@ -14,7 +14,6 @@
 
 #include "canny_core.h"
 #include "stereo/stereo_int.h"
-#include "stereo/stereo_simd.h"
 
 static void sobel(const negobs_image_u8_t *img, int32_t x, int32_t y,
                   int32_t *gx, int32_t *gy)
@@ -26,21 +25,6 @@ static void sobel(const negobs_image_u8_t *img, int32_t x, int32_t y,
           ((int32_t)a[-1] + 2 * (int32_t)b[-1] + (int32_t)c[-1]);
     *gy = ((int32_t)c[-1] + 2 * (int32_t)c[0] + (int32_t)c[1]) -
           ((int32_t)a[-1] + 2 * (int32_t)a[0] + (int32_t)a[1]);
-}
-
-void stx_sobel_mag_row_ref(const uint8_t *a, const uint8_t *b,
-                           const uint8_t *c, int32_t w, uint16_t *m)
-{
-    int32_t x;
-    for (x = 1; x < w - 1; x++) {
-        int32_t gx =
-            ((int32_t)a[x + 1] + 2 * (int32_t)b[x + 1] + (int32_t)c[x + 1]) -
-            ((int32_t)a[x - 1] + 2 * (int32_t)b[x - 1] + (int32_t)c[x - 1]);
-        int32_t gy =
-            ((int32_t)c[x - 1] + 2 * (int32_t)c[x] + (int32_t)c[x + 1]) -
-            ((int32_t)a[x - 1] + 2 * (int32_t)a[x] + (int32_t)a[x + 1]);
-        m[x] = (uint16_t)(negobs_abs_s32(gx) + negobs_abs_s32(gy));
-    }
 }
 
 uint32_t stx_canny_strip(stx_t *s, int32_t y0, int32_t y1)
@@ -62,9 +46,12 @@ uint32_t stx_canny_strip(stx_t *s, int32_t y0, int32_t y1)
         if (y < 1 || y >= s->h - 1) {
             continue;
         }
-        stx_sobel_mag_row(negobs_image_u8_row(img, y - 1),
-                          negobs_image_u8_row(img, y),
-                          negobs_image_u8_row(img, y + 1), w, m);
+        for (x = 1; x < w - 1; x++) {
+            int32_t gx;
+            int32_t gy;
+            sobel(img, x, y, &gx, &gy);
+            m[x] = (uint16_t)(negobs_abs_s32(gx) + negobs_abs_s32(gy));
+        }
     }
     memset(s->edge, 0, (size_t)n * (size_t)w);
     for (r = 0; r < n; r++) {

@@ -52,16 +52,6 @@ void stx_zsad3_run_ref(const uint8_t *a, const uint8_t *b, int32_t stride,
 void stx_zsad3_run(const uint8_t *a, const uint8_t *b, int32_t stride,
                    int32_t n, int32_t *out);
 
-/* ---- Canny's gradient magnitude of one row (canny.c, sobel_simd.c) ---- */
-/* m[x] = |Gx| + |Gy| (3x3 Sobel; <= 2 040) for x in [1, w - 2] from the
- * rows above (a), at (b) and below (c) the row, each w >= 3 pixels.
- * m[0] and m[w - 1] are not written. Plain C reference. */
-void stx_sobel_mag_row_ref(const uint8_t *a, const uint8_t *b,
-                           const uint8_t *c, int32_t w, uint16_t *m);
-/* Same results; 8 pixels per step with 8-byte loads inside the rows. */
-void stx_sobel_mag_row(const uint8_t *a, const uint8_t *b, const uint8_t *c,
-                       int32_t w, uint16_t *m);
-
 /* sd / sw rounded half away from zero (|sd| < 2^25, sw > 0): the adaptive
  * mean's division, shared by the reference and the SIMD forms. */
 static inline int32_t stx_div_round_pos(int32_t sd, int32_t sw)
