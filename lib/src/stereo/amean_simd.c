@@ -19,6 +19,14 @@
 
 #if defined(NEGOBS_SIMD)
 
+/* The kernel body is inlined twice (stx_amean8_simd): forced, since the
+ * specialisation is the point. */
+#if defined(__GNUC__)
+#define STX_AMEAN_INLINE static inline __attribute__((always_inline))
+#else
+#define STX_AMEAN_INLINE static inline
+#endif
+
 /* The per-lane end: the division for valid centres, the hole value
  * otherwise. */
 static inline void amean_finish(const int16_t *c, const int32_t *sd,
@@ -59,8 +67,8 @@ static inline __m128i hi32(__m128i v)
     return _mm_srai_epi32(_mm_unpackhi_epi16(v, v), 16);
 }
 
-void stx_amean8_simd(const int16_t *const tap[9], int32_t kl, int32_t kr,
-                     int16_t *out)
+STX_AMEAN_INLINE void amean8(const int16_t *const tap[9], int32_t kl,
+                             int32_t kr, int16_t *out)
 {
     const __m128i inv = _mm_set1_epi16(NEGOBS_DISP_INVALID);
     const __m128i w64 = _mm_set1_epi16(64);
@@ -96,28 +104,32 @@ void stx_amean8_simd(const int16_t *const tap[9], int32_t kl, int32_t kr,
         sdh = _mm_add_epi32(sdh, _mm_madd_epi16(_mm_unpackhi_epi16(wl, wr),
                                                 _mm_unpackhi_epi16(vl, vr)));
     }
-    /* nearest valid neighbour on each side: the farthest first, so the
-     * nearest valid one is the last written */
-    for (j = kl; j >= 1; j--) {
-        __m128i v = _mm_loadu_si128((const __m128i *)tap[4 - j]);
-        __m128i bad = _mm_cmpeq_epi16(v, inv);
-        a = _mm_or_si128(_mm_and_si128(bad, a), _mm_andnot_si128(bad, v));
+    hole = inv;
+    /* holes are the exception: their part only when a centre is one */
+    if (_mm_movemask_epi8(_mm_cmpeq_epi16(c, inv)) != 0) {
+        /* nearest valid neighbour on each side: the farthest first, so the
+         * nearest valid one is the last written */
+        for (j = kl; j >= 1; j--) {
+            __m128i v = _mm_loadu_si128((const __m128i *)tap[4 - j]);
+            __m128i bad = _mm_cmpeq_epi16(v, inv);
+            a = _mm_or_si128(_mm_and_si128(bad, a), _mm_andnot_si128(bad, v));
+        }
+        for (j = kr; j >= 1; j--) {
+            __m128i v = _mm_loadu_si128((const __m128i *)tap[4 + j]);
+            __m128i bad = _mm_cmpeq_epi16(v, inv);
+            b = _mm_or_si128(_mm_and_si128(bad, b), _mm_andnot_si128(bad, v));
+        }
+        fill = _mm_andnot_si128(
+            _mm_or_si128(
+                _mm_or_si128(_mm_cmpeq_epi16(a, inv), _mm_cmpeq_epi16(b, inv)),
+                _mm_cmpgt_epi16(absdiff_sat(a, b),
+                                _mm_set1_epi16(NEGOBS_DISP_ONE))),
+            _mm_cmpeq_epi16(z, z));
+        hole = _mm_packs_epi32(half_sum(lo32(a), lo32(b)),
+                               half_sum(hi32(a), hi32(b)));
+        hole = _mm_or_si128(_mm_and_si128(fill, hole),
+                            _mm_andnot_si128(fill, inv));
     }
-    for (j = kr; j >= 1; j--) {
-        __m128i v = _mm_loadu_si128((const __m128i *)tap[4 + j]);
-        __m128i bad = _mm_cmpeq_epi16(v, inv);
-        b = _mm_or_si128(_mm_and_si128(bad, b), _mm_andnot_si128(bad, v));
-    }
-    fill = _mm_andnot_si128(
-        _mm_or_si128(
-            _mm_or_si128(_mm_cmpeq_epi16(a, inv), _mm_cmpeq_epi16(b, inv)),
-            _mm_cmpgt_epi16(absdiff_sat(a, b),
-                            _mm_set1_epi16(NEGOBS_DISP_ONE))),
-        _mm_cmpeq_epi16(z, z));
-    hole = _mm_packs_epi32(half_sum(lo32(a), lo32(b)),
-                           half_sum(hi32(a), hi32(b)));
-    hole = _mm_or_si128(_mm_and_si128(fill, hole),
-                        _mm_andnot_si128(fill, inv));
     _mm_storeu_si128((__m128i *)sd, sdl);
     _mm_storeu_si128((__m128i *)(sd + 4), sdh);
     _mm_storeu_si128((__m128i *)swv, sw);
@@ -127,8 +139,15 @@ void stx_amean8_simd(const int16_t *const tap[9], int32_t kl, int32_t kr,
 }
 
 #elif defined(NEGOBS_SIMD_NEON)
-void stx_amean8_simd(const int16_t *const tap[9], int32_t kl, int32_t kr,
-                     int16_t *out)
+/* whether any lane of a comparison result is set */
+static inline int any_u16(uint16x8_t m)
+{
+    uint16x4_t h = vorr_u16(vget_low_u16(m), vget_high_u16(m));
+    return vget_lane_u64(vreinterpret_u64_u16(h), 0) != 0u;
+}
+
+STX_AMEAN_INLINE void amean8(const int16_t *const tap[9], int32_t kl,
+                             int32_t kr, int16_t *out)
 {
     const int16x8_t inv = vdupq_n_s16(NEGOBS_DISP_INVALID);
     const int16x8_t w64 = vdupq_n_s16(64);
@@ -167,24 +186,28 @@ void stx_amean8_simd(const int16_t *const tap[9], int32_t kl, int32_t kr,
         sdh = vmlal_s16(sdh, vget_high_s16(wl), vget_high_s16(vl));
         sdh = vmlal_s16(sdh, vget_high_s16(wr), vget_high_s16(vr));
     }
-    for (j = kl; j >= 1; j--) {
-        int16x8_t v = vld1q_s16(tap[4 - j]);
-        a = vbslq_s16(vceqq_s16(v, inv), a, v);
+    hole = inv;
+    /* holes are the exception: their part only when a centre is one */
+    if (any_u16(vceqq_s16(c, inv))) {
+        for (j = kl; j >= 1; j--) {
+            int16x8_t v = vld1q_s16(tap[4 - j]);
+            a = vbslq_s16(vceqq_s16(v, inv), a, v);
+        }
+        for (j = kr; j >= 1; j--) {
+            int16x8_t v = vld1q_s16(tap[4 + j]);
+            b = vbslq_s16(vceqq_s16(v, inv), b, v);
+        }
+        bad = vorrq_u16(vorrq_u16(vceqq_s16(a, inv), vceqq_s16(b, inv)),
+                        vcgtq_s16(vqabsq_s16(vqsubq_s16(a, b)),
+                                  vdupq_n_s16(NEGOBS_DISP_ONE)));
+        sl = vaddl_s16(vget_low_s16(a), vget_low_s16(b));
+        sh = vaddl_s16(vget_high_s16(a), vget_high_s16(b));
+        /* s - (s >> 31) adds 1 to negative sums: truncation towards zero */
+        sl = vshrq_n_s32(vsubq_s32(sl, vshrq_n_s32(sl, 31)), 1);
+        sh = vshrq_n_s32(vsubq_s32(sh, vshrq_n_s32(sh, 31)), 1);
+        hole = vcombine_s16(vmovn_s32(sl), vmovn_s32(sh));
+        hole = vbslq_s16(bad, inv, hole);
     }
-    for (j = kr; j >= 1; j--) {
-        int16x8_t v = vld1q_s16(tap[4 + j]);
-        b = vbslq_s16(vceqq_s16(v, inv), b, v);
-    }
-    bad = vorrq_u16(
-        vorrq_u16(vceqq_s16(a, inv), vceqq_s16(b, inv)),
-        vcgtq_s16(vqabsq_s16(vqsubq_s16(a, b)), vdupq_n_s16(NEGOBS_DISP_ONE)));
-    sl = vaddl_s16(vget_low_s16(a), vget_low_s16(b));
-    sh = vaddl_s16(vget_high_s16(a), vget_high_s16(b));
-    /* s - (s >> 31) adds 1 to negative sums: truncation towards zero */
-    sl = vshrq_n_s32(vsubq_s32(sl, vshrq_n_s32(sl, 31)), 1);
-    sh = vshrq_n_s32(vsubq_s32(sh, vshrq_n_s32(sh, 31)), 1);
-    hole = vcombine_s16(vmovn_s32(sl), vmovn_s32(sh));
-    hole = vbslq_s16(bad, inv, hole);
     vst1q_s32(sd, sdl);
     vst1q_s32(sd + 4, sdh);
     vst1q_s16(swv, sw);
@@ -193,5 +216,17 @@ void stx_amean8_simd(const int16_t *const tap[9], int32_t kl, int32_t kr,
     amean_finish(cv, sd, swv, hv, out);
 }
 #endif
+
+void stx_amean8_simd(const int16_t *const tap[9], int32_t kl, int32_t kr,
+                     int16_t *out)
+{
+    /* the interior (both line ends 4 or more away) with literal bounds,
+     * so that its loops unroll */
+    if (kl == 4 && kr == 4) {
+        amean8(tap, 4, 4, out);
+    } else {
+        amean8(tap, kl, kr, out);
+    }
+}
 
 #endif /* NEGOBS_SIMD */
