@@ -2,10 +2,11 @@
  * 5x5 window statistics of one row, 8 centres per step (SSE2 or NEON; see
  * stereo_simd.h for the contract and ncc.c for the reference).
  *
- * One 16-byte load per window row covers the columns x - 2 .. x + 13 of
- * the centres x .. x + 7 (12 columns are used). Column sums of the 5 rows
- * are formed first (S: u16, <= 1 275; Q: u32, <= 325 125), then the 5-tap
- * horizontal sums from the same registers shifted by 1..4 lanes:
+ * Centres x .. x + 7 need the columns x - 2 .. x + 9. Column sums of the 5
+ * rows are formed 8 columns at a time from 8-byte loads (S: u16, <= 1 275;
+ * Q: u32, <= 325 125) and each block's upper 8 columns serve as the next
+ * block's lower ones; then the 5-tap horizontal sums come from the two
+ * blocks shifted by 1..4 lanes:
  *   S <= 6 375 (u16), Q <= 1 625 625 (u32), S^2 < 2^26, 25 Q < 2^26,
  * so V = 25 Q - S^2 is exact in u32, as in the reference.
  */
@@ -45,46 +46,52 @@ static void stats_at(const uint8_t *const rows[5], int32_t x, uint16_t *so,
     _mm_or_si128(_mm_srli_si128((lo), 4 * (k)),                               \
                  _mm_slli_si128((hi), 16 - 4 * (k)))
 
-static inline void stats8(const uint8_t *const rows[5], int32_t x,
-                          uint16_t *so, uint32_t *vo)
+/* Column sums of 8 columns: S (u16) and Q (u32, columns 0-3 and 4-7). */
+typedef struct cols8 {
+    __m128i c, qa, qb;
+} cols8_t;
+
+static inline cols8_t cols8(const uint8_t *const rows[5], int32_t col)
 {
     const __m128i z = _mm_setzero_si128();
-    __m128i c0 = z; /* column sums, columns 0-7 / 8-15 */
-    __m128i c1 = z;
-    __m128i q0 = z; /* column sums of squares, columns 0-3 / 4-7 / 8-11 */
-    __m128i q1 = z;
-    __m128i q2 = z;
+    cols8_t r;
+    int32_t k;
+    r.c = z;
+    r.qa = z;
+    r.qb = z;
+    for (k = 0; k < 5; k++) {
+        __m128i v = _mm_unpacklo_epi8(
+            _mm_loadl_epi64((const __m128i *)(rows[k] + col)), z);
+        __m128i q = _mm_mullo_epi16(v, v); /* <= 65 025: exact in u16 */
+        r.c = _mm_add_epi16(r.c, v);
+        r.qa = _mm_add_epi32(r.qa, _mm_unpacklo_epi16(q, z));
+        r.qb = _mm_add_epi32(r.qb, _mm_unpackhi_epi16(q, z));
+    }
+    return r;
+}
+
+/* Centres x .. x + 7 from the columns x - 2 .. x + 5 (lo) and x + 6 ..
+ * x + 13 (hi). */
+static inline void stats8(cols8_t lo, cols8_t hi, int32_t x, uint16_t *so,
+                          uint32_t *vo)
+{
     __m128i s;
     __m128i qa;
     __m128i qb;
     __m128i sl;
     __m128i sh;
-    int32_t k;
-    for (k = 0; k < 5; k++) {
-        __m128i p = _mm_loadu_si128(
-            (const __m128i *)(rows[k] + x - STX_WIN_R));
-        __m128i lo = _mm_unpacklo_epi8(p, z);
-        __m128i hi = _mm_unpackhi_epi8(p, z);
-        __m128i lq = _mm_mullo_epi16(lo, lo); /* <= 65 025: exact in u16 */
-        __m128i hq = _mm_mullo_epi16(hi, hi);
-        c0 = _mm_add_epi16(c0, lo);
-        c1 = _mm_add_epi16(c1, hi);
-        q0 = _mm_add_epi32(q0, _mm_unpacklo_epi16(lq, z));
-        q1 = _mm_add_epi32(q1, _mm_unpackhi_epi16(lq, z));
-        q2 = _mm_add_epi32(q2, _mm_unpacklo_epi16(hq, z));
-    }
     s = _mm_add_epi16(
-        _mm_add_epi16(c0, STX_CAT16(c0, c1, 1)),
-        _mm_add_epi16(STX_CAT16(c0, c1, 2), STX_CAT16(c0, c1, 3)));
-    s = _mm_add_epi16(s, STX_CAT16(c0, c1, 4));
+        _mm_add_epi16(lo.c, STX_CAT16(lo.c, hi.c, 1)),
+        _mm_add_epi16(STX_CAT16(lo.c, hi.c, 2), STX_CAT16(lo.c, hi.c, 3)));
+    s = _mm_add_epi16(s, STX_CAT16(lo.c, hi.c, 4));
     qa = _mm_add_epi32(
-        _mm_add_epi32(q0, STX_CAT32(q0, q1, 1)),
-        _mm_add_epi32(STX_CAT32(q0, q1, 2), STX_CAT32(q0, q1, 3)));
-    qa = _mm_add_epi32(qa, q1);
+        _mm_add_epi32(lo.qa, STX_CAT32(lo.qa, lo.qb, 1)),
+        _mm_add_epi32(STX_CAT32(lo.qa, lo.qb, 2), STX_CAT32(lo.qa, lo.qb, 3)));
+    qa = _mm_add_epi32(qa, lo.qb);
     qb = _mm_add_epi32(
-        _mm_add_epi32(q1, STX_CAT32(q1, q2, 1)),
-        _mm_add_epi32(STX_CAT32(q1, q2, 2), STX_CAT32(q1, q2, 3)));
-    qb = _mm_add_epi32(qb, q2);
+        _mm_add_epi32(lo.qb, STX_CAT32(lo.qb, hi.qa, 1)),
+        _mm_add_epi32(STX_CAT32(lo.qb, hi.qa, 2), STX_CAT32(lo.qb, hi.qa, 3)));
+    qb = _mm_add_epi32(qb, hi.qa);
     /* S^2 as 32-bit lanes from the low and high halves of the products */
     sl = _mm_mullo_epi16(s, s);
     sh = _mm_mulhi_epu16(s, s);
@@ -100,38 +107,49 @@ static inline void stats8(const uint8_t *const rows[5], int32_t x,
                      _mm_sub_epi32(qb, _mm_unpackhi_epi16(sl, sh)));
 }
 #elif defined(NEGOBS_SIMD_NEON)
-static inline void stats8(const uint8_t *const rows[5], int32_t x,
-                          uint16_t *so, uint32_t *vo)
+/* Column sums of 8 columns: S (u16) and Q (u32, columns 0-3 and 4-7). */
+typedef struct cols8 {
+    uint16x8_t c;
+    uint32x4_t qa, qb;
+} cols8_t;
+
+static inline cols8_t cols8(const uint8_t *const rows[5], int32_t col)
 {
-    uint16x8_t c0 = vdupq_n_u16(0);
-    uint16x8_t c1 = vdupq_n_u16(0);
-    uint32x4_t q0 = vdupq_n_u32(0);
-    uint32x4_t q1 = vdupq_n_u32(0);
-    uint32x4_t q2 = vdupq_n_u32(0);
+    cols8_t r;
+    int32_t k;
+    r.c = vdupq_n_u16(0);
+    r.qa = vdupq_n_u32(0);
+    r.qb = vdupq_n_u32(0);
+    for (k = 0; k < 5; k++) {
+        uint8x8_t v = vld1_u8(rows[k] + col);
+        uint16x8_t q = vmull_u8(v, v);
+        r.c = vaddw_u8(r.c, v);
+        r.qa = vaddw_u16(r.qa, vget_low_u16(q));
+        r.qb = vaddw_u16(r.qb, vget_high_u16(q));
+    }
+    return r;
+}
+
+/* Centres x .. x + 7 from the columns x - 2 .. x + 5 (lo) and x + 6 ..
+ * x + 13 (hi). */
+static inline void stats8(cols8_t lo, cols8_t hi, int32_t x, uint16_t *so,
+                          uint32_t *vo)
+{
     uint16x8_t s;
     uint32x4_t qa;
     uint32x4_t qb;
-    int32_t k;
-    for (k = 0; k < 5; k++) {
-        uint8x16_t p = vld1q_u8(rows[k] + x - STX_WIN_R);
-        uint8x8_t lo = vget_low_u8(p);
-        uint8x8_t hi = vget_high_u8(p);
-        uint16x8_t lq = vmull_u8(lo, lo);
-        c0 = vaddw_u8(c0, lo);
-        c1 = vaddw_u8(c1, hi);
-        q0 = vaddw_u16(q0, vget_low_u16(lq));
-        q1 = vaddw_u16(q1, vget_high_u16(lq));
-        q2 = vaddw_u16(q2, vget_low_u16(vmull_u8(hi, hi)));
-    }
-    s = vaddq_u16(vaddq_u16(c0, vextq_u16(c0, c1, 1)),
-                  vaddq_u16(vextq_u16(c0, c1, 2), vextq_u16(c0, c1, 3)));
-    s = vaddq_u16(s, vextq_u16(c0, c1, 4));
-    qa = vaddq_u32(vaddq_u32(q0, vextq_u32(q0, q1, 1)),
-                   vaddq_u32(vextq_u32(q0, q1, 2), vextq_u32(q0, q1, 3)));
-    qa = vaddq_u32(qa, q1);
-    qb = vaddq_u32(vaddq_u32(q1, vextq_u32(q1, q2, 1)),
-                   vaddq_u32(vextq_u32(q1, q2, 2), vextq_u32(q1, q2, 3)));
-    qb = vaddq_u32(qb, q2);
+    s = vaddq_u16(
+        vaddq_u16(lo.c, vextq_u16(lo.c, hi.c, 1)),
+        vaddq_u16(vextq_u16(lo.c, hi.c, 2), vextq_u16(lo.c, hi.c, 3)));
+    s = vaddq_u16(s, vextq_u16(lo.c, hi.c, 4));
+    qa = vaddq_u32(
+        vaddq_u32(lo.qa, vextq_u32(lo.qa, lo.qb, 1)),
+        vaddq_u32(vextq_u32(lo.qa, lo.qb, 2), vextq_u32(lo.qa, lo.qb, 3)));
+    qa = vaddq_u32(qa, lo.qb);
+    qb = vaddq_u32(
+        vaddq_u32(lo.qb, vextq_u32(lo.qb, hi.qa, 1)),
+        vaddq_u32(vextq_u32(lo.qb, hi.qa, 2), vextq_u32(lo.qb, hi.qa, 3)));
+    qb = vaddq_u32(qb, hi.qa);
     vst1q_u16(so + x, s);
     vst1q_u32(vo + x, vmlsl_u16(vmulq_n_u32(qa, STX_WIN_N), vget_low_u16(s),
                                 vget_low_u16(s)));
@@ -145,16 +163,22 @@ void stx_stats_row(const uint8_t *const rows[5], int32_t w, uint16_t *so,
 {
 #if defined(NEGOBS_SIMD)
     int32_t x = STX_WIN_R;
-    /* the load of centre x ends at column x + 13 */
-    for (; x + 13 < w; x += 8) {
-        stats8(rows, x, so, vo);
-    }
-    /* one more block ending at the last column, overlapping the previous
-     * one (it writes the same values) */
-    if (x < w - 6 && w - 14 >= STX_WIN_R) {
-        x = w - 14;
-        stats8(rows, x, so, vo);
-        x += 8;
+    if (x + 13 < w) {
+        /* the columns of centres x .. x + 7 end at x + 13; each block's
+         * upper 8 columns are the next block's lower ones */
+        cols8_t lo = cols8(rows, x - STX_WIN_R);
+        for (; x + 13 < w; x += 8) {
+            cols8_t hi = cols8(rows, x + 6);
+            stats8(lo, hi, x, so, vo);
+            lo = hi;
+        }
+        /* one more block ending at the last column, overlapping the
+         * previous one (it writes the same values) */
+        if (x < w - 6) {
+            x = w - 14;
+            stats8(cols8(rows, x - STX_WIN_R), cols8(rows, x + 6), x, so, vo);
+            x += 8;
+        }
     }
     for (; x < w - STX_WIN_R; x++) {
         stats_at(rows, x, so, vo);
