@@ -35,9 +35,11 @@ static inline void amean_finish(const int16_t *c, const int32_t *sd,
 {
     int32_t l;
     for (l = 0; l < 8; l++) {
-        out[l] = (c[l] != NEGOBS_DISP_INVALID)
-                     ? (int16_t)stx_div_round_pos(sd[l], sw[l])
-                     : hole[l];
+        if (c[l] != NEGOBS_DISP_INVALID) {
+            out[l] = (int16_t)stx_div_round_pos(sd[l], sw[l]);
+        } else {
+            out[l] = hole[l];
+        }
     }
 }
 

@@ -19,10 +19,11 @@ static inline void fixed_terms(const uint8_t *a, int32_t stride, int16_t *ta)
     int32_t s = 0;
     int32_t k;
     for (k = 0; k < 9; k++) {
-        s += a[(k / 3 - 1) * stride + (k % 3 - 1)];
+        s += a[(ptrdiff_t)(k / 3 - 1) * stride + (k % 3 - 1)];
     }
     for (k = 0; k < 9; k++) {
-        ta[k] = (int16_t)(9 * (int32_t)a[(k / 3 - 1) * stride + (k % 3 - 1)] -
+        ta[k] = (int16_t)(9 * (int32_t)a[(ptrdiff_t)(k / 3 - 1) * stride +
+                                         (k % 3 - 1)] -
                           s);
     }
 }
@@ -39,8 +40,9 @@ static inline void zsad8(const int16_t *ta, const uint8_t *b, int32_t stride,
     int32_t k;
     for (k = 0; k < 9; k++) {
         bv[k] = _mm_unpacklo_epi8(
-            _mm_loadl_epi64(
-                (const __m128i *)(b + (k / 3 - 1) * stride + (k % 3 - 1))),
+            _mm_loadl_epi64((const __m128i *)(b +
+                                              (ptrdiff_t)(k / 3 - 1) * stride +
+                                              (k % 3 - 1))),
             z);
         sb = _mm_add_epi16(sb, bv[k]);
     }
@@ -62,8 +64,8 @@ static inline void zsad8(const int16_t *ta, const uint8_t *b, int32_t stride,
     uint16x8_t acc = vdupq_n_u16(0);
     int32_t k;
     for (k = 0; k < 9; k++) {
-        bv[k] = vreinterpretq_s16_u16(
-            vmovl_u8(vld1_u8(b + (k / 3 - 1) * stride + (k % 3 - 1))));
+        bv[k] = vreinterpretq_s16_u16(vmovl_u8(
+            vld1_u8(b + (ptrdiff_t)(k / 3 - 1) * stride + (k % 3 - 1))));
         sb = vaddq_s16(sb, bv[k]);
     }
     for (k = 0; k < 9; k++) {
