@@ -320,7 +320,7 @@ static inline int32_t amean_weight(int32_t v, int32_t c)
     return (wt > 0) ? wt : 0;
 }
 
-/* One line of the adaptive mean: in -> out, n samples. The taps i - j and
+/* The adaptive mean at sample i of a line `in` of n samples. The taps i - j and
  * i + j count only together: where one of them lies beyond the frame
  * border or in a hole, neither does. With both there, a linear profile
  * (a slanted surface: the ground along a column) weighs them alike and
@@ -331,7 +331,6 @@ static inline int32_t amean_weight(int32_t v, int32_t c)
  * rows, by 0.2 deg. Sharing the smaller weight of each pair as well
  * removed the bias too but smoothed less beside depth edges (Cones bad1
  * 4.52 -> 4.76 % against 4.64 % this way). */
-/* Output of the adaptive mean at sample i of a line `in` of n samples. */
 static inline int16_t amean_at(const int16_t *in, int32_t n, int32_t i)
 {
     int32_t c = in[i];
