@@ -188,6 +188,16 @@ int main(int argc, char **argv)
     negobs_motor_schedule_t noinfo_sched;
     int rc;
 
+    {
+        /* First of all: in a library built with -mfpu=neon the compiler may
+         * use NEON in any function (config defaults included), so on a CPU
+         * without it the first library call would die with SIGILL. */
+        char why[256];
+        if (negobs_port_cpu_check(why, sizeof why) != NEGOBS_OK) {
+            fprintf(stderr, "negobs_run: %s\n", why);
+            return EXIT_RUNTIME;
+        }
+    }
     run_log_t0_ms = negobs_clock_now_ms();
     settings_default();
     memset(&args, 0, sizeof args);
@@ -197,14 +207,6 @@ int main(int argc, char **argv)
     }
     if (args.motor_off != NULL) {
         return motor_off(args.motor_off);
-    }
-    {
-        /* a NEON build on a CPU without NEON would die in the first frame */
-        char why[256];
-        if (negobs_port_cpu_check(why, sizeof why) != NEGOBS_OK) {
-            fprintf(stderr, "negobs_run: %s\n", why);
-            return EXIT_RUNTIME;
-        }
     }
     if (check_alert_spec(run_cfg.alert) != 0) {
         return usage_error("bad alert '%s' (want gpio:CHIP:LINE, "
