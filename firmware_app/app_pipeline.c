@@ -260,6 +260,7 @@ app_verdict_t app_process_pair_at(app_pipeline_t *p,
     img[1] = right;
     memset(st, 0, sizeof *st);
     st->latency_ms = -1;
+    p->res_valid = 0;
     if (left == NULL || right == NULL || left->width != right->width ||
         left->height != right->height) {
         st->reason = APP_REASON_BAD_INPUT;
@@ -313,6 +314,8 @@ app_verdict_t app_process_pair_at(app_pipeline_t *p,
             st->reason = APP_REASON_BAD_INPUT;
             return APP_VERDICT_NO_INFO;
         }
+        p->res = res;
+        p->res_valid = 1;
         if (res.stereo_status != NEGOBS_OK) {
             st->reason = APP_REASON_BAD_INPUT;
             return APP_VERDICT_NO_INFO;

@@ -15,6 +15,7 @@
 
 #include "negobs/detect.h"
 #include "negobs/image.h"
+#include "negobs/pipeline.h"
 #include "negobs/status.h"
 #include "negobs/stereo.h"
 
@@ -104,6 +105,10 @@ typedef struct app_pipeline {
     app_frame_stats_t last;
     negobs_stereo_clock_fn clock_ns; /**< app_pipeline_set_clock      */
     void *clock_user;
+    /** The library's whole result for the last pair (negobs_run's JSON
+     *  log); valid only when res_valid (the library ran on it). */
+    negobs_pipeline_result_t res;
+    int32_t res_valid;
 } app_pipeline_t;
 
 void app_pipeline_config_default(app_pipeline_config_t *cfg);

@@ -199,14 +199,21 @@ int main(int argc, char **argv)
         }
     }
     run_log_t0_ms = negobs_clock_now_ms();
+    service_init();
     settings_default();
     memset(&args, 0, sizeof args);
     rc = parse_args(argc, argv, &args);
     if (rc >= 0) {
         return rc;
     }
+    if (args.list_cameras) {
+        return list_cameras(&args);
+    }
     if (args.motor_off != NULL) {
-        return motor_off(args.motor_off);
+        /* "config": the unit's ExecStopPost needs no copy of the spec */
+        return motor_off(strcmp(args.motor_off, "config") == 0
+                             ? run_cfg.alert
+                             : args.motor_off);
     }
     if (check_alert_spec(run_cfg.alert) != 0) {
         return usage_error("bad alert '%s' (want gpio:CHIP:LINE, "
@@ -223,6 +230,10 @@ int main(int argc, char **argv)
             return rc;
         }
     }
+    rc = camera_geometry(&args);
+    if (rc >= 0) {
+        return rc;
+    }
     rc = loop_setup(&noinfo_sched);
     if (rc >= 0) {
         return rc;
@@ -231,6 +242,7 @@ int main(int argc, char **argv)
     if (calib_loaded()) {
         log_calib(run_cfg.calib);
     }
+    warn_default_geometry();
     if (run_cfg.app.vertical_align) {
         logmsg(LOG_INFO, "vertical alignment stage on (sub-pixel, "
                          "row-varying model estimated from the frames)");
@@ -259,23 +271,32 @@ int main(int argc, char **argv)
         }
     }
 
+    button_start(&noinfo_sched);
+    if (run_cfg.log_json[0] != '\0') {
+        json_log_open(run_cfg.log_json);
+    }
     record_start();
     if (open_camera(&args) != 0) {
         record_stop();
+        json_log_close();
+        button_stop();
         negobs_motor_thread_stop(&run_motor);
         negobs_alert_close(&run_alert);
         return EXIT_CAMERA;
     }
     rc = run_loop();
+    service_stopping();
 
     /* Shutdown: camera first, then the motor (off) and its output, then
      * the recording: a stalled card may hold up the writer's last pairs,
      * never the motor's switch-off. */
     negobs_camera_stop(&run_camera);
     negobs_camera_close(&run_camera);
+    button_stop();
     negobs_motor_thread_stop(&run_motor);
     negobs_alert_close(&run_alert);
     record_stop();
+    json_log_close();
     logmsg(LOG_INFO, "exit %d", rc);
     return rc;
 }

@@ -3,6 +3,9 @@
  *   run_settings.c  settings, config keys, command line, log
  *   run_devices.c   motor output, cameras, calibration table
  *   run_loop.c      the main loop: pipeline, alert, recording, status
+ *   run_service.c   systemd readiness/watchdog, journald priorities
+ *   run_json.c      --log-json lines and the recorded session's meta.txt
+ *   run_button.c    the push button (pause, sensitivity presets)
  *   negobs_run.c    signals, start-up and shutdown (main)
  * They share the settings (run_cfg) and the device handles below; the
  * pipeline, the alert state machine, the recorder and the calibration
@@ -73,10 +76,21 @@ typedef struct run_settings {
     char calib[256];
     negobs_alert_config_t alert_cfg;
     app_pipeline_config_t app;
-    bool size_given;     /* --width/--height given                   */
-    bool alert_binary;   /* config alert_binary                      */
-    bool vertical_align; /* config vertical_align                    */
-    bool row_crop;       /* config row_crop                          */
+    int32_t capture_width; /* V4L2 frame asked of the camera, 0 = off */
+    int32_t capture_height;
+    bool size_given;        /* --width/--height given                   */
+    bool alert_binary;      /* config alert_binary                      */
+    bool vertical_align;    /* config vertical_align                    */
+    bool row_crop;          /* config row_crop                          */
+    char camera_left[128];  /* LEFT when none is given on the command line */
+    char camera_right[128]; /* RIGHT, likewise                             */
+    char log_json[256];     /* --log-json FILE: one JSON line per pair     */
+    char button[96];        /* gpio:CHIP:LINE of the push button, or ""    */
+    bool button_active_low; /* pressed = line low (button to ground)       */
+    int32_t button_long_ms; /* held this long: a long press                */
+    int32_t sensitivity;    /* preset at start (run_button.c)              */
+    bool focal_given;       /* focal_px set by config or command line      */
+    bool baseline_given;    /* baseline_mm likewise                        */
 } run_settings_t;
 
 extern run_settings_t run_cfg;
@@ -88,6 +102,9 @@ typedef struct run_args {
     const char *motor_off; /* --motor-off SPEC: switch it off, exit */
     const char *left;
     const char *right;
+    bool list_cameras;             /* --list-cameras [NODE...]          */
+    const char *const *list_nodes; /* the nodes named after it         */
+    int n_list_nodes;
 } run_args_t;
 
 void settings_default(void);
@@ -101,6 +118,10 @@ int check_alert_spec(const char *spec);
 int split_spec(const char *spec, char *kind, size_t klen, char *f1, size_t l1,
                char *f2, size_t l2);
 int parse_u32(const char *s, uint32_t *out);
+/** Warn when f, B or the calibration are the built-in defaults. */
+void warn_default_geometry(void);
+/** Write every config key as `PREFIXkey = value` lines (meta.txt). */
+void settings_write_prefixed(FILE *out, const char *prefix);
 void logmsg(int level, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
 
@@ -115,6 +136,13 @@ int open_alert(const char *spec);
 const char *alert_errmsg(void);
 int motor_off(const char *spec);
 int check_camera_args(const run_args_t *a);
+/** --list-cameras: print what is there; EXIT_OK when a camera is usable,
+ *  else EXIT_CAMERA. */
+int list_cameras(const run_args_t *a);
+/** V4L2 capture size: check it against the processing size and scale
+ *  focal_px by the binning (before the pipeline is set up); -1 to
+ *  continue, else an exit code. */
+int camera_geometry(const run_args_t *a);
 int open_camera(const run_args_t *a);
 const char *camera_status_words(int rc);
 /** Returns -1 to continue, else an exit code. */
@@ -132,10 +160,56 @@ int rectify_pair(const negobs_image_u8_t *l, const negobs_image_u8_t *r,
  *  an exit code (message printed). */
 int loop_setup(negobs_motor_schedule_t *noinfo_sched);
 void alert_post(const negobs_alert_input_t *in);
+/** The alert state machine anew, without READY (after a pause). */
+void alert_restart(void);
 negobs_alert_pattern_t alert_pattern_now(void);
 void record_start(void);
 void record_stop(void);
 int run_loop(void);
+
+/* ---- systemd and journald (run_service.c) --------------------------- */
+
+extern bool run_log_journal; /* stderr is the journal: priority prefixes */
+void service_init(void);
+bool service_watchdog_on(void);
+/** A pair came from the cameras and was handled: READY once, WATCHDOG. */
+void service_pair_done(void);
+void service_status(const char *text);
+void service_stopping(void);
+/** LOG_* -> sd-daemon priority (3 err, 4 warning, 6 info, 7 debug). */
+int service_log_priority(int level);
+
+/* ---- JSON log and session metadata (run_json.c) ---------------------- */
+
+/** Open --log-json FILE; a failure is logged once and the run goes on. */
+void json_log_open(const char *path);
+/** One line for a judged pair (pipeline's last result); never fails the
+ *  run: a write error closes the log, logged once. */
+void json_log_pair(uint32_t index, uint64_t ts_left_ns, uint64_t ts_right_ns,
+                   int32_t w, int32_t h, app_verdict_t v,
+                   const app_pipeline_t *p, negobs_alert_pattern_t pattern,
+                   const char *preset);
+void json_log_close(void);
+/** Calibration identity for meta.txt (run_devices.c). */
+void calib_identity(uint32_t *crc32, size_t *bytes);
+/** meta.txt in the session folder: version, geometry, calibration,
+ *  config. Failure: a warning, the recording goes on. */
+void session_meta_write(const char *dir, const app_pipeline_config_t *app);
+
+/* ---- push button (run_button.c) -------------------------------------- */
+
+/** Start the button thread when run_cfg.button is set; a failure is
+ *  logged and the device runs without its button. */
+void button_start(const negobs_motor_schedule_t *noinfo);
+void button_stop(void);
+/** Apply presses since the last call (pause/resume, preset), with their
+ *  motor confirmation; true while paused. */
+bool button_poll(void);
+/** True while a confirmation pattern plays (verdicts wait). */
+bool button_confirming(void);
+/** Does the current preset pass this verdict to the motor? */
+app_verdict_t button_filter(app_verdict_t v, const app_frame_stats_t *st);
+const char *button_preset_name(void);
 
 /* ---- signals (negobs_run.c) ------------------------------------------ */
 

@@ -7,6 +7,7 @@
 #include "negobs/rectify.h"
 #include "negobs/status.h"
 #include "negobs_port/camera_libcamera.h"
+#include "negobs_port/camera_list.h"
 #include "negobs_port/camera_replay.h"
 #include "negobs_port/camera_v4l2.h"
 #include "run_app.h"
@@ -26,6 +27,13 @@ static negobs_v4l2_t v4l2_state;
 static negobs_libcamera_t libcamera_state;
 /* Replay pixels or packed-format luma: one pair at the largest size. */
 static uint8_t frame_buf[2u * NEGOBS_RUN_MAX_W * NEGOBS_RUN_MAX_H];
+/* V4L2 conversion, per node: a decoded MJPEG frame up to the largest
+ * capture size plus the binned eyes (negobs_v4l2_conv_scratch_bytes()). */
+#define RUN_MAX_CAPTURE_W 2560
+#define RUN_MAX_CAPTURE_H 1024
+static uint8_t
+    v4l2_scratch[2u * ((size_t)RUN_MAX_CAPTURE_W * RUN_MAX_CAPTURE_H +
+                       (size_t)NEGOBS_RUN_MAX_W * NEGOBS_RUN_MAX_H)];
 
 int open_alert(const char *spec)
 {
@@ -124,7 +132,7 @@ int check_camera_args(const run_args_t *a)
     }
     if (strcmp(k, "v4l2") == 0) {
         if (a->right == NULL) {
-            return usage_error("%s", "missing RIGHT camera");
+            return 0; /* one node: side by side */
         }
         if (strcmp(camera_kind(a->right), "v4l2") != 0) {
             return usage_error("RIGHT '%s' must be a V4L2 device too",
@@ -142,6 +150,94 @@ int check_camera_args(const run_args_t *a)
     return usage_error("camera backend '%s' is not built into negobs_run", k);
 }
 
+static const char *v4l2_path(const char *arg)
+{
+    return strncmp(arg, "v4l2:", 5) == 0 ? arg + 5 : arg;
+}
+
+/* One V4L2 node given (or the same twice): both eyes side by side. */
+static bool side_by_side(const run_args_t *a)
+{
+    return strcmp(camera_kind(a->left), "v4l2") == 0 &&
+           (a->right == NULL ||
+            strcmp(v4l2_path(a->right), v4l2_path(a->left)) == 0);
+}
+
+int list_cameras(const run_args_t *a)
+{
+    int usable = 0;
+    int i;
+    if (a->n_list_nodes > 0) {
+        for (i = 0; i < a->n_list_nodes; i++) {
+            if (negobs_v4l2_list_node(v4l2_path(a->list_nodes[i]), stdout) ==
+                NEGOBS_OK) {
+                usable++;
+            }
+        }
+    } else {
+        int lc;
+        printf("V4L2 nodes:\n");
+        usable = negobs_v4l2_list_all(stdout);
+        printf("\nlibcamera cameras:\n");
+        lc = negobs_libcamera_list(stdout);
+        usable += lc > 0 ? lc : 0;
+    }
+    fflush(stdout);
+    if (usable == 0) {
+        fprintf(stderr, "negobs_run: no usable camera found\n");
+        return EXIT_CAMERA;
+    }
+    return EXIT_OK;
+}
+
+/* The plan the configured capture size gives, or -1 when none is set. */
+static int capture_plan(const run_args_t *a, negobs_bin_plan_t *plan)
+{
+    int32_t eye_w;
+    int32_t eye_h;
+    if (strcmp(camera_kind(a->left), "v4l2") != 0 ||
+        (run_cfg.capture_width == 0 && run_cfg.capture_height == 0)) {
+        return -1;
+    }
+    if (run_cfg.capture_width == 0 || run_cfg.capture_height == 0 ||
+        negobs_sbs_eye_size(run_cfg.capture_width, run_cfg.capture_height,
+                            side_by_side(a), &eye_w, &eye_h) != NEGOBS_OK ||
+        negobs_bin_plan(eye_w, eye_h, run_cfg.width, run_cfg.height, plan) !=
+            NEGOBS_OK) {
+        return EXIT_USAGE;
+    }
+    return 0;
+}
+
+int camera_geometry(const run_args_t *a)
+{
+    negobs_bin_plan_t plan;
+    int rc = capture_plan(a, &plan);
+    if (rc < 0) {
+        return -1;
+    }
+    if (rc != 0) {
+        fprintf(stderr,
+                "negobs_run: capture size %ldx%ld%s cannot give %ldx%ld "
+                "(set both capture_width and capture_height, each eye at "
+                "least the processing size)\n",
+                (long)run_cfg.capture_width, (long)run_cfg.capture_height,
+                side_by_side(a) ? " side by side" : "", (long)run_cfg.width,
+                (long)run_cfg.height);
+        return EXIT_USAGE;
+    }
+    /* focal_px is for the captured eye; a calibration table is made on
+     * the processing images and already at their scale */
+    if (!calib_loaded()) {
+        int32_t f_q4 = run_cfg.app.focal_q4 > 0 ? run_cfg.app.focal_q4
+                                                : run_cfg.app.focal_px * 16;
+        negobs_bin_intrinsics_q4(&plan, &f_q4, &run_cfg.app.cx_q4,
+                                 &run_cfg.app.cy_q4);
+        run_cfg.app.focal_q4 = f_q4;
+    }
+    return -1;
+}
+
 /* What a camera or replay status means, for the log line after the
  * backend's own message (which names the file or device). */
 const char *camera_status_words(int rc)
@@ -155,6 +251,39 @@ const char *camera_status_words(int rc)
     case NEGOBS_ERR_UNSUPPORTED: return "not supported";
     default: return negobs_status_str((negobs_status_t)rc);
     }
+}
+
+/* The camera must deliver the capture size the focal was scaled for. */
+static int check_v4l2_geometry(const run_args_t *a)
+{
+    const negobs_v4l2_conv_t *c = &v4l2_state.dev[0].conv;
+    negobs_bin_plan_t want;
+    char cc[5];
+    int i;
+    for (i = 0; i < 4; i++) {
+        cc[i] = (char)((c->fourcc >> (8 * i)) & 0x7Fu);
+    }
+    cc[4] = '\0';
+    logmsg(LOG_INFO,
+           "camera: %s %ldx%ld%s -> %ldx%ld per eye (%ldx%ld bins, crop at "
+           "%ld,%ld)",
+           cc, (long)c->width, (long)c->height,
+           c->side_by_side ? " side by side" : "", (long)c->plan.out_w,
+           (long)c->plan.out_h, (long)c->plan.k, (long)c->plan.k,
+           (long)c->plan.x0, (long)c->plan.y0);
+    if (capture_plan(a, &want) == 0 && (c->width != run_cfg.capture_width ||
+                                        c->height != run_cfg.capture_height)) {
+        logmsg(LOG_ERROR,
+               "camera delivers %ldx%ld, not the capture size %ldx%ld that "
+               "focal_px was scaled for: set capture_width/capture_height "
+               "to a size it lists (negobs_run --list-cameras)",
+               (long)c->width, (long)c->height, (long)run_cfg.capture_width,
+               (long)run_cfg.capture_height);
+        negobs_camera_stop(&run_camera);
+        negobs_camera_close(&run_camera);
+        return -1;
+    }
+    return 0;
 }
 
 int open_camera(const run_args_t *a)
@@ -172,6 +301,9 @@ int open_camera(const run_args_t *a)
     cfg.exposure = run_cfg.exposure;
     cfg.gain = run_cfg.gain;
     cfg.loop = run_cfg.replay_loop;
+    cfg.capture_width = run_cfg.capture_width;
+    cfg.capture_height = run_cfg.capture_height;
+    cfg.side_by_side = side_by_side(a);
     if (strcmp(camera_kind(a->left), "replay") == 0) {
         if (!run_cfg.size_given) {
             cfg.width = 0; /* take the size of the files */
@@ -183,7 +315,7 @@ int open_camera(const run_args_t *a)
         s = negobs_libcamera_init(&libcamera_state, frame_buf,
                                   sizeof frame_buf, &run_camera);
     } else {
-        s = negobs_v4l2_init(&v4l2_state, frame_buf, sizeof frame_buf,
+        s = negobs_v4l2_init(&v4l2_state, v4l2_scratch, sizeof v4l2_scratch,
                              &run_camera);
     }
     if (s == NEGOBS_OK) {
@@ -205,7 +337,10 @@ int open_camera(const run_args_t *a)
         logmsg(LOG_WARN, "replay: %s", negobs_replay_damage(&replay_state));
     }
     logmsg(LOG_INFO, "camera: %s backend, %s %s", run_camera.ops->name,
-           cfg.left, cfg.right);
+           cfg.left, cfg.side_by_side ? "(side by side)" : cfg.right);
+    if (strcmp(camera_kind(a->left), "v4l2") == 0) {
+        return check_v4l2_geometry(a);
+    }
     return 0;
 }
 
@@ -428,4 +563,17 @@ int rectify_pair(const negobs_image_u8_t *l, const negobs_image_u8_t *r,
         return EXIT_CALIB;
     }
     return 0;
+}
+
+/* Which table this is, for a recorded session's meta.txt: its CRC-32
+ * (the table's last 4 bytes, docs/CALIBRATION.md) and length. */
+void calib_identity(uint32_t *crc32, size_t *bytes)
+{
+    uint32_t total = calib_bytes >= NEGOBS_RECTIFY_HEADER_BYTES
+                         ? rd_u32le(calib_table + 16)
+                         : 0u;
+    *crc32 = (total >= 4u && (size_t)total <= calib_bytes)
+                 ? rd_u32le(calib_table + total - 4u)
+                 : 0u;
+    *bytes = calib_bytes;
 }

@@ -56,6 +56,13 @@ int loop_setup(negobs_motor_schedule_t *noinfo_sched)
     return -1;
 }
 
+void alert_restart(void)
+{
+    negobs_alert_config_t c = run_cfg.alert_cfg;
+    c.ready_on_start = 0;
+    (void)app_alert_init(&alert_sm, &c); /* checked by loop_setup() */
+}
+
 negobs_alert_pattern_t alert_pattern_now(void)
 {
     return app_alert_pattern(&alert_sm);
@@ -191,6 +198,7 @@ void record_start(void)
         return;
     }
     logmsg(LOG_INFO, "recording to %s", run_cfg.record);
+    session_meta_write(run_cfg.record, &run_cfg.app);
 }
 
 /* Hand the pair to the writer thread (never waits for the card); say
@@ -299,8 +307,15 @@ static int judge_pair(negobs_frame_pair_t *pair, uint64_t now, uint32_t done,
         v = app_pipeline_latency_gate(
             &pipeline, v, (int32_t)((age_ms > 600000u) ? 600000u : age_ms));
     }
+    v = button_filter(v, &pipeline.last);
     app_alert_input(v, &pipeline.last, 0u, &in);
-    alert_post(&in);
+    if (!button_confirming()) {
+        alert_post(&in);
+    }
+    /* after the post: the pattern this verdict set */
+    json_log_pair(done, pair->left.ts_ns, pair->right.ts_ns, img_l->width,
+                  img_l->height, v, &pipeline, alert_pattern_now(),
+                  button_preset_name());
     logmsg(LOG_DEBUG, "pair %lu verdict %s first_row %ld", (unsigned long)done,
            app_verdict_name(v), (long)pipeline.last.first_row);
     if (run_log_level >= LOG_DEBUG && pipeline.last.stereo_us > 0u) {
@@ -348,6 +363,7 @@ int run_loop(void)
     uint32_t done = 0;
     int last_err = NEGOBS_OK;
     bool motor_failing = false;
+    bool paused = false;
     memset(&st, 0, sizeof st);
     st.window_start_ms = negobs_clock_now_ms();
     st.next_ms = st.window_start_ms + (uint64_t)run_cfg.status_interval_ms;
@@ -358,11 +374,17 @@ int run_loop(void)
         int rc = negobs_camera_get_pair(&run_camera, &pair,
                                         run_cfg.watchdog_ms);
         now = negobs_clock_now_ms();
-        if (rc == NEGOBS_OK) {
+        paused = button_poll();
+        if (rc == NEGOBS_OK && paused) {
+            /* taken, not judged: the cameras and this loop are alive */
+            negobs_camera_release(&run_camera, &pair);
+            service_pair_done();
+        } else if (rc == NEGOBS_OK) {
             int erc = judge_pair(&pair, now, done, &st);
             if (erc >= 0) {
                 return erc;
             }
+            service_pair_done();
             last_err = NEGOBS_OK;
             done++;
             if (run_cfg.frames > 0 && done >= (uint32_t)run_cfg.frames) {
@@ -381,7 +403,9 @@ int run_loop(void)
              * (the library keeps a recent IMMINENT for its hold time). */
             negobs_alert_input_t in;
             app_alert_input(APP_VERDICT_NO_INFO, NULL, 0u, &in);
-            alert_post(&in);
+            if (!paused && !button_confirming()) {
+                alert_post(&in);
+            }
             if (rc != last_err) {
                 logmsg(LOG_WARN, "camera: %s%s%s",
                        negobs_status_str((negobs_status_t)rc),

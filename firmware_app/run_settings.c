@@ -9,7 +9,7 @@
 
 #include "negobs/version.h"
 #include "negobs_port/clock.h"
-#include "negobs_port/config.h"
+#include "app_config.h"
 #include "run_app.h"
 
 run_settings_t run_cfg;
@@ -18,107 +18,130 @@ uint64_t run_log_t0_ms;
 
 #define N_KEYS (sizeof config_keys / sizeof config_keys[0])
 
-static const negobs_cfg_key_t config_keys[] = {
-    {"alert", NEGOBS_CFG_STRING, run_cfg.alert, 0, sizeof run_cfg.alert,
+static const app_cfg_key_t config_keys[] = {
+    {"alert", APP_CFG_STRING, run_cfg.alert, 0, sizeof run_cfg.alert,
      "gpio:CHIP:LINE | pwm:CHIP:CHANNEL | console | none"},
-    {"width", NEGOBS_CFG_INT, &run_cfg.width, 16, NEGOBS_RUN_MAX_W,
+    {"width", APP_CFG_INT, &run_cfg.width, 16, NEGOBS_RUN_MAX_W,
      "capture width in pixels (default 640)"},
-    {"height", NEGOBS_CFG_INT, &run_cfg.height, 16, NEGOBS_RUN_MAX_H,
+    {"height", APP_CFG_INT, &run_cfg.height, 16, NEGOBS_RUN_MAX_H,
      "capture height in pixels (default 480)"},
-    {"fps", NEGOBS_CFG_INT, &run_cfg.fps, 0, 240,
+    {"capture_width", APP_CFG_INT, &run_cfg.capture_width, 0, NEGOBS_MAX_DIM,
+     "V4L2: frame width asked of the camera (both eyes when side by side); "
+     "each eye is cropped and binned to width x height, focal_px is for "
+     "this size; 0 = no binning (default 0)"},
+    {"capture_height", APP_CFG_INT, &run_cfg.capture_height, 0, NEGOBS_MAX_DIM,
+     "V4L2: frame height asked of the camera (default 0)"},
+    {"fps", APP_CFG_INT, &run_cfg.fps, 0, 240,
      "frame rate; replay: pacing, 0 = as fast as possible (default 30)"},
-    {"frames", NEGOBS_CFG_INT, &run_cfg.frames, 0, INT32_MAX,
+    {"frames", APP_CFG_INT, &run_cfg.frames, 0, INT32_MAX,
      "stop after this many pairs, 0 = run until stopped (default 0)"},
-    {"record", NEGOBS_CFG_STRING, run_cfg.record, 0, sizeof run_cfg.record,
+    {"record", APP_CFG_STRING, run_cfg.record, 0, sizeof run_cfg.record,
      "record every pair to this folder (default: off)"},
-    {"log_level", NEGOBS_CFG_STRING, run_cfg.log_level, 0,
+    {"log_level", APP_CFG_STRING, run_cfg.log_level, 0,
      sizeof run_cfg.log_level, "error | warn | info | debug (default info)"},
-    {"pair_tolerance_ms", NEGOBS_CFG_INT, &run_cfg.pair_tol_ms, 0, 1000,
+    {"pair_tolerance_ms", APP_CFG_INT, &run_cfg.pair_tol_ms, 0, 1000,
      "max left/right timestamp difference of a pair (default 10)"},
-    {"frozen_frames", NEGOBS_CFG_INT, &run_cfg.frozen_frames, 0, 10000,
+    {"frozen_frames", APP_CFG_INT, &run_cfg.frozen_frames, 0, 10000,
      "identical frames in a row after which a V4L2 camera counts as "
      "frozen -> no-info; 0 = off (default 10)"},
-    {"watchdog_ms", NEGOBS_CFG_INT, &run_cfg.watchdog_ms, 50, 10000,
+    {"watchdog_ms", APP_CFG_INT, &run_cfg.watchdog_ms, 50, 10000,
      "no fresh pair for this long -> no-info pattern (default 300)"},
-    {"exposure", NEGOBS_CFG_INT, &run_cfg.exposure, -1, INT32_MAX,
+    {"exposure", APP_CFG_INT, &run_cfg.exposure, -1, INT32_MAX,
      "manual exposure for both cameras, driver units; -1 auto (default)"},
-    {"gain", NEGOBS_CFG_INT, &run_cfg.gain, -1, INT32_MAX,
+    {"gain", APP_CFG_INT, &run_cfg.gain, -1, INT32_MAX,
      "gain for both cameras, driver units; -1 leave as is (default)"},
-    {"pwm_period_ns", NEGOBS_CFG_INT, &run_cfg.pwm_period_ns, 1000, 1000000000,
+    {"pwm_period_ns", APP_CFG_INT, &run_cfg.pwm_period_ns, 1000, 1000000000,
      "PWM period (default 1000000 = 1 kHz)"},
-    {"pwm_sysfs_root", NEGOBS_CFG_STRING, run_cfg.pwm_sysfs_root, 0,
+    {"pwm_sysfs_root", APP_CFG_STRING, run_cfg.pwm_sysfs_root, 0,
      sizeof run_cfg.pwm_sysfs_root,
      "sysfs PWM class folder (default /sys/class/pwm)"},
-    {"gpio_active_low", NEGOBS_CFG_BOOL, &run_cfg.gpio_active_low, 0, 1,
+    {"gpio_active_low", APP_CFG_BOOL, &run_cfg.gpio_active_low, 0, 1,
      "motor on = line low (default false)"},
-    {"replay_loop", NEGOBS_CFG_BOOL, &run_cfg.replay_loop, 0, 1,
+    {"replay_loop", APP_CFG_BOOL, &run_cfg.replay_loop, 0, 1,
      "start a replay over at its end (default false)"},
-    {"status_interval_ms", NEGOBS_CFG_INT, &run_cfg.status_interval_ms, 100,
+    {"status_interval_ms", APP_CFG_INT, &run_cfg.status_interval_ms, 100,
      600000, "period of the status line (default 1000)"},
-    {"dark_mean_min", NEGOBS_CFG_INT, &run_cfg.app.dark_mean_min, 0, 255,
+    {"dark_mean_min", APP_CFG_INT, &run_cfg.app.dark_mean_min, 0, 255,
      "mean grey below this -> no-info (default 20)"},
-    {"saturation_permille_max", NEGOBS_CFG_INT, &run_cfg.app.sat_permille_max,
-     0, 1000, "share of pixels >= 250 above this -> no-info (default 300)"},
-    {"texture_std_min", NEGOBS_CFG_INT, &run_cfg.app.texture_std_min, 0, 127,
+    {"saturation_permille_max", APP_CFG_INT, &run_cfg.app.sat_permille_max, 0,
+     1000, "share of pixels >= 250 above this -> no-info (default 300)"},
+    {"texture_std_min", APP_CFG_INT, &run_cfg.app.texture_std_min, 0, 127,
      "5x5 std dev that counts as texture (default 4)"},
-    {"texture_permille_min", NEGOBS_CFG_INT, &run_cfg.app.texture_permille_min,
-     0, 1000, "share of textured windows below this -> no-info (default 20)"},
-    {"lr_mean_diff_max", NEGOBS_CFG_INT, &run_cfg.app.lr_mean_diff_max, 0, 255,
+    {"texture_permille_min", APP_CFG_INT, &run_cfg.app.texture_permille_min, 0,
+     1000, "share of textured windows below this -> no-info (default 20)"},
+    {"lr_mean_diff_max", APP_CFG_INT, &run_cfg.app.lr_mean_diff_max, 0, 255,
      "left/right mean grey difference above this -> no-info (default 60)"},
-    {"focal_px", NEGOBS_CFG_INT, &run_cfg.app.focal_px, 50, 4000,
+    {"focal_px", APP_CFG_INT, &run_cfg.app.focal_px, 50, 4000,
      "focal length of the rectified frames, pixels (default 250)"},
-    {"baseline_mm", NEGOBS_CFG_INT, &run_cfg.app.baseline_mm, 10, 1000,
+    {"baseline_mm", APP_CFG_INT, &run_cfg.app.baseline_mm, 10, 1000,
      "stereo baseline, mm (default 120)"},
-    {"cam_height_mm", NEGOBS_CFG_INT, &run_cfg.app.cam_height_mm, 0, 3000,
+    {"cam_height_mm", APP_CFG_INT, &run_cfg.app.cam_height_mm, 0, 3000,
      "camera height hint, mm (default 1200; 0: no hint); the detector "
      "measures the mounting, the hint only verifies the start"},
-    {"cam_pitch_mdeg", NEGOBS_CFG_INT, &run_cfg.app.cam_pitch_mdeg, 0, 60000,
+    {"cam_pitch_mdeg", APP_CFG_INT, &run_cfg.app.cam_pitch_mdeg, 0, 60000,
      "downward pitch hint, 1/1000 degree (default 20000)"},
-    {"max_disp", NEGOBS_CFG_INT, &run_cfg.app.max_disp, 8, 255,
+    {"max_disp", APP_CFG_INT, &run_cfg.app.max_disp, 8, 255,
      "largest disparity searched, pixels (default 63)"},
-    {"vertical_align", NEGOBS_CFG_BOOL, &run_cfg.vertical_align, 0, 1,
+    {"vertical_align", APP_CFG_BOOL, &run_cfg.vertical_align, 0, 1,
      "estimate and remove a sub-pixel, row-varying vertical misalignment "
      "before matching, for rigs without a calibration table (default "
      "false)"},
-    {"row_crop", NEGOBS_CFG_BOOL, &run_cfg.row_crop, 0, 1,
+    {"row_crop", APP_CFG_BOOL, &run_cfg.row_crop, 0, 1,
      "match only the rows from the top of the warning range down, found "
      "from the last frame's ground (about 15-30 % less matching time); "
      "false matches every row (default true)"},
-    {"calib", NEGOBS_CFG_STRING, run_cfg.calib, 0, sizeof run_cfg.calib,
+    {"calib", APP_CFG_STRING, run_cfg.calib, 0, sizeof run_cfg.calib,
      "rectification table from negobs_calib; its f, B, cx, cy replace "
      "focal_px and baseline_mm (default: none, frames are rectified)"},
-    {"alert_intensity_permille", NEGOBS_CFG_INT,
+    {"alert_intensity_permille", APP_CFG_INT,
      &run_cfg.alert_cfg.intensity_permille, 1, 1000,
      "drive level of every pulse (default 1000)"},
-    {"caution_far_mm", NEGOBS_CFG_INT, &run_cfg.alert_cfg.band_far_mm, 0,
-     100000,
+    {"caution_far_mm", APP_CFG_INT, &run_cfg.alert_cfg.band_far_mm, 0, 100000,
      "caution range >= this: slow double pulse every 1.0 s (default 3000)"},
-    {"caution_mid_mm", NEGOBS_CFG_INT, &run_cfg.alert_cfg.band_mid_mm, 0,
-     100000,
+    {"caution_mid_mm", APP_CFG_INT, &run_cfg.alert_cfg.band_mid_mm, 0, 100000,
      "caution range >= this: every 0.6 s, nearer every 0.4 s (default "
      "2200; <= caution_far_mm)"},
-    {"alert_binary", NEGOBS_CFG_BOOL, &run_cfg.alert_binary, 0, 1,
+    {"alert_binary", APP_CFG_BOOL, &run_cfg.alert_binary, 0, 1,
      "one caution pattern (every 0.6 s) whatever the range (default false)"},
-    {"imminent_hold_ms", NEGOBS_CFG_INT, &run_cfg.alert_cfg.imminent_hold_ms,
-     0, 5000,
+    {"imminent_hold_ms", APP_CFG_INT, &run_cfg.alert_cfg.imminent_hold_ms, 0,
+     5000,
      "imminent keeps playing this long after its last verdict "
      "(default 1000)"},
-    {"heartbeat_period_ms", NEGOBS_CFG_INT,
+    {"heartbeat_period_ms", APP_CFG_INT,
      &run_cfg.alert_cfg.heartbeat_period_ms, 0, 60000,
      "while clear, one brief pulse this often so a dead device is noticed; "
      "0 = off, else >= 1000 (default 5000)"},
-    {"heartbeat_pulse_ms", NEGOBS_CFG_INT,
-     &run_cfg.alert_cfg.heartbeat_pulse_ms, 0, 15000,
+    {"heartbeat_pulse_ms", APP_CFG_INT, &run_cfg.alert_cfg.heartbeat_pulse_ms,
+     0, 15000,
      "length of the heartbeat pulse, 80 .. a quarter of the "
      "period (default 80)"},
-    {"max_frame_age_ms", NEGOBS_CFG_INT, &run_cfg.app.max_frame_age_ms, 1,
-     60000,
+    {"max_frame_age_ms", APP_CFG_INT, &run_cfg.app.max_frame_age_ms, 1, 60000,
      "age of a pair when its processing starts above which it is stale -> "
      "no-info (default 150; raise only for slow emulators)"},
-    {"latency_budget_ms", NEGOBS_CFG_INT, &run_cfg.app.latency_budget_ms, 0,
+    {"latency_budget_ms", APP_CFG_INT, &run_cfg.app.latency_budget_ms, 0,
      60000,
      "capture-to-verdict time above which a clear verdict is not trusted "
      "-> no-info; warnings pass (default 250; 0 = off)"},
+    {"camera_left", APP_CFG_STRING, run_cfg.camera_left, 0,
+     sizeof run_cfg.camera_left,
+     "LEFT camera when the command line names none (the service's way)"},
+    {"camera_right", APP_CFG_STRING, run_cfg.camera_right, 0,
+     sizeof run_cfg.camera_right,
+     "RIGHT camera, likewise (empty for replay:DIR)"},
+    {"log_json", APP_CFG_STRING, run_cfg.log_json, 0, sizeof run_cfg.log_json,
+     "one JSON line per judged pair to this file, negobs_png's fields "
+     "(default: off)"},
+    {"button", APP_CFG_STRING, run_cfg.button, 0, sizeof run_cfg.button,
+     "push button input gpio:CHIP:LINE (file:PATH: its first byte, '1' "
+     "pressed; tests): long press pause/resume, short press next "
+     "sensitivity preset (default: none)"},
+    {"button_active_low", APP_CFG_BOOL, &run_cfg.button_active_low, 0, 1,
+     "pressed = line low, a button to ground with a pull-up (default true)"},
+    {"button_long_ms", APP_CFG_INT, &run_cfg.button_long_ms, 300, 10000,
+     "a press held this long is a long press (default 1000)"},
+    {"sensitivity", APP_CFG_INT, &run_cfg.sensitivity, 0, 2,
+     "preset at start: 0 every warning, 1 caution only nearer than "
+     "caution_mid_mm, 2 imminent only (default 0)"},
 };
 
 void settings_default(void)
@@ -140,6 +163,8 @@ void settings_default(void)
                    "/sys/class/pwm");
     run_cfg.status_interval_ms = 1000;
     run_cfg.row_crop = true;
+    run_cfg.button_active_low = true;
+    run_cfg.button_long_ms = 1000;
     negobs_alert_config_default(&run_cfg.alert_cfg);
     app_pipeline_config_default(&run_cfg.app);
 }
@@ -155,6 +180,9 @@ void logmsg(int level, const char *fmt, ...)
         return;
     }
     t = negobs_clock_now_ms() - run_log_t0_ms;
+    if (run_log_journal) {
+        fprintf(stderr, "<%d>", service_log_priority(level));
+    }
     fprintf(stderr, "[%5lu.%03lu] %s: ", (unsigned long)(t / 1000u),
             (unsigned long)(t % 1000u), tag[level]);
     va_start(ap, fmt);
@@ -186,9 +214,12 @@ static void usage(FILE *out)
         out,
         "Usage: negobs_run [options] LEFT RIGHT\n"
         "       negobs_run [options] replay:DIR\n"
-        "       negobs_run [--config FILE] --motor-off SPEC\n"
+        "       negobs_run --config FILE      (cameras from camera_left/right)\n"
+        "       negobs_run [--config FILE] --motor-off SPEC|config\n"
+        "       negobs_run --list-cameras [/dev/videoN...]\n"
         "\n"
         "Warns of drop-offs ahead through a vibration motor, from a stereo pair.\n"
+        "One V4L2 node alone (or twice): both eyes side by side in each frame.\n"
         "LEFT/RIGHT: /dev/videoN (V4L2) or replay:DIR (a folder of left_NNNN.pgm /\n"
         "right_NNNN.pgm pairs or a session recorded with --record) or libcamera:N /\n"
         "libcamera:ID (index or id of a libcamera camera). A bare name uses\n"
@@ -215,8 +246,17 @@ static void usage(FILE *out)
         "  --frames N           stop after N pairs (default: run until stopped)\n"
         "  --record DIR         record every pair as a session (see docs/RUNNING.md)\n"
         "  --log-level LEVEL    error | warn | info | debug (default info)\n"
+        "  --log-json FILE      one JSON line per judged pair (negobs_png's fields)\n"
+        "  --set KEY=VALUE      any config key below (after --config; repeatable)\n"
+        "  --print-config       print the settings in effect (config file syntax)\n"
+        "                       and exit\n"
         "  --motor-off SPEC     switch the motor output SPEC off and exit (the\n"
-        "                       service's ExecStopPost; no camera arguments)\n"
+        "                       service's ExecStopPost; no camera arguments);\n"
+        "                       'config': the config's alert\n"
+        "  --list-cameras [NODE...]  list V4L2 nodes (all /dev/video*, or those\n"
+        "                       named) and libcamera cameras with their formats,\n"
+        "                       sizes and rates, and whether negobs can use them;\n"
+        "                       exit 0 when one is usable, else 4\n"
         "  --help               this text, then the config keys\n"
         "  --version            print the version\n"
         "\n"
@@ -241,7 +281,32 @@ int usage_error(const char *fmt, const char *arg)
 static int check_config_value(void *user, const char *key, const char *value,
                               char *why, size_t why_len)
 {
+    char kind[16];
+    char f1[64];
+    char f2[16];
+    uint32_t u;
     (void)user;
+    if (strcmp(key, "focal_px") == 0) {
+        run_cfg.focal_given = true;
+    } else if (strcmp(key, "baseline_mm") == 0) {
+        run_cfg.baseline_given = true;
+    } else if (strcmp(key, "width") == 0 || strcmp(key, "height") == 0) {
+        if (user != NULL) {
+            /* --set, as --width/--height: no longer the replay's size */
+            run_cfg.size_given = true;
+        }
+    }
+    if (strcmp(key, "button") == 0 && value[0] != '\0' &&
+        !(strncmp(value, "file:", 5) == 0 && value[5] != '\0') &&
+        (split_spec(value, kind, sizeof kind, f1, sizeof f1, f2, sizeof f2) !=
+             2 ||
+         strcmp(kind, "gpio") != 0 || f1[0] == '\0' ||
+         parse_u32(f2, &u) != 0)) {
+        (void)snprintf(why, why_len,
+                       "bad button '%s' (want gpio:CHIP:LINE or file:PATH)",
+                       value);
+        return -1;
+    }
     if (strcmp(key, "alert") == 0 && check_alert_spec(value) != 0) {
         (void)snprintf(why, why_len,
                        "bad alert '%s' (want gpio:CHIP:LINE, "
@@ -259,6 +324,71 @@ static int check_config_value(void *user, const char *key, const char *value,
     return 0;
 }
 
+/* --set KEY=VALUE: any key of the table, vetted as in the config file;
+ * -1 to go on, else the exit code (2: a usage error). */
+static int set_option(const char *kv)
+{
+    char key[64];
+    char why[128];
+    const char *eq = strchr(kv, '=');
+    app_cfg_error_t err;
+    size_t n = eq != NULL ? (size_t)(eq - kv) : 0u;
+    if (eq == NULL || n == 0u || n >= sizeof key) {
+        return usage_error("--set wants KEY=VALUE, got '%s'", kv);
+    }
+    memcpy(key, kv, n);
+    key[n] = '\0';
+    memset(&err, 0, sizeof err);
+    if (app_config_set(config_keys, N_KEYS, key, eq + 1, &err) != NEGOBS_OK) {
+        return usage_error("--set: %s", err.msg);
+    }
+    why[0] = '\0';
+    if (check_config_value(&run_cfg, key, eq + 1, why, sizeof why) != 0) {
+        fprintf(stderr, "negobs_run: --set %s: %s\n", key, why);
+        return usage_error("%s", "bad --set value");
+    }
+    return -1;
+}
+
+/* Pass 1 of the command line: --help/--version win; the config file is
+ * read first so that options override it whatever their order. -1 to go
+ * on, else the exit code. */
+static int read_config_first(int argc, char **argv, run_args_t *a)
+{
+    app_cfg_error_t err;
+    int i;
+    for (i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--") == 0) {
+            break;
+        }
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            usage(stdout);
+            printf("\nConfig file keys (key = value, '#' comments):\n");
+            app_config_print_keys(stdout, config_keys, N_KEYS);
+            return EXIT_OK;
+        }
+        if (strcmp(argv[i], "--version") == 0) {
+            printf("negobs_run %s\n", NEGOBS_VERSION_STRING);
+            return EXIT_OK;
+        }
+        if (strcmp(argv[i], "--config") == 0 && i + 1 < argc) {
+            a->config = argv[i + 1];
+        } else if (strncmp(argv[i], "--config=", 9) == 0) {
+            a->config = argv[i] + 9;
+        }
+    }
+    if (a->config != NULL) {
+        memset(&err, 0, sizeof err);
+        if (app_config_parse_file_checked(a->config, config_keys, N_KEYS,
+                                          check_config_value, NULL,
+                                          &err) != NEGOBS_OK) {
+            fprintf(stderr, "negobs_run: %s: %s\n", a->config, err.msg);
+            return EXIT_CONFIG;
+        }
+    }
+    return -1;
+}
+
 /* Returns -1 to continue, else an exit code. */
 int parse_args(int argc, char **argv, run_args_t *a)
 {
@@ -274,7 +404,11 @@ int parse_args(int argc, char **argv, run_args_t *a)
         O_HELP,
         O_VERSION,
         O_CALIB,
-        O_MOTOR_OFF
+        O_MOTOR_OFF,
+        O_SET,
+        O_LOG_JSON,
+        O_PRINT_CONFIG,
+        O_LIST_CAMERAS
     };
     static const struct option opts[] = {
         {"config", required_argument, NULL, O_CONFIG},
@@ -289,42 +423,20 @@ int parse_args(int argc, char **argv, run_args_t *a)
         {"help", no_argument, NULL, O_HELP},
         {"version", no_argument, NULL, O_VERSION},
         {"motor-off", required_argument, NULL, O_MOTOR_OFF},
+        {"set", required_argument, NULL, O_SET},
+        {"log-json", required_argument, NULL, O_LOG_JSON},
+        {"print-config", no_argument, NULL, O_PRINT_CONFIG},
+        {"list-cameras", no_argument, NULL, O_LIST_CAMERAS},
         {NULL, 0, NULL, 0},
     };
-    negobs_cfg_error_t err;
-    int i;
+    app_cfg_error_t err;
+    bool print_config = false;
+    int rc;
     int c;
 
-    /* Pass 1: --help/--version win; the config file comes first so that
-     * options override it whatever their order. */
-    for (i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--") == 0) {
-            break;
-        }
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            usage(stdout);
-            printf("\nConfig file keys (key = value, '#' comments):\n");
-            negobs_config_print_keys(stdout, config_keys, N_KEYS);
-            return EXIT_OK;
-        }
-        if (strcmp(argv[i], "--version") == 0) {
-            printf("negobs_run %s\n", NEGOBS_VERSION_STRING);
-            return EXIT_OK;
-        }
-        if (strcmp(argv[i], "--config") == 0 && i + 1 < argc) {
-            a->config = argv[i + 1];
-        } else if (strncmp(argv[i], "--config=", 9) == 0) {
-            a->config = argv[i] + 9;
-        }
-    }
-    if (a->config != NULL) {
-        memset(&err, 0, sizeof err);
-        if (negobs_config_parse_file_checked(a->config, config_keys, N_KEYS,
-                                             check_config_value, NULL,
-                                             &err) != NEGOBS_OK) {
-            fprintf(stderr, "negobs_run: %s: %s\n", a->config, err.msg);
-            return EXIT_CONFIG;
-        }
+    rc = read_config_first(argc, argv, a);
+    if (rc >= 0) {
+        return rc;
     }
 
     /* Pass 2: options, through the same table as the config file. */
@@ -335,6 +447,7 @@ int parse_args(int argc, char **argv, run_args_t *a)
         switch (c) {
         case O_CONFIG: continue;
         case O_MOTOR_OFF: a->motor_off = optarg; continue;
+        case O_LIST_CAMERAS: a->list_cameras = true; continue;
         case O_ALERT: key = "alert"; break;
         case O_WIDTH:
             key = "width";
@@ -349,13 +462,21 @@ int parse_args(int argc, char **argv, run_args_t *a)
         case O_RECORD: key = "record"; break;
         case O_CALIB: key = "calib"; break;
         case O_LOG: key = "log_level"; break;
+        case O_LOG_JSON: key = "log_json"; break;
+        case O_PRINT_CONFIG: print_config = true; continue;
+        case O_SET:
+            rc = set_option(optarg);
+            if (rc >= 0) {
+                return rc;
+            }
+            continue;
         case ':':
             return usage_error("option '%s' needs a value", argv[optind - 1]);
         case '?':
         default: return usage_error("unknown option '%s'", argv[optind - 1]);
         }
         memset(&err, 0, sizeof err);
-        if (negobs_config_set(config_keys, N_KEYS, key, optarg, &err) !=
+        if (app_config_set(config_keys, N_KEYS, key, optarg, &err) !=
             NEGOBS_OK) {
             return usage_error("%s", err.msg);
         }
@@ -363,7 +484,17 @@ int parse_args(int argc, char **argv, run_args_t *a)
     if (parse_log_level(run_cfg.log_level) < 0) {
         return usage_error("bad log level '%s'", run_cfg.log_level);
     }
+    if (print_config) {
+        /* what the service would run with, as a config file */
+        settings_write_prefixed(stdout, "");
+        return EXIT_OK;
+    }
     run_log_level = parse_log_level(run_cfg.log_level);
+    if (a->list_cameras) {
+        a->list_nodes = (const char *const *)(argv + optind);
+        a->n_list_nodes = argc - optind;
+        return -1;
+    }
     if (a->motor_off != NULL) {
         if (optind < argc) {
             return usage_error("--motor-off takes no camera argument ('%s')",
@@ -371,8 +502,15 @@ int parse_args(int argc, char **argv, run_args_t *a)
         }
         return -1;
     }
+    if (optind >= argc && run_cfg.camera_left[0] != '\0') {
+        a->left = run_cfg.camera_left;
+        a->right = run_cfg.camera_right[0] != '\0' ? run_cfg.camera_right
+                                                   : NULL;
+        return -1;
+    }
     if (optind >= argc) {
-        return usage_error("%s", "missing camera arguments LEFT RIGHT");
+        return usage_error("%s", "missing camera arguments LEFT RIGHT (or "
+                                 "camera_left/camera_right in the config)");
     }
     a->left = argv[optind++];
     if (optind < argc) {
@@ -456,4 +594,52 @@ int check_alert_spec(const char *spec)
         return 0;
     }
     return -1;
+}
+
+/* Wrong geometry silently mis-ranges every drop-off: say so when the
+ * rig's f or B, or the rectification, are the built-in guesses. The
+ * mounting needs no warning: the detector measures it on the floor. */
+void warn_default_geometry(void)
+{
+    if (calib_loaded()) {
+        return; /* the table's measured f, B, cx, cy are used */
+    }
+    if (!run_cfg.focal_given) {
+        logmsg(LOG_WARN,
+               "geometry: focal_px %ld is the built-in default, not this "
+               "rig's: ranges will be wrong (set focal_px, or --calib)",
+               (long)run_cfg.app.focal_px);
+    }
+    if (!run_cfg.baseline_given) {
+        logmsg(LOG_WARN,
+               "geometry: baseline_mm %ld is the built-in default, not this "
+               "rig's: ranges will be wrong (set baseline_mm, or --calib)",
+               (long)run_cfg.app.baseline_mm);
+    }
+    logmsg(LOG_WARN, "geometry: no calibration table: the frames are taken "
+                     "as rectified (negobs_calib, then calib = TABLE)");
+}
+
+/* Every key as `key = value` (the config file's syntax). */
+void settings_write_prefixed(FILE *out, const char *prefix)
+{
+    size_t i;
+    for (i = 0; i < N_KEYS; i++) {
+        const app_cfg_key_t *k = &config_keys[i];
+        switch (k->type) {
+        case APP_CFG_INT:
+            fprintf(out, "%s%s = %ld\n", prefix, k->key,
+                    (long)*(const int32_t *)k->ptr);
+            break;
+        case APP_CFG_BOOL:
+            fprintf(out, "%s%s = %s\n", prefix, k->key,
+                    *(const bool *)k->ptr ? "true" : "false");
+            break;
+        default:
+            fprintf(out, "%s%s =%s%s\n", prefix, k->key,
+                    ((const char *)k->ptr)[0] != '\0' ? " " : "",
+                    (const char *)k->ptr);
+            break;
+        }
+    }
 }

@@ -297,6 +297,152 @@ static void test_vouch_noisy_near_field_is_no_info(void **state)
     rig_teardown(&rig);
 }
 
+/* A camera told its true mounting (h_m, pitch) and fed the scene n times
+ * (a switch-on: confirmation needs 3 of 5 frames); the last frame stays
+ * in rig.res. */
+static void run_mounted(const synth_scene_t *s0, int n)
+{
+    negobs_detect_config_t cfg;
+    synth_scene_t s = *s0;
+    int i;
+    negobs_detect_config_default(&cfg, RIG_W, RIG_H);
+    cfg.cam_height_mm = (int32_t)lround(s.h_m * 1000.0);
+    cfg.cam_pitch_mdeg = (int32_t)lround(s.pitch_deg * 1000.0);
+    rig_setup(&rig, &cfg);
+    for (i = 0; i < n; i++) {
+        s.seed = s0->seed + (uint32_t)i;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+    }
+}
+
+/* A wall across the corridor 1.2 m ahead (nearer than the near-zone
+ * minimum) on clean floor: every lane is barred at its foot, so the floor
+ * up to it is vouched and nothing beyond can be walked into: CLEAR with
+ * short sight, clear_to_mm = blocked_at_mm at the wall's foot (within the
+ * 10 % range tolerance). NO_INFO before barred lanes. */
+static void test_vouch_wall_in_near_zone_is_clear_to_its_foot(void **state)
+{
+    synth_scene_t s;
+    uint32_t seed;
+    (void)state;
+    for (seed = 1; seed <= 3; seed++) {
+        synth_flat(&s, 1.2, 35.0);
+        s.noise_px = 0.25;
+        s.seed = 10u * seed;
+        synth_step(&s, 1.2, 2.5);
+        run_mounted(&s, 5);
+        print_message("wall at 1.2 m: state %d, clear_to %d, blocked_at %d, "
+                      "reasons %u\n",
+                      (int)rig.res.state, rig.res.clear_to_mm,
+                      rig.res.blocked_at_mm, rig.res.reasons);
+        assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+        assert_int_equal(rig.res.short_sight, 1);
+        assert_int_equal(rig.res.clear_to_mm, rig.res.blocked_at_mm);
+        assert_true(rig.res.blocked_at_mm >= 1000 &&
+                    rig.res.blocked_at_mm <= 1200 + 1200 / 10);
+        rig_teardown(&rig);
+    }
+}
+
+/* What a walker steps onto or around does not bar the corridor: a 15 cm
+ * up-step and a 35 deg flight of stairs up (17 cm risers) at 1.2 m stay
+ * NO_INFO (the floor beyond them is reached), and so does a wall whose
+ * foot lies behind a 10 cm drop at 0.95 m: the drop is not vouched past
+ * (never CLEAR beyond 1.1 x its distance). A post 0.3 m wide in the
+ * middle bars only its own lanes: the floor beside it is walked on and
+ * must be vouched, never the post's foot alone. */
+static void test_vouch_only_a_tall_face_bars(void **state)
+{
+    synth_scene_t s;
+    int k;
+    (void)state;
+    synth_flat(&s, 1.2, 35.0);
+    s.noise_px = 0.25;
+    s.seed = 71u;
+    synth_step(&s, 1.2, 0.15);
+    run_mounted(&s, 5);
+    assert_int_equal(rig.res.blocked_at_mm, 0);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+    rig_teardown(&rig);
+
+    synth_flat(&s, 1.2, 35.0);
+    s.noise_px = 0.25;
+    s.seed = 81u;
+    for (k = 0; k < 8; k++) {
+        synth_step(&s, 1.2 + 0.24 * k, 0.17 * (k + 1));
+    }
+    run_mounted(&s, 5);
+    print_message("stairs up: state %d, clear_to %d, blocked_at %d\n",
+                  (int)rig.res.state, rig.res.clear_to_mm,
+                  rig.res.blocked_at_mm);
+    assert_int_equal(rig.res.blocked_at_mm, 0);
+    assert_true(rig.res.state != NEGOBS_DETECT_CLEAR ||
+                rig.res.clear_to_mm >= rig.cfg.near_min_mm);
+    rig_teardown(&rig);
+
+    synth_flat(&s, 1.2, 35.0);
+    s.noise_px = 0.25;
+    s.seed = 91u;
+    synth_step(&s, 0.95, -0.10);
+    synth_step(&s, 1.3, 2.5);
+    run_mounted(&s, 5);
+    print_message("drop before a wall: state %d, clear_to %d, blocked_at "
+                  "%d\n",
+                  (int)rig.res.state, rig.res.clear_to_mm,
+                  rig.res.blocked_at_mm);
+    assert_true(rig.res.clear_to_mm <= 950 + 950 / 10);
+    assert_true(rig.res.state != NEGOBS_DETECT_CLEAR);
+    rig_teardown(&rig);
+
+    synth_flat(&s, 1.2, 35.0);
+    s.noise_px = 0.25;
+    s.seed = 101u;
+    synth_step(&s, 1.2, 2.5);
+    s.lat_half_m = 0.15;
+    run_mounted(&s, 5);
+    print_message("post: state %d, clear_to %d, blocked_at %d\n",
+                  (int)rig.res.state, rig.res.clear_to_mm,
+                  rig.res.blocked_at_mm);
+    assert_int_equal(rig.res.blocked_at_mm, 0);
+    assert_true(rig.res.state != NEGOBS_DETECT_CLEAR ||
+                rig.res.clear_to_mm >= rig.cfg.near_min_mm);
+    rig_teardown(&rig);
+}
+
+/* A low camera (0.6 m, 20 deg) sees the floor 0.58 m ahead, where the
+ * corridor is wider than the image and the ground disparity is 39 px: the
+ * right camera cannot see the floor of the left image's first 39 columns
+ * there, and no matcher returns anything for them. Those columns are out
+ * of the stereo view, like floor outside the image: they do not stop the
+ * walk (it used to stop at the bottom row: NO_INFO, clear_to_mm 0). */
+static void test_vouch_floor_outside_the_stereo_view_is_not_unseen(
+    void **state)
+{
+    synth_scene_t s;
+    int32_t u;
+    int32_t v;
+    (void)state;
+    synth_flat(&s, 0.6, 20.0);
+    s.noise_px = 0.2;
+    s.seed = 121u;
+    run_mounted(&s, 1);
+    synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+    for (v = 0; v < RIG_H; v++) {
+        for (u = 0; u < RIG_W; u++) {
+            int16_t *d = &rig.disp[v * RIG_W + u];
+            if (*d != NEGOBS_DISP_INVALID && u * 16 < *d) {
+                *d = NEGOBS_DISP_INVALID; /* no right-image pixel */
+            }
+        }
+    }
+    assert_int_equal(rig_run(&rig), NEGOBS_OK);
+    print_message("low camera: state %d, clear_to %d, reasons %u\n",
+                  (int)rig.res.state, rig.res.clear_to_mm, rig.res.reasons);
+    assert_true(rig.res.clear_to_mm >= rig.cfg.near_min_mm);
+    assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+    rig_teardown(&rig);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -305,6 +451,10 @@ int main(void)
         cmocka_unit_test(test_vouch_no_false_vouch_on_walks),
         cmocka_unit_test(test_vouch_bounds_by_state),
         cmocka_unit_test(test_vouch_noisy_near_field_is_no_info),
+        cmocka_unit_test(test_vouch_wall_in_near_zone_is_clear_to_its_foot),
+        cmocka_unit_test(test_vouch_only_a_tall_face_bars),
+        cmocka_unit_test(
+            test_vouch_floor_outside_the_stereo_view_is_not_unseen),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

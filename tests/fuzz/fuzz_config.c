@@ -1,5 +1,5 @@
 /*
- * Fuzz target: the key=value config parser (port/config) on arbitrary
+ * Fuzz target: the key=value config parser (firmware_app/app_config.c) on arbitrary
  * text. Invariants: values that parse lie within their declared bounds,
  * strings stay terminated inside their buffers, errors carry a line.
  */
@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "fuzz_input.h"
-#include "negobs_port/config.h"
+#include "app_config.h"
 
 static char text[8192];
 
@@ -18,12 +18,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     int32_t wide = 0;
     bool flag = false;
     char name[16];
-    negobs_cfg_error_t err;
-    const negobs_cfg_key_t keys[] = {
-        {"num", NEGOBS_CFG_INT, &num, -5, 300, "a bounded int"},
-        {"wide", NEGOBS_CFG_INT, &wide, INT32_MIN, INT32_MAX, "any int"},
-        {"flag", NEGOBS_CFG_BOOL, &flag, 0, 1, "a bool"},
-        {"name", NEGOBS_CFG_STRING, name, 0, sizeof name, "a string"},
+    app_cfg_error_t err;
+    const app_cfg_key_t keys[] = {
+        {"num", APP_CFG_INT, &num, -5, 300, "a bounded int"},
+        {"wide", APP_CFG_INT, &wide, INT32_MIN, INT32_MAX, "any int"},
+        {"flag", APP_CFG_BOOL, &flag, 0, 1, "a bool"},
+        {"name", APP_CFG_STRING, name, 0, sizeof name, "a string"},
     };
     size_t n = size < sizeof text - 1 ? size : sizeof text - 1;
 
@@ -32,8 +32,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     memset(name, 'x', sizeof name);
     name[0] = '\0';
     memset(&err, 0, sizeof err);
-    (void)negobs_config_parse_text(keys, sizeof keys / sizeof keys[0], text,
-                                   &err);
+    (void)app_config_parse_text(keys, sizeof keys / sizeof keys[0], text,
+                                &err);
     if (num < -5 || num > 300) {
         abort();
     }

@@ -114,7 +114,8 @@ CF=(-O2 -Wall -Wextra -I"$ROOT/port/include" -I"$ROOT/lib/include")
 echo "cross-compiling lc_capture (aarch64, libcamera $(basename "$LCSO"))"
 aarch64-linux-gnu-g++ -std=c++17 "${CF[@]}" -I"$SYS/usr/include/libcamera" \
   -c "$ROOT/port/camera/libcamera/camera_libcamera.cpp" -o "$OUT/obj/camera_libcamera.o" || exit 1
-for c in port/camera/libcamera/lc_format.c port/camera/camera_common.c port/clock/clock_posix.c \
+for c in port/camera/libcamera/lc_format.c port/camera/libcamera/lc_pair.c \
+         port/camera/camera_common.c port/clock/clock_posix.c \
          tests/hw/guest/lc_capture.c; do
   aarch64-linux-gnu-gcc -std=c99 "${CF[@]}" -c "$ROOT/$c" -o "$OUT/obj/$(basename "$c" .c).o" || exit 1
 done

@@ -5,7 +5,7 @@
 #include "negobs_port/camera_v4l2.h"
 #include "negobs_port/camera_replay.h"
 #include "negobs_port/clock.h"
-#include "negobs_port/config.h"
+#include "negobs_port/input.h"
 int main(void)
 {
     return 0;

@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "cmocka_all.h"
-#include "negobs_port/config.h"
+#include "app_config.h"
 #include "port_test_util.h"
 
 static int32_t fps;
@@ -13,11 +13,11 @@ static int32_t gain;
 static bool flip;
 static char alert[16];
 
-static const negobs_cfg_key_t table[] = {
-    {"fps", NEGOBS_CFG_INT, &fps, 1, 120, "frame rate"},
-    {"gain", NEGOBS_CFG_INT, &gain, -1, 1000, "sensor gain, -1 auto"},
-    {"flip", NEGOBS_CFG_BOOL, &flip, 0, 1, "mirror images"},
-    {"alert", NEGOBS_CFG_STRING, alert, 0, sizeof alert, "output"},
+static const app_cfg_key_t table[] = {
+    {"fps", APP_CFG_INT, &fps, 1, 120, "frame rate"},
+    {"gain", APP_CFG_INT, &gain, -1, 1000, "sensor gain, -1 auto"},
+    {"flip", APP_CFG_BOOL, &flip, 0, 1, "mirror images"},
+    {"alert", APP_CFG_STRING, alert, 0, sizeof alert, "output"},
 };
 #define N (sizeof table / sizeof table[0])
 
@@ -33,17 +33,17 @@ static int reset(void **state)
 
 static void test_config_parses_values_comments_and_blanks(void **state)
 {
-    negobs_cfg_error_t err;
+    app_cfg_error_t err;
     (void)state;
-    assert_int_equal(negobs_config_parse_text(table, N,
-                                              "# camera\n"
-                                              "\n"
-                                              "  fps=15  \n"
-                                              "gain = -1 # automatic\n"
-                                              "flip = yes\r\n"
-                                              "alert = pwm:0:1\n"
-                                              "fps = 20",
-                                              &err),
+    assert_int_equal(app_config_parse_text(table, N,
+                                           "# camera\n"
+                                           "\n"
+                                           "  fps=15  \n"
+                                           "gain = -1 # automatic\n"
+                                           "flip = yes\r\n"
+                                           "alert = pwm:0:1\n"
+                                           "fps = 20",
+                                           &err),
                      NEGOBS_OK);
     assert_int_equal(fps, 20); /* a later line wins */
     assert_int_equal(gain, -1);
@@ -53,9 +53,9 @@ static void test_config_parses_values_comments_and_blanks(void **state)
 
 static void expect_error(const char *text, int32_t line, const char *needle)
 {
-    negobs_cfg_error_t err;
+    app_cfg_error_t err;
     memset(&err, 0, sizeof err);
-    assert_int_equal(negobs_config_parse_text(table, N, text, &err),
+    assert_int_equal(app_config_parse_text(table, N, text, &err),
                      NEGOBS_ERR_INVAL);
     assert_int_equal(err.line, line);
     assert_non_null(strstr(err.msg, needle));
@@ -97,31 +97,29 @@ static void test_config_file_and_override(void **state)
 {
     char dir[256];
     char path[300];
-    negobs_cfg_error_t err;
+    app_cfg_error_t err;
     (void)state;
     assert_int_equal(tu_mkdtemp(dir, sizeof dir, "cfg"), 0);
     assert_int_equal(tu_write_str(dir, "a.conf", "fps = 25\nflip = on\n"), 0);
     (void)snprintf(path, sizeof path, "%s/a.conf", dir);
-    assert_int_equal(negobs_config_parse_file(path, table, N, &err),
-                     NEGOBS_OK);
+    assert_int_equal(app_config_parse_file(path, table, N, &err), NEGOBS_OK);
     assert_int_equal(fps, 25);
     assert_true(flip);
     /* Command-line style override through the same table. */
     err.line = 0;
-    assert_int_equal(negobs_config_set(table, N, "fps", "60", &err),
-                     NEGOBS_OK);
+    assert_int_equal(app_config_set(table, N, "fps", "60", &err), NEGOBS_OK);
     assert_int_equal(fps, 60);
-    assert_int_equal(negobs_config_set(table, N, "nope", "1", &err),
+    assert_int_equal(app_config_set(table, N, "nope", "1", &err),
                      NEGOBS_ERR_INVAL);
     assert_int_equal(tu_write_str(dir, "b.conf", "fps = 25\ngain = 2000\n"),
                      0);
     (void)snprintf(path, sizeof path, "%s/b.conf", dir);
-    assert_int_equal(negobs_config_parse_file(path, table, N, &err),
+    assert_int_equal(app_config_parse_file(path, table, N, &err),
                      NEGOBS_ERR_INVAL);
     assert_int_equal(err.line, 2);
     assert_non_null(strstr(err.msg, "line 2: gain"));
     (void)snprintf(path, sizeof path, "%s/missing.conf", dir);
-    assert_int_equal(negobs_config_parse_file(path, table, N, &err),
+    assert_int_equal(app_config_parse_file(path, table, N, &err),
                      NEGOBS_ERR_NODEV);
     assert_non_null(strstr(err.msg, "missing.conf"));
     tu_rm_tree(dir);
@@ -134,34 +132,34 @@ static void test_config_file_line_with_nul_byte(void **state)
     static const char text[] = "fps = 25\nfl\0ip = on\ngain = 3\n";
     char dir[256];
     char path[300];
-    negobs_cfg_error_t err;
+    app_cfg_error_t err;
     (void)state;
     assert_int_equal(tu_mkdtemp(dir, sizeof dir, "cfg"), 0);
     assert_int_equal(tu_write(dir, "nul.conf", text, sizeof text - 1u), 0);
     (void)snprintf(path, sizeof path, "%s/nul.conf", dir);
-    assert_int_equal(negobs_config_parse_file(path, table, N, &err),
+    assert_int_equal(app_config_parse_file(path, table, N, &err),
                      NEGOBS_ERR_INVAL);
     assert_int_equal(err.line, 2);
     assert_non_null(strstr(err.msg, "line 2: NUL byte"));
-    /* a line of exactly NEGOBS_CONFIG_LINE_MAX characters still fits, one
+    /* a line of exactly APP_CONFIG_LINE_MAX characters still fits, one
      * more does not */
     {
-        char line[NEGOBS_CONFIG_LINE_MAX + 3];
+        char line[APP_CONFIG_LINE_MAX + 3];
         memset(line, ' ', sizeof line);
         memcpy(line, "fps = 7", 7);
-        line[NEGOBS_CONFIG_LINE_MAX] = '\n';
+        line[APP_CONFIG_LINE_MAX] = '\n';
         assert_int_equal(
-            tu_write(dir, "max.conf", line, NEGOBS_CONFIG_LINE_MAX + 1u), 0);
+            tu_write(dir, "max.conf", line, APP_CONFIG_LINE_MAX + 1u), 0);
         (void)snprintf(path, sizeof path, "%s/max.conf", dir);
-        assert_int_equal(negobs_config_parse_file(path, table, N, &err),
+        assert_int_equal(app_config_parse_file(path, table, N, &err),
                          NEGOBS_OK);
         assert_int_equal(fps, 7);
-        line[NEGOBS_CONFIG_LINE_MAX] = ' ';
-        line[NEGOBS_CONFIG_LINE_MAX + 1] = '\n';
+        line[APP_CONFIG_LINE_MAX] = ' ';
+        line[APP_CONFIG_LINE_MAX + 1] = '\n';
         assert_int_equal(
-            tu_write(dir, "long.conf", line, NEGOBS_CONFIG_LINE_MAX + 2u), 0);
+            tu_write(dir, "long.conf", line, APP_CONFIG_LINE_MAX + 2u), 0);
         (void)snprintf(path, sizeof path, "%s/long.conf", dir);
-        assert_int_equal(negobs_config_parse_file(path, table, N, &err),
+        assert_int_equal(app_config_parse_file(path, table, N, &err),
                          NEGOBS_ERR_INVAL);
         assert_non_null(strstr(err.msg, "line 1: line longer than"));
     }
@@ -186,7 +184,7 @@ static void test_config_file_checked_values_name_the_line(void **state)
 {
     char dir[256];
     char path[300];
-    negobs_cfg_error_t err;
+    app_cfg_error_t err;
     int calls = 0;
     (void)state;
     assert_int_equal(tu_mkdtemp(dir, sizeof dir, "cfg"), 0);
@@ -195,8 +193,8 @@ static void test_config_file_checked_values_name_the_line(void **state)
                                   "alert = none\n"),
                      0);
     (void)snprintf(path, sizeof path, "%s/c.conf", dir);
-    assert_int_equal(negobs_config_parse_file_checked(
-                         path, table, N, check_alert, &calls, &err),
+    assert_int_equal(app_config_parse_file_checked(path, table, N, check_alert,
+                                                   &calls, &err),
                      NEGOBS_OK);
     assert_int_equal(calls, 2);
     assert_string_equal(alert, "none");
@@ -205,8 +203,8 @@ static void test_config_file_checked_values_name_the_line(void **state)
                                   "alert = siren\n"),
                      0);
     (void)snprintf(path, sizeof path, "%s/d.conf", dir);
-    assert_int_equal(negobs_config_parse_file_checked(
-                         path, table, N, check_alert, &calls, &err),
+    assert_int_equal(app_config_parse_file_checked(path, table, N, check_alert,
+                                                   &calls, &err),
                      NEGOBS_ERR_INVAL);
     assert_int_equal(err.line, 3);
     assert_non_null(strstr(err.msg, "line 3: alert: no such output 'siren'"));

@@ -33,7 +33,18 @@ expect "non-numeric width" 2 "not an integer" --width abc replay:"$T/rp"
 expect "width out of range" 2 "outside" --width 5 replay:"$T/rp"
 expect "bad alert spec" 2 "bad alert" --alert pwm:x:1 replay:"$T/rp"
 expect "bad log level" 2 "bad log level" --log-level loud replay:"$T/rp"
-expect "v4l2 needs RIGHT" 2 "missing RIGHT" /dev/video0
+# One V4L2 node alone is a side-by-side camera (both eyes in each frame).
+expect "one V4L2 node is side by side" 4 "open /nonexistent/v0" --alert none v4l2:/nonexistent/v0
+printf 'capture_width = 1280\ncapture_height = 360\nwidth = 640\nheight = 480\n' >"$T/cap.conf"
+expect "capture size smaller than the processing size" 2 "cannot give 640x480" --config "$T/cap.conf" --alert none v4l2:/nonexistent/v0
+printf 'capture_width = 2560\n' >"$T/cap1.conf"
+expect "capture width without height" 2 "set both capture_width and capture_height" --config "$T/cap1.conf" --alert none v4l2:/nonexistent/v0
+printf 'capture_width = 2560\ncapture_height = 720\nwidth = 640\nheight = 360\n' >"$T/cap2.conf"
+expect "binned side-by-side capture opens the node" 4 "open /nonexistent/v0" --config "$T/cap2.conf" --alert none v4l2:/nonexistent/v0
+# Discovery: a missing node, a file that is not a V4L2 device.
+expect "list a missing node" 4 "/nonexistent/v9: cannot open" --list-cameras /nonexistent/v9
+expect "list a non-video file" 4 "not a V4L2 device" --list-cameras "$T/cap.conf"
+expect "list says when nothing is usable" 4 "no usable camera found" --list-cameras "$T/cap.conf"
 expect "mixed sources rejected" 2 "V4L2 device too" /dev/video0 replay:"$T/rp"
 expect "extra argument" 2 "unexpected argument" /dev/video0 /dev/video1 x
 expect "missing config file" 3 "nope.conf" --config "$T/nope.conf" replay:"$T/rp"

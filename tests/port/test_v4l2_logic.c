@@ -11,6 +11,7 @@
 #include "cmocka_all.h"
 #include "negobs_port/camera.h"
 #include "negobs_port/camera_v4l2.h"
+#include "negobs_port/mjpeg.h"
 
 #define MS 1000000u
 
@@ -113,8 +114,18 @@ static void test_format_rank_prefers_in_place_luma(void **state)
     assert_true(negobs_v4l2_format_rank(V4L2_PIX_FMT_YUV420) <
                 negobs_v4l2_format_rank(V4L2_PIX_FMT_YUYV));
     assert_true(negobs_v4l2_format_rank(V4L2_PIX_FMT_UYVY) >= 0);
-    assert_int_equal(negobs_v4l2_format_rank(V4L2_PIX_FMT_MJPEG), -1);
+    /* MJPEG: a decode, ranked last, and only where libturbojpeg is in */
+    if (negobs_mjpeg_available()) {
+        assert_true(negobs_v4l2_format_rank(V4L2_PIX_FMT_MJPEG) >
+                    negobs_v4l2_format_rank(V4L2_PIX_FMT_Y10));
+    } else {
+        assert_int_equal(negobs_v4l2_format_rank(V4L2_PIX_FMT_MJPEG), -1);
+    }
+    assert_true(negobs_v4l2_format_rank(V4L2_PIX_FMT_Y10) >
+                negobs_v4l2_format_rank(V4L2_PIX_FMT_YUYV));
+    assert_true(negobs_v4l2_format_rank(V4L2_PIX_FMT_Y16) >= 0);
     assert_int_equal(negobs_v4l2_format_rank(V4L2_PIX_FMT_RGB24), -1);
+    assert_int_equal(negobs_v4l2_format_rank(V4L2_PIX_FMT_H264), -1);
     assert_true(negobs_v4l2_format_packed(V4L2_PIX_FMT_YUYV));
     assert_false(negobs_v4l2_format_packed(V4L2_PIX_FMT_NV12));
     /* Our fourcc macro agrees with the kernel's. */
@@ -144,8 +155,24 @@ static void test_format_check_catches_bad_driver_answers(void **state)
         negobs_v4l2_check_format(V4L2_PIX_FMT_GREY, 0, 480, 640, 307200),
         NEGOBS_ERR_INVAL);
     assert_int_equal(
-        negobs_v4l2_check_format(V4L2_PIX_FMT_MJPEG, 640, 480, 640, 307200),
+        negobs_v4l2_check_format(V4L2_PIX_FMT_H264, 640, 480, 640, 307200),
         NEGOBS_ERR_UNSUPPORTED);
+    /* 16-bit mono: 2 bytes per pixel */
+    assert_int_equal(
+        negobs_v4l2_check_format(V4L2_PIX_FMT_Y10, 640, 480, 640, 614400),
+        NEGOBS_ERR_INVAL);
+    assert_int_equal(
+        negobs_v4l2_check_format(V4L2_PIX_FMT_Y16, 640, 480, 1280, 614400),
+        NEGOBS_OK);
+    if (negobs_mjpeg_available()) {
+        /* compressed: bytesperline 0, sizeimage the largest frame */
+        assert_int_equal(
+            negobs_v4l2_check_format(V4L2_PIX_FMT_MJPEG, 1280, 720, 0, 460800),
+            NEGOBS_OK);
+        assert_int_equal(
+            negobs_v4l2_check_format(V4L2_PIX_FMT_MJPEG, 1280, 720, 0, 0),
+            NEGOBS_ERR_INVAL);
+    }
     assert_int_equal(negobs_v4l2_frame_bytes(V4L2_PIX_FMT_YUV420, 480, 640),
                      460800);
     assert_int_equal(negobs_v4l2_frame_bytes(V4L2_PIX_FMT_YUYV, 480, 1280),

@@ -23,6 +23,10 @@
 #include "negobs_port/camera.h"
 #include "negobs_port/camera_v4l2.h"
 
+#ifdef NEGOBS_TEST_MJPEG
+#include <turbojpeg.h>
+#endif
+
 #define FW 64
 #define FH 8
 #define NBUF_MAX 4
@@ -55,6 +59,10 @@ typedef struct fake_dev {
     int dqbuf_errno;
     int frozen_from; /* frames [from, to) repeat frame from-1's */
     int frozen_to;   /* content (a hung ISP); -1 never          */
+    /* MJPEG: frame n carries jpeg[n % 2] (jpeg[0] only when jpeg_same) */
+    const uint8_t *jpeg[2];
+    size_t jpeg_len[2];
+    bool jpeg_same;
 } fake_dev_t;
 
 static fake_dev_t fk[2];
@@ -158,6 +166,10 @@ static int fake_ioctl(fake_dev_t *d, unsigned long req, void *arg)
         f->fmt.pix.bytesperline = FW * bpp + d->bpl_pad;
         f->fmt.pix.sizeimage = f->fmt.pix.bytesperline * FH *
                                (bpp == 1u ? 3u : 2u) / 2u;
+        if (f->fmt.pix.pixelformat == V4L2_PIX_FMT_MJPEG) {
+            f->fmt.pix.bytesperline = 0; /* compressed */
+            f->fmt.pix.sizeimage = BUFSZ;
+        }
         d->fmt = f->fmt.pix;
         return 0;
     }
@@ -245,6 +257,11 @@ static int fake_ioctl(fake_dev_t *d, unsigned long req, void *arg)
                BUFSZ);
         b->index = i;
         b->bytesused = d->fmt.sizeimage;
+        if (d->jpeg[0] != NULL) {
+            int k = d->jpeg_same ? 0 : d->next % 2;
+            memcpy(d->mem[i], d->jpeg[k], d->jpeg_len[k]);
+            b->bytesused = (uint32_t)d->jpeg_len[k];
+        }
         b->flags = V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC;
         b->timestamp.tv_sec = (time_t)(d->ts_ms[d->next] / 1000u);
         b->timestamp.tv_usec = (suseconds_t)((d->ts_ms[d->next] % 1000u) *
@@ -668,6 +685,164 @@ static void test_v4l2_exposure_only_when_both_offer_it(void **state)
     negobs_camera_close(&cam);
 }
 
+/* One node carrying both eyes side by side (ELP/Arducam/ZED style): each
+ * frame is one pair, the halves described in the driver's buffer. */
+static void test_v4l2_side_by_side_one_node(void **state)
+{
+    static const uint32_t ts[] = {1000, 1033, 1066};
+    negobs_camera_config_t cfg;
+    negobs_frame_pair_t p;
+    (void)state;
+    fk[0].fmts[0] = V4L2_PIX_FMT_GREY;
+    fk[0].nfmts = 1;
+    script(0, ts, 3);
+    negobs_camera_config_default(&cfg);
+    cfg.left = "/fake/video0";
+    cfg.right = NULL;
+    cfg.side_by_side = true;
+    cfg.width = FW / 2;
+    cfg.height = FH;
+    assert_int_equal(negobs_v4l2_init(&st, NULL, 0, &cam), NEGOBS_OK);
+    assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_OK);
+    assert_int_equal(negobs_camera_start(&cam), NEGOBS_OK);
+    assert_false(fk[1].is_open); /* the second node is never touched */
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(p.left.y.width, FW / 2);
+    assert_int_equal(p.right.y.width, FW / 2);
+    assert_ptr_equal(p.right.y.data, p.left.y.data + FW / 2);
+    assert_int_equal(p.left.y.stride, FW + 16);
+    assert_true(p.left.y.data >= &fk[0].mem[0][0] &&
+                p.left.y.data < &fk[0].mem[0][0] + sizeof fk[0].mem);
+    assert_int_equal(p.left.ts_ns, p.right.ts_ns);
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(p.index, 1);
+    negobs_camera_stop(&cam);
+    negobs_camera_close(&cam);
+    assert_false(fk[0].is_open || fk[1].is_open);
+}
+
+/* A capture size larger than the processing size: 2x2 binned into the
+ * scratch buffer (YUYV: every other byte, averaged). */
+static void test_v4l2_capture_binned_to_processing_size(void **state)
+{
+    static const uint32_t ts[] = {1000};
+    negobs_camera_config_t cfg;
+    negobs_frame_pair_t p;
+    (void)state;
+    fk[0].nfmts = 1; /* YUYV only */
+    fk[1].nfmts = 1;
+    script(0, ts, 1);
+    script(1, ts, 1);
+    negobs_camera_config_default(&cfg);
+    cfg.left = "/fake/video0";
+    cfg.right = "/fake/video1";
+    cfg.capture_width = FW;
+    cfg.capture_height = FH;
+    cfg.width = FW / 2;
+    cfg.height = FH / 2;
+    assert_int_equal(negobs_v4l2_init(&st, scratch, sizeof scratch, &cam),
+                     NEGOBS_OK);
+    assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_OK);
+    assert_int_equal(st.dev[0].conv.plan.k, 2);
+    assert_int_equal(negobs_camera_start(&cam), NEGOBS_OK);
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(p.left.y.width, FW / 2);
+    assert_int_equal(p.left.y.height, FH / 2);
+    assert_int_equal(p.left.y.stride, FW / 2);
+    assert_true(p.left.y.data >= scratch &&
+                p.left.y.data < scratch + sizeof scratch);
+    assert_int_equal(p.left.y.data[0], 0x10);
+    negobs_camera_close(&cam);
+    /* too little scratch: open refuses and says how much it needs */
+    assert_int_equal(negobs_v4l2_init(&st, scratch, 100, &cam), NEGOBS_OK);
+    assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_ERR_NOSPACE);
+    assert_non_null(strstr(negobs_camera_errmsg(&cam), "scratch"));
+    /* a processing size the frames cannot give: refused */
+    cfg.width = FW * 2;
+    assert_int_equal(negobs_v4l2_init(&st, scratch, sizeof scratch, &cam),
+                     NEGOBS_OK);
+    assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_ERR_INVAL);
+    assert_non_null(strstr(negobs_camera_errmsg(&cam), "cannot give"));
+    assert_false(fk[0].is_open || fk[1].is_open);
+}
+
+#ifdef NEGOBS_TEST_MJPEG
+/* Two MJPEG nodes: frames decoded into the scratch buffer; a node whose
+ * compressed frames stop changing is frozen (its frames are signed by
+ * their data, bytesperline being 0), and one whose frames change is not. */
+static void test_v4l2_mjpeg_decodes_and_detects_frozen(void **state)
+{
+    static const uint32_t ts[] = {1000, 1033, 1066, 1100, 1133, 1166};
+    static uint8_t px[2][FH][FW];
+    static uint8_t jpeg[2][BUFSZ];
+    unsigned long n[2];
+    negobs_frame_pair_t p;
+    uint32_t seed = 5;
+    int i;
+    int k;
+    (void)state;
+    for (k = 0; k < 2; k++) {
+        tjhandle t = tjInitCompress();
+        unsigned char *out = jpeg[k];
+        int x;
+        int y;
+        for (y = 0; y < FH; y++) {
+            for (x = 0; x < FW; x++) {
+                px[k][y][x] = (uint8_t)(100 + (test_lcg_next(&seed) & 7u));
+            }
+        }
+        n[k] = BUFSZ;
+        assert_int_equal(tjCompress2(t, &px[k][0][0], FW, 0, FH, TJPF_GRAY,
+                                     &out, &n[k], TJSAMP_GRAY, 95,
+                                     TJFLAG_NOREALLOC),
+                         0);
+        (void)tjDestroy(t);
+    }
+    for (i = 0; i < 2; i++) {
+        fk[i].fmts[0] = V4L2_PIX_FMT_MJPEG;
+        fk[i].nfmts = 1;
+        fk[i].jpeg[0] = jpeg[0];
+        fk[i].jpeg[1] = jpeg[1];
+        fk[i].jpeg_len[0] = n[0];
+        fk[i].jpeg_len[1] = n[1];
+        script(i, ts, 6);
+    }
+    frozen_limit = 3;
+    assert_int_equal(open_cam(-1), NEGOBS_OK);
+    assert_int_equal(st.dev[0].fourcc, V4L2_PIX_FMT_MJPEG);
+    for (i = 0; i < 6; i++) { /* changing frames: never frozen */
+        assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+        assert_true(p.left.y.data >= scratch &&
+                    p.left.y.data < scratch + sizeof scratch);
+        assert_in_range(p.left.y.data[0], 96, 112); /* decoded texture */
+        negobs_camera_release(&cam, &p);
+    }
+    negobs_camera_close(&cam);
+
+    setup(NULL);
+    for (i = 0; i < 2; i++) {
+        fk[i].fmts[0] = V4L2_PIX_FMT_MJPEG;
+        fk[i].nfmts = 1;
+        fk[i].jpeg[0] = jpeg[0];
+        fk[i].jpeg_len[0] = n[0];
+        fk[i].jpeg_same = i == 1; /* the right camera hangs */
+        fk[i].jpeg[1] = jpeg[1];
+        fk[i].jpeg_len[1] = n[1];
+        script(i, ts, 6);
+    }
+    frozen_limit = 3;
+    assert_int_equal(open_cam(-1), NEGOBS_OK);
+    for (i = 0; i < 2; i++) {
+        assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+        negobs_camera_release(&cam, &p);
+    }
+    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_ERR_IO);
+    assert_non_null(strstr(negobs_camera_errmsg(&cam), "frozen"));
+    assert_non_null(strstr(negobs_camera_errmsg(&cam), "/fake/video1"));
+    negobs_camera_close(&cam);
+}
+#endif
+
 static void test_v4l2_too_few_buffers_or_formats_fail_open(void **state)
 {
     (void)state;
@@ -675,7 +850,7 @@ static void test_v4l2_too_few_buffers_or_formats_fail_open(void **state)
     assert_int_equal(open_cam(-1), NEGOBS_ERR_NOSPACE);
     assert_false(fk[0].is_open || fk[1].is_open);
     fk[1].reqbufs_count = 4;
-    fk[0].fmts[0] = V4L2_PIX_FMT_MJPEG;
+    fk[0].fmts[0] = V4L2_PIX_FMT_H264;
     fk[0].nfmts = 1;
     assert_int_equal(open_cam(-1), NEGOBS_ERR_UNSUPPORTED);
     assert_non_null(strstr(negobs_camera_errmsg(&cam), "format"));
@@ -688,6 +863,11 @@ int main(void)
     const struct CMUnitTest tests[] = {
         T(test_v4l2_negotiates_planar_and_hands_out_y_in_place),
         T(test_v4l2_packed_only_extracts_luma_to_scratch),
+        T(test_v4l2_side_by_side_one_node),
+#ifdef NEGOBS_TEST_MJPEG
+        T(test_v4l2_mjpeg_decodes_and_detects_frozen),
+#endif
+        T(test_v4l2_capture_binned_to_processing_size),
         T(test_v4l2_pairs_by_timestamp_and_counts_drops),
         T(test_v4l2_frozen_camera_withholds_pairs_until_it_changes),
         T(test_v4l2_frozen_check_off_delivers_repeats),

@@ -18,6 +18,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <getopt.h>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "calib_common.hpp"
+#include "cli.hpp"
 
 extern "C" {
 #include "negobs/rectify.h"
@@ -65,7 +67,7 @@ int usage(const char *argv0, int code)
         "                    (left, right, left, right, ...; relative to the list)\n"
         "  --yaml FILE       existing calibration with M1 D1 M2 D2 R T (repeatable;\n"
         "                    keys are merged, e.g. intrinsics.yml + extrinsics.yml)\n"
-        "  --out FILE        rectify table to write (required)\n"
+        "  -o, --out FILE    rectify table to write (required)\n"
         "  --board WxH       inner corners per row x column (default 9x6)\n"
         "  --square-mm MM    chessboard square size (default 25; sets B's unit)\n"
         "  --size WxH        frame size for --yaml when the file has none\n"
@@ -79,61 +81,73 @@ int usage(const char *argv0, int code)
         "  --fix-k3          keep the radial k3 term at 0 (few boards, or boards\n"
         "                    that never reach the image corners)\n"
         "  --save-yaml FILE  also write M1 D1 M2 D2 R T (+ size, rms) for --yaml\n"
-        "  --help            this text\n",
+        "  -h, --help        this text\n"
+        "  -V, --version     the negobs version\n"
+        "Options take their value as --opt VALUE or --opt=VALUE; -o is --out.\n"
+        "Exit: 0 ok, 1 data error (missing file, too few boards, a calibration\n"
+        "that cannot be rectified, an OpenCV error), 2 bad command line (also:\n"
+        "no arguments).\n",
         argv0, NEGOBS_RECTIFY_MAX_GRID_SHIFT);
     return code;
 }
 
-bool parse_double(const char *s, double &v)
-{
-    char *end = nullptr;
-    v = std::strtod(s, &end);
-    return end != s && *end == '\0' && std::isfinite(v);
-}
+enum LongOnly {
+    O_LIST = 256,
+    O_YAML,
+    O_SAVE_YAML,
+    O_BOARD,
+    O_SIZE,
+    O_SQUARE,
+    O_T_UNIT,
+    O_ALPHA,
+    O_GRID_SHIFT,
+    O_MAX_MAP_ERR,
+    O_MIN_BOARDS,
+    O_FIX_K3,
+};
 
-bool parse_int(const char *s, int &v)
-{
-    char *end = nullptr;
-    long l = std::strtol(s, &end, 10);
-    if (end == s || *end != '\0' || l < -1000000 || l > 1000000) {
-        return false;
-    }
-    v = static_cast<int>(l);
-    return true;
-}
+const struct option kLongOpts[] = {
+    {"help", no_argument, nullptr, 'h'},
+    {"version", no_argument, nullptr, 'V'},
+    {"list", required_argument, nullptr, O_LIST},
+    {"yaml", required_argument, nullptr, O_YAML},
+    {"out", required_argument, nullptr, 'o'},
+    {"save-yaml", required_argument, nullptr, O_SAVE_YAML},
+    {"board", required_argument, nullptr, O_BOARD},
+    {"size", required_argument, nullptr, O_SIZE},
+    {"square-mm", required_argument, nullptr, O_SQUARE},
+    {"t-unit-mm", required_argument, nullptr, O_T_UNIT},
+    {"alpha", required_argument, nullptr, O_ALPHA},
+    {"grid-shift", required_argument, nullptr, O_GRID_SHIFT},
+    {"max-map-err", required_argument, nullptr, O_MAX_MAP_ERR},
+    {"min-boards", required_argument, nullptr, O_MIN_BOARDS},
+    {"fix-k3", no_argument, nullptr, O_FIX_K3},
+    {nullptr, 0, nullptr, 0},
+};
 
-// 0 = parsed, otherwise the exit code to return.
+// 0 = parsed, otherwise the exit code to return (+100: exit 0 after
+// --help / --version).
 int parse_args(int argc, char **argv, Options &o)
 {
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a == "--help" || a == "-h") {
-            return usage(argv[0], 0) + 100;
-        }
-        if (a == "--fix-k3") {
-            o.fix_k3 = true;
-            continue;
-        }
-        if (i + 1 >= argc) {
-            std::fprintf(stderr,
-                         "negobs_calib: unknown option or missing "
-                         "value: %s\n",
-                         a.c_str());
-            return usage(argv[0], 2);
-        }
-        const char *v = argv[++i];
+    if (argc < 2) {
+        return usage(argv[0], 2);
+    }
+    opterr = 0;
+    int c;
+    int li = -1;
+    while ((c = getopt_long(argc, argv, "+:hVo:", kLongOpts, &li)) != -1) {
+        const char *v = optarg;
         bool ok = true;
-        if (a == "--list") {
-            o.list = v;
-        } else if (a == "--yaml") {
-            o.yaml.push_back(v);
-        } else if (a == "--out") {
-            o.out = v;
-        } else if (a == "--save-yaml") {
-            o.save_yaml = v;
-        } else if (a == "--board") {
-            ok = negobs_calib::parse_size(v, o.board);
-        } else if (a == "--size") {
+        switch (c) {
+        case 'h': return usage(argv[0], 0) + 100;
+        case 'V': negobs_cli::print_version("negobs_calib"); return 100;
+        case O_FIX_K3: o.fix_k3 = true; break;
+        case O_LIST: o.list = v; break;
+        case O_YAML: o.yaml.push_back(v); break;
+        case 'o': o.out = v; break;
+        case O_SAVE_YAML: o.save_yaml = v; break;
+        case O_BOARD: ok = negobs_calib::parse_size(v, o.board); break;
+        case O_SIZE:
             // bounded here, before anything multiplies the two sides
             ok = negobs_calib::parse_size(v, o.frame) &&
                  o.frame.width <= NEGOBS_MAX_DIM &&
@@ -145,34 +159,53 @@ int parse_args(int argc, char **argv, Options &o)
                              v, NEGOBS_MAX_DIM);
                 return 2;
             }
-        } else if (a == "--square-mm") {
-            ok = parse_double(v, o.square_mm) && o.square_mm > 0.0;
+            break;
+        case O_SQUARE:
+            ok = negobs_cli::parse_double(v, 1e-3, 1e6, o.square_mm);
             o.square_given = true;
-        } else if (a == "--t-unit-mm") {
-            ok = parse_double(v, o.t_unit_mm) && o.t_unit_mm > 0.0;
-        } else if (a == "--alpha") {
-            ok = parse_double(v, o.alpha) && o.alpha >= -1.0 && o.alpha <= 1.0;
-        } else if (a == "--grid-shift") {
+            break;
+        case O_T_UNIT:
+            ok = negobs_cli::parse_double(v, 1e-6, 1e6, o.t_unit_mm);
+            break;
+        case O_ALPHA:
+            ok = negobs_cli::parse_double(v, -1.0, 1.0, o.alpha);
+            break;
+        case O_GRID_SHIFT:
             if (std::string(v) == "auto") {
                 o.grid_shift = -1;
             } else {
-                ok = parse_int(v, o.grid_shift) && o.grid_shift >= 0 &&
-                     o.grid_shift <= NEGOBS_RECTIFY_MAX_GRID_SHIFT;
+                ok = negobs_cli::parse_int(v, 0, NEGOBS_RECTIFY_MAX_GRID_SHIFT,
+                                           o.grid_shift);
             }
-        } else if (a == "--max-map-err") {
-            ok = parse_double(v, o.max_map_err) && o.max_map_err > 0.0;
-        } else if (a == "--min-boards") {
-            ok = parse_int(v, o.min_boards) && o.min_boards >= 1;
-        } else {
+            break;
+        case O_MAX_MAP_ERR:
+            ok = negobs_cli::parse_double(v, 1e-6, 1e3, o.max_map_err);
+            break;
+        case O_MIN_BOARDS:
+            ok = negobs_cli::parse_int(v, 1, 100000, o.min_boards);
+            break;
+        case ':':
+            std::fprintf(stderr, "negobs_calib: %s needs a value\n",
+                         argv[optind - 1]);
+            return usage(argv[0], 2);
+        default:
             std::fprintf(stderr, "negobs_calib: unknown option %s\n",
-                         a.c_str());
+                         argv[optind - 1]);
             return usage(argv[0], 2);
         }
         if (!ok) {
-            std::fprintf(stderr, "negobs_calib: bad value for %s: %s\n",
-                         a.c_str(), v);
+            // the option's name (argv[optind - 1] is the value when given
+            // as a separate word)
+            std::fprintf(stderr, "negobs_calib: bad value for --%s: %s\n",
+                         li >= 0 ? kLongOpts[li].name : "?", v);
             return 2;
         }
+        li = -1;
+    }
+    if (optind < argc) {
+        std::fprintf(stderr, "negobs_calib: unexpected argument %s\n",
+                     argv[optind]);
+        return usage(argv[0], 2);
     }
     if (o.list.empty() == o.yaml.empty()) {
         std::fprintf(stderr, "negobs_calib: give exactly one of --list or "
@@ -520,17 +553,7 @@ int run(int argc, char **argv);
 // 134): the boundary turns whatever escapes into a message and exit 1.
 int main(int argc, char **argv)
 {
-    try {
-        return run(argc, argv);
-    } catch (const cv::Exception &e) {
-        std::fprintf(stderr, "negobs_calib: OpenCV error: %s\n",
-                     e.err.c_str());
-    } catch (const std::exception &e) {
-        std::fprintf(stderr, "negobs_calib: error: %s\n", e.what());
-    } catch (...) {
-        std::fprintf(stderr, "negobs_calib: unknown error\n");
-    }
-    return 1;
+    return negobs_cli::main_guard("negobs_calib", argc, argv, run);
 }
 
 namespace {

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <getopt.h>
 #include <memory>
 #include <string>
 #include <vector>
@@ -21,6 +22,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "calib_common.hpp"
+#include "cli.hpp"
 
 extern "C" {
 #include "negobs/rectify.h"
@@ -39,7 +41,11 @@ int usage(const char *argv0, int code)
         "  --yaml FILE   calibration written by negobs_calib --save-yaml: also\n"
         "                rectify with OpenCV's float maps and cv::remap and report\n"
         "                that figure and the pixel difference to the library\n"
-        "  --alpha A     stereoRectify alpha used for the table (default 0)\n",
+        "  --alpha A     stereoRectify alpha used for the table (default 0)\n"
+        "  -h, --help    this text;  -V, --version  the negobs version\n"
+        "Options take their value as --opt VALUE or --opt=VALUE.\n"
+        "Exit: 0 rows aligned, 1 data error or row RMS >= --max-rms,\n"
+        "2 bad command line (also: no arguments).\n",
         argv0);
     return code;
 }
@@ -111,67 +117,77 @@ struct FreeDeleter {
     void operator()(void *p) const { std::free(p); }
 };
 
-} // namespace
+const struct option kLongOpts[] = {
+    {"help", no_argument, nullptr, 'h'},
+    {"version", no_argument, nullptr, 'V'},
+    {"table", required_argument, nullptr, 't'},
+    {"list", required_argument, nullptr, 'l'},
+    {"save", required_argument, nullptr, 's'},
+    {"yaml", required_argument, nullptr, 'y'},
+    {"alpha", required_argument, nullptr, 'a'},
+    {"board", required_argument, nullptr, 'b'},
+    {"max-rms", required_argument, nullptr, 'r'},
+    {nullptr, 0, nullptr, 0},
+};
 
-int main(int argc, char **argv)
+int run(int argc, char **argv)
 {
     cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
     std::string table_path, list_path, save_dir, yaml_path;
     cv::Size board(9, 6);
     double max_rms = 0.5;
     double alpha = 0.0;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a == "--help" || a == "-h") {
-            return usage(argv[0], 0);
-        }
-        if (i + 1 >= argc) {
-            std::fprintf(stderr,
-                         "negobs_rectify_check: missing value or "
-                         "unknown option: %s\n",
-                         a.c_str());
-            return usage(argv[0], 2);
-        }
-        const std::string v = argv[++i];
-        if (a == "--table") {
-            table_path = v;
-        } else if (a == "--list") {
-            list_path = v;
-        } else if (a == "--save") {
-            save_dir = v;
-        } else if (a == "--yaml") {
-            yaml_path = v;
-        } else if (a == "--alpha") {
-            char *end = nullptr;
-            alpha = std::strtod(v.c_str(), &end);
-            if (end == v.c_str() || *end != '\0' || alpha < -1 || alpha > 1) {
-                std::fprintf(stderr,
-                             "negobs_rectify_check: bad --alpha "
-                             "%s\n",
-                             v.c_str());
+    if (argc < 2) {
+        return usage(argv[0], 2);
+    }
+    opterr = 0;
+    int c;
+    // long options only (+ -h, -V): the names say what each file is
+    while ((c = getopt_long(argc, argv, "+:hV", kLongOpts, nullptr)) != -1) {
+        const std::string v = optarg ? optarg : "";
+        switch (c) {
+        case 'h': return usage(argv[0], 0);
+        case 'V': negobs_cli::print_version("negobs_rectify_check"); return 0;
+        case 't': table_path = v; break;
+        case 'l': list_path = v; break;
+        case 's': save_dir = v; break;
+        case 'y': yaml_path = v; break;
+        case 'a':
+            if (!negobs_cli::parse_double(optarg, -1, 1, alpha)) {
+                std::fprintf(stderr, "negobs_rectify_check: bad --alpha %s\n",
+                             optarg);
                 return 2;
             }
-        } else if (a == "--board") {
+            break;
+        case 'b':
             if (!negobs_calib::parse_size(v, board)) {
                 std::fprintf(stderr, "negobs_rectify_check: bad --board %s\n",
-                             v.c_str());
+                             optarg);
                 return 2;
             }
-        } else if (a == "--max-rms") {
-            char *end = nullptr;
-            max_rms = std::strtod(v.c_str(), &end);
-            if (end == v.c_str() || *end != '\0' || !(max_rms > 0)) {
+            break;
+        case 'r':
+            if (!negobs_cli::parse_double(optarg, 1e-9, 1e6, max_rms)) {
                 std::fprintf(stderr,
-                             "negobs_rectify_check: bad --max-rms "
-                             "%s\n",
-                             v.c_str());
+                             "negobs_rectify_check: bad --max-rms %s\n",
+                             optarg);
                 return 2;
             }
-        } else {
+            break;
+        case ':':
+            std::fprintf(stderr, "negobs_rectify_check: %s needs a value\n",
+                         argv[optind - 1]);
+            return usage(argv[0], 2);
+        default:
             std::fprintf(stderr, "negobs_rectify_check: unknown option %s\n",
-                         a.c_str());
+                         argv[optind - 1]);
             return usage(argv[0], 2);
         }
+    }
+    if (optind < argc) {
+        std::fprintf(stderr, "negobs_rectify_check: unexpected argument %s\n",
+                     argv[optind]);
+        return usage(argv[0], 2);
     }
     if (table_path.empty() || list_path.empty()) {
         return usage(argv[0], 2);
@@ -346,4 +362,11 @@ int main(int argc, char **argv)
     }
     std::printf("PASS\n");
     return 0;
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+    return negobs_cli::main_guard("negobs_rectify_check", argc, argv, run);
 }

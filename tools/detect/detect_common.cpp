@@ -1,5 +1,8 @@
 #include "detect_common.hpp"
 
+#include "colour_bar.hpp"
+
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -8,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 
+#include <opencv2/core/persistence.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -15,57 +19,93 @@ namespace negobs_detect_tools {
 
 namespace {
 
-// Value text after "key": in s (number, string, true/false/null, or [..]).
-bool find_value(const std::string &s, const std::string &key, std::string &v)
+// OpenCV's JSON reader (4.6) knows numbers, strings, true/false, arrays
+// and objects, but not null, nor the NaN / Infinity that some writers emit.
+// Such bare words outside strings are quoted here, so the file parses and
+// each reader below decides: a required number that reads "null" is
+// missing, "nan" / "inf" are non-finite numbers the callers refuse by name.
+std::string quote_bare_words(const std::string &in)
 {
-    const std::string pat = "\"" + key + "\":";
-    size_t p = s.find(pat);
-    if (p == std::string::npos) {
-        return false;
-    }
-    p += pat.size();
-    while (p < s.size() && s[p] == ' ') {
-        ++p;
-    }
-    if (p >= s.size()) {
-        return false;
-    }
-    size_t e = p;
-    if (s[p] == '"') {
-        e = s.find('"', p + 1);
-        if (e == std::string::npos) {
-            return false;
+    std::string out;
+    out.reserve(in.size() + 64);
+    bool in_str = false;
+    for (size_t i = 0; i < in.size(); ++i) {
+        const char c = in[i];
+        if (in_str) {
+            out += c;
+            if (c == '\\' && i + 1 < in.size()) {
+                out += in[++i];
+            } else if (c == '"') {
+                in_str = false;
+            }
+            continue;
         }
-        v = s.substr(p + 1, e - p - 1);
-        return true;
-    }
-    if (s[p] == '[') {
-        e = s.find(']', p);
-        if (e == std::string::npos) {
-            return false;
+        if (c == '"') {
+            in_str = true;
+            out += c;
+            continue;
         }
-        v = s.substr(p, e - p + 1);
-        return true;
+        if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') {
+            // a number, exponent included (the 'e' of 1e5 is no word)
+            size_t e = i;
+            while (e < in.size() && (std::isalnum(static_cast<unsigned char>(in[e])) ||
+                                     in[e] == '.' || in[e] == '+' || in[e] == '-')) {
+                ++e;
+            }
+            out.append(in, i, e - i);
+            i = e - 1;
+            continue;
+        }
+        const bool sign = (c == '-' || c == '+') && i + 1 < in.size() &&
+                          std::isalpha(static_cast<unsigned char>(in[i + 1]));
+        if (std::isalpha(static_cast<unsigned char>(c)) || sign) {
+            size_t e = i + 1;
+            while (e < in.size() && std::isalnum(static_cast<unsigned char>(in[e]))) {
+                ++e;
+            }
+            const std::string w = in.substr(i, e - i);
+            out += (w == "true" || w == "false") ? w : "\"" + w + "\"";
+            i = e - 1;
+            continue;
+        }
+        out += c;
     }
-    while (e < s.size() && s[e] != ',' && s[e] != '}') {
-        ++e;
-    }
-    v = s.substr(p, e - p);
-    while (!v.empty() && v.back() == ' ') {
-        v.pop_back();
-    }
-    return true;
+    return out;
 }
 
-bool find_num(const std::string &s, const std::string &key, double &out)
+// A number: a JSON number, or a quoted bare word that strtod reads in
+// full ("nan", "inf", "-Infinity"). "null" and anything else: false.
+bool node_num(const cv::FileNode &n, double &out)
 {
-    std::string v;
-    if (!find_value(s, key, v) || v == "null" || v.empty()) {
+    if (n.isInt() || n.isReal()) {
+        out = static_cast<double>(n);
+        return true;
+    }
+    if (n.isString()) {
+        const std::string s = static_cast<std::string>(n);
+        char *end = nullptr;
+        const double v = std::strtod(s.c_str(), &end);
+        if (s != "null" && !s.empty() && *end == '\0') {
+            out = v;
+            return true;
+        }
+    }
+    return false;
+}
+
+bool node_str(const cv::FileNode &n, std::string &out)
+{
+    if (!n.isString()) {
         return false;
     }
-    char *end = nullptr;
-    out = std::strtod(v.c_str(), &end);
-    return end != v.c_str();
+    out = static_cast<std::string>(n);
+    return out != "null";
+}
+
+// true/false as OpenCV stores them (1/0); anything else is false.
+bool node_true(const cv::FileNode &n)
+{
+    return n.isInt() && static_cast<int>(n) == 1;
 }
 
 std::string fmt(const char *f, double v)
@@ -79,76 +119,110 @@ std::string fmt(const char *f, double v)
 
 bool read_gt(const std::string &path, GtSeq &gt, std::string &err)
 {
-    std::ifstream in(path);
+    std::ifstream in(path, std::ios::binary);
     if (!in) {
         err = "cannot read " + path;
         return false;
     }
-    std::string line;
-    bool have_cam = false;
-    while (std::getline(in, line)) {
-        if (line.rfind("\"camera\":", 0) == 0) {
-            double v = 0;
-            if (!find_num(line, "f", gt.cam.f) ||
-                !find_num(line, "B_mm", gt.cam.baseline_mm) ||
-                !find_num(line, "cx", gt.cam.cx) || !find_num(line, "cy", gt.cam.cy) ||
-                !find_num(line, "H_mm", gt.cam.height_mm) ||
-                !find_num(line, "pitch", gt.cam.pitch_deg) ||
-                !find_num(line, "width", v)) {
-                err = path + ": camera line lacks f/B_mm/cx/cy/H_mm/pitch/width";
-                return false;
-            }
-            // a size outside int would be an undefined conversion
-            if (!(v >= 1 && v <= 100000)) {
-                err = path + ": camera width is not a number in 1..100000";
-                return false;
-            }
-            gt.width = static_cast<int>(v);
-            if (!find_num(line, "height", v)) {
-                err = path + ": camera line lacks height";
-                return false;
-            }
-            if (!(v >= 1 && v <= 100000)) {
-                err = path + ": camera height is not a number in 1..100000";
-                return false;
-            }
-            gt.height = static_cast<int>(v);
-            find_num(line, "right_row_shift", gt.right_row_shift);
-            have_cam = true;
-        } else if (line.rfind("\"scene\":", 0) == 0) {
-            std::string v;
-            if (find_value(line, "hazard", v)) {
-                gt.hazard = v;
-            }
-            if (find_value(line, "negative", v)) {
-                gt.negative = (v == "true");
-            }
-        } else if (line.rfind("\"render\":", 0) == 0) {
-            find_num(line, "fps", gt.fps);
-        } else if (line.rfind("{\"i\":", 0) == 0) {
-            GtFrame fr;
-            double v = 0;
-            std::string s;
-            if (!find_num(line, "i", v) || !find_value(line, "left", fr.left) ||
-                !find_value(line, "right", fr.right)) {
-                err = path + ": frame line lacks i/left/right";
-                return false;
-            }
-            fr.i = static_cast<int>(v);
-            find_value(line, "hazard", fr.hazard);
-            fr.has_range = find_num(line, "edge_range_mm", fr.edge_range_mm);
-            find_num(line, "drop_mm", fr.drop_mm);
-            fr.edge_visible = find_value(line, "edge_visible", s) && s == "true";
-            if (find_value(line, "edge_box", s) && s.size() > 2 && s[0] == '[') {
-                fr.has_box = std::sscanf(s.c_str(), "[%lf, %lf, %lf, %lf]", &fr.box[0],
-                                         &fr.box[1], &fr.box[2], &fr.box[3]) == 4;
-            }
-            gt.frames.push_back(fr);
-        }
-    }
-    if (!have_cam) {
-        err = path + ": no \"camera\" line (not a negobs_synth gt.json?)";
+    std::stringstream ss;
+    ss << in.rdbuf();
+    cv::FileStorage fs;
+    try {
+        fs.open(quote_bare_words(ss.str()), cv::FileStorage::READ |
+                                                cv::FileStorage::MEMORY |
+                                                cv::FileStorage::FORMAT_JSON);
+    } catch (const cv::Exception &e) {
+        err = path + ": not valid JSON (" + e.err + ")";
         return false;
+    }
+    if (!fs.isOpened() || !fs.root().isMap()) {
+        err = path + ": not a JSON object";
+        return false;
+    }
+    const cv::FileNode cam = fs["camera"];
+    if (!cam.isMap()) {
+        err = path + ": no \"camera\" object (not a negobs_synth gt.json?)";
+        return false;
+    }
+    double v = 0;
+    if (!node_num(cam["f"], gt.cam.f) || !node_num(cam["B_mm"], gt.cam.baseline_mm) ||
+        !node_num(cam["cx"], gt.cam.cx) || !node_num(cam["cy"], gt.cam.cy) ||
+        !node_num(cam["H_mm"], gt.cam.height_mm) ||
+        !node_num(cam["pitch"], gt.cam.pitch_deg) || !node_num(cam["width"], v)) {
+        err = path + ": camera lacks a number for f/B_mm/cx/cy/H_mm/pitch/width";
+        return false;
+    }
+    // a size outside int would be an undefined conversion
+    if (!(v >= 1 && v <= 100000)) {
+        err = path + ": camera width is not a number in 1..100000";
+        return false;
+    }
+    gt.width = static_cast<int>(v);
+    if (!node_num(cam["height"], v)) {
+        err = path + ": camera lacks height";
+        return false;
+    }
+    if (!(v >= 1 && v <= 100000)) {
+        err = path + ": camera height is not a number in 1..100000";
+        return false;
+    }
+    gt.height = static_cast<int>(v);
+    if (!cam["right_row_shift"].empty() &&
+        (!node_num(cam["right_row_shift"], gt.right_row_shift) ||
+         !std::isfinite(gt.right_row_shift))) {
+        err = path + ": camera right_row_shift is not a finite number";
+        return false;
+    }
+    const cv::FileNode scene = fs["scene"];
+    if (scene.isMap()) {
+        node_str(scene["hazard"], gt.hazard);
+        gt.negative = node_true(scene["negative"]);
+    }
+    const cv::FileNode render = fs["render"];
+    if (render.isMap() && !render["fps"].empty() && !node_num(render["fps"], gt.fps)) {
+        err = path + ": render fps is not a number";
+        return false;
+    }
+    const cv::FileNode frames = fs["frames"];
+    if (!frames.empty() && !frames.isSeq()) {
+        err = path + ": \"frames\" is not a list";
+        return false;
+    }
+    int k = 0;
+    for (auto it = frames.begin(); it != frames.end(); ++it, ++k) {
+        const cv::FileNode f = *it;
+        GtFrame fr;
+        const std::string where = path + ": frame " + std::to_string(k);
+        if (!f.isMap() || !node_num(f["i"], v) || !node_str(f["left"], fr.left) ||
+            !node_str(f["right"], fr.right)) {
+            err = where + " lacks i/left/right";
+            return false;
+        }
+        if (!(v >= 0 && v <= 1e8) || v != std::floor(v)) {
+            err = where + ": i is not an integer in 0..1e8";
+            return false;
+        }
+        fr.i = static_cast<int>(v);
+        node_str(f["hazard"], fr.hazard);
+        fr.has_range = node_num(f["edge_range_mm"], fr.edge_range_mm);
+        if (fr.has_range && !std::isfinite(fr.edge_range_mm)) {
+            err = where + ": edge_range_mm is not finite";
+            return false;
+        }
+        if (node_num(f["drop_mm"], fr.drop_mm) && !std::isfinite(fr.drop_mm)) {
+            err = where + ": drop_mm is not finite";
+            return false;
+        }
+        fr.edge_visible = node_true(f["edge_visible"]);
+        const cv::FileNode box = f["edge_box"];
+        if (box.isSeq() && box.size() == 4) {
+            fr.has_box = true;
+            for (int b = 0; b < 4; ++b) {
+                fr.has_box = fr.has_box && node_num(box[b], fr.box[b]) &&
+                             std::isfinite(fr.box[b]);
+            }
+        }
+        gt.frames.push_back(fr);
     }
     return true;
 }
@@ -424,7 +498,8 @@ std::string json_line(int frame, const std::string &name, const FrameOut &o,
       << ",\"level\":\"" << level_name(d.level)
       << "\",\"nearest_range_mm\":" << d.nearest_range_mm
       << ",\"clear_to_mm\":" << d.clear_to_mm << ",\"short_sight\":" << d.short_sight
-      << ",\"noise_vouch_mm\":" << d.noise_vouch_mm << ",\"pattern\":\""
+      << ",\"noise_vouch_mm\":" << d.noise_vouch_mm
+      << ",\"blocked_at_mm\":" << d.blocked_at_mm << ",\"pattern\":\""
       << pattern_name(o.res.motor.pattern) << "\",\"motor_on\":" << o.res.motor.on
       << ",\"duty_permille\":" << o.res.motor.duty_permille << ",\"hazards\":[";
     for (uint32_t k = 0; k < d.n_hazards && k < NEGOBS_DETECT_MAX_HAZARDS; ++k) {
@@ -555,8 +630,10 @@ cv::Mat overlay(const cv::Mat &left, const cv::Mat &disp_q4, int max_disp, int f
                       cv::Point(tx + ts.width, ty + 2), cv::Scalar(0, 0, 0), cv::FILLED);
         cv::putText(l3, txt, cv::Point(tx, ty), font, fs, c, 1, cv::LINE_AA);
     }
+    // the disparity panel's scale (JET over 0..dmax px, black = no value)
     cv::Mat top;
-    cv::hconcat(l3, dc, top);
+    cv::hconcat(l3, negobs_cli::with_colour_bar(dc, cv::COLORMAP_JET, 0, dmax, "px"),
+                top);
     const int bar_h = 40;
     cv::Mat bar(bar_h, top.cols, CV_8UC3, cv::Scalar(40, 40, 40));
     cv::Scalar sc = d.state == NEGOBS_DETECT_HAZARD    ? cv::Scalar(0, 128, 255)

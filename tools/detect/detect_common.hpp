@@ -58,8 +58,12 @@ struct GtSeq {
     std::vector<GtFrame> frames;
 };
 
-// Reads gt.json (one JSON object per line for frames, as written by
-// negobs_synth). Returns false with err on unreadable/malformed files.
+// Reads negobs_synth's gt.json with OpenCV's JSON reader (any layout:
+// re-indented or compacted files read the same) and validates the values
+// it keeps: camera numbers present (finite checks are the caller's, which
+// knows the ranges), width/height in 1..100000, frame i an integer, left/
+// right strings, ranges and boxes finite. Returns false with err naming
+// the file and the field.
 bool read_gt(const std::string &path, GtSeq &gt, std::string &err);
 
 // Reads an 8-bit grey image (colour converted). false + err if unreadable.

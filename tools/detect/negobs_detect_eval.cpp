@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <getopt.h>
 #include <iterator>
 #include <map>
 #include <mutex>
@@ -31,6 +32,7 @@
 
 #include <opencv2/calib3d.hpp>
 
+#include "cli.hpp"
 #include "detect_common.hpp"
 #include "profile_jump.hpp"
 
@@ -1973,6 +1975,9 @@ int evaluate_oakd(const Options &opt)
         if (d.short_sight) {
             verdict += " (short sight)";
         }
+        if (d.blocked_at_mm > 0) {
+            verdict += " (blocked at " + std::to_string(d.blocked_at_mm) + " mm)";
+        }
         if (!rs.empty()) {
             verdict += " (" + rs + ")";
         }
@@ -2007,7 +2012,7 @@ void usage(FILE *f)
 {
     std::fprintf(
         f,
-        "usage: negobs_detect_eval [--quick] [--set all|legacy|generic] [--valign] [--jobs N]\n"
+        "usage: negobs_detect_eval --all|--quick [--set all|legacy|generic] [--valign] [-j|--jobs N]\n"
         "                          [--work DIR] [--keep]\n"
         "                          [--synth PATH] [--markdown FILE] [--frames-json FILE]\n"
         "       negobs_detect_eval --surdis [DIR] [--img-dir DIR] [--markdown FILE]\n"
@@ -2023,9 +2028,7 @@ void usage(FILE *f)
         "reused), prints detection rate by drop and range, first-alert range,\n"
         "range/drop error, false alerts (flat, up-step, wall), degraded time,\n"
         "stage cost and PASS/MISS per target, and alerts on ramps and slopes\n"
-        "(1:12 down and up, 5/3/2 %% down; outside the targets). --synth defaults to\n"
-        "negobs_synth next to this binary\n"
-        "(../synth/negobs_synth).\n"
+        "(1:12 down and up, 5/3/2 %% down; outside the targets).\n"
         "--set: all (default) = the walks at the rendered mounting plus the added\n"
         "walks of docs/DETECTION.md \"The evaluation suite\" (random mounting, detector\n"
         "told 1.2 m / 20 deg, weak textures, camera mismatch, exposure steps, B = 6 cm);\n"
@@ -2045,8 +2048,110 @@ void usage(FILE *f)
         "--oakd: every NAME_left.png / NAME_right.png pair of DIR (default\n"
         "$NEGOBS_DATA/oakd) with f, B, cx, cy from DIR/calibration.json and no\n"
         "mounting hint, each fed N times; prints one Markdown table row per pair\n"
-        "(verdict, clear_to_mm, mounting, the frame's fit, noise_vouch_mm).\n"
+        "(verdict with blocked_at_mm when set, clear_to_mm, mounting, the frame's fit,\n"
+        "noise_vouch_mm).\n"
+        "--img-dir DIR: created (with parents) and checked writable before the run.\n"
+        "Without arguments: this text and exit 2 (the suite takes many minutes;\n"
+        "--all runs it). -h/--help, -V/--version; options take their value as\n"
+        "--opt VALUE or --opt=VALUE (--surdis=DIR, --oakd=DIR too); -m is --markdown.\n"
+        "--synth defaults to negobs_synth beside this binary (installed tree),\n"
+        "else ../synth/negobs_synth (build tree).\n"
         "Exit: 0 ran, 1 error, 2 bad command line, 77 SurDis / OAK-D data absent.\n");
+}
+
+enum LongOnly {
+    O_QUICK = 256,
+    O_ALL,
+    O_SET,
+    O_VALIGN,
+    O_KEEP,
+    O_WORK,
+    O_SYNTH,
+    O_FRAMES_JSON,
+    O_IMG_DIR,
+    O_SURDIS,
+    O_OAKD,
+    O_OAKD_REPEAT,
+    O_SURDIS_DUMP,
+    O_SURDIS_F,
+    O_SURDIS_B,
+    O_SURDIS_H,
+    O_SURDIS_MAX_DISP,
+    O_SURDIS_VSHIFT,
+    O_SURDIS_FRAMES,
+    O_SURDIS_PITCH,
+    O_SURDIS_RANGE_WARN,
+    O_SURDIS_RANGE_MAX,
+};
+
+const struct option kLongOpts[] = {
+    {"help", no_argument, nullptr, 'h'},
+    {"version", no_argument, nullptr, 'V'},
+    {"quick", no_argument, nullptr, O_QUICK},
+    {"all", no_argument, nullptr, O_ALL},
+    {"set", required_argument, nullptr, O_SET},
+    {"valign", no_argument, nullptr, O_VALIGN},
+    {"keep", no_argument, nullptr, O_KEEP},
+    {"jobs", required_argument, nullptr, 'j'},
+    {"work", required_argument, nullptr, O_WORK},
+    {"synth", required_argument, nullptr, O_SYNTH},
+    {"markdown", required_argument, nullptr, 'm'},
+    {"frames-json", required_argument, nullptr, O_FRAMES_JSON},
+    {"img-dir", required_argument, nullptr, O_IMG_DIR},
+    {"surdis", optional_argument, nullptr, O_SURDIS},
+    {"oakd", optional_argument, nullptr, O_OAKD},
+    {"oakd-repeat", required_argument, nullptr, O_OAKD_REPEAT},
+    {"surdis-dump", required_argument, nullptr, O_SURDIS_DUMP},
+    {"surdis-f", required_argument, nullptr, O_SURDIS_F},
+    {"surdis-baseline-mm", required_argument, nullptr, O_SURDIS_B},
+    {"surdis-height-mm", required_argument, nullptr, O_SURDIS_H},
+    {"surdis-max-disp", required_argument, nullptr, O_SURDIS_MAX_DISP},
+    {"surdis-vshift", required_argument, nullptr, O_SURDIS_VSHIFT},
+    {"surdis-frames", required_argument, nullptr, O_SURDIS_FRAMES},
+    {"surdis-pitch-deg", required_argument, nullptr, O_SURDIS_PITCH},
+    {"surdis-range-warn-mm", required_argument, nullptr, O_SURDIS_RANGE_WARN},
+    {"surdis-range-max-mm", required_argument, nullptr, O_SURDIS_RANGE_MAX},
+    {nullptr, 0, nullptr, 0},
+};
+
+// negobs_synth beside this binary (an installed tree: bin/), else in the
+// build tree's layout (tools/detect/../synth/).
+std::string default_synth(const char *argv0)
+{
+    // /proc/self/exe: argv[0] is a bare name when the tool is found on PATH
+    std::error_code ec;
+    fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (ec || exe.empty()) {
+        exe = fs::absolute(argv0);
+    }
+    const fs::path self = exe.parent_path();
+    const fs::path beside = self / "negobs_synth";
+    if (fs::exists(beside)) {
+        return beside.string();
+    }
+    return (self / ".." / "synth" / "negobs_synth").lexically_normal().string();
+}
+
+// --img-dir: created (with its parents) and proven writable before the
+// run, so a mistyped or read-only folder fails at once instead of after
+// the evaluation with no picture written. Returns "" or what is wrong.
+std::string prepare_img_dir(const std::string &dir)
+{
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec || !fs::is_directory(dir)) {
+        return "cannot create --img-dir " + dir + (ec ? ": " + ec.message() : "");
+    }
+    const fs::path probe = fs::path(dir) / ".negobs_write_test";
+    {
+        std::ofstream t(probe);
+        t << "x";
+        if (!t.flush()) {
+            return "cannot write into --img-dir " + dir;
+        }
+    }
+    fs::remove(probe, ec);
+    return std::string();
 }
 
 } // namespace
@@ -2055,137 +2160,134 @@ int main(int argc, char **argv)
 {
     Options opt;
     opt.work = "/tmp/negobs_detect_eval";
-    const fs::path self = fs::absolute(argv[0]).parent_path();
-    opt.synth = (self / ".." / "synth" / "negobs_synth").lexically_normal().string();
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        auto val = [&](std::string &dst) {
-            if (i + 1 >= argc) {
-                return false;
-            }
-            dst = argv[++i];
-            return true;
-        };
+    opt.synth = default_synth(argv[0]);
+    // the synthetic suite takes many minutes: never by accident
+    if (argc < 2) {
+        usage(stderr);
+        std::fprintf(stderr, "\nnegobs_detect_eval: no arguments: give --all (or "
+                             "--quick) for the synthetic suite\n");
+        return 2;
+    }
+    opterr = 0;
+    int c;
+    int li = -1;
+    while ((c = getopt_long(argc, argv, "+:hVj:m:", kLongOpts, &li)) != -1) {
+        const std::string v = optarg ? optarg : "";
         auto num = [&](double &dst, double lo, double hi) {
-            if (i + 1 >= argc) {
-                return false;
+            return negobs_cli::parse_double(optarg, lo, hi, dst);
+        };
+        // --surdis DIR / --oakd DIR: the folder is optional, as the next
+        // word when it is not an option (or --surdis=DIR)
+        auto optional_dir = [&](std::string &dst) {
+            if (optarg != nullptr) {
+                dst = optarg;
+            } else if (optind < argc && argv[optind][0] != '-') {
+                dst = argv[optind++];
             }
-            char *end = nullptr;
-            dst = std::strtod(argv[++i], &end);
-            return *end == '\0' && end != argv[i] && dst >= lo && dst <= hi;
         };
         bool ok = true;
-        std::string s;
-        if (a == "--help" || a == "-h") {
+        switch (c) {
+        case 'h':
             usage(stdout);
+            std::printf("Default --synth here: %s\n", opt.synth.c_str());
             return 0;
-        } else if (a == "--quick") {
-            opt.quick = true;
-        } else if (a == "--set") {
-            std::string v;
-            ok = val(v) && (v == "all" || v == "legacy" || v == "generic");
+        case 'V': negobs_cli::print_version("negobs_detect_eval"); return 0;
+        case O_QUICK: opt.quick = true; break;
+        case O_ALL: break; // the default: the whole synthetic suite
+        case O_SET:
+            ok = v == "all" || v == "legacy" || v == "generic";
             opt.set = v == "legacy"
                           ? SuiteSet::Legacy
                           : (v == "generic" ? SuiteSet::Generic : SuiteSet::All);
-        } else if (a == "--valign") {
-            opt.valign = true;
-        } else if (a == "--keep") {
-            opt.keep = true;
-        } else if (a == "--jobs") {
-            double j = 0;
-            ok = num(j, 1, 64);
-            opt.jobs = static_cast<int>(j);
-        } else if (a == "--work") {
-            ok = val(opt.work);
-        } else if (a == "--synth") {
-            ok = val(opt.synth);
-        } else if (a == "--markdown") {
-            ok = val(opt.markdown);
-        } else if (a == "--frames-json") {
-            ok = val(opt.frames_json);
-        } else if (a == "--img-dir") {
-            ok = val(opt.img_dir);
-        } else if (a == "--surdis") {
+            break;
+        case O_VALIGN: opt.valign = true; break;
+        case O_KEEP: opt.keep = true; break;
+        case 'j': ok = negobs_cli::parse_int(optarg, 1, 64, opt.jobs); break;
+        case O_WORK: opt.work = v; break;
+        case O_SYNTH: opt.synth = v; break;
+        case 'm': opt.markdown = v; break;
+        case O_FRAMES_JSON: opt.frames_json = v; break;
+        case O_IMG_DIR: opt.img_dir = v; break;
+        case O_SURDIS:
             opt.surdis = true;
-            if (i + 1 < argc && argv[i + 1][0] != '-') {
-                opt.surdis_dir = argv[++i];
-            }
-        } else if (a == "--oakd") {
+            optional_dir(opt.surdis_dir);
+            break;
+        case O_OAKD:
             opt.oakd = true;
-            if (i + 1 < argc && argv[i + 1][0] != '-') {
-                opt.oakd_dir = argv[++i];
-            }
-        } else if (a == "--oakd-repeat") {
-            double x = 0;
-            ok = num(x, 1, 100);
-            opt.oakd_repeat = static_cast<int>(x);
-        } else if (a == "--surdis-dump") {
-            ok = val(opt.dump_dir);
-        } else if (a == "--surdis-f") {
-            ok = num(opt.surdis_f, 50, 5000);
-        } else if (a == "--surdis-baseline-mm") {
-            ok = num(opt.surdis_B, 5, 500);
-        } else if (a == "--surdis-height-mm") {
+            optional_dir(opt.oakd_dir);
+            break;
+        case O_OAKD_REPEAT:
+            ok = negobs_cli::parse_int(optarg, 1, 100, opt.oakd_repeat);
+            break;
+        case O_SURDIS_DUMP: opt.dump_dir = v; break;
+        case O_SURDIS_F: ok = num(opt.surdis_f, 50, 5000); break;
+        case O_SURDIS_B: ok = num(opt.surdis_B, 5, 500); break;
+        case O_SURDIS_H:
             ok = num(opt.surdis_H, 0, 3000) && (opt.surdis_H == 0 || opt.surdis_H >= 300);
-        } else if (a == "--surdis-max-disp") {
-            double x = 0;
-            ok = num(x, 8, 255);
-            opt.surdis_max_disp = static_cast<int>(x);
-        } else if (a == "--surdis-vshift") {
-            std::string v;
-            ok = val(v);
-            if (ok && v == "auto") {
+            break;
+        case O_SURDIS_MAX_DISP:
+            ok = negobs_cli::parse_int(optarg, 8, 255, opt.surdis_max_disp);
+            break;
+        case O_SURDIS_VSHIFT:
+            if (v == "auto") {
                 opt.surdis_vshift = -100;
-            } else if (ok && v == "model") {
+            } else if (v == "model") {
                 opt.surdis_vshift = -200;
-            } else if (ok) {
-                double x = 0;
-                char *end = nullptr;
-                x = std::strtod(v.c_str(), &end);
-                ok = *end == '\0' && end != v.c_str() && x >= -16 && x <= 16;
-                opt.surdis_vshift = static_cast<int>(x);
+            } else {
+                ok = negobs_cli::parse_int(optarg, -16, 16, opt.surdis_vshift);
             }
-        } else if (a == "--surdis-frames") {
-            std::string v;
-            ok = val(v) &&
-                 std::sscanf(v.c_str(), "%d-%d", &opt.surdis_first, &opt.surdis_last) ==
+            break;
+        case O_SURDIS_FRAMES:
+            ok = std::sscanf(v.c_str(), "%d-%d", &opt.surdis_first, &opt.surdis_last) ==
                      2 &&
                  opt.surdis_first >= 18 && opt.surdis_last <= 100 &&
                  opt.surdis_first <= opt.surdis_last;
-        } else if (a == "--surdis-pitch-deg") {
-            ok = num(opt.surdis_pitch, -10, 80);
-        } else if (a == "--surdis-range-warn-mm") {
-            ok = num(opt.surdis_range_warn, 1000, 10000);
-        } else if (a == "--surdis-range-max-mm") {
-            ok = num(opt.surdis_range_max, 1000, 10000);
-        } else {
+            break;
+        case O_SURDIS_PITCH: ok = num(opt.surdis_pitch, -10, 80); break;
+        case O_SURDIS_RANGE_WARN: ok = num(opt.surdis_range_warn, 1000, 10000); break;
+        case O_SURDIS_RANGE_MAX: ok = num(opt.surdis_range_max, 1000, 10000); break;
+        case ':':
+            std::fprintf(stderr, "negobs_detect_eval: error: %s needs a value\n",
+                         argv[optind - 1]);
+            return 2;
+        default:
             std::fprintf(stderr, "negobs_detect_eval: error: unknown argument %s\n",
-                         a.c_str());
+                         argv[optind - 1]);
             return 2;
         }
         if (!ok) {
-            std::fprintf(stderr,
-                         "negobs_detect_eval: error: bad or missing value for %s\n",
-                         a.c_str());
+            std::fprintf(stderr, "negobs_detect_eval: error: bad value '%s' for --%s\n",
+                         v.c_str(), li >= 0 ? kLongOpts[li].name : "?");
             return 2;
         }
+        li = -1;
     }
+    if (optind < argc) {
+        std::fprintf(stderr, "negobs_detect_eval: error: unexpected argument %s\n",
+                     argv[optind]);
+        return 2;
+    }
+    if (!opt.img_dir.empty()) {
+        const std::string e = prepare_img_dir(opt.img_dir);
+        if (!e.empty()) {
+            std::fprintf(stderr, "negobs_detect_eval: error: %s\n", e.c_str());
+            return 1;
+        }
+    }
+    // $NEGOBS_DATA, else the source tree's data beside a build-tree binary;
+    // an installed binary without NEGOBS_DATA needs the folder given
+    const std::string data = negobs_cli::default_data_dir();
     if (opt.oakd) {
         if (opt.oakd_dir.empty()) {
-            const char *env = std::getenv("NEGOBS_DATA");
-            opt.oakd_dir = env != nullptr && *env
-                               ? (fs::path(env) / "oakd").string()
-                               : std::string(NEGOBS_SOURCE_ROOT "/../shared/data/oakd");
+            opt.oakd_dir = data.empty() ? std::string("oakd")
+                                        : (fs::path(data) / "oakd").string();
         }
         return evaluate_oakd(opt);
     }
     if (opt.surdis) {
         if (opt.surdis_dir.empty()) {
-            const char *env = std::getenv("NEGOBS_DATA");
-            opt.surdis_dir = env != nullptr && *env
-                                 ? (fs::path(env) / "surdis").string()
-                                 : std::string(NEGOBS_SOURCE_ROOT
-                                               "/../shared/data/surdis");
+            opt.surdis_dir = data.empty() ? std::string("surdis")
+                                          : (fs::path(data) / "surdis").string();
         }
         return evaluate_surdis(opt);
     }

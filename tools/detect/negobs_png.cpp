@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <getopt.h>
 #include <string>
 #include <vector>
 
@@ -19,7 +20,10 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "cli.hpp"
 #include "detect_common.hpp"
+#include "rect_table.hpp"
+#include "session.hpp"
 
 namespace fs = std::filesystem;
 using namespace negobs_detect_tools;
@@ -31,12 +35,18 @@ void usage(FILE *f)
     std::fprintf(
         f, "usage: negobs_png LEFT RIGHT --out DIR [options]\n"
            "       negobs_png --seq DIR --out OUTDIR [options]\n"
+           "DIR: negobs_synth output, a folder of left_NNNN.png/right_NNNN.png, or a\n"
+           "session recorded by negobs_run --record (session.txt, left.y, right.y;\n"
+           "its meta.txt gives the rig geometry and names its calibration table).\n"
            "Runs the whole negobs pipeline and writes OUTDIR/overlay_NNNN.png and\n"
            "one JSON line per frame (stdout, or --json FILE).\n"
            "Camera: read from DIR/gt.json when present (negobs_synth), else:\n"
            "  --f PX            focal length (250 at 320 px width, scaled)\n"
            "  --baseline-mm B   baseline (120)\n"
            "  --cx PX --cy PX   principal point (image centre)\n"
+           "  --calib TABLE     rectify every pair with a negobs_calib table (the\n"
+           "                    library's remap, as negobs_run --calib); its f, B,\n"
+           "                    cx, cy replace the camera values\n"
            "  --height-mm H     camera height hint (1200; 0: no hint). The detector\n"
            "                    measures the mounting on the floor; the hint only\n"
            "                    verifies the start (docs/DETECTION.md)\n"
@@ -51,32 +61,17 @@ void usage(FILE *f)
            "  --repeat N        single pair: feed it N times (confirmation needs\n"
            "                    3 of 5 frames) (1)\n"
            "  --first N --count N  sequence: frame subset\n"
-           "  --json FILE       JSON lines to FILE instead of stdout\n"
+           "  -j, --json FILE   JSON lines to FILE instead of stdout\n"
            "  --no-overlay      do not write pictures\n"
            "  --overlay-scale K scale the pictures by K (0.1..4, default 1; below 1\n"
            "                    also 32 grey levels per channel: small files)\n"
            "  --whole           time only the whole frame (no per-stage clock)\n"
            "  --summary         one summary line at the end (stdout)\n"
-           "  --quiet           no JSON lines on stdout\n"
-           "Exit: 0 ok, 1 data error, 2 bad command line.\n");
-}
-
-bool parse_double(const char *s, double &v)
-{
-    char *end = nullptr;
-    v = std::strtod(s, &end);
-    return end != s && *end == '\0' && std::isfinite(v);
-}
-
-bool parse_int(const char *s, int &v)
-{
-    char *end = nullptr;
-    long x = std::strtol(s, &end, 10);
-    if (end == s || *end != '\0' || x < -1000000 || x > 1000000) {
-        return false;
-    }
-    v = static_cast<int>(x);
-    return true;
+           "  -q, --quiet       no JSON lines on stdout\n"
+           "  -h, --help        this text\n"
+           "  -V, --version     the negobs version\n"
+           "Options take their value as --opt VALUE or --opt=VALUE; -o is --out.\n"
+           "Exit: 0 ok, 1 data error, 2 bad command line (also: no arguments).\n");
 }
 
 int bad(const std::string &msg)
@@ -137,13 +132,17 @@ std::string check_gt_camera(const GtSeq &gt, bool f_set, bool b_set, bool cx_set
 struct Item {
     std::string left, right, name;
     const GtFrame *gt = nullptr;
+    long raw = -1;    // recorded session: frame index in left.y/right.y
+    double t_ms = -1; // recorded session: capture time from frames.txt
 };
 
 } // namespace
 
-int main(int argc, char **argv)
+namespace {
+
+int run(int argc, char **argv)
 {
-    std::string seq, out, json_path;
+    std::string seq, out, json_path, calib_path;
     std::vector<std::string> pos;
     double overlay_scale = 1.0;
     double f = -1, B = -1, cx = -1, cy = -1, H = -1, pitch = -1e9, fps = -1;
@@ -151,87 +150,109 @@ int main(int argc, char **argv)
     bool valign = false;
     bool vshift_set = false, overlay_on = true, summary = false, quiet = false,
          whole = false;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        auto need = [&](const char *what) -> const char * {
-            if (i + 1 >= argc) {
-                return nullptr;
+    enum {
+        O_SEQ = 256,
+        O_JSON,
+        O_F,
+        O_B,
+        O_CX,
+        O_CY,
+        O_H,
+        O_PITCH,
+        O_MAXD,
+        O_VSHIFT,
+        O_FPS,
+        O_REPEAT,
+        O_FIRST,
+        O_COUNT,
+        O_SCALE,
+        O_NO_OVERLAY,
+        O_SUMMARY,
+        O_WHOLE,
+        O_CALIB
+    };
+    static const struct option long_opts[] = {
+        {"help", no_argument, nullptr, 'h'},
+        {"version", no_argument, nullptr, 'V'},
+        {"seq", required_argument, nullptr, O_SEQ},
+        {"out", required_argument, nullptr, 'o'},
+        {"json", required_argument, nullptr, 'j'},
+        {"f", required_argument, nullptr, O_F},
+        {"baseline-mm", required_argument, nullptr, O_B},
+        {"cx", required_argument, nullptr, O_CX},
+        {"cy", required_argument, nullptr, O_CY},
+        {"height-mm", required_argument, nullptr, O_H},
+        {"pitch-deg", required_argument, nullptr, O_PITCH},
+        {"max-disp", required_argument, nullptr, O_MAXD},
+        {"vshift", required_argument, nullptr, O_VSHIFT},
+        {"fps", required_argument, nullptr, O_FPS},
+        {"repeat", required_argument, nullptr, O_REPEAT},
+        {"first", required_argument, nullptr, O_FIRST},
+        {"count", required_argument, nullptr, O_COUNT},
+        {"overlay-scale", required_argument, nullptr, O_SCALE},
+        {"no-overlay", no_argument, nullptr, O_NO_OVERLAY},
+        {"summary", no_argument, nullptr, O_SUMMARY},
+        {"quiet", no_argument, nullptr, 'q'},
+        {"whole", no_argument, nullptr, O_WHOLE},
+        {"calib", required_argument, nullptr, O_CALIB},
+        {nullptr, 0, nullptr, 0},
+    };
+    if (argc < 2) {
+        usage(stderr);
+        return 2;
+    }
+    opterr = 0;
+    int c;
+    int li = -1;
+    while ((c = getopt_long(argc, argv, ":hVo:j:q", long_opts, &li)) != -1) {
+        const char *v = optarg;
+        const std::string a = c == ':' || c == '?' ? std::string(argv[optind - 1])
+                                                   : std::string();
+        bool ok = true;
+        switch (c) {
+        case 'h': usage(stdout); return 0;
+        case 'V': negobs_cli::print_version("negobs_png"); return 0;
+        case O_SEQ: seq = v; break;
+        case 'o': out = v; break;
+        case 'j': json_path = v; break;
+        case O_CALIB: calib_path = v; break;
+        case O_F: ok = negobs_cli::parse_double(v, 1, 8192, f); break;
+        case O_B: ok = negobs_cli::parse_double(v, 1, 1000, B); break;
+        case O_CX: ok = negobs_cli::parse_double(v, 0, 4096, cx); break;
+        case O_CY: ok = negobs_cli::parse_double(v, 0, 4096, cy); break;
+        case O_H:
+            ok = negobs_cli::parse_double(v, 0, 3000, H) && (H == 0 || H >= 200);
+            break;
+        case O_PITCH: ok = negobs_cli::parse_double(v, -10, 80, pitch); break;
+        case O_MAXD: ok = negobs_cli::parse_int(v, 8, 255, max_disp); break;
+        case O_VSHIFT:
+            if (std::string(v) == "model") {
+                valign = true;
+            } else {
+                ok = negobs_cli::parse_int(v, -16, 16, vshift);
+                vshift_set = true;
             }
-            (void)what;
-            return argv[++i];
-        };
-        const bool takes_value = a == "--seq" || a == "--out" || a == "--json" ||
-                                 a == "--f" || a == "--baseline-mm" || a == "--cx" ||
-                                 a == "--cy" || a == "--height-mm" ||
-                                 a == "--pitch-deg" || a == "--max-disp" ||
-                                 a == "--vshift" || a == "--fps" || a == "--repeat" ||
-                                 a == "--first" || a == "--count" ||
-                                 a == "--overlay-scale";
-        if (a == "--help" || a == "-h") {
-            usage(stdout);
-            return 0;
+            break;
+        case O_FPS: ok = negobs_cli::parse_double(v, 1e-3, 1000, fps); break;
+        case O_REPEAT: ok = negobs_cli::parse_int(v, 1, 1000, repeat); break;
+        case O_FIRST: ok = negobs_cli::parse_int(v, 0, 10000000, first); break;
+        case O_COUNT: ok = negobs_cli::parse_int(v, 1, 10000000, count); break;
+        case O_SCALE: ok = negobs_cli::parse_double(v, 0.1, 4, overlay_scale); break;
+        case O_NO_OVERLAY: overlay_on = false; break;
+        case O_SUMMARY: summary = true; break;
+        case 'q': quiet = true; break;
+        case O_WHOLE: whole = true; break;
+        case ':': return bad("option " + a + " needs a value");
+        default: return bad("unknown option " + a);
         }
-        if (takes_value) {
-            const char *v = need(a.c_str());
-            if (v == nullptr) {
-                return bad("option " + a + " needs a value");
-            }
-            bool ok = true;
-            if (a == "--seq") {
-                seq = v;
-            } else if (a == "--out") {
-                out = v;
-            } else if (a == "--json") {
-                json_path = v;
-            } else if (a == "--f") {
-                ok = parse_double(v, f) && f >= 1 && f <= 8192;
-            } else if (a == "--baseline-mm") {
-                ok = parse_double(v, B) && B >= 1 && B <= 1000;
-            } else if (a == "--cx") {
-                ok = parse_double(v, cx) && cx >= 0;
-            } else if (a == "--cy") {
-                ok = parse_double(v, cy) && cy >= 0;
-            } else if (a == "--height-mm") {
-                ok = parse_double(v, H) && (H == 0 || (H >= 200 && H <= 3000));
-            } else if (a == "--pitch-deg") {
-                ok = parse_double(v, pitch) && pitch >= -10 && pitch <= 80;
-            } else if (a == "--max-disp") {
-                ok = parse_int(v, max_disp) && max_disp >= 8 && max_disp <= 255;
-            } else if (a == "--vshift") {
-                if (std::string(v) == "model") {
-                    valign = true;
-                } else {
-                    ok = parse_int(v, vshift) && vshift >= -16 && vshift <= 16;
-                    vshift_set = true;
-                }
-            } else if (a == "--fps") {
-                ok = parse_double(v, fps) && fps > 0 && fps <= 1000;
-            } else if (a == "--repeat") {
-                ok = parse_int(v, repeat) && repeat >= 1 && repeat <= 1000;
-            } else if (a == "--first") {
-                ok = parse_int(v, first) && first >= 0;
-            } else if (a == "--overlay-scale") {
-                ok = parse_double(v, overlay_scale) && overlay_scale >= 0.1 &&
-                     overlay_scale <= 4;
-            } else if (a == "--count") {
-                ok = parse_int(v, count) && count >= 1;
-            }
-            if (!ok) {
-                return bad("bad value '" + std::string(v) + "' for " + a);
-            }
-        } else if (a == "--no-overlay") {
-            overlay_on = false;
-        } else if (a == "--summary") {
-            summary = true;
-        } else if (a == "--quiet") {
-            quiet = true;
-        } else if (a == "--whole") {
-            whole = true;
-        } else if (!a.empty() && a[0] == '-') {
-            return bad("unknown option " + a);
-        } else {
-            pos.push_back(a);
+        if (!ok) {
+            return bad("bad value '" + std::string(v) + "' for --" +
+                       (li >= 0 ? long_opts[li].name : "?"));
         }
+        li = -1;
+    }
+    for (int i = optind; i < argc; ++i) {
+        pos.emplace_back(argv[i]);
     }
     if (seq.empty() == (pos.size() != 2)) {
         return bad(seq.empty() ? "give LEFT RIGHT or --seq DIR"
@@ -244,13 +265,37 @@ int main(int argc, char **argv)
     GtSeq gt;
     bool have_gt = false;
     std::vector<Item> items;
+    Session session;
+    negobs_rect_tools::RectTable rect;
+    if (!calib_path.empty()) {
+        const std::string err = rect.load(calib_path);
+        if (!err.empty()) {
+            return fail(err);
+        }
+    }
     if (!seq.empty()) {
         if (!fs::is_directory(seq)) {
             return fail("sequence folder " + seq + " does not exist");
         }
         const std::string gp = (fs::path(seq) / "gt.json").string();
         std::string err;
-        if (fs::exists(gp)) {
+        if (is_session(seq)) {
+            err = read_session(seq, session);
+            if (!err.empty()) {
+                return fail(err);
+            }
+            for (long k = 0; k < session.frames; ++k) {
+                Item it;
+                char name[32];
+                std::snprintf(name, sizeof name, "pair_%06ld", k);
+                it.name = name;
+                it.raw = k;
+                it.t_ms = session.t_ms[static_cast<size_t>(k)];
+                items.push_back(it);
+            }
+            session_geometry(session, seq, !calib_path.empty(), rect.crc32(), f, B, cx,
+                             cy);
+        } else if (fs::exists(gp)) {
             if (!read_gt(gp, gt, err)) {
                 return fail(err);
             }
@@ -286,7 +331,7 @@ int main(int argc, char **argv)
             }
         }
         if (items.empty()) {
-            return fail("no frames (left_NNNN.png or gt.json) in " + seq);
+            return fail("no frames (left_NNNN.png, gt.json or session.txt) in " + seq);
         }
         if (first >= static_cast<int>(items.size())) {
             return bad("--first beyond the last frame");
@@ -314,6 +359,22 @@ int main(int argc, char **argv)
         cam.cx = cx;
     if (cy >= 0)
         cam.cy = cy;
+    if (!calib_path.empty()) {
+        // the table's measured geometry, unless given on the command line
+        const bool f_cli = f > 0, b_cli = B > 0;
+        if (!f_cli) {
+            cam.f = f = rect.f_px();
+        }
+        if (!b_cli) {
+            cam.baseline_mm = B = rect.baseline_mm();
+        }
+        if (cx < 0 && rect.info().cx_q16 >= 0) {
+            cam.cx = rect.cx();
+        }
+        if (cy < 0 && rect.info().cy_q16 >= 0) {
+            cam.cy = rect.cy();
+        }
+    }
     if (H >= 0)
         cam.height_mm = H;
     if (pitch > -1e8)
@@ -354,8 +415,19 @@ int main(int argc, char **argv)
         const Item &it = items[k];
         cv::Mat L, R;
         std::string err;
-        if (!load_grey(it.left, L, err) || !load_grey(it.right, R, err)) {
+        if (it.raw >= 0) {
+            if (!read_session_frame(seq, "left", it.raw, session, L, err) ||
+                !read_session_frame(seq, "right", it.raw, session, R, err)) {
+                return fail(err);
+            }
+        } else if (!load_grey(it.left, L, err) || !load_grey(it.right, R, err)) {
             return fail(err);
+        }
+        if (!calib_path.empty()) {
+            err = rect.apply(L, R);
+            if (!err.empty()) {
+                return fail(err);
+            }
         }
         if (L.size() != R.size()) {
             return fail("size mismatch: " + it.left + " is " + std::to_string(L.cols) +
@@ -380,8 +452,8 @@ int main(int argc, char **argv)
         } else if (L.cols != w || L.rows != h) {
             return fail("size mismatch: " + it.left + " differs from frame 0");
         }
-        const uint32_t t_ms = 1000u +
-                              static_cast<uint32_t>(std::lround(1000.0 * k / fps));
+        const uint32_t t_ms = 1000u + static_cast<uint32_t>(std::lround(
+                                          it.t_ms >= 0 ? it.t_ms : 1000.0 * k / fps));
         FrameOut o;
         if (!runner.process(L, R, t_ms, o, err)) {
             return fail(err);
@@ -458,4 +530,11 @@ int main(int argc, char **argv)
         }
     }
     return 0;
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+    return negobs_cli::main_guard("negobs_png", argc, argv, run);
 }

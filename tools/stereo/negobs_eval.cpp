@@ -14,6 +14,7 @@
 #include <exception>
 #include <fstream>
 #include <functional>
+#include <getopt.h>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -28,12 +29,12 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "cli.hpp"
+#include "colour_bar.hpp"
+#include "eval_score.hpp"
 #include "occlusion.hpp"
 #include "stereo_common.hpp"
 
-#ifndef NEGOBS_SOURCE_ROOT
-#define NEGOBS_SOURCE_ROOT "."
-#endif
 #ifndef NEGOBS_BUILD_TYPE
 #define NEGOBS_BUILD_TYPE "unknown"
 #endif
@@ -42,19 +43,27 @@ namespace {
 
 using negobs_tools::Range;
 
+// 0 / 1 / 2 / 77 as every negobs tool (tools/common/cli.hpp); 3, 4 its own.
 enum Exit {
-    EXIT_OK = 0,
-    EXIT_USAGE = 1,
-    EXIT_DATA = 2,    // manifest or a listed file unreadable, set unknown
-    EXIT_CHECK = 3,   // --check thresholds not met
-    EXIT_LIBRARY = 4, // negobs or OpenCV failed on a pair
-    EXIT_SKIP = 77,   // --check: nothing to check here (data absent)
+    EXIT_OK = negobs_cli::kExitOk,
+    EXIT_DATA = negobs_cli::kExitData, // manifest or a file unreadable,
+                                       // set unknown
+    EXIT_USAGE = negobs_cli::kExitUsage,
+    EXIT_CHECK = 3,                    // --check thresholds not met
+    EXIT_LIBRARY = 4,                  // negobs or OpenCV failed on a pair
+    EXIT_SKIP = negobs_cli::kExitSkip, // --check: data absent
 };
 
 const char *const kAloeSet = "aloe-opencv-doc";
 
 const char *const kHelp =
-    "usage: negobs_eval [options]\n"
+    "usage: negobs_eval --all | --set NAME... | --list [options]\n"
+    "       negobs_eval --score MAP --gt GT [--gt-scale S] [--mask M]\n"
+    "                   [--format F] [--csv FILE] [--json FILE]\n"
+    "\n"
+    "Without arguments it prints this text and exits 2: the full\n"
+    "evaluation takes a long time, so it runs only when asked (--all, or\n"
+    "any option that selects or writes something).\n"
     "\n"
     "Runs negobs, OpenCV StereoBM and OpenCV StereoSGBM on every pair with\n"
     "ground truth (GT) listed in DATA/manifest.tsv and on Debian opencv-doc's\n"
@@ -81,16 +90,27 @@ const char *const kHelp =
     "\n"
     "Options:\n"
     "  --data DIR        data folder (default $NEGOBS_DATA, else\n"
-    "                    <repo>/../shared/data); absent -> its sets are skipped\n"
+    "                    <repo>/../shared/data for a binary in its build\n"
+    "                    tree, none when installed); absent -> its sets are\n"
+    "                    skipped\n"
     "  --opencv-doc DIR  folder with aloeL.jpg, aloeR.jpg, aloeGT.png\n"
     "                    (default /usr/share/doc/opencv-doc/examples/data)\n"
-    "  --set NAME        evaluate this set only (repeatable; exact name)\n"
+    "  --all             every available set (the default selection)\n"
+    "  -s, --set NAME    evaluate this set only (repeatable; exact name)\n"
     "  --list            list the available sets and exit\n"
     "  --matchers LIST   comma list of negobs,bm,sgbm (default all three;\n"
     "                    negobs only with --check)\n"
     "  --repeat N        timing runs per matcher, best kept (default 3;\n"
     "                    1 with --check)\n"
-    "  --markdown FILE   write the table as Markdown\n"
+    "  -m, --markdown FILE  write the table as Markdown\n"
+    "  -c, --csv FILE    write one line per set and matcher as CSV (set,\n"
+    "                    matcher, width, height, evaluated_px, density_pct,\n"
+    "                    bad1_pct, bad1all_pct, bad2_pct, rms_px, cpu_ms)\n"
+    "  -j, --json FILE   the same rows as a JSON array of objects\n"
+    "                    (FILE '-' for both: stdout)\n"
+    "  --progress        progress with an ETA on stderr, one line per set\n"
+    "                    (default: redrawn in place when stderr is a\n"
+    "                    terminal, off otherwise); --no-progress: never\n"
     "  --plots DIR       write DIR/eval_bad1all.png and DIR/eval_time.png\n"
     "  --pictures DIR    write DIR/eval_<set>.png: negobs | BM | SGBM | GT colour\n"
     "                    maps (TURBO over 0..max_disp, black = no value)\n"
@@ -104,12 +124,32 @@ const char *const kHelp =
     "                    set, negobs bad1 <= MAXBAD1 and density >=\n"
     "                    MINDENSITY (both in %)\n"
     "  -h, --help        this text\n"
+    "  -V, --version     the negobs version\n"
     "\n"
-    "Exit codes:\n"
+    "Scoring one map (any matcher), like Middlebury's evaldisp:\n"
+    "  --score MAP       the disparity map: png16 (x16, 0 = no value), kitti\n"
+    "                    (x256), pfm (non-finite = no value); by -f, else\n"
+    "                    .pfm -> pfm, other images -> png16\n"
+    "  -f, --format F    auto (default), png16, kitti or pfm\n"
+    "  --map-scale S     divide the map's values by S instead (e.g. 1 for\n"
+    "                    an 8-bit map that holds pixels)\n"
+    "  --gt GT           ground truth: PFM (inf = unknown), or an image whose\n"
+    "                    value / S is the disparity, 0 = unknown\n"
+    "  --gt-scale S      default: 1 for PFM and 8-bit images (full-size\n"
+    "                    Middlebury), 256 for 16-bit PNG (KITTI); 2 or 4\n"
+    "                    for half / quarter size Middlebury\n"
+    "  --mask M          evaluate only where M is 255 (Middlebury's\n"
+    "                    non-occlusion masks: 128 occluded, 0 unknown)\n"
+    "  --name NAME       the set column of the output (default: MAP's name)\n"
+    "  The metrics are the ones above; a line goes to stdout unless a\n"
+    "  table is written there ('-'); -m/-c/-j write Markdown/CSV/JSON.\n"
+    "Options take their value as --opt VALUE or --opt=VALUE.\n"
+    "\n"
+    "Exit codes (0-2 and 77 as every negobs tool):\n"
     "  0   success (and --check passed)\n"
-    "  1   bad command line\n"
-    "  2   data error: manifest or a listed image unreadable, size\n"
-    "      mismatch, unknown --set\n"
+    "  1   data error: manifest, a listed image, a map or GT unreadable,\n"
+    "      size mismatch, unknown --set, no GT pixel to score\n"
+    "  2   bad command line (also: no arguments)\n"
     "  3   --check failed\n"
     "  4   a matcher (negobs library or OpenCV) failed\n"
     "  77  --check could not run: data absent\n"
@@ -299,31 +339,13 @@ struct SetResult {
 void score(const cv::Mat &disp, const cv::Mat &valid, const cv::Mat &gt,
            const cv::Mat &eval_mask, Metrics &m)
 {
-    long n = 0, with = 0, b1 = 0, b2 = 0;
-    double se = 0.0;
-    for (int y = 0; y < gt.rows; ++y) {
-        const float *d = disp.ptr<float>(y);
-        const uint8_t *v = valid.ptr<uint8_t>(y);
-        const float *g = gt.ptr<float>(y);
-        const uint8_t *e = eval_mask.ptr<uint8_t>(y);
-        for (int x = 0; x < gt.cols; ++x) {
-            if (!e[x])
-                continue;
-            ++n;
-            if (!v[x])
-                continue;
-            ++with;
-            const double err = std::fabs(double(d[x]) - double(g[x]));
-            b1 += err > 1.0;
-            b2 += err > 2.0;
-            se += err * err;
-        }
-    }
-    m.density = n ? 100.0 * double(with) / double(n) : 0.0;
-    m.bad1 = with ? 100.0 * double(b1) / double(with) : 100.0;
-    m.bad2 = with ? 100.0 * double(b2) / double(with) : 100.0;
-    m.bad1all = n ? 100.0 * double(b1 + (n - with)) / double(n) : 100.0;
-    m.rms = with ? std::sqrt(se / double(with)) : 0.0;
+    const negobs_tools::DispScore d = negobs_tools::score_disparity(
+        disp, valid, gt, eval_mask);
+    m.density = d.density;
+    m.bad1 = d.bad1;
+    m.bad2 = d.bad2;
+    m.bad1all = d.bad1all;
+    m.rms = d.rms;
 }
 
 // CPU time of the calling thread in ms. Every matcher runs on this thread
@@ -369,7 +391,8 @@ struct Options {
     bool matchers_given = false;
     int repeat = 3;
     bool repeat_given = false;
-    std::string markdown, plots, pictures;
+    std::string markdown, plots, pictures, csv, json;
+    int progress = -1; // --progress 1, --no-progress 0, -1: on a terminal
     std::string pictures_ext = "png";
     int pictures_width = 1600;
     bool check = false;
@@ -1092,6 +1115,9 @@ bool write_picture(const Options &opt, const SetResult &r)
     }
     panels.push_back(
         labelled(negobs_tools::colourise(r.gt, r.gt_valid, lo, hi), "GT"));
+    // one scale for the four panels, which share the colour range
+    panels.push_back(
+        negobs_cli::colour_bar(r.height, cv::COLORMAP_TURBO, lo, hi, "px"));
     cv::Mat row;
     cv::hconcat(panels, row);
     const int max_w = opt.pictures_width;
@@ -1134,102 +1160,205 @@ bool parse_matchers(const std::string &s, Options &opt)
     return true;
 }
 
+enum LongOnly {
+    O_DATA = 256,
+    O_OPENCV_DOC,
+    O_LIST,
+    O_MATCHERS,
+    O_REPEAT,
+    O_PLOTS,
+    O_PICTURES,
+    O_PICTURES_FORMAT,
+    O_PICTURES_WIDTH,
+    O_DROP_OOV,
+    O_CHECK,
+    O_ALL,
+    O_SCORE,
+    O_GT,
+    O_GT_SCALE,
+    O_MAP_SCALE,
+    O_MASK,
+    O_NAME,
+    O_PROGRESS,
+    O_NO_PROGRESS,
+};
+
+const struct option kLongOpts[] = {
+    {"help", no_argument, nullptr, 'h'},
+    {"version", no_argument, nullptr, 'V'},
+    {"data", required_argument, nullptr, O_DATA},
+    {"opencv-doc", required_argument, nullptr, O_OPENCV_DOC},
+    {"set", required_argument, nullptr, 's'},
+    {"list", no_argument, nullptr, O_LIST},
+    {"all", no_argument, nullptr, O_ALL},
+    {"matchers", required_argument, nullptr, O_MATCHERS},
+    {"repeat", required_argument, nullptr, O_REPEAT},
+    {"markdown", required_argument, nullptr, 'm'},
+    {"csv", required_argument, nullptr, 'c'},
+    {"json", required_argument, nullptr, 'j'},
+    {"plots", required_argument, nullptr, O_PLOTS},
+    {"pictures", required_argument, nullptr, O_PICTURES},
+    {"pictures-format", required_argument, nullptr, O_PICTURES_FORMAT},
+    {"pictures-width", required_argument, nullptr, O_PICTURES_WIDTH},
+    {"drop-out-of-view", no_argument, nullptr, O_DROP_OOV},
+    {"check", required_argument, nullptr, O_CHECK},
+    {"score", required_argument, nullptr, O_SCORE},
+    {"gt", required_argument, nullptr, O_GT},
+    {"gt-scale", required_argument, nullptr, O_GT_SCALE},
+    {"format", required_argument, nullptr, 'f'},
+    {"map-scale", required_argument, nullptr, O_MAP_SCALE},
+    {"mask", required_argument, nullptr, O_MASK},
+    {"name", required_argument, nullptr, O_NAME},
+    {"progress", no_argument, nullptr, O_PROGRESS},
+    {"no-progress", no_argument, nullptr, O_NO_PROGRESS},
+    {nullptr, 0, nullptr, 0},
+};
+
+// One row per set and matcher that ran, for --csv / --json.
+std::vector<negobs_tools::ScoreRow> score_rows(
+    const Options &opt, const std::vector<SetResult> &res)
+{
+    std::vector<negobs_tools::ScoreRow> rows;
+    for (const SetResult &r : res) {
+        for (int id = 0; id < M_COUNT; ++id) {
+            const Metrics &m = r.m[id];
+            if (!opt.use[id] || !m.ran)
+                continue;
+            negobs_tools::ScoreRow row;
+            row.set = r.spec.name;
+            row.matcher = kMatcherName[id];
+            row.width = r.width;
+            row.height = r.height;
+            row.s.evaluated = r.evaluated;
+            row.s.density = m.density;
+            row.s.bad1 = m.bad1;
+            row.s.bad1all = m.bad1all;
+            row.s.bad2 = m.bad2;
+            row.s.rms = m.rms;
+            row.cpu_ms = m.ms;
+            rows.push_back(row);
+        }
+    }
+    return rows;
+}
+
 int run(int argc, char **argv)
 {
     Options opt;
+    negobs_tools::ScoreOptions sco;
+    bool score_mode = false;
     {
         std::string cl = "negobs_eval";
         for (int i = 1; i < argc; ++i)
             cl += std::string(" ") + argv[i];
         opt.command_line = cl;
+        sco.command_line = cl;
     }
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        auto need = [&](int k) {
-            if (i + k >= argc) {
-                std::fprintf(stderr, "negobs_eval: %s needs %d argument(s)\n",
-                             a.c_str(), k);
-                return false;
-            }
-            return true;
-        };
-        if (a == "-h" || a == "--help") {
-            std::fputs(kHelp, stdout);
-            return EXIT_OK;
-        } else if (a == "--list") {
-            opt.list = true;
-        } else if (a == "--data" || a == "--opencv-doc" || a == "--set" ||
-                   a == "--markdown" || a == "--plots" || a == "--pictures" ||
-                   a == "--matchers" || a == "--repeat" ||
-                   a == "--pictures-format" || a == "--pictures-width") {
-            if (!need(1))
-                return EXIT_USAGE;
-            const std::string v = argv[++i];
-            if (a == "--data")
-                opt.data = v;
-            else if (a == "--opencv-doc")
-                opt.opencv_doc = v;
-            else if (a == "--set")
-                opt.sets.push_back(v);
-            else if (a == "--markdown")
-                opt.markdown = v;
-            else if (a == "--plots")
-                opt.plots = v;
-            else if (a == "--pictures")
-                opt.pictures = v;
-            else if (a == "--pictures-format") {
-                if (v != "png" && v != "jpg") {
-                    std::fprintf(stderr, "negobs_eval: --pictures-format "
-                                         "takes png or jpg\n");
-                    return EXIT_USAGE;
-                }
-                opt.pictures_ext = v;
-            } else if (a == "--pictures-width") {
-                double wv = 0;
-                if (!parse_double(v.c_str(), wv) || wv < 64 || wv > 20000) {
-                    std::fprintf(stderr, "negobs_eval: --pictures-width "
-                                         "takes 64..20000\n");
-                    return EXIT_USAGE;
-                }
-                opt.pictures_width = static_cast<int>(wv);
-            } else if (a == "--matchers") {
-                if (!parse_matchers(v, opt)) {
-                    std::fprintf(stderr, "negobs_eval: --matchers takes a "
-                                         "comma list of negobs,bm,sgbm\n");
-                    return EXIT_USAGE;
-                }
-                opt.matchers_given = true;
-            } else {
-                double r = 0;
-                if (!parse_double(v.c_str(), r) || r < 1 || r > 1000 ||
-                    r != std::floor(r)) {
-                    std::fprintf(stderr, "negobs_eval: --repeat takes an "
-                                         "integer 1..1000\n");
-                    return EXIT_USAGE;
-                }
-                opt.repeat = static_cast<int>(r);
-                opt.repeat_given = true;
-            }
-        } else if (a == "--drop-out-of-view") {
-            opt.drop_oov = true;
-        } else if (a == "--check") {
-            if (!need(2))
-                return EXIT_USAGE;
-            if (!parse_double(argv[i + 1], opt.check_bad1) ||
-                !parse_double(argv[i + 2], opt.check_density)) {
-                std::fprintf(stderr, "negobs_eval: --check takes two numbers "
-                                     "(MAXBAD1 MINDENSITY, in %%)\n");
-                return EXIT_USAGE;
-            }
+    // the full evaluation takes minutes to hours: never by accident
+    if (argc < 2) {
+        std::fputs(kHelp, stderr);
+        std::fputs("\nnegobs_eval: no arguments: give --all for the full "
+                   "evaluation\n",
+                   stderr);
+        return EXIT_USAGE;
+    }
+    opterr = 0;
+    int c;
+    while ((c = getopt_long(argc, argv, "+:hVs:m:c:j:f:", kLongOpts,
+                            nullptr)) != -1) {
+        const std::string v = optarg ? optarg : "";
+        switch (c) {
+        case 'h': std::fputs(kHelp, stdout); return EXIT_OK;
+        case 'V': negobs_cli::print_version("negobs_eval"); return EXIT_OK;
+        case O_LIST: opt.list = true; break;
+        case O_ALL: break; // the default selection, spelled out
+        case O_DATA: opt.data = v; break;
+        case O_OPENCV_DOC: opt.opencv_doc = v; break;
+        case 's': opt.sets.push_back(v); break;
+        case 'm':
+            opt.markdown = v;
+            sco.markdown = v;
+            break;
+        case 'c':
+            opt.csv = v;
+            sco.csv = v;
+            break;
+        case 'j':
+            opt.json = v;
+            sco.json = v;
+            break;
+        case O_PLOTS: opt.plots = v; break;
+        case O_PICTURES: opt.pictures = v; break;
+        case O_PICTURES_FORMAT:
+            if (v != "png" && v != "jpg")
+                throw negobs_cli::UsageError(
+                    "--pictures-format takes png or jpg");
+            opt.pictures_ext = v;
+            break;
+        case O_PICTURES_WIDTH:
+            opt.pictures_width = negobs_cli::int_arg("--pictures-width",
+                                                     optarg, 64, 20000);
+            break;
+        case O_MATCHERS:
+            if (!parse_matchers(v, opt))
+                throw negobs_cli::UsageError(
+                    "--matchers takes a comma list of negobs,bm,sgbm");
+            opt.matchers_given = true;
+            break;
+        case O_REPEAT:
+            opt.repeat = negobs_cli::int_arg("--repeat", optarg, 1, 1000);
+            opt.repeat_given = true;
+            break;
+        case O_DROP_OOV: opt.drop_oov = true; break;
+        case O_CHECK:
+            // two values: MAXBAD1 MINDENSITY (the second is the next word)
+            if (optind >= argc)
+                throw negobs_cli::UsageError(
+                    "--check takes two numbers (MAXBAD1 MINDENSITY, in %)");
+            opt.check_bad1 = negobs_cli::double_arg("--check MAXBAD1", optarg,
+                                                    0, 100);
+            opt.check_density = negobs_cli::double_arg("--check MINDENSITY",
+                                                       argv[optind++], 0, 100);
             opt.check = true;
-            i += 2;
-        } else {
-            std::fprintf(stderr,
-                         "negobs_eval: unknown argument '%s' (see --help)\n",
-                         a.c_str());
-            return EXIT_USAGE;
+            break;
+        case O_SCORE:
+            score_mode = true;
+            sco.map = v;
+            break;
+        case O_GT: sco.gt = v; break;
+        case O_GT_SCALE:
+            sco.gt_scale = negobs_cli::double_arg("--gt-scale", optarg, 1e-6,
+                                                  1e6);
+            break;
+        case O_MAP_SCALE:
+            sco.map_scale = negobs_cli::double_arg("--map-scale", optarg, 1e-6,
+                                                   1e6);
+            break;
+        case 'f': sco.map_format = v; break;
+        case O_MASK: sco.mask = v; break;
+        case O_NAME: sco.name = v; break;
+        case O_PROGRESS: opt.progress = 1; break;
+        case O_NO_PROGRESS: opt.progress = 0; break;
+        case ':':
+            throw negobs_cli::UsageError(std::string(argv[optind - 1]) +
+                                         " needs a value");
+        default:
+            throw negobs_cli::UsageError("unknown argument '" +
+                                         std::string(argv[optind - 1]) + "'");
         }
     }
+    if (optind < argc)
+        throw negobs_cli::UsageError("unexpected argument '" +
+                                     std::string(argv[optind]) + "'");
+    if (score_mode || !sco.gt.empty()) {
+        if (sco.map.empty() || sco.gt.empty())
+            throw negobs_cli::UsageError("--score MAP needs --gt GT");
+        return negobs_tools::score_map_main(sco);
+    }
+    if (!sco.mask.empty() || sco.gt_scale > 0 || sco.map_scale > 0 ||
+        sco.map_format != "auto" || !sco.name.empty())
+        throw negobs_cli::UsageError("--gt-scale, --map-scale, --format, "
+                                     "--mask and --name go with --score");
     if (opt.check) {
         if (!opt.matchers_given) {
             opt.use[M_NEGOBS] = true;
@@ -1242,12 +1371,8 @@ int run(int argc, char **argv)
     cv::setNumThreads(0); // sequential: same footing as the C library
 
     // Collect the sets.
-    if (opt.data.empty()) {
-        const char *env = std::getenv("NEGOBS_DATA");
-        opt.data = env && *env
-                       ? env
-                       : std::string(NEGOBS_SOURCE_ROOT) + "/../shared/data";
-    }
+    if (opt.data.empty())
+        opt.data = negobs_cli::default_data_dir();
     std::vector<SetSpec> all;
     if (is_dir(opt.data)) {
         std::string err;
@@ -1262,7 +1387,8 @@ int run(int argc, char **argv)
     } else {
         std::printf("negobs_eval: data folder '%s' absent: skipping the "
                     "manifest sets (set NEGOBS_DATA or --data)\n",
-                    opt.data.c_str());
+                    opt.data.empty() ? "(none: an installed binary)"
+                                     : opt.data.c_str());
     }
     {
         SetSpec aloe;
@@ -1311,7 +1437,10 @@ int run(int argc, char **argv)
     }
 
     std::vector<SetResult> results;
+    negobs_cli::Progress progress(
+        "negobs_eval", "sets", static_cast<long>(chosen.size()), opt.progress);
     for (const SetSpec &s : chosen) {
+        progress.step(static_cast<long>(results.size()), s.name);
         std::printf("negobs_eval: %s ...\n", s.name.c_str());
         std::fflush(stdout);
         SetResult r;
@@ -1320,6 +1449,8 @@ int run(int argc, char **argv)
             return rc;
         results.push_back(r);
     }
+    progress.step(static_cast<long>(results.size()));
+    progress.finish();
     print_table(results);
     print_nonocc(results);
     print_stages(results);
@@ -1334,6 +1465,17 @@ int run(int argc, char **argv)
     if (!opt.markdown.empty() && !write_markdown(opt.markdown, opt, results)) {
         std::fprintf(stderr, "negobs_eval: cannot write '%s'\n",
                      opt.markdown.c_str());
+        rc = EXIT_DATA;
+    }
+    const std::vector<negobs_tools::ScoreRow> rows = score_rows(opt, results);
+    if (!opt.csv.empty() && !negobs_tools::write_score_csv(opt.csv, rows)) {
+        std::fprintf(stderr, "negobs_eval: cannot write '%s'\n",
+                     opt.csv.c_str());
+        rc = EXIT_DATA;
+    }
+    if (!opt.json.empty() && !negobs_tools::write_score_json(opt.json, rows)) {
+        std::fprintf(stderr, "negobs_eval: cannot write '%s'\n",
+                     opt.json.c_str());
         rc = EXIT_DATA;
     }
     if (!opt.plots.empty()) {
@@ -1387,11 +1529,8 @@ int run(int argc, char **argv)
 
 int main(int argc, char **argv)
 {
-    try {
-        cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
-        return run(argc, argv);
-    } catch (const std::exception &e) {
-        std::fprintf(stderr, "negobs_eval: internal error: %s\n", e.what());
-        return EXIT_LIBRARY;
-    }
+    cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
+    // an exception that escapes is a matcher failure (OpenCV or negobs)
+    return negobs_cli::main_guard("negobs_eval", argc, argv, run,
+                                  EXIT_LIBRARY);
 }

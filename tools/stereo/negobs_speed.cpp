@@ -7,8 +7,9 @@
 // counts do not depend on the machine's load, unlike times. Without
 // valgrind the requests are no-ops and the tool prints CPU times only.
 //
-// usage: negobs_speed LEFT RIGHT [--crop X,Y,W,H] [--max-disp D]
+// usage: negobs_speed LEFT RIGHT [--crop X,Y,W,H] [-D|--max-disp D]
 //                    [--profile compact|fast] [--write-pgm PREFIX]
+//                    (exit codes: docs/TOOLS.md)
 // --write-pgm also writes the (cropped) grey pair as PREFIXleft.pgm and
 // PREFIXright.pgm, the input of bench_frames on targets without OpenCV.
 // The callgrind dumps are named "negobs" and "sgbm" in that order
@@ -16,6 +17,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <getopt.h>
 #include <memory>
 #include <string>
 #include <time.h>
@@ -37,6 +39,7 @@
 #endif
 
 #include "negobs/stereo.h"
+#include "cli.hpp"
 #include "stereo_common.hpp"
 
 namespace {
@@ -63,16 +66,33 @@ uint32_t map_hash(const cv::Mat &m)
     return h;
 }
 
+const char *const kUsage =
+    "usage: negobs_speed LEFT RIGHT [--crop X,Y,W,H] [-D|--max-disp D]\n"
+    "                    [--profile compact|fast] [--write-pgm PREFIX]\n"
+    "One negobs and one OpenCV SGBM matching call, each between callgrind\n"
+    "client requests (run it under valgrind --tool=callgrind\n"
+    "--collect-atstart=no; tools/negobs bench does). -h/--help, -V/--version.\n"
+    "Exit: 0 ok, 1 data error, 2 bad command line (also: no arguments).\n";
+
+// a usage error: the message, the usage, exit 2 (the tools' common table)
 int usage(const char *msg)
 {
     if (msg != nullptr) {
         std::fprintf(stderr, "negobs_speed: %s\n", msg);
     }
-    std::fprintf(stderr, "usage: negobs_speed LEFT RIGHT [--crop X,Y,W,H] "
-                         "[--max-disp D] [--profile compact|fast] "
-                         "[--write-pgm PREFIX]\n");
-    return 1;
+    std::fputs(kUsage, stderr);
+    return negobs_cli::kExitUsage;
 }
+
+const struct option kLongOpts[] = {
+    {"help", no_argument, nullptr, 'h'},
+    {"version", no_argument, nullptr, 'V'},
+    {"crop", required_argument, nullptr, 'c'},
+    {"max-disp", required_argument, nullptr, 'D'},
+    {"profile", required_argument, nullptr, 'p'},
+    {"write-pgm", required_argument, nullptr, 'w'},
+    {nullptr, 0, nullptr, 0},
+};
 
 } // namespace
 
@@ -82,36 +102,49 @@ int main(int argc, char **argv)
     int cx = 0, cy = 0, cw = 0, ch = 0, max_disp = 63;
     int profile = -1;
     std::string pgm_prefix;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a == "-h" || a == "--help") {
-            (void)usage(nullptr);
+    if (argc < 2) {
+        return usage(nullptr);
+    }
+    opterr = 0;
+    int c;
+    while ((c = getopt_long(argc, argv, ":hVD:", kLongOpts, nullptr)) != -1) {
+        const std::string v = optarg ? optarg : "";
+        if (c == 'h') {
+            std::fputs(kUsage, stdout);
             return 0;
-        }
-        if (a == "--crop" && i + 1 < argc) {
-            if (std::sscanf(argv[++i], "%d,%d,%d,%d", &cx, &cy, &cw, &ch) !=
-                    4 ||
+        } else if (c == 'V') {
+            negobs_cli::print_version("negobs_speed");
+            return 0;
+        } else if (c == 'c') {
+            if (std::sscanf(optarg, "%d,%d,%d,%d", &cx, &cy, &cw, &ch) != 4 ||
                 cw <= 0 || ch <= 0 || cx < 0 || cy < 0) {
                 return usage("--crop takes X,Y,W,H");
             }
-        } else if (a == "--write-pgm" && i + 1 < argc) {
-            pgm_prefix = argv[++i];
-        } else if (a == "--max-disp" && i + 1 < argc) {
-            max_disp = std::atoi(argv[++i]);
-        } else if (a == "--profile" && i + 1 < argc) {
-            const std::string p = argv[++i];
-            if (p == "compact") {
+        } else if (c == 'D') {
+            if (!negobs_cli::parse_int(optarg, 1, negobs_tools::kMaxDispLimit,
+                                       max_disp)) {
+                return usage("--max-disp takes an integer 1..2047");
+            }
+        } else if (c == 'w') {
+            pgm_prefix = v;
+        } else if (c == 'p') {
+            if (v == "compact") {
                 profile = NEGOBS_STEREO_PROFILE_COMPACT;
-            } else if (p == "fast") {
+            } else if (v == "fast") {
                 profile = NEGOBS_STEREO_PROFILE_FAST;
             } else {
                 return usage("--profile takes compact or fast");
             }
-        } else if (!a.empty() && a[0] == '-') {
-            return usage(("unknown option " + a).c_str());
+        } else if (c == ':') {
+            return usage(
+                (std::string(argv[optind - 1]) + " needs a value").c_str());
         } else {
-            pos.push_back(a);
+            return usage(
+                ("unknown option " + std::string(argv[optind - 1])).c_str());
         }
+    }
+    for (int i = optind; i < argc; ++i) {
+        pos.emplace_back(argv[i]);
     }
     if (pos.size() != 2) {
         return usage("need LEFT and RIGHT");
@@ -121,11 +154,11 @@ int main(int argc, char **argv)
     if (!negobs_tools::load_grey(pos[0], l, err) ||
         !negobs_tools::load_grey(pos[1], r, err)) {
         std::fprintf(stderr, "negobs_speed: %s\n", err.c_str());
-        return 2;
+        return negobs_cli::kExitData;
     }
     if (l.size() != r.size()) {
         std::fprintf(stderr, "negobs_speed: images differ in size\n");
-        return 2;
+        return negobs_cli::kExitData;
     }
     if (cw > 0) {
         if (cx + cw > l.cols || cy + ch > l.rows) {
@@ -138,7 +171,7 @@ int main(int argc, char **argv)
                                 !cv::imwrite(pgm_prefix + "right.pgm", r))) {
         std::fprintf(stderr, "negobs_speed: cannot write %s*.pgm\n",
                      pgm_prefix.c_str());
-        return 2;
+        return negobs_cli::kExitData;
     }
     cv::setNumThreads(0); // SGBM single-threaded, like negobs
 
@@ -154,7 +187,7 @@ int main(int argc, char **argv)
     std::memset(&ctx, 0, sizeof ctx);
     if (negobs_stereo_workspace_size(&cfg, &bytes) != NEGOBS_OK) {
         std::fprintf(stderr, "negobs_speed: bad negobs config\n");
-        return 2;
+        return negobs_cli::kExitData;
     }
     std::vector<uint64_t> ws((bytes + 7) / 8 + 2);
     void *p = ws.data();
@@ -163,7 +196,7 @@ int main(int argc, char **argv)
     if (p == nullptr ||
         negobs_stereo_init(&ctx, &cfg, p, bytes) != NEGOBS_OK) {
         std::fprintf(stderr, "negobs_speed: negobs init failed\n");
-        return 2;
+        return negobs_cli::kExitData;
     }
     cv::Mat disp(l.rows, l.cols, CV_16SC1);
     negobs_image_u8_t li = {l.data, l.cols, l.rows,

@@ -1,15 +1,17 @@
 // negobs_stereo: run the negobs disparity engine on one rectified pair.
 //
 //   negobs_stereo LEFT RIGHT OUT.png [--max-disp N] [--min-disp N]
-//                 [--color PICTURE.png]
+//                 [--format png16|kitti|pfm] [--color PICTURE.png]
 //
-// This command-line interface is stable: scripts rely on it.
+// This command-line interface is stable: scripts rely on it. The exit
+// codes follow the host tools' common table (docs/TOOLS.md).
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <getopt.h>
 #include <memory>
 #include <string>
 #include <vector>
@@ -20,6 +22,10 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "cli.hpp"
+#include "colour_bar.hpp"
+#include "disp_io.hpp"
+#include "rect_table.hpp"
 #include "stereo_common.hpp"
 
 extern "C" {
@@ -29,43 +35,51 @@ extern "C" {
 
 namespace {
 
+// 0 / 1 / 2 as every negobs tool (tools/common/cli.hpp); 3..5 its own.
 enum Exit {
-    EXIT_OK = 0,
-    EXIT_USAGE = 1,   // bad command line or disparity range
-    EXIT_INPUT = 2,   // an input image cannot be read
+    EXIT_OK = negobs_cli::kExitOk,
+    EXIT_INPUT = negobs_cli::kExitData,  // an input image cannot be read
+    EXIT_USAGE = negobs_cli::kExitUsage, // bad command line or range
     EXIT_SIZE = 3,    // left/right sizes differ or are out of bounds
     EXIT_LIBRARY = 4, // the negobs library reported an error
     EXIT_OUTPUT = 5,  // an output file cannot be written
 };
 
 const char *const kHelp =
-    "usage: negobs_stereo LEFT RIGHT OUT.png [--max-disp N] [--min-disp N]\n"
-    "                     [--color PICTURE.png] [--confidence CONF.png]\n"
-    "                     [--align] [--stats]\n"
+    "usage: negobs_stereo LEFT RIGHT OUT [-D|--max-disp N] [-d|--min-disp N]\n"
+    "                     [-f|--format png16|kitti|pfm] [-c|--color PICTURE]\n"
+    "                     [--confidence CONF.png] [--align] [-s|--stats]\n"
     "\n"
     "Computes the disparity of the rectified pair LEFT (reference) / RIGHT\n"
-    "with the negobs fixed-point engine and writes OUT.png.\n"
+    "with the negobs fixed-point engine and writes OUT.\n"
     "\n"
     "Inputs: any image OpenCV reads (PNG, PPM/PGM, BMP, JPEG, TIFF, ...);\n"
     "colour is converted to grey, 16-bit to 8-bit. Both must have the same\n"
     "size (at most 4096 x 4096, at least the engine's minimum).\n"
     "\n"
-    "Output OUT.png: 16-bit grey PNG, OpenCV's fixed-point convention:\n"
-    "value = disparity * 16 (1/16 px steps), 0 = no value. A point at column\n"
-    "x in LEFT is at column x - disparity in RIGHT. A disparity of exactly\n"
-    "0 px (or below) cannot be represented and is written as 0 = no value;\n"
-    "use --min-disp >= 1 if that matters.\n"
+    "Output OUT, by --format (default png16). A point at column x in LEFT\n"
+    "is at column x - disparity in RIGHT.\n"
+    "  png16  16-bit grey PNG, OpenCV's fixed point: value = disparity * 16\n"
+    "         (1/16 px steps), 0 = no value. A disparity of exactly 0 px\n"
+    "         (or below) cannot be represented and is written as 0 = no\n"
+    "         value; use --min-disp >= 1 if that matters.\n"
+    "  kitti  16-bit grey PNG, KITTI's devkit: value = disparity * 256,\n"
+    "         0 = no value; --max-disp at most 255\n"
+    "  pfm    OUT.pfm, Middlebury 2014 / SceneFlow float map: one channel,\n"
+    "         little endian (scale -1), rows bottom to top, inf = no value\n"
     "\n"
     "Options:\n"
-    "  --max-disp N   largest disparity searched, pixels (default 64);\n"
+    "  -D, --max-disp N  largest disparity searched, pixels (default 64);\n"
     "                 at most the engine's bound for the frame (width - 6\n"
     "                 and 2000 with its 5x5 window; an error names it),\n"
     "                 and the range max-disp - min-disp + 1 at most the\n"
     "                 engine's limit (NEGOBS_STEREO_MAX_RANGE, 256)\n"
-    "  --min-disp N   smallest disparity searched, pixels (default 0);\n"
+    "  -d, --min-disp N  smallest disparity searched, pixels (default 0);\n"
     "                 0 <= N < max-disp\n"
-    "  --color FILE   also write a colour picture (TURBO map over\n"
-    "                 [min-disp, max-disp], black = no value)\n"
+    "  -f, --format F png16 (default), kitti or pfm, see above\n"
+    "  -c, --color FILE  also write a colour picture (TURBO map over\n"
+    "                 [min-disp, max-disp], black = no value) with its\n"
+    "                 colour bar and scale on the right\n"
     "  --confidence FILE  also write the engine's confidence map as an 8-bit\n"
     "                 grey PNG: 0 = no value, 2 = filled from neighbours,\n"
     "                 4 = textureless, 8..255 = matched (~255 x NCC);\n"
@@ -74,36 +88,30 @@ const char *const kHelp =
     "                 row and column slopes; negobs/valign.h) and resample\n"
     "                 RIGHT to LEFT's rows before matching: for pairs that\n"
     "                 are not rectified (e.g. the SurDis wearable)\n"
+    "  --calib TABLE  rectify LEFT/RIGHT first with a negobs_calib table (the\n"
+    "                 library's remap, as negobs_run --calib); the images must\n"
+    "                 have the table's size (exit 3 otherwise, 2 for an\n"
+    "                 unreadable or corrupt table)\n"
     "  --dense        keep the values whose match falls left of the right\n"
     "                 image (the library's default); without it they get\n"
     "                 no value: the right camera never saw those points\n"
-    "  --stats        print the engine statistics and timing (total and per\n"
+    "  -s, --stats    print the engine statistics and timing (total and per\n"
     "                 stage, thread CPU time) to stderr\n"
     "  --stages FILE  also write one picture of the map after every stage\n"
     "                 (GCS, DP, LR check, speckles, gap fill, adaptive\n"
     "                 mean) beside LEFT, colours as --color, each tile\n"
     "                 labelled with its density (.png/.jpg/.ppm/.bmp)\n"
     "  -h, --help     this text\n"
+    "  -V, --version  the negobs version\n"
+    "Options take their value as --opt VALUE or --opt=VALUE.\n"
     "\n"
-    "Exit codes:\n"
+    "Exit codes (0-2 as every negobs tool):\n"
     "  0  success\n"
-    "  1  bad command line or disparity range\n"
-    "  2  an input image cannot be read or decoded\n"
+    "  1  an input image cannot be read or decoded\n"
+    "  2  bad command line or disparity range (also: no arguments)\n"
     "  3  left and right sizes differ, or the size is not supported\n"
     "  4  the negobs library reported an error\n"
     "  5  an output file cannot be written\n";
-
-bool parse_int(const char *s, int &out)
-{
-    if (!s || !*s)
-        return false;
-    char *end = nullptr;
-    const long v = std::strtol(s, &end, 10);
-    if (*end != '\0' || v < -100000 || v > 100000)
-        return false;
-    out = static_cast<int>(v);
-    return true;
-}
 
 // The largest --max-disp the engine accepts for a width x height frame
 // and this --min-disp, asked from the library itself (its bound follows
@@ -260,6 +268,23 @@ cv::Mat stage_montage(
     return out;
 }
 
+const struct option kLongOpts[] = {
+    {"help", no_argument, nullptr, 'h'},
+    {"version", no_argument, nullptr, 'V'},
+    {"max-disp", required_argument, nullptr, 'D'},
+    {"min-disp", required_argument, nullptr, 'd'},
+    {"format", required_argument, nullptr, 'f'},
+    {"color", required_argument, nullptr, 'c'},
+    {"colour", required_argument, nullptr, 'c'},
+    {"confidence", required_argument, nullptr, 'C'},
+    {"stages", required_argument, nullptr, 'S'},
+    {"stats", no_argument, nullptr, 's'},
+    {"align", no_argument, nullptr, 'a'},
+    {"dense", no_argument, nullptr, 'e'},
+    {"calib", required_argument, nullptr, 'K'},
+    {nullptr, 0, nullptr, 0},
+};
+
 int run(int argc, char **argv)
 {
     std::vector<std::string> pos;
@@ -267,64 +292,56 @@ int run(int argc, char **argv)
     std::string colour_path;
     std::string conf_path;
     std::string stages_path;
+    std::string calib_path;
+    negobs_cli::DispFormat format = negobs_cli::DispFormat::Png16;
     bool stats = false;
     bool align = false;
     bool dense = false;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a == "-h" || a == "--help") {
-            std::fputs(kHelp, stdout);
-            return EXIT_OK;
-        } else if (a == "--max-disp" || a == "--min-disp") {
-            int v = 0;
-            if (i + 1 >= argc || !parse_int(argv[i + 1], v)) {
-                std::fprintf(stderr,
-                             "negobs_stereo: %s needs an integer argument\n",
-                             a.c_str());
-                return EXIT_USAGE;
+    if (argc < 2) {
+        std::fputs(kHelp, stderr);
+        return EXIT_USAGE;
+    }
+    opterr = 0;
+    int c;
+    while ((c = getopt_long(argc, argv, ":hVD:d:f:c:s", kLongOpts, nullptr)) !=
+           -1) {
+        switch (c) {
+        case 'h': std::fputs(kHelp, stdout); return EXIT_OK;
+        case 'V': negobs_cli::print_version("negobs_stereo"); return EXIT_OK;
+        case 'D':
+        case 'd':
+            (c == 'D' ? range.max_disp : range.min_disp) = negobs_cli::int_arg(
+                c == 'D' ? "--max-disp" : "--min-disp", optarg, -100000,
+                100000);
+            break;
+        case 'f':
+            if (!negobs_cli::parse_disp_format(optarg, format)) {
+                throw negobs_cli::UsageError(std::string("--format '") +
+                                             optarg +
+                                             "' is not png16, kitti or pfm");
             }
-            (a == "--max-disp" ? range.max_disp : range.min_disp) = v;
-            ++i;
-        } else if (a == "--color" || a == "--colour") {
-            if (i + 1 >= argc) {
-                std::fprintf(stderr, "negobs_stereo: %s needs a file name\n",
-                             a.c_str());
-                return EXIT_USAGE;
-            }
-            colour_path = argv[++i];
-        } else if (a == "--stages") {
-            if (i + 1 >= argc) {
-                std::fprintf(stderr, "negobs_stereo: %s needs a file name\n",
-                             a.c_str());
-                return EXIT_USAGE;
-            }
-            stages_path = argv[++i];
-        } else if (a == "--confidence") {
-            if (i + 1 >= argc) {
-                std::fprintf(stderr, "negobs_stereo: %s needs a file name\n",
-                             a.c_str());
-                return EXIT_USAGE;
-            }
-            conf_path = argv[++i];
-        } else if (a == "--stats") {
-            stats = true;
-        } else if (a == "--align") {
-            align = true;
-        } else if (a == "--dense") {
-            dense = true;
-        } else if (a.size() > 1 && a[0] == '-') {
-            std::fprintf(stderr,
-                         "negobs_stereo: unknown option '%s' (see "
-                         "--help)\n",
-                         a.c_str());
-            return EXIT_USAGE;
-        } else {
-            pos.push_back(a);
+            break;
+        case 'c': colour_path = optarg; break;
+        case 'C': conf_path = optarg; break;
+        case 'S': stages_path = optarg; break;
+        case 's': stats = true; break;
+        case 'a': align = true; break;
+        case 'e': dense = true; break;
+        case 'K': calib_path = optarg; break;
+        case ':':
+            throw negobs_cli::UsageError(std::string(argv[optind - 1]) +
+                                         " needs a value");
+        default:
+            throw negobs_cli::UsageError("unknown option '" +
+                                         std::string(argv[optind - 1]) + "'");
         }
+    }
+    for (int i = optind; i < argc; ++i) {
+        pos.emplace_back(argv[i]);
     }
     if (pos.size() != 3) {
         std::fprintf(stderr,
-                     "negobs_stereo: need LEFT RIGHT OUT.png (got %zu "
+                     "negobs_stereo: need LEFT RIGHT OUT (got %zu "
                      "file names); see --help\n",
                      pos.size());
         return EXIT_USAGE;
@@ -343,12 +360,23 @@ int run(int argc, char **argv)
         return p.empty() || has_ext(p, ".png") || has_ext(p, ".jpg") ||
                has_ext(p, ".ppm") || has_ext(p, ".bmp");
     };
-    if (!has_ext(out, ".png") ||
+    const bool pfm = format == negobs_cli::DispFormat::Pfm;
+    if (!has_ext(out, pfm ? ".pfm" : ".png") ||
         (!conf_path.empty() && !has_ext(conf_path, ".png")) ||
         !picture_ext(colour_path) || !picture_ext(stages_path)) {
-        std::fprintf(stderr, "negobs_stereo: OUT and --confidence must end "
-                             "in .png (lossless); --color and --stages in "
+        std::fprintf(stderr, "negobs_stereo: OUT must end in .png (.pfm "
+                             "with --format pfm), --confidence in .png "
+                             "(lossless); --color and --stages in "
                              ".png/.jpg/.ppm/.bmp\n");
+        return EXIT_USAGE;
+    }
+    // KITTI's x256 scale stores at most 255.996 px: a wider search could
+    // produce a value the file cannot hold, so it is refused before any
+    // work rather than clipped.
+    if (format == negobs_cli::DispFormat::Kitti && range.max_disp > 255) {
+        std::fprintf(stderr,
+                     "negobs_stereo: --format kitti stores disparities up "
+                     "to 255.996 px: --max-disp must be <= 255\n");
         return EXIT_USAGE;
     }
     std::string err = negobs_tools::check_range(range, 0);
@@ -373,6 +401,19 @@ int run(int argc, char **argv)
                      "negobs_stereo: size mismatch: left %dx%d, right %dx%d\n",
                      left.cols, left.rows, right.cols, right.rows);
         return EXIT_SIZE;
+    }
+    if (!calib_path.empty()) {
+        negobs_rect_tools::RectTable rect;
+        err = rect.load(calib_path);
+        if (!err.empty()) {
+            std::fprintf(stderr, "negobs_stereo: %s\n", err.c_str());
+            return EXIT_INPUT;
+        }
+        err = rect.apply(left, right);
+        if (!err.empty()) {
+            std::fprintf(stderr, "negobs_stereo: %s\n", err.c_str());
+            return EXIT_SIZE;
+        }
     }
     // Size first (with a trivial range), then the range against the size.
     err = negobs_tools::check_engine_limits(negobs_tools::Range{0, 1},
@@ -452,10 +493,20 @@ int run(int argc, char **argv)
                      n_matched, n_filled, n_flat, n_none, n_other);
     }
 
-    if (!write_png(out, negobs_tools::negobs_q4_to_png16(disp_q4))) {
-        std::fprintf(stderr, "negobs_stereo: cannot write '%s'\n",
-                     out.c_str());
-        return EXIT_OUTPUT;
+    if (format == negobs_cli::DispFormat::Png16) {
+        // the Q4 values are already disparity x 16: written as they are
+        if (!write_png(out, negobs_tools::negobs_q4_to_png16(disp_q4))) {
+            std::fprintf(stderr, "negobs_stereo: cannot write '%s'\n",
+                         out.c_str());
+            return EXIT_OUTPUT;
+        }
+    } else {
+        cv::Mat d, v;
+        negobs_tools::negobs_q4_to_float(disp_q4, d, v);
+        if (!negobs_cli::write_disparity(out, d, v, format, err)) {
+            std::fprintf(stderr, "negobs_stereo: %s\n", err.c_str());
+            return EXIT_OUTPUT;
+        }
     }
     if (!conf_path.empty() && !write_png(conf_path, conf)) {
         std::fprintf(stderr, "negobs_stereo: cannot write '%s'\n",
@@ -465,9 +516,13 @@ int run(int argc, char **argv)
     if (!colour_path.empty()) {
         cv::Mat d, v;
         negobs_tools::negobs_q4_to_float(disp_q4, d, v);
+        // the scale beside the picture: which colour is which disparity
         if (!write_png(colour_path,
-                       negobs_tools::colourise(d, v, range.min_disp,
-                                               range.max_disp))) {
+                       negobs_cli::with_colour_bar(
+                           negobs_tools::colourise(d, v, range.min_disp,
+                                                   range.max_disp),
+                           cv::COLORMAP_TURBO, range.min_disp, range.max_disp,
+                           "px"))) {
             std::fprintf(stderr, "negobs_stereo: cannot write '%s'\n",
                          colour_path.c_str());
             return EXIT_OUTPUT;
@@ -486,11 +541,8 @@ int run(int argc, char **argv)
 
 int main(int argc, char **argv)
 {
-    try {
-        cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
-        return run(argc, argv);
-    } catch (const std::exception &e) {
-        std::fprintf(stderr, "negobs_stereo: internal error: %s\n", e.what());
-        return EXIT_LIBRARY;
-    }
+    cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
+    // an exception that escapes is an internal failure, as a library error
+    return negobs_cli::main_guard("negobs_stereo", argc, argv, run,
+                                  EXIT_LIBRARY);
 }

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <getopt.h>
 #include <limits>
 #include <string>
 #include <vector>
@@ -21,6 +22,7 @@ extern "C" {
 #include "negobs/version.h"
 }
 
+#include "cli.hpp"
 #include "synth.hpp"
 
 namespace {
@@ -144,8 +146,12 @@ void usage(FILE *fp, const char *argv0)
                  "  --threads N          worker threads (default: OpenCV's choice, all cores)\n"
                  "  --preview            also write preview_NNNN.png: left image with the GT\n"
                  "                       edge line, next to the GT disparity (brighter = nearer)\n"
-                 "  --quiet              no progress/timing line\n"
-                 "  --help               this text\n"
+                 "  -q, --quiet          no progress/timing line\n"
+                 "  -h, --help           this text\n"
+                 "  -V, --version        the negobs version\n"
+                 "Options take their value as --opt VALUE or --opt=VALUE; -o is --out.\n"
+                 "Exit: 0 ok, 1 data error (texture unreadable, output not writable),\n"
+                 "2 bad command line (also: no arguments).\n"
                  "Example:\n"
                  "  %s --scene curb --drop-mm 150 --edge-mm 4000 --frames 60 --speed 1.2 \\\n"
                  "     --fps 10 --noise 2 --seed 7 --out /tmp/curb\n",
@@ -193,59 +199,117 @@ int fail(const char *argv0, const std::string &msg)
     return 2;
 }
 
-// Returns 0 on success, -1 for --help, otherwise an exit code.
+// Options that take a value; their getopt_long codes are 256 + index.
+const char *const kValued[] = {"scene",
+                               "edge-mm",
+                               "drop-mm",
+                               "steps",
+                               "rise-mm",
+                               "run-mm",
+                               "hole-width-mm",
+                               "hole-length-mm",
+                               "hole-offset-mm",
+                               "wall-height-mm",
+                               "grade-pct",
+                               "ramp-mm",
+                               "lower-shade",
+                               "texture-kind",
+                               "distractors",
+                               "texture",
+                               "texture-mm",
+                               "texture-seed",
+                               "width",
+                               "height",
+                               "f",
+                               "cx",
+                               "cy",
+                               "baseline-mm",
+                               "height-mm",
+                               "pitch-deg",
+                               "roll-deg",
+                               "yaw-deg",
+                               "frames",
+                               "speed",
+                               "fps",
+                               "bob-mm",
+                               "bob-hz",
+                               "sway-deg",
+                               "roll-sway-deg",
+                               "seed",
+                               "noise",
+                               "gain-right",
+                               "offset-right",
+                               "blur",
+                               "brightness",
+                               "exposure-pct",
+                               "exposure-every",
+                               "exposure-lag-right",
+                               "vshift-right",
+                               "ss",
+                               "threads",
+                               "out"};
+// Flags: codes 512 + index.
+const char *const kFlags[] = {"single", "gt-disparity", "gt-disparity-right", "preview"};
+
+// Input or output trouble after a good command line: exit 1.
+int fail_data(const char *argv0, const std::string &msg)
+{
+    std::fprintf(stderr, "%s: error: %s\n", argv0, msg.c_str());
+    return negobs_cli::kExitData;
+}
+
+// Returns 0 on success, -1 for --help / --version, otherwise an exit code.
 int parse(int argc, char **argv, Options &o)
 {
-    const char *a0 = argv[0];
+    const char *a0 = "negobs_synth";
     bool edge_set = false;
-    for (int i = 1; i < argc; ++i) {
-        std::string arg = argv[i];
-        std::string val;
-        bool has_val = false;
-        const size_t eq = arg.find('=');
-        if (arg.rfind("--", 0) == 0 && eq != std::string::npos) {
-            val = arg.substr(eq + 1);
-            arg = arg.substr(0, eq);
-            has_val = true;
-        }
-        auto flag = [&](const char *name) {
-            if (arg != name)
-                return false;
-            return true;
-        };
-        if (flag("--help") || flag("-h")) {
+    if (argc < 2) {
+        usage(stderr, a0);
+        return 2;
+    }
+    std::vector<struct option> opts;
+    for (size_t k = 0; k < sizeof kValued / sizeof kValued[0]; ++k)
+        opts.push_back({kValued[k], required_argument, nullptr, 256 + static_cast<int>(k)});
+    for (size_t k = 0; k < sizeof kFlags / sizeof kFlags[0]; ++k)
+        opts.push_back({kFlags[k], no_argument, nullptr, 512 + static_cast<int>(k)});
+    opts.push_back({"help", no_argument, nullptr, 'h'});
+    opts.push_back({"version", no_argument, nullptr, 'V'});
+    opts.push_back({"quiet", no_argument, nullptr, 'q'});
+    opts.push_back({nullptr, 0, nullptr, 0});
+    opterr = 0;
+    int c;
+    while ((c = getopt_long(argc, argv, "+:hVqo:", opts.data(), nullptr)) != -1) {
+        if (c == 'h') {
             usage(stdout, a0);
             return -1;
         }
-        bool is_flag = false;
-        if (flag("--single")) {
-            o.single = true;
-            is_flag = true;
-        } else if (flag("--gt-disparity")) {
-            o.gt_disparity = true;
-            is_flag = true;
-        } else if (flag("--gt-disparity-right")) {
-            o.gt_disparity_right = true;
-            is_flag = true;
-        } else if (flag("--quiet")) {
-            o.quiet = true;
-            is_flag = true;
-        } else if (flag("--preview")) {
-            o.preview = true;
-            is_flag = true;
+        if (c == 'V') {
+            negobs_cli::print_version("negobs_synth");
+            return -1;
         }
-        if (is_flag) {
-            if (has_val)
-                return fail(a0, "option " + arg + " takes no value");
+        if (c == ':')
+            return fail(a0, std::string("option ") + argv[optind - 1] + " needs a value");
+        if (c == '?')
+            return fail(a0, std::string("unknown option '") + argv[optind - 1] + "'");
+        if (c == 'q') {
+            o.quiet = true;
             continue;
         }
-        if (arg.rfind("--", 0) != 0)
-            return fail(a0, "unexpected argument '" + arg + "'");
-        if (!has_val) {
-            if (i + 1 >= argc)
-                return fail(a0, "option " + arg + " needs a value");
-            val = argv[++i];
+        if (c >= 512) {
+            const std::string flag = kFlags[c - 512];
+            if (flag == "single")
+                o.single = true;
+            else if (flag == "gt-disparity")
+                o.gt_disparity = true;
+            else if (flag == "gt-disparity-right")
+                o.gt_disparity_right = true;
+            else
+                o.preview = true;
+            continue;
         }
+        const std::string arg = c == 'o' ? std::string("--out")
+                                         : "--" + std::string(kValued[c - 256]);
+        const std::string val = optarg;
         const char *v = val.c_str();
         double d = 0.0;
         int n = 0;
@@ -401,6 +465,8 @@ int parse(int argc, char **argv, Options &o)
         if (rc)
             return rc;
     }
+    if (optind < argc)
+        return fail(a0, std::string("unexpected argument '") + argv[optind] + "'");
     (void)edge_set;
     if (o.out.empty())
         return fail(a0, "--out DIR is required");
@@ -507,9 +573,7 @@ std::vector<double> exposure_schedule(const Options &o)
     return e;
 }
 
-} // namespace
-
-int main(int argc, char **argv)
+int run(int argc, char **argv)
 {
     Options o;
     const int prc = parse(argc, argv, o);
@@ -518,13 +582,13 @@ int main(int argc, char **argv)
     if (prc != 0)
         return prc;
 
-    const char *a0 = argv[0];
+    const char *a0 = "negobs_synth";
     if (o.threads > 0)
         cv::setNumThreads(o.threads);
     std::error_code ec;
     std::filesystem::create_directories(o.out, ec);
     if (ec || !std::filesystem::is_directory(o.out))
-        return fail(a0, "cannot create output folder '" + o.out + "'");
+        return fail_data(a0, "cannot create output folder '" + o.out + "'");
 
     synth::Texture tex;
     std::string err;
@@ -532,7 +596,7 @@ int main(int argc, char **argv)
                             ? tex.make_procedural(o.texture_seed, o.texture_kind, err)
                             : tex.load_photo(o.texture_file, o.texture_mm, err);
     if (!tex_ok)
-        return fail(a0, err);
+        return fail_data(a0, err);
 
     // Distractors from 1 m ahead to 2 m past the edge (8 m on flat
     // ground), on the Y = 0 surfaces only.
@@ -552,7 +616,7 @@ int main(int argc, char **argv)
     const std::string gt_path = o.out + "/gt.json";
     FILE *gt = std::fopen(gt_path.c_str(), "w");
     if (!gt)
-        return fail(a0, "cannot write '" + gt_path + "'");
+        return fail_data(a0, "cannot write '" + gt_path + "'");
     const synth::SceneParams &sp = o.scene;
     std::string dlist;
     for (const synth::Distractor &d : sp.distractors) {
@@ -652,13 +716,13 @@ int main(int argc, char **argv)
         const std::string dn = fmt("disp_%04d.png", i);
         if (!write_png(o.out + "/" + ln, l8) || !write_png(o.out + "/" + rn, r8)) {
             std::fclose(gt);
-            return fail(a0, "cannot write images into '" + o.out + "'");
+            return fail_data(a0, "cannot write images into '" + o.out + "'");
         }
         if ((o.gt_disparity && !write_png(o.out + "/" + dn, disp16(disp))) ||
             (o.gt_disparity_right &&
              !write_png(o.out + "/" + fmt("dispr_%04d.png", i), disp16(dispr)))) {
             std::fclose(gt);
-            return fail(a0, "cannot write disparity into '" + o.out + "'");
+            return fail_data(a0, "cannot write disparity into '" + o.out + "'");
         }
 
         if (o.preview) {
@@ -674,7 +738,7 @@ int main(int argc, char **argv)
             cv::hconcat(l, d8, both);
             if (!write_png(o.out + "/" + fmt("preview_%04d.png", i), both)) {
                 std::fclose(gt);
-                return fail(a0, "cannot write preview into '" + o.out + "'");
+                return fail_data(a0, "cannot write preview into '" + o.out + "'");
             }
         }
 
@@ -729,7 +793,7 @@ int main(int argc, char **argv)
     }
     std::fprintf(gt, "]\n}\n");
     if (std::fclose(gt) != 0)
-        return fail(a0, "cannot write '" + gt_path + "'");
+        return fail_data(a0, "cannot write '" + gt_path + "'");
     if (!o.quiet) {
         const double total = std::chrono::duration<double, std::milli>(
                                  std::chrono::steady_clock::now() - t_start)
@@ -741,4 +805,11 @@ int main(int argc, char **argv)
                      render_ms / o.frames, total / o.frames);
     }
     return 0;
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+    return negobs_cli::main_guard("negobs_synth", argc, argv, run);
 }

@@ -333,6 +333,14 @@ typedef struct negobs_detect_result {
     /** 1 when the state is CLEAR but clear_to_mm is below range_warn_mm
      *  (short sight): the wearer gets the gentle short-sight pattern. */
     int32_t short_sight;
+    /** Floor distance (mm) of the foot of an obstacle that bars every
+     *  lane of the corridor (a face at least 400 mm high, steeper than
+     *  any stair) where the vouched walk ended; 0 when it did not end so.
+     *  The floor up to it is vouched and no floor beyond it is reached
+     *  without meeting it: with no hazard the state is CLEAR with
+     *  short_sight even when clear_to_mm (= blocked_at_mm) is below the
+     *  near-zone minimum. See docs/DETECTION.md 10.2, "Barred lanes". */
+    int32_t blocked_at_mm;
     negobs_mount_t mount; /**< camera mounting used this frame */
 } negobs_detect_result_t;
 

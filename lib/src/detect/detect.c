@@ -11,6 +11,7 @@ typedef struct frame_work {
     int unverified;      /* no reference yet, ground lower than set     */
     int32_t walk_to;     /* vouched by this frame's noise (mm)          */
     uint32_t walk_cause; /* why the walk stopped                        */
+    int32_t barred;      /* the walk ended at obstacles barring the lanes */
     uint8_t trusted[NEGOBS_DETECT_MAX_HAZARDS];
     int32_t n_trusted;
     int32_t hold_range;
@@ -188,7 +189,9 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
     det_strip_noise(&s, p, p->strip_hist);
     det_vouch_collect(&s, p);
     fw->walk_to = det_vouch_walk(&s, p, frame->first_row,
-                                 res->n_candidates > 0u, &fw->walk_cause);
+                                 res->n_candidates > 0u, &fw->walk_cause,
+                                 &fw->barred);
+    res->blocked_at_mm = fw->barred ? fw->walk_to : 0;
     warn_diagnostics(&s, res);
     /* A candidate is trusted (may start and confirm a track) when the
      * frame vouches for the warning range, as every clean frame did, or

@@ -60,6 +60,10 @@ typedef struct strip_hit {
      * rows far above the ground so far */
     int32_t blocked_v;
     int32_t pos_run;
+    /* 1 when the closure at blocked_v is an obstacle that bars the lane:
+     * a face at least BAR_H_MM high standing at its foot
+     * (det_closure_bars); the walker meets it before any floor beyond */
+    int32_t bars;
     /* vouch: farthest row the strip's support reaches from the bottom
      * (an unseen run or a closure ends it) */
     int32_t sup_v;
@@ -70,6 +74,15 @@ typedef struct strip_hit {
  * the row's per-pixel sigma above the ground model. */
 #define BLOCK_ROWS 4
 #define BLOCK_MIN_Q5 32
+/* A closure bars the lane (docs/DETECTION.md 10.2, "Barred lanes") when
+ * BLOCK_ROWS strip rows above its foot show points at least BAR_H_MM above
+ * the floor within BAR_RUN_MM of the foot's floor distance. 400 mm is twice
+ * the highest stair riser or curb (200 mm): an obstacle that high is walked
+ * around, not stepped onto, so no floor beyond it is reached through it.
+ * 200 mm of run for 400 mm of rise is a face steeper than 63 deg, steeper
+ * than any stair (<= 45 deg) or ramp, which are walked onto. */
+#define BAR_H_MM 400
+#define BAR_RUN_MM 200
 
 #define NOISE_BANDS 8
 #define NOISE_BINS 64
@@ -175,7 +188,8 @@ int32_t det_strip_sigma_at(const scan_ctx_t *s, int32_t v, int32_t *offset_q8);
 void det_vouch_collect(const scan_ctx_t *s, detect_priv_t *p);
 
 int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
-                       int32_t first_row, int candidates, uint32_t *cause);
+                       int32_t first_row, int candidates, uint32_t *cause,
+                       int32_t *barred);
 
 int det_vouch_candidate(const scan_ctx_t *s, const detect_priv_t *p,
                         const negobs_hazard_t *hz);

@@ -124,8 +124,9 @@ static void hist_median_spread_q8(const uint16_t *ha, const uint16_t *hb,
 /* Strip-median residual e (1/32 px) of strip si on row v, against the
  * nearer of the ground and a reported drop's plateau past its edge; 0
  * when the row is outside the corridor or has too few voting pixels. */
-int det_strip_row_e(const scan_ctx_t *s, const detect_priv_t *p, int32_t v,
-                    int32_t si, int32_t *rr, int32_t *e_out)
+static int strip_row_e(const scan_ctx_t *s, const detect_priv_t *p, int32_t v,
+                       int32_t si, int32_t *rr, int32_t *e_out,
+                       int corridor_only)
 {
     const negobs_detect_config_t *cfg = s->cfg;
     const strip_hit_t *hit = &p->hits[si];
@@ -141,7 +142,7 @@ int det_strip_row_e(const scan_ctx_t *s, const detect_priv_t *p, int32_t v,
     int32_t n = 0;
     int32_t e;
     int32_t u;
-    if (dgc <= 0 || !det_in_corridor(s, uc, dgc)) {
+    if (dgc <= 0 || (corridor_only && !det_in_corridor(s, uc, dgc))) {
         return 0;
     }
     for (u = u0; u < u1; u++, acc += s->plane->a_q20) {
@@ -169,6 +170,12 @@ int det_strip_row_e(const scan_ctx_t *s, const detect_priv_t *p, int32_t v,
     return 1;
 }
 
+int det_strip_row_e(const scan_ctx_t *s, const detect_priv_t *p, int32_t v,
+                    int32_t si, int32_t *rr, int32_t *e_out)
+{
+    return strip_row_e(s, p, v, si, rr, e_out, 1);
+}
+
 /* Count e (1/32 px) in the histogram of row v's band. */
 static void strip_hist_add(const scan_ctx_t *s, uint16_t *hist, int32_t v,
                            int32_t e)
@@ -180,6 +187,67 @@ static void strip_hist_add(const scan_ctx_t *s, uint16_t *hist, int32_t v,
     if (hb[e] < 0xFFFFu) {
         hb[e]++;
     }
+}
+
+/*
+ * 1 when the closure of strip si at foot_v bars the lane (BAR_H_MM,
+ * BAR_RUN_MM): walking up from the foot, BLOCK_ROWS rows whose strip
+ * median d is a point at least BAR_H_MM above the floor and within
+ * BAR_RUN_MM of the foot's floor distance, nearer or farther. A point at
+ * disparity d on the ray of row v, where the floor has d_g, stands
+ * h = H (d - d_g) / d above it (similar triangles along the ray; d_g <= 0
+ * above the horizon keeps the formula). Rows are read upward without the
+ * corridor test (the face of a near obstacle rises into rows whose floor
+ * lies beyond the corridor's width) until BLOCK_ROWS rows in a row lie
+ * beyond the band, or to the top of the image.
+ */
+static int closure_bars(const scan_ctx_t *s, const detect_priv_t *p,
+                        int32_t si, int32_t foot_v, int32_t *rr)
+{
+    const negobs_detect_config_t *cfg = s->cfg;
+    int32_t u0 = det_strip_u0(cfg, p->n_strips, si);
+    int32_t uc = u0 + cfg->strip_px / 2;
+    int32_t foot_mm = 0;
+    int32_t n_tall = 0;
+    int32_t n_past = 0;
+    int32_t v;
+    det_model_point(s, uc, foot_v, negobs_ground_disp_q4(s->plane, uc, foot_v),
+                    &foot_mm, NULL, NULL);
+    for (v = foot_v; v >= 0 && n_tall < BLOCK_ROWS && n_past < BLOCK_ROWS;
+         v--) {
+        const int16_t *row = negobs_image_s16_row(s->disp, v);
+        const uint8_t *crow = (s->conf != NULL)
+                                  ? negobs_image_u8_row(s->conf, v)
+                                  : NULL;
+        int32_t n = 0;
+        int32_t d_q4;
+        int32_t dg_q4;
+        int32_t r_mm = 0;
+        int32_t u;
+        for (u = u0; u < u0 + cfg->strip_px; u++) {
+            if (row[u] == NEGOBS_DISP_INVALID || row[u] <= 0 ||
+                (crow != NULL && (int32_t)crow[u] < cfg->min_confidence)) {
+                continue;
+            }
+            rr[n++] = row[u];
+        }
+        if (n * 4 < cfg->strip_px || n < 3) {
+            continue;
+        }
+        d_q4 = median2_s32(rr, n) / 2;
+        dg_q4 = negobs_ground_disp_q4(s->plane, uc, v);
+        if (d_q4 <= 0) {
+            continue;
+        }
+        det_model_point(s, uc, v, d_q4, &r_mm, NULL, NULL);
+        /* BLOCK_ROWS rows in a row beyond the band: the face, if any, is
+         * below (the top of an up-step, the floor past a low object) */
+        n_past = (r_mm > foot_mm + BAR_RUN_MM) ? n_past + 1 : 0;
+        n_tall += (int64_t)s->frame->height_mm * (d_q4 - dg_q4) >=
+                      (int64_t)BAR_H_MM * d_q4 &&
+                  negobs_abs_s32(r_mm - foot_mm) <= BAR_RUN_MM;
+    }
+    return n_tall >= BLOCK_ROWS;
 }
 
 void det_strip_noise(scan_ctx_t *s, detect_priv_t *p, uint16_t *hist)
@@ -201,6 +269,7 @@ void det_strip_noise(scan_ctx_t *s, detect_priv_t *p, uint16_t *hist)
     for (si = 0; si < p->n_strips; si++) {
         p->hits[si].blocked_v = -1;
         p->hits[si].pos_run = 0;
+        p->hits[si].bars = 0;
         any_candidate |= p->hits[si].reported;
     }
     /* Pass 1 also fills the histogram; it is complete unless a strip
@@ -213,19 +282,26 @@ void det_strip_noise(scan_ctx_t *s, detect_priv_t *p, uint16_t *hist)
          * CLEAR. */
         strip_hit_t *hs = &p->hits[si];
         int32_t foot = -1;
+        int32_t entered = 0;
         for (v = h - 1; v >= s->band_v0 && hs->blocked_v < 0; v--) {
             int32_t e;
             int32_t thr = geom_max_s32(BLOCK_MIN_Q5, 6 * det_sigma_at(s, v));
-            if (!det_strip_row_e(s, p, v, si, rr, &e)) {
+            if (det_strip_row_e(s, p, v, si, rr, &e)) {
+                entered = 1;
+                strip_hist_add(s, hist, v, e);
+            } else if (!entered || !strip_row_e(s, p, v, si, rr, &e, 0)) {
+                /* Once in the corridor, a strip is followed up the face of
+                 * an obstacle standing there, whose rows lie where the
+                 * ground model's floor is beyond the corridor's width. */
                 continue;
             }
-            strip_hist_add(s, hist, v, e);
             if (e * 4 < thr) {
                 foot = v - 1;
             }
             if (e >= thr) {
                 if (++hs->pos_run >= BLOCK_ROWS) {
                     hs->blocked_v = (foot >= 0) ? foot : v;
+                    hs->bars = closure_bars(s, p, si, hs->blocked_v, rr);
                     any_closed = 1;
                 }
             } else {

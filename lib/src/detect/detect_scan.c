@@ -230,13 +230,16 @@ int32_t det_strip_u0(const negobs_detect_config_t *cfg, int32_t n_strips,
 }
 
 /* 1 when the centre of strip si lies in the walking corridor at row v of
- * the ground model. */
+ * the ground model and in the stereo view: the right camera sees the
+ * floor point of column u at u - d_g, so where u < d_g (the left image's
+ * first columns near the feet) no frame can match it, like floor outside
+ * the image (docs/DETECTION.md 10.2). */
 int det_strip_in_corridor(const scan_ctx_t *s, int32_t n_strips, int32_t si,
                           int32_t v)
 {
     int32_t uc = det_strip_u0(s->cfg, n_strips, si) + s->cfg->strip_px / 2;
     int32_t dgc = negobs_ground_disp_q4(s->plane, uc, v);
-    return dgc > 0 && det_in_corridor(s, uc, dgc);
+    return dgc > 0 && uc * 16 >= dgc && det_in_corridor(s, uc, dgc);
 }
 
 /*

@@ -150,78 +150,144 @@ static enum vouch_verdict vouch_cell_ok(const scan_ctx_t *s,
     return VOUCH_OK;
 }
 
+/* One row of the walk: its corridor strips' tallies, with the strips
+ * past the foot of an obstacle that bars their lane (bars) counted apart. */
+typedef struct walk_row {
+    int32_t n_open;       /* corridor strips not barred                      */
+    int32_t n_barred;     /* corridor strips past the foot of a barring face */
+    int32_t n_ok;         /* strips that can see a minimum drop there        */
+    int32_t max_bad;      /* longest run of failing strips, barred ones fail */
+    int32_t max_bad_open; /* the same, barred strips left out            */
+    uint32_t why;         /* NOISY / FEW_GROUND of the failing strips    */
+    int32_t any_alive;    /* some strip still vouched from the bottom    */
+} walk_row_t;
+
+static void walk_tally(const scan_ctx_t *s, detect_priv_t *p,
+                       int32_t first_row, int32_t v, int32_t range,
+                       walk_row_t *w)
+{
+    int32_t bad_run = 0;
+    int32_t open_run = 0;
+    int32_t si;
+    memset(w, 0, sizeof *w);
+    for (si = 0; si < p->n_strips; si++) {
+        enum vouch_verdict vd;
+        if (!det_strip_in_corridor(s, p->n_strips, si, v)) {
+            bad_run = 0;
+            open_run = 0;
+            if (p->reach_v[si] == v + 1) {
+                p->reach_v[si] = v; /* outside: nothing to vouch */
+            }
+            continue;
+        }
+        if (p->hits[si].bars && v <= p->hits[si].blocked_v) {
+            /* the walker meets the obstacle before this floor */
+            w->n_barred++;
+            w->why |= NEGOBS_DEGRADED_FEW_GROUND;
+            w->max_bad = geom_max_s32(w->max_bad, ++bad_run);
+            open_run = 0;
+            continue;
+        }
+        w->n_open++;
+        if (v < first_row + 2 || v < p->hits[si].sup_v) {
+            vd = VOUCH_UNSEEN;
+        } else {
+            vd = vouch_cell_ok(s, p, si, v, range);
+        }
+        if (vd == VOUCH_OK) {
+            w->n_ok++;
+            bad_run = 0;
+            open_run = 0;
+            if (p->reach_v[si] == v + 1) {
+                p->reach_v[si] = v;
+            }
+        } else {
+            w->why |= (vd == VOUCH_NOISE) ? NEGOBS_DEGRADED_NOISY
+                                          : NEGOBS_DEGRADED_FEW_GROUND;
+            w->max_bad = geom_max_s32(w->max_bad, ++bad_run);
+            w->max_bad_open = geom_max_s32(w->max_bad_open, ++open_run);
+        }
+        w->any_alive |= p->reach_v[si] == v;
+    }
+}
+
 /*
  * Walk outward from the bottom row: a row is vouched when at least half
  * of its corridor strips can see a minimum drop there (vouch_cell_ok,
  * within the strip's support) and no min_strips adjacent ones cannot (the
  * rule reports nothing narrower, so that is the detector's resolution).
+ * Where that fails and some strips are past the foot of an obstacle that
+ * bars their lane (bars), the walk goes on for at most BAR_RUN_MM of
+ * floor with those strips left out (the feet of one wall, seen through
+ * noise and roll, spread over a few rows); if every corridor strip is
+ * barred within that band, the walk ends there barred (*barred = 1): the
+ * floor up to the obstacle is vouched and nothing beyond it is reached
+ * without meeting it. Otherwise it ends where it first failed: an
+ * obstacle that leaves a lane open (a post) is walked past, and the floor
+ * behind it is not vouched.
  * Returns the floor distance of the last row of the contiguous vouched
  * stretch (0: not even the bottom row), and in *cause the reason it
- * stopped (NOISY or FEW_GROUND; 0 when it reached range_max). Rows above
+ * stopped (NOISY or FEW_GROUND; 0 when it reached range_max or ended
+ * barred). Rows above
  * first_row + 2 were not matched. Fills p->reach_v: how far each strip
  * alone stays vouched (the local check of a hazard's own strips).
  */
 int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
-                       int32_t first_row, int candidates, uint32_t *cause)
+                       int32_t first_row, int candidates, uint32_t *cause,
+                       int32_t *barred)
 {
     const negobs_detect_config_t *cfg = s->cfg;
     const int32_t hgt = cfg->cam.height;
     int32_t walk_v = hgt; /* last vouched row, hgt: none yet */
     int32_t walking = 1;
+    int32_t close_mm = -1; /* floor distance where the barred band began */
+    int32_t close_walk_v = hgt;
+    uint32_t close_why = 0;
     int32_t si;
     int32_t v;
     *cause = 0;
+    *barred = 0;
     for (si = 0; si < p->n_strips; si++) {
         p->reach_v[si] = hgt;
     }
     for (v = hgt - 1; v >= s->band_v0; v--) {
         int32_t range = model_range_mm(s, cfg->cam.width / 2, v);
-        int32_t n_corr = 0;
-        int32_t n_ok = 0;
-        int32_t bad_run = 0;
-        int32_t max_bad = 0;
-        uint32_t why = 0;
-        int32_t any_alive = 0;
-        for (si = 0; si < p->n_strips; si++) {
-            enum vouch_verdict vd;
-            if (!det_strip_in_corridor(s, p->n_strips, si, v)) {
-                bad_run = 0;
-                if (p->reach_v[si] == v + 1) {
-                    p->reach_v[si] = v; /* outside: nothing to vouch */
-                }
-                continue;
-            }
-            n_corr++;
-            if (v < first_row + 2 || v < p->hits[si].sup_v) {
-                vd = VOUCH_UNSEEN;
-            } else {
-                vd = vouch_cell_ok(s, p, si, v, range);
-            }
-            if (vd == VOUCH_OK) {
-                n_ok++;
-                bad_run = 0;
-                if (p->reach_v[si] == v + 1) {
-                    p->reach_v[si] = v;
-                }
-            } else {
-                why |= (vd == VOUCH_NOISE) ? NEGOBS_DEGRADED_NOISY
-                                           : NEGOBS_DEGRADED_FEW_GROUND;
-                max_bad = geom_max_s32(max_bad, ++bad_run);
-            }
-            any_alive |= p->reach_v[si] == v;
-        }
-        if (walking) {
-            if (n_corr > 0 && 2 * n_ok >= n_corr &&
-                max_bad < cfg->min_strips) {
+        int32_t n_corr;
+        walk_row_t w;
+        walk_tally(s, p, first_row, v, range, &w);
+        n_corr = w.n_open + w.n_barred;
+        if (walking && close_mm < 0) {
+            if (n_corr > 0 && 2 * w.n_ok >= n_corr &&
+                w.max_bad < cfg->min_strips) {
                 walk_v = v;
+            } else if (w.n_barred > 0) {
+                close_mm = range; /* the barred band begins */
+                close_walk_v = walk_v;
+                close_why = w.why;
             } else {
                 walking = 0;
-                *cause = (why & NEGOBS_DEGRADED_NOISY) != 0u
+                *cause = (w.why & NEGOBS_DEGRADED_NOISY) != 0u
                              ? NEGOBS_DEGRADED_NOISY
                              : NEGOBS_DEGRADED_FEW_GROUND;
             }
         }
-        if (!walking && !any_alive) {
+        if (walking && close_mm >= 0) {
+            if (w.n_open == 0 && w.n_barred > 0) {
+                walking = 0; /* every lane of the corridor is barred */
+                *barred = walk_v < hgt;
+            } else if (range - close_mm <= BAR_RUN_MM &&
+                       2 * w.n_ok >= w.n_open &&
+                       w.max_bad_open < cfg->min_strips) {
+                walk_v = v;
+            } else {
+                walking = 0; /* a lane stays open: back to where it failed */
+                walk_v = close_walk_v;
+                *cause = (close_why & NEGOBS_DEGRADED_NOISY) != 0u
+                             ? NEGOBS_DEGRADED_NOISY
+                             : NEGOBS_DEGRADED_FEW_GROUND;
+            }
+        }
+        if (!walking && !w.any_alive) {
             break;
         }
     }
@@ -297,8 +363,10 @@ int det_vouch_candidate(const scan_ctx_t *s, const detect_priv_t *p,
  * frame (a suspected drop is not vouched past, confirmed or not) and at
  * the nearest reported hazard. A gating or ground reason is NO_INFO with
  * clear_to_mm 0; a confirmed or held hazard is HAZARD; a vouched range
- * below near_min_mm is NO_INFO (with the reason the walk stopped); else
- * CLEAR, short-sighted below range_warn_mm.
+ * below near_min_mm is NO_INFO (with the reason the walk stopped) unless
+ * the walk reached the foot of an obstacle barring every lane
+ * (res->blocked_at_mm > 0, set by the caller, kept only when nothing cut
+ * the walk short of it); else CLEAR, short-sighted below range_warn_mm.
  */
 void det_verdict(const negobs_detect_config_t *cfg,
                  negobs_detect_result_t *res, uint32_t reasons,
@@ -315,12 +383,15 @@ void det_verdict(const negobs_detect_config_t *cfg,
                                 geom_max_s32(res->hazards[i].range_mm, 0));
     }
     res->short_sight = 0;
+    if (reasons != 0u || clear_to < walk_to) {
+        res->blocked_at_mm = 0; /* not vouched up to the obstacle */
+    }
     if (reasons != 0u) {
         res->state = NEGOBS_DETECT_NO_INFO;
         clear_to = 0;
     } else if (res->n_hazards > 0u) {
         res->state = NEGOBS_DETECT_HAZARD;
-    } else if (clear_to < cfg->near_min_mm) {
+    } else if (clear_to < cfg->near_min_mm && res->blocked_at_mm <= 0) {
         res->state = NEGOBS_DETECT_NO_INFO;
         reasons = (clear_to < walk_to) ? NEGOBS_DEGRADED_NOISY
                   : (walk_cause != 0u) ? walk_cause

@@ -812,7 +812,10 @@ int get_pair_impl(Impl &im, negobs_frame_pair_t *pair, int32_t timeout_ms)
         }
         Side &l = im.side[0];
         Side &r = im.side[1];
-        if (im.nsides == 1 && l.pending != nullptr) {
+        negobs_lc_step_t step = negobs_libcamera_pair_step(
+            im.nsides, l.pending != nullptr, l.pend_ts, r.pending != nullptr,
+            r.pend_ts, tol_ns);
+        if (step == NEGOBS_LC_SINGLE) {
             negobs_status_t fs = make_frame(im, l, &pair->left);
             Request *p = l.pending;
             l.pending = nullptr;
@@ -831,10 +834,8 @@ int get_pair_impl(Impl &im, negobs_frame_pair_t *pair, int32_t timeout_ms)
             pair->index = st->stats.pairs++;
             return NEGOBS_OK;
         }
-        if (im.nsides == 2 && l.pending != nullptr && r.pending != nullptr) {
-            negobs_pair_action_t a = negobs_pair_decide(l.pend_ts, r.pend_ts,
-                                                        tol_ns);
-            if (a == NEGOBS_PAIR_MATCH) {
+        if (step != NEGOBS_LC_WAIT) {
+            if (step == NEGOBS_LC_PAIR) {
                 negobs_status_t sl = make_frame(im, l, &pair->left);
                 negobs_status_t sr = make_frame(im, r, &pair->right);
                 Request *pl = l.pending;
@@ -858,7 +859,7 @@ int get_pair_impl(Impl &im, negobs_frame_pair_t *pair, int32_t timeout_ms)
                 pair->index = st->stats.pairs++;
                 return NEGOBS_OK;
             }
-            Side &old = a == NEGOBS_PAIR_DROP_LEFT ? l : r;
+            Side &old = step == NEGOBS_LC_DROP_LEFT ? l : r;
             Request *p = old.pending;
             old.pending = nullptr;
             requeue(old, p);

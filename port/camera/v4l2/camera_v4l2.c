@@ -41,6 +41,7 @@
 
 #include <linux/videodev2.h>
 
+#include "negobs_port/camera_list.h"
 #include "negobs_port/camera_v4l2.h"
 #include "negobs_port/clock.h"
 
@@ -110,33 +111,32 @@ static void dev_close(negobs_v4l2_dev_t *d)
     dev_reset(d);
 }
 
-/* Try the formats the node lists, best first; S_FMT and re-read. */
+/* The format the node lists for the capture size, S_FMT and re-read. */
 static negobs_status_t dev_set_format(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
 {
-    struct v4l2_fmtdesc fd;
+    negobs_v4l2_mode_t modes[NEGOBS_V4L2_MAX_MODES];
     struct v4l2_format f;
-    uint32_t best = 0;
-    int best_rank = -1;
+    uint32_t best;
     negobs_status_t s;
-    memset(&fd, 0, sizeof fd);
-    fd.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-    while (xioctl(d->fd, VIDIOC_ENUM_FMT, &fd) == 0) {
-        int r = negobs_v4l2_format_rank(fd.pixelformat);
-        if (r >= 0 && (best_rank < 0 || r < best_rank)) {
-            best_rank = r;
-            best = fd.pixelformat;
-        }
-        fd.index++;
-    }
-    if (best_rank < 0) {
-        v_error(st, 0, "%s: no GREY/NV12/NV21/YU12/YV12/YUYV/UYVY format",
+    int32_t cap_w = st->cfg.capture_width > 0
+                        ? st->cfg.capture_width
+                        : st->cfg.width * (st->cfg.side_by_side ? 2 : 1);
+    int32_t cap_h = st->cfg.capture_height > 0 ? st->cfg.capture_height
+                                               : st->cfg.height;
+    size_t n = negobs_v4l2_enum_modes(d->fd, cap_w, cap_h, modes,
+                                      NEGOBS_V4L2_MAX_MODES);
+    best = negobs_v4l2_choose_format(modes, n, cap_w, cap_h, st->cfg.fps);
+    if (best == 0) {
+        v_error(st, 0,
+                "%s: no GREY/NV12/NV21/YU12/YV12/YUYV/UYVY/Y10/Y16/MJPG "
+                "format (negobs_run --list-cameras)",
                 d->path);
         return NEGOBS_ERR_UNSUPPORTED;
     }
     memset(&f, 0, sizeof f);
     f.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-    f.fmt.pix.width = (uint32_t)st->cfg.width;
-    f.fmt.pix.height = (uint32_t)st->cfg.height;
+    f.fmt.pix.width = (uint32_t)cap_w;
+    f.fmt.pix.height = (uint32_t)cap_h;
     f.fmt.pix.pixelformat = best;
     f.fmt.pix.field = V4L2_FIELD_NONE;
     f.fmt.pix.bytesperline = 0; /* let the driver choose its stride */
@@ -164,7 +164,17 @@ static negobs_status_t dev_set_format(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
     d->height = (int32_t)f.fmt.pix.height;
     d->bytesperline = f.fmt.pix.bytesperline;
     d->sizeimage = f.fmt.pix.sizeimage;
-    return NEGOBS_OK;
+    s = negobs_v4l2_conv_setup(&d->conv, d->fourcc, d->width, d->height,
+                               d->bytesperline, st->cfg.side_by_side,
+                               st->cfg.capture_width > 0 ? st->cfg.width : 0,
+                               st->cfg.capture_width > 0 ? st->cfg.height : 0);
+    if (s != NEGOBS_OK) {
+        v_error(st, 0, "%s: %ldx%ld frames cannot give %ldx%ld%s", d->path,
+                (long)d->width, (long)d->height, (long)st->cfg.width,
+                (long)st->cfg.height,
+                st->cfg.side_by_side ? " per eye side by side" : "");
+    }
+    return s;
 }
 
 static void dev_set_rate(negobs_v4l2_dev_t *d, int32_t fps)
@@ -354,6 +364,26 @@ static void apply_controls(negobs_v4l2_t *st)
     }
 }
 
+/* Scratch per node: the larger need of the open nodes. */
+static size_t node_scratch_bytes(const negobs_v4l2_t *st)
+{
+    size_t a = negobs_v4l2_conv_scratch_bytes(&st->dev[0].conv);
+    size_t b = st->nodes == 2
+                   ? negobs_v4l2_conv_scratch_bytes(&st->dev[1].conv)
+                   : 0u;
+    return a > b ? a : b;
+}
+
+static const char *fourcc_name(uint32_t f, char s[5])
+{
+    int i;
+    for (i = 0; i < 4; i++) {
+        s[i] = (char)((f >> (8 * i)) & 0x7Fu);
+    }
+    s[4] = '\0';
+    return s;
+}
+
 static const char *strip_prefix(const char *p)
 {
     return strncmp(p, "v4l2:", 5) == 0 ? p + 5 : p;
@@ -364,10 +394,12 @@ static negobs_status_t v_open(void *ctx, const negobs_camera_config_t *cfg)
     negobs_v4l2_t *st = ctx;
     negobs_status_t s;
     int i;
-    if (cfg == NULL || cfg->left == NULL || cfg->right == NULL) {
+    if (cfg == NULL || cfg->left == NULL ||
+        (cfg->right == NULL && !cfg->side_by_side)) {
         return NEGOBS_ERR_INVAL;
     }
     st->cfg = *cfg;
+    st->nodes = cfg->side_by_side ? 1 : 2;
     if (st->cfg.width <= 0) {
         st->cfg.width = 640;
     }
@@ -379,7 +411,8 @@ static negobs_status_t v_open(void *ctx, const negobs_camera_config_t *cfg)
     }
     memset(&st->stats, 0, sizeof st->stats);
     for (i = 0; i < 2; i++) {
-        const char *p = strip_prefix(i == 0 ? cfg->left : cfg->right);
+        const char *p = strip_prefix(i == 0 || cfg->side_by_side ? cfg->left
+                                                                 : cfg->right);
         negobs_v4l2_dev_t *d = &st->dev[i];
         memset(d, 0, sizeof *d);
         dev_reset(d);
@@ -388,15 +421,15 @@ static negobs_status_t v_open(void *ctx, const negobs_camera_config_t *cfg)
         }
         memcpy(d->path, p, strlen(p) + 1u); /* length checked above */
     }
-    for (i = 0; i < 2; i++) {
+    for (i = 0; i < st->nodes; i++) {
         s = dev_open(st, &st->dev[i]);
         if (s != NEGOBS_OK) {
             dev_close(&st->dev[0]);
             return s;
         }
     }
-    if (st->dev[0].width != st->dev[1].width ||
-        st->dev[0].height != st->dev[1].height) {
+    if (st->nodes == 2 && (st->dev[0].width != st->dev[1].width ||
+                           st->dev[0].height != st->dev[1].height)) {
         v_error(st, 0, "cameras disagree on size: %ldx%ld vs %ldx%ld",
                 (long)st->dev[0].width, (long)st->dev[0].height,
                 (long)st->dev[1].width, (long)st->dev[1].height);
@@ -404,13 +437,13 @@ static negobs_status_t v_open(void *ctx, const negobs_camera_config_t *cfg)
         dev_close(&st->dev[1]);
         return NEGOBS_ERR_UNSUPPORTED;
     }
-    if (negobs_v4l2_format_packed(st->dev[0].fourcc) ||
-        negobs_v4l2_format_packed(st->dev[1].fourcc)) {
-        size_t need = 2u * (size_t)st->dev[0].width *
-                      (size_t)st->dev[0].height;
-        if (st->scratch == NULL || st->scratch_bytes < need) {
-            v_error(st, 0, "packed format needs %lu bytes of scratch",
-                    (unsigned long)need);
+    {
+        char cc[5];
+        size_t need = (size_t)st->nodes *
+                      node_scratch_bytes(st); /* per node, the larger */
+        if (need > 0u && (st->scratch == NULL || st->scratch_bytes < need)) {
+            v_error(st, 0, "format %s needs %lu bytes of scratch",
+                    fourcc_name(st->dev[0].fourcc, cc), (unsigned long)need);
             dev_close(&st->dev[0]);
             dev_close(&st->dev[1]);
             return NEGOBS_ERR_NOSPACE;
@@ -424,7 +457,7 @@ static negobs_status_t v_start(void *ctx)
 {
     negobs_v4l2_t *st = ctx;
     int i;
-    for (i = 0; i < 2; i++) {
+    for (i = 0; i < st->nodes; i++) {
         negobs_status_t s = dev_start(st, &st->dev[i]);
         if (s != NEGOBS_OK) {
             return s;
@@ -479,15 +512,14 @@ static void try_reopen(negobs_v4l2_t *st, negobs_v4l2_dev_t *d, uint64_t now)
 
 /* Every dequeued frame counts, not only those paired: the check then runs
  * at the camera's rate, whatever the pipeline's. The raw bytes of the
- * first plane are sampled (rows of bytesperline): any pixel format's bytes
- * change with sensor noise. */
-static bool frame_frozen(negobs_v4l2_t *st, negobs_v4l2_dev_t *d, uint32_t idx)
+ * first plane are sampled (rows of bytesperline; MJPEG: the compressed
+ * data, negobs_v4l2_conv_raw_view()): any format's bytes change with
+ * sensor noise. */
+static bool frame_frozen(negobs_v4l2_t *st, negobs_v4l2_dev_t *d, uint32_t idx,
+                         uint32_t bytesused)
 {
     negobs_image_u8_t raw;
-    raw.data = d->buf[idx].start;
-    raw.width = (int32_t)d->bytesperline;
-    raw.height = d->height;
-    raw.stride = (int32_t)d->bytesperline;
+    negobs_v4l2_conv_raw_view(&d->conv, d->buf[idx].start, bytesused, &raw);
     return negobs_frozen_update(&d->frozen, negobs_frame_signature(&raw),
                                 st->cfg.frozen_frames);
 }
@@ -511,6 +543,7 @@ static void drain(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
             continue; /* cannot happen with a sane driver; never index it */
         }
         if ((b.flags & V4L2_BUF_FLAG_ERROR) != 0 ||
+            b.bytesused > d->buf[b.index].length ||
             b.bytesused < negobs_v4l2_frame_bytes(d->fourcc, d->height,
                                                   d->bytesperline) /
                               2u) {
@@ -524,7 +557,7 @@ static void drain(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
         }
         d->pending = true;
         d->pend_at_ms = negobs_clock_now_ms();
-        d->pend_frozen = frame_frozen(st, d, b.index);
+        d->pend_frozen = frame_frozen(st, d, b.index, b.bytesused);
         d->pend_idx = b.index;
         d->pend_bytes = b.bytesused;
         d->pend_seq = b.sequence;
@@ -539,19 +572,24 @@ static void drain(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
     }
 }
 
+/* Side by side (f2 != NULL): both eyes from node 0's one buffer. */
 static negobs_status_t make_frame(negobs_v4l2_t *st, int side,
-                                  negobs_frame_t *f)
+                                  negobs_frame_t *f, negobs_frame_t *f2)
 {
     negobs_v4l2_dev_t *d = &st->dev[side];
-    size_t plane = (size_t)d->width * (size_t)d->height;
-    uint8_t *scr = st->scratch != NULL ? st->scratch + (size_t)side * plane
-                                       : NULL;
-    size_t scr_bytes = st->scratch != NULL ? plane : 0;
-    negobs_status_t s = negobs_v4l2_luma(
-        d->fourcc, d->buf[d->pend_idx].start, d->pend_bytes, d->width,
-        d->height, d->bytesperline, scr, scr_bytes, &f->y);
+    size_t per_node = node_scratch_bytes(st);
+    uint8_t *scr = st->scratch != NULL && per_node > 0u
+                       ? st->scratch + (size_t)side * per_node
+                       : NULL;
+    negobs_status_t s = negobs_v4l2_conv_frame(
+        &d->conv, d->buf[d->pend_idx].start, d->pend_bytes, scr,
+        scr != NULL ? per_node : 0u, &f->y, f2 != NULL ? &f2->y : NULL);
     f->ts_ns = d->pend_ts;
     f->sequence = d->pend_seq;
+    if (f2 != NULL) {
+        f2->ts_ns = d->pend_ts;
+        f2->sequence = d->pend_seq;
+    }
     return s;
 }
 
@@ -608,6 +646,28 @@ static void timeout_message(negobs_v4l2_t *st, uint32_t drops,
     }
 }
 
+/* One side-by-side node: its pending frame is the pair. NEGOBS_ERR_AGAIN:
+ * the frame was unusable (requeued), look for the next. */
+static int sbs_pair(negobs_v4l2_t *st, negobs_frame_pair_t *pair)
+{
+    negobs_v4l2_dev_t *d = &st->dev[0];
+    negobs_status_t s = make_frame(st, 0, &pair->left, &pair->right);
+    d->pending = false;
+    if (s != NEGOBS_OK) {
+        st->stats.short_frames++;
+        (void)dev_queue(d, d->pend_idx);
+        return NEGOBS_ERR_AGAIN;
+    }
+    if (frozen_check(st)) {
+        (void)dev_queue(d, d->pend_idx);
+        st->stats.frozen_pairs++;
+        return NEGOBS_ERR_IO;
+    }
+    d->held_idx = (int32_t)d->pend_idx;
+    pair->index = st->stats.pairs++;
+    return NEGOBS_OK;
+}
+
 static int v_get_pair(void *ctx, negobs_frame_pair_t *pair, int32_t timeout_ms)
 {
     negobs_v4l2_t *st = ctx;
@@ -629,7 +689,7 @@ static int v_get_pair(void *ctx, negobs_frame_pair_t *pair, int32_t timeout_ms)
         int i;
         int rc;
 
-        for (i = 0; i < 2; i++) {
+        for (i = 0; i < st->nodes; i++) {
             if (st->dev[i].lost) {
                 try_reopen(st, &st->dev[i], now);
             }
@@ -647,7 +707,14 @@ static int v_get_pair(void *ctx, negobs_frame_pair_t *pair, int32_t timeout_ms)
             return NEGOBS_ERR_NODEV;
         }
 
-        for (i = 0; i < 2; i++) {
+        if (st->nodes == 1 && st->dev[0].pending) {
+            int got = sbs_pair(st, pair);
+            if (got != NEGOBS_ERR_AGAIN) {
+                return got;
+            }
+            continue;
+        }
+        for (i = 0; i < st->nodes; i++) {
             negobs_v4l2_dev_t *d = &st->dev[i];
             /* A frame newer than anything the other side delivers waits
              * for a partner; one that waited this long is too old to be
@@ -668,8 +735,8 @@ static int v_get_pair(void *ctx, negobs_frame_pair_t *pair, int32_t timeout_ms)
             negobs_pair_action_t a = negobs_pair_decide(l->pend_ts, r->pend_ts,
                                                         tol_ns);
             if (a == NEGOBS_PAIR_MATCH) {
-                negobs_status_t sl = make_frame(st, 0, &pair->left);
-                negobs_status_t sr = make_frame(st, 1, &pair->right);
+                negobs_status_t sl = make_frame(st, 0, &pair->left, NULL);
+                negobs_status_t sr = make_frame(st, 1, &pair->right, NULL);
                 l->pending = false;
                 r->pending = false;
                 if (sl != NEGOBS_OK || sr != NEGOBS_OK) {
@@ -702,7 +769,7 @@ static int v_get_pair(void *ctx, negobs_frame_pair_t *pair, int32_t timeout_ms)
             continue;
         }
 
-        for (i = 0; i < 2; i++) {
+        for (i = 0; i < st->nodes; i++) {
             if (!st->dev[i].pending) {
                 pfd[n].fd = st->dev[i].fd;
                 pfd[n].events = POLLIN;

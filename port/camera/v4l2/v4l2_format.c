@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "negobs_port/camera_v4l2.h"
+#include "negobs_port/mjpeg.h"
 
 #define FCC_GREY NEGOBS_FOURCC('G', 'R', 'E', 'Y')
 #define FCC_NV12 NEGOBS_FOURCC('N', 'V', '1', '2')
@@ -14,15 +15,24 @@
 #define FCC_YV12 NEGOBS_FOURCC('Y', 'V', '1', '2')
 #define FCC_YUYV NEGOBS_FOURCC('Y', 'U', 'Y', 'V')
 #define FCC_UYVY NEGOBS_FOURCC('U', 'Y', 'V', 'Y')
+#define FCC_Y10 NEGOBS_FOURCC('Y', '1', '0', ' ')
+#define FCC_Y16 NEGOBS_FOURCC('Y', '1', '6', ' ')
+#define FCC_MJPG NEGOBS_FOURCC('M', 'J', 'P', 'G')
 
-/* Preference order: luma in place first, packed (copy) last. */
+/* Preference order: luma in place first, then a copy of every other
+ * byte, then 16-bit mono (a pass that averages and shifts), MJPEG last
+ * (a decode: the most CPU per pixel). */
 static const uint32_t format_order[] = {
-    FCC_GREY, FCC_NV12, FCC_NV21, FCC_YU12, FCC_YV12, FCC_YUYV, FCC_UYVY,
+    FCC_GREY, FCC_NV12, FCC_NV21, FCC_YU12, FCC_YV12,
+    FCC_YUYV, FCC_UYVY, FCC_Y10,  FCC_Y16,  FCC_MJPG,
 };
 
 int negobs_v4l2_format_rank(uint32_t fourcc)
 {
     size_t i;
+    if (fourcc == FCC_MJPG && !negobs_mjpeg_available()) {
+        return -1;
+    }
     for (i = 0; i < sizeof format_order / sizeof format_order[0]; i++) {
         if (format_order[i] == fourcc) {
             return (int)i;
@@ -49,6 +59,10 @@ size_t negobs_v4l2_frame_bytes(uint32_t fourcc, int32_t height,
     if (negobs_v4l2_format_rank(fourcc) < 0 || height <= 0) {
         return 0;
     }
+    if (fourcc == FCC_MJPG) {
+        /* compressed: no size to expect; SOI + EOI at least */
+        return NEGOBS_V4L2_MJPEG_MIN_BYTES;
+    }
     plane = (size_t)bytesperline * (size_t)height;
     return is_420(fourcc) ? plane + plane / 2u : plane;
 }
@@ -65,7 +79,16 @@ negobs_status_t negobs_v4l2_check_format(uint32_t fourcc, int32_t width,
         height > NEGOBS_MAX_DIM) {
         return NEGOBS_ERR_INVAL;
     }
-    bpp = negobs_v4l2_format_packed(fourcc) ? 2u : 1u;
+    if (fourcc == FCC_MJPG) {
+        /* bytesperline is 0 for compressed formats; sizeimage is the
+         * driver's largest frame */
+        return sizeimage >= NEGOBS_V4L2_MJPEG_MIN_BYTES ? NEGOBS_OK
+                                                        : NEGOBS_ERR_INVAL;
+    }
+    bpp = (negobs_v4l2_format_packed(fourcc) || fourcc == FCC_Y10 ||
+           fourcc == FCC_Y16)
+              ? 2u
+              : 1u;
     if (bytesperline < (uint32_t)width * bpp ||
         bytesperline > 4u * (uint32_t)NEGOBS_MAX_DIM * bpp) {
         return NEGOBS_ERR_INVAL;
@@ -87,8 +110,9 @@ negobs_status_t negobs_v4l2_luma(uint32_t fourcc, uint8_t *base,
     size_t need;
     int32_t x;
     int32_t y;
-    if (negobs_v4l2_format_rank(fourcc) < 0) {
-        return NEGOBS_ERR_UNSUPPORTED;
+    if (negobs_v4l2_format_rank(fourcc) < 0 || fourcc == FCC_Y10 ||
+        fourcc == FCC_Y16 || fourcc == FCC_MJPG) {
+        return NEGOBS_ERR_UNSUPPORTED; /* negobs_v4l2_conv_frame() */
     }
     if (base == NULL || out == NULL || width < 1 || height < 1) {
         return NEGOBS_ERR_INVAL;

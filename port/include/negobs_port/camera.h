@@ -56,6 +56,14 @@ typedef struct negobs_camera_config {
     int32_t frozen_frames; /**< live cameras: this many identical frames
                                 in a row = frozen, pairs withheld
                                 (NEGOBS_ERR_IO); 0 = off               */
+    int32_t capture_width; /**< V4L2: frame size asked of the camera
+                                (both eyes when side by side); each eye
+                                is cropped and binned to width x height.
+                                0 = no binning: width x height per eye,
+                                the driver's nearest size as delivered */
+    int32_t capture_height;
+    bool side_by_side; /**< V4L2: one node, left eye in the left
+                                half of each frame (right is ignored)  */
 } negobs_camera_config_t;
 
 /** @brief Fill a config with the defaults (exposure/gain -1). */

@@ -125,6 +125,27 @@ negobs_status_t negobs_libcamera_luma(uint32_t fourcc, uint8_t *base,
                                       uint8_t *scratch, size_t scratch_bytes,
                                       negobs_image_u8_t *out);
 
+/** What get_pair() does next with the frames waiting on each camera. */
+typedef enum negobs_lc_step {
+    NEGOBS_LC_WAIT = 0,      /**< wait for more completed requests      */
+    NEGOBS_LC_SINGLE = 1,    /**< one camera: its frame is both sides   */
+    NEGOBS_LC_PAIR = 2,      /**< the two waiting frames are a pair     */
+    NEGOBS_LC_DROP_LEFT = 3, /**< left is older by more than the
+                                   tolerance: requeue it                 */
+    NEGOBS_LC_DROP_RIGHT = 4
+} negobs_lc_step_t;
+
+/**
+ * @brief The pairing step of get_pair(): each camera keeps only its newest
+ *        completed frame (older ones are requeued as stale); when both
+ *        wait, they pair within tol_ns of SensorTimestamp, else the older
+ *        one is requeued (negobs_pair_decide()).
+ * @param nsides  1 (single camera) or 2
+ */
+negobs_lc_step_t negobs_libcamera_pair_step(int32_t nsides, bool pend_l,
+                                            uint64_t ts_l, bool pend_r,
+                                            uint64_t ts_r, uint64_t tol_ns);
+
 #ifdef __cplusplus
 }
 #endif

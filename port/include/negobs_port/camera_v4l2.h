@@ -1,10 +1,12 @@
 /*
  * V4L2 stereo source: two capture nodes, MMAP streaming, timestamp pairing.
  *
- * Each node is negotiated to the same size with the first pixel format it
- * accepts from GREY, NV12, NV21, YU12, YV12, YUYV, UYVY (planar formats
+ * Each node is negotiated to the same size with a pixel format from GREY,
+ * NV12, NV21, YU12, YV12, YUYV, UYVY, Y10, Y16, MJPG (planar formats
  * first: their Y plane is handed out in place with stride = bytesperline;
- * packed YUYV/UYVY luma is extracted into the caller's scratch buffer).
+ * the others are converted into the caller's scratch buffer), or one node
+ * carries both eyes side by side; frames larger than the processing size
+ * are cropped and binned (negobs_port/v4l2_convert.h).
  * Frames are dequeued with poll() and a timeout, the freshest queued frame
  * is kept, and the two sides are paired by timestamp (negobs_pair_decide):
  * pairs further apart than pair_tol_ms are dropped and counted. A node
@@ -23,6 +25,7 @@
 
 #include "negobs_port/alert.h"
 #include "negobs_port/camera.h"
+#include "negobs_port/v4l2_convert.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -40,6 +43,9 @@ extern "C" {
 #define NEGOBS_V4L2_BACKOFF_MAX_MS 2000u
 /** A frame that waited this long for a partner is dropped (ms). */
 #define NEGOBS_V4L2_PENDING_MAX_MS 500u
+
+/** Smallest MJPEG frame taken (SOI + EOI markers). */
+#define NEGOBS_V4L2_MJPEG_MIN_BYTES 4u
 
 /** Four-character code as V4L2 builds it. */
 #define NEGOBS_FOURCC(a, b, c, d)                                             \
@@ -75,12 +81,14 @@ typedef struct negobs_v4l2_dev {
     bool has_exposure;
     bool has_gain;
     negobs_frozen_t frozen;
-    bool pend_frozen; /**< the pending frame ends a frozen run    */
+    bool pend_frozen;        /**< the pending frame ends a frozen run    */
+    negobs_v4l2_conv_t conv; /**< buffer -> processing images            */
 } negobs_v4l2_dev_t;
 
 /** State of a stereo V4L2 source (caller-owned, fields private). */
 typedef struct negobs_v4l2 {
     negobs_v4l2_dev_t dev[2];
+    int32_t nodes; /**< 2, or 1 for a side-by-side node         */
     negobs_camera_config_t cfg;
     uint8_t *scratch; /**< luma of packed formats, 2 * w * h      */
     size_t scratch_bytes;
@@ -92,10 +100,17 @@ typedef struct negobs_v4l2 {
 
 /**
  * @brief Bind the state to a scratch buffer and fill a camera handle.
- * @param scratch  2 * width * height bytes, only used for YUYV/UYVY; may be
- *                 NULL when the nodes offer a planar or GREY format.
+ * @param scratch  per node negobs_v4l2_conv_scratch_bytes() (2 * width *
+ *                 height for YUYV/UYVY without binning; the decoded frame
+ *                 plus the binned eyes for MJPEG); may be NULL when the
+ *                 nodes offer a planar or GREY format at the processing
+ *                 size. open() says how much it needs when short.
  * cfg->left / cfg->right of open() are device paths ("/dev/video0"; a
- * "v4l2:" prefix is accepted).
+ * "v4l2:" prefix is accepted). cfg->side_by_side: one node (left) carries
+ * both eyes; cfg->capture_width/height: the frame asked of the camera,
+ * cropped and binned to cfg->width x height (negobs_port/v4l2_convert.h).
+ * The format is chosen from what the node lists
+ * (negobs_v4l2_choose_format()).
  */
 negobs_status_t negobs_v4l2_init(negobs_v4l2_t *st, uint8_t *scratch,
                                  size_t scratch_bytes, negobs_capture_t *cam);

@@ -1,4 +1,4 @@
-/* Table-driven key = value parser; see negobs_port/config.h. */
+/* Table-driven key = value parser; see app_config.h. */
 #define _POSIX_C_SOURCE 200809L
 
 #include <errno.h>
@@ -8,9 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "negobs_port/config.h"
+#include "app_config.h"
 
-static void cfg_fail(negobs_cfg_error_t *err, const char *fmt, ...)
+static void cfg_fail(app_cfg_error_t *err, const char *fmt, ...)
 {
     va_list ap;
     int n = 0;
@@ -55,12 +55,12 @@ static int parse_bool(const char *v, bool *out)
     return -1;
 }
 
-negobs_status_t negobs_config_set(const negobs_cfg_key_t *table, size_t n,
-                                  const char *key, const char *value,
-                                  negobs_cfg_error_t *err)
+negobs_status_t app_config_set(const app_cfg_key_t *table, size_t n,
+                               const char *key, const char *value,
+                               app_cfg_error_t *err)
 {
     size_t i;
-    const negobs_cfg_key_t *k = NULL;
+    const app_cfg_key_t *k = NULL;
     if (table == NULL || key == NULL || value == NULL) {
         return NEGOBS_ERR_INVAL;
     }
@@ -75,7 +75,7 @@ negobs_status_t negobs_config_set(const negobs_cfg_key_t *table, size_t n,
         return NEGOBS_ERR_INVAL;
     }
     switch (k->type) {
-    case NEGOBS_CFG_INT: {
+    case APP_CFG_INT: {
         char *end = NULL;
         long long v;
         errno = 0;
@@ -92,14 +92,14 @@ negobs_status_t negobs_config_set(const negobs_cfg_key_t *table, size_t n,
         *(int32_t *)k->ptr = (int32_t)v;
         return NEGOBS_OK;
     }
-    case NEGOBS_CFG_BOOL:
+    case APP_CFG_BOOL:
         if (parse_bool(value, (bool *)k->ptr) != 0) {
             cfg_fail(err, "%s: '%s' is not a boolean (true/false)", key,
                      value);
             return NEGOBS_ERR_INVAL;
         }
         return NEGOBS_OK;
-    case NEGOBS_CFG_STRING: {
+    case APP_CFG_STRING: {
         size_t len = strlen(value);
         if (k->max < 1 || len >= (size_t)k->max) {
             cfg_fail(err, "%s: value longer than %lld characters", key,
@@ -117,9 +117,9 @@ negobs_status_t negobs_config_set(const negobs_cfg_key_t *table, size_t n,
 
 /* Parse one line (modified in place); `check` (may be NULL) vets the
  * value of a key once the table accepted it. */
-static negobs_status_t parse_line(const negobs_cfg_key_t *table, size_t n,
-                                  char *line, negobs_cfg_check_fn check,
-                                  void *user, negobs_cfg_error_t *err)
+static negobs_status_t parse_line(const app_cfg_key_t *table, size_t n,
+                                  char *line, app_cfg_check_fn check,
+                                  void *user, app_cfg_error_t *err)
 {
     char *hash = strchr(line, '#');
     char *eq;
@@ -158,7 +158,7 @@ static negobs_status_t parse_line(const negobs_cfg_key_t *table, size_t n,
         end--;
     }
     *end = '\0';
-    if (negobs_config_set(table, n, key, val, err) != NEGOBS_OK) {
+    if (app_config_set(table, n, key, val, err) != NEGOBS_OK) {
         return NEGOBS_ERR_INVAL;
     }
     if (check != NULL) {
@@ -172,11 +172,10 @@ static negobs_status_t parse_line(const negobs_cfg_key_t *table, size_t n,
     return NEGOBS_OK;
 }
 
-negobs_status_t negobs_config_parse_text(const negobs_cfg_key_t *table,
-                                         size_t n, const char *text,
-                                         negobs_cfg_error_t *err)
+negobs_status_t app_config_parse_text(const app_cfg_key_t *table, size_t n,
+                                      const char *text, app_cfg_error_t *err)
 {
-    char line[NEGOBS_CONFIG_LINE_MAX + 1];
+    char line[APP_CONFIG_LINE_MAX + 1];
     int32_t lineno = 0;
     if (table == NULL || text == NULL) {
         return NEGOBS_ERR_INVAL;
@@ -189,9 +188,9 @@ negobs_status_t negobs_config_parse_text(const negobs_cfg_key_t *table,
         if (err != NULL) {
             err->line = lineno;
         }
-        if (len > NEGOBS_CONFIG_LINE_MAX) {
+        if (len > APP_CONFIG_LINE_MAX) {
             cfg_fail(err, "line longer than %d characters",
-                     NEGOBS_CONFIG_LINE_MAX);
+                     APP_CONFIG_LINE_MAX);
             return NEGOBS_ERR_INVAL;
         }
         memcpy(line, text, len);
@@ -210,7 +209,7 @@ negobs_status_t negobs_config_parse_text(const negobs_cfg_key_t *table,
 }
 
 /* One line into buf (without its newline). Returns 0 at end of file,
- * 1 for a line, -1 for a line longer than NEGOBS_CONFIG_LINE_MAX, -2 for a
+ * 1 for a line, -1 for a line longer than APP_CONFIG_LINE_MAX, -2 for a
  * line holding a NUL byte (a binary file, or a text editor's accident: it
  * would silently cut the line short). The rest of a bad line is read. */
 static int read_line(FILE *f, char *buf, size_t cap)
@@ -235,18 +234,19 @@ static int read_line(FILE *f, char *buf, size_t cap)
     return rc;
 }
 
-negobs_status_t negobs_config_parse_file(const char *path,
-                                         const negobs_cfg_key_t *table,
-                                         size_t n, negobs_cfg_error_t *err)
+negobs_status_t app_config_parse_file(const char *path,
+                                      const app_cfg_key_t *table, size_t n,
+                                      app_cfg_error_t *err)
 {
-    return negobs_config_parse_file_checked(path, table, n, NULL, NULL, err);
+    return app_config_parse_file_checked(path, table, n, NULL, NULL, err);
 }
 
-negobs_status_t negobs_config_parse_file_checked(
-    const char *path, const negobs_cfg_key_t *table, size_t n,
-    negobs_cfg_check_fn check, void *user, negobs_cfg_error_t *err)
+negobs_status_t app_config_parse_file_checked(const char *path,
+                                              const app_cfg_key_t *table,
+                                              size_t n, app_cfg_check_fn check,
+                                              void *user, app_cfg_error_t *err)
 {
-    char line[NEGOBS_CONFIG_LINE_MAX + 1];
+    char line[APP_CONFIG_LINE_MAX + 1];
     FILE *f;
     int32_t lineno = 0;
     int r;
@@ -275,7 +275,7 @@ negobs_status_t negobs_config_parse_file_checked(
         }
         if (r == -1) {
             cfg_fail(err, "line longer than %d characters",
-                     NEGOBS_CONFIG_LINE_MAX);
+                     APP_CONFIG_LINE_MAX);
             s = NEGOBS_ERR_INVAL;
             break;
         }
@@ -295,18 +295,17 @@ negobs_status_t negobs_config_parse_file_checked(
     return s;
 }
 
-void negobs_config_print_keys(FILE *out, const negobs_cfg_key_t *table,
-                              size_t n)
+void app_config_print_keys(FILE *out, const app_cfg_key_t *table, size_t n)
 {
     size_t i;
     for (i = 0; i < n; i++) {
-        const negobs_cfg_key_t *k = &table[i];
+        const app_cfg_key_t *k = &table[i];
         switch (k->type) {
-        case NEGOBS_CFG_INT:
+        case APP_CFG_INT:
             fprintf(out, "  %-20s int %lld..%lld  %s\n", k->key,
                     (long long)k->min, (long long)k->max, k->help);
             break;
-        case NEGOBS_CFG_BOOL:
+        case APP_CFG_BOOL:
             fprintf(out, "  %-20s bool  %s\n", k->key, k->help);
             break;
         default: fprintf(out, "  %-20s text  %s\n", k->key, k->help); break;
