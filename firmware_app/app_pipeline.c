@@ -15,6 +15,7 @@
 #include "app_pipeline.h"
 #include "negobs/boxsum.h"
 #include "negobs/pipeline.h"
+#include "negobs_port/pool.h"
 
 #define APP_DEC_MAX_W 320
 #define APP_DEC_MAX_H 240
@@ -29,15 +30,21 @@ static uint32_t col_buf[2 * APP_DEC_MAX_W];
 /*
  * The library pipeline lives in static memory: its workspace at the
  * largest supported frame (752x480, the DUO camera) with debug guards is
- * about 2.3 MB; NEGOBS_RUN_MAX sizes beyond that are refused with a
+ * about 2.3 MB with one matcher thread; each further thread adds a band
+ * scratch area of about 1 MB there (0.9 MB at 640x480, 0.45 MB at
+ * 320x240), so 4.5 MB hold 4 threads at 640x480 and 3 at 752x480 (fewer
+ * are used where fewer fit: same output). Untouched pages of a static
+ * buffer cost no RAM. NEGOBS_RUN_MAX sizes beyond that are refused with a
  * no-information verdict rather than a crash.
  */
-#define APP_WS_BYTES (2560u * 1024u)
+#define APP_WS_BYTES (4608u * 1024u)
 static uint8_t lib_ws[APP_WS_BYTES] __attribute__((aligned(16)));
 static negobs_pipeline_t lib_pipe;
 static int32_t lib_w;
 static int32_t lib_h;
 static int lib_ready;
+static negobs_pool_t *lib_pool; /* band threads (threads > 1)  */
+static int32_t lib_pool_threads;
 
 void app_pipeline_config_default(app_pipeline_config_t *cfg)
 {
@@ -60,6 +67,7 @@ void app_pipeline_config_default(app_pipeline_config_t *cfg)
     cfg->sync_tol_ms = 10;
     cfg->max_frame_age_ms = 150;
     cfg->latency_budget_ms = 250;
+    cfg->threads = 1;
 }
 
 negobs_status_t app_pipeline_init(app_pipeline_t *p,
@@ -83,7 +91,8 @@ negobs_status_t app_pipeline_init(app_pipeline_t *p,
         cfg->latency_budget_ms < 0 || cfg->latency_budget_ms > 60000 ||
         cfg->focal_q4 < 0 || cfg->focal_q4 > 4000 * 16 ||
         cfg->baseline_um < 0 || cfg->baseline_um > 1000000 ||
-        cfg->cx_q4 < -1 || cfg->cy_q4 < -1) {
+        cfg->cx_q4 < -1 || cfg->cy_q4 < -1 || cfg->threads < 1 ||
+        cfg->threads > NEGOBS_POOL_MAX_THREADS) {
         return NEGOBS_ERR_INVAL;
     }
     memset(p, 0, sizeof *p);
@@ -164,6 +173,31 @@ static negobs_status_t measure(const negobs_image_u8_t *img, int32_t tex_std,
     return NEGOBS_OK;
 }
 
+/* The band threads: a pool of `threads` (kept across re-initialisations of
+ * the same count) handed to the pipeline; none for one thread. */
+static negobs_status_t pool_setup(int32_t threads)
+{
+    negobs_executor_t e;
+    if (lib_pool != NULL && lib_pool_threads != threads) {
+        negobs_pool_destroy(lib_pool);
+        lib_pool = NULL;
+        lib_pool_threads = 0;
+    }
+    if (threads < 2) {
+        return negobs_pipeline_set_executor(&lib_pipe, NULL);
+    }
+    if (lib_pool == NULL) {
+        negobs_status_t st = negobs_pool_create(&lib_pool, threads);
+        if (st != NEGOBS_OK) {
+            /* no thread to be had: the same output on this one */
+            return negobs_pipeline_set_executor(&lib_pipe, NULL);
+        }
+        lib_pool_threads = threads;
+    }
+    e = negobs_pool_executor(lib_pool);
+    return negobs_pipeline_set_executor(&lib_pipe, &e);
+}
+
 /* (Re)initialise the library pipeline for this frame size. */
 static negobs_status_t lib_setup(const app_pipeline_config_t *c, int32_t w,
                                  int32_t h)
@@ -199,14 +233,25 @@ static negobs_status_t lib_setup(const app_pipeline_config_t *c, int32_t w,
     /* One limit for "a pair": what the capture pairs, the detector takes. */
     pc.detect.sync_tol_ms = c->sync_tol_ms;
     pc.detect.max_frame_age_ms = c->max_frame_age_ms;
-    st = negobs_pipeline_workspace_size(&pc, &bytes);
+    /* One scratch area per thread; fewer threads where the workspace
+     * cannot hold them all (the disparities do not depend on it). */
+    for (pc.stereo.band_workers = c->threads;; pc.stereo.band_workers--) {
+        st = negobs_pipeline_workspace_size(&pc, &bytes);
+        if (st != NEGOBS_OK) {
+            return st;
+        }
+        if (bytes <= sizeof lib_ws) {
+            break;
+        }
+        if (pc.stereo.band_workers == 1) {
+            return NEGOBS_ERR_NOSPACE;
+        }
+    }
+    st = negobs_pipeline_init(&lib_pipe, &pc, lib_ws, bytes);
     if (st != NEGOBS_OK) {
         return st;
     }
-    if (bytes > sizeof lib_ws) {
-        return NEGOBS_ERR_NOSPACE;
-    }
-    st = negobs_pipeline_init(&lib_pipe, &pc, lib_ws, bytes);
+    st = pool_setup(pc.stereo.band_workers);
     if (st != NEGOBS_OK) {
         return st;
     }

@@ -74,6 +74,9 @@ typedef struct app_pipeline_config {
     int32_t latency_budget_ms; /**< capture-to-verdict time above which a
                                        "clear" is not trusted: no-info;
                                        0 = off [250]                       */
+    int32_t threads;           /**< threads running the matcher's row
+                                       bands (a pthread pool); the output
+                                       is the same for every count [1]     */
 } app_pipeline_config_t;
 
 /** Statistics of the last pair, per image (0 = left, 1 = right). */

@@ -243,6 +243,10 @@ int main(int argc, char **argv)
         log_calib(run_cfg.calib);
     }
     warn_default_geometry();
+    logmsg(LOG_INFO,
+           "matcher threads: %ld (row bands: the same output for "
+           "every count)",
+           (long)run_cfg.app.threads);
     if (run_cfg.app.vertical_align) {
         logmsg(LOG_INFO, "vertical alignment stage on (sub-pixel, "
                          "row-varying model estimated from the frames)");

@@ -91,6 +91,7 @@ typedef struct run_settings {
     int32_t sensitivity;    /* preset at start (run_button.c)              */
     bool focal_given;       /* focal_px set by config or command line      */
     bool baseline_given;    /* baseline_mm likewise                        */
+    int32_t threads;        /* config threads (0: online cores)         */
 } run_settings_t;
 
 extern run_settings_t run_cfg;

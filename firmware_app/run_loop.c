@@ -6,6 +6,7 @@
 
 #include "negobs/status.h"
 #include "negobs_port/clock.h"
+#include "negobs_port/pool.h"
 #include "negobs_port/record_queue.h"
 #include "run_app.h"
 
@@ -26,6 +27,8 @@ int loop_setup(negobs_motor_schedule_t *noinfo_sched)
     run_cfg.app.sync_tol_ms = run_cfg.pair_tol_ms;
     run_cfg.app.vertical_align = run_cfg.vertical_align ? 1 : 0;
     run_cfg.app.row_crop = run_cfg.row_crop ? 1 : 0;
+    run_cfg.app.threads = run_cfg.threads > 0 ? run_cfg.threads
+                                              : negobs_pool_online_cores();
     if (app_pipeline_init(&pipeline, &run_cfg.app) != NEGOBS_OK) {
         if (calib_loaded()) {
             fprintf(stderr,

@@ -10,6 +10,7 @@
 #include "negobs/version.h"
 #include "negobs_port/clock.h"
 #include "app_config.h"
+#include "negobs_port/pool.h"
 #include "run_app.h"
 
 run_settings_t run_cfg;
@@ -90,6 +91,9 @@ static const app_cfg_key_t config_keys[] = {
      "match only the rows from the top of the warning range down, found "
      "from the last frame's ground (about 15-30 % less matching time); "
      "false matches every row (default true)"},
+    {"threads", APP_CFG_INT, &run_cfg.threads, 0, NEGOBS_POOL_MAX_THREADS,
+     "threads that run the matcher's row bands; the disparities are the "
+     "same for every count; 0 = one per online core (default 0)"},
     {"calib", APP_CFG_STRING, run_cfg.calib, 0, sizeof run_cfg.calib,
      "rectification table from negobs_calib; its f, B, cx, cy replace "
      "focal_px and baseline_mm (default: none, frames are rectified)"},
@@ -250,6 +254,7 @@ static void usage(FILE *out)
         "  --set KEY=VALUE      any config key below (after --config; repeatable)\n"
         "  --print-config       print the settings in effect (config file syntax)\n"
         "                       and exit\n"
+        "  --threads N          matcher threads (default: online cores; same output)\n"
         "  --motor-off SPEC     switch the motor output SPEC off and exit (the\n"
         "                       service's ExecStopPost; no camera arguments);\n"
         "                       'config': the config's alert\n"
@@ -408,7 +413,8 @@ int parse_args(int argc, char **argv, run_args_t *a)
         O_SET,
         O_LOG_JSON,
         O_PRINT_CONFIG,
-        O_LIST_CAMERAS
+        O_LIST_CAMERAS,
+        O_THREADS
     };
     static const struct option opts[] = {
         {"config", required_argument, NULL, O_CONFIG},
@@ -427,6 +433,7 @@ int parse_args(int argc, char **argv, run_args_t *a)
         {"log-json", required_argument, NULL, O_LOG_JSON},
         {"print-config", no_argument, NULL, O_PRINT_CONFIG},
         {"list-cameras", no_argument, NULL, O_LIST_CAMERAS},
+        {"threads", required_argument, NULL, O_THREADS},
         {NULL, 0, NULL, 0},
     };
     app_cfg_error_t err;
@@ -470,6 +477,7 @@ int parse_args(int argc, char **argv, run_args_t *a)
                 return rc;
             }
             continue;
+        case O_THREADS: key = "threads"; break;
         case ':':
             return usage_error("option '%s' needs a value", argv[optind - 1]);
         case '?':

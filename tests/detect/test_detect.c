@@ -1261,6 +1261,66 @@ static void test_detect_unconfirmed_candidate_with_noisy_near_rows(
     rig_teardown(&rig);
 }
 
+/* A 0.4 m wide hole at 2.0-2.5 m, two strips wide (columns 144-175), on
+ * frames whose near rows carry row-correlated noise (they vouch 0 mm, so
+ * a candidate is trusted only by its own strips). When the ground before
+ * the edge in one of the two strips alternates +-0.31 px from row to row
+ * above the noisy rows (still GROUND for the rule, but it could not show
+ * a 10 cm drop at 3
+ * sigma), only one strip is clean: evidence narrower than min_strips, the
+ * rule's own resolution, must not start a track (a flat worn-asphalt walk
+ * of the suite confirmed a HOLE, IMMINENT to the feet, from 2-strip
+ * candidates of which one strip passed). With both strips clean it does. */
+static int narrow_hole_hazards(int corrupt)
+{
+    synth_scene_t s;
+    int i;
+    int hazard = 0;
+    rig_setup(&rig, NULL);
+    for (i = 0; i < 5; i++) {
+        double edge = 2.2 - 0.05 * i;
+        int32_t ve;
+        int32_t v;
+        int32_t u;
+        row_scene(&s, 0.1, 0.25, (uint32_t)i + 701u);
+        s.noise_row_v0 = RIG_H - 40;
+        s.lat_half_m = 0.2;
+        synth_step(&s, edge, -0.20);
+        synth_step(&s, edge + 0.3, 0.0);
+        synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+        ve = (int32_t)lround(
+            119.5 +
+            250.0 * tan(atan(1.2 / edge) - 20.0 * 3.14159265358979 / 180.0));
+        for (v = ve + 2; corrupt && v < RIG_H - 40; v++) {
+            for (u = 160; u < 176; u++) {
+                if (rig.disp[v * RIG_W + u] != NEGOBS_DISP_INVALID) {
+                    rig.disp[v * RIG_W + u] =
+                        (int16_t)(rig.disp[v * RIG_W + u] +
+                                  ((v & 1) ? 5 : -5));
+                }
+            }
+        }
+        assert_int_equal(rig_run(&rig), NEGOBS_OK);
+        print_message("%s, frame %d: state %d, candidates %u (%d strips), "
+                      "hazards %u, noise vouch %d\n",
+                      corrupt ? "one strip noisy" : "both clean", i,
+                      (int)rig.res.state, rig.res.n_candidates,
+                      rig.res.n_candidates ? rig.res.candidates[0].strips : 0,
+                      rig.res.n_hazards, rig.res.noise_vouch_mm);
+        hazard += rig.res.n_hazards > 0u;
+    }
+    rig_teardown(&rig);
+    return hazard;
+}
+
+static void test_detect_candidate_narrower_than_resolution_not_trusted(
+    void **state)
+{
+    (void)state;
+    assert_true(narrow_hole_hazards(0) > 0);
+    assert_int_equal(narrow_hole_hazards(1), 0);
+}
+
 /* Walk at 1.2 m/s (10 fps) towards a drop of drop_mm first in view at
  * start_m (ground_verify_mm, corroborated_mm: -1 = the default); returns
  * the number of CLEAR frames with the edge nearer than 1.1 m and stores
@@ -1384,8 +1444,12 @@ static void test_detect_shallow_drop_first_seen_near_corroborated(void **state)
     print_message("70 mm first at 1.7 m: %d late CLEAR frames (corroboration "
                   "off: %d)\n",
                   late_on, late_off);
+    /* Without the corroboration this walk had 5 or more late CLEAR frames
+     * while the ground fit still leaned on the lower surface beyond the
+     * edge; the fit now stops at the edge (ground_fit.c, ground_top), the
+     * rule's ranges stay right and the hold covers it too, so late_off is
+     * only printed. */
     assert_true(late_on <= 1);
-    assert_true(late_off >= 5);
 }
 
 /* Switched on within 1.4 m of a 150 mm drop, the lower surface fills the
@@ -1565,6 +1629,8 @@ int main(void)
         cmocka_unit_test(test_detect_small_rise_does_not_close_the_path),
         cmocka_unit_test(
             test_detect_unconfirmed_candidate_with_noisy_near_rows),
+        cmocka_unit_test(
+            test_detect_candidate_narrower_than_resolution_not_trusted),
         cmocka_unit_test(test_detect_no_false_hazard_with_dropout_and_roll),
         cmocka_unit_test(test_detect_drop_with_roll),
         cmocka_unit_test(test_detect_descending_stairs),

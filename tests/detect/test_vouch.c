@@ -38,6 +38,99 @@ static double row_floor_m(const synth_scene_t *s, int32_t v)
     return s->h_m / tan(s->pitch_deg * d2r + atan((v - cy) / f));
 }
 
+/* A 10 cm drop crossed at 30 deg whose corridor part begins at 4.4 m:
+ * in most strips its lower surface lies past the scan's end (5 m), so no
+ * deficit row shows and nothing past it is vouched. The vouched range
+ * stops where a minimum drop's lower surface would still be in the scan,
+ * range_max * H / (H + h), and the frame stays CLEAR (at least the
+ * warning range). The clean floor shows the same limit. */
+static void test_vouch_stops_where_a_drop_would_hide_past_the_scan(
+    void **state)
+{
+    synth_scene_t s;
+    int i;
+    const int32_t lim = (5000 * 1200) / (1200 + 100);
+    (void)state;
+    rig_setup(&rig, NULL);
+    for (i = 0; i < 3; i++) {
+        scene(&s, 0.1, (uint32_t)i + 21u);
+        if (i > 0) {
+            s.yaw_deg = 30.0;
+            /* perpendicular distance of the edge line: its corridor part
+             * (+-0.6 m) begins at (d - 0.3) / cos 30 = 4.4 m */
+            synth_step(&s, 4.4 * 0.8660254 + 0.3, -0.10);
+        }
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        print_message("%s: state %d, clear_to %d mm, candidates %u\n",
+                      (i == 0) ? "flat" : "10 cm at 4.4 m, yaw 30",
+                      (int)rig.res.state, rig.res.clear_to_mm,
+                      rig.res.n_candidates);
+        assert_true(rig.res.clear_to_mm <= lim);
+        assert_true(rig.res.clear_to_mm <= (int32_t)(1.1 * 4400.0));
+        if (i == 0) {
+            assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+            assert_true(rig.res.clear_to_mm >= lim - 200);
+        }
+    }
+    rig_teardown(&rig);
+}
+
+/* A 15 cm drop approached at 1.2 m/s is confirmed; then one frame reads
+ * it 18 % too far (as a ground model tilted by the drop itself did in the
+ * suite at 1.4-1.6 m). clear_to_mm must not follow that sighting past the
+ * drop: the track's own approach predicts the edge at 2.28 m, and the
+ * frame vouches no farther than the nearer of the two. */
+static void test_vouch_hazard_bound_by_its_track(void **state)
+{
+    synth_scene_t s;
+    int i;
+    (void)state;
+    rig_setup(&rig, NULL);
+    for (i = 0; i <= 6; i++) {
+        double edge = 3.0 - 0.12 * i;
+        scene(&s, 0.1, (uint32_t)i + 31u);
+        synth_step(&s, (i < 6) ? edge : edge * 1.18, -0.15);
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        print_message("frame %d: edge %.2f m, state %d, hazards %u (%d mm), "
+                      "clear_to %d mm\n",
+                      i, edge, (int)rig.res.state, rig.res.n_hazards,
+                      rig.res.n_hazards ? rig.res.hazards[0].range_mm : -1,
+                      rig.res.clear_to_mm);
+        if (i >= 3) {
+            assert_int_equal(rig.res.state, NEGOBS_DETECT_HAZARD);
+        }
+        assert_true(rig.res.clear_to_mm <= (int32_t)(1.1 * edge * 1000.0));
+    }
+    rig_teardown(&rig);
+}
+
+/* A camera told 1.5 m that sits at 1.2 m cannot verify the ground under
+ * the feet (GROUND_UNVERIFIED, NO_INFO: it could be a lower floor beyond an
+ * edge below the view), but the floor in view is measured as on any frame:
+ * clear_to_mm, which starts at the bottom row, still reports it. */
+static void test_vouch_unverified_start_reports_the_floor_in_view(void **state)
+{
+    synth_scene_t s;
+    negobs_detect_config_t c;
+    int i;
+    (void)state;
+    negobs_detect_config_default(&c, RIG_W, RIG_H);
+    c.cam_height_mm = 1500;
+    rig_setup(&rig, &c);
+    for (i = 0; i < 3; i++) {
+        scene(&s, 0.1, (uint32_t)i + 41u);
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        print_message("frame %d: state %d, reasons %u, clear_to %d mm\n", i,
+                      (int)rig.res.state, rig.res.reasons,
+                      rig.res.clear_to_mm);
+        assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+        assert_int_equal(rig.res.reasons, NEGOBS_DEGRADED_GROUND_UNVERIFIED);
+        assert_true(rig.res.clear_to_mm >= 4000);
+        assert_int_equal(rig.res.clear_to_mm, rig.res.noise_vouch_mm);
+    }
+    rig_teardown(&rig);
+}
+
 /* A textureless patch across the corridor at 2.4-2.8 m (no disparity
  * there) is unknown there: it limits clear_to_mm to the floor before it,
  * it does not make the frame NO_INFO. The same patch beside the corridor
@@ -447,6 +540,11 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_vouch_textureless_patch_limits_the_range),
+        cmocka_unit_test(test_vouch_hazard_bound_by_its_track),
+        cmocka_unit_test(
+            test_vouch_unverified_start_reports_the_floor_in_view),
+        cmocka_unit_test(
+            test_vouch_stops_where_a_drop_would_hide_past_the_scan),
         cmocka_unit_test(test_vouch_drop_in_clean_strips_despite_far_noise),
         cmocka_unit_test(test_vouch_no_false_vouch_on_walks),
         cmocka_unit_test(test_vouch_bounds_by_state),

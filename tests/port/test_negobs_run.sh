@@ -58,6 +58,11 @@ expect "vertical alignment stage runs" 0 "vertical alignment stage on" --config 
 expect "vertical alignment replay ends" 0 "end of replay after 4 pairs" --config "$T/va.conf" --fps 0 --alert none replay:"$T/rp"
 printf 'vertical_align = maybe\n' >"$T/vabad.conf"
 expect "vertical_align wants a boolean" 3 "vertical_align" --config "$T/vabad.conf" replay:"$T/rp"
+expect "threads out of range" 2 "outside" --threads 65 replay:"$T/rp"
+expect "threads named in the log" 0 "matcher threads: 3" --threads 3 --fps 0 --alert none replay:"$T/rp"
+expect "threads runs to the end" 0 "end of replay after 4 pairs" --threads 2 --fps 0 --alert none replay:"$T/rp"
+printf 'threads = 2\n' >"$T/thr.conf"
+expect "threads config key" 0 "matcher threads: 2" --config "$T/thr.conf" --fps 0 --alert none replay:"$T/rp"
 expect "frames N stops early" 0 "2 pairs processed" --fps 0 --frames 2 --alert none replay:"$T/rp" replay:"$T/rp"
 # Unrelated random images pass the quality gate, but no ground is seen:
 # the detector, not the gate, must answer no-info (never "clear").

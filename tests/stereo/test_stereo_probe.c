@@ -98,7 +98,7 @@ static void expected_laps(const negobs_stereo_config_t *cfg, int32_t rows,
     laps[NEGOBS_STEREO_STAGE_RANGE] = 1u;
     laps[NEGOBS_STEREO_STAGE_WINDOWS] = 2u * strips; /* both passes */
     laps[NEGOBS_STEREO_STAGE_CANNY] = strips;
-    laps[NEGOBS_STEREO_STAGE_GCS] = strips;
+    laps[NEGOBS_STEREO_STAGE_GCS] = strips + 1u;     /* + the seam rule */
     laps[NEGOBS_STEREO_STAGE_DP] = 2u * strips + 1u; /* + stage 2 */
     laps[NEGOBS_STEREO_STAGE_LR] = cfg->lr_check ? 1u : 0u;
     laps[NEGOBS_STEREO_STAGE_SPECKLE] = 1u;

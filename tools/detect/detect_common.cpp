@@ -247,6 +247,7 @@ Runner::Runner() = default;
 
 Runner::~Runner()
 {
+    negobs_pool_destroy(pool_);
     std::free(ws_);
 }
 
@@ -282,6 +283,7 @@ bool Runner::init(int width, int height, const CamParams &cam, std::string &err,
         cfg_.valign.enable = 1;
         cfg_.valign.max_disp = cfg_.stereo.max_disp;
     }
+    cfg_.stereo.band_workers = threads_;
     size_t bytes = 0;
     negobs_status_t st = negobs_pipeline_workspace_size(&cfg_, &bytes);
     if (st != NEGOBS_OK) {
@@ -298,6 +300,19 @@ bool Runner::init(int width, int height, const CamParams &cam, std::string &err,
     if (st != NEGOBS_OK) {
         err = std::string("negobs_pipeline_init: ") + negobs_status_str(st);
         return false;
+    }
+    if (threads_ > 1) {
+        if (pool_ == nullptr) {
+            st = negobs_pool_create(&pool_, threads_);
+        }
+        if (st == NEGOBS_OK) {
+            negobs_executor_t e = negobs_pool_executor(pool_);
+            st = negobs_pipeline_set_executor(&ctx_, &e);
+        }
+        if (st != NEGOBS_OK) {
+            err = std::string("thread pool: ") + negobs_status_str(st);
+            return false;
+        }
     }
     ready_ = true;
     return true;

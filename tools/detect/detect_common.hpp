@@ -15,6 +15,7 @@
 
 extern "C" {
 #include "negobs/negobs.h"
+#include "negobs_port/pool.h"
 }
 
 namespace negobs_detect_tools {
@@ -97,6 +98,11 @@ public:
     bool init(int width, int height, const CamParams &cam, std::string &err,
               bool whole = false);
 
+    // Threads for the matcher's row bands from the next init() on (a
+    // negobs_port pool; 1, the default: the calling thread). The output
+    // does not depend on it.
+    void set_threads(int threads) { threads_ = threads < 1 ? 1 : threads; }
+
     // Runs one pair captured at t_ms through negobs_pipeline_process. Stage
     // timings come from the pipeline's clock hook (thread CPU time); with
     // whole = true no clock is set and only the whole call is timed.
@@ -121,6 +127,8 @@ private:
     void *ws_ = nullptr;
     bool whole_ = false;
     bool ready_ = false;
+    int threads_ = 1;
+    negobs_pool_t *pool_ = nullptr;
 };
 
 // Names.

@@ -66,6 +66,10 @@ void usage(FILE *f)
            "  --overlay-scale K scale the pictures by K (0.1..4, default 1; below 1\n"
            "                    also 32 grey levels per channel: small files)\n"
            "  --whole           time only the whole frame (no per-stage clock)\n"
+           "  --threads N       threads for the matcher's row bands, 1..64 (default 1);\n"
+           "                    the output is the same for every N; with N > 1 the\n"
+           "                    stage times add up the threads' CPU time and the\n"
+           "                    total is the calling thread's\n"
            "  --summary         one summary line at the end (stdout)\n"
            "  -q, --quiet       no JSON lines on stdout\n"
            "  -h, --help        this text\n"
@@ -146,6 +150,7 @@ int run(int argc, char **argv)
     std::vector<std::string> pos;
     double overlay_scale = 1.0;
     double f = -1, B = -1, cx = -1, cy = -1, H = -1, pitch = -1e9, fps = -1;
+    int threads = 1; // the times stay one thread's CPU time
     int max_disp = -1, vshift = 0, repeat = 1, first = 0, count = -1;
     bool valign = false;
     bool vshift_set = false, overlay_on = true, summary = false, quiet = false,
@@ -169,7 +174,8 @@ int run(int argc, char **argv)
         O_NO_OVERLAY,
         O_SUMMARY,
         O_WHOLE,
-        O_CALIB
+        O_CALIB,
+        O_THREADS
     };
     static const struct option long_opts[] = {
         {"help", no_argument, nullptr, 'h'},
@@ -195,6 +201,7 @@ int run(int argc, char **argv)
         {"quiet", no_argument, nullptr, 'q'},
         {"whole", no_argument, nullptr, O_WHOLE},
         {"calib", required_argument, nullptr, O_CALIB},
+        {"threads", required_argument, nullptr, O_THREADS},
         {nullptr, 0, nullptr, 0},
     };
     if (argc < 2) {
@@ -242,6 +249,9 @@ int run(int argc, char **argv)
         case O_SUMMARY: summary = true; break;
         case 'q': quiet = true; break;
         case O_WHOLE: whole = true; break;
+        case O_THREADS:
+            ok = negobs_cli::parse_int(v, 1, NEGOBS_POOL_MAX_THREADS, threads);
+            break;
         case ':': return bad("option " + a + " needs a value");
         default: return bad("unknown option " + a);
         }
@@ -405,6 +415,7 @@ int run(int argc, char **argv)
     }
 
     Runner runner;
+    runner.set_threads(threads);
     int w = 0, h = 0;
     int n = 0, nhaz = 0, nnoinfo = 0, first_conf = -1;
     int first_conf_range = -1;

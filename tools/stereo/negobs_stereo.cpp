@@ -26,6 +26,7 @@
 #include "colour_bar.hpp"
 #include "disp_io.hpp"
 #include "rect_table.hpp"
+#include "negobs_port/pool.h"
 #include "stereo_common.hpp"
 
 extern "C" {
@@ -48,7 +49,7 @@ enum Exit {
 const char *const kHelp =
     "usage: negobs_stereo LEFT RIGHT OUT [-D|--max-disp N] [-d|--min-disp N]\n"
     "                     [-f|--format png16|kitti|pfm] [-c|--color PICTURE]\n"
-    "                     [--confidence CONF.png] [--align] [-s|--stats]\n"
+    "                     [--confidence CONF.png] [--align] [-s|--stats] [--threads N]\n"
     "\n"
     "Computes the disparity of the rectified pair LEFT (reference) / RIGHT\n"
     "with the negobs fixed-point engine and writes OUT.\n"
@@ -96,7 +97,11 @@ const char *const kHelp =
     "                 image (the library's default); without it they get\n"
     "                 no value: the right camera never saw those points\n"
     "  -s, --stats    print the engine statistics and timing (total and per\n"
-    "                 stage, thread CPU time) to stderr\n"
+    "                 stage, thread CPU time) to stderr; with --threads N > 1\n"
+    "                 the stages add up every thread's time, the total is\n"
+    "                 the calling thread's\n"
+    "  --threads N    threads for the engine's row bands, 1..64 (default 1);\n"
+    "                 the output is the same for every N\n"
     "  --stages FILE  also write one picture of the map after every stage\n"
     "                 (GCS, DP, LR check, speckles, gap fill, adaptive\n"
     "                 mean) beside LEFT, colours as --color, each tile\n"
@@ -282,6 +287,7 @@ const struct option kLongOpts[] = {
     {"align", no_argument, nullptr, 'a'},
     {"dense", no_argument, nullptr, 'e'},
     {"calib", required_argument, nullptr, 'K'},
+    {"threads", required_argument, nullptr, 'T'},
     {nullptr, 0, nullptr, 0},
 };
 
@@ -297,6 +303,7 @@ int run(int argc, char **argv)
     bool stats = false;
     bool align = false;
     bool dense = false;
+    int threads = 1; // the times of --stats stay one thread's CPU time
     if (argc < 2) {
         std::fputs(kHelp, stderr);
         return EXIT_USAGE;
@@ -328,6 +335,10 @@ int run(int argc, char **argv)
         case 'a': align = true; break;
         case 'e': dense = true; break;
         case 'K': calib_path = optarg; break;
+        case 'T':
+            threads = negobs_cli::int_arg("--threads", optarg, 1,
+                                          NEGOBS_POOL_MAX_THREADS);
+            break;
         case ':':
             throw negobs_cli::UsageError(std::string(argv[optind - 1]) +
                                          " needs a value");
@@ -436,6 +447,7 @@ int run(int argc, char **argv)
     }
 
     negobs_tools::NegobsMatcher m;
+    m.set_threads(threads);
     if (!m.init(left.cols, left.rows, range, err, -1, dense ? 1 : 0)) {
         std::fprintf(stderr, "negobs_stereo: %s (size %dx%d, range %d..%d)\n",
                      err.c_str(), left.cols, left.rows, range.min_disp,

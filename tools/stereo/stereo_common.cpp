@@ -11,6 +11,7 @@
 extern "C" {
 #include "negobs/negobs.h"
 #include "negobs/stereo.h"
+#include "negobs_port/pool.h"
 }
 
 namespace negobs_tools {
@@ -107,6 +108,8 @@ struct NegobsMatcher::Impl {
     int width = 0;
     int height = 0;
     std::vector<NegobsMatcher::Snapshot> snaps;
+    negobs_pool_t *pool = nullptr;
+    ~Impl() { negobs_pool_destroy(pool); }
 };
 
 NegobsMatcher::NegobsMatcher() = default;
@@ -135,6 +138,7 @@ bool NegobsMatcher::init(int width, int height, const Range &r,
     if (keep_out_of_view >= 0) {
         cfg.keep_out_of_view = keep_out_of_view;
     }
+    cfg.band_workers = threads_;
     size_t bytes = 0;
     negobs_status_t st = negobs_stereo_workspace_size(&cfg, &bytes);
     if (st != NEGOBS_OK) {
@@ -151,6 +155,18 @@ bool NegobsMatcher::init(int width, int height, const Range &r,
         err = status_text("negobs_stereo_init", st);
         impl_.reset();
         return false;
+    }
+    if (threads_ > 1) {
+        st = negobs_pool_create(&impl_->pool, threads_);
+        negobs_executor_t e = negobs_pool_executor(impl_->pool);
+        if (st == NEGOBS_OK) {
+            st = negobs_stereo_set_executor(&impl_->ctx, &e);
+        }
+        if (st != NEGOBS_OK) {
+            err = status_text("thread pool", st);
+            impl_.reset();
+            return false;
+        }
     }
     impl_->width = width;
     impl_->height = height;

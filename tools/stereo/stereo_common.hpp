@@ -56,6 +56,11 @@ public:
     bool init(int width, int height, const Range &r, std::string &err,
               int gap_fill = -1, int keep_out_of_view = -1);
 
+    // Threads for the engine's row bands from the next init() on (a
+    // negobs_port pool; 1 = the calling thread only, the default). The
+    // disparities do not depend on it.
+    void set_threads(int threads) { threads_ = threads < 1 ? 1 : threads; }
+
     // Runs the engine. disp_q4 becomes CV_16SC1 (disparity * 16 or
     // NEGOBS_DISP_INVALID), confidence CV_8UC1. Both inputs 8-bit grey of
     // the configured size. Returns false and sets err on a library error.
@@ -88,6 +93,7 @@ private:
     std::size_t bytes_ = 0;
     std::string stats_text_;
     bool profile_ = false;
+    int threads_ = 1;
 };
 
 // negobs disp_q4 (CV_16S, INT16_MIN = none) -> OpenCV's 16-bit PNG

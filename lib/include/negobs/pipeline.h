@@ -16,6 +16,7 @@
 
 #include "negobs/alert.h"
 #include "negobs/detect.h"
+#include "negobs/executor.h"
 #include "negobs/image.h"
 #include "negobs/status.h"
 #include "negobs/stereo.h"
@@ -174,6 +175,17 @@ negobs_status_t negobs_pipeline_process(negobs_pipeline_t *ctx,
 negobs_status_t negobs_pipeline_set_clock(negobs_pipeline_t *ctx,
                                           negobs_pipeline_clock_fn clock,
                                           void *user);
+
+/**
+ * @brief Run the matcher's row bands on the caller's executor from the
+ * next frame on (negobs_stereo_set_executor: stereo.bands shapes the
+ * output, the executor only the time; exec->workers <= stereo.band_workers).
+ * NULL (the state after init) runs them on the calling thread.
+ * @return NEGOBS_OK, NEGOBS_ERR_INVAL (NULL ctx, bad executor),
+ *         NEGOBS_ERR_STATE (not initialised).
+ */
+negobs_status_t negobs_pipeline_set_executor(negobs_pipeline_t *ctx,
+                                             const negobs_executor_t *exec);
 
 /**
  * @brief Advance the alert logic without a frame (timer or watchdog).

@@ -24,6 +24,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "negobs/executor.h"
 #include "negobs/fixed.h"
 #include "negobs/image.h"
 #include "negobs/status.h"
@@ -97,7 +98,27 @@ typedef struct negobs_stereo_config {
     /* memory/speed trade-off; the output does not depend on it */
     int32_t memory_profile; /**< NEGOBS_STEREO_PROFILE_* (see below;
                                  NEGOBS_STEREO_PROFILE_DEFAULT)          */
+
+    /* row bands (docs/DISPARITY.md, "Row bands and threads") */
+    int32_t bands;        /**< row bands of a frame, 1..NEGOBS_STEREO_MAX_BANDS
+                               (NEGOBS_STEREO_BANDS_DEFAULT). Seeds grow
+                               inside their band only, so the output
+                               depends on this count (and on nothing
+                               else of the threading)                   */
+    int32_t band_workers; /**< scratch areas for bands run at once,
+                               1..NEGOBS_STEREO_MAX_BANDS (1); the most
+                               workers an executor may use. Memory only:
+                               the output does not depend on it         */
 } negobs_stereo_config_t;
+
+/** Largest bands / band_workers. */
+#define NEGOBS_STEREO_MAX_BANDS 64
+/** The band count negobs_stereo_config_default() picks: 4 on every
+ *  target, so a 4-core board can run every band at once and a
+ *  microcontroller (one worker) gives the same disparities. */
+#ifndef NEGOBS_STEREO_BANDS_DEFAULT
+#define NEGOBS_STEREO_BANDS_DEFAULT 4
+#endif
 
 /*
  * Memory profiles (negobs_stereo_config_t.memory_profile). Both give the
@@ -176,6 +197,22 @@ typedef struct negobs_stereo_config {
 #define NEGOBS_STEREO_WORKSPACE_MAX_FAST(w, h, dmax)                          \
     (NEGOBS_STEREO_WORKSPACE_MAX_COMPACT(w, h, dmax) +                        \
      (size_t)(w)*32u * (4u * NEGOBS_STEREO_MEMO_LEVELS + 1u) + 128u)
+
+/** Upper bound of the workspace each band worker beyond the first adds
+ *  (band_workers - 1 of them), for the compact profile and the limits of
+ *  NEGOBS_STEREO_WORKSPACE_MAX_COMPACT (the fast profile adds its memo,
+ *  w x 32 x (4 x NEGOBS_STEREO_MEMO_LEVELS + 1) bytes, per worker). */
+#define NEGOBS_STEREO_WORKSPACE_WORKER_MAX(w, dmax)                           \
+    ((size_t)(w)*32u * 21u +                                                  \
+     (size_t)(w)*32u * (((size_t)(dmax) + 1u) / 8u + 2u) +                    \
+     (size_t)8192u * 8u + 257u * 4u + 2048u * 12u +                           \
+     ((size_t)(dmax) + 4u) * 8u + (size_t)(w) * ((size_t)(dmax) + 1u) * 3u +  \
+     (size_t)(w)*16u + 4096u)
+
+/** Upper bound of the once-only cost of band_workers > 1: the stage-1 end
+ *  scores of every row, kept for the second DP stage. */
+#define NEGOBS_STEREO_WORKSPACE_BANDS_MAX(h, dmax)                            \
+    ((size_t)(h) * ((size_t)(dmax) + 1u) * 4u + (size_t)(h) + 128u)
 
 /** The bound for the profile negobs_stereo_config_default() picks
  *  (NEGOBS_STEREO_PROFILE_DEFAULT). */
@@ -257,6 +294,9 @@ typedef struct negobs_stereo_stats {
     int32_t range_max;
     int32_t vertical_offset; /**< rows: left y matches right y+off */
     int32_t first_row;       /**< first row matched (set_first_row) */
+    uint32_t seam_regrown;   /**< bands grown again with the matches
+                                  above their border as seeds (the seam
+                                  rule, docs/DISPARITY.md)          */
     /** clock ticks per stage (negobs_stereo_set_clock); all 0 without a
      *  clock. Not part of the output: timings differ from run to run. */
     uint64_t stage_ticks[NEGOBS_STEREO_STAGE_COUNT];
@@ -322,6 +362,38 @@ negobs_status_t negobs_stereo_set_observer(negobs_stereo_t *ctx,
                                            void *user);
 
 /**
+ * @brief Run the row bands of the following frames on `exec` (copied);
+ * NULL (the state after init) runs them on the caller's thread, in order.
+ * The disparities, confidences and statistics are the same either way and
+ * for every exec->workers: only cfg.bands shapes the output. The clock
+ * (negobs_stereo_set_clock) is then read from the executor's threads too,
+ * and the band stages' ticks add up the workers' time.
+ * @return NEGOBS_OK; NEGOBS_ERR_INVAL when exec->run is NULL or
+ *         exec->workers is outside [1, cfg.band_workers]; NEGOBS_ERR_STATE
+ *         without init.
+ */
+negobs_status_t negobs_stereo_set_executor(negobs_stereo_t *ctx,
+                                           const negobs_executor_t *exec);
+
+/**
+ * @brief Row bands of a frame of `rows` rows (a crop matches rows -
+ * first_row): cfg.bands, or fewer when the frame has fewer strips. Each
+ * band is a run of whole strips (strip_rows); the layout depends on the
+ * config and the rows only, never on the threads.
+ * @return the band count (>= 1), 0 for a NULL cfg or rows < 1.
+ */
+int32_t negobs_stereo_band_count(const negobs_stereo_config_t *cfg,
+                                 int32_t rows);
+
+/**
+ * @brief Rows [*y0, *y1) of band `band` (0 .. band_count - 1).
+ * @return NEGOBS_OK, NEGOBS_ERR_INVAL for a bad band or argument.
+ */
+negobs_status_t negobs_stereo_band_rows(const negobs_stereo_config_t *cfg,
+                                        int32_t rows, int32_t band,
+                                        int32_t *y0, int32_t *y1);
+
+/**
  * @param[in]  left, right rectified grey images of cfg width x height
  * @param[out] disp_q4    width x height, disparity * 16 or
  *                        NEGOBS_DISP_INVALID
@@ -331,8 +403,11 @@ negobs_status_t negobs_stereo_set_observer(negobs_stereo_t *ctx,
  * @param[out] stats      may be NULL
  * @return NEGOBS_OK (also for textureless input: the map is then invalid),
  *         NEGOBS_ERR_INVAL for mismatched or bad images, NEGOBS_ERR_STATE
- *         without a successful init, NEGOBS_ERR_CORRUPT if a debug guard of
- *         the workspace was overwritten.
+ *         without a successful init or when the executor
+ *         (negobs_stereo_set_executor) skipped a job or named a worker
+ *         outside [0, workers) (the map is then not to be used),
+ *         NEGOBS_ERR_CORRUPT if a debug guard of the workspace was
+ *         overwritten.
  */
 negobs_status_t negobs_stereo_process(negobs_stereo_t *ctx,
                                       const negobs_image_u8_t *left,

@@ -307,5 +307,9 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
                  g.ok && !fw.unverified && !p->drop_on, frame->now_ms,
                  &res->mount);
     det_verdict(cfg, res, reasons, fw.walk_to, fw.walk_cause);
+    /* a hazard's range this frame may be too far (temporal.c): vouch
+     * no farther than its track's own prediction either */
+    res->clear_to_mm = geom_min_s32(
+        res->clear_to_mm, temporal_vouch_bound(&p->temporal, frame->now_ms));
     return NEGOBS_OK;
 }

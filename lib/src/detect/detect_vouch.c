@@ -103,6 +103,21 @@ void det_vouch_collect(const scan_ctx_t *s, detect_priv_t *p)
 
 enum vouch_verdict { VOUCH_OK = 0, VOUCH_NOISE = 1, VOUCH_UNSEEN = 2 };
 
+/* 1 when a minimum drop at range_mm would show its lower surface before
+ * the scan's end. Past an edge at R the camera first sees the lower
+ * surface at R * (H + h) / H (the edge hides the rest); the scan stops
+ * at range_max, so an edge nearer than range_max but whose lower surface
+ * lies beyond it shows no deficit row at all, and the rows up to it
+ * cannot be vouched (a 10 cm curb at 4.37 m, crossed at 30 deg, stood
+ * under a vouched 4.89 m: its lower surface lay past 5 m in most
+ * strips). */
+static inline int vouch_in_scan(const scan_ctx_t *s, int32_t range_mm)
+{
+    const int64_t hgt = s->frame->height_mm;
+    return (int64_t)range_mm * (hgt + vouch_h_mm(range_mm)) <=
+           (int64_t)s->cfg->range_max_mm * hgt;
+}
+
 /*
  * Can strip si see a minimum drop at row v? The drop's deficit there is
  * D = d_g * h / (H + h) (h the minimum drop at that range); the rule tests
@@ -189,7 +204,8 @@ static void walk_tally(const scan_ctx_t *s, detect_priv_t *p,
             continue;
         }
         w->n_open++;
-        if (v < first_row + 2 || v < p->hits[si].sup_v) {
+        if (v < first_row + 2 || v < p->hits[si].sup_v ||
+            !vouch_in_scan(s, range)) {
             vd = VOUCH_UNSEEN;
         } else {
             vd = vouch_cell_ok(s, p, si, v, range);
@@ -324,11 +340,15 @@ static int vouch_band_ok(const scan_ctx_t *s, int32_t v, int32_t range_mm)
 }
 
 /* 1 when a candidate's own strips pass the local check around its edge:
- * at least half of them (and one) can see a minimum drop in the cell one
- * band nearer than their edge (the ground it stands out from, within
- * their support), and the band-pooled noise at the edge row allows it.
- * Noise farther off, or under the feet, does not make a drop in clean
- * strips unknown. */
+ * at least half of them, and at least min_strips, can see a minimum drop
+ * in the cell one band nearer than their edge (the ground it stands out
+ * from, within their support), and the band-pooled noise at the edge row
+ * allows it. Noise farther off, or under the feet, does not make a drop
+ * in clean strips unknown. min_strips, because the rule reports nothing
+ * narrower: one clean strip of a two-strip candidate is evidence below
+ * the detector's resolution (on a flat worn-asphalt walk of the suite,
+ * such candidates on frames vouching 0-840 mm, three in five frames at
+ * 1.58, 1.38 and 1.05 m, confirmed a HOLE held IMMINENT to the feet). */
 int det_vouch_candidate(const scan_ctx_t *s, const detect_priv_t *p,
                         const negobs_hazard_t *hz)
 {
@@ -354,7 +374,7 @@ int det_vouch_candidate(const scan_ctx_t *s, const detect_priv_t *p,
                 vouch_band_ok(s, sh->edge_v,
                               model_range_mm(s, uc, sh->edge_v));
     }
-    return pass > 0 && 2 * pass >= cnt;
+    return pass >= s->cfg->min_strips && 2 * pass >= cnt;
 }
 
 /*
@@ -362,7 +382,8 @@ int det_vouch_candidate(const scan_ctx_t *s, const detect_priv_t *p,
  * clear_to_mm is the vouched walk, cut at the nearest candidate of this
  * frame (a suspected drop is not vouched past, confirmed or not) and at
  * the nearest reported hazard. A gating or ground reason is NO_INFO with
- * clear_to_mm 0; a confirmed or held hazard is HAZARD; a vouched range
+ * clear_to_mm 0 (unverified ground alone keeps the vouched range); a
+ * confirmed or held hazard is HAZARD; a vouched range
  * below near_min_mm is NO_INFO (with the reason the walk stopped) unless
  * the walk reached the foot of an obstacle barring every lane
  * (res->blocked_at_mm > 0, set by the caller, kept only when nothing cut
@@ -388,7 +409,12 @@ void det_verdict(const negobs_detect_config_t *cfg,
     }
     if (reasons != 0u) {
         res->state = NEGOBS_DETECT_NO_INFO;
-        clear_to = 0;
+        /* Unverified ground (detect_cue.c) is about the floor under the
+         * feet, below the view, which clear_to_mm never covers: the floor
+         * in view was measured as on any frame and is still reported. */
+        if ((reasons & ~(uint32_t)NEGOBS_DEGRADED_GROUND_UNVERIFIED) != 0u) {
+            clear_to = 0;
+        }
     } else if (res->n_hazards > 0u) {
         res->state = NEGOBS_DETECT_HAZARD;
     } else if (clear_to < cfg->near_min_mm && res->blocked_at_mm <= 0) {

@@ -14,10 +14,14 @@
  *    taken on a 3-bin sum so noise that splits a line over two bins does
  *    not lose it.
  * 3. Plane refinement. Least squares of d = a*u + b*v + c on the samples
- *    within a gate of the current model (IRLS with 0/1 weights): twice on
- *    the nearer half of the fit rows with a shrinking gate, then twice on
- *    all fit rows with an asymmetric gate (+3 sigma / -2 sigma). The unknowns are the corrections to the
- *    current plane, on centred coordinates, so every sum stays small.
+ *    within a gate of the current model (IRLS with 0/1 weights): once on
+ *    the nearest third of the fit rows, once on the nearer half with a
+ *    tighter gate, then twice on all fit rows with an asymmetric gate
+ *    (+3 sigma / -2 sigma). Before each widening, the rows are only taken
+ *    up to an edge: the first two sampled rows whose majority lies 3 sigma
+ *    below the current model (ground_top). The unknowns are the
+ *    corrections to the current plane, on centred coordinates, so every
+ *    sum stays small.
  * 4. Noise. sigma = 1.4826 * MAD of the residuals of the samples in the
  *    nearer half of the fit rows (an overflow bin keeps far outliers
  *    counted), floored at sigma_min.
@@ -40,6 +44,7 @@
 #include "negobs/fixed.h"
 
 /* Ground fit limits: at most this many samples, so sums stay bounded. */
+
 #define GFIT_MAX_SAMPLES 32768
 
 static int32_t clamp_pitch(int32_t p)
@@ -374,6 +379,65 @@ static int32_t refine_step(const gfit_t *g, const negobs_image_s16_t *disp,
     return (int32_t)n;
 }
 
+/*
+ * The last ground row seen from the feet: walking up from row v_from
+ * (exclusive) to v_limit in sampling steps, the first two sampled rows in
+ * a row whose majority of samples lies tau_q4 or more below plane are a
+ * lower surface beyond an edge, and the ground ends below them. Returns
+ * the last row before them (v_limit when there is none).
+ *
+ * Why: with a drop's edge inside the fit rows (1.3-1.8 m on the target
+ * rig), a few rows of lower surface at the far end of the least-squares
+ * lever tilt the plane. A 15 cm curb at 1.42 m on the 6 cm rig made the
+ * near-half fit 1085 mm / 14.8 deg for 1219 mm / 20.7 deg, and every
+ * range of the frame read 15-19 % too far (a vouched range beyond the
+ * drop). A lower surface only reads below the ground and always lies
+ * farther (higher in the image) than its edge, so trimming from the top
+ * is all that is needed. tau: 3 sigma of the per-pixel noise, so that a
+ * row's median cannot fall there by chance (the floor is the asymmetric
+ * gate's 6 q4); two rows, as one row could be a painted line. Rows with
+ * too few samples to vote neither count nor break a run.
+ */
+static int32_t ground_top(const gfit_t *g, const negobs_image_s16_t *disp,
+                          const negobs_image_u8_t *conf,
+                          const negobs_ground_plane_t *plane, int32_t v_from,
+                          int32_t v_limit, int32_t tau_q4)
+{
+    const negobs_camera_t *cam = &g->cfg->cam;
+    int32_t top = v_from;
+    int32_t run = 0;
+    int32_t v;
+    for (v = v_from - g->step; v >= v_limit; v -= g->step) {
+        const int16_t *row = negobs_image_s16_row(disp, v);
+        int64_t acc = (int64_t)plane->b_q20 * v + plane->c_q20 +
+                      (int64_t)plane->a_q20 * (g->step / 2);
+        int32_t n = 0;
+        int32_t n_def = 0;
+        int32_t u;
+        for (u = g->step / 2; u < cam->width;
+             u += g->step, acc += (int64_t)plane->a_q20 * g->step) {
+            int32_t d = row[u];
+            if (!sample_valid(conf, g->cfg->ground_min_confidence, u, v, d)) {
+                continue;
+            }
+            n++;
+            n_def += d - (int32_t)geom_rshift_round_s64(acc, 16) <= -tau_q4;
+        }
+        if (4 * n < cam->width / g->step) {
+            continue; /* under a quarter of the row sampled: no vote */
+        }
+        if (2 * n_def > n) {
+            if (++run >= 2) {
+                return top;
+            }
+        } else {
+            run = 0;
+            top = v;
+        }
+    }
+    return (run > 0) ? top : v_limit;
+}
+
 /* MAD-based sigma (q4) of all valid fit-ROI samples against plane. */
 static int32_t noise_sigma(gfit_t *g, const negobs_image_s16_t *disp,
                            const negobs_image_u8_t *conf,
@@ -495,21 +559,27 @@ void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
          * with an edge in the fit rows. (Seeding from the track instead
          * lets a lower surface inside the fit rows pull the plane down a
          * little more every frame.) */
-        int32_t v_near = g->v_lo + g->rows / 2;
-        refine_step(g, disp, conf, &fit, 48, 48, v_near);
+        int32_t v_seed = g->v_lo + (2 * g->rows) / 3;
+        int32_t v_near;
+        int32_t v_top;
+        refine_step(g, disp, conf, &fit, 48, 48, v_seed);
         sigma = noise_sigma(g, disp, conf, &fit);
+        v_near = ground_top(g, disp, conf, &fit, v_seed, g->v_lo + g->rows / 2,
+                            geom_max_s32(3 * sigma, 6));
         refine_step(g, disp, conf, &fit, geom_max_s32(3 * sigma, 12),
                     geom_max_s32(3 * sigma, 12), v_near);
         sigma = noise_sigma(g, disp, conf, &fit);
+        v_top = ground_top(g, disp, conf, &fit, v_near, g->v_lo,
+                           geom_max_s32(3 * sigma, 6));
         /* Then all fit rows with an asymmetric gate: a lower surface only
          * gives negative residuals, and a drop of h_min at the far end of
          * the fit rows is only ~1.2 sigma... 3 sigma below the ground, so
          * the negative side is cut at 2 sigma (bias ~0.05 sigma). */
         refine_step(g, disp, conf, &fit, geom_max_s32(3 * sigma, 12),
-                    geom_max_s32(2 * sigma, 6), g->v_lo);
+                    geom_max_s32(2 * sigma, 6), v_top);
         sigma = noise_sigma(g, disp, conf, &fit);
         inl = refine_step(g, disp, conf, &fit, geom_max_s32(3 * sigma, 12),
-                          geom_max_s32(2 * sigma, 6), g->v_lo);
+                          geom_max_s32(2 * sigma, 6), v_top);
         sigma = noise_sigma(g, disp, conf, &fit);
         out->inliers = inl;
         if ((int64_t)inl * 100 >=

@@ -166,6 +166,7 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
             t->tracks[best].active = 1;
             t->tracks[best].hz = *c;
             t->tracks[best].hz.track_id = t->next_id++;
+            t->tracks[best].near_mm = c->range_mm;
             t->tracks[best].last_seen_ms = now_ms;
             t->tracks[best].hist = 0;
         } else {
@@ -173,6 +174,17 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
             int32_t age = elapsed_ms(now_ms, tr->last_seen_ms);
             uint32_t id = tr->hz.track_id;
             negobs_hazard_type_t old_type = tr->hz.type;
+            /* Where the track's own approach put this sighting: a real
+             * edge only comes nearer while the wearer walks on, so a
+             * sighting farther than that is as likely a range error of
+             * this frame (a ground model tilted by the drop itself read
+             * 15-19 % too far) as a wearer who turned back. Vouching
+             * takes the nearer (temporal_vouch_bound). */
+            int32_t pred =
+                (tr->held ? held_range(cfg, tr, now_ms) : tr->hz.range_mm) -
+                (int32_t)(((int64_t)tr->speed_mm_s * geom_max_s32(age, 0)) /
+                          1000);
+            tr->near_mm = geom_min_s32(c->range_mm, geom_max_s32(pred, 0));
             if (age > 0) {
                 int32_t inst = (int32_t)(((int64_t)(tr->hz.range_mm -
                                                     c->range_mm) *
@@ -250,6 +262,25 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
     }
     t->last_ms = now_ms;
     t->have_last = 1;
+}
+
+int32_t temporal_vouch_bound(const temporal_t *t, uint32_t now_ms)
+{
+    int32_t bound = INT32_MAX;
+    int32_t k;
+    for (k = 0; k < NEGOBS_DETECT_MAX_TRACKS; k++) {
+        const tmp_track_t *tr = &t->tracks[k];
+        int64_t dt;
+        int64_t r;
+        if (!tr->active || !(tr->confirmed || tr->held)) {
+            continue;
+        }
+        dt = geom_max_s32(elapsed_ms(now_ms, tr->last_seen_ms), 0);
+        r = geom_min_s32(tr->near_mm, tr->hz.range_mm) -
+            ((int64_t)t->cfg->hold_speed_mm_s * dt) / 1000;
+        bound = geom_min_s32(bound, (int32_t)((r < 0) ? 0 : r));
+    }
+    return bound;
 }
 
 int temporal_covers(const temporal_t *t, int32_t range_mm, uint32_t now_ms)

@@ -19,6 +19,8 @@ typedef struct tmp_track {
     uint32_t last_seen_ms;
     uint32_t hold_start_ms;
     int32_t speed_mm_s; /* approach speed estimate, >= 0           */
+    int32_t near_mm;    /* nearer of the last sighting and the
+                           track's prediction for it (vouch bound)  */
     negobs_hazard_t hz; /* latest observation (range as observed)  */
 } tmp_track_t;
 
@@ -64,6 +66,14 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
  */
 uint32_t temporal_report(const temporal_t *t, negobs_hazard_t *out,
                          uint32_t max, uint32_t now_ms);
+
+/*
+ * The farthest a frame may vouch with confirmed or held tracks in view:
+ * the least, over them, of the nearer of each one's last sighting and the
+ * range its own motion predicted for that sighting, dead-reckoned to
+ * now_ms like a held range. INT32_MAX without such a track.
+ */
+int32_t temporal_vouch_bound(const temporal_t *t, uint32_t now_ms);
 
 /* 1 when a confirmed or held track is reported at range_mm or nearer. */
 int temporal_covers(const temporal_t *t, int32_t range_mm, uint32_t now_ms);

@@ -361,6 +361,20 @@ negobs_status_t negobs_pipeline_set_clock(negobs_pipeline_t *ctx,
     return negobs_stereo_set_clock(&p->stereo, clock, p->clock_user);
 }
 
+negobs_status_t negobs_pipeline_set_executor(negobs_pipeline_t *ctx,
+                                             const negobs_executor_t *exec)
+{
+    negobs_pipeline_priv_t *p;
+    if (ctx == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    p = negobs_pipeline_priv(ctx);
+    if (p->magic != PIPELINE_MAGIC) {
+        return NEGOBS_ERR_STATE;
+    }
+    return negobs_stereo_set_executor(&p->stereo, exec);
+}
+
 negobs_status_t negobs_pipeline_tick(negobs_pipeline_t *ctx, uint32_t now_ms,
                                      negobs_motor_cmd_t *motor)
 {

@@ -207,11 +207,12 @@ void stx_dp_stage2_reset(stx_t *s)
     s->zrows = 0;
 }
 
-static void stage2_feed(stx_t *s, int32_t y, int have)
+/* Row y's stage-1 end scores ye (ndisp; unread unless `have`) into the
+ * second stage; rows must come in order 0, 1, ... */
+static void stage2_feed(stx_t *s, int32_t y, int have, const int32_t *ye)
 {
     int32_t nd = s->ndisp;
     int32_t jump = s->cfg.dp_jump_q14;
-    const int32_t *ye = s->yprev + 1;
     int32_t ymax = NEG32;
     int64_t zbest = NEG64;
     int32_t zarg = 0;
@@ -276,6 +277,14 @@ static void stage2_feed(stx_t *s, int32_t y, int have)
     (void)zarg;
     memcpy(s->zprev, s->zcur, (size_t)nd * sizeof *s->zprev);
     s->zrows++;
+}
+
+void stx_dp_stage2_feed_stored(stx_t *s)
+{
+    int32_t y;
+    for (y = 0; y < s->h; y++) {
+        stage2_feed(s, y, s->yhave[y], s->yend + (ptrdiff_t)y * s->ndisp);
+    }
 }
 
 void stx_dp_stage2_finish(stx_t *s)
@@ -388,7 +397,16 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
         if (have) {
             (void)stage1(s, y, 0);
         }
-        stage2_feed(s, y, have);
+        if (s->yend != NULL) {
+            /* bands run at once: stage 2 takes the rows in order later */
+            s->yhave[y] = (uint8_t)have;
+            if (have) {
+                memcpy(s->yend + (ptrdiff_t)y * nd, s->yprev + 1,
+                       (size_t)nd * sizeof *s->yend);
+            }
+        } else {
+            stage2_feed(s, y, have, s->yprev + 1);
+        }
         return;
     }
     if (!have) {

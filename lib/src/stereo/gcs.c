@@ -6,7 +6,8 @@
  * >= seed_tau and beats every score two or more levels away by
  * seed_margin. The matches of the row just above the strip (previous strip)
  * are re-scored on the first row and pushed too, so growth continues across
- * strip borders.
+ * strip borders, though not across the border of a row band (bands.c): the
+ * bands grow independently, so they can run at once.
  *
  * Growing (docs/DISPARITY.md): pop the best candidate, evaluate the 16-point
  * neighbourhood (sets N1..N4), and from each set consider only its best
@@ -533,8 +534,8 @@ static void seed_carry(stx_t *s, const negobs_image_s16_t *out)
 {
     const int16_t *prev;
     int32_t u;
-    if (s->y0 == 0) {
-        return;
+    if (s->y0 == 0 || s->y0 == s->band_y0) {
+        return; /* growth never crosses a band border */
     }
     prev = negobs_image_s16_row(out, s->y0 - 1);
     for (u = 0; u < s->w; u++) {

@@ -33,10 +33,16 @@
 void stx_lr_check(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
                   int32_t conf_stride)
 {
+    stx_lr_check_rows(s, disp, conf, conf_stride, 0, s->h);
+}
+
+void stx_lr_check_rows(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                       int32_t conf_stride, int32_t y0, int32_t y1)
+{
     int32_t w = s->w;
     int32_t y;
     int16_t *zb = s->line;
-    for (y = 0; y < s->h; y++) {
+    for (y = y0; y < y1; y++) {
         int16_t *row = negobs_image_s16_row(disp, y);
         int32_t x;
         for (x = 0; x < w; x++) {
@@ -303,8 +309,14 @@ static uint32_t gap_fill_row(int16_t *row, uint8_t *crow, const uint8_t *img,
 void stx_gap_fill(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
                   int32_t conf_stride)
 {
+    stx_gap_fill_rows(s, disp, conf, conf_stride, 0, s->h);
+}
+
+void stx_gap_fill_rows(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                       int32_t conf_stride, int32_t y0, int32_t y1)
+{
     int32_t y;
-    for (y = 0; y < s->h; y++) {
+    for (y = y0; y < y1; y++) {
         s->st.gap_filled += gap_fill_row(
             negobs_image_s16_row(disp, y),
             (conf != NULL) ? conf + (ptrdiff_t)y * conf_stride : NULL,
@@ -468,14 +480,20 @@ static void amean_cols8(negobs_image_s16_t *disp, int32_t h, int32_t x,
 void stx_adaptive_mean(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
                        int32_t conf_stride)
 {
+    stx_amean_rows(s, disp, conf, conf_stride, 0, s->h);
+    stx_amean_cols(s, disp, conf, conf_stride, 0, s->w);
+}
+
+/* A hole the mean fills was not measured there: it is marked like the gap
+ * fill's pixels, not left with the confidence it had before the LR check
+ * or the speckle filter removed its value. */
+void stx_amean_rows(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                    int32_t conf_stride, int32_t y0, int32_t y1)
+{
     int32_t w = s->w;
-    int32_t h = s->h;
     int32_t x;
     int32_t y;
-    /* a hole the mean fills was not measured there: it is marked like the
-     * gap fill's pixels, not left with the confidence it had before the
-     * LR check or the speckle filter removed its value */
-    for (y = 0; y < h; y++) {
+    for (y = y0; y < y1; y++) {
         int16_t *row = negobs_image_s16_row(disp, y);
         memcpy(s->line, row, (size_t)w * sizeof *row);
         amean_line(s->line, row, w);
@@ -487,13 +505,21 @@ void stx_adaptive_mean(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
             }
         }
     }
-    x = 0;
+}
+
+void stx_amean_cols(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                    int32_t conf_stride, int32_t x0, int32_t x1)
+{
+    int32_t h = s->h;
+    int32_t x = x0;
+    int32_t y;
 #if defined(NEGOBS_SIMD)
-    for (; x + 8 <= w; x += 8) {
+    /* columns are independent: any split of [x0, x1) gives the same map */
+    for (; x + 8 <= x1; x += 8) {
         amean_cols8(disp, h, x, conf, conf_stride);
     }
 #endif
-    for (; x < w; x++) {
+    for (; x < x1; x++) {
         for (y = 0; y < h; y++) {
             s->line[y] = negobs_image_s16_row(disp, y)[x];
         }

@@ -44,6 +44,8 @@ void negobs_stereo_config_default(negobs_stereo_config_t *cfg, int32_t width,
     cfg->gap_fill = 64;
     cfg->keep_out_of_view = 1; /* dense: docs/DISPARITY.md, out-of-view */
     cfg->memory_profile = NEGOBS_STEREO_PROFILE_DEFAULT;
+    cfg->bands = NEGOBS_STEREO_BANDS_DEFAULT;
+    cfg->band_workers = 1;
 }
 
 static negobs_status_t check_config(const negobs_stereo_config_t *c)
@@ -96,6 +98,10 @@ static negobs_status_t check_config(const negobs_stereo_config_t *c)
         c->keep_out_of_view > 1) {
         return NEGOBS_ERR_INVAL;
     }
+    if (c->bands < 1 || c->bands > NEGOBS_STEREO_MAX_BANDS ||
+        c->band_workers < 1 || c->band_workers > NEGOBS_STEREO_MAX_BANDS) {
+        return NEGOBS_ERR_INVAL;
+    }
     if (c->memory_profile != NEGOBS_STEREO_PROFILE_COMPACT &&
         c->memory_profile != NEGOBS_STEREO_PROFILE_FAST) {
         return NEGOBS_ERR_INVAL;
@@ -111,6 +117,60 @@ static negobs_status_t check_config(const negobs_stereo_config_t *c)
         }                                                                     \
     } while (0)
 
+/* The scratch of one band worker (the context itself is worker 0): the
+ * strip buffers of stages 2-4 and one DP row. bands.c: worker_sync()
+ * lists the same fields. */
+static void carve_scratch(negobs_arena_t *a, stx_t *x,
+                          const negobs_stereo_config_t *c)
+{
+    stx_t *s = x; /* TAKE stores only when not measuring */
+    int32_t w = c->width;
+    int32_t nd = c->max_disp - c->min_disp + 1;
+    size_t spx = (size_t)c->strip_rows * (size_t)w;
+    int32_t maxwh = (w > c->height) ? w : c->height;
+    if (c->memory_profile == NEGOBS_STEREO_PROFILE_FAST) {
+        int32_t k = (nd < NEGOBS_STEREO_MEMO_LEVELS)
+                        ? nd
+                        : NEGOBS_STEREO_MEMO_LEVELS;
+        if (x != NULL) {
+            x->memo_k = k;
+        }
+        TAKE(x->memo, uint32_t, spx * (size_t)k);
+        TAKE(x->memo_base, uint8_t, spx);
+    }
+    TAKE(x->sl, uint16_t, spx);
+    TAKE(x->sr, uint16_t, spx);
+    TAKE(x->vl, uint32_t, spx);
+    TAKE(x->vr, uint32_t, spx);
+    TAKE(x->mag, uint16_t, spx + 2u * (size_t)w);
+    TAKE(x->edge, uint8_t, spx);
+    TAKE(x->ld, uint8_t, spx);
+    TAKE(x->lc, uint8_t, spx);
+    TAKE(x->lc2, uint8_t, spx);
+    TAKE(x->rd, uint8_t, spx);
+    TAKE(x->rc, uint8_t, spx);
+    TAKE(x->rc2, uint8_t, spx);
+    TAKE(x->tbits, uint8_t, (spx * (size_t)nd + 7u) / 8u);
+    TAKE(x->q.item, uint32_t, c->queue_capacity);
+    TAKE(x->q.next, int32_t, c->queue_capacity);
+    TAKE(x->q.head, int32_t, STX_NBUCKET);
+    TAKE(x->cache, stx_cache_entry_t, 1u << STX_CACHE_BITS);
+    TAKE(x->yprev, int32_t, nd + 2);
+    TAKE(x->ycur, int32_t, nd + 2);
+    TAKE(x->p1, uint8_t, (size_t)w * (size_t)nd);
+    TAKE(x->cost, int16_t, (size_t)w * (size_t)nd);
+    TAKE(x->jump_to, int16_t, w);
+    TAKE(x->blo, int16_t, w);
+    TAKE(x->bhi, int16_t, w);
+    TAKE(x->bscored, uint8_t, w);
+    TAKE(x->rowd, int16_t, w);
+    TAKE(x->line, int16_t, maxwh + 16);
+    TAKE(x->line2, int16_t, maxwh + 16);
+    if (x != NULL) {
+        x->q.cap = c->queue_capacity;
+    }
+}
+
 /*
  * The only place that decides the workspace layout. In measuring mode
  * (NULL base) `s` stays NULL and only the sizes are summed.
@@ -122,13 +182,11 @@ static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c)
     int32_t h = c->height;
     int32_t nd = c->max_disp - c->min_disp + 1;
     int32_t sh = c->strip_rows;
-    size_t spx = (size_t)sh * (size_t)w;
     int32_t lw = w / STX_LOWRES;
     int32_t lh = h / STX_LOWRES;
     int32_t tw = (w + c->tile_size - 1) / c->tile_size;
     int32_t th = (h + c->tile_size - 1) / c->tile_size;
     int32_t nd4 = (c->max_disp + 3) / 4 - c->min_disp / 4 + 1;
-    int32_t maxwh = (w > h) ? w : h;
     size_t npx = (size_t)w * (size_t)h;
 
     if (s != NULL) {
@@ -146,58 +204,34 @@ static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c)
         s->th = th;
         s->q.cap = c->queue_capacity;
     }
-    if (c->memory_profile == NEGOBS_STEREO_PROFILE_FAST) {
-        int32_t k = (nd < NEGOBS_STEREO_MEMO_LEVELS)
-                        ? nd
-                        : NEGOBS_STEREO_MEMO_LEVELS;
-        if (s != NULL) {
-            s->memo_k = k;
-        }
-        TAKE(s->memo, uint32_t, spx * (size_t)k);
-        TAKE(s->memo_base, uint8_t, spx);
-    }
-    TAKE(s->sl, uint16_t, spx);
-    TAKE(s->sr, uint16_t, spx);
-    TAKE(s->vl, uint32_t, spx);
-    TAKE(s->vr, uint32_t, spx);
-    TAKE(s->mag, uint16_t, spx + 2u * (size_t)w);
-    TAKE(s->edge, uint8_t, spx);
-    TAKE(s->ld, uint8_t, spx);
-    TAKE(s->lc, uint8_t, spx);
-    TAKE(s->lc2, uint8_t, spx);
-    TAKE(s->rd, uint8_t, spx);
-    TAKE(s->rc, uint8_t, spx);
-    TAKE(s->rc2, uint8_t, spx);
-    TAKE(s->tbits, uint8_t, (spx * (size_t)nd + 7u) / 8u);
-    TAKE(s->q.item, uint32_t, c->queue_capacity);
-    TAKE(s->q.next, int32_t, c->queue_capacity);
-    TAKE(s->q.head, int32_t, STX_NBUCKET);
-    TAKE(s->cache, stx_cache_entry_t, 1u << STX_CACHE_BITS);
+    carve_scratch(a, s, c);
     TAKE(s->lo_l, uint8_t, (size_t)lw * (size_t)lh);
     TAKE(s->lo_r, uint8_t, (size_t)lw * (size_t)lh);
     TAKE(s->lo_d, uint8_t, (size_t)lw * (size_t)lh);
     TAKE(s->tile_lo, int16_t, 2 * tw * th);
     TAKE(s->tile_hi, int16_t, 2 * tw * th);
     TAKE(s->hist, uint32_t, nd4 + 2);
-    TAKE(s->yprev, int32_t, nd + 2);
-    TAKE(s->ycur, int32_t, nd + 2);
     TAKE(s->zprev, int64_t, nd);
     TAKE(s->zcur, int64_t, nd);
-    TAKE(s->p1, uint8_t, (size_t)w * (size_t)nd);
-    TAKE(s->cost, int16_t, (size_t)w * (size_t)nd);
-    TAKE(s->jump_to, int16_t, w);
-    TAKE(s->blo, int16_t, w);
-    TAKE(s->bhi, int16_t, w);
-    TAKE(s->bscored, uint8_t, w);
-    TAKE(s->rowd, int16_t, w);
     TAKE(s->p2, uint8_t, (size_t)h * (size_t)nd);
     TAKE(s->dend, int16_t, h);
     TAKE(s->zarg, int16_t, h);
-    TAKE(s->line, int16_t, maxwh + 16);
-    TAKE(s->line2, int16_t, maxwh + 16);
     TAKE(s->vis, uint8_t, (npx + 7u) / 8u);
     TAKE(s->keep, uint8_t, (npx + 7u) / 8u);
     TAKE(s->flood, uint32_t, c->speckle_size + 2);
+    if (c->band_workers > 1) {
+        int32_t k;
+        TAKE(s->wk, stx_t, c->band_workers - 1);
+        for (k = 0; k < c->band_workers - 1; k++) {
+            stx_t *x = (s != NULL) ? &s->wk[k] : NULL;
+            if (x != NULL) {
+                memset(x, 0, sizeof *x);
+            }
+            carve_scratch(a, x, c);
+        }
+        TAKE(s->yend, int32_t, (size_t)h * (size_t)nd);
+        TAKE(s->yhave, uint8_t, h);
+    }
     return s;
 }
 
@@ -252,6 +286,7 @@ negobs_status_t negobs_stereo_init(negobs_stereo_t *ctx,
     }
     s->arena = a; /* kept for the guard check after each frame */
     stx_memo_clear(s);
+    stx_bands_init(s);
     ctx->cfg = *cfg;
     ctx->priv = s;
     return NEGOBS_OK;
@@ -290,16 +325,6 @@ static inline void stx_observe(stx_t *s, negobs_stereo_stage_t stage,
     }
 }
 
-/* Attribute the clock ticks since the last lap to `stage`. */
-static inline void stx_lap(stx_t *s, negobs_stereo_stage_t stage)
-{
-    if (s->clock != NULL) {
-        uint32_t now = s->clock(s->clock_user);
-        s->st.stage_ticks[stage] += (uint32_t)(now - s->lap);
-        s->lap = now;
-    }
-}
-
 negobs_status_t negobs_stereo_set_clock(negobs_stereo_t *ctx,
                                         negobs_stereo_clock_fn clock,
                                         void *user)
@@ -325,6 +350,26 @@ negobs_status_t negobs_stereo_set_observer(negobs_stereo_t *ctx,
     s = (stx_t *)ctx->priv;
     s->observer = observer;
     s->observer_user = user;
+    return NEGOBS_OK;
+}
+
+negobs_status_t negobs_stereo_set_executor(negobs_stereo_t *ctx,
+                                           const negobs_executor_t *exec)
+{
+    stx_t *s;
+    if (ctx == NULL || ctx->priv == NULL) {
+        return NEGOBS_ERR_STATE;
+    }
+    s = (stx_t *)ctx->priv;
+    if (exec == NULL) {
+        memset(&s->exec, 0, sizeof s->exec);
+        return NEGOBS_OK;
+    }
+    if (exec->run == NULL || exec->workers < 1 ||
+        exec->workers > s->cfg.band_workers) {
+        return NEGOBS_ERR_INVAL;
+    }
+    s->exec = *exec;
     return NEGOBS_OK;
 }
 
@@ -362,7 +407,6 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
                           negobs_image_s16_t *disp_q4,
                           negobs_image_u8_t *confidence)
 {
-    int32_t y0;
     int32_t y;
 
     s->left = left;
@@ -383,43 +427,18 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
     s->st.range_min = s->gdmin;
     s->st.range_max = s->gdmax;
 
-    /* stages 2-4 (first DP pass) strip by strip */
-    stx_dp_stage2_reset(s);
-    for (y0 = 0; y0 < s->h; y0 += s->sh) {
-        int32_t y1 = (y0 + s->sh < s->h) ? y0 + s->sh : s->h;
-        stx_strip_stats(s, y0, y1);
-        stx_lap(s, NEGOBS_STEREO_STAGE_WINDOWS);
-        s->st.edges += stx_canny_strip(s, y0, y1);
-        stx_lap(s, NEGOBS_STEREO_STAGE_CANNY);
-        stx_gcs_strip(s, disp_q4);
-        stx_lap(s, NEGOBS_STEREO_STAGE_GCS);
-        for (y = y0; y < y1; y++) {
-            stx_dp_row(s, y, negobs_image_s16_row(disp_q4, y), 0, NULL, NULL);
-        }
-        stx_lap(s, NEGOBS_STEREO_STAGE_DP);
-    }
-    stx_dp_stage2_finish(s);
-    stx_lap(s, NEGOBS_STEREO_STAGE_DP);
+    /* stages 2-4 (first DP pass) band by band, then the second DP stage
+     * and the back-track, sub-pixel and confidence (bands.c) */
+    stx_bands_pass0(s, disp_q4);
     stx_observe(s, NEGOBS_STEREO_STAGE_GCS, disp_q4);
-    /* second DP pass: back-track, sub-pixel, confidence */
-    for (y0 = 0; y0 < s->h; y0 += s->sh) {
-        int32_t y1 = (y0 + s->sh < s->h) ? y0 + s->sh : s->h;
-        stx_strip_stats(s, y0, y1);
-        stx_lap(s, NEGOBS_STEREO_STAGE_WINDOWS);
-        for (y = y0; y < y1; y++) {
-            int16_t *row = negobs_image_s16_row(disp_q4, y);
-            memcpy(s->rowd, row, (size_t)s->w * sizeof *row);
-            stx_dp_row(s, y, s->rowd, 1, row,
-                       confidence ? negobs_image_u8_row(confidence, y) : NULL);
-        }
-        stx_lap(s, NEGOBS_STEREO_STAGE_DP);
-    }
+    stx_bands_pass1(s, disp_q4, confidence);
     /* (its few ticks go to the next stage: one clock read fewer) */
     drop_out_of_view(s, disp_q4);
     stx_observe(s, NEGOBS_STEREO_STAGE_DP, disp_q4);
     if (s->cfg.lr_check) {
-        stx_lr_check(s, disp_q4, confidence ? confidence->data : NULL,
-                     confidence ? confidence->stride : 0);
+        stx_bands_filter(s, STX_FILTER_LR, disp_q4,
+                         confidence ? confidence->data : NULL,
+                         confidence ? confidence->stride : 0);
         drop_out_of_view(s, disp_q4);
         stx_lap(s, NEGOBS_STEREO_STAGE_LR);
         stx_observe(s, NEGOBS_STEREO_STAGE_LR, disp_q4);
@@ -429,15 +448,17 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
     stx_lap(s, NEGOBS_STEREO_STAGE_SPECKLE);
     stx_observe(s, NEGOBS_STEREO_STAGE_SPECKLE, disp_q4);
     if (s->cfg.gap_fill > 0) {
-        stx_gap_fill(s, disp_q4, confidence ? confidence->data : NULL,
-                     confidence ? confidence->stride : 0);
+        stx_bands_filter(s, STX_FILTER_GAP_FILL, disp_q4,
+                         confidence ? confidence->data : NULL,
+                         confidence ? confidence->stride : 0);
         drop_out_of_view(s, disp_q4);
         stx_lap(s, NEGOBS_STEREO_STAGE_GAP_FILL);
         stx_observe(s, NEGOBS_STEREO_STAGE_GAP_FILL, disp_q4);
     }
     if (s->cfg.adaptive_mean) {
-        stx_adaptive_mean(s, disp_q4, confidence ? confidence->data : NULL,
-                          confidence ? confidence->stride : 0);
+        stx_bands_filter(s, STX_FILTER_MEAN, disp_q4,
+                         confidence ? confidence->data : NULL,
+                         confidence ? confidence->stride : 0);
         drop_out_of_view(s, disp_q4);
         stx_lap(s, NEGOBS_STEREO_STAGE_MEAN);
         stx_observe(s, NEGOBS_STEREO_STAGE_MEAN, disp_q4);
@@ -537,6 +558,11 @@ negobs_status_t negobs_stereo_process(negobs_stereo_t *ctx,
     }
     s->st.first_row = top;
     stx_lap(s, NEGOBS_STEREO_STAGE_OUTPUT);
+    if (s->exec_failed) {
+        /* a broken executor: the map has holes of unknown content */
+        s->exec_failed = 0;
+        return NEGOBS_ERR_STATE;
+    }
     if (stats != NULL) {
         *stats = s->st;
     }

@@ -20,6 +20,38 @@
 #include "stereo/stereo_queue.h"
 #include "stereo/stereo_state.h"
 
+/* Attribute the clock ticks since the last lap to `stage`. */
+static inline void stx_lap(stx_t *s, negobs_stereo_stage_t stage)
+{
+    if (s->clock != NULL) {
+        uint32_t now = s->clock(s->clock_user);
+        s->st.stage_ticks[stage] += (uint32_t)(now - s->lap);
+        s->lap = now;
+    }
+}
+
+/* ---- bands.c ---------------------------------------------------------- */
+/* Init: give every extra worker the context's geometry, empty its memo. */
+void stx_bands_init(stx_t *s);
+/* Stages 2-4 up to the end of the second DP stage, band by band (on the
+ * executor when one is set): disp_q4 gets the GCS disparities (px). */
+void stx_bands_pass0(stx_t *s, negobs_image_s16_t *disp_q4);
+/* Back-track, sub-pixel and confidence of every row, band by band. */
+void stx_bands_pass1(stx_t *s, negobs_image_s16_t *disp_q4,
+                     negobs_image_u8_t *confidence);
+/* A line filter of refine.c over the frame, band by band (rows) or in as
+ * many column slices (the mean's vertical pass). */
+typedef enum stx_line_filter {
+    STX_FILTER_LR,
+    STX_FILTER_GAP_FILL,
+    STX_FILTER_MEAN,      /* rows, then columns                       */
+    STX_FILTER_MEAN_ROWS, /* (the two passes of the mean, bands.c)    */
+    STX_FILTER_MEAN_COLS
+} stx_line_filter_t;
+void stx_bands_filter(stx_t *s, stx_line_filter_t f,
+                      negobs_image_s16_t *disp_q4, uint8_t *conf,
+                      int32_t conf_stride);
+
 /* ---- canny.c ---------------------------------------------------------- */
 /* Edge map of strip rows [y0, y1) into s->edge (1 = edge). Returns count. */
 uint32_t stx_canny_strip(stx_t *s, int32_t y0, int32_t y1);
@@ -48,6 +80,8 @@ void stx_memo_clear(stx_t *s);
 void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
                 int16_t *outrow, uint8_t *confrow);
 void stx_dp_stage2_reset(stx_t *s);
+/* With several band workers (s->yend): feed the stored rows 0 .. h-1. */
+void stx_dp_stage2_feed_stored(stx_t *s);
 void stx_dp_stage2_finish(stx_t *s);
 
 /* ---- refine.c --------------------------------------------------------- */
@@ -59,6 +93,17 @@ void stx_gap_fill(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
                   int32_t conf_stride);
 void stx_adaptive_mean(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
                        int32_t conf_stride);
+/* The same on rows [y0, y1) (LR check, gap fill, the mean's horizontal
+ * pass) or columns [x0, x1) (the mean's vertical pass): each line reads
+ * and writes only itself, so ranges can run at once (bands.c). */
+void stx_lr_check_rows(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                       int32_t conf_stride, int32_t y0, int32_t y1);
+void stx_gap_fill_rows(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                       int32_t conf_stride, int32_t y0, int32_t y1);
+void stx_amean_rows(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                    int32_t conf_stride, int32_t y0, int32_t y1);
+void stx_amean_cols(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
+                    int32_t conf_stride, int32_t x0, int32_t x1);
 /* keep_out_of_view == 0: drop values whose match lies left of the right
  * image (x - d < 0); the final pass then clears their confidence. */
 void stx_out_of_view(stx_t *s, negobs_image_s16_t *disp);

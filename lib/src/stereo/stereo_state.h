@@ -40,6 +40,12 @@ typedef struct stx_cache_entry {
     int32_t den;
 } stx_cache_entry_t;
 
+/* What one band's growth found (bands.c), so a band grown again at the
+ * seam counts once in the statistics. */
+typedef struct stx_band_result {
+    uint32_t seeds, grown, gcs_matched, edges;
+} stx_band_result_t;
+
 /* Private state of one context (negobs_stereo_t.priv). */
 typedef struct stx {
     negobs_stereo_config_t cfg;
@@ -97,6 +103,18 @@ typedef struct stx {
     int16_t *dend;          /* h: stage-2 end disparity per row          */
     int16_t *zarg;          /* h: argmax of stage-2 scores per row       */
     int32_t zrows;          /* rows fed to stage 2 so far                */
+
+    /* row bands (bands.c): per-row stage-1 end scores when several
+     * workers run pass 0 at once (NULL with one worker: the rows then
+     * reach stage 2 in order and are fed to it directly) */
+    int32_t band_y0; /* first row of the band being grown            */
+    int32_t *yend;   /* h x ndisp stage-1 end scores                 */
+    uint8_t *yhave;  /* h: 1 = the row had a GCS match               */
+    struct stx *wk;  /* band_workers - 1 worker states (bands.c)     */
+    stx_band_result_t band_res[NEGOBS_STEREO_MAX_BANDS];
+    uint8_t band_done[NEGOBS_STEREO_MAX_BANDS]; /* jobs of the last run */
+    int exec_failed; /* an executor skipped a job or named a bad worker */
+    negobs_executor_t exec; /* run == NULL: the caller's thread       */
 
     /* refinement */
     int16_t *line; /* max(w, h) + 16 scratch                     */

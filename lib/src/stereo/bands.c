@@ -1,0 +1,447 @@
+/*
+ * Row bands: the frame's stages 2-4 as independent jobs for the caller's
+ * executor (negobs/executor.h). The library creates no thread.
+ *
+ * A band is a run of whole strips; its layout depends on cfg.bands and the
+ * frame's rows only (negobs_stereo_band_rows), never on the executor, and
+ * the growth crosses a band border only by the seam rule (gcs.c:
+ * seed_carry; seam_pass below). Each band is therefore the same
+ * computation whichever worker runs it, in whatever order: the output is
+ * bit-identical for every thread count. An executor that skips a job or
+ * names a worker it does not have fails the frame (NEGOBS_ERR_STATE).
+ *
+ * Each worker owns one scratch area (the strip buffers, the queue, the
+ * score cache, the memo and a DP row): worker 0 is the context itself, the
+ * others are copies of the context (s->wk) with their own scratch and
+ * statistics, merged after each parallel pass.
+ *
+ * Per frame: (a) every band grows on its own (window sums, Canny, GCS);
+ * (b) the seam rule (seam_pass) grows a band again, on the caller's
+ * thread, with the matches above its border as seeds where it lacks them;
+ * (c) DP stage 1 of every row, band by band, keeping each row's end scores
+ * in s->yend when several workers exist; (d) the second DP stage takes the
+ * rows in order on the caller's thread (h x ndisp steps, about 1 % of the
+ * frame); (e) the back-track with sub-pixel refinement, band by band;
+ * (f) the LR check, the gap fill and the mean's rows by bands, the mean's
+ * columns by as many column slices (each line is independent).
+ */
+#include <string.h>
+
+#include "negobs/stereo.h"
+#include "stereo/stereo_int.h"
+
+int32_t negobs_stereo_band_count(const negobs_stereo_config_t *cfg,
+                                 int32_t rows)
+{
+    int32_t strips;
+    if (cfg == NULL || rows < 1 || cfg->strip_rows < 1 || cfg->bands < 1) {
+        return 0;
+    }
+    strips = (rows + cfg->strip_rows - 1) / cfg->strip_rows;
+    return (cfg->bands < strips) ? cfg->bands : strips;
+}
+
+negobs_status_t negobs_stereo_band_rows(const negobs_stereo_config_t *cfg,
+                                        int32_t rows, int32_t band,
+                                        int32_t *y0, int32_t *y1)
+{
+    int32_t nb = negobs_stereo_band_count(cfg, rows);
+    int32_t strips;
+    int32_t a;
+    int32_t b;
+    if (nb < 1 || band < 0 || band >= nb || y0 == NULL || y1 == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    strips = (rows + cfg->strip_rows - 1) / cfg->strip_rows;
+    /* strips spread as evenly as integers allow; the first bands get the
+     * shorter share (strips * band / nb, rounded down) */
+    a = (int32_t)((int64_t)strips * band / nb);
+    b = (int32_t)((int64_t)strips * (band + 1) / nb);
+    *y0 = a * cfg->strip_rows;
+    *y1 = (b * cfg->strip_rows < rows) ? b * cfg->strip_rows : rows;
+    return NEGOBS_OK;
+}
+
+/* Worker `k` (>= 1) takes the context's frame state and keeps its own
+ * scratch (the fields carve_scratch() in stereo.c carves), with zero
+ * statistics. */
+static void worker_sync(const stx_t *s, stx_t *x)
+{
+    stx_t own = *x;
+    *x = *s;
+    x->wk = NULL;
+    x->sl = own.sl;
+    x->sr = own.sr;
+    x->vl = own.vl;
+    x->vr = own.vr;
+    x->mag = own.mag;
+    x->edge = own.edge;
+    x->ld = own.ld;
+    x->lc = own.lc;
+    x->lc2 = own.lc2;
+    x->rd = own.rd;
+    x->rc = own.rc;
+    x->rc2 = own.rc2;
+    x->tbits = own.tbits;
+    x->q = own.q;
+    x->cache = own.cache;
+    x->memo = own.memo;
+    x->memo_base = own.memo_base;
+    x->memo_k = own.memo_k;
+    x->memo_gen = own.memo_gen;
+    x->yprev = own.yprev;
+    x->ycur = own.ycur;
+    x->p1 = own.p1;
+    x->cost = own.cost;
+    x->jump_to = own.jump_to;
+    x->blo = own.blo;
+    x->bhi = own.bhi;
+    x->bscored = own.bscored;
+    x->rowd = own.rowd;
+    x->line = own.line;
+    x->line2 = own.line2;
+    memset(&x->st, 0, sizeof x->st);
+    if (x->clock != NULL) {
+        x->lap = x->clock(x->clock_user);
+    }
+}
+
+/* What a worker counted during a pass, into the context's statistics. */
+static void stats_merge(negobs_stereo_stats_t *to,
+                        const negobs_stereo_stats_t *from)
+{
+    int i;
+    to->seeds += from->seeds;
+    if (from->queue_peak > to->queue_peak) {
+        to->queue_peak = from->queue_peak;
+    }
+    to->queue_overflows += from->queue_overflows;
+    to->visited_cells += from->visited_cells;
+    to->edges += from->edges;
+    to->grown += from->grown;
+    to->gcs_matched += from->gcs_matched;
+    to->lr_rejected += from->lr_rejected;
+    to->gap_filled += from->gap_filled;
+    for (i = 0; i < NEGOBS_STEREO_STAGE_COUNT; i++) {
+        to->stage_ticks[i] += from->stage_ticks[i];
+    }
+}
+
+void stx_bands_init(stx_t *s)
+{
+    int32_t k;
+    for (k = 0; k < s->cfg.band_workers - 1; k++) {
+        worker_sync(s, &s->wk[k]);
+        stx_memo_clear(&s->wk[k]);
+    }
+}
+
+typedef struct band_job {
+    stx_t *s;
+    negobs_image_s16_t *disp;
+    negobs_image_u8_t *conf;
+    /* line filters (stx_bands_filter) */
+    stx_line_filter_t filter;
+    uint8_t *conf_data;
+    int32_t conf_stride;
+} band_job_t;
+
+/* The state of `worker`, or NULL for an index the executor must not
+ * use (the job is then not done, and run_bands() notices). */
+static stx_t *worker_state(stx_t *s, int32_t worker)
+{
+    if (worker == 0) {
+        return s;
+    }
+    if (worker < 0 || s->exec.run == NULL || worker >= s->exec.workers) {
+        return NULL;
+    }
+    return &s->wk[worker - 1];
+}
+
+/* GCS of band rows [yb0, yb1): window sums, Canny, seeds and growth,
+ * strip by strip. With `carry` the first strip also takes the matches of
+ * row yb0 - 1 as seeds, as every later strip does from the strip above. */
+static void grow_band(stx_t *x, negobs_image_s16_t *disp, int32_t yb0,
+                      int32_t yb1, int carry)
+{
+    int32_t y0;
+    x->band_y0 = carry ? -1 : yb0;
+    for (y0 = yb0; y0 < yb1; y0 += x->sh) {
+        int32_t y1 = (y0 + x->sh < yb1) ? y0 + x->sh : yb1;
+        stx_strip_stats(x, y0, y1);
+        stx_lap(x, NEGOBS_STEREO_STAGE_WINDOWS);
+        x->st.edges += stx_canny_strip(x, y0, y1);
+        stx_lap(x, NEGOBS_STEREO_STAGE_CANNY);
+        stx_gcs_strip(x, disp);
+        stx_lap(x, NEGOBS_STEREO_STAGE_GCS);
+    }
+}
+
+/* The result counts of one band's growth (kept per band, so a band grown
+ * again at the seam counts once). */
+static void band_result(const negobs_stereo_stats_t *after,
+                        const negobs_stereo_stats_t *before,
+                        stx_band_result_t *r)
+{
+    r->seeds = after->seeds - before->seeds;
+    r->grown = after->grown - before->grown;
+    r->gcs_matched = after->gcs_matched - before->gcs_matched;
+    r->edges = after->edges - before->edges;
+}
+
+static void pass0_grow_job(void *arg, int32_t band, int32_t worker)
+{
+    band_job_t *j = (band_job_t *)arg;
+    stx_t *x = worker_state(j->s, worker);
+    negobs_stereo_stats_t before;
+    int32_t yb0;
+    int32_t yb1;
+    if (x == NULL || negobs_stereo_band_rows(&x->cfg, x->h, band, &yb0,
+                                             &yb1) != NEGOBS_OK) {
+        return;
+    }
+    j->s->band_done[band] = 1u;
+    before = x->st;
+    grow_band(x, j->disp, yb0, yb1, 0);
+    band_result(&x->st, &before, &j->s->band_res[band]);
+}
+
+/* DP stage 1 of the rows of band `band` (the window sums again only for
+ * dp_rescore, the one case that correlates). */
+static void pass0_dp_job(void *arg, int32_t band, int32_t worker)
+{
+    band_job_t *j = (band_job_t *)arg;
+    stx_t *x = worker_state(j->s, worker);
+    int32_t yb0;
+    int32_t yb1;
+    int32_t y0;
+    if (x == NULL || negobs_stereo_band_rows(&x->cfg, x->h, band, &yb0,
+                                             &yb1) != NEGOBS_OK) {
+        return;
+    }
+    j->s->band_done[band] = 1u;
+    for (y0 = yb0; y0 < yb1; y0 += x->sh) {
+        int32_t y1 = (y0 + x->sh < yb1) ? y0 + x->sh : yb1;
+        int32_t y;
+        if (x->cfg.dp_rescore) {
+            stx_strip_stats(x, y0, y1);
+            stx_lap(x, NEGOBS_STEREO_STAGE_WINDOWS);
+        }
+        for (y = y0; y < y1; y++) {
+            stx_dp_row(x, y, negobs_image_s16_row(j->disp, y), 0, NULL, NULL);
+        }
+        stx_lap(x, NEGOBS_STEREO_STAGE_DP);
+    }
+}
+
+/*
+ * Seam rule: pixels of the last row above a band border whose GCS match
+ * the first row below lacks (no value, or one more than a level away).
+ * Growth only flows down the image (each strip takes the last row of the
+ * strip above as seeds), so a band without seeds of its own, a weakly
+ * textured floor at the bottom of the frame, would otherwise stay empty
+ * where the sequential growth filled it from above.
+ */
+static int32_t seam_missing(const stx_t *s, const negobs_image_s16_t *disp,
+                            int32_t y0)
+{
+    const int16_t *above = negobs_image_s16_row(disp, y0 - 1);
+    const int16_t *below = negobs_image_s16_row(disp, y0);
+    int32_t n = 0;
+    int32_t u;
+    for (u = 0; u < s->w; u++) {
+        int32_t dd;
+        if (above[u] == NEGOBS_DISP_INVALID) {
+            continue;
+        }
+        dd = (int32_t)below[u] - (int32_t)above[u];
+        if (below[u] == NEGOBS_DISP_INVALID || dd > 1 || dd < -1) {
+            n++;
+        }
+    }
+    return n;
+}
+
+/* After the bands grew on their own: top to bottom, a band whose first row
+ * lacks more than an eighth of a row of the matches just above its border
+ * grows again here, with those matches as seeds, as the sequential growth
+ * would have. Textured bands miss a few percent there; a quarter let
+ * Flowerpots lose 0.5 point of bad1all, an eighth none (docs/DISPARITY.md,
+ * "Row bands and threads"). The rule reads finished bands only, so the
+ * result depends on the layout alone, not on the threads. */
+static void seam_pass(stx_t *s, negobs_image_s16_t *disp, int32_t nb)
+{
+    int32_t b;
+    for (b = 1; b < nb; b++) {
+        int32_t yb0;
+        int32_t yb1;
+        negobs_stereo_stats_t before;
+        stx_band_result_t *r = &s->band_res[b];
+        if (negobs_stereo_band_rows(&s->cfg, s->h, b, &yb0, &yb1) !=
+                NEGOBS_OK ||
+            seam_missing(s, disp, yb0) * 8 <= s->w) {
+            continue;
+        }
+        s->st.seeds -= r->seeds;
+        s->st.grown -= r->grown;
+        s->st.gcs_matched -= r->gcs_matched;
+        s->st.edges -= r->edges;
+        before = s->st;
+        grow_band(s, disp, yb0, yb1, 1);
+        band_result(&s->st, &before, r);
+        s->st.seam_regrown++;
+    }
+}
+
+/* Back-track, sub-pixel and confidence of the rows of band `band`. */
+static void pass1_job(void *arg, int32_t band, int32_t worker)
+{
+    band_job_t *j = (band_job_t *)arg;
+    stx_t *x = worker_state(j->s, worker);
+    int32_t yb0;
+    int32_t yb1;
+    int32_t y0;
+    if (x == NULL || negobs_stereo_band_rows(&x->cfg, x->h, band, &yb0,
+                                             &yb1) != NEGOBS_OK) {
+        return;
+    }
+    j->s->band_done[band] = 1u;
+    for (y0 = yb0; y0 < yb1; y0 += x->sh) {
+        int32_t y1 = (y0 + x->sh < yb1) ? y0 + x->sh : yb1;
+        int32_t y;
+        stx_strip_stats(x, y0, y1);
+        stx_lap(x, NEGOBS_STEREO_STAGE_WINDOWS);
+        for (y = y0; y < y1; y++) {
+            int16_t *row = negobs_image_s16_row(j->disp, y);
+            memcpy(x->rowd, row, (size_t)x->w * sizeof *row);
+            stx_dp_row(x, y, x->rowd, 1, row,
+                       j->conf ? negobs_image_u8_row(j->conf, y) : NULL);
+        }
+        stx_lap(x, NEGOBS_STEREO_STAGE_DP);
+    }
+}
+
+/* Every band through fn: on the executor when one is set (and there is
+ * more than one worker), else here, in order. The wait for the slowest
+ * band goes to `wait_stage` (NEGOBS_STEREO_STAGE_COUNT: to the caller's
+ * next lap). */
+static void run_bands(stx_t *s, negobs_job_fn fn, band_job_t *job,
+                      negobs_stereo_stage_t wait_stage)
+{
+    int32_t nb = negobs_stereo_band_count(&s->cfg, s->h);
+    int32_t k;
+    if (s->exec.run == NULL || s->exec.workers < 2 || nb < 2) {
+        for (k = 0; k < nb; k++) {
+            fn(job, k, 0);
+        }
+        return;
+    }
+    for (k = 1; k < s->exec.workers; k++) {
+        worker_sync(s, &s->wk[k - 1]);
+    }
+    memset(s->band_done, 0, sizeof s->band_done);
+    s->exec.run(s->exec.user, nb, fn, job);
+    for (k = 1; k < s->exec.workers; k++) {
+        stats_merge(&s->st, &s->wk[k - 1].st);
+    }
+    for (k = 0; k < nb; k++) {
+        if (!s->band_done[k]) {
+            s->exec_failed = 1; /* the frame is not trustworthy */
+        }
+    }
+    if (wait_stage < NEGOBS_STEREO_STAGE_COUNT) {
+        stx_lap(s, wait_stage);
+    }
+}
+
+void stx_bands_pass0(stx_t *s, negobs_image_s16_t *disp_q4)
+{
+    band_job_t job;
+    job.s = s;
+    job.disp = disp_q4;
+    job.conf = NULL;
+    run_bands(s, pass0_grow_job, &job, NEGOBS_STEREO_STAGE_GCS);
+    seam_pass(s, disp_q4, negobs_stereo_band_count(&s->cfg, s->h));
+    stx_lap(s, NEGOBS_STEREO_STAGE_GCS);
+    stx_dp_stage2_reset(s);
+    run_bands(s, pass0_dp_job, &job, NEGOBS_STEREO_STAGE_DP);
+    if (s->yend != NULL) {
+        stx_dp_stage2_feed_stored(s);
+    }
+    stx_dp_stage2_finish(s);
+    stx_lap(s, NEGOBS_STEREO_STAGE_DP);
+}
+
+void stx_bands_pass1(stx_t *s, negobs_image_s16_t *disp_q4,
+                     negobs_image_u8_t *confidence)
+{
+    band_job_t job;
+    job.s = s;
+    job.disp = disp_q4;
+    job.conf = confidence;
+    run_bands(s, pass1_job, &job, NEGOBS_STEREO_STAGE_DP);
+}
+
+/* Line filter over band `band`'s rows, or over the band-th of as many
+ * column slices (the mean's vertical pass). */
+static void filter_job(void *arg, int32_t band, int32_t worker)
+{
+    band_job_t *j = (band_job_t *)arg;
+    stx_t *x = worker_state(j->s, worker);
+    int32_t a;
+    int32_t b;
+    if (x == NULL ||
+        negobs_stereo_band_rows(&x->cfg, x->h, band, &a, &b) != NEGOBS_OK) {
+        return;
+    }
+    j->s->band_done[band] = 1u;
+    switch (j->filter) {
+    case STX_FILTER_LR:
+        stx_lr_check_rows(x, j->disp, j->conf_data, j->conf_stride, a, b);
+        break;
+    case STX_FILTER_GAP_FILL:
+        stx_gap_fill_rows(x, j->disp, j->conf_data, j->conf_stride, a, b);
+        break;
+    case STX_FILTER_MEAN_ROWS:
+        stx_amean_rows(x, j->disp, j->conf_data, j->conf_stride, a, b);
+        break;
+    case STX_FILTER_MEAN_COLS:
+    default: {
+        int32_t nb = negobs_stereo_band_count(&x->cfg, x->h);
+        a = (int32_t)((int64_t)x->w * band / nb);
+        b = (int32_t)((int64_t)x->w * (band + 1) / nb);
+        stx_amean_cols(x, j->disp, j->conf_data, j->conf_stride, a, b);
+        break;
+    }
+    }
+}
+
+void stx_bands_filter(stx_t *s, stx_line_filter_t f,
+                      negobs_image_s16_t *disp_q4, uint8_t *conf,
+                      int32_t conf_stride)
+{
+    band_job_t job;
+    if (s->exec.run == NULL || s->exec.workers < 2) {
+        /* one thread: the whole-frame filters, in their own order */
+        if (f == STX_FILTER_LR) {
+            stx_lr_check(s, disp_q4, conf, conf_stride);
+        } else if (f == STX_FILTER_GAP_FILL) {
+            stx_gap_fill(s, disp_q4, conf, conf_stride);
+        } else {
+            stx_adaptive_mean(s, disp_q4, conf, conf_stride);
+        }
+        return;
+    }
+    job.s = s;
+    job.disp = disp_q4;
+    job.conf = NULL;
+    job.filter = (f == STX_FILTER_MEAN) ? STX_FILTER_MEAN_ROWS : f;
+    job.conf_data = conf;
+    job.conf_stride = conf_stride;
+    run_bands(s, filter_job, &job, NEGOBS_STEREO_STAGE_COUNT);
+    if (f == STX_FILTER_MEAN) {
+        job.filter = STX_FILTER_MEAN_COLS;
+        run_bands(s, filter_job, &job, NEGOBS_STEREO_STAGE_COUNT);
+    }
+}

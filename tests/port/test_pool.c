@@ -1,0 +1,200 @@
+/*
+ * The pthread pool (negobs_port/pool.h) behind the matcher's row bands:
+ * every job runs exactly once on a worker index below the thread count,
+ * and the disparities, confidences and statistics are bit-identical for
+ * 1, 2, 3 and 4 threads against the bands run in order without an
+ * executor, with band counts that do not divide the thread count (3, 5)
+ * and over several frames. Native builds only (threads; see meson.build).
+ */
+#include <string.h>
+
+#include "../stereo/synth.h"
+#include "cmocka_all.h"
+#include "negobs/stereo.h"
+#include "negobs_port/pool.h"
+
+#define W 320
+#define H 240
+#define DMAX 63
+#define MAXT 4
+
+static uint8_t left[W * H];
+static uint8_t right[W * H];
+static int16_t gt[W * H];
+static uint8_t occ[W * H];
+static uint8_t tex[W * H];
+
+#define WS_BYTES                                                              \
+    ((NEGOBS_STEREO_WORKSPACE_MAX_COMPACT(W, H, DMAX) +                       \
+      (MAXT - 1) * NEGOBS_STEREO_WORKSPACE_WORKER_MAX(W, DMAX) +              \
+      NEGOBS_STEREO_WORKSPACE_BANDS_MAX(H, DMAX) + 15u) &                     \
+     ~(size_t)15u)
+static uint8_t ws_buf[2][WS_BYTES] __attribute__((aligned(16)));
+
+typedef struct run {
+    negobs_stereo_t ctx;
+    int16_t disp[W * H];
+    uint8_t conf[W * H];
+    negobs_stereo_stats_t st;
+} run_t;
+
+static run_t g_run[2];
+
+/* ---- the pool alone -------------------------------------------------- */
+
+typedef struct count_arg {
+    int32_t threads;
+    int32_t hits[200];
+    int bad_worker;
+} count_arg_t;
+
+static void count_job(void *arg, int32_t job, int32_t worker)
+{
+    count_arg_t *c = (count_arg_t *)arg;
+    c->hits[job]++; /* one writer per job: no race */
+    if (worker < 0 || worker >= c->threads) {
+        c->bad_worker = 1;
+    }
+}
+
+static void test_every_job_once(void **state)
+{
+    int32_t t;
+    (void)state;
+    for (t = 1; t <= MAXT; t++) {
+        negobs_pool_t *pool = NULL;
+        negobs_executor_t e;
+        int32_t round;
+        assert_int_equal(negobs_pool_create(&pool, t), NEGOBS_OK);
+        e = negobs_pool_executor(pool);
+        assert_int_equal(e.workers, t);
+        for (round = 0; round < 50; round++) {
+            static count_arg_t c;
+            int32_t n = 1 + (round * 7) % 200;
+            int32_t j;
+            memset(&c, 0, sizeof c);
+            c.threads = t;
+            e.run(e.user, n, count_job, &c);
+            for (j = 0; j < 200; j++) {
+                assert_int_equal(c.hits[j], j < n ? 1 : 0);
+            }
+            assert_int_equal(c.bad_worker, 0);
+        }
+        negobs_pool_destroy(pool);
+    }
+}
+
+static void test_bad_arguments(void **state)
+{
+    negobs_pool_t *pool = NULL;
+    (void)state;
+    assert_int_equal(negobs_pool_create(&pool, 0), NEGOBS_ERR_INVAL);
+    assert_null(pool);
+    assert_int_equal(negobs_pool_create(&pool, NEGOBS_POOL_MAX_THREADS + 1),
+                     NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_pool_create(NULL, 2), NEGOBS_ERR_INVAL);
+    negobs_pool_destroy(NULL);
+    assert_true(negobs_pool_online_cores() >= 1);
+}
+
+/* ---- the matcher on the pool ------------------------------------------ */
+
+static void init_run(run_t *r, int32_t bands, int32_t workers)
+{
+    negobs_stereo_config_t cfg;
+    size_t bytes = 0;
+    negobs_stereo_config_default(&cfg, W, H);
+    cfg.max_disp = DMAX;
+    cfg.bands = bands;
+    cfg.band_workers = workers;
+    assert_int_equal(negobs_stereo_workspace_size(&cfg, &bytes), NEGOBS_OK);
+    assert_true(bytes <= WS_BYTES);
+    assert_int_equal(
+        negobs_stereo_init(&r->ctx, &cfg, ws_buf[r == &g_run[1]], bytes),
+        NEGOBS_OK);
+}
+
+static void process(run_t *r)
+{
+    negobs_image_u8_t li = {left, W, H, W};
+    negobs_image_u8_t ri = {right, W, H, W};
+    negobs_image_s16_t di = {r->disp, W, H, W};
+    negobs_image_u8_t ci = {r->conf, W, H, W};
+    assert_int_equal(
+        negobs_stereo_process(&r->ctx, &li, &ri, &di, &ci, &r->st), NEGOBS_OK);
+    memset(r->st.stage_ticks, 0, sizeof r->st.stage_ticks);
+}
+
+static void render(uint32_t seed, int32_t voff)
+{
+    synth_scene_t sc;
+    memset(&sc, 0, sizeof sc);
+    sc.w = W;
+    sc.h = H;
+    sc.d_top_q8 = 10 * 256;
+    sc.d_bottom_q8 = 40 * 256;
+    sc.drop_q8 = 8 * 256;
+    sc.box_q8 = 48 * 256;
+    sc.voff = voff;
+    sc.seed = seed;
+    synth_render(&sc, left, right, gt, occ, tex);
+}
+
+static void same_for_threads(int32_t bands)
+{
+    int32_t t;
+    for (t = 1; t <= MAXT; t++) {
+        negobs_pool_t *pool = NULL;
+        negobs_executor_t e;
+        int frame;
+        assert_int_equal(negobs_pool_create(&pool, t), NEGOBS_OK);
+        e = negobs_pool_executor(pool);
+        init_run(&g_run[0], bands, 1);
+        init_run(&g_run[1], bands, MAXT);
+        assert_int_equal(negobs_stereo_set_executor(&g_run[1].ctx, &e),
+                         NEGOBS_OK);
+        for (frame = 0; frame < 3; frame++) {
+            render(40u + (uint32_t)frame, frame - 1);
+            process(&g_run[0]);
+            process(&g_run[1]);
+            assert_true(g_run[0].st.grown > 1000u);
+            assert_memory_equal(g_run[0].disp, g_run[1].disp,
+                                sizeof g_run[0].disp);
+            assert_memory_equal(g_run[0].conf, g_run[1].conf,
+                                sizeof g_run[0].conf);
+            assert_memory_equal(&g_run[0].st, &g_run[1].st,
+                                sizeof g_run[0].st);
+        }
+        negobs_pool_destroy(pool);
+    }
+}
+
+static void test_stereo_bands3(void **state)
+{
+    (void)state;
+    same_for_threads(3);
+}
+
+static void test_stereo_bands4(void **state)
+{
+    (void)state;
+    same_for_threads(4);
+}
+
+static void test_stereo_bands5(void **state)
+{
+    (void)state;
+    same_for_threads(5);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_every_job_once),
+        cmocka_unit_test(test_bad_arguments),
+        cmocka_unit_test(test_stereo_bands3),
+        cmocka_unit_test(test_stereo_bands4),
+        cmocka_unit_test(test_stereo_bands5),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
