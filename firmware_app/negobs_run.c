@@ -39,6 +39,7 @@
 #include <unistd.h>
 
 #include "negobs_port/clock.h"
+#include "negobs_port/cpu.h"
 #include "run_app.h"
 
 /* Longest wait for the library's READY pattern before the cameras open. */
@@ -185,6 +186,16 @@ int main(int argc, char **argv)
     negobs_motor_schedule_t noinfo_sched;
     int rc;
 
+    {
+        /* First of all: in a library built with -mfpu=neon the compiler may
+         * use NEON in any function (config defaults included), so on a CPU
+         * without it the first library call would die with SIGILL. */
+        char why[256];
+        if (negobs_port_cpu_check(why, sizeof why) != NEGOBS_OK) {
+            fprintf(stderr, "negobs_run: %s\n", why);
+            return EXIT_RUNTIME;
+        }
+    }
     run_log_t0_ms = negobs_clock_now_ms();
     service_init();
     settings_default();

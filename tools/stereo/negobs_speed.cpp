@@ -8,7 +8,10 @@
 // valgrind the requests are no-ops and the tool prints CPU times only.
 //
 // usage: negobs_speed LEFT RIGHT [--crop X,Y,W,H] [-D|--max-disp D]
-//                    [--profile compact|fast]   (exit codes: docs/TOOLS.md)
+//                    [--profile compact|fast] [--write-pgm PREFIX]
+//                    (exit codes: docs/TOOLS.md)
+// --write-pgm also writes the (cropped) grey pair as PREFIXleft.pgm and
+// PREFIXright.pgm, the input of bench_frames on targets without OpenCV.
 // The callgrind dumps are named "negobs" and "sgbm" in that order
 // (tools/negobs bench reads them).
 #include <cstdio>
@@ -23,6 +26,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #if defined(__has_include)
 #if __has_include(<valgrind/callgrind.h>)
@@ -64,7 +68,7 @@ uint32_t map_hash(const cv::Mat &m)
 
 const char *const kUsage =
     "usage: negobs_speed LEFT RIGHT [--crop X,Y,W,H] [-D|--max-disp D]\n"
-    "                    [--profile compact|fast]\n"
+    "                    [--profile compact|fast] [--write-pgm PREFIX]\n"
     "One negobs and one OpenCV SGBM matching call, each between callgrind\n"
     "client requests (run it under valgrind --tool=callgrind\n"
     "--collect-atstart=no; tools/negobs bench does). -h/--help, -V/--version.\n"
@@ -86,6 +90,7 @@ const struct option kLongOpts[] = {
     {"crop", required_argument, nullptr, 'c'},
     {"max-disp", required_argument, nullptr, 'D'},
     {"profile", required_argument, nullptr, 'p'},
+    {"write-pgm", required_argument, nullptr, 'w'},
     {nullptr, 0, nullptr, 0},
 };
 
@@ -96,6 +101,7 @@ int main(int argc, char **argv)
     std::vector<std::string> pos;
     int cx = 0, cy = 0, cw = 0, ch = 0, max_disp = 63;
     int profile = -1;
+    std::string pgm_prefix;
     if (argc < 2) {
         return usage(nullptr);
     }
@@ -119,6 +125,8 @@ int main(int argc, char **argv)
                                        max_disp)) {
                 return usage("--max-disp takes an integer 1..2047");
             }
+        } else if (c == 'w') {
+            pgm_prefix = v;
         } else if (c == 'p') {
             if (v == "compact") {
                 profile = NEGOBS_STEREO_PROFILE_COMPACT;
@@ -158,6 +166,12 @@ int main(int argc, char **argv)
         }
         l = l(cv::Rect(cx, cy, cw, ch)).clone();
         r = r(cv::Rect(cx, cy, cw, ch)).clone();
+    }
+    if (!pgm_prefix.empty() && (!cv::imwrite(pgm_prefix + "left.pgm", l) ||
+                                !cv::imwrite(pgm_prefix + "right.pgm", r))) {
+        std::fprintf(stderr, "negobs_speed: cannot write %s*.pgm\n",
+                     pgm_prefix.c_str());
+        return negobs_cli::kExitData;
     }
     cv::setNumThreads(0); // SGBM single-threaded, like negobs
 

@@ -28,6 +28,7 @@
 #include <string.h>
 
 #include "stereo/stereo_int.h"
+#include "stereo/stereo_simd.h"
 
 static void downsample(const negobs_image_u8_t *img, int32_t voff,
                        uint8_t *out, int32_t lw, int32_t lh)
@@ -83,6 +84,16 @@ static int32_t zsad3(const uint8_t *a, int32_t sa, const uint8_t *b,
     return c;
 }
 
+void stx_zsad3_run_ref(const uint8_t *a, const uint8_t *b, int32_t stride,
+                       int32_t n, int32_t *out)
+{
+    int32_t sa = box3(a, stride);
+    int32_t l;
+    for (l = 0; l < n; l++) {
+        out[l] = zsad3(a, sa, b + l, box3(b + l, stride), stride);
+    }
+}
+
 void stx_lowres_range(stx_t *s)
 {
     int32_t lw = s->lw;
@@ -125,6 +136,7 @@ void stx_lowres_range(stx_t *s)
             int32_t second = INT32_MAX;
             int32_t d4;
             int32_t costs[80];
+            int32_t run[80]; /* one run of windows, scratch */
             for (k = 0; k < 9; k++) {
                 int32_t t = 9 * (int32_t)a[(k / 3 - 1) * lw + (k % 3 - 1)] -
                             sa;
@@ -133,14 +145,24 @@ void stx_lowres_range(stx_t *s)
             if (tex < 9 * 9 * 3) {
                 continue;
             }
-            for (d4 = dmin4; d4 <= dmax4; d4++) {
-                int32_t xr = x4 - d4;
-                int32_t c = INT32_MAX;
-                if (xr >= 1 && xr < lw - 1) {
-                    const uint8_t *b = s->lo_r + (ptrdiff_t)y4 * lw + xr;
-                    c = zsad3(a, sa, b, box3(b, lw), lw);
+            /* the levels whose right window is inside: xr = x4 - d4 in
+             * [1, lw - 2], scored as one run of right windows */
+            {
+                int32_t dlo = (dmin4 > x4 - (lw - 2)) ? dmin4 : x4 - (lw - 2);
+                int32_t dhi = (dmax4 < x4 - 1) ? dmax4 : x4 - 1;
+                for (d4 = dmin4; d4 <= dmax4; d4++) {
+                    costs[d4 - dmin4] = INT32_MAX;
                 }
-                costs[d4 - dmin4] = c;
+                if (dlo <= dhi) {
+                    stx_zsad3_run(a, s->lo_r + (ptrdiff_t)y4 * lw + (x4 - dhi),
+                                  lw, dhi - dlo + 1, run);
+                    for (d4 = dlo; d4 <= dhi; d4++) {
+                        costs[d4 - dmin4] = run[dhi - d4];
+                    }
+                }
+            }
+            for (d4 = dmin4; d4 <= dmax4; d4++) {
+                int32_t c = costs[d4 - dmin4];
                 if (c < best) {
                     best = c;
                     bestd = d4;
@@ -162,18 +184,19 @@ void stx_lowres_range(stx_t *s)
             {
                 int32_t xr = x4 - bestd;
                 const uint8_t *b = s->lo_r + (ptrdiff_t)y4 * lw + xr;
-                int32_t sb = box3(b, lw);
                 int32_t rb = INT32_MAX;
                 int32_t rd = -1;
-                for (d4 = dmin4; d4 <= dmax4; d4++) {
-                    int32_t xl = xr + d4;
-                    int32_t c;
-                    const uint8_t *a2;
-                    if (xl < 1 || xl >= lw - 1) {
-                        continue;
-                    }
-                    a2 = s->lo_l + (ptrdiff_t)y4 * lw + xl;
-                    c = zsad3(a2, box3(a2, lw), b, sb, lw);
+                /* left windows xl = xr + d4 in [1, lw - 2]; the cost is
+                 * symmetric (|t| = |-t|), so the run kernel with the
+                 * right window fixed gives zsad3(a2, ., b, .) */
+                int32_t dlo = (dmin4 > 1 - xr) ? dmin4 : 1 - xr;
+                int32_t dhi = (dmax4 < lw - 2 - xr) ? dmax4 : lw - 2 - xr;
+                if (dlo <= dhi) {
+                    stx_zsad3_run(b, s->lo_l + (ptrdiff_t)y4 * lw + xr + dlo,
+                                  lw, dhi - dlo + 1, run);
+                }
+                for (d4 = dlo; d4 <= dhi; d4++) {
+                    int32_t c = run[d4 - dlo];
                     if (c < rb) {
                         rb = c;
                         rd = d4;

@@ -21,23 +21,55 @@
 #include <string.h>
 
 #include "stereo/stereo_int.h"
+#include "stereo/stereo_simd.h"
+
+void stx_stats_row_ref(const uint8_t *const rows[5], int32_t w, uint16_t *so,
+                       uint32_t *vo)
+{
+    /* running horizontal sum of 5 column sums (ring of 5) */
+    uint32_t cs[5];
+    uint32_t cq[5];
+    uint32_t ss = 0;
+    uint32_t qq = 0;
+    int32_t x;
+    int32_t k;
+
+    for (x = 0; x < w; x++) {
+        uint32_t c = 0;
+        uint32_t q = 0;
+        int32_t slot = x % 5;
+        for (k = 0; k < 5; k++) {
+            uint32_t p = rows[k][x];
+            c += p;
+            q += p * p;
+        }
+        if (x >= 5) {
+            ss -= cs[slot];
+            qq -= cq[slot];
+        }
+        cs[slot] = c;
+        cq[slot] = q;
+        ss += c;
+        qq += q;
+        if (x >= 4) {
+            int32_t xc = x - STX_WIN_R;
+            so[xc] = (uint16_t)ss;
+            vo[xc] = (uint32_t)STX_WIN_N * qq - ss * ss;
+        }
+    }
+}
 
 void stx_stats_rows(const negobs_image_u8_t *img, int32_t ya, int32_t n,
                     uint16_t *s, uint32_t *v)
 {
     int32_t w = img->width;
     int32_t r;
-    int32_t x;
 
     for (r = 0; r < n; r++) {
         int32_t y = ya + r;
         uint16_t *so = s + (ptrdiff_t)r * w;
         uint32_t *vo = v + (ptrdiff_t)r * w;
         const uint8_t *rows[5];
-        uint32_t cs[5];
-        uint32_t cq[5];
-        uint32_t ss;
-        uint32_t qq;
         int32_t k;
 
         memset(so, 0, (size_t)w * sizeof *so);
@@ -48,32 +80,7 @@ void stx_stats_rows(const negobs_image_u8_t *img, int32_t ya, int32_t n,
         for (k = 0; k < 5; k++) {
             rows[k] = negobs_image_u8_row(img, y - STX_WIN_R + k);
         }
-        /* running horizontal sum of 5 column sums (ring of 5) */
-        ss = 0;
-        qq = 0;
-        for (x = 0; x < w; x++) {
-            uint32_t c = 0;
-            uint32_t q = 0;
-            int32_t slot = x % 5;
-            for (k = 0; k < 5; k++) {
-                uint32_t p = rows[k][x];
-                c += p;
-                q += p * p;
-            }
-            if (x >= 5) {
-                ss -= cs[slot];
-                qq -= cq[slot];
-            }
-            cs[slot] = c;
-            cq[slot] = q;
-            ss += c;
-            qq += q;
-            if (x >= 4) {
-                int32_t xc = x - STX_WIN_R;
-                so[xc] = (uint16_t)ss;
-                vo[xc] = (uint32_t)STX_WIN_N * qq - ss * ss;
-            }
-        }
+        stx_stats_row(rows, w, so, vo);
     }
 }
 

@@ -1,7 +1,7 @@
 /*
  * 5x5 MNCC kernels of the disparity engine: window statistics (ncc.c), the
  * exact fraction helpers, and the inline hot kernels with their plain C
- * reference (stx_cross5_ref) and SIMD forms (SSE2, AArch64 NEON), which
+ * reference (stx_cross5_ref) and SIMD forms (SSE2, NEON), which
  * tests/stereo/test_stereo_ncc.c checks bit for bit against it.
  * STX_CROSS5_SIMD is defined (to 1) only where a SIMD form is compiled.
  * Internal to lib/src/stereo.
@@ -12,11 +12,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#if defined(__SSE2__) && !defined(NEGOBS_NO_SIMD)
-#include <emmintrin.h>
-#elif defined(__ARM_NEON) && defined(__aarch64__) && !defined(NEGOBS_NO_SIMD)
-#include <arm_neon.h>
-#endif
+#include "simd.h"
 #include "stereo/stereo_state.h"
 
 /* ---- ncc.c ------------------------------------------------------------ */
@@ -128,7 +124,7 @@ static inline uint32_t stx_cross5_ref(const uint8_t *a, ptrdiff_t sa,
     return acc;
 }
 
-#if defined(__SSE2__) && !defined(NEGOBS_NO_SIMD)
+#if defined(NEGOBS_SIMD_SSE2)
 #define STX_CROSS5_SIMD 1
 /* SSE2 form of stx_cross5_ref (bit-exact: integer sums in any order).
  * Each row is an 8-byte load whose last 3 left bytes are masked to zero, so
@@ -174,9 +170,9 @@ static inline uint32_t stx_cross5_simd(const uint8_t *a, ptrdiff_t sa,
     acc = _mm_add_epi32(acc, _mm_shuffle_epi32(acc, 0xB1));
     return (uint32_t)_mm_cvtsi128_si32(acc);
 }
-#elif defined(__ARM_NEON) && defined(__aarch64__) && !defined(NEGOBS_NO_SIMD)
+#elif defined(NEGOBS_SIMD_NEON)
 #define STX_CROSS5_SIMD 1
-/* AArch64 NEON form of stx_cross5_ref (bit-exact, same load contract as
+/* NEON form (AArch64, and ARMv7 built with -mfpu=neon) of stx_cross5_ref (bit-exact, same load contract as
  * the SSE2 form: 8-byte row loads, the 3 bytes past the window masked to
  * zero on the left). VMULL.U8 gives exact 16-bit products (<= 65 025),
  * VPADAL adds their pairs into 32-bit lanes (<= 130 050 per row and lane),
@@ -194,7 +190,7 @@ static inline uint32_t stx_cross5_simd(const uint8_t *a, ptrdiff_t sa,
         a += sa;
         b += sb;
     }
-    return vaddvq_u32(acc);
+    return negobs_neon_addv_u32(acc);
 }
 #endif /* STX_CROSS5_SIMD: defined only where a SIMD form exists */
 
