@@ -1,7 +1,7 @@
 /*
  * negobs_run's motor patterns: the library's alert state machine
  * (negobs/alert.h, docs/REQUIREMENTS.md) handed to the port's motor thread
- * (negobs_port/alert.h).
+ * (negobs_port/motor.h).
  *
  * The library decides what the motor does at every millisecond from the
  * verdicts and the caller's clock; the motor thread plays a schedule of
@@ -23,7 +23,7 @@
 
 #include "app_pipeline.h"
 #include "negobs/alert.h"
-#include "negobs_port/alert.h"
+#include "negobs_port/motor.h"
 
 /** Longest stretch a schedule looks ahead before its looped tail (ms). */
 #define APP_ALERT_HORIZON_MS 20000u

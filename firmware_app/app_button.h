@@ -20,7 +20,7 @@
 
 #include "app_pipeline.h"
 #include "negobs/status.h"
-#include "negobs_port/alert.h"
+#include "negobs_port/motor.h"
 
 #define APP_BUTTON_DEBOUNCE_MS 30u
 #define APP_BUTTON_POLL_MS 10u

@@ -144,15 +144,15 @@ static negobs_status_t lib_setup(const app_pipeline_config_t *c, int32_t w,
     pc.stereo_roi = c->row_crop;
     pc.valign.max_disp = pc.stereo.max_disp;
     /* The focal length is given for the frame the camera delivers. */
-    pc.detect.cam.focal_q4 = c->focal_q4 > 0 ? c->focal_q4
+    pc.detect.rig.focal_q4 = c->focal_q4 > 0 ? c->focal_q4
                                              : c->focal_px * NEGOBS_DISP_ONE;
-    pc.detect.cam.baseline_um = c->baseline_um > 0 ? c->baseline_um
+    pc.detect.rig.baseline_um = c->baseline_um > 0 ? c->baseline_um
                                                    : c->baseline_mm * 1000;
     if (c->cx_q4 >= 0) {
-        pc.detect.cam.cx_q4 = c->cx_q4;
+        pc.detect.rig.cx_q4 = c->cx_q4;
     }
     if (c->cy_q4 >= 0) {
-        pc.detect.cam.cy_q4 = c->cy_q4;
+        pc.detect.rig.cy_q4 = c->cy_q4;
     }
     pc.detect.cam_height_mm = c->cam_height_mm;
     pc.detect.cam_pitch_mdeg = c->cam_pitch_mdeg;

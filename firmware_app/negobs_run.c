@@ -96,7 +96,7 @@ static void on_write_signal(int sig, siginfo_t *si, void *uctx)
  * default action runs (SA_RESETHAND). */
 static void on_fatal_signal(int sig)
 {
-    negobs_alert_off_async(&run_alert);
+    negobs_motor_out_off_async(&run_alert);
     (void)raise(sig);
 }
 
@@ -257,7 +257,7 @@ int main(int argc, char **argv)
             &run_motor, &run_alert, &noinfo_sched,
             backstop_ms((uint32_t)run_cfg.watchdog_ms)) != NEGOBS_OK) {
         logmsg(LOG_ERROR, "cannot start the motor thread");
-        negobs_alert_close(&run_alert);
+        negobs_motor_out_close(&run_alert);
         return EXIT_ALERT;
     }
     /* READY: the library plays it first; posting keeps the motor
@@ -283,7 +283,7 @@ int main(int argc, char **argv)
         json_log_close();
         button_stop();
         negobs_motor_thread_stop(&run_motor);
-        negobs_alert_close(&run_alert);
+        negobs_motor_out_close(&run_alert);
         return EXIT_CAMERA;
     }
     rc = run_loop();
@@ -292,11 +292,11 @@ int main(int argc, char **argv)
     /* Shutdown: camera first, then the motor (off) and its output, then
      * the recording: a stalled card may hold up the writer's last pairs,
      * never the motor's switch-off. */
-    negobs_camera_stop(&run_camera);
-    negobs_camera_close(&run_camera);
+    negobs_capture_stop(&run_camera);
+    negobs_capture_close(&run_camera);
     button_stop();
     negobs_motor_thread_stop(&run_motor);
-    negobs_alert_close(&run_alert);
+    negobs_motor_out_close(&run_alert);
     record_stop();
     json_log_close();
     logmsg(LOG_INFO, "exit %d", rc);

@@ -23,7 +23,7 @@
 #include "app_pipeline.h"
 #include "negobs/alert.h"
 #include "negobs/image.h"
-#include "negobs_port/alert.h"
+#include "negobs_port/motor.h"
 #include "negobs_port/camera.h"
 
 #ifndef NEGOBS_RUN_DEFAULT_ALERT

@@ -19,9 +19,9 @@ negobs_motor_out_t run_alert;
 negobs_capture_t run_camera;
 negobs_motor_thread_t run_motor;
 
-static negobs_alert_console_t alert_console;
-static negobs_alert_pwm_t alert_pwm;
-static negobs_alert_gpio_t alert_gpio;
+static negobs_motor_out_console_t alert_console;
+static negobs_motor_out_pwm_t alert_pwm;
+static negobs_motor_out_gpio_t alert_gpio;
 static negobs_replay_t replay_state;
 static negobs_v4l2_t v4l2_state;
 static negobs_libcamera_t libcamera_state;
@@ -45,21 +45,22 @@ int open_alert(const char *spec)
     negobs_status_t s;
     (void)split_spec(spec, kind, sizeof kind, f1, sizeof f1, f2, sizeof f2);
     if (strcmp(kind, "console") == 0) {
-        s = negobs_alert_console_open(&alert_console, stdout, &run_alert);
+        s = negobs_motor_out_console_open(&alert_console, stdout, &run_alert);
     } else if (strcmp(kind, "none") == 0) {
-        s = negobs_alert_none_open(&run_alert);
+        s = negobs_motor_out_none_open(&run_alert);
     } else if (strcmp(kind, "pwm") == 0) {
         (void)parse_u32(f1, &a);
         (void)parse_u32(f2, &b);
-        s = negobs_alert_pwm_open(&alert_pwm, run_cfg.pwm_sysfs_root, a, b,
-                                  (uint32_t)run_cfg.pwm_period_ns, &run_alert);
+        s = negobs_motor_out_pwm_open(&alert_pwm, run_cfg.pwm_sysfs_root, a, b,
+                                      (uint32_t)run_cfg.pwm_period_ns,
+                                      &run_alert);
         if (s != NEGOBS_OK) {
             logmsg(LOG_ERROR, "pwm output: %s", alert_pwm.errmsg);
         }
     } else {
         (void)parse_u32(f2, &b);
-        s = negobs_alert_gpio_open(&alert_gpio, f1, b, run_cfg.gpio_active_low,
-                                   &run_alert);
+        s = negobs_motor_out_gpio_open(&alert_gpio, f1, b,
+                                       run_cfg.gpio_active_low, &run_alert);
         if (s != NEGOBS_OK) {
             logmsg(LOG_ERROR, "gpio output: %s", alert_gpio.errmsg);
         }
@@ -94,12 +95,12 @@ int motor_off(const char *spec)
     if (open_alert(spec) != 0) {
         return EXIT_ALERT;
     }
-    if (negobs_alert_set(&run_alert, 0) != NEGOBS_OK) {
+    if (negobs_motor_out_set(&run_alert, 0) != NEGOBS_OK) {
         logmsg(LOG_ERROR, "motor output '%s': cannot switch it off", spec);
-        negobs_alert_close(&run_alert);
+        negobs_motor_out_close(&run_alert);
         return EXIT_ALERT;
     }
-    negobs_alert_close(&run_alert);
+    negobs_motor_out_close(&run_alert);
     logmsg(LOG_INFO, "motor off: %s", spec);
     return EXIT_OK;
 }
@@ -279,8 +280,8 @@ static int check_v4l2_geometry(const run_args_t *a)
                "to a size it lists (negobs_run --list-cameras)",
                (long)c->width, (long)c->height, (long)run_cfg.capture_width,
                (long)run_cfg.capture_height);
-        negobs_camera_stop(&run_camera);
-        negobs_camera_close(&run_camera);
+        negobs_capture_stop(&run_camera);
+        negobs_capture_close(&run_camera);
         return -1;
     }
     return 0;
@@ -288,9 +289,9 @@ static int check_v4l2_geometry(const run_args_t *a)
 
 int open_camera(const run_args_t *a)
 {
-    negobs_camera_config_t cfg;
+    negobs_capture_config_t cfg;
     negobs_status_t s;
-    negobs_camera_config_default(&cfg);
+    negobs_capture_config_default(&cfg);
     cfg.left = a->left;
     cfg.right = a->right != NULL ? a->right : a->left;
     cfg.width = run_cfg.width;
@@ -319,17 +320,17 @@ int open_camera(const run_args_t *a)
                              &run_camera);
     }
     if (s == NEGOBS_OK) {
-        s = negobs_camera_open(&run_camera, &cfg);
+        s = negobs_capture_open(&run_camera, &cfg);
         if (s == NEGOBS_OK) {
-            s = negobs_camera_start(&run_camera);
+            s = negobs_capture_start(&run_camera);
             if (s != NEGOBS_OK) {
-                negobs_camera_close(&run_camera);
+                negobs_capture_close(&run_camera);
             }
         }
     }
     if (s != NEGOBS_OK) {
         logmsg(LOG_ERROR, "camera %s: %s (%s)", a->left,
-               negobs_camera_errmsg(&run_camera), camera_status_words(s));
+               negobs_capture_errmsg(&run_camera), camera_status_words(s));
         return -1;
     }
     if (strcmp(camera_kind(a->left), "replay") == 0 &&

@@ -108,7 +108,7 @@ static const char *mount_source_name(int32_t source)
 
 static void status_line(run_status_t *st, uint64_t now)
 {
-    negobs_camera_stats_t cs;
+    negobs_capture_stats_t cs;
     uint64_t span = now - st->window_start_ms;
     unsigned long fps10 = span > 0 ? (unsigned long)((uint64_t)st->pairs *
                                                      10000u / span)
@@ -116,7 +116,7 @@ static void status_line(run_status_t *st, uint64_t now)
     unsigned long lat = st->pairs > 0 ? (unsigned long)(st->lat_sum_us /
                                                         st->pairs / 100u)
                                       : 0;
-    negobs_camera_get_stats(&run_camera, &cs);
+    negobs_capture_get_stats(&run_camera, &cs);
     logmsg(LOG_INFO,
            "status fps=%lu.%lu latency_ms=%lu.%lu max=%lu dropped=%lu "
            "timeouts=%lu reopens=%lu verdict=%s reason=%s mean=%ld/%ld "
@@ -260,9 +260,9 @@ static void record_summary(char *out, size_t len)
 
 static void log_summary(uint32_t done, const run_status_t *st)
 {
-    negobs_camera_stats_t cs;
+    negobs_capture_stats_t cs;
     char rec[NEGOBS_PORT_ERRMSG_LEN + 64];
-    negobs_camera_get_stats(&run_camera, &cs);
+    negobs_capture_get_stats(&run_camera, &cs);
     record_summary(rec, sizeof rec);
     logmsg(LOG_INFO,
            "summary pairs=%lu no-info=%lu clear=%lu caution=%lu "
@@ -290,7 +290,7 @@ static int judge_pair(negobs_frame_pair_t *pair, uint64_t now, uint32_t done,
     if (calib_loaded()) {
         int erc = rectify_pair(img_l, img_r, &rect_l, &rect_r);
         if (erc != 0) {
-            negobs_camera_release(&run_camera, pair);
+            negobs_capture_release(&run_camera, pair);
             return erc;
         }
         img_l = &rect_l;
@@ -333,7 +333,7 @@ static int judge_pair(negobs_frame_pair_t *pair, uint64_t now, uint32_t done,
                                us[NEGOBS_STEREO_STAGE_DP]));
     }
     lat_us = (negobs_clock_now_ns() - pair->left.ts_ns) / 1000u;
-    negobs_camera_release(&run_camera, pair);
+    negobs_capture_release(&run_camera, pair);
     if (v != st->verdict) {
         /* For "detector", say which NEGOBS_DEGRADED_* bits
          * (negobs/detect.h) made it blind: stale or unsynced
@@ -373,13 +373,13 @@ int run_loop(void)
 
     while (!run_stop_requested) {
         uint64_t now;
-        int rc = negobs_camera_get_pair(&run_camera, &pair,
-                                        run_cfg.watchdog_ms);
+        int rc = negobs_capture_get_pair(&run_camera, &pair,
+                                         run_cfg.watchdog_ms);
         now = negobs_clock_now_ms();
         paused = button_poll();
         if (rc == NEGOBS_OK && paused) {
             /* taken, not judged: the cameras and this loop are alive */
-            negobs_camera_release(&run_camera, &pair);
+            negobs_capture_release(&run_camera, &pair);
             service_pair_done();
         } else if (rc == NEGOBS_OK) {
             int erc = judge_pair(&pair, now, done, &st);
@@ -393,7 +393,7 @@ int run_loop(void)
                 logmsg(LOG_INFO, "%lu pairs processed", (unsigned long)done);
                 break;
             }
-        } else if (rc == NEGOBS_CAMERA_END) {
+        } else if (rc == NEGOBS_CAPTURE_END) {
             logmsg(LOG_INFO, "end of replay after %lu pairs",
                    (unsigned long)done);
             break;
@@ -411,9 +411,9 @@ int run_loop(void)
             if (rc != last_err) {
                 logmsg(LOG_WARN, "camera: %s%s%s",
                        negobs_status_str((negobs_status_t)rc),
-                       negobs_camera_errmsg(&run_camera)[0] != '\0' ? ": "
-                                                                    : "",
-                       negobs_camera_errmsg(&run_camera));
+                       negobs_capture_errmsg(&run_camera)[0] != '\0' ? ": "
+                                                                     : "",
+                       negobs_capture_errmsg(&run_camera));
             }
             if (st.verdict != APP_VERDICT_NO_INFO) {
                 logmsg(LOG_INFO, "verdict %s -> no-info (camera)",
@@ -423,7 +423,8 @@ int run_loop(void)
             last_err = rc;
         } else {
             logmsg(LOG_ERROR, "camera: %s (%s)",
-                   negobs_camera_errmsg(&run_camera), camera_status_words(rc));
+                   negobs_capture_errmsg(&run_camera),
+                   camera_status_words(rc));
             log_summary(done, &st);
             return EXIT_RUNTIME;
         }

@@ -159,8 +159,8 @@ void settings_default(void)
     run_cfg.height = 480;
     run_cfg.fps = 30;
     (void)snprintf(run_cfg.log_level, sizeof run_cfg.log_level, "info");
-    run_cfg.pair_tol_ms = NEGOBS_CAMERA_PAIR_TOL_MS_DEFAULT;
-    run_cfg.frozen_frames = NEGOBS_CAMERA_FROZEN_FRAMES_DEFAULT;
+    run_cfg.pair_tol_ms = NEGOBS_CAPTURE_PAIR_TOL_MS_DEFAULT;
+    run_cfg.frozen_frames = NEGOBS_CAPTURE_FROZEN_FRAMES_DEFAULT;
     run_cfg.watchdog_ms = 300;
     run_cfg.exposure = -1;
     run_cfg.gain = -1;

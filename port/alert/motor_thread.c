@@ -16,7 +16,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "negobs_port/alert.h"
+#include "negobs_port/motor.h"
 #include "negobs_port/clock.h"
 
 static void abs_deadline(struct timespec *ts, uint64_t deadline_ms)

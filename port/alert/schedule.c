@@ -11,7 +11,7 @@
  */
 #include <string.h>
 
-#include "negobs_port/alert.h"
+#include "negobs_port/motor.h"
 
 negobs_status_t negobs_motor_schedule_check(const negobs_motor_schedule_t *s)
 {
@@ -59,7 +59,7 @@ static void exec_apply(negobs_motor_exec_t *ex, uint16_t level)
     if (ex->level == (int32_t)level) {
         return;
     }
-    st = negobs_alert_set(ex->out, level);
+    st = negobs_motor_out_set(ex->out, level);
     ex->last_status = st;
     if (st != NEGOBS_OK) {
         /* Leave level unknown so the next tick tries again. */

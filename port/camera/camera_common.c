@@ -4,16 +4,16 @@
 
 #include "negobs_port/camera.h"
 
-void negobs_camera_config_default(negobs_camera_config_t *cfg)
+void negobs_capture_config_default(negobs_capture_config_t *cfg)
 {
     memset(cfg, 0, sizeof *cfg);
     cfg->width = 640;
     cfg->height = 480;
     cfg->fps = 30;
-    cfg->pair_tol_ms = NEGOBS_CAMERA_PAIR_TOL_MS_DEFAULT;
+    cfg->pair_tol_ms = NEGOBS_CAPTURE_PAIR_TOL_MS_DEFAULT;
     cfg->exposure = -1;
     cfg->gain = -1;
-    cfg->frozen_frames = NEGOBS_CAMERA_FROZEN_FRAMES_DEFAULT;
+    cfg->frozen_frames = NEGOBS_CAPTURE_FROZEN_FRAMES_DEFAULT;
 }
 
 /*

@@ -348,7 +348,7 @@ static int walk_run(int32_t threads, double *wall, double *cpu, uint32_t *hash)
         negobs_pipeline_result_t res;
         const negobs_image_s16_t *d;
         int32_t i;
-        if (walk_render(&pc.detect.cam, f, lpx, rpx) != 0) {
+        if (walk_render(&pc.detect.rig, f, lpx, rpx) != 0) {
             break;
         }
         memset(&fr, 0, sizeof fr);

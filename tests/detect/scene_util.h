@@ -80,7 +80,7 @@ static inline negobs_status_t rig_run(rig_t *r)
 /* Render a scene and run one frame 100 ms after the previous one. */
 static inline negobs_status_t rig_frame(rig_t *r, const synth_scene_t *s)
 {
-    synth_render(s, &r->cfg.cam, r->disp, RIG_W);
+    synth_render(s, &r->cfg.rig, r->disp, RIG_W);
     return rig_run(r);
 }
 

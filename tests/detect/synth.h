@@ -143,7 +143,7 @@ static inline double synth_hit(const synth_scene_t *s, const double *dn,
 }
 
 static inline void synth_render(const synth_scene_t *s,
-                                const negobs_camera_t *cam, int16_t *disp,
+                                const negobs_rig_t *cam, int16_t *disp,
                                 int32_t stride)
 {
     const double d2r = 3.14159265358979323846 / 180.0;

@@ -12,11 +12,11 @@
 
 #define TEST_PI 3.14159265358979323846
 
-static negobs_camera_t cam;
+static negobs_rig_t cam;
 
 static void setup_cam(void)
 {
-    negobs_camera_default(&cam, 320, 240);
+    negobs_rig_default(&cam, 320, 240);
 }
 
 static void test_depth_known_values(void **state)
@@ -98,16 +98,16 @@ static void test_depth_camera_check(void **state)
 {
     (void)state;
     setup_cam();
-    assert_int_equal(negobs_camera_check(&cam), NEGOBS_OK);
-    assert_int_equal(negobs_camera_check(NULL), NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_rig_check(&cam), NEGOBS_OK);
+    assert_int_equal(negobs_rig_check(NULL), NEGOBS_ERR_INVAL);
     cam.width = 8;
-    assert_int_equal(negobs_camera_check(&cam), NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_rig_check(&cam), NEGOBS_ERR_INVAL);
     setup_cam();
     cam.cx_q4 = 400 * 16;
-    assert_int_equal(negobs_camera_check(&cam), NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_rig_check(&cam), NEGOBS_ERR_INVAL);
     setup_cam();
     cam.focal_q4 = 0;
-    assert_int_equal(negobs_camera_check(&cam), NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_rig_check(&cam), NEGOBS_ERR_INVAL);
 }
 
 static void test_depth_atan2_accuracy(void **state)

@@ -66,7 +66,7 @@ static void test_detect_workspace_exact_and_nospace(void **state)
     assert_int_equal(negobs_detect_init(&det, &cfg, ws, bytes),
                      NEGOBS_ERR_INVAL);
     negobs_detect_config_default(&cfg, RIG_W, RIG_H);
-    cfg.cam.baseline_um = 0;
+    cfg.rig.baseline_um = 0;
     assert_int_equal(negobs_detect_workspace_size(&cfg, &bytes),
                      NEGOBS_ERR_INVAL);
     free(raw);
@@ -195,13 +195,13 @@ static void assert_short_sight_below_row(int32_t v)
     int32_t r = 0;
     int32_t lat = 0;
     int32_t z = negobs_depth_mm_from_disp_q4(
-        &rig.cfg.cam, negobs_ground_disp_q4(&rig.res.plane, RIG_W / 2, v));
+        &rig.cfg.rig, negobs_ground_disp_q4(&rig.res.plane, RIG_W / 2, v));
     negobs_ground_frame_t gf;
     negobs_ground_pose_t pose;
-    assert_int_equal(negobs_ground_pose_from_plane(&rig.cfg.cam,
+    assert_int_equal(negobs_ground_pose_from_plane(&rig.cfg.rig,
                                                    &rig.res.plane, &pose, &gf),
                      NEGOBS_OK);
-    negobs_ground_floor_point(&rig.cfg.cam, &gf, (RIG_W / 2) * 16, v * 16, z,
+    negobs_ground_floor_point(&rig.cfg.rig, &gf, (RIG_W / 2) * 16, v * 16, z,
                               &r, &lat);
     print_message("empty above row %d (%d mm): state %d, clear_to %d mm, "
                   "short sight %d\n",
@@ -218,7 +218,7 @@ static negobs_status_t frame_with_empty_top(const synth_scene_t *s,
                                             int32_t rows, int32_t step)
 {
     int32_t i;
-    synth_render(s, &rig.cfg.cam, rig.disp, RIG_W);
+    synth_render(s, &rig.cfg.rig, rig.disp, RIG_W);
     for (i = 0; i < rows * RIG_W; i += step) {
         rig.disp[i] = NEGOBS_DISP_INVALID;
     }
@@ -247,7 +247,7 @@ static void test_detect_crop_below_warning_row_is_not_clear(void **state)
         assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
         assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
     }
-    d_w = negobs_disp_q4_from_depth_mm(&rig.cfg.cam, rig.cfg.range_warn_mm);
+    d_w = negobs_disp_q4_from_depth_mm(&rig.cfg.rig, rig.cfg.range_warn_mm);
     while (v_w > 0 &&
            negobs_ground_disp_q4(&rig.res.plane, RIG_W / 2, v_w) > d_w) {
         v_w--;
@@ -676,7 +676,7 @@ static void test_detect_degraded_timing(void **state)
     (void)state;
     rig_setup(&rig, NULL);
     scene(&s, 0.25, 1);
-    synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+    synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
     rig.frame.disp_q4 = &rig.img;
     rig.frame.left_stats = &rig.stats;
     rig.frame.now_ms = 5000;
@@ -850,7 +850,7 @@ static void test_detect_confidence_image_masks_pixels(void **state)
     rig_setup(&rig, NULL);
     scene(&s, 0.25, 1);
     memset(conf, 0, sizeof conf);
-    synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+    synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
     rig.frame.disp_q4 = &rig.img;
     rig.frame.confidence = &cimg;
     rig.frame.left_stats = &rig.stats;
@@ -886,7 +886,7 @@ static void test_detect_weak_confidence_fits_ground_but_does_not_vote(
     rig_setup(&rig, NULL);
     scene(&s, 0.25, 1);
     synth_step(&s, 2.5, -0.20);
-    synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+    synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
     rig.frame.disp_q4 = &rig.img;
     rig.frame.confidence = &cimg;
     rig.frame.left_stats = &rig.stats;
@@ -933,7 +933,7 @@ static void test_detect_left_image_stats_used(void **state)
     rig_setup(&rig, NULL);
     scene(&s, 0.25, 1);
     memset(px, 3, sizeof px); /* black frame */
-    synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+    synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
     rig.frame.disp_q4 = &rig.img;
     rig.frame.left = &left;
     rig.frame.now_ms = 1000;
@@ -1287,7 +1287,7 @@ static int narrow_hole_hazards(int corrupt)
         s.lat_half_m = 0.2;
         synth_step(&s, edge, -0.20);
         synth_step(&s, edge + 0.3, 0.0);
-        synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+        synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
         ve = (int32_t)lround(
             119.5 +
             250.0 * tan(atan(1.2 / edge) - 20.0 * 3.14159265358979 / 180.0));

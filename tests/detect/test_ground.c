@@ -13,7 +13,7 @@
 
 #define TEST_PI 3.14159265358979323846
 
-static negobs_camera_t cam;
+static negobs_rig_t cam;
 
 static void test_ground_pose_plane_round_trip(void **state)
 {
@@ -21,7 +21,7 @@ static void test_ground_pose_plane_round_trip(void **state)
     int32_t p;
     int32_t r;
     (void)state;
-    negobs_camera_default(&cam, 320, 240);
+    negobs_rig_default(&cam, 320, 240);
     for (h = 600; h <= 2000; h += 350) {
         for (p = -5000; p <= 45000; p += 7000) {
             for (r = -15000; r <= 15000; r += 5000) {
@@ -50,7 +50,7 @@ static void test_ground_plane_matches_analytic_disparity(void **state)
     int32_t u;
     int32_t v;
     (void)state;
-    negobs_camera_default(&cam, RIG_W, RIG_H);
+    negobs_rig_default(&cam, RIG_W, RIG_H);
     synth_flat(&s, 1.2, 20.0);
     s.roll_deg = 4.0;
     synth_render(&s, &cam, d, RIG_W);
@@ -75,7 +75,7 @@ static void test_ground_floor_distance_of_ground_pixels(void **state)
     negobs_ground_pose_t back;
     int32_t v;
     (void)state;
-    negobs_camera_default(&cam, RIG_W, RIG_H);
+    negobs_rig_default(&cam, RIG_W, RIG_H);
     assert_int_equal(negobs_ground_plane_from_pose(&cam, &pose, &pl),
                      NEGOBS_OK);
     assert_int_equal(negobs_ground_pose_from_plane(&cam, &pl, &back, &fr),
@@ -101,7 +101,7 @@ static void test_ground_plane_from_pose_rejects_bad_input(void **state)
     negobs_ground_plane_t pl = {0, 0, 0};
     negobs_ground_pose_t out;
     (void)state;
-    negobs_camera_default(&cam, RIG_W, RIG_H);
+    negobs_rig_default(&cam, RIG_W, RIG_H);
     assert_int_equal(negobs_ground_plane_from_pose(&cam, &pose, &pl),
                      NEGOBS_ERR_INVAL);
     pose.height_mm = 1200;
@@ -134,11 +134,11 @@ static void fit_scene_rig(const synth_scene_t *s, int32_t baseline_um,
     int32_t v;
     negobs_detect_config_default(&cfg, RIG_W, RIG_H);
     if (baseline_um > 0) {
-        cfg.cam.baseline_um = baseline_um;
+        cfg.rig.baseline_um = baseline_um;
     }
     negobs_arena_init(&ar, mem, sizeof mem);
     assert_int_equal(gfit_carve(&g, &ar, &cfg), NEGOBS_OK);
-    synth_render(s, &cfg.cam, d, RIG_W);
+    synth_render(s, &cfg.rig, d, RIG_W);
     if (smear_rows > 1) {
         for (v = 0; v < RIG_H; v++) {
             for (u = 0; u < RIG_W; u++) {
@@ -207,7 +207,7 @@ static void test_ground_fit_is_unbiased_on_a_clean_flat_map(void **state)
     for (i = 0; i < 4; i++) {
         synth_scene_t s;
         gfit_out_t o;
-        negobs_camera_t rig_cam;
+        negobs_rig_t rig_cam;
         negobs_ground_plane_t truth;
         negobs_ground_pose_t tp;
         int32_t v;
@@ -216,7 +216,7 @@ static void test_ground_fit_is_unbiased_on_a_clean_flat_map(void **state)
         s.seed = (uint32_t)i + 70u;
         fit_scene(&s, &o);
         assert_int_equal(o.ok, 1);
-        negobs_camera_default(&rig_cam, RIG_W, RIG_H);
+        negobs_rig_default(&rig_cam, RIG_W, RIG_H);
         tp.height_mm = (int32_t)(heights[i] * 1000.0 + 0.5);
         tp.pitch_mdeg = (int32_t)(pitches[i] * 1000.0 + 0.5);
         tp.roll_mdeg = 0;
@@ -274,7 +274,7 @@ static void test_ground_fit_stops_at_an_edge_inside_the_fit_rows(void **state)
     /* the 6 cm rig, 5 rows of smear */
     static const double edges[] = {1.42, 1.50, 1.60, 1.70, 1.45, 1.55};
     static const double drops[] = {0.15, 0.15, 0.10, 0.15, 0.10, 0.30};
-    negobs_camera_t c6;
+    negobs_rig_t c6;
     negobs_ground_pose_t tp = {1200, 20000, 0};
     negobs_ground_plane_t truth;
     negobs_ground_pose_t tpb;
@@ -282,7 +282,7 @@ static void test_ground_fit_stops_at_an_edge_inside_the_fit_rows(void **state)
     int i;
     int32_t worst = 0;
     (void)state;
-    negobs_camera_default(&c6, RIG_W, RIG_H);
+    negobs_rig_default(&c6, RIG_W, RIG_H);
     c6.baseline_um = 60000;
     assert_int_equal(negobs_ground_plane_from_pose(&c6, &tp, &truth),
                      NEGOBS_OK);

@@ -24,8 +24,8 @@ static void scene(synth_scene_t *s, double noise, uint32_t seed)
 static int32_t floor_row(const synth_scene_t *s, double d_m)
 {
     const double d2r = 3.14159265358979323846 / 180.0;
-    double f = rig.cfg.cam.focal_q4 / 16.0;
-    double cy = rig.cfg.cam.cy_q4 / 16.0;
+    double f = rig.cfg.rig.focal_q4 / 16.0;
+    double cy = rig.cfg.rig.cy_q4 / 16.0;
     return (int32_t)lround(cy +
                            f * tan(atan(s->h_m / d_m) - s->pitch_deg * d2r));
 }
@@ -34,8 +34,8 @@ static int32_t floor_row(const synth_scene_t *s, double d_m)
 static double row_floor_m(const synth_scene_t *s, int32_t v)
 {
     const double d2r = 3.14159265358979323846 / 180.0;
-    double f = rig.cfg.cam.focal_q4 / 16.0;
-    double cy = rig.cfg.cam.cy_q4 / 16.0;
+    double f = rig.cfg.rig.focal_q4 / 16.0;
+    double cy = rig.cfg.rig.cy_q4 / 16.0;
     return s->h_m / tan(s->pitch_deg * d2r + atan((v - cy) / f));
 }
 
@@ -336,7 +336,7 @@ static void test_vouch_bounds_by_state(void **state)
     assert_int_equal(rig.res.state, NEGOBS_DETECT_HAZARD);
     /* unsynced: NO_INFO, clear_to 0 */
     scene(&s, 0.25, 40u);
-    synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+    synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
     rig.now_ms += 100;
     rig.frame.t_left_ms = rig.now_ms - 40;
     rig.frame.t_right_ms = rig.now_ms - 10;
@@ -520,7 +520,7 @@ static void test_vouch_floor_outside_the_stereo_view_is_not_unseen(
     s.noise_px = 0.2;
     s.seed = 121u;
     run_mounted(&s, 1);
-    synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+    synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
     for (v = 0; v < RIG_H; v++) {
         for (u = 0; u < RIG_W; u++) {
             int16_t *d = &rig.disp[v * RIG_W + u];
@@ -608,7 +608,7 @@ static int32_t low_camera_with_border(const synth_scene_t *s0, int32_t fill_px,
     /* 6 frames: a fill is taken in at most 8 px per frame */
     for (i = 0; i < 6; i++) {
         s.seed = s0->seed + (uint32_t)i;
-        synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+        synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
         for (v = 0; v < RIG_H; v++) {
             for (u = 0; u < RIG_W; u++) {
                 int16_t *d = &rig.disp[v * RIG_W + u];
@@ -754,7 +754,7 @@ static void test_vouch_drop_beside_fill_is_found(void **state)
     rig.frame.left = &left;
     for (i = 0; i < 5; i++) {
         s.seed = 31u + (uint32_t)i;
-        synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+        synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
         for (v = 0; v < RIG_H; v++) {
             for (u = RIG_W - 40; u < RIG_W; u++) {
                 rig.disp[v * RIG_W + u] = NEGOBS_DISP_INVALID;
@@ -798,7 +798,7 @@ static void test_vouch_fill_is_not_in_the_valid_share(void **state)
         rig.frame.left = &left;
         for (i = 0; i < 10; i++) { /* the fill is taken in 8 px a frame */
             s.seed = 41u + (uint32_t)i;
-            synth_render(&s, &rig.cfg.cam, rig.disp, RIG_W);
+            synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
             for (v = 0; v < RIG_H; v++) {
                 for (u = RIG_W - 70; u < RIG_W; u++) {
                     rig.disp[v * RIG_W + u] = NEGOBS_DISP_INVALID;

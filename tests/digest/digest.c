@@ -296,7 +296,7 @@ static uint64_t run_walk(int valign, int perturb, int verbose, int32_t frames,
         const negobs_image_s16_t *disp;
         digest_t dd;
         int32_t y;
-        if (walk_render(&cfg.detect.cam, f, w_left, w_right) != 0) {
+        if (walk_render(&cfg.detect.rig, f, w_left, w_right) != 0) {
             free(raw);
             return 0;
         }

@@ -27,7 +27,7 @@ static uint8_t walk_tex(int32_t x_q4, int32_t y)
                      32u);
 }
 
-int walk_render(const negobs_camera_t *cam, int32_t frame, uint8_t *left,
+int walk_render(const negobs_rig_t *cam, int32_t frame, uint8_t *left,
                 uint8_t *right)
 {
     synth_scene_t s;

@@ -34,7 +34,7 @@ extern "C" {
  * (width * height <= WALK_MAX_PIXELS) into left and right (stride =
  * width). Returns 0, or -1 for a camera it cannot render.
  */
-int walk_render(const negobs_camera_t *cam, int32_t frame, uint8_t *left,
+int walk_render(const negobs_rig_t *cam, int32_t frame, uint8_t *left,
                 uint8_t *right);
 
 #ifdef __cplusplus

@@ -88,8 +88,8 @@ bool load_pair(const std::string &l, const std::string &r, const char *name,
 
 void walk_pairs(std::vector<Pair> &pairs)
 {
-    negobs_camera_t cam;
-    negobs_camera_default(&cam, 320, 240);
+    negobs_rig_t cam;
+    negobs_rig_default(&cam, 320, 240);
     for (int f = 0; f < WALK_FRAMES; f += 6) {
         Pair p{"walk" + std::to_string(f), cv::Mat(240, 320, CV_8UC1),
                cv::Mat(240, 320, CV_8UC1)};

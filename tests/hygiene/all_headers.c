@@ -1,6 +1,6 @@
 /* Every public header of lib/ and port/ in one unit: no name may clash. */
 #include "negobs/negobs.h"
-#include "negobs_port/alert.h"
+#include "negobs_port/motor.h"
 #include "negobs_port/camera.h"
 #include "negobs_port/camera_v4l2.h"
 #include "negobs_port/camera_replay.h"

@@ -55,7 +55,7 @@ static void test_pipeline_rejects_mismatched_stage_sizes(void **state)
     size_t bytes;
     (void)state;
     negobs_pipeline_config_default(&cfg, W, H);
-    cfg.detect.cam.width = W + 2;
+    cfg.detect.rig.width = W + 2;
     assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes),
                      NEGOBS_ERR_INVAL);
     assert_int_equal(negobs_pipeline_workspace_size(NULL, &bytes),
@@ -151,12 +151,12 @@ static void test_pipeline_roi_first_row_follows_the_ground(void **state)
     assert_int_equal(negobs_pipeline_roi_first_row(&cfg, &det), 0);
     det.ground_valid = 1;
     assert_int_equal(
-        negobs_ground_plane_from_pose(&cfg.detect.cam, &pose, &det.plane),
+        negobs_ground_plane_from_pose(&cfg.detect.rig, &pose, &det.plane),
         NEGOBS_OK);
     top = negobs_pipeline_roi_first_row(&cfg, &det);
     /* the row 30 below the top is still nearer than range_max on the
      * model, the row 30 above the top (if any) no longer */
-    d_far = negobs_disp_q4_from_depth_mm(&cfg.detect.cam,
+    d_far = negobs_disp_q4_from_depth_mm(&cfg.detect.rig,
                                          cfg.detect.range_max_mm);
     v = top + cfg.roi_margin_rows;
     assert_true(negobs_ground_disp_q4(&det.plane, 160, v) >= d_far);
@@ -166,7 +166,7 @@ static void test_pipeline_roi_first_row_follows_the_ground(void **state)
     /* roll: the higher edge decides, so the crop starts higher */
     pose.roll_mdeg = 5000;
     assert_int_equal(
-        negobs_ground_plane_from_pose(&cfg.detect.cam, &pose, &det.plane),
+        negobs_ground_plane_from_pose(&cfg.detect.rig, &pose, &det.plane),
         NEGOBS_OK);
     top_roll = negobs_pipeline_roi_first_row(&cfg, &det);
     assert_true(top_roll < top);
@@ -174,14 +174,14 @@ static void test_pipeline_roi_first_row_follows_the_ground(void **state)
     pose.roll_mdeg = 0;
     pose.pitch_mdeg = 60000;
     assert_int_equal(
-        negobs_ground_plane_from_pose(&cfg.detect.cam, &pose, &det.plane),
+        negobs_ground_plane_from_pose(&cfg.detect.rig, &pose, &det.plane),
         NEGOBS_OK);
     top_down = negobs_pipeline_roi_first_row(&cfg, &det);
     assert_int_equal(top_down, 0);
     /* pitched up: the crop never reaches into the ground fit's rows */
     pose.pitch_mdeg = 2000;
     assert_int_equal(
-        negobs_ground_plane_from_pose(&cfg.detect.cam, &pose, &det.plane),
+        negobs_ground_plane_from_pose(&cfg.detect.rig, &pose, &det.plane),
         NEGOBS_OK);
     assert_true(negobs_pipeline_roi_first_row(&cfg, &det) <=
                 240 - 240 * cfg.detect.fit_rows_pct / 100 -

@@ -160,7 +160,7 @@ static void fake_close(void *ctx)
     (void)ctx;
 }
 
-static const negobs_alert_ops_t fake_ops = {
+static const negobs_motor_out_ops_t fake_ops = {
     .name = "fake",
     .set = fake_set,
     .close = fake_close,

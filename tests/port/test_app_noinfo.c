@@ -67,7 +67,7 @@ static void rec_close(void *ctx)
     (void)ctx;
 }
 
-static const negobs_alert_ops_t rec_ops = {
+static const negobs_motor_out_ops_t rec_ops = {
     .name = "rec",
     .set = rec_set,
     .close = rec_close,

@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "cmocka_all.h"
-#include "negobs_port/alert.h"
+#include "negobs_port/motor.h"
 #include "negobs_port/camera.h"
 #include "negobs_port/errmsg.h"
 
@@ -39,7 +39,7 @@ static void test_errmsg_truncates_safely(void **state)
     negobs_port_errmsg(buf, 0, EIO, "abc"); /* nothing written */
 }
 
-static negobs_status_t min_open(void *ctx, const negobs_camera_config_t *cfg)
+static negobs_status_t min_open(void *ctx, const negobs_capture_config_t *cfg)
 {
     (void)ctx;
     (void)cfg;
@@ -50,7 +50,7 @@ static int min_get_pair(void *ctx, negobs_frame_pair_t *pair, int32_t ms)
     (void)ctx;
     (void)pair;
     (void)ms;
-    return NEGOBS_CAMERA_END;
+    return NEGOBS_CAPTURE_END;
 }
 static int min_closed;
 static void min_close(void *ctx)
@@ -62,30 +62,31 @@ static void min_close(void *ctx)
 /* A source with only the required ops: the wrappers fill in the rest. */
 static void test_capture_optional_ops_may_be_null(void **state)
 {
-    static const negobs_camera_ops_t ops = {
+    static const negobs_capture_ops_t ops = {
         .name = "minimal",
         .open = min_open,
         .get_pair = min_get_pair,
         .close = min_close,
     };
     negobs_capture_t c = {&ops, NULL};
-    negobs_camera_config_t cfg;
-    negobs_camera_stats_t st;
+    negobs_capture_config_t cfg;
+    negobs_capture_stats_t st;
     negobs_frame_pair_t pair;
     (void)state;
-    negobs_camera_config_default(&cfg);
+    negobs_capture_config_default(&cfg);
     memset(&st, 0xff, sizeof st);
     memset(&pair, 0, sizeof pair);
-    assert_int_equal(negobs_camera_open(&c, &cfg), NEGOBS_OK);
-    assert_int_equal(negobs_camera_start(&c), NEGOBS_OK);
-    assert_int_equal(negobs_camera_get_pair(&c, &pair, 10), NEGOBS_CAMERA_END);
-    negobs_camera_release(&c, &pair);
-    negobs_camera_get_stats(&c, &st);
+    assert_int_equal(negobs_capture_open(&c, &cfg), NEGOBS_OK);
+    assert_int_equal(negobs_capture_start(&c), NEGOBS_OK);
+    assert_int_equal(negobs_capture_get_pair(&c, &pair, 10),
+                     NEGOBS_CAPTURE_END);
+    negobs_capture_release(&c, &pair);
+    negobs_capture_get_stats(&c, &st);
     assert_int_equal(st.pairs, 0);
     assert_int_equal(st.frozen_pairs, 0);
-    assert_string_equal(negobs_camera_errmsg(&c), "");
-    negobs_camera_stop(&c);
-    negobs_camera_close(&c);
+    assert_string_equal(negobs_capture_errmsg(&c), "");
+    negobs_capture_stop(&c);
+    negobs_capture_close(&c);
     assert_int_equal(min_closed, 1);
 }
 
@@ -103,7 +104,7 @@ static void out_close(void *ctx)
  * an open handle (a signal may come before the output is opened). */
 static void test_motor_out_off_async_is_optional(void **state)
 {
-    static const negobs_alert_ops_t ops = {
+    static const negobs_motor_out_ops_t ops = {
         .name = "plain",
         .set = out_set,
         .close = out_close,
@@ -112,11 +113,11 @@ static void test_motor_out_off_async_is_optional(void **state)
     negobs_motor_out_t none = {NULL, NULL};
     negobs_motor_out_t out = {&ops, &level};
     (void)state;
-    negobs_alert_off_async(&none);
-    assert_int_equal(negobs_alert_set(&out, 700), NEGOBS_OK);
-    negobs_alert_off_async(&out);
+    negobs_motor_out_off_async(&none);
+    assert_int_equal(negobs_motor_out_set(&out, 700), NEGOBS_OK);
+    negobs_motor_out_off_async(&out);
     assert_int_equal(level, 700);
-    negobs_alert_close(&out);
+    negobs_motor_out_close(&out);
     assert_int_equal(level, 0);
 }
 

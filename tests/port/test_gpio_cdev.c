@@ -14,7 +14,7 @@
 #include <linux/gpio.h>
 
 #include "cmocka_all.h"
-#include "negobs_port/alert.h"
+#include "negobs_port/motor.h"
 
 #define CHIP_FD 700
 #define LINE_FD 701
@@ -171,12 +171,13 @@ static int reset(void **state)
 
 static void test_gpio_requests_output_line_off(void **state)
 {
-    negobs_alert_gpio_t g;
+    negobs_motor_out_gpio_t g;
     negobs_motor_out_t out;
     const struct gpio_v2_line_config *c = &fake.req.config;
     (void)state;
-    assert_int_equal(negobs_alert_gpio_open(&g, "gpiochip2", 17, false, &out),
-                     NEGOBS_OK);
+    assert_int_equal(
+        negobs_motor_out_gpio_open(&g, "gpiochip2", 17, false, &out),
+        NEGOBS_OK);
     assert_string_equal(fake.opened, "/dev/gpiochip2");
     assert_int_equal(fake.req.num_lines, 1);
     assert_int_equal(fake.req.offsets[0], 17);
@@ -192,61 +193,63 @@ static void test_gpio_requests_output_line_off(void **state)
 
 static void test_gpio_levels_switch_line_and_close_turns_off(void **state)
 {
-    negobs_alert_gpio_t g;
+    negobs_motor_out_gpio_t g;
     negobs_motor_out_t out;
     (void)state;
-    assert_int_equal(negobs_alert_gpio_open(&g, "0", 3, true, &out),
+    assert_int_equal(negobs_motor_out_gpio_open(&g, "0", 3, true, &out),
                      NEGOBS_OK);
     assert_string_equal(fake.opened, "/dev/gpiochip0");
     assert_true((fake.req.config.flags & GPIO_V2_LINE_FLAG_ACTIVE_LOW) != 0);
-    assert_int_equal(negobs_alert_set(&out, 1), NEGOBS_OK);
+    assert_int_equal(negobs_motor_out_set(&out, 1), NEGOBS_OK);
     assert_int_equal(fake.value, 1);
-    assert_int_equal(negobs_alert_set(&out, 0), NEGOBS_OK);
+    assert_int_equal(negobs_motor_out_set(&out, 0), NEGOBS_OK);
     assert_int_equal(fake.value, 0);
-    assert_int_equal(negobs_alert_set(&out, 1000), NEGOBS_OK);
+    assert_int_equal(negobs_motor_out_set(&out, 1000), NEGOBS_OK);
     assert_int_equal(fake.value, 1);
-    assert_int_equal(negobs_alert_set(&out, 1001), NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_motor_out_set(&out, 1001), NEGOBS_ERR_INVAL);
     assert_int_equal(fake.value, 1);
     out.ops->off_async(out.ctx);
     assert_int_equal(fake.value, 0);
-    assert_int_equal(negobs_alert_set(&out, 500), NEGOBS_OK);
-    negobs_alert_close(&out);
+    assert_int_equal(negobs_motor_out_set(&out, 500), NEGOBS_OK);
+    negobs_motor_out_close(&out);
     assert_int_equal(fake.value, 0);
     assert_int_equal(fake.line_open, 0);
     assert_int_equal(fake.chip_open, 0);
-    negobs_alert_close(&out);
+    negobs_motor_out_close(&out);
 }
 
 static void test_gpio_errors_are_reported(void **state)
 {
-    negobs_alert_gpio_t g;
+    negobs_motor_out_gpio_t g;
     negobs_motor_out_t out;
     (void)state;
     fake.open_errno = ENOENT;
     assert_int_equal(
-        negobs_alert_gpio_open(&g, "/dev/gpiochip9", 0, false, &out),
+        negobs_motor_out_gpio_open(&g, "/dev/gpiochip9", 0, false, &out),
         NEGOBS_ERR_NODEV);
     assert_non_null(strstr(g.errmsg, "/dev/gpiochip9"));
     fake.open_errno = 0;
     fake.request_errno = EBUSY;
-    assert_int_equal(negobs_alert_gpio_open(&g, "gpiochip0", 4, false, &out),
-                     NEGOBS_ERR_IO);
+    assert_int_equal(
+        negobs_motor_out_gpio_open(&g, "gpiochip0", 4, false, &out),
+        NEGOBS_ERR_IO);
     assert_non_null(strstr(g.errmsg, "line 4"));
     assert_int_equal(g.last_errno, EBUSY);
     assert_int_equal(fake.chip_open, 0); /* nothing leaked */
     fake.request_errno = EINVAL;         /* offset beyond the chip */
-    assert_int_equal(negobs_alert_gpio_open(&g, "gpiochip0", 99, false, &out),
-                     NEGOBS_ERR_INVAL);
+    assert_int_equal(
+        negobs_motor_out_gpio_open(&g, "gpiochip0", 99, false, &out),
+        NEGOBS_ERR_INVAL);
 }
 
 static void test_gpio_falls_back_to_uapi_v1_on_old_kernels(void **state)
 {
-    negobs_alert_gpio_t g;
+    negobs_motor_out_gpio_t g;
     negobs_motor_out_t out;
     (void)state;
     fake.no_v2 = true;
-    assert_int_equal(negobs_alert_gpio_open(&g, "gpiochip0", 5, true, &out),
-                     NEGOBS_OK);
+    assert_int_equal(
+        negobs_motor_out_gpio_open(&g, "gpiochip0", 5, true, &out), NEGOBS_OK);
     assert_true(g.uapi_v1);
     assert_int_equal(fake.req_v1.lines, 1);
     assert_int_equal(fake.req_v1.lineoffsets[0], 5);
@@ -254,9 +257,9 @@ static void test_gpio_falls_back_to_uapi_v1_on_old_kernels(void **state)
     assert_true((fake.req_v1.flags & GPIOHANDLE_REQUEST_ACTIVE_LOW) != 0);
     assert_int_equal(fake.req_v1.default_values[0], 0);
     assert_string_equal(fake.req_v1.consumer_label, "negobs-motor");
-    assert_int_equal(negobs_alert_set(&out, 300), NEGOBS_OK);
+    assert_int_equal(negobs_motor_out_set(&out, 300), NEGOBS_OK);
     assert_int_equal(fake.value, 1);
-    negobs_alert_close(&out);
+    negobs_motor_out_close(&out);
     assert_int_equal(fake.value, 0);
     assert_int_equal(fake.line_open, 0);
 }
@@ -271,28 +274,28 @@ static void sleep_ms(long ms)
 
 static void test_gpio_chip_gone_is_requested_again_with_backoff(void **state)
 {
-    negobs_alert_gpio_t st;
+    negobs_motor_out_gpio_t st;
     negobs_motor_out_t out;
     (void)state;
     assert_int_equal(
-        negobs_alert_gpio_open(&st, "/dev/gpiochip1", 0, false, &out),
+        negobs_motor_out_gpio_open(&st, "/dev/gpiochip1", 0, false, &out),
         NEGOBS_OK);
-    assert_int_equal(negobs_alert_set(&out, 1000), NEGOBS_OK);
+    assert_int_equal(negobs_motor_out_set(&out, 1000), NEGOBS_OK);
     assert_int_equal(fake.requests, 1);
     /* The chip goes away (driver unbound): the write fails for good on
      * these descriptors, which are released. */
     fake.set_errno = ENODEV;
-    assert_int_equal(negobs_alert_set(&out, 0), NEGOBS_ERR_NODEV);
+    assert_int_equal(negobs_motor_out_set(&out, 0), NEGOBS_ERR_NODEV);
     assert_non_null(strstr(st.errmsg, "/dev/gpiochip1"));
     assert_int_equal(fake.line_open, 0);
     assert_int_equal(fake.chip_open, 0);
     /* Within the back-off: no new request. */
-    assert_int_equal(negobs_alert_set(&out, 0), NEGOBS_ERR_NODEV);
+    assert_int_equal(negobs_motor_out_set(&out, 0), NEGOBS_ERR_NODEV);
     assert_int_equal(fake.requests, 1);
     /* Still gone after the back-off: one try, then the back-off doubles. */
     fake.open_errno = ENOENT;
     sleep_ms((long)NEGOBS_GPIO_RETRY_MIN_MS + 30);
-    assert_int_equal(negobs_alert_set(&out, 0), NEGOBS_ERR_NODEV);
+    assert_int_equal(negobs_motor_out_set(&out, 0), NEGOBS_ERR_NODEV);
     assert_int_equal(st.backoff_ms, 2u * NEGOBS_GPIO_RETRY_MIN_MS);
     assert_int_equal(fake.requests, 1);
     /* Back: the next write after the back-off requests the line from the
@@ -300,13 +303,13 @@ static void test_gpio_chip_gone_is_requested_again_with_backoff(void **state)
     fake.open_errno = 0;
     fake.set_errno = 0;
     sleep_ms(2L * NEGOBS_GPIO_RETRY_MIN_MS + 30);
-    assert_int_equal(negobs_alert_set(&out, 1000), NEGOBS_OK);
+    assert_int_equal(negobs_motor_out_set(&out, 1000), NEGOBS_OK);
     assert_int_equal(fake.requests, 2);
     assert_string_equal(fake.opened, "/dev/gpiochip1");
     assert_int_equal(fake.req.config.attrs[0].attr.values, 0);
     assert_int_equal(fake.value, 1);
     assert_int_equal(st.reopens, 1);
-    negobs_alert_close(&out);
+    negobs_motor_out_close(&out);
     assert_int_equal(fake.value, 0);
     assert_int_equal(fake.line_open, 0);
 }
@@ -314,25 +317,25 @@ static void test_gpio_chip_gone_is_requested_again_with_backoff(void **state)
 static void test_gpio_chip_back_under_another_number_is_found_by_label(
     void **state)
 {
-    negobs_alert_gpio_t st;
+    negobs_motor_out_gpio_t st;
     negobs_motor_out_t out;
     (void)state;
     assert_int_equal(
-        negobs_alert_gpio_open(&st, "/dev/gpiochip3", 0, false, &out),
+        negobs_motor_out_gpio_open(&st, "/dev/gpiochip3", 0, false, &out),
         NEGOBS_OK);
     assert_string_equal(st.label, "motor-chip");
     fake.set_errno = ENODEV;
-    assert_int_equal(negobs_alert_set(&out, 1000), NEGOBS_ERR_NODEV);
+    assert_int_equal(negobs_motor_out_set(&out, 1000), NEGOBS_ERR_NODEV);
     /* Back as gpiochip4; gpiochip0..2 are other chips, 3 is gone. */
     fake.set_errno = 0;
     (void)snprintf(fake.gone, sizeof fake.gone, "/dev/gpiochip3");
     (void)snprintf(fake.ours, sizeof fake.ours, "/dev/gpiochip4");
     sleep_ms((long)NEGOBS_GPIO_RETRY_MIN_MS + 30);
-    assert_int_equal(negobs_alert_set(&out, 1000), NEGOBS_OK);
+    assert_int_equal(negobs_motor_out_set(&out, 1000), NEGOBS_OK);
     assert_string_equal(st.path, "/dev/gpiochip4");
     assert_int_equal(fake.requests, 2);
     assert_int_equal(fake.value, 1);
-    negobs_alert_close(&out);
+    negobs_motor_out_close(&out);
 }
 
 int main(void)

@@ -180,59 +180,59 @@ static void test_absent_cameras_fail_cleanly(void **state)
 {
     static negobs_libcamera_t st;
     negobs_capture_t cam;
-    negobs_camera_config_t cfg;
+    negobs_capture_config_t cfg;
     negobs_frame_pair_t pair;
-    negobs_camera_stats_t stats;
+    negobs_capture_stats_t stats;
     int round;
     (void)state;
     if (!negobs_libcamera_available()) {
         /* the handle still says why and refuses, never a NULL ops */
         assert_int_equal(negobs_libcamera_init(&st, NULL, 0, &cam),
                          NEGOBS_ERR_UNSUPPORTED);
-        assert_non_null(strstr(negobs_camera_errmsg(&cam), "not built"));
-        negobs_camera_config_default(&cfg);
+        assert_non_null(strstr(negobs_capture_errmsg(&cam), "not built"));
+        negobs_capture_config_default(&cfg);
         cfg.left = "libcamera:0";
-        assert_int_equal(negobs_camera_open(&cam, &cfg),
+        assert_int_equal(negobs_capture_open(&cam, &cfg),
                          NEGOBS_ERR_UNSUPPORTED);
         skip();
     }
     assert_int_equal(negobs_libcamera_init(&st, NULL, 0, &cam), NEGOBS_OK);
     assert_string_equal(cam.ops->name, "libcamera");
-    negobs_camera_config_default(&cfg);
+    negobs_capture_config_default(&cfg);
 
     /* before open: start and get_pair are out of order, not crashes */
-    assert_int_equal(negobs_camera_start(&cam), NEGOBS_ERR_STATE);
-    assert_int_equal(negobs_camera_get_pair(&cam, &pair, 10),
+    assert_int_equal(negobs_capture_start(&cam), NEGOBS_ERR_STATE);
+    assert_int_equal(negobs_capture_get_pair(&cam, &pair, 10),
                      NEGOBS_ERR_STATE);
-    negobs_camera_release(&cam, &pair);
-    negobs_camera_stop(&cam);
+    negobs_capture_release(&cam, &pair);
+    negobs_capture_stop(&cam);
 
-    assert_int_equal(negobs_camera_open(&cam, NULL), NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_capture_open(&cam, NULL), NEGOBS_ERR_INVAL);
     cfg.left = "libcamera:";
     cfg.right = NULL;
-    assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_ERR_INVAL);
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "bad source"));
+    assert_int_equal(negobs_capture_open(&cam, &cfg), NEGOBS_ERR_INVAL);
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "bad source"));
 
     /* the camera manager is started and stopped each round: it must come
      * back, whatever number of cameras this machine has */
     for (round = 0; round < 2; round++) {
         cfg.left = "libcamera:999";
         cfg.right = NULL;
-        assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_ERR_NODEV);
-        assert_non_null(strstr(negobs_camera_errmsg(&cam), "no camera 999"));
+        assert_int_equal(negobs_capture_open(&cam, &cfg), NEGOBS_ERR_NODEV);
+        assert_non_null(strstr(negobs_capture_errmsg(&cam), "no camera 999"));
         cfg.left = "libcamera:no such camera";
         cfg.right = "libcamera:998";
-        assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_ERR_NODEV);
+        assert_int_equal(negobs_capture_open(&cam, &cfg), NEGOBS_ERR_NODEV);
         assert_non_null(
-            strstr(negobs_camera_errmsg(&cam), "'no such camera'"));
-        assert_int_equal(negobs_camera_start(&cam), NEGOBS_ERR_STATE);
-        assert_int_equal(negobs_camera_get_pair(&cam, &pair, 10),
+            strstr(negobs_capture_errmsg(&cam), "'no such camera'"));
+        assert_int_equal(negobs_capture_start(&cam), NEGOBS_ERR_STATE);
+        assert_int_equal(negobs_capture_get_pair(&cam, &pair, 10),
                          NEGOBS_ERR_STATE);
     }
-    negobs_camera_get_stats(&cam, &stats);
+    negobs_capture_get_stats(&cam, &stats);
     assert_int_equal(stats.pairs, 0);
-    negobs_camera_close(&cam);
-    negobs_camera_close(&cam); /* twice is harmless */
+    negobs_capture_close(&cam);
+    negobs_capture_close(&cam); /* twice is harmless */
 }
 #endif
 

@@ -5,7 +5,7 @@
 #include <time.h>
 
 #include "cmocka_all.h"
-#include "negobs_port/alert.h"
+#include "negobs_port/motor.h"
 
 /* Output that records every level written. */
 typedef struct rec_out {
@@ -42,7 +42,7 @@ static void rec_close(void *ctx)
     (void)ctx;
 }
 
-static const negobs_alert_ops_t rec_ops = {
+static const negobs_motor_out_ops_t rec_ops = {
     .name = "rec",
     .set = rec_set,
     .close = rec_close,

@@ -11,7 +11,7 @@
 #include <time.h>
 
 #include "cmocka_all.h"
-#include "negobs_port/alert.h"
+#include "negobs_port/motor.h"
 #include "port_test_util.h"
 
 typedef struct fixture {
@@ -69,12 +69,12 @@ static void expect_attr(const fixture_t *fx, unsigned ch, const char *leaf,
 static void test_pwm_open_writes_period_duty_enable(void **state)
 {
     fixture_t *fx = *state;
-    negobs_alert_pwm_t pwm;
+    negobs_motor_out_pwm_t pwm;
     negobs_motor_out_t out;
     char exp[32];
     make_channel(fx, 0);
     assert_int_equal(
-        negobs_alert_pwm_open(&pwm, fx->root, 0, 0, 1000000u, &out),
+        negobs_motor_out_pwm_open(&pwm, fx->root, 0, 0, 1000000u, &out),
         NEGOBS_OK);
     expect_attr(fx, 0, "period", "1000000");
     expect_attr(fx, 0, "duty_cycle", "0");
@@ -82,43 +82,44 @@ static void test_pwm_open_writes_period_duty_enable(void **state)
     /* Already exported: export must not be written. */
     assert_int_equal(tu_read(fx->chip, "export", exp, sizeof exp), 0);
     assert_string_equal(out.ops->name, "pwm");
-    negobs_alert_close(&out);
+    negobs_motor_out_close(&out);
 }
 
 static void test_pwm_duty_follows_permille_and_close_disables(void **state)
 {
     fixture_t *fx = *state;
-    negobs_alert_pwm_t pwm;
+    negobs_motor_out_pwm_t pwm;
     negobs_motor_out_t out;
     make_channel(fx, 1);
-    assert_int_equal(negobs_alert_pwm_open(&pwm, fx->root, 0, 1, 40000u, &out),
-                     NEGOBS_OK);
-    assert_int_equal(negobs_alert_set(&out, 250), NEGOBS_OK);
+    assert_int_equal(
+        negobs_motor_out_pwm_open(&pwm, fx->root, 0, 1, 40000u, &out),
+        NEGOBS_OK);
+    assert_int_equal(negobs_motor_out_set(&out, 250), NEGOBS_OK);
     expect_attr(fx, 1, "duty_cycle", "10000");
-    assert_int_equal(negobs_alert_set(&out, 1000), NEGOBS_OK);
+    assert_int_equal(negobs_motor_out_set(&out, 1000), NEGOBS_OK);
     expect_attr(fx, 1, "duty_cycle", "40000");
-    assert_int_equal(negobs_alert_set(&out, 1), NEGOBS_OK);
+    assert_int_equal(negobs_motor_out_set(&out, 1), NEGOBS_OK);
     expect_attr(fx, 1, "duty_cycle", "40");
-    assert_int_equal(negobs_alert_set(&out, 1001), NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_motor_out_set(&out, 1001), NEGOBS_ERR_INVAL);
     expect_attr(fx, 1, "duty_cycle", "40");
     /* The signal-handler path turns the motor off too. */
     out.ops->off_async(out.ctx);
     expect_attr(fx, 1, "duty_cycle", "0");
-    assert_int_equal(negobs_alert_set(&out, 500), NEGOBS_OK);
-    negobs_alert_close(&out);
+    assert_int_equal(negobs_motor_out_set(&out, 500), NEGOBS_OK);
+    negobs_motor_out_close(&out);
     expect_attr(fx, 1, "duty_cycle", "0");
     expect_attr(fx, 1, "enable", "0");
-    negobs_alert_close(&out); /* twice is harmless */
+    negobs_motor_out_close(&out); /* twice is harmless */
 }
 
 static void test_pwm_export_without_channel_dir_times_out(void **state)
 {
     fixture_t *fx = *state;
-    negobs_alert_pwm_t pwm;
+    negobs_motor_out_pwm_t pwm;
     negobs_motor_out_t out;
     char buf[32];
     assert_int_equal(
-        negobs_alert_pwm_open(&pwm, fx->root, 0, 1, 1000000u, &out),
+        negobs_motor_out_pwm_open(&pwm, fx->root, 0, 1, 1000000u, &out),
         NEGOBS_ERR_NODEV);
     assert_true(tu_read(fx->chip, "export", buf, sizeof buf) > 0);
     assert_string_equal(buf, "1");
@@ -153,20 +154,20 @@ static void *fake_kernel(void *arg)
 static void test_pwm_exports_channel_and_unexports_on_close(void **state)
 {
     fixture_t *fx = *state;
-    negobs_alert_pwm_t pwm;
+    negobs_motor_out_pwm_t pwm;
     negobs_motor_out_t out;
     pthread_t th;
     char buf[32];
     assert_int_equal(pthread_create(&th, NULL, fake_kernel, fx), 0);
     assert_int_equal(
-        negobs_alert_pwm_open(&pwm, fx->root, 0, 1, 1000000u, &out),
+        negobs_motor_out_pwm_open(&pwm, fx->root, 0, 1, 1000000u, &out),
         NEGOBS_OK);
     assert_int_equal(pthread_join(th, NULL), 0);
     assert_true(tu_read(fx->chip, "export", buf, sizeof buf) > 0);
     assert_string_equal(buf, "1");
     expect_attr(fx, 1, "period", "1000000");
     expect_attr(fx, 1, "enable", "1");
-    negobs_alert_close(&out);
+    negobs_motor_out_close(&out);
     assert_true(tu_read(fx->chip, "unexport", buf, sizeof buf) > 0);
     assert_string_equal(buf, "1");
 }
@@ -176,7 +177,7 @@ static void test_pwm_exports_channel_and_unexports_on_close(void **state)
 static void test_pwm_write_failure_is_reported(void **state)
 {
     fixture_t *fx = *state;
-    negobs_alert_pwm_t pwm;
+    negobs_motor_out_pwm_t pwm;
     negobs_motor_out_t out;
     char dir[400];
     make_channel(fx, 0);
@@ -186,7 +187,7 @@ static void test_pwm_write_failure_is_reported(void **state)
     assert_int_equal(remove(strcat(dir, "/period")), 0);
     assert_int_equal(mkdir(dir, 0755), 0);
     assert_int_equal(
-        negobs_alert_pwm_open(&pwm, fx->root, 0, 0, 1000000u, &out),
+        negobs_motor_out_pwm_open(&pwm, fx->root, 0, 0, 1000000u, &out),
         NEGOBS_ERR_IO);
     assert_non_null(strstr(pwm.errmsg, "period"));
     assert_int_not_equal(pwm.last_errno, 0);
@@ -195,13 +196,13 @@ static void test_pwm_write_failure_is_reported(void **state)
 static void test_pwm_missing_chip_is_nodev(void **state)
 {
     fixture_t *fx = *state;
-    negobs_alert_pwm_t pwm;
+    negobs_motor_out_pwm_t pwm;
     negobs_motor_out_t out;
     assert_int_equal(
-        negobs_alert_pwm_open(&pwm, fx->root, 7, 0, 1000000u, &out),
+        negobs_motor_out_pwm_open(&pwm, fx->root, 7, 0, 1000000u, &out),
         NEGOBS_ERR_NODEV);
     assert_non_null(strstr(pwm.errmsg, "pwmchip7"));
-    assert_int_equal(negobs_alert_pwm_open(&pwm, fx->root, 0, 0, 0, &out),
+    assert_int_equal(negobs_motor_out_pwm_open(&pwm, fx->root, 0, 0, 0, &out),
                      NEGOBS_ERR_INVAL);
 }
 

@@ -57,18 +57,18 @@ static void write_pair(uint32_t idx, int32_t w, int32_t h)
 static void open_replay(negobs_replay_t *rp, negobs_capture_t *cam,
                         negobs_status_t want)
 {
-    negobs_camera_config_t cfg;
+    negobs_capture_config_t cfg;
     char arg[300];
-    negobs_camera_config_default(&cfg);
+    negobs_capture_config_default(&cfg);
     cfg.width = 0;
     cfg.height = 0;
     cfg.fps = 0;
     (void)snprintf(arg, sizeof arg, "replay:%s", dir);
     cfg.left = arg;
     assert_int_equal(negobs_replay_init(rp, pix, sizeof pix, cam), NEGOBS_OK);
-    assert_int_equal(negobs_camera_open(cam, &cfg), want);
+    assert_int_equal(negobs_capture_open(cam, &cfg), want);
     if (want == NEGOBS_OK) {
-        assert_int_equal(negobs_camera_start(cam), NEGOBS_OK);
+        assert_int_equal(negobs_capture_start(cam), NEGOBS_OK);
     }
 }
 
@@ -94,7 +94,7 @@ static void test_replay_reads_pgm_pairs_until_end(void **state)
     negobs_replay_t rp;
     negobs_capture_t cam;
     negobs_frame_pair_t p;
-    negobs_camera_stats_t stats;
+    negobs_capture_stats_t stats;
     uint32_t i;
     (void)state;
     for (i = 0; i < 3; i++) {
@@ -102,29 +102,30 @@ static void test_replay_reads_pgm_pairs_until_end(void **state)
     }
     open_replay(&rp, &cam, NEGOBS_OK);
     for (i = 0; i < 3; i++) {
-        assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+        assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
         assert_int_equal(p.index, i);
         assert_int_equal(p.left.sequence, i);
         check_pair(&p, i);
-        negobs_camera_release(&cam, &p);
+        negobs_capture_release(&cam, &p);
     }
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_CAMERA_END);
-    negobs_camera_get_stats(&cam, &stats);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100),
+                     NEGOBS_CAPTURE_END);
+    negobs_capture_get_stats(&cam, &stats);
     assert_int_equal(stats.pairs, 3);
-    negobs_camera_stop(&cam);
-    negobs_camera_close(&cam);
+    negobs_capture_stop(&cam);
+    negobs_capture_close(&cam);
 }
 
 static void test_replay_loop_restarts_at_first_pair(void **state)
 {
     negobs_replay_t rp;
     negobs_capture_t cam;
-    negobs_camera_config_t cfg;
+    negobs_capture_config_t cfg;
     negobs_frame_pair_t p;
     (void)state;
     write_pair(0, W, H);
     write_pair(1, W, H);
-    negobs_camera_config_default(&cfg);
+    negobs_capture_config_default(&cfg);
     cfg.left = dir;
     cfg.width = W;
     cfg.height = H;
@@ -132,41 +133,41 @@ static void test_replay_loop_restarts_at_first_pair(void **state)
     cfg.loop = true;
     assert_int_equal(negobs_replay_init(&rp, pix, sizeof pix, &cam),
                      NEGOBS_OK);
-    assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_OK);
-    assert_int_equal(negobs_camera_start(&cam), NEGOBS_OK);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(negobs_capture_open(&cam, &cfg), NEGOBS_OK);
+    assert_int_equal(negobs_capture_start(&cam), NEGOBS_OK);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
     check_pair(&p, 0);
     assert_int_equal(p.index, 2);
-    negobs_camera_close(&cam);
+    negobs_capture_close(&cam);
 }
 
 static void test_replay_requested_size_must_match(void **state)
 {
     negobs_replay_t rp;
     negobs_capture_t cam;
-    negobs_camera_config_t cfg;
+    negobs_capture_config_t cfg;
     negobs_frame_pair_t p;
     (void)state;
     write_pair(0, W, H);
-    negobs_camera_config_default(&cfg); /* asks for 640x480 */
+    negobs_capture_config_default(&cfg); /* asks for 640x480 */
     cfg.left = dir;
     cfg.fps = 0;
     assert_int_equal(negobs_replay_init(&rp, pix, sizeof pix, &cam),
                      NEGOBS_OK);
-    assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_OK);
-    assert_int_equal(negobs_camera_start(&cam), NEGOBS_OK);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_ERR_INVAL);
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "640x480 requested"));
-    negobs_camera_close(&cam);
+    assert_int_equal(negobs_capture_open(&cam, &cfg), NEGOBS_OK);
+    assert_int_equal(negobs_capture_start(&cam), NEGOBS_OK);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_ERR_INVAL);
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "640x480 requested"));
+    negobs_capture_close(&cam);
 }
 
 static void test_replay_paces_at_fps(void **state)
 {
     negobs_replay_t rp;
     negobs_capture_t cam;
-    negobs_camera_config_t cfg;
+    negobs_capture_config_t cfg;
     negobs_frame_pair_t p;
     uint64_t t0;
     int i;
@@ -174,25 +175,25 @@ static void test_replay_paces_at_fps(void **state)
     for (i = 0; i < 4; i++) {
         write_pair((uint32_t)i, W, H);
     }
-    negobs_camera_config_default(&cfg);
+    negobs_capture_config_default(&cfg);
     cfg.left = dir;
     cfg.width = 0;
     cfg.height = 0;
     cfg.fps = 10; /* 100 ms apart: 4 pairs take >= 300 ms */
     assert_int_equal(negobs_replay_init(&rp, pix, sizeof pix, &cam),
                      NEGOBS_OK);
-    assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_OK);
-    assert_int_equal(negobs_camera_start(&cam), NEGOBS_OK);
+    assert_int_equal(negobs_capture_open(&cam, &cfg), NEGOBS_OK);
+    assert_int_equal(negobs_capture_start(&cam), NEGOBS_OK);
     t0 = negobs_clock_now_ms();
     /* A 5 ms timeout cannot wait for the 2nd pair: TIMEOUT, kept. */
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 5), NEGOBS_OK);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 5), NEGOBS_ERR_TIMEOUT);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 5), NEGOBS_OK);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 5), NEGOBS_ERR_TIMEOUT);
     for (i = 1; i < 4; i++) {
-        assert_int_equal(negobs_camera_get_pair(&cam, &p, 200), NEGOBS_OK);
+        assert_int_equal(negobs_capture_get_pair(&cam, &p, 200), NEGOBS_OK);
         assert_int_equal(p.left.sequence, (uint32_t)i);
     }
     assert_true(negobs_clock_now_ms() - t0 >= 299);
-    negobs_camera_close(&cam);
+    negobs_capture_close(&cam);
 }
 
 static void test_replay_rejects_truncated_pgm(void **state)
@@ -208,11 +209,11 @@ static void test_replay_rejects_truncated_pgm(void **state)
     memset(buf + sizeof hdr - 1, 9, 50); /* 50 of 128 pixels */
     assert_int_equal(tu_write(dir, "right_0000.pgm", buf, sizeof buf), 0);
     open_replay(&rp, &cam, NEGOBS_OK);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100),
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100),
                      NEGOBS_ERR_CORRUPT);
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "truncated"));
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "right_0000.pgm"));
-    negobs_camera_close(&cam);
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "truncated"));
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "right_0000.pgm"));
+    negobs_capture_close(&cam);
 }
 
 static void test_pgm_reader_rejects_corrupt_headers(void **state)
@@ -277,11 +278,11 @@ static void test_replay_missing_right_or_size_change_is_corrupt(void **state)
     (void)snprintf(path, sizeof path, "%s/right_0002.pgm", dir);
     assert_int_equal(remove(path), 0);
     open_replay(&rp, &cam, NEGOBS_OK);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100),
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100),
                      NEGOBS_ERR_CORRUPT);
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "size"));
-    negobs_camera_close(&cam);
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "size"));
+    negobs_capture_close(&cam);
     /* A folder with neither layout. */
     tu_rm_tree(dir);
     assert_int_equal(mkdir(dir, 0755), 0);
@@ -330,13 +331,14 @@ static void test_session_round_trip(void **state)
     record_session(3);
     open_replay(&rp, &cam, NEGOBS_OK);
     for (i = 0; i < 3; i++) {
-        assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+        assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
         check_pair(&p, i);
         assert_int_equal(p.left.sequence, 40 + i);
         assert_int_equal(p.right.ts_ns - p.left.ts_ns, 2000000u);
     }
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_CAMERA_END);
-    negobs_camera_close(&cam);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100),
+                     NEGOBS_CAPTURE_END);
+    negobs_capture_close(&cam);
 }
 
 static void test_session_truncated_frames_are_corrupt(void **state)
@@ -355,12 +357,12 @@ static void test_session_truncated_frames_are_corrupt(void **state)
     assert_int_equal(ftruncate(fileno(f), W * H + 10), 0);
     (void)fclose(f);
     open_replay(&rp, &cam, NEGOBS_OK);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100),
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100),
                      NEGOBS_ERR_CORRUPT);
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "damaged session"));
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "damaged session"));
     assert_non_null(strstr(negobs_replay_damage(&rp), "right.y 1 complete"));
-    negobs_camera_close(&cam);
+    negobs_capture_close(&cam);
 }
 
 /* A session whose frames.txt never reached the disk (stdio buffer lost
@@ -382,15 +384,15 @@ static void test_session_without_index_is_recovered(void **state)
     assert_non_null(
         strstr(negobs_replay_damage(&rp), "5 with synthesised timestamps"));
     for (i = 0; i < 5; i++) {
-        assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+        assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
         check_pair(&p, i);
         assert_true(i == 0 || p.left.ts_ns >= t_prev);
         t_prev = p.left.ts_ns;
     }
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100),
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100),
                      NEGOBS_ERR_CORRUPT);
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "5 recoverable"));
-    negobs_camera_close(&cam);
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "5 recoverable"));
+    negobs_capture_close(&cam);
 }
 
 /* frames.txt cut in its last line (and one record short), left.y with a
@@ -420,13 +422,13 @@ static void test_session_cut_index_line_is_recovered(void **state)
     assert_non_null(strstr(negobs_replay_damage(&rp), "a cut line"));
     assert_non_null(strstr(negobs_replay_damage(&rp), "(+3/+0 bytes)"));
     for (i = 0; i < 3; i++) {
-        assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+        assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
         check_pair(&p, i);
         assert_int_equal(p.left.sequence, 40 + i);
     }
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100),
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100),
                      NEGOBS_ERR_CORRUPT);
-    negobs_camera_close(&cam);
+    negobs_capture_close(&cam);
 }
 
 /* Nothing to recover, or a file missing: open() fails, each with its own
@@ -440,11 +442,11 @@ static void test_session_unrecoverable_or_missing_file(void **state)
     record_session(2);
     assert_int_equal(tu_write_str(dir, "left.y", "short"), 0);
     open_replay(&rp, &cam, NEGOBS_ERR_CORRUPT);
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "no complete pair"));
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "no complete pair"));
     (void)snprintf(path, sizeof path, "%s/left.y", dir);
     assert_int_equal(remove(path), 0);
     open_replay(&rp, &cam, NEGOBS_ERR_NODEV);
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "left.y"));
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "left.y"));
 }
 
 /* The recorder never writes over an earlier session, whatever the file
@@ -525,10 +527,10 @@ static void test_session_bad_header_or_record_is_corrupt(void **state)
     record_session(2);
     assert_int_equal(tu_write_str(dir, "frames.txt", "0 1 2 3\n7 x y z\n"), 0);
     open_replay(&rp, &cam, NEGOBS_OK);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100),
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100),
                      NEGOBS_ERR_CORRUPT);
-    negobs_camera_close(&cam);
+    negobs_capture_close(&cam);
     assert_int_equal(
         tu_write_str(dir, "session.txt", "negobs-session 1\nwidth 0\n"), 0);
     open_replay(&rp, &cam, NEGOBS_ERR_CORRUPT);

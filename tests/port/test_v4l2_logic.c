@@ -250,18 +250,18 @@ static void test_open_missing_device_is_nodev(void **state)
 {
     negobs_v4l2_t st;
     negobs_capture_t cam;
-    negobs_camera_config_t cfg;
+    negobs_capture_config_t cfg;
     (void)state;
-    negobs_camera_config_default(&cfg);
+    negobs_capture_config_default(&cfg);
     cfg.left = "/nonexistent/video0";
     cfg.right = "v4l2:/nonexistent/video1";
     assert_int_equal(negobs_v4l2_init(&st, NULL, 0, &cam), NEGOBS_OK);
-    assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_ERR_NODEV);
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "video0"));
+    assert_int_equal(negobs_capture_open(&cam, &cfg), NEGOBS_ERR_NODEV);
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "video0"));
     /* A file that is not a V4L2 node. */
     cfg.left = "/dev/null";
-    assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_ERR_UNSUPPORTED);
-    negobs_camera_close(&cam);
+    assert_int_equal(negobs_capture_open(&cam, &cfg), NEGOBS_ERR_UNSUPPORTED);
+    negobs_capture_close(&cam);
 }
 
 /* ---- frozen-stream detection --------------------------------------- */
@@ -325,10 +325,10 @@ static void test_frozen_needs_limit_identical_frames_and_clears(void **state)
 
 static void test_camera_config_default_turns_frozen_check_on(void **state)
 {
-    negobs_camera_config_t cfg;
+    negobs_capture_config_t cfg;
     (void)state;
-    negobs_camera_config_default(&cfg);
-    assert_int_equal(cfg.frozen_frames, NEGOBS_CAMERA_FROZEN_FRAMES_DEFAULT);
+    negobs_capture_config_default(&cfg);
+    assert_int_equal(cfg.frozen_frames, NEGOBS_CAPTURE_FROZEN_FRAMES_DEFAULT);
     assert_true(cfg.frozen_frames >= 2);
 }
 

@@ -365,8 +365,8 @@ static int setup(void **state)
         fk[i].frozen_from = -1;
         fk[i].frozen_to = -1;
     }
-    frozen_limit = NEGOBS_CAMERA_FROZEN_FRAMES_DEFAULT;
-    pair_tol = NEGOBS_CAMERA_PAIR_TOL_MS_DEFAULT;
+    frozen_limit = NEGOBS_CAPTURE_FROZEN_FRAMES_DEFAULT;
+    pair_tol = NEGOBS_CAPTURE_PAIR_TOL_MS_DEFAULT;
     return 0;
 }
 
@@ -378,9 +378,9 @@ static void script(int side, const uint32_t *ts, int n)
 
 static negobs_status_t open_cam(int32_t exposure)
 {
-    negobs_camera_config_t cfg;
+    negobs_capture_config_t cfg;
     negobs_status_t s;
-    negobs_camera_config_default(&cfg);
+    negobs_capture_config_default(&cfg);
     cfg.left = "/fake/video0";
     cfg.right = "v4l2:/fake/video1";
     cfg.exposure = exposure;
@@ -388,9 +388,9 @@ static negobs_status_t open_cam(int32_t exposure)
     cfg.pair_tol_ms = pair_tol;
     assert_int_equal(negobs_v4l2_init(&st, scratch, sizeof scratch, &cam),
                      NEGOBS_OK);
-    s = negobs_camera_open(&cam, &cfg);
+    s = negobs_capture_open(&cam, &cfg);
     if (s == NEGOBS_OK) {
-        assert_int_equal(negobs_camera_start(&cam), NEGOBS_OK);
+        assert_int_equal(negobs_capture_start(&cam), NEGOBS_OK);
     }
     return s;
 }
@@ -408,7 +408,7 @@ static void test_v4l2_negotiates_planar_and_hands_out_y_in_place(void **state)
     assert_int_equal(st.dev[0].fourcc, V4L2_PIX_FMT_NV12);
     assert_int_equal(st.dev[0].bytesperline, FW + 16);
     assert_true(fk[0].streaming && fk[1].streaming);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
     assert_int_equal(p.left.y.width, FW);
     assert_int_equal(p.left.y.height, FH);
     assert_int_equal(p.left.y.stride, FW + 16); /* bytesperline, no copy */
@@ -417,10 +417,10 @@ static void test_v4l2_negotiates_planar_and_hands_out_y_in_place(void **state)
     assert_int_equal(p.left.ts_ns, 1000u * 1000000u);
     assert_int_equal(p.left.y.data[0], 0x10);
     /* Released buffers go back to the driver. */
-    negobs_camera_release(&cam, &p);
+    negobs_capture_release(&cam, &p);
     assert_true(fk[0].queued[0] && fk[1].queued[0]);
-    negobs_camera_stop(&cam);
-    negobs_camera_close(&cam);
+    negobs_capture_stop(&cam);
+    negobs_capture_close(&cam);
     assert_false(fk[0].is_open || fk[1].is_open);
 }
 
@@ -435,11 +435,11 @@ static void test_v4l2_packed_only_extracts_luma_to_scratch(void **state)
     script(1, ts, 1);
     assert_int_equal(open_cam(-1), NEGOBS_OK);
     assert_int_equal(st.dev[1].fourcc, V4L2_PIX_FMT_YUYV);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
     assert_ptr_equal(p.left.y.data, scratch);
     assert_ptr_equal(p.right.y.data, scratch + FW * FH);
     assert_int_equal(p.right.y.stride, FW);
-    negobs_camera_close(&cam);
+    negobs_capture_close(&cam);
 }
 
 static void test_v4l2_pairs_by_timestamp_and_counts_drops(void **state)
@@ -448,32 +448,33 @@ static void test_v4l2_pairs_by_timestamp_and_counts_drops(void **state)
     static const uint32_t l[] = {1000, 1033, 1066, 1100};
     static const uint32_t r[] = {1002, 1068, 1103};
     negobs_frame_pair_t p;
-    negobs_camera_stats_t s;
+    negobs_capture_stats_t s;
     (void)state;
     script(0, l, 4);
     script(1, r, 3);
     assert_int_equal(open_cam(-1), NEGOBS_OK);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
     assert_int_equal(p.left.ts_ns / 1000000u, 1000);
     assert_int_equal(p.right.ts_ns / 1000000u, 1002);
-    negobs_camera_release(&cam, &p);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    negobs_capture_release(&cam, &p);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
     assert_int_equal(p.left.ts_ns / 1000000u, 1066);
     assert_int_equal(p.right.ts_ns / 1000000u, 1068);
     assert_int_equal(p.left.sequence, 2);
     /* Not released on purpose: get_pair releases it itself. */
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
     assert_int_equal(p.left.ts_ns / 1000000u, 1100);
     assert_int_equal(p.index, 2);
-    negobs_camera_get_stats(&cam, &s);
+    negobs_capture_get_stats(&cam, &s);
     assert_int_equal(s.pairs, 3);
     assert_int_equal(s.dropped_pairs, 1);
     /* Nothing more: a timeout, reported as such. */
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 50), NEGOBS_ERR_TIMEOUT);
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "no frames from"));
-    negobs_camera_get_stats(&cam, &s);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 50),
+                     NEGOBS_ERR_TIMEOUT);
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "no frames from"));
+    negobs_capture_get_stats(&cam, &s);
     assert_int_equal(s.timeouts, 1);
-    negobs_camera_close(&cam);
+    negobs_capture_close(&cam);
 }
 
 static void test_v4l2_frozen_camera_withholds_pairs_until_it_changes(
@@ -481,7 +482,7 @@ static void test_v4l2_frozen_camera_withholds_pairs_until_it_changes(
 {
     static const uint32_t ts[] = {1000, 1033, 1066, 1100, 1133, 1166, 1200};
     negobs_frame_pair_t p;
-    negobs_camera_stats_t s;
+    negobs_capture_stats_t s;
     int i;
     (void)state;
     script(0, ts, 7);
@@ -493,26 +494,27 @@ static void test_v4l2_frozen_camera_withholds_pairs_until_it_changes(
     assert_int_equal(open_cam(-1), NEGOBS_OK);
     /* Frames 0 and 1: two identical, below the limit of 3. */
     for (i = 0; i < 2; i++) {
-        assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
-        negobs_camera_release(&cam, &p);
+        assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
+        negobs_capture_release(&cam, &p);
     }
     /* Frames 2, 3, 4: frozen, withheld with an error that says so, and
      * the buffers go back to the driver. */
     for (i = 2; i < 5; i++) {
-        assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_ERR_IO);
-        assert_non_null(strstr(negobs_camera_errmsg(&cam), "frozen"));
-        assert_non_null(strstr(negobs_camera_errmsg(&cam), "/fake/video1"));
+        assert_int_equal(negobs_capture_get_pair(&cam, &p, 100),
+                         NEGOBS_ERR_IO);
+        assert_non_null(strstr(negobs_capture_errmsg(&cam), "frozen"));
+        assert_non_null(strstr(negobs_capture_errmsg(&cam), "/fake/video1"));
     }
     assert_true(fk[1].queued[0] || fk[1].queued[1] || fk[1].queued[2] ||
                 fk[1].queued[3]);
     /* Frame 5 changed: pairs flow again, without a reopen. */
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
     assert_int_equal(p.right.ts_ns / 1000000u, 1166);
     assert_int_equal(p.right.y.data[0], 0x15);
-    negobs_camera_get_stats(&cam, &s);
+    negobs_capture_get_stats(&cam, &s);
     assert_int_equal(s.frozen_pairs, 3);
     assert_int_equal(s.reopens, 0);
-    negobs_camera_close(&cam);
+    negobs_capture_close(&cam);
 }
 
 static void test_v4l2_frame_waiting_too_long_is_dropped(void **state)
@@ -522,23 +524,25 @@ static void test_v4l2_frame_waiting_too_long_is_dropped(void **state)
     static const uint32_t l[] = {1000};
     static const uint32_t r[] = {5000};
     negobs_frame_pair_t p;
-    negobs_camera_stats_t s;
+    negobs_capture_stats_t s;
     struct timespec ts = {0, (long)(NEGOBS_V4L2_PENDING_MAX_MS + 100u) *
                                  1000000L};
     (void)state;
     script(0, l, 1);
     script(1, r, 1);
     assert_int_equal(open_cam(-1), NEGOBS_OK);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 50), NEGOBS_ERR_TIMEOUT);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 50),
+                     NEGOBS_ERR_TIMEOUT);
     assert_true(st.dev[1].pending);
     assert_int_equal(st.dev[1].timeouts_in_row, 0);
     (void)nanosleep(&ts, NULL);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 50), NEGOBS_ERR_TIMEOUT);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 50),
+                     NEGOBS_ERR_TIMEOUT);
     assert_false(st.dev[1].pending);
     assert_int_equal(st.dev[1].timeouts_in_row, 1); /* polled again */
-    negobs_camera_get_stats(&cam, &s);
+    negobs_capture_get_stats(&cam, &s);
     assert_int_equal(s.dropped_pairs, 2);
-    negobs_camera_close(&cam);
+    negobs_capture_close(&cam);
 }
 
 static void test_v4l2_frozen_check_off_delivers_repeats(void **state)
@@ -554,9 +558,9 @@ static void test_v4l2_frozen_check_off_delivers_repeats(void **state)
     frozen_limit = 0;
     assert_int_equal(open_cam(-1), NEGOBS_OK);
     for (i = 0; i < 4; i++) {
-        assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+        assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
     }
-    negobs_camera_close(&cam);
+    negobs_capture_close(&cam);
 }
 
 static void test_v4l2_drift_beyond_tolerance_times_out_as_out_of_sync(
@@ -566,7 +570,7 @@ static void test_v4l2_drift_beyond_tolerance_times_out_as_out_of_sync(
     static const uint32_t l[] = {1000, 1033, 1066, 1100, 1133};
     static const uint32_t r[] = {1016, 1049, 1082, 1100, 1133};
     negobs_frame_pair_t p;
-    negobs_camera_stats_t s;
+    negobs_capture_stats_t s;
     (void)state;
     script(0, l, 5);
     script(1, r, 5);
@@ -574,43 +578,44 @@ static void test_v4l2_drift_beyond_tolerance_times_out_as_out_of_sync(
     fk[1].nframes = 3;
     pair_tol = 10;
     assert_int_equal(open_cam(-1), NEGOBS_OK);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 50), NEGOBS_ERR_TIMEOUT);
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "out of sync"));
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "16 ms"));
-    negobs_camera_get_stats(&cam, &s);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 50),
+                     NEGOBS_ERR_TIMEOUT);
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "out of sync"));
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "16 ms"));
+    negobs_capture_get_stats(&cam, &s);
     assert_true(s.dropped_pairs >= 4);
     assert_int_equal(s.pairs, 0);
     /* The drift ends (the cameras are back in step): pairs again, no
      * reopen. */
     fk[0].nframes = 5;
     fk[1].nframes = 5;
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
     assert_int_equal(p.left.ts_ns / 1000000u, 1100);
     assert_int_equal(p.right.ts_ns / 1000000u, 1100);
-    negobs_camera_get_stats(&cam, &s);
+    negobs_capture_get_stats(&cam, &s);
     assert_int_equal(s.reopens, 0);
-    negobs_camera_close(&cam);
+    negobs_capture_close(&cam);
 }
 
 static void test_v4l2_device_loss_reopens_with_backoff(void **state)
 {
     static const uint32_t ts[] = {1000, 1033, 1066, 1100};
     negobs_frame_pair_t p;
-    negobs_camera_stats_t s;
+    negobs_capture_stats_t s;
     (void)state;
     script(0, ts, 4);
     script(1, ts, 4);
     fk[1].dqbuf_errno_at = 1;
     fk[1].dqbuf_errno = ENODEV;
     assert_int_equal(open_cam(-1), NEGOBS_OK);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
-    negobs_camera_release(&cam, &p);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
+    negobs_capture_release(&cam, &p);
     /* Right node vanishes; reopen is refused at first. */
     fk[1].open_errno = ENOENT;
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 300), NEGOBS_ERR_NODEV);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 300), NEGOBS_ERR_NODEV);
     assert_false(fk[1].is_open);
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "/fake/video1"));
-    negobs_camera_get_stats(&cam, &s);
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "/fake/video1"));
+    negobs_capture_get_stats(&cam, &s);
     assert_int_equal(s.device_losses, 1);
     assert_int_equal(s.reopens, 0);
     /* The node comes back: the next calls reopen it and pairs flow. */
@@ -623,32 +628,32 @@ static void test_v4l2_device_loss_reopens_with_backoff(void **state)
         int rc = NEGOBS_ERR_NODEV;
         int tries = 0;
         while (rc == NEGOBS_ERR_NODEV && tries++ < 10) {
-            rc = negobs_camera_get_pair(&cam, &p, 300);
+            rc = negobs_capture_get_pair(&cam, &p, 300);
         }
         assert_int_equal(rc, NEGOBS_OK);
     }
-    negobs_camera_get_stats(&cam, &s);
+    negobs_capture_get_stats(&cam, &s);
     assert_int_equal(s.reopens, 1);
     assert_true(fk[1].is_open && fk[1].streaming);
     assert_int_equal(p.right.ts_ns / 1000000u, p.left.ts_ns / 1000000u);
-    negobs_camera_close(&cam);
+    negobs_capture_close(&cam);
 }
 
 static void test_v4l2_repeated_timeouts_mark_node_lost(void **state)
 {
     negobs_frame_pair_t p;
-    negobs_camera_stats_t s;
+    negobs_capture_stats_t s;
     int i;
     (void)state;
     assert_int_equal(open_cam(-1), NEGOBS_OK); /* no frames scripted */
     for (i = 0; i < NEGOBS_V4L2_TIMEOUTS_BEFORE_REOPEN; i++) {
-        assert_int_equal(negobs_camera_get_pair(&cam, &p, 10),
+        assert_int_equal(negobs_capture_get_pair(&cam, &p, 10),
                          NEGOBS_ERR_TIMEOUT);
     }
-    negobs_camera_get_stats(&cam, &s);
+    negobs_capture_get_stats(&cam, &s);
     assert_int_equal(s.timeouts, NEGOBS_V4L2_TIMEOUTS_BEFORE_REOPEN);
     assert_int_equal(s.device_losses, 2);
-    negobs_camera_close(&cam);
+    negobs_capture_close(&cam);
 }
 
 static void test_v4l2_signals_give_again_and_ioctls_retry(void **state)
@@ -661,13 +666,13 @@ static void test_v4l2_signals_give_again_and_ioctls_retry(void **state)
     assert_int_equal(open_cam(-1), NEGOBS_OK);
     /* A signal during the wait: the caller gets AGAIN to check its flags. */
     poll_eintr = 1;
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_ERR_AGAIN);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_ERR_AGAIN);
     /* EINTR inside DQBUF is retried silently. */
     dqbuf_eintr = 3;
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
     assert_int_equal(dqbuf_eintr, 0);
     assert_int_equal(p.left.ts_ns / 1000000u, 1000);
-    negobs_camera_close(&cam);
+    negobs_capture_close(&cam);
 }
 
 static void test_v4l2_exposure_only_when_both_offer_it(void **state)
@@ -676,13 +681,13 @@ static void test_v4l2_exposure_only_when_both_offer_it(void **state)
     fk[0].has_exposure = true;
     assert_int_equal(open_cam(500), NEGOBS_OK);
     assert_int_equal(fk[0].exposure_calls + fk[1].exposure_calls, 0);
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "exposure"));
-    negobs_camera_close(&cam);
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "exposure"));
+    negobs_capture_close(&cam);
     fk[1].has_exposure = true;
     assert_int_equal(open_cam(500), NEGOBS_OK);
     assert_int_equal(fk[0].exposure_set, 500);
     assert_int_equal(fk[1].exposure_set, 500);
-    negobs_camera_close(&cam);
+    negobs_capture_close(&cam);
 }
 
 /* One node carrying both eyes side by side (ELP/Arducam/ZED style): each
@@ -690,23 +695,23 @@ static void test_v4l2_exposure_only_when_both_offer_it(void **state)
 static void test_v4l2_side_by_side_one_node(void **state)
 {
     static const uint32_t ts[] = {1000, 1033, 1066};
-    negobs_camera_config_t cfg;
+    negobs_capture_config_t cfg;
     negobs_frame_pair_t p;
     (void)state;
     fk[0].fmts[0] = V4L2_PIX_FMT_GREY;
     fk[0].nfmts = 1;
     script(0, ts, 3);
-    negobs_camera_config_default(&cfg);
+    negobs_capture_config_default(&cfg);
     cfg.left = "/fake/video0";
     cfg.right = NULL;
     cfg.side_by_side = true;
     cfg.width = FW / 2;
     cfg.height = FH;
     assert_int_equal(negobs_v4l2_init(&st, NULL, 0, &cam), NEGOBS_OK);
-    assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_OK);
-    assert_int_equal(negobs_camera_start(&cam), NEGOBS_OK);
+    assert_int_equal(negobs_capture_open(&cam, &cfg), NEGOBS_OK);
+    assert_int_equal(negobs_capture_start(&cam), NEGOBS_OK);
     assert_false(fk[1].is_open); /* the second node is never touched */
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
     assert_int_equal(p.left.y.width, FW / 2);
     assert_int_equal(p.right.y.width, FW / 2);
     assert_ptr_equal(p.right.y.data, p.left.y.data + FW / 2);
@@ -714,10 +719,10 @@ static void test_v4l2_side_by_side_one_node(void **state)
     assert_true(p.left.y.data >= &fk[0].mem[0][0] &&
                 p.left.y.data < &fk[0].mem[0][0] + sizeof fk[0].mem);
     assert_int_equal(p.left.ts_ns, p.right.ts_ns);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
     assert_int_equal(p.index, 1);
-    negobs_camera_stop(&cam);
-    negobs_camera_close(&cam);
+    negobs_capture_stop(&cam);
+    negobs_capture_close(&cam);
     assert_false(fk[0].is_open || fk[1].is_open);
 }
 
@@ -726,14 +731,14 @@ static void test_v4l2_side_by_side_one_node(void **state)
 static void test_v4l2_capture_binned_to_processing_size(void **state)
 {
     static const uint32_t ts[] = {1000};
-    negobs_camera_config_t cfg;
+    negobs_capture_config_t cfg;
     negobs_frame_pair_t p;
     (void)state;
     fk[0].nfmts = 1; /* YUYV only */
     fk[1].nfmts = 1;
     script(0, ts, 1);
     script(1, ts, 1);
-    negobs_camera_config_default(&cfg);
+    negobs_capture_config_default(&cfg);
     cfg.left = "/fake/video0";
     cfg.right = "/fake/video1";
     cfg.capture_width = FW;
@@ -742,27 +747,27 @@ static void test_v4l2_capture_binned_to_processing_size(void **state)
     cfg.height = FH / 2;
     assert_int_equal(negobs_v4l2_init(&st, scratch, sizeof scratch, &cam),
                      NEGOBS_OK);
-    assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_OK);
+    assert_int_equal(negobs_capture_open(&cam, &cfg), NEGOBS_OK);
     assert_int_equal(st.dev[0].conv.plan.k, 2);
-    assert_int_equal(negobs_camera_start(&cam), NEGOBS_OK);
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+    assert_int_equal(negobs_capture_start(&cam), NEGOBS_OK);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
     assert_int_equal(p.left.y.width, FW / 2);
     assert_int_equal(p.left.y.height, FH / 2);
     assert_int_equal(p.left.y.stride, FW / 2);
     assert_true(p.left.y.data >= scratch &&
                 p.left.y.data < scratch + sizeof scratch);
     assert_int_equal(p.left.y.data[0], 0x10);
-    negobs_camera_close(&cam);
+    negobs_capture_close(&cam);
     /* too little scratch: open refuses and says how much it needs */
     assert_int_equal(negobs_v4l2_init(&st, scratch, 100, &cam), NEGOBS_OK);
-    assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_ERR_NOSPACE);
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "scratch"));
+    assert_int_equal(negobs_capture_open(&cam, &cfg), NEGOBS_ERR_NOSPACE);
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "scratch"));
     /* a processing size the frames cannot give: refused */
     cfg.width = FW * 2;
     assert_int_equal(negobs_v4l2_init(&st, scratch, sizeof scratch, &cam),
                      NEGOBS_OK);
-    assert_int_equal(negobs_camera_open(&cam, &cfg), NEGOBS_ERR_INVAL);
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "cannot give"));
+    assert_int_equal(negobs_capture_open(&cam, &cfg), NEGOBS_ERR_INVAL);
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "cannot give"));
     assert_false(fk[0].is_open || fk[1].is_open);
 }
 
@@ -811,13 +816,13 @@ static void test_v4l2_mjpeg_decodes_and_detects_frozen(void **state)
     assert_int_equal(open_cam(-1), NEGOBS_OK);
     assert_int_equal(st.dev[0].fourcc, V4L2_PIX_FMT_MJPEG);
     for (i = 0; i < 6; i++) { /* changing frames: never frozen */
-        assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
+        assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
         assert_true(p.left.y.data >= scratch &&
                     p.left.y.data < scratch + sizeof scratch);
         assert_in_range(p.left.y.data[0], 96, 112); /* decoded texture */
-        negobs_camera_release(&cam, &p);
+        negobs_capture_release(&cam, &p);
     }
-    negobs_camera_close(&cam);
+    negobs_capture_close(&cam);
 
     setup(NULL);
     for (i = 0; i < 2; i++) {
@@ -833,13 +838,13 @@ static void test_v4l2_mjpeg_decodes_and_detects_frozen(void **state)
     frozen_limit = 3;
     assert_int_equal(open_cam(-1), NEGOBS_OK);
     for (i = 0; i < 2; i++) {
-        assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_OK);
-        negobs_camera_release(&cam, &p);
+        assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_OK);
+        negobs_capture_release(&cam, &p);
     }
-    assert_int_equal(negobs_camera_get_pair(&cam, &p, 100), NEGOBS_ERR_IO);
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "frozen"));
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "/fake/video1"));
-    negobs_camera_close(&cam);
+    assert_int_equal(negobs_capture_get_pair(&cam, &p, 100), NEGOBS_ERR_IO);
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "frozen"));
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "/fake/video1"));
+    negobs_capture_close(&cam);
 }
 #endif
 
@@ -853,7 +858,7 @@ static void test_v4l2_too_few_buffers_or_formats_fail_open(void **state)
     fk[0].fmts[0] = V4L2_PIX_FMT_H264;
     fk[0].nfmts = 1;
     assert_int_equal(open_cam(-1), NEGOBS_ERR_UNSUPPORTED);
-    assert_non_null(strstr(negobs_camera_errmsg(&cam), "format"));
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "format"));
     assert_false(fk[0].is_open || fk[1].is_open);
 }
 

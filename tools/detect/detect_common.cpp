@@ -258,10 +258,10 @@ bool Runner::init(int width, int height, const CamParams &cam, std::string &err,
     negobs_pipeline_config_default(&cfg_, width, height);
     const double cx = cam.cx >= 0 ? cam.cx : (width - 1) / 2.0;
     const double cy = cam.cy >= 0 ? cam.cy : (height - 1) / 2.0;
-    cfg_.detect.cam.focal_q4 = static_cast<int32_t>(std::lround(cam.f * 16));
-    cfg_.detect.cam.cx_q4 = static_cast<int32_t>(std::lround(cx * 16));
-    cfg_.detect.cam.cy_q4 = static_cast<int32_t>(std::lround(cy * 16));
-    cfg_.detect.cam.baseline_um = static_cast<int32_t>(
+    cfg_.detect.rig.focal_q4 = static_cast<int32_t>(std::lround(cam.f * 16));
+    cfg_.detect.rig.cx_q4 = static_cast<int32_t>(std::lround(cx * 16));
+    cfg_.detect.rig.cy_q4 = static_cast<int32_t>(std::lround(cy * 16));
+    cfg_.detect.rig.baseline_um = static_cast<int32_t>(
         std::lround(cam.baseline_mm * 1000));
     cfg_.detect.cam_height_mm = static_cast<int32_t>(std::lround(cam.height_mm));
     cfg_.detect.cam_pitch_mdeg = static_cast<int32_t>(std::lround(cam.pitch_deg * 1000));

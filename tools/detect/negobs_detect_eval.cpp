@@ -1478,7 +1478,7 @@ void report_separability(Report &rep, const std::vector<JumpStats> (&sep)[2])
 // Forward floor distance (mm) of the nearest labelled box's bottom row at
 // its centre column through the frame's fitted ground; -1 without a
 // ground model or a box.
-int steps_distance_mm(const negobs_camera_t &cam, const negobs_detect_result_t &d,
+int steps_distance_mm(const negobs_rig_t &cam, const negobs_detect_result_t &d,
                       const std::vector<Box> &boxes)
 {
     const Box *near = nullptr;
@@ -1684,7 +1684,7 @@ int evaluate_surdis(const Options &opt)
         clear_frames += d.state == NEGOBS_DETECT_CLEAR;
         short_sight += d.state == NEGOBS_DETECT_CLEAR && d.short_sight;
         if (in_corr) {
-            const int est = steps_distance_mm(runner.config().detect.cam, d, boxes);
+            const int est = steps_distance_mm(runner.config().detect.rig, d, boxes);
             const bool fv = d.clear_to_mm > 0 &&
                             (est < 0 || d.clear_to_mm * 10 > est * 11);
             false_vouch += fv;

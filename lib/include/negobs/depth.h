@@ -24,29 +24,28 @@ extern "C" {
 #define NEGOBS_DEPTH_MAX_MM 1000000
 
 /** Rectified pinhole stereo camera (left camera is the reference). */
-typedef struct negobs_camera {
+typedef struct negobs_rig {
     int32_t width;       /**< image width (pixels, default 320)          */
     int32_t height;      /**< image height (pixels, default 240)         */
     int32_t focal_q4;    /**< focal length (1/16 px, default 250*16)     */
     int32_t cx_q4;       /**< principal point column (1/16 px)           */
     int32_t cy_q4;       /**< principal point row (1/16 px)              */
     int32_t baseline_um; /**< baseline (micrometres, default 120000)     */
-} negobs_camera_t;
+} negobs_rig_t;
 
 /**
  * @brief Defaults for a width x height image: f = 250 px scaled with the
  *        width from 320 px, principal point at the image centre
  *        ((w-1)/2, (h-1)/2), B = 120 mm.
  */
-void negobs_camera_default(negobs_camera_t *cam, int32_t width,
-                           int32_t height);
+void negobs_rig_default(negobs_rig_t *rig, int32_t width, int32_t height);
 
 /**
  * @brief Check a camera: 16 <= w, h <= NEGOBS_MAX_DIM, 1 px <= f <= 8192
  *        px, principal point inside the image, 1 mm <= B <= 1 m.
  * @return NEGOBS_OK or NEGOBS_ERR_INVAL.
  */
-negobs_status_t negobs_camera_check(const negobs_camera_t *cam);
+negobs_status_t negobs_rig_check(const negobs_rig_t *rig);
 
 /**
  * @brief Depth Z = f*B/d in millimetres.
@@ -57,14 +56,13 @@ negobs_status_t negobs_camera_check(const negobs_camera_t *cam);
  * nearest (ties up). d <= 0 or NEGOBS_DISP_INVALID gives
  * NEGOBS_DEPTH_NONE_MM; depths above NEGOBS_DEPTH_MAX_MM saturate.
  */
-int32_t negobs_depth_mm_from_disp_q4(const negobs_camera_t *cam,
-                                     int32_t disp_q4);
+int32_t negobs_depth_mm_from_disp_q4(const negobs_rig_t *rig, int32_t disp_q4);
 
 /**
  * @brief Inverse: d_q4 = f*B/Z, rounded to nearest; Z <= 0 gives 0; the
  *        result saturates at INT16_MAX.
  */
-int32_t negobs_disp_q4_from_depth_mm(const negobs_camera_t *cam,
+int32_t negobs_disp_q4_from_depth_mm(const negobs_rig_t *rig,
                                      int32_t depth_mm);
 
 /**
@@ -72,7 +70,7 @@ int32_t negobs_disp_q4_from_depth_mm(const negobs_camera_t *cam,
  *        (positive to the right) for a column u given in 1/16 px.
  *        Rounded to nearest, formed in int64.
  */
-int32_t negobs_lateral_mm(const negobs_camera_t *cam, int32_t u_q4,
+int32_t negobs_lateral_mm(const negobs_rig_t *rig, int32_t u_q4,
                           int32_t depth_mm);
 
 #ifdef __cplusplus

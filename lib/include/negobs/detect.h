@@ -158,7 +158,7 @@ typedef struct negobs_mount {
 
 /** Configuration. Zero it, call negobs_detect_config_default(). */
 typedef struct negobs_detect_config {
-    negobs_camera_t cam; /**< intrinsics (see negobs_camera_t)   */
+    negobs_rig_t rig; /**< intrinsics (see negobs_rig_t)   */
     /* Mounting: measured from the floor every frame (docs/DETECTION.md,
      * "Mounting estimate"). The configured height and pitch are hints,
      * never gates: a fit is rejected only outside the physical priors. */
@@ -277,7 +277,7 @@ typedef struct negobs_detect_config {
     int32_t texture_min_q4;         /**< mean gradient below (default 24)   */
 } negobs_detect_config_t;
 
-/** One frame's input. Images must match cfg->cam width and height. */
+/** One frame's input. Images must match cfg->rig width and height. */
 typedef struct negobs_detect_frame {
     const negobs_image_s16_t *disp_q4;      /**< required                    */
     const negobs_image_u8_t *confidence;    /**< may be NULL                 */

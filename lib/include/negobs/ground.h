@@ -57,7 +57,7 @@ typedef struct negobs_ground_frame {
  * @return NEGOBS_OK, NEGOBS_ERR_INVAL (bad camera, NULL, height outside
  *         100..10000 mm, |pitch| or |roll| >= 80 degrees).
  */
-negobs_status_t negobs_ground_plane_from_pose(const negobs_camera_t *cam,
+negobs_status_t negobs_ground_plane_from_pose(const negobs_rig_t *rig,
                                               const negobs_ground_pose_t *pose,
                                               negobs_ground_plane_t *plane);
 
@@ -77,7 +77,7 @@ int32_t negobs_ground_disp_q4(const negobs_ground_plane_t *plane, int32_t u,
  *         NEGOBS_ERR_RANGE (degenerate plane: no ground in front).
  */
 negobs_status_t negobs_ground_pose_from_plane(
-    const negobs_camera_t *cam, const negobs_ground_plane_t *plane,
+    const negobs_rig_t *rig, const negobs_ground_plane_t *plane,
     negobs_ground_pose_t *pose, negobs_ground_frame_t *frame);
 
 /**
@@ -86,7 +86,7 @@ negobs_status_t negobs_ground_pose_from_plane(
  *        X = (n_y*x - n_x*y) / cos(p) with x, y the camera coordinates.
  * @param u_q4, v_q4 pixel (1/16 px); z_mm camera depth of the point.
  */
-void negobs_ground_floor_point(const negobs_camera_t *cam,
+void negobs_ground_floor_point(const negobs_rig_t *rig,
                                const negobs_ground_frame_t *frame,
                                int32_t u_q4, int32_t v_q4, int32_t z_mm,
                                int32_t *forward_mm, int32_t *lateral_mm);

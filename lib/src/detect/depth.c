@@ -29,41 +29,40 @@ static int64_t asr64(int64_t x, int n)
     return -(int64_t)((uint64_t)(-(x + 1)) >> n) - 1;
 }
 
-void negobs_camera_default(negobs_camera_t *cam, int32_t width, int32_t height)
+void negobs_rig_default(negobs_rig_t *rig, int32_t width, int32_t height)
 {
-    cam->width = width;
-    cam->height = height;
+    rig->width = width;
+    rig->height = height;
     /* f = 250 px at 320 px width, scaled with the width. */
-    cam->focal_q4 = (int32_t)(((int64_t)250 * 16 * width + 160) / 320);
-    cam->cx_q4 = (width - 1) * 8;
-    cam->cy_q4 = (height - 1) * 8;
-    cam->baseline_um = 120000;
+    rig->focal_q4 = (int32_t)(((int64_t)250 * 16 * width + 160) / 320);
+    rig->cx_q4 = (width - 1) * 8;
+    rig->cy_q4 = (height - 1) * 8;
+    rig->baseline_um = 120000;
 }
 
-negobs_status_t negobs_camera_check(const negobs_camera_t *cam)
+negobs_status_t negobs_rig_check(const negobs_rig_t *rig)
 {
-    if (cam == NULL) {
+    if (rig == NULL) {
         return NEGOBS_ERR_INVAL;
     }
-    if (cam->width < 16 || cam->height < 16 || cam->width > NEGOBS_MAX_DIM ||
-        cam->height > NEGOBS_MAX_DIM) {
+    if (rig->width < 16 || rig->height < 16 || rig->width > NEGOBS_MAX_DIM ||
+        rig->height > NEGOBS_MAX_DIM) {
         return NEGOBS_ERR_INVAL;
     }
-    if (cam->focal_q4 < 16 || cam->focal_q4 > 8192 * 16) {
+    if (rig->focal_q4 < 16 || rig->focal_q4 > 8192 * 16) {
         return NEGOBS_ERR_INVAL;
     }
-    if (cam->cx_q4 < 0 || cam->cx_q4 > cam->width * 16 || cam->cy_q4 < 0 ||
-        cam->cy_q4 > cam->height * 16) {
+    if (rig->cx_q4 < 0 || rig->cx_q4 > rig->width * 16 || rig->cy_q4 < 0 ||
+        rig->cy_q4 > rig->height * 16) {
         return NEGOBS_ERR_INVAL;
     }
-    if (cam->baseline_um < 1000 || cam->baseline_um > 1000000) {
+    if (rig->baseline_um < 1000 || rig->baseline_um > 1000000) {
         return NEGOBS_ERR_INVAL;
     }
     return NEGOBS_OK;
 }
 
-int32_t negobs_depth_mm_from_disp_q4(const negobs_camera_t *cam,
-                                     int32_t disp_q4)
+int32_t negobs_depth_mm_from_disp_q4(const negobs_rig_t *rig, int32_t disp_q4)
 {
     int64_t num;
     int64_t den;
@@ -72,7 +71,7 @@ int32_t negobs_depth_mm_from_disp_q4(const negobs_camera_t *cam,
     if (disp_q4 <= 0 || disp_q4 == NEGOBS_DISP_INVALID) {
         return NEGOBS_DEPTH_NONE_MM;
     }
-    num = (int64_t)cam->focal_q4 * cam->baseline_um;
+    num = (int64_t)rig->focal_q4 * rig->baseline_um;
     den = (int64_t)disp_q4 * 1000;
     z = (num + den / 2) / den;
     if (z > NEGOBS_DEPTH_MAX_MM) {
@@ -81,8 +80,7 @@ int32_t negobs_depth_mm_from_disp_q4(const negobs_camera_t *cam,
     return (int32_t)z;
 }
 
-int32_t negobs_disp_q4_from_depth_mm(const negobs_camera_t *cam,
-                                     int32_t depth_mm)
+int32_t negobs_disp_q4_from_depth_mm(const negobs_rig_t *rig, int32_t depth_mm)
 {
     int64_t num;
     int64_t den;
@@ -91,7 +89,7 @@ int32_t negobs_disp_q4_from_depth_mm(const negobs_camera_t *cam,
     if (depth_mm <= 0) {
         return 0;
     }
-    num = (int64_t)cam->focal_q4 * cam->baseline_um;
+    num = (int64_t)rig->focal_q4 * rig->baseline_um;
     den = (int64_t)depth_mm * 1000;
     d = (num + den / 2) / den;
     if (d > INT16_MAX) {
@@ -100,11 +98,11 @@ int32_t negobs_disp_q4_from_depth_mm(const negobs_camera_t *cam,
     return (int32_t)d;
 }
 
-int32_t negobs_lateral_mm(const negobs_camera_t *cam, int32_t u_q4,
+int32_t negobs_lateral_mm(const negobs_rig_t *rig, int32_t u_q4,
                           int32_t depth_mm)
 {
-    int64_t num = ((int64_t)u_q4 - cam->cx_q4) * depth_mm;
-    int64_t x = negobs_div_round_s64(num, cam->focal_q4);
+    int64_t num = ((int64_t)u_q4 - rig->cx_q4) * depth_mm;
+    int64_t x = negobs_div_round_s64(num, rig->focal_q4);
     if (x > INT32_MAX) {
         x = INT32_MAX;
     } else if (x < -INT32_MAX) {

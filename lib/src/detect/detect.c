@@ -33,12 +33,12 @@ static int frame_malformed(const negobs_detect_config_t *cfg,
 {
     return frame == NULL || frame->disp_q4 == NULL ||
            negobs_image_s16_check(frame->disp_q4) != NEGOBS_OK ||
-           frame->disp_q4->width != cfg->cam.width ||
-           frame->disp_q4->height != cfg->cam.height ||
+           frame->disp_q4->width != cfg->rig.width ||
+           frame->disp_q4->height != cfg->rig.height ||
            (frame->confidence != NULL &&
             (negobs_image_u8_check(frame->confidence) != NEGOBS_OK ||
-             frame->confidence->width != cfg->cam.width ||
-             frame->confidence->height != cfg->cam.height)) ||
+             frame->confidence->width != cfg->rig.width ||
+             frame->confidence->height != cfg->rig.height)) ||
            (frame->left != NULL &&
             negobs_image_u8_check(frame->left) != NEGOBS_OK) ||
            (frame->right != NULL &&
@@ -48,8 +48,8 @@ static int frame_malformed(const negobs_detect_config_t *cfg,
 static int same_size(const negobs_detect_config_t *cfg,
                      const negobs_image_u8_t *img)
 {
-    return img != NULL && img->width == cfg->cam.width &&
-           img->height == cfg->cam.height;
+    return img != NULL && img->width == cfg->rig.width &&
+           img->height == cfg->rig.height;
 }
 
 /* A side's out-of-view part grows by at most this per frame (px). The
@@ -71,9 +71,9 @@ static void view_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
         *held = 0;
         return; /* not known: every column in view (det_in_view) */
     }
-    for (v = 0; v < cfg->cam.height; v++) {
+    for (v = 0; v < cfg->rig.height; v++) {
         int32_t a = *held ? u0[v] : 0;
-        int32_t b = *held ? u1[v] : cfg->cam.width;
+        int32_t b = *held ? u1[v] : cfg->rig.width;
         u0[v] = (int16_t)geom_min_s32(p->fill_u0[v], a + FILL_GROW_PX);
         u1[v] = (int16_t)geom_max_s32(p->fill_u1[v], b - FILL_GROW_PX);
     }
@@ -124,7 +124,7 @@ static void canny_support(detect_priv_t *p, const negobs_detect_config_t *cfg,
                           const negobs_detect_frame_t *frame,
                           negobs_detect_result_t *res)
 {
-    int32_t vtop = cfg->cam.height;
+    int32_t vtop = cfg->rig.height;
     int32_t gmax;
     uint32_t i;
     if (res->n_candidates == 0) {
@@ -151,10 +151,10 @@ static void canny_support(detect_priv_t *p, const negobs_detect_config_t *cfg,
 static void warn_diagnostics(const scan_ctx_t *s, negobs_detect_result_t *res)
 {
     const negobs_detect_config_t *cfg = s->cfg;
-    int32_t d_w = negobs_disp_q4_from_depth_mm(&cfg->cam, cfg->range_warn_mm);
-    int32_t v_w = cfg->cam.height - 1;
+    int32_t d_w = negobs_disp_q4_from_depth_mm(&cfg->rig, cfg->range_warn_mm);
+    int32_t v_w = cfg->rig.height - 1;
     while (v_w > 0 &&
-           negobs_ground_disp_q4(s->plane, cfg->cam.width / 2, v_w) > d_w) {
+           negobs_ground_disp_q4(s->plane, cfg->rig.width / 2, v_w) > d_w) {
         v_w--;
     }
     res->sigma_warn_q4 = det_sigma_at(s, v_w);
@@ -167,14 +167,14 @@ static void warn_diagnostics(const scan_ctx_t *s, negobs_detect_result_t *res)
 static int32_t hold_zone(const scan_ctx_t *s)
 {
     const negobs_detect_config_t *cfg = s->cfg;
-    int32_t uc = cfg->cam.width / 2;
-    int32_t vb = geom_max_s32(cfg->cam.height - 1 - cfg->hold_bottom_rows, 0);
+    int32_t uc = cfg->rig.width / 2;
+    int32_t vb = geom_max_s32(cfg->rig.height - 1 - cfg->hold_bottom_rows, 0);
     int32_t rb = 0;
     int32_t rn = 0;
     det_model_point(s, uc, vb, negobs_ground_disp_q4(s->plane, uc, vb), &rb,
                     NULL, NULL);
-    det_model_point(s, uc, cfg->cam.height - 1,
-                    negobs_ground_disp_q4(s->plane, uc, cfg->cam.height - 1),
+    det_model_point(s, uc, cfg->rig.height - 1,
+                    negobs_ground_disp_q4(s->plane, uc, cfg->rig.height - 1),
                     &rn, NULL, NULL);
     return geom_max_s32(rb, rn + cfg->min_support_mm + cfg->assoc_range_mm);
 }
@@ -191,7 +191,7 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
     scan_ctx_t s;
     negobs_hazard_t hz;
     int32_t s_i;
-    int32_t v_top = cfg->cam.height - 1;
+    int32_t v_top = cfg->rig.height - 1;
     uint32_t i;
 
     memset(&s, 0, sizeof s); /* every field defined before use */
@@ -210,11 +210,11 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
     s.plane = &p->gfit.plane;
     s.frame = &g->frame;
     s.sigma_q4 = g->sigma_q4;
-    s.d_min_q4 = negobs_disp_q4_from_depth_mm(&cfg->cam, cfg->range_max_mm);
+    s.d_min_q4 = negobs_disp_q4_from_depth_mm(&cfg->rig, cfg->range_max_mm);
 
     /* Noise per band of rows over the scanned part of the image (from the
      * row where the ground reaches range_max down to the bottom). */
-    while (v_top > 0 && negobs_ground_disp_q4(&g->plane, cfg->cam.width / 2,
+    while (v_top > 0 && negobs_ground_disp_q4(&g->plane, cfg->rig.width / 2,
                                               v_top - 1) >= s.d_min_q4) {
         v_top--;
     }

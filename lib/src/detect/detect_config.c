@@ -6,7 +6,7 @@ void negobs_detect_config_default(negobs_detect_config_t *cfg, int32_t width,
                                   int32_t height)
 {
     memset(cfg, 0, sizeof *cfg);
-    negobs_camera_default(&cfg->cam, width, height);
+    negobs_rig_default(&cfg->rig, width, height);
     mount_config_default(cfg);
     cfg->max_disp_q4 = 64 * 16;
     /* Stereo confidence is 255 * NCC, halved where the DP filled a pixel
@@ -116,7 +116,7 @@ static int in_range(int32_t x, int32_t lo, int32_t hi)
 
 static negobs_status_t config_check(const negobs_detect_config_t *c)
 {
-    if (c == NULL || negobs_camera_check(&c->cam) != NEGOBS_OK) {
+    if (c == NULL || negobs_rig_check(&c->rig) != NEGOBS_OK) {
         return NEGOBS_ERR_INVAL;
     }
     if (mount_config_check(c) != NEGOBS_OK ||
@@ -140,7 +140,7 @@ static negobs_status_t config_check(const negobs_detect_config_t *c)
         !in_range(c->ttc_imminent_ms, 0, 10000) ||
         !in_range(c->corridor_half_width_mm, 100, 5000) ||
         !in_range(c->strip_px, 4, MAX_STRIP_PX) ||
-        c->strip_px > c->cam.width || !in_range(c->h_min_far_mm, 10, 2000) ||
+        c->strip_px > c->rig.width || !in_range(c->h_min_far_mm, 10, 2000) ||
         !in_range(c->h_min_near_mm, 10, 2000) ||
         !in_range(c->h_near_range_mm, 0, 50000) ||
         !in_range(c->h_thresh_pct, 10, 200) ||
@@ -163,7 +163,7 @@ static negobs_status_t config_check(const negobs_detect_config_t *c)
         !in_range(c->max_speed_mm_s, 0, 10000) ||
         !in_range(c->assoc_range_mm, 0, 5000) ||
         !in_range(c->assoc_lateral_mm, 0, 5000) ||
-        !in_range(c->hold_bottom_rows, 0, c->cam.height) ||
+        !in_range(c->hold_bottom_rows, 0, c->rig.height) ||
         !in_range(c->ground_drop_mm, 0, 2000) ||
         !in_range(c->ground_drop_max_ms, 0, 600000) ||
         !in_range(c->ground_verify_mm, 1, 2000) ||
@@ -195,7 +195,7 @@ static negobs_status_t carve(negobs_arena_t *ar,
     if (st != NEGOBS_OK) {
         return st;
     }
-    p->n_strips = cfg->cam.width / cfg->strip_px;
+    p->n_strips = cfg->rig.width / cfg->strip_px;
     p->hits = negobs_arena_take(ar, (size_t)p->n_strips * sizeof(strip_hit_t));
     p->band_hist = negobs_arena_take(ar, (size_t)NOISE_BANDS * NOISE_BINS *
                                              sizeof(uint32_t));
@@ -204,21 +204,21 @@ static negobs_status_t carve(negobs_arena_t *ar,
     p->cells = negobs_arena_take(ar, (size_t)p->n_strips * NOISE_BANDS *
                                          sizeof(vouch_cell_t));
     p->reach_v = negobs_arena_take(ar, (size_t)p->n_strips * sizeof(int32_t));
-    p->canny.mag = negobs_arena_take(ar, dcanny_mag_bytes(cfg->cam.width));
-    p->canny.label = negobs_arena_take(ar, dcanny_label_bytes(cfg->cam.width));
-    p->canny.width = cfg->cam.width;
-    p->view_l_u0 = negobs_arena_take(ar, (size_t)cfg->cam.height *
+    p->canny.mag = negobs_arena_take(ar, dcanny_mag_bytes(cfg->rig.width));
+    p->canny.label = negobs_arena_take(ar, dcanny_label_bytes(cfg->rig.width));
+    p->canny.width = cfg->rig.width;
+    p->view_l_u0 = negobs_arena_take(ar, (size_t)cfg->rig.height *
                                              sizeof(int16_t));
-    p->view_l_u1 = negobs_arena_take(ar, (size_t)cfg->cam.height *
+    p->view_l_u1 = negobs_arena_take(ar, (size_t)cfg->rig.height *
                                              sizeof(int16_t));
-    p->view_r_u0 = negobs_arena_take(ar, (size_t)cfg->cam.height *
+    p->view_r_u0 = negobs_arena_take(ar, (size_t)cfg->rig.height *
                                              sizeof(int16_t));
-    p->view_r_u1 = negobs_arena_take(ar, (size_t)cfg->cam.height *
+    p->view_r_u1 = negobs_arena_take(ar, (size_t)cfg->rig.height *
                                              sizeof(int16_t));
     p->fill_u0 = negobs_arena_take(ar,
-                                   (size_t)cfg->cam.height * sizeof(int16_t));
+                                   (size_t)cfg->rig.height * sizeof(int16_t));
     p->fill_u1 = negobs_arena_take(ar,
-                                   (size_t)cfg->cam.height * sizeof(int16_t));
+                                   (size_t)cfg->rig.height * sizeof(int16_t));
     *out = (p == &tmp) ? NULL : p;
     return negobs_arena_status(ar);
 }

@@ -134,7 +134,7 @@ int det_ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
 {
     int32_t dh;
     int32_t dp;
-    int32_t vb = cfg->cam.height - 1;
+    int32_t vb = cfg->rig.height - 1;
     int32_t dg;
     int32_t range = 0;
     int32_t depth = 0;
@@ -162,8 +162,8 @@ int det_ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
         ground_ref_take(p, g);
         return 0;
     }
-    dg = negobs_ground_disp_q4(&g->plane, cfg->cam.width / 2, vb);
-    det_model_point(s, cfg->cam.width / 2, vb, dg, &range, NULL, &depth);
+    dg = negobs_ground_disp_q4(&g->plane, cfg->rig.width / 2, vb);
+    det_model_point(s, cfg->rig.width / 2, vb, dg, &range, NULL, &depth);
     memset(hz, 0, sizeof *hz);
     hz->type = NEGOBS_HAZARD_DROP;
     hz->level = NEGOBS_LEVEL_NONE;
@@ -172,7 +172,7 @@ int det_ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
     hz->depth_mm = depth;
     hz->drop_mm = dh;
     hz->u0 = 0;
-    hz->u1 = (int16_t)(cfg->cam.width - 1);
+    hz->u1 = (int16_t)(cfg->rig.width - 1);
     hz->v0 = (int16_t)geom_max_s32(vb - cfg->hold_bottom_rows, 0);
     hz->v1 = (int16_t)vb;
     hz->conf_q15 = 16384;

@@ -263,7 +263,7 @@ static int closure_bars(const scan_ctx_t *s, const detect_priv_t *p,
 
 void det_strip_noise(scan_ctx_t *s, detect_priv_t *p, uint16_t *hist)
 {
-    const int32_t h = s->cfg->cam.height;
+    const int32_t h = s->cfg->rig.height;
     int32_t rr[MAX_STRIP_PX];
     int32_t b;
     int32_t v;

@@ -75,7 +75,7 @@ enum {
 void det_band_noise(scan_ctx_t *s, uint32_t *hist, int32_t v_top)
 {
     const negobs_image_s16_t *d = s->disp;
-    int32_t h = s->cfg->cam.height;
+    int32_t h = s->cfg->rig.height;
     int32_t b;
     int32_t v;
     int32_t u;
@@ -235,11 +235,11 @@ static enum row_class classify_row(const scan_ctx_t *s, int32_t u0, int32_t u1,
 void det_model_point(const scan_ctx_t *s, int32_t u, int32_t v, int32_t dg_q4,
                      int32_t *range_mm, int32_t *lat_mm, int32_t *depth_mm)
 {
-    int32_t z = negobs_depth_mm_from_disp_q4(&s->cfg->cam, dg_q4);
+    int32_t z = negobs_depth_mm_from_disp_q4(&s->cfg->rig, dg_q4);
     if (z < 0) {
         z = NEGOBS_DEPTH_MAX_MM;
     }
-    negobs_ground_floor_point(&s->cfg->cam, s->frame, u * 16, v * 16, z,
+    negobs_ground_floor_point(&s->cfg->rig, s->frame, u * 16, v * 16, z,
                               range_mm, lat_mm);
     if (depth_mm != NULL) {
         *depth_mm = z;
@@ -249,8 +249,8 @@ void det_model_point(const scan_ctx_t *s, int32_t u, int32_t v, int32_t dg_q4,
 int det_in_corridor(const scan_ctx_t *s, int32_t uc, int32_t dg_q4)
 {
     /* |X| = |u - cx| * B / d <= W  <=>  |u - cx| * B_um <= W_um * d. */
-    int64_t du = negobs_abs_s32(uc * 16 + 8 - s->cfg->cam.cx_q4);
-    return du * s->cfg->cam.baseline_um <=
+    int64_t du = negobs_abs_s32(uc * 16 + 8 - s->cfg->rig.cx_q4);
+    return du * s->cfg->rig.baseline_um <=
            (int64_t)s->cfg->corridor_half_width_mm * 1000 * dg_q4;
 }
 
@@ -258,7 +258,7 @@ int det_in_corridor(const scan_ctx_t *s, int32_t uc, int32_t dg_q4)
 int32_t det_strip_u0(const negobs_detect_config_t *cfg, int32_t n_strips,
                      int32_t si)
 {
-    return (cfg->cam.width - n_strips * cfg->strip_px) / 2 +
+    return (cfg->rig.width - n_strips * cfg->strip_px) / 2 +
            si * cfg->strip_px;
 }
 
@@ -651,7 +651,7 @@ void det_scan_strip(const scan_ctx_t *s, int32_t u0, int32_t u1,
     memset(hit, 0, sizeof *hit);
     hit->u0 = u0;
     hit->u1 = u1;
-    for (v = cfg->cam.height - 1; v >= 0; v--) {
+    for (v = cfg->rig.height - 1; v >= 0; v--) {
         enum row_class rc;
         enum scan_step step;
         int32_t dgc = negobs_ground_disp_q4(s->plane, uc, v);

@@ -66,11 +66,11 @@ void det_vouch_collect(const scan_ctx_t *s, detect_priv_t *p)
         strip_hit_t *hs = &p->hits[si];
         vouch_cell_t *c = p->cells + (size_t)si * NOISE_BANDS;
         int32_t uc = det_strip_u0(cfg, p->n_strips, si) + cfg->strip_px / 2;
-        int32_t last_seen = cfg->cam.height - 1;
+        int32_t last_seen = cfg->rig.height - 1;
         int32_t run = 0;
         int32_t v;
         hs->sup_v = s->band_v0;
-        for (v = cfg->cam.height - 1; v >= s->band_v0; v--) {
+        for (v = cfg->rig.height - 1; v >= s->band_v0; v--) {
             int32_t e;
             if (v <= hs->blocked_v) {
                 hs->sup_v = v + 1;
@@ -93,7 +93,7 @@ void det_vouch_collect(const scan_ctx_t *s, detect_priv_t *p)
             if (++run >= VOUCH_GAP_ROWS &&
                 model_range_mm(s, uc, v) - model_range_mm(s, uc, last_seen) >=
                     VOUCH_GAP_MM) {
-                hs->sup_v = (run == cfg->cam.height - v) ? cfg->cam.height
+                hs->sup_v = (run == cfg->rig.height - v) ? cfg->rig.height
                                                          : last_seen;
                 break;
             }
@@ -253,7 +253,7 @@ int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
                        int32_t *barred)
 {
     const negobs_detect_config_t *cfg = s->cfg;
-    const int32_t hgt = cfg->cam.height;
+    const int32_t hgt = cfg->rig.height;
     int32_t walk_v = hgt; /* last vouched row, hgt: none yet */
     int32_t walking = 1;
     int32_t close_mm = -1; /* floor distance where the barred band began */
@@ -267,7 +267,7 @@ int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
         p->reach_v[si] = hgt;
     }
     for (v = hgt - 1; v >= s->band_v0; v--) {
-        int32_t range = model_range_mm(s, cfg->cam.width / 2, v);
+        int32_t range = model_range_mm(s, cfg->rig.width / 2, v);
         int32_t n_corr;
         walk_row_t w;
         walk_tally(s, p, first_row, v, range, &w);
@@ -319,7 +319,7 @@ int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
         walk_v > hgt - 1 - (hgt * cfg->fit_rows_pct) / 100) {
         return 0;
     }
-    return (walk_v < hgt) ? model_range_mm(s, cfg->cam.width / 2, walk_v) : 0;
+    return (walk_v < hgt) ? model_range_mm(s, cfg->rig.width / 2, walk_v) : 0;
 }
 
 /* The band-pooled test of vouch_cell_ok at row v (no cell): the band's
@@ -331,7 +331,7 @@ static int vouch_band_ok(const scan_ctx_t *s, int32_t v, int32_t range_mm)
     const negobs_detect_config_t *cfg = s->cfg;
     const int32_t b = band_of(s, v);
     int32_t h = vouch_h_mm(range_mm);
-    int32_t dg = negobs_ground_disp_q4(s->plane, cfg->cam.width / 2, v);
+    int32_t dg = negobs_ground_disp_q4(s->plane, cfg->rig.width / 2, v);
     return s->band_strip_q8[b] > 0 &&
            ((int64_t)cfg->k_sigma_q4 * s->band_strip_q8[b] +
             16 * (int64_t)geom_max_s32(s->band_bias_q8[b], 0)) *
@@ -352,7 +352,7 @@ static int vouch_band_ok(const scan_ctx_t *s, int32_t v, int32_t range_mm)
 int det_vouch_candidate(const scan_ctx_t *s, const detect_priv_t *p,
                         const negobs_hazard_t *hz)
 {
-    const int32_t hgt = s->cfg->cam.height;
+    const int32_t hgt = s->cfg->rig.height;
     int32_t cnt = 0;
     int32_t pass = 0;
     int32_t si;

@@ -10,7 +10,7 @@
 #include "detect_int.h"
 #include "geom_internal.h"
 
-negobs_status_t negobs_ground_plane_from_pose(const negobs_camera_t *cam,
+negobs_status_t negobs_ground_plane_from_pose(const negobs_rig_t *rig,
                                               const negobs_ground_pose_t *pose,
                                               negobs_ground_plane_t *plane)
 {
@@ -25,8 +25,8 @@ negobs_status_t negobs_ground_plane_from_pose(const negobs_camera_t *cam,
     int64_t t_q34;
     int64_t t_q20;
 
-    if (cam == NULL || pose == NULL || plane == NULL ||
-        negobs_camera_check(cam) != NEGOBS_OK) {
+    if (rig == NULL || pose == NULL || plane == NULL ||
+        negobs_rig_check(rig) != NEGOBS_OK) {
         return NEGOBS_ERR_INVAL;
     }
     if (pose->height_mm < 100 || pose->height_mm > 10000 ||
@@ -40,13 +40,13 @@ negobs_status_t negobs_ground_plane_from_pose(const negobs_camera_t *cam,
     ny = geom_rshift_round_s64((int64_t)cp * cr, 30);
     nz = sp;
     /* k = B/H, Q24: B_um < 2^20, so the shifted numerator is < 2^44. */
-    k_q24 = ((int64_t)cam->baseline_um << 24) /
+    k_q24 = ((int64_t)rig->baseline_um << 24) /
             ((int64_t)pose->height_mm * 1000);
     /* a = k*nx: Q24 * Q30 = Q54 -> Q20. k < 10, so the product < 2^58. */
     plane->a_q20 = (int32_t)geom_rshift_round_s64(k_q24 * nx, 34);
     plane->b_q20 = (int32_t)geom_rshift_round_s64(k_q24 * ny, 34);
     /* T = nz*f - nx*cx - ny*cy, Q30 * Q4 = Q34; |T| < 3 * 2^47. */
-    t_q34 = nz * cam->focal_q4 - nx * cam->cx_q4 - ny * cam->cy_q4;
+    t_q34 = nz * rig->focal_q4 - nx * rig->cx_q4 - ny * rig->cy_q4;
     t_q20 = geom_rshift_round_s64(t_q34, 14);
     /* c = k*T: Q24 * Q20 >> 24 -> Q20; |T_q20| < 2^35, k_q24 < 2^28. */
     plane->c_q20 = (int32_t)geom_clamp_s64(
@@ -55,7 +55,7 @@ negobs_status_t negobs_ground_plane_from_pose(const negobs_camera_t *cam,
 }
 
 negobs_status_t negobs_ground_pose_from_plane(
-    const negobs_camera_t *cam, const negobs_ground_plane_t *plane,
+    const negobs_rig_t *rig, const negobs_ground_plane_t *plane,
     negobs_ground_pose_t *pose, negobs_ground_frame_t *frame)
 {
     int64_t a;
@@ -69,16 +69,16 @@ negobs_status_t negobs_ground_pose_from_plane(
     int64_t nz;
     const int64_t lim = (int64_t)1 << 28;
 
-    if (cam == NULL || plane == NULL || pose == NULL ||
-        negobs_camera_check(cam) != NEGOBS_OK) {
+    if (rig == NULL || plane == NULL || pose == NULL ||
+        negobs_rig_check(rig) != NEGOBS_OK) {
         return NEGOBS_ERR_INVAL;
     }
     a = plane->a_q20;
     b = plane->b_q20;
     /* Disparity at the principal point, px * 2^20. */
     d0 = (int64_t)plane->c_q20 +
-         geom_rshift_round_s64(a * cam->cx_q4 + b * cam->cy_q4, 4);
-    e = (d0 * 16) / cam->focal_q4;
+         geom_rshift_round_s64(a * rig->cx_q4 + b * rig->cy_q4, 4);
+    e = (d0 * 16) / rig->focal_q4;
     if (a >= lim || a <= -lim || b >= lim || b <= -lim || e >= lim ||
         e <= -lim) {
         return NEGOBS_ERR_RANGE;
@@ -92,7 +92,7 @@ negobs_status_t negobs_ground_pose_from_plane(
     if (norm * 10000 < ((int64_t)1 << 20)) {
         return NEGOBS_ERR_RANGE;
     }
-    h = (((int64_t)cam->baseline_um << 20) + norm * 500) / (norm * 1000);
+    h = (((int64_t)rig->baseline_um << 20) + norm * 500) / (norm * 1000);
     if (h > INT32_MAX) {
         return NEGOBS_ERR_RANGE;
     }
@@ -123,15 +123,15 @@ int32_t negobs_ground_disp_q4(const negobs_ground_plane_t *plane, int32_t u,
                                    INT16_MAX);
 }
 
-void negobs_ground_floor_point(const negobs_camera_t *cam,
+void negobs_ground_floor_point(const negobs_rig_t *rig,
                                const negobs_ground_frame_t *frame,
                                int32_t u_q4, int32_t v_q4, int32_t z_mm,
                                int32_t *forward_mm, int32_t *lateral_mm)
 {
-    int64_t x = negobs_div_round_s64(((int64_t)u_q4 - cam->cx_q4) * z_mm,
-                                     cam->focal_q4);
-    int64_t y = negobs_div_round_s64(((int64_t)v_q4 - cam->cy_q4) * z_mm,
-                                     cam->focal_q4);
+    int64_t x = negobs_div_round_s64(((int64_t)u_q4 - rig->cx_q4) * z_mm,
+                                     rig->focal_q4);
+    int64_t y = negobs_div_round_s64(((int64_t)v_q4 - rig->cy_q4) * z_mm,
+                                     rig->focal_q4);
     int64_t cosp = frame->cos_pitch_q30;
     /* Height of the point below the camera along the normal, mm. */
     int64_t np = geom_rshift_round_s64(frame->nx_q30 * x + frame->ny_q30 * y +

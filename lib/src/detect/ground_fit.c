@@ -55,7 +55,7 @@ static int32_t clamp_pitch(int32_t p)
 negobs_status_t gfit_carve(gfit_t *g, negobs_arena_t *ar,
                            const negobs_detect_config_t *cfg)
 {
-    const negobs_camera_t *cam = &cfg->cam;
+    const negobs_rig_t *rig = &cfg->rig;
     mount_box_t box;
     int32_t pmin;
     int32_t pmax;
@@ -96,11 +96,11 @@ negobs_status_t gfit_carve(gfit_t *g, negobs_arena_t *ar,
         cosmax = geom_max_s32(c1, c2);
     }
     /* Slopes s = B*cos/H in px/row Q12. */
-    smin = (int32_t)(((int64_t)cam->baseline_um * cosmin /
+    smin = (int32_t)(((int64_t)rig->baseline_um * cosmin /
                       ((int64_t)hmax * 1000)) >>
                      18);
     {
-        int32_t smax = (int32_t)(((int64_t)cam->baseline_um * cosmax /
+        int32_t smax = (int32_t)(((int64_t)rig->baseline_um * cosmax /
                                   ((int64_t)hmin * 1000)) >>
                                  18);
         int32_t span = smax - smin;
@@ -116,9 +116,9 @@ negobs_status_t gfit_carve(gfit_t *g, negobs_arena_t *ar,
     }
     /* Horizon rows v_h = cy - f*tan(p), Q4. */
     negobs_sincos_q30(pmax, &sn, &cs);
-    vh_min_q4 = cam->cy_q4 - ((int64_t)cam->focal_q4 * sn) / cs;
+    vh_min_q4 = rig->cy_q4 - ((int64_t)rig->focal_q4 * sn) / cs;
     negobs_sincos_q30(pmin, &sn, &cs);
-    vh_max_q4 = cam->cy_q4 - ((int64_t)cam->focal_q4 * sn) / cs;
+    vh_max_q4 = rig->cy_q4 - ((int64_t)rig->focal_q4 * sn) / cs;
     for (i = 0; i < GFIT_N_SLOPES; i++) {
         int64_t klo = ((int64_t)g->s_q12[i] * vh_min_q4) / 16;
         int64_t khi = ((int64_t)g->s_q12[i] * vh_max_q4) / 16;
@@ -134,23 +134,23 @@ negobs_status_t gfit_carve(gfit_t *g, negobs_arena_t *ar,
 
     /* Fit rows: bottom share, and at least 4 rows below the lowest
      * horizon the priors allow. */
-    fit_rows = (cam->height * cfg->fit_rows_pct) / 100;
+    fit_rows = (rig->height * cfg->fit_rows_pct) / 100;
     vh_floor = (int32_t)(vh_max_q4 / 16) + 4;
-    g->v_lo = geom_max_s32(cam->height - fit_rows, vh_floor);
-    if (g->v_lo > cam->height - 8) {
-        g->v_lo = cam->height - 8;
+    g->v_lo = geom_max_s32(rig->height - fit_rows, vh_floor);
+    if (g->v_lo > rig->height - 8) {
+        g->v_lo = rig->height - 8;
     }
     if (g->v_lo < 0) {
         g->v_lo = 0;
     }
-    g->rows = cam->height - g->v_lo;
+    g->rows = rig->height - g->v_lo;
     g->bin_q4 = 8;
     g->nbins = cfg->max_disp_q4 / g->bin_q4 + 1;
     g->step = geom_max_s32(cfg->fit_step_px, 1);
-    samples = ((int64_t)cam->width / g->step + 1) * (g->rows / g->step + 1);
+    samples = ((int64_t)rig->width / g->step + 1) * (g->rows / g->step + 1);
     while (samples > GFIT_MAX_SAMPLES) {
         g->step++;
-        samples = ((int64_t)cam->width / g->step + 1) *
+        samples = ((int64_t)rig->width / g->step + 1) *
                   (g->rows / g->step + 1);
     }
 
@@ -285,8 +285,8 @@ static int32_t refine_step(const gfit_t *g, const negobs_image_s16_t *disp,
                            negobs_ground_plane_t *plane, int32_t gate_q4,
                            int32_t neg_gate_q4, int32_t v_top)
 {
-    const negobs_camera_t *cam = &g->cfg->cam;
-    int32_t uc = cam->width / 2;
+    const negobs_rig_t *rig = &g->cfg->rig;
+    int32_t uc = rig->width / 2;
     int32_t vc = g->v_lo + g->rows / 2;
     int64_t n = 0;
     int64_t sx = 0, sy = 0, sr = 0, sxx = 0, sxy = 0, syy = 0, sxr = 0,
@@ -300,10 +300,10 @@ static int32_t refine_step(const gfit_t *g, const negobs_image_s16_t *disp,
     int32_t u;
     int sh = 0;
 
-    for (v = cam->height - 1; v >= v_top; v -= g->step) {
+    for (v = rig->height - 1; v >= v_top; v -= g->step) {
         const int16_t *row = negobs_image_s16_row(disp, v);
         int64_t base = (int64_t)plane->b_q20 * v + plane->c_q20;
-        for (u = g->step / 2; u < cam->width; u += g->step) {
+        for (u = g->step / 2; u < rig->width; u += g->step) {
             int32_t d = row[u];
             int64_t r; /* q12: 1/256 of a q4 step */
             int64_t x;
@@ -407,7 +407,7 @@ static int32_t ground_top(const gfit_t *g, const negobs_image_s16_t *disp,
                           const negobs_ground_plane_t *plane, int32_t v_from,
                           int32_t v_limit, int32_t tau_q4)
 {
-    const negobs_camera_t *cam = &g->cfg->cam;
+    const negobs_rig_t *rig = &g->cfg->rig;
     int32_t top = v_from;
     int32_t run = 0;
     int32_t v;
@@ -418,7 +418,7 @@ static int32_t ground_top(const gfit_t *g, const negobs_image_s16_t *disp,
         int32_t n = 0;
         int32_t n_def = 0;
         int32_t u;
-        for (u = g->step / 2; u < cam->width;
+        for (u = g->step / 2; u < rig->width;
              u += g->step, acc += (int64_t)plane->a_q20 * g->step) {
             int32_t d = row[u];
             if (!sample_valid(conf, g->cfg->ground_min_confidence, u, v, d)) {
@@ -427,7 +427,7 @@ static int32_t ground_top(const gfit_t *g, const negobs_image_s16_t *disp,
             n++;
             n_def += d - (int32_t)geom_rshift_round_s64(acc, 16) <= -tau_q4;
         }
-        if (4 * n < cam->width / g->step) {
+        if (4 * n < rig->width / g->step) {
             continue; /* under a quarter of the row sampled: no vote */
         }
         if (2 * n_def > n) {
@@ -447,7 +447,7 @@ static int32_t noise_sigma(gfit_t *g, const negobs_image_s16_t *disp,
                            const negobs_image_u8_t *conf,
                            const negobs_ground_plane_t *plane)
 {
-    const negobs_camera_t *cam = &g->cfg->cam;
+    const negobs_rig_t *rig = &g->cfg->rig;
     uint32_t total = 0;
     uint32_t acc = 0;
     int32_t v;
@@ -459,10 +459,10 @@ static int32_t noise_sigma(gfit_t *g, const negobs_image_s16_t *disp,
      * feet is almost always there, so a drop farther up the fit region
      * does not inflate the estimate. */
     memset(g->absres, 0, GFIT_ABS_BINS * sizeof(uint32_t));
-    for (v = cam->height - 1; v >= g->v_lo + g->rows / 2; v -= g->step) {
+    for (v = rig->height - 1; v >= g->v_lo + g->rows / 2; v -= g->step) {
         const int16_t *row = negobs_image_s16_row(disp, v);
         int64_t base = (int64_t)plane->b_q20 * v + plane->c_q20;
-        for (u = g->step / 2; u < cam->width; u += g->step) {
+        for (u = g->step / 2; u < rig->width; u += g->step) {
             int32_t d = row[u];
             int32_t r;
             if (!sample_valid(conf, g->cfg->ground_min_confidence, u, v, d)) {
@@ -497,16 +497,16 @@ static int32_t noise_sigma(gfit_t *g, const negobs_image_s16_t *disp,
 static int32_t plane_gap_q4(const gfit_t *g, const negobs_ground_plane_t *p,
                             const negobs_ground_plane_t *q, int32_t *ref_q4)
 {
-    const negobs_camera_t *cam = &g->cfg->cam;
+    const negobs_rig_t *rig = &g->cfg->rig;
     int32_t us[3];
     int32_t vs[3];
     int32_t worst = 0;
     int i;
-    us[0] = cam->width / 2;
-    vs[0] = cam->height - 1;
-    us[1] = cam->width / 4;
+    us[0] = rig->width / 2;
+    vs[0] = rig->height - 1;
+    us[1] = rig->width / 4;
     vs[1] = g->v_lo;
-    us[2] = (3 * cam->width) / 4;
+    us[2] = (3 * rig->width) / 4;
     vs[2] = g->v_lo;
     *ref_q4 = negobs_ground_disp_q4(p, us[0], vs[0]);
     for (i = 0; i < 3; i++) {
@@ -528,7 +528,7 @@ void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
                   const int16_t *view_u1, gfit_out_t *out)
 {
     const negobs_detect_config_t *cfg = g->cfg;
-    const negobs_camera_t *cam = &cfg->cam;
+    const negobs_rig_t *rig = &cfg->rig;
     negobs_ground_plane_t fit;
     negobs_ground_pose_t pose;
     int32_t v;
@@ -541,10 +541,10 @@ void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
 
     memset(out, 0, sizeof *out);
     memset(g->vhist, 0, (size_t)g->rows * (size_t)g->nbins * sizeof(uint16_t));
-    for (v = cam->height - 1; v >= g->v_lo; v -= g->step) {
+    for (v = rig->height - 1; v >= g->v_lo; v -= g->step) {
         const int16_t *row = negobs_image_s16_row(disp, v);
         uint16_t *h = g->vhist + (size_t)(v - g->v_lo) * (size_t)g->nbins;
-        for (u = g->step / 2; u < cam->width; u += g->step) {
+        for (u = g->step / 2; u < rig->width; u += g->step) {
             int32_t d = row[u];
             if (view_u0 != NULL && (u < view_u0[v] || u >= view_u1[v])) {
                 continue; /* out of view: no floor to find there */
@@ -594,7 +594,7 @@ void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
         if ((int64_t)inl * 100 >=
                 (int64_t)valid * cfg->ground_min_inlier_pct &&
             inl >= 64 &&
-            negobs_ground_pose_from_plane(cam, &fit, &pose, NULL) ==
+            negobs_ground_pose_from_plane(rig, &fit, &pose, NULL) ==
                 NEGOBS_OK &&
             mount_pose_physical(cfg, &pose)) {
             ok = 1;
@@ -636,7 +636,7 @@ void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
     }
     out->plane = g->plane;
     out->sigma_q4 = geom_max_s32(g->sigma_q4, cfg->sigma_min_q4);
-    if (negobs_ground_pose_from_plane(cam, &g->plane, &out->pose,
+    if (negobs_ground_pose_from_plane(rig, &g->plane, &out->pose,
                                       &out->frame) != NEGOBS_OK) {
         out->reasons |= NEGOBS_DEGRADED_GROUND_REJECTED;
         g->tracked = 0;

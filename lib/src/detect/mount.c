@@ -96,16 +96,16 @@ int mount_sees_feet(const negobs_detect_config_t *cfg,
                     const negobs_ground_plane_t *plane,
                     const negobs_ground_frame_t *frame)
 {
-    const negobs_camera_t *cam = &cfg->cam;
-    int32_t u = cam->width / 2;
-    int32_t v = cam->height - 1;
+    const negobs_rig_t *rig = &cfg->rig;
+    int32_t u = rig->width / 2;
+    int32_t v = rig->height - 1;
     int32_t dg_q4 = negobs_ground_disp_q4(plane, u, v);
-    int32_t z = negobs_depth_mm_from_disp_q4(cam, dg_q4);
+    int32_t z = negobs_depth_mm_from_disp_q4(rig, dg_q4);
     int32_t fwd = 0;
     if (cfg->mount_verify_near_mm <= 0 || z <= 0) {
         return 0;
     }
-    negobs_ground_floor_point(cam, frame, u * 16, v * 16, z, &fwd, NULL);
+    negobs_ground_floor_point(rig, frame, u * 16, v * 16, z, &fwd, NULL);
     return fwd <= cfg->mount_verify_near_mm;
 }
 

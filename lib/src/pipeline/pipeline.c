@@ -58,9 +58,9 @@ int32_t negobs_pipeline_roi_first_row(const negobs_pipeline_config_t *cfg,
     }
     d = &cfg->detect;
     plane = &det->plane;
-    h = d->cam.height;
-    w = d->cam.width;
-    d_far = negobs_disp_q4_from_depth_mm(&d->cam, d->range_max_mm);
+    h = d->rig.height;
+    w = d->rig.width;
+    d_far = negobs_disp_q4_from_depth_mm(&d->rig, d->range_max_mm);
     fit_top = h - (h * d->fit_rows_pct) / 100;
     v = h - 1;
     if (plane->b_q20 <= 0 || d_far <= 0) {
@@ -137,8 +137,8 @@ static negobs_status_t check_config(const negobs_pipeline_config_t *cfg)
         return NEGOBS_ERR_INVAL;
     }
     /* The detector must describe the same frames the matcher produces. */
-    if (cfg->detect.cam.width != cfg->stereo.width ||
-        cfg->detect.cam.height != cfg->stereo.height) {
+    if (cfg->detect.rig.width != cfg->stereo.width ||
+        cfg->detect.rig.height != cfg->stereo.height) {
         return NEGOBS_ERR_INVAL;
     }
     if (cfg->valign.enable && (cfg->valign.width != cfg->stereo.width ||

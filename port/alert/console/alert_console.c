@@ -2,12 +2,12 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "negobs_port/alert.h"
+#include "negobs_port/motor.h"
 #include "negobs_port/clock.h"
 
 static negobs_status_t console_set(void *ctx, uint16_t duty)
 {
-    negobs_alert_console_t *st = ctx;
+    negobs_motor_out_console_t *st = ctx;
     uint64_t now = negobs_clock_now_ms();
     if (duty > NEGOBS_MOTOR_FULL) {
         return NEGOBS_ERR_INVAL;
@@ -30,20 +30,21 @@ static negobs_status_t console_set(void *ctx, uint16_t duty)
 
 static void console_close(void *ctx)
 {
-    negobs_alert_console_t *st = ctx;
+    negobs_motor_out_console_t *st = ctx;
     if (st->out != NULL && st->started && st->last != 0) {
         (void)console_set(ctx, 0);
     }
 }
 
-static const negobs_alert_ops_t console_ops = {
+static const negobs_motor_out_ops_t console_ops = {
     .name = "console",
     .set = console_set,
     .close = console_close,
 };
 
-negobs_status_t negobs_alert_console_open(negobs_alert_console_t *st,
-                                          FILE *out, negobs_motor_out_t *alert)
+negobs_status_t negobs_motor_out_console_open(negobs_motor_out_console_t *st,
+                                              FILE *out,
+                                              negobs_motor_out_t *alert)
 {
     if (st == NULL || out == NULL || alert == NULL) {
         return NEGOBS_ERR_INVAL;

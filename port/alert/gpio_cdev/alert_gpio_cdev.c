@@ -29,11 +29,12 @@
 
 #include <linux/gpio.h>
 
-#include "negobs_port/alert.h"
+#include "negobs_port/motor.h"
 #include "negobs_port/errmsg.h"
 #include "negobs_port/clock.h"
 
-static void gpio_error(negobs_alert_gpio_t *st, int err, const char *fmt, ...)
+static void gpio_error(negobs_motor_out_gpio_t *st, int err, const char *fmt,
+                       ...)
 {
     va_list ap;
     st->last_errno = err;
@@ -45,7 +46,7 @@ static void gpio_error(negobs_alert_gpio_t *st, int err, const char *fmt, ...)
     va_end(ap);
 }
 
-static int set_line(const negobs_alert_gpio_t *st, int on)
+static int set_line(const negobs_motor_out_gpio_t *st, int on)
 {
     int rc;
     if (st->uapi_v1) {
@@ -68,7 +69,8 @@ static int set_line(const negobs_alert_gpio_t *st, int on)
 }
 
 /* uAPI v1 request: one output line, default 0. */
-static int request_v1(negobs_alert_gpio_t *st, uint32_t line, bool active_low)
+static int request_v1(negobs_motor_out_gpio_t *st, uint32_t line,
+                      bool active_low)
 {
     struct gpiohandle_request r;
     memset(&r, 0, sizeof r);
@@ -88,15 +90,15 @@ static int request_v1(negobs_alert_gpio_t *st, uint32_t line, bool active_low)
     return 0;
 }
 
-static negobs_status_t request_line(negobs_alert_gpio_t *st);
-static negobs_status_t find_by_label(negobs_alert_gpio_t *st);
+static negobs_status_t request_line(negobs_motor_out_gpio_t *st);
+static negobs_status_t find_by_label(negobs_motor_out_gpio_t *st);
 static void chip_label(int fd, char *out, size_t len);
-static void release_line(negobs_alert_gpio_t *st);
+static void release_line(negobs_motor_out_gpio_t *st);
 
 /* A chip that comes back may get another number (an expander plugged in
  * again, a driver rebound while the old device is still referenced): look
  * for its label among /dev/gpiochip0..63. */
-static negobs_status_t find_by_label(negobs_alert_gpio_t *st)
+static negobs_status_t find_by_label(negobs_motor_out_gpio_t *st)
 {
     char path[sizeof st->path];
     char label[sizeof st->label];
@@ -119,7 +121,7 @@ static negobs_status_t find_by_label(negobs_alert_gpio_t *st)
 }
 
 /* Lost line: request it again once the back-off has passed. */
-static negobs_status_t retry_request(negobs_alert_gpio_t *st)
+static negobs_status_t retry_request(negobs_motor_out_gpio_t *st)
 {
     uint64_t now = negobs_clock_now_ms();
     negobs_status_t s;
@@ -144,7 +146,7 @@ static negobs_status_t retry_request(negobs_alert_gpio_t *st)
 
 static negobs_status_t gpio_set(void *ctx, uint16_t permille)
 {
-    negobs_alert_gpio_t *st = ctx;
+    negobs_motor_out_gpio_t *st = ctx;
     int on = permille > 0;
     if (permille > NEGOBS_MOTOR_FULL) {
         return NEGOBS_ERR_INVAL;
@@ -174,7 +176,7 @@ static negobs_status_t gpio_set(void *ctx, uint16_t permille)
 
 static void gpio_off_async(void *ctx)
 {
-    negobs_alert_gpio_t *st = ctx;
+    negobs_motor_out_gpio_t *st = ctx;
     if (st->line_fd >= 0) {
         (void)set_line(st, 0);
     }
@@ -182,7 +184,7 @@ static void gpio_off_async(void *ctx)
 
 static void gpio_close(void *ctx)
 {
-    negobs_alert_gpio_t *st = ctx;
+    negobs_motor_out_gpio_t *st = ctx;
     if (st->line_fd >= 0) {
         (void)set_line(st, 0);
     }
@@ -190,7 +192,7 @@ static void gpio_close(void *ctx)
     st->lost = false;
 }
 
-static const negobs_alert_ops_t gpio_ops = {
+static const negobs_motor_out_ops_t gpio_ops = {
     .name = "gpio",
     .set = gpio_set,
     .off_async = gpio_off_async,
@@ -212,7 +214,7 @@ static void chip_label(int fd, char *out, size_t len)
 /* Open the chip and request the line (motor off); fds in st on success.
  * The first time the chip's label is kept; later, a chip at that path
  * with another label is not ours. */
-static negobs_status_t request_line(negobs_alert_gpio_t *st)
+static negobs_status_t request_line(negobs_motor_out_gpio_t *st)
 {
     struct gpio_v2_line_request req;
     char label[sizeof st->label];
@@ -258,7 +260,7 @@ static negobs_status_t request_line(negobs_alert_gpio_t *st)
     return NEGOBS_OK;
 }
 
-static void release_line(negobs_alert_gpio_t *st)
+static void release_line(negobs_motor_out_gpio_t *st)
 {
     if (st->line_fd >= 0) {
         (void)close(st->line_fd);
@@ -270,10 +272,10 @@ static void release_line(negobs_alert_gpio_t *st)
     }
 }
 
-negobs_status_t negobs_alert_gpio_open(negobs_alert_gpio_t *st,
-                                       const char *chip, uint32_t line,
-                                       bool active_low,
-                                       negobs_motor_out_t *alert)
+negobs_status_t negobs_motor_out_gpio_open(negobs_motor_out_gpio_t *st,
+                                           const char *chip, uint32_t line,
+                                           bool active_low,
+                                           negobs_motor_out_t *alert)
 {
     int n;
     negobs_status_t s;

@@ -1,7 +1,7 @@
 /* "none" alert backend: accepts every level and does nothing. */
 #include <stddef.h>
 
-#include "negobs_port/alert.h"
+#include "negobs_port/motor.h"
 
 static negobs_status_t none_set(void *ctx, uint16_t duty)
 {
@@ -14,13 +14,13 @@ static void none_close(void *ctx)
     (void)ctx;
 }
 
-static const negobs_alert_ops_t none_ops = {
+static const negobs_motor_out_ops_t none_ops = {
     .name = "none",
     .set = none_set,
     .close = none_close,
 };
 
-negobs_status_t negobs_alert_none_open(negobs_motor_out_t *alert)
+negobs_status_t negobs_motor_out_none_open(negobs_motor_out_t *alert)
 {
     if (alert == NULL) {
         return NEGOBS_ERR_INVAL;

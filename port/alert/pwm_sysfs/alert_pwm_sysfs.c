@@ -16,7 +16,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "negobs_port/alert.h"
+#include "negobs_port/motor.h"
 #include "negobs_port/errmsg.h"
 #include "negobs_port/clock.h"
 
@@ -25,7 +25,8 @@
 #define PWM_EXPORT_WAIT_MS 1000u
 #define PWM_EXPORT_POLL_MS 10u
 
-static void pwm_error(negobs_alert_pwm_t *st, int err, const char *fmt, ...)
+static void pwm_error(negobs_motor_out_pwm_t *st, int err, const char *fmt,
+                      ...)
 {
     va_list ap;
     st->last_errno = err;
@@ -37,7 +38,7 @@ static void pwm_error(negobs_alert_pwm_t *st, int err, const char *fmt, ...)
     va_end(ap);
 }
 
-static int chan_path(const negobs_alert_pwm_t *st, char *buf, size_t len,
+static int chan_path(const negobs_motor_out_pwm_t *st, char *buf, size_t len,
                      const char *leaf)
 {
     int n;
@@ -63,7 +64,7 @@ static int write_value_fd(int fd, const char *txt, size_t len)
     return (w == (ssize_t)len) ? 0 : -1;
 }
 
-static negobs_status_t write_file(negobs_alert_pwm_t *st, const char *path,
+static negobs_status_t write_file(negobs_motor_out_pwm_t *st, const char *path,
                                   unsigned long value)
 {
     char txt[24];
@@ -87,7 +88,7 @@ static negobs_status_t write_file(negobs_alert_pwm_t *st, const char *path,
     return NEGOBS_OK;
 }
 
-static negobs_status_t write_leaf(negobs_alert_pwm_t *st, const char *leaf,
+static negobs_status_t write_leaf(negobs_motor_out_pwm_t *st, const char *leaf,
                                   unsigned long value)
 {
     char path[256];
@@ -98,14 +99,15 @@ static negobs_status_t write_leaf(negobs_alert_pwm_t *st, const char *leaf,
     return write_file(st, path, value);
 }
 
-static unsigned long duty_ns(const negobs_alert_pwm_t *st, uint16_t permille)
+static unsigned long duty_ns(const negobs_motor_out_pwm_t *st,
+                             uint16_t permille)
 {
     return (unsigned long)(((uint64_t)st->period_ns * permille) / 1000u);
 }
 
 static negobs_status_t pwm_set(void *ctx, uint16_t permille)
 {
-    negobs_alert_pwm_t *st = ctx;
+    negobs_motor_out_pwm_t *st = ctx;
     char txt[24];
     int n;
     if (permille > NEGOBS_MOTOR_FULL) {
@@ -125,7 +127,7 @@ static negobs_status_t pwm_set(void *ctx, uint16_t permille)
 
 static void pwm_off_async(void *ctx)
 {
-    negobs_alert_pwm_t *st = ctx;
+    negobs_motor_out_pwm_t *st = ctx;
     if (st->duty_fd >= 0) {
         (void)write_value_fd(st->duty_fd, "0", 1);
     }
@@ -133,7 +135,7 @@ static void pwm_off_async(void *ctx)
 
 static void pwm_close(void *ctx)
 {
-    negobs_alert_pwm_t *st = ctx;
+    negobs_motor_out_pwm_t *st = ctx;
     char path[256];
     if (st->duty_fd < 0) {
         return;
@@ -151,7 +153,7 @@ static void pwm_close(void *ctx)
     }
 }
 
-static const negobs_alert_ops_t pwm_ops = {
+static const negobs_motor_out_ops_t pwm_ops = {
     .name = "pwm",
     .set = pwm_set,
     .off_async = pwm_off_async,
@@ -164,10 +166,10 @@ static bool is_dir(const char *path)
     return stat(path, &sb) == 0 && S_ISDIR(sb.st_mode);
 }
 
-negobs_status_t negobs_alert_pwm_open(negobs_alert_pwm_t *st, const char *root,
-                                      uint32_t chip, uint32_t channel,
-                                      uint32_t period_ns,
-                                      negobs_motor_out_t *alert)
+negobs_status_t negobs_motor_out_pwm_open(negobs_motor_out_pwm_t *st,
+                                          const char *root, uint32_t chip,
+                                          uint32_t channel, uint32_t period_ns,
+                                          negobs_motor_out_t *alert)
 {
     char path[256];
     negobs_status_t s;

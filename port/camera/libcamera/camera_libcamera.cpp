@@ -163,7 +163,7 @@ negobs_status_t parse_side(negobs_libcamera_t *st, Side &s, const char *src)
 }
 
 negobs_status_t open_impl(negobs_libcamera_t *st,
-                          const negobs_camera_config_t *cfg)
+                          const negobs_capture_config_t *cfg)
 {
     close_impl(st);
     std::memset(&st->stats, 0, sizeof st->stats);
@@ -178,7 +178,7 @@ negobs_status_t open_impl(negobs_libcamera_t *st,
         im->cfg.height = 480;
     }
     if (im->cfg.pair_tol_ms < 0) {
-        im->cfg.pair_tol_ms = NEGOBS_CAMERA_PAIR_TOL_MS_DEFAULT;
+        im->cfg.pair_tol_ms = NEGOBS_CAPTURE_PAIR_TOL_MS_DEFAULT;
     }
     im->nsides = (cfg->right == nullptr || cfg->right[0] == '\0') ? 1 : 2;
     for (int i = 0; i < 2; i++) {
@@ -400,7 +400,7 @@ template <typename F> int guarded(negobs_libcamera_t *st, F f)
     return NEGOBS_ERR_IO;
 }
 
-negobs_status_t lc_open(void *ctx, const negobs_camera_config_t *cfg)
+negobs_status_t lc_open(void *ctx, const negobs_capture_config_t *cfg)
 {
     negobs_libcamera_t *st = static_cast<negobs_libcamera_t *>(ctx);
     if (cfg == nullptr || cfg->left == nullptr) {
@@ -502,7 +502,7 @@ void lc_close(void *ctx)
     });
 }
 
-void lc_stats(void *ctx, negobs_camera_stats_t *out)
+void lc_stats(void *ctx, negobs_capture_stats_t *out)
 {
     *out = static_cast<negobs_libcamera_t *>(ctx)->stats;
 }
@@ -513,9 +513,9 @@ const char *lc_errmsg(void *ctx)
 }
 
 /* C++17 has no designated initialisers: the table is filled by name. */
-negobs_camera_ops_t make_ops()
+negobs_capture_ops_t make_ops()
 {
-    negobs_camera_ops_t o{};
+    negobs_capture_ops_t o{};
     o.name = "libcamera";
     o.open = lc_open;
     o.start = lc_start;
@@ -528,7 +528,7 @@ negobs_camera_ops_t make_ops()
     return o;
 }
 
-const negobs_camera_ops_t libcamera_ops = make_ops();
+const negobs_capture_ops_t libcamera_ops = make_ops();
 
 } // namespace
 } // namespace negobs_lc

@@ -101,7 +101,7 @@ struct Side {
 struct Impl {
     negobs_libcamera_t *st = nullptr;
     CameraManager *cm = nullptr;
-    negobs_camera_config_t cfg{};
+    negobs_capture_config_t cfg{};
     int nsides = 0;
     Side side[2];
     bool started = false;

@@ -13,7 +13,7 @@ static const char not_built[] =
     "libcamera backend not built in (no libcamera-dev at configure time, "
     "or -Dlibcamera=disabled)";
 
-static negobs_status_t stub_open(void *ctx, const negobs_camera_config_t *cfg)
+static negobs_status_t stub_open(void *ctx, const negobs_capture_config_t *cfg)
 {
     (void)ctx;
     (void)cfg;
@@ -46,7 +46,7 @@ static void stub_void(void *ctx)
     (void)ctx;
 }
 
-static void stub_stats(void *ctx, negobs_camera_stats_t *out)
+static void stub_stats(void *ctx, negobs_capture_stats_t *out)
 {
     (void)ctx;
     memset(out, 0, sizeof *out);
@@ -58,7 +58,7 @@ static const char *stub_errmsg(void *ctx)
     return not_built;
 }
 
-static const negobs_camera_ops_t stub_ops = {
+static const negobs_capture_ops_t stub_ops = {
     .name = "libcamera",
     .open = stub_open,
     .start = stub_start,

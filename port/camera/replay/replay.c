@@ -265,7 +265,7 @@ static negobs_status_t check_session_damage(negobs_replay_t *st)
     return NEGOBS_OK;
 }
 
-static negobs_status_t rp_open(void *ctx, const negobs_camera_config_t *cfg)
+static negobs_status_t rp_open(void *ctx, const negobs_capture_config_t *cfg)
 {
     negobs_replay_t *st = ctx;
     char path[NEGOBS_REPLAY_PATH_MAX + 32];
@@ -360,7 +360,7 @@ static void fill_frame(negobs_frame_t *f, uint8_t *data, int32_t w, int32_t h,
     f->sequence = seq;
 }
 
-/* Read pair `idx` of a PGM folder. NEGOBS_CAMERA_END when left is gone. */
+/* Read pair `idx` of a PGM folder. NEGOBS_CAPTURE_END when left is gone. */
 static int read_pgm_pair(negobs_replay_t *st, uint32_t idx, int32_t *w,
                          int32_t *h)
 {
@@ -377,7 +377,7 @@ static int read_pgm_pair(negobs_replay_t *st, uint32_t idx, int32_t *w,
     }
     s = negobs_pgm_read(path, st->buf, half, w, h, err, sizeof err);
     if (s == NEGOBS_ERR_NODEV) {
-        return NEGOBS_CAMERA_END;
+        return NEGOBS_CAPTURE_END;
     }
     if (s != NEGOBS_OK) {
         rp_error(st, 0, "%s", err);
@@ -427,13 +427,13 @@ static int read_session_pair(negobs_replay_t *st, uint64_t *tl, uint64_t *tr,
     size_t frame = (size_t)st->width * (size_t)st->height;
     unsigned long long fld[4];
     if (st->next >= st->n_play) {
-        return NEGOBS_CAMERA_END;
+        return NEGOBS_CAPTURE_END;
     }
     if (st->next < st->n_index) {
         for (;;) {
             if (fgets(line, sizeof line, st->frames_txt) == NULL) {
                 if (st->n_index == UINT32_MAX) {
-                    return NEGOBS_CAMERA_END; /* a streamed index ended */
+                    return NEGOBS_CAPTURE_END; /* a streamed index ended */
                 }
                 rp_error(st, 0, "%s/frames.txt: changed while replaying",
                          st->dir);
@@ -512,14 +512,14 @@ static int rp_read_next(negobs_replay_t *st)
             rc = read_pgm_pair(st, st->next, &w, &h);
             seq = st->next;
         }
-        if (rc == NEGOBS_CAMERA_END && st->loop && !rewound && st->next > 0) {
+        if (rc == NEGOBS_CAPTURE_END && st->loop && !rewound && st->next > 0) {
             rewound = true;
             (void)rp_rewind(st);
             continue;
         }
         break;
     }
-    if (rc == NEGOBS_CAMERA_END && st->session && st->damage[0] != '\0') {
+    if (rc == NEGOBS_CAPTURE_END && st->session && st->damage[0] != '\0') {
         /* the end of a damaged session is not a clean end */
         rp_error(st, 0,
                  "damaged session: all %lu recoverable pairs replayed "
@@ -627,7 +627,7 @@ static void rp_close(void *ctx)
     close_files((negobs_replay_t *)ctx);
 }
 
-static void rp_stats(void *ctx, negobs_camera_stats_t *out)
+static void rp_stats(void *ctx, negobs_capture_stats_t *out)
 {
     *out = ((negobs_replay_t *)ctx)->stats;
 }
@@ -642,7 +642,7 @@ const char *negobs_replay_damage(const negobs_replay_t *st)
     return st != NULL ? st->damage : "";
 }
 
-static const negobs_camera_ops_t replay_ops = {
+static const negobs_capture_ops_t replay_ops = {
     .name = "replay",
     .open = rp_open,
     .start = rp_start,

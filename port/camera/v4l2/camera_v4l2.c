@@ -68,7 +68,7 @@ static const char *strip_prefix(const char *p)
     return strncmp(p, "v4l2:", 5) == 0 ? p + 5 : p;
 }
 
-static negobs_status_t v_open(void *ctx, const negobs_camera_config_t *cfg)
+static negobs_status_t v_open(void *ctx, const negobs_capture_config_t *cfg)
 {
     negobs_v4l2_t *st = ctx;
     negobs_status_t s;
@@ -86,7 +86,7 @@ static negobs_status_t v_open(void *ctx, const negobs_camera_config_t *cfg)
         st->cfg.height = 480;
     }
     if (st->cfg.pair_tol_ms < 0) {
-        st->cfg.pair_tol_ms = NEGOBS_CAMERA_PAIR_TOL_MS_DEFAULT;
+        st->cfg.pair_tol_ms = NEGOBS_CAPTURE_PAIR_TOL_MS_DEFAULT;
     }
     memset(&st->stats, 0, sizeof st->stats);
     for (i = 0; i < 2; i++) {
@@ -518,7 +518,7 @@ static void v_close(void *ctx)
     v4l2_dev_close(&st->dev[1]);
 }
 
-static void v_stats(void *ctx, negobs_camera_stats_t *out)
+static void v_stats(void *ctx, negobs_capture_stats_t *out)
 {
     *out = ((negobs_v4l2_t *)ctx)->stats;
 }
@@ -528,7 +528,7 @@ static const char *v_errmsg(void *ctx)
     return ((negobs_v4l2_t *)ctx)->errmsg;
 }
 
-static const negobs_camera_ops_t v4l2_ops = {
+static const negobs_capture_ops_t v4l2_ops = {
     .name = "v4l2",
     .open = v_open,
     .start = v_start,

@@ -5,7 +5,7 @@
  * images. The images are described (data, width, height, stride), never
  * assumed: a V4L2 source hands out the driver's buffers with stride =
  * bytesperline, without copying, and the pair stays valid until
- * negobs_camera_release() (or the next get_pair, which releases it).
+ * negobs_capture_release() (or the next get_pair, which releases it).
  *
  * Sources are ops tables, so one program can hold several (a live pair and
  * a replay folder, say). State lives in caller-owned structs declared in
@@ -28,10 +28,10 @@ extern "C" {
 #endif
 
 /** get_pair() return value for "no more frames" (end of a replay). */
-#define NEGOBS_CAMERA_END 1
+#define NEGOBS_CAPTURE_END 1
 
 /** Default largest timestamp difference of a pair (ms). */
-#define NEGOBS_CAMERA_PAIR_TOL_MS_DEFAULT 10
+#define NEGOBS_CAPTURE_PAIR_TOL_MS_DEFAULT 10
 
 /**
  * Default number of identical frames in a row after which a live camera
@@ -40,10 +40,10 @@ extern "C" {
  * sampled pixels every frame. Only a fully clipped image (all 0 or all 255)
  * can repeat, and that is no-information anyway.
  */
-#define NEGOBS_CAMERA_FROZEN_FRAMES_DEFAULT 10
+#define NEGOBS_CAPTURE_FROZEN_FRAMES_DEFAULT 10
 
 /** Request passed to open(); zero fields mean "backend default". */
-typedef struct negobs_camera_config {
+typedef struct negobs_capture_config {
     const char *left;      /**< device or path of the left camera     */
     const char *right;     /**< device or path of the right camera    */
     int32_t width;         /**< requested width (default 640)         */
@@ -65,10 +65,10 @@ typedef struct negobs_camera_config {
     int32_t capture_height;
     bool side_by_side; /**< V4L2: one node, left eye in the left
                                 half of each frame (right is ignored)  */
-} negobs_camera_config_t;
+} negobs_capture_config_t;
 
 /** @brief Fill a config with the defaults (exposure/gain -1). */
-void negobs_camera_config_default(negobs_camera_config_t *cfg);
+void negobs_capture_config_default(negobs_capture_config_t *cfg);
 
 /** One frame: luma plane and its capture time. */
 typedef struct negobs_frame {
@@ -85,7 +85,7 @@ typedef struct negobs_frame_pair {
 } negobs_frame_pair_t;
 
 /** Counters kept by every source. */
-typedef struct negobs_camera_stats {
+typedef struct negobs_capture_stats {
     uint32_t pairs;         /**< pairs delivered                        */
     uint32_t dropped_pairs; /**< frames dropped because no partner was
                                  within pair_tol_ms                     */
@@ -95,23 +95,23 @@ typedef struct negobs_camera_stats {
     uint32_t reopens;       /**< successful device reopens              */
     uint32_t device_losses; /**< times a device was found gone          */
     uint32_t frozen_pairs;  /**< pairs withheld: a camera was frozen     */
-} negobs_camera_stats_t;
+} negobs_capture_stats_t;
 
 /**
  * Operations of one source; `ctx` is its state struct. Backends fill the
  * table with designated initialisers. open, get_pair and close are
  * required; start, release, stop, stats and errmsg may be NULL (a source
- * with nothing to do there), and the negobs_camera_*() wrappers below
+ * with nothing to do there), and the negobs_capture_*() wrappers below
  * then do nothing, report zero counters or an empty message. Callers use
  * the wrappers, never the table.
  */
-typedef struct negobs_camera_ops {
+typedef struct negobs_capture_ops {
     const char *name;
-    negobs_status_t (*open)(void *ctx, const negobs_camera_config_t *cfg);
+    negobs_status_t (*open)(void *ctx, const negobs_capture_config_t *cfg);
     negobs_status_t (*start)(void *ctx); /**< optional: NEGOBS_OK */
     /**
      * Wait up to timeout_ms for the next pair.
-     * @return NEGOBS_OK, NEGOBS_CAMERA_END, NEGOBS_ERR_TIMEOUT,
+     * @return NEGOBS_OK, NEGOBS_CAPTURE_END, NEGOBS_ERR_TIMEOUT,
      *         NEGOBS_ERR_NODEV (device lost; later calls try to reopen it
      *         with back-off), NEGOBS_ERR_AGAIN (interrupted by a signal),
      *         NEGOBS_ERR_CORRUPT (bad replay file), NEGOBS_ERR_IO (also: a
@@ -123,50 +123,50 @@ typedef struct negobs_camera_ops {
     void (*release)(void *ctx, negobs_frame_pair_t *pair); /**< optional */
     void (*stop)(void *ctx);                               /**< optional */
     void (*close)(void *ctx);
-    void (*stats)(void *ctx, negobs_camera_stats_t *out); /**< optional */
+    void (*stats)(void *ctx, negobs_capture_stats_t *out); /**< optional */
     const char *(*errmsg)(void *ctx); /**< last diagnostic text; optional */
-} negobs_camera_ops_t;
+} negobs_capture_ops_t;
 
 /** A source handle. */
 typedef struct negobs_capture {
-    const negobs_camera_ops_t *ops;
+    const negobs_capture_ops_t *ops;
     void *ctx;
 } negobs_capture_t;
 
-static inline negobs_status_t negobs_camera_open(
-    negobs_capture_t *c, const negobs_camera_config_t *cfg)
+static inline negobs_status_t negobs_capture_open(
+    negobs_capture_t *c, const negobs_capture_config_t *cfg)
 {
     return c->ops->open(c->ctx, cfg);
 }
-static inline negobs_status_t negobs_camera_start(negobs_capture_t *c)
+static inline negobs_status_t negobs_capture_start(negobs_capture_t *c)
 {
     return c->ops->start != NULL ? c->ops->start(c->ctx) : NEGOBS_OK;
 }
-static inline int negobs_camera_get_pair(negobs_capture_t *c,
-                                         negobs_frame_pair_t *pair,
-                                         int32_t timeout_ms)
+static inline int negobs_capture_get_pair(negobs_capture_t *c,
+                                          negobs_frame_pair_t *pair,
+                                          int32_t timeout_ms)
 {
     return c->ops->get_pair(c->ctx, pair, timeout_ms);
 }
-static inline void negobs_camera_release(negobs_capture_t *c,
-                                         negobs_frame_pair_t *pair)
+static inline void negobs_capture_release(negobs_capture_t *c,
+                                          negobs_frame_pair_t *pair)
 {
     if (c->ops->release != NULL) {
         c->ops->release(c->ctx, pair);
     }
 }
-static inline void negobs_camera_stop(negobs_capture_t *c)
+static inline void negobs_capture_stop(negobs_capture_t *c)
 {
     if (c->ops->stop != NULL) {
         c->ops->stop(c->ctx);
     }
 }
-static inline void negobs_camera_close(negobs_capture_t *c)
+static inline void negobs_capture_close(negobs_capture_t *c)
 {
     c->ops->close(c->ctx);
 }
-static inline void negobs_camera_get_stats(negobs_capture_t *c,
-                                           negobs_camera_stats_t *out)
+static inline void negobs_capture_get_stats(negobs_capture_t *c,
+                                            negobs_capture_stats_t *out)
 {
     if (c->ops->stats != NULL) {
         c->ops->stats(c->ctx, out);
@@ -174,7 +174,7 @@ static inline void negobs_camera_get_stats(negobs_capture_t *c,
         memset(out, 0, sizeof *out);
     }
 }
-static inline const char *negobs_camera_errmsg(negobs_capture_t *c)
+static inline const char *negobs_capture_errmsg(negobs_capture_t *c)
 {
     const char *m = c->ops->errmsg != NULL ? c->ops->errmsg(c->ctx) : NULL;
     return m != NULL ? m : "";

@@ -41,7 +41,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "negobs_port/alert.h"
+#include "negobs_port/motor.h"
 #include "negobs_port/camera.h"
 
 #ifdef __cplusplus
@@ -69,7 +69,7 @@ typedef struct negobs_libcamera {
     void *impl;       /**< C++ state, from open() to close()     */
     uint8_t *scratch; /**< luma of packed formats, 2 * w * h     */
     size_t scratch_bytes;
-    negobs_camera_stats_t stats;
+    negobs_capture_stats_t stats;
     char errmsg[NEGOBS_PORT_ERRMSG_LEN];
 } negobs_libcamera_t;
 

@@ -22,7 +22,7 @@
 #include <sys/types.h>
 
 #include "negobs/image.h"
-#include "negobs_port/alert.h"
+#include "negobs_port/motor.h"
 #include "negobs_port/camera.h"
 
 #ifdef __cplusplus
@@ -60,7 +60,7 @@ typedef struct negobs_replay {
     uint64_t cur_tl;
     uint64_t cur_tr;
     uint32_t cur_seq;
-    negobs_camera_stats_t stats;
+    negobs_capture_stats_t stats;
     char errmsg[NEGOBS_PORT_ERRMSG_LEN];
     char damage[2 * NEGOBS_PORT_ERRMSG_LEN + NEGOBS_REPLAY_PATH_MAX];
 } negobs_replay_t;
@@ -85,7 +85,7 @@ negobs_status_t negobs_replay_init(negobs_replay_t *st, uint8_t *buf,
  * one pair is complete in both pixel files, and says here what it found
  * and how many pairs it replays; pairs past the last usable record get
  * synthesised timestamps (one frame period apart). The end of such a
- * replay is NEGOBS_ERR_CORRUPT with this text, not NEGOBS_CAMERA_END, so
+ * replay is NEGOBS_ERR_CORRUPT with this text, not NEGOBS_CAPTURE_END, so
  * that a damaged session never reads as a clean one. No complete pair:
  * open() fails with NEGOBS_ERR_CORRUPT.
  */

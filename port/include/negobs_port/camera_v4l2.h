@@ -23,7 +23,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "negobs_port/alert.h"
+#include "negobs_port/motor.h"
 #include "negobs_port/camera.h"
 #include "negobs_port/v4l2_convert.h"
 
@@ -89,11 +89,11 @@ typedef struct negobs_v4l2_dev {
 typedef struct negobs_v4l2 {
     negobs_v4l2_dev_t dev[2];
     int32_t nodes; /**< 2, or 1 for a side-by-side node         */
-    negobs_camera_config_t cfg;
+    negobs_capture_config_t cfg;
     uint8_t *scratch; /**< luma of packed formats, 2 * w * h      */
     size_t scratch_bytes;
     bool started;
-    negobs_camera_stats_t stats;
+    negobs_capture_stats_t stats;
     uint64_t last_drop_dt_ns; /**< |dt| of the last pair dropped          */
     char errmsg[NEGOBS_PORT_ERRMSG_LEN];
 } negobs_v4l2_t;

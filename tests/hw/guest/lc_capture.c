@@ -43,16 +43,16 @@ static negobs_libcamera_t lc;
 static int fail(const char *what, negobs_capture_t *cam)
 {
 	printf("lc_capture: FAIL: %s%s%s\n", what, cam != NULL ? ": " : "",
-	       cam != NULL ? negobs_camera_errmsg(cam) : "");
+	       cam != NULL ? negobs_capture_errmsg(cam) : "");
 	return 1;
 }
 
 int main(int argc, char **argv)
 {
 	negobs_capture_t cam;
-	negobs_camera_config_t cfg;
+	negobs_capture_config_t cfg;
 	negobs_frame_pair_t pair;
-	negobs_camera_stats_t stats;
+	negobs_capture_stats_t stats;
 	long frames = 6;
 	long first_timeout_ms = 20000;
 	long w = 640;
@@ -109,20 +109,20 @@ int main(int argc, char **argv)
 	    NEGOBS_OK) {
 		return fail("backend not compiled in", NULL);
 	}
-	negobs_camera_config_default(&cfg);
+	negobs_capture_config_default(&cfg);
 	cfg.left = argv[optind];
 	cfg.right = right; /* NULL: one camera (vimc gives libcamera one) */
 	cfg.width = (int32_t)w;
 	cfg.height = (int32_t)h;
 	t_open = negobs_clock_now_ms();
-	s = negobs_camera_open(&cam, &cfg);
+	s = negobs_capture_open(&cam, &cfg);
 	if (have_expect_open) {
 		printf("lc_capture: open %s%s%s: status %d (expected %d): %s\n",
 		       cfg.left, right != NULL ? " + " : "",
 		       right != NULL ? right : "", (int)s, expect_open,
-		       negobs_camera_errmsg(&cam));
+		       negobs_capture_errmsg(&cam));
 		if (s == NEGOBS_OK) {
-			negobs_camera_close(&cam);
+			negobs_capture_close(&cam);
 		}
 		return (int)s == expect_open ? 0 : 1;
 	}
@@ -132,9 +132,9 @@ int main(int argc, char **argv)
 	}
 	printf("lc_capture: opened %s in %lu ms\n", cfg.left,
 	       (unsigned long)(negobs_clock_now_ms() - t_open));
-	s = negobs_camera_start(&cam);
+	s = negobs_capture_start(&cam);
 	if (s != NEGOBS_OK) {
-		negobs_camera_close(&cam);
+		negobs_capture_close(&cam);
 		return fail("start", &cam);
 	}
 	for (i = 0; i < frames && bad == 0; i++) {
@@ -145,8 +145,8 @@ int main(int argc, char **argv)
 		uint64_t sum = 0;
 		int rc;
 		if (restart && i == frames / 2) {
-			negobs_camera_stop(&cam);
-			s = negobs_camera_start(&cam);
+			negobs_capture_stop(&cam);
+			s = negobs_capture_start(&cam);
 			printf(
 			    "lc_capture: stopped and started again: status %d\n",
 			    (int)s);
@@ -155,7 +155,7 @@ int main(int argc, char **argv)
 				break;
 			}
 		}
-		rc = negobs_camera_get_pair(
+		rc = negobs_capture_get_pair(
 		    &cam, &pair, i == 0 ? (int32_t)first_timeout_ms : 5000);
 		if (rc != NEGOBS_OK) {
 			printf("lc_capture: frame %ld: get_pair status %d\n", i,
@@ -207,11 +207,11 @@ int main(int argc, char **argv)
 		}
 		prev_ts = pair.left.ts_ns;
 		prev_seq = pair.left.sequence;
-		negobs_camera_release(&cam, &pair);
+		negobs_capture_release(&cam, &pair);
 	}
-	negobs_camera_get_stats(&cam, &stats);
-	negobs_camera_stop(&cam);
-	negobs_camera_close(&cam);
+	negobs_capture_get_stats(&cam, &stats);
+	negobs_capture_stop(&cam);
+	negobs_capture_close(&cam);
 	if (bad != 0) {
 		return 1;
 	}

@@ -14,8 +14,8 @@
  *   gpio     - Linux GPIO character device (uAPI v2 ioctls); on if level>0
  *   none     - discards everything
  */
-#ifndef NEGOBS_PORT_ALERT_H
-#define NEGOBS_PORT_ALERT_H
+#ifndef NEGOBS_PORT_MOTOR_H
+#define NEGOBS_PORT_MOTOR_H
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -71,7 +71,7 @@ bool negobs_motor_schedule_equal(const negobs_motor_schedule_t *a,
  * fill the table with designated initialisers; set and close are required,
  * off_async is optional. Callers use the negobs_alert_*() wrappers below.
  */
-typedef struct negobs_alert_ops {
+typedef struct negobs_motor_out_ops {
     const char *name;
     /** Drive the motor at `duty_permille` (0..1000). */
     negobs_status_t (*set)(void *ctx, uint16_t duty_permille);
@@ -83,11 +83,11 @@ typedef struct negobs_alert_ops {
     void (*off_async)(void *ctx);
     /** Motor off, release the device. Safe to call twice. */
     void (*close)(void *ctx);
-} negobs_alert_ops_t;
+} negobs_motor_out_ops_t;
 
 /** A handle: ops plus backend state. */
 typedef struct negobs_motor_out {
-    const negobs_alert_ops_t *ops;
+    const negobs_motor_out_ops_t *ops;
     void *ctx;
 } negobs_motor_out_t;
 
@@ -95,23 +95,23 @@ typedef struct negobs_motor_out {
 #define NEGOBS_PORT_ERRMSG_LEN 160
 
 /** Console backend state. */
-typedef struct negobs_alert_console {
+typedef struct negobs_motor_out_console {
     FILE *out;     /**< where level changes are printed */
     uint16_t last; /**< last level printed               */
     bool started;
     uint64_t t0_ms; /**< time base for printed stamps     */
-} negobs_alert_console_t;
+} negobs_motor_out_console_t;
 
 /** @brief Console backend writing lines "motor <t> ms: 1000 permille". */
-negobs_status_t negobs_alert_console_open(negobs_alert_console_t *st,
-                                          FILE *out,
-                                          negobs_motor_out_t *alert);
+negobs_status_t negobs_motor_out_console_open(negobs_motor_out_console_t *st,
+                                              FILE *out,
+                                              negobs_motor_out_t *alert);
 
 /** @brief Backend that accepts and discards everything. */
-negobs_status_t negobs_alert_none_open(negobs_motor_out_t *alert);
+negobs_status_t negobs_motor_out_none_open(negobs_motor_out_t *alert);
 
 /** Sysfs PWM backend state (caller-owned; fields private). */
-typedef struct negobs_alert_pwm {
+typedef struct negobs_motor_out_pwm {
     char root[128]; /**< class root, default "/sys/class/pwm"   */
     uint32_t chip;
     uint32_t channel;
@@ -121,7 +121,7 @@ typedef struct negobs_alert_pwm {
     uint16_t last;
     int last_errno;
     char errmsg[NEGOBS_PORT_ERRMSG_LEN];
-} negobs_alert_pwm_t;
+} negobs_motor_out_pwm_t;
 
 /**
  * @brief Open a sysfs PWM channel as motor output.
@@ -136,17 +136,17 @@ typedef struct negobs_alert_pwm {
  *         NEGOBS_ERR_IO (a write failed, see st->errmsg),
  *         NEGOBS_ERR_INVAL (bad arguments).
  */
-negobs_status_t negobs_alert_pwm_open(negobs_alert_pwm_t *st, const char *root,
-                                      uint32_t chip, uint32_t channel,
-                                      uint32_t period_ns,
-                                      negobs_motor_out_t *alert);
+negobs_status_t negobs_motor_out_pwm_open(negobs_motor_out_pwm_t *st,
+                                          const char *root, uint32_t chip,
+                                          uint32_t channel, uint32_t period_ns,
+                                          negobs_motor_out_t *alert);
 
 /** Re-request back-off of a lost GPIO line (ms), doubled per failure. */
 #define NEGOBS_GPIO_RETRY_MIN_MS 100u
 #define NEGOBS_GPIO_RETRY_MAX_MS 2000u
 
 /** GPIO character-device backend state (fields private). */
-typedef struct negobs_alert_gpio {
+typedef struct negobs_motor_out_gpio {
     int chip_fd;
     int line_fd;
     uint32_t line;
@@ -161,7 +161,7 @@ typedef struct negobs_alert_gpio {
     uint32_t reopens; /**< successful re-requests                     */
     int last_errno;
     char errmsg[NEGOBS_PORT_ERRMSG_LEN];
-} negobs_alert_gpio_t;
+} negobs_motor_out_gpio_t;
 
 /**
  * @brief Request one output line through the GPIO chardev (uAPI v2, or v1
@@ -178,18 +178,18 @@ typedef struct negobs_alert_gpio {
  * or from the /dev/gpiochipN with the same label when the chip came back
  * under another number, and return NEGOBS_ERR_NODEV until it is back.
  */
-negobs_status_t negobs_alert_gpio_open(negobs_alert_gpio_t *st,
-                                       const char *chip, uint32_t line,
-                                       bool active_low,
-                                       negobs_motor_out_t *alert);
+negobs_status_t negobs_motor_out_gpio_open(negobs_motor_out_gpio_t *st,
+                                           const char *chip, uint32_t line,
+                                           bool active_low,
+                                           negobs_motor_out_t *alert);
 
 /** @brief Convenience wrappers around alert->ops. */
-static inline negobs_status_t negobs_alert_set(negobs_motor_out_t *a,
-                                               uint16_t duty_permille)
+static inline negobs_status_t negobs_motor_out_set(negobs_motor_out_t *a,
+                                                   uint16_t duty_permille)
 {
     return a->ops->set(a->ctx, duty_permille);
 }
-static inline void negobs_alert_close(negobs_motor_out_t *a)
+static inline void negobs_motor_out_close(negobs_motor_out_t *a)
 {
     if (a->ops != NULL) {
         a->ops->close(a->ctx);
@@ -200,7 +200,7 @@ static inline void negobs_alert_close(negobs_motor_out_t *a)
  *        handle is open); nothing otherwise. Safe in a signal handler: it
  *        only reads two pointers before the call.
  */
-static inline void negobs_alert_off_async(negobs_motor_out_t *a)
+static inline void negobs_motor_out_off_async(negobs_motor_out_t *a)
 {
     if (a->ops != NULL && a->ops->off_async != NULL) {
         a->ops->off_async(a->ctx);
@@ -360,4 +360,4 @@ void negobs_motor_thread_stop(negobs_motor_thread_t *t);
 }
 #endif
 
-#endif /* NEGOBS_PORT_ALERT_H */
+#endif /* NEGOBS_PORT_MOTOR_H */
