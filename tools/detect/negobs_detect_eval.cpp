@@ -925,6 +925,9 @@ int evaluate_synth(const Options &opt)
     std::atomic<int> done{0};
     std::mutex mu;
     std::string first_err;
+    // always on: the suite takes minutes, a log without progress looks hung
+    negobs_cli::Progress prog("negobs_detect_eval", "sequences",
+                              static_cast<long>(suite.size()), 1);
     auto worker = [&]() {
         for (;;) {
             const size_t k = next++;
@@ -943,7 +946,7 @@ int evaluate_synth(const Options &opt)
             const int d = ++done;
             if (d % 10 == 0 || d == static_cast<int>(suite.size())) {
                 std::lock_guard<std::mutex> g(mu);
-                std::fprintf(stderr, "  %d/%zu sequences\n", d, suite.size());
+                prog.step(d);
             }
         }
     };
@@ -954,6 +957,7 @@ int evaluate_synth(const Options &opt)
     for (auto &t : th) {
         t.join();
     }
+    prog.finish();
     if (!first_err.empty()) {
         std::fprintf(stderr, "negobs_detect_eval: error: %s\n", first_err.c_str());
         return 1;
@@ -1792,7 +1796,11 @@ int evaluate_surdis(const Options &opt)
             const std::string p = (fs::path(opt.img_dir) /
                                    ("surdis_" + std::to_string(n) + ".png"))
                                       .string();
-            cv::imwrite(p, small, {cv::IMWRITE_PNG_COMPRESSION, 9});
+            if (!cv::imwrite(p, small, {cv::IMWRITE_PNG_COMPRESSION, 9})) {
+                std::fprintf(stderr, "negobs_detect_eval: error: cannot write %s\n",
+                             p.c_str());
+                return 1;
+            }
         }
     }
     rep.both(est_pose + ".");
