@@ -190,18 +190,32 @@ static void band_result(const negobs_stereo_stats_t *after,
     r->edges = after->edges - before->edges;
 }
 
+/* The start of every band job: the worker's state and the band's rows
+ * [*y0, *y1), the band marked done; NULL when the executor named a worker
+ * or band that does not exist (the frame then fails on the unmarked band). */
+static stx_t *band_job_begin(band_job_t *j, int32_t band, int32_t worker,
+                             int32_t *y0, int32_t *y1)
+{
+    stx_t *x = worker_state(j->s, worker);
+    if (x == NULL ||
+        negobs_stereo_band_rows(&x->cfg, x->h, band, y0, y1) != NEGOBS_OK) {
+        return NULL;
+    }
+    j->s->band_done[band] = 1u;
+    return x;
+}
+
 static void pass0_grow_job(void *arg, int32_t band, int32_t worker)
 {
     band_job_t *j = (band_job_t *)arg;
-    stx_t *x = worker_state(j->s, worker);
+    stx_t *x;
     negobs_stereo_stats_t before;
     int32_t yb0;
     int32_t yb1;
-    if (x == NULL || negobs_stereo_band_rows(&x->cfg, x->h, band, &yb0,
-                                             &yb1) != NEGOBS_OK) {
+    x = band_job_begin(j, band, worker, &yb0, &yb1);
+    if (x == NULL) {
         return;
     }
-    j->s->band_done[band] = 1u;
     before = x->st;
     grow_band(x, j->disp, yb0, yb1, 0);
     band_result(&x->st, &before, &j->s->band_res[band]);
@@ -212,15 +226,14 @@ static void pass0_grow_job(void *arg, int32_t band, int32_t worker)
 static void pass0_dp_job(void *arg, int32_t band, int32_t worker)
 {
     band_job_t *j = (band_job_t *)arg;
-    stx_t *x = worker_state(j->s, worker);
+    stx_t *x;
     int32_t yb0;
     int32_t yb1;
     int32_t y0;
-    if (x == NULL || negobs_stereo_band_rows(&x->cfg, x->h, band, &yb0,
-                                             &yb1) != NEGOBS_OK) {
+    x = band_job_begin(j, band, worker, &yb0, &yb1);
+    if (x == NULL) {
         return;
     }
-    j->s->band_done[band] = 1u;
     for (y0 = yb0; y0 < yb1; y0 += x->sh) {
         int32_t y1 = (y0 + x->sh < yb1) ? y0 + x->sh : yb1;
         int32_t y;
@@ -298,15 +311,14 @@ static void seam_pass(stx_t *s, negobs_image_s16_t *disp, int32_t nb)
 static void pass1_job(void *arg, int32_t band, int32_t worker)
 {
     band_job_t *j = (band_job_t *)arg;
-    stx_t *x = worker_state(j->s, worker);
+    stx_t *x;
     int32_t yb0;
     int32_t yb1;
     int32_t y0;
-    if (x == NULL || negobs_stereo_band_rows(&x->cfg, x->h, band, &yb0,
-                                             &yb1) != NEGOBS_OK) {
+    x = band_job_begin(j, band, worker, &yb0, &yb1);
+    if (x == NULL) {
         return;
     }
-    j->s->band_done[band] = 1u;
     for (y0 = yb0; y0 < yb1; y0 += x->sh) {
         int32_t y1 = (y0 + x->sh < yb1) ? y0 + x->sh : yb1;
         int32_t y;
@@ -388,14 +400,13 @@ void stx_bands_pass1(stx_t *s, negobs_image_s16_t *disp_q4,
 static void filter_job(void *arg, int32_t band, int32_t worker)
 {
     band_job_t *j = (band_job_t *)arg;
-    stx_t *x = worker_state(j->s, worker);
+    stx_t *x;
     int32_t a;
     int32_t b;
-    if (x == NULL ||
-        negobs_stereo_band_rows(&x->cfg, x->h, band, &a, &b) != NEGOBS_OK) {
+    x = band_job_begin(j, band, worker, &a, &b);
+    if (x == NULL) {
         return;
     }
-    j->s->band_done[band] = 1u;
     switch (j->filter) {
     case STX_FILTER_LR:
         stx_lr_check_rows(x, j->disp, j->conf_data, j->conf_stride, a, b);
