@@ -180,4 +180,23 @@ void Progress::finish()
     }
 }
 
+std::string json_escape(const std::string &s)
+{
+    std::string o;
+    for (const char c : s) {
+        if (c == '"' || c == '\\') {
+            o += '\\';
+            o += c;
+        } else if (static_cast<unsigned char>(c) < 0x20) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x",
+                          static_cast<unsigned>(c));
+            o += buf;
+        } else {
+            o += c;
+        }
+    }
+    return o;
+}
+
 } // namespace negobs_cli

@@ -77,6 +77,11 @@ private:
     std::chrono::steady_clock::time_point start_;
 };
 
+// s as a JSON string body: quotes and backslashes escaped, control
+// characters as \u00XX (no surrounding quotes). The one escaper of the
+// tools' JSON writers.
+std::string json_escape(const std::string &s);
+
 } // namespace negobs_cli
 
 #endif

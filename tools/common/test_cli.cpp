@@ -69,6 +69,8 @@ int main(int argc, char **argv)
     check(main_guard("t", argc, argv, throws_runtime, 4) == 4,
           "... or the tool's own code");
 
+    check(json_escape("a\"b\\c\n") == "a\\\"b\\\\c\\u000a",
+          "json_escape: quote, backslash and a control character");
     check(Progress::format_seconds(42) == "42s" &&
               Progress::format_seconds(185) == "3m05s" &&
               Progress::format_seconds(3720) == "1h02m" &&

@@ -42,20 +42,7 @@ std::string num(double v, int decimals)
 
 std::string json_str(const std::string &s)
 {
-    std::string o = "\"";
-    for (const char c : s) {
-        if (c == '"' || c == '\\') {
-            o += '\\';
-            o += c;
-        } else if (static_cast<unsigned char>(c) < 0x20) {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\u%04x", c);
-            o += buf;
-        } else {
-            o += c;
-        }
-    }
-    return o + "\"";
+    return "\"" + negobs_cli::json_escape(s) + "\"";
 }
 
 std::string csv_field(const std::string &s)

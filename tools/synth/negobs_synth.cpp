@@ -501,22 +501,6 @@ std::string fmt(const char *f, ...)
     return buf;
 }
 
-std::string json_escape(const std::string &s)
-{
-    std::string o;
-    for (char c : s) {
-        if (c == '"' || c == '\\') {
-            o += '\\';
-            o += c;
-        } else if (static_cast<unsigned char>(c) < 0x20) {
-            o += fmt("\\u%04x", c);
-        } else {
-            o += c;
-        }
-    }
-    return o;
-}
-
 bool write_png(const std::string &path, const cv::Mat &m)
 {
     const std::vector<int> params = {cv::IMWRITE_PNG_COMPRESSION, 3};
@@ -639,24 +623,24 @@ int run(int argc, char **argv)
                  "\"width\": %d, \"height\": %d, \"right_row_shift\": %.6g},\n",
                  o.rig.f, o.rig.baseline * 1e3, o.rig.cx, o.rig.cy, o.height_mm, o.pitch_deg,
                  o.roll_deg, o.yaw_deg, o.rig.width, o.rig.height, o.rig.right_row_shift);
-    std::fprintf(gt,
-                 "\"scene\": {\"hazard\": \"%s\", \"negative\": %s, \"edge_mm\": %.6g, "
-                 "\"drop_mm\": %.6g, \"steps\": %d, \"rise_mm\": %.6g, \"run_mm\": %.6g, "
-                 "\"hole_width_mm\": %.6g, \"hole_length_mm\": %.6g, "
-                 "\"hole_offset_mm\": %.6g, \"wall_height_mm\": %.6g, "
-                 "\"ramp_grade_pct\": %.6g, \"ramp_mm\": %s, "
-                 "\"texture\": \"%s\", \"texture_seed\": %llu, \"distractors\": [%s]},\n",
-                 synth::hazard_name(sp.hazard),
-                 (sp.hazard == synth::Hazard::Curb || sp.hazard == synth::Hazard::Stairs ||
-                  sp.hazard == synth::Hazard::Hole)
-                     ? "true"
-                     : "false",
-                 sp.edge_z * 1e3, sp.drop * 1e3, sp.steps, sp.rise * 1e3, sp.run * 1e3,
-                 sp.hole_width * 1e3, sp.hole_length * 1e3, sp.hole_offset * 1e3,
-                 sp.wall_height * 1e3, sp.ramp_grade * 1e2,
-                 std::isfinite(sp.ramp_length) ? fmt("%.6g", sp.ramp_length * 1e3).c_str() : "null",
-                 json_escape(o.texture_file.empty() ? o.texture_kind : o.texture_file).c_str(),
-                 static_cast<unsigned long long>(o.texture_seed), dlist.c_str());
+    std::fprintf(
+        gt,
+        "\"scene\": {\"hazard\": \"%s\", \"negative\": %s, \"edge_mm\": %.6g, "
+        "\"drop_mm\": %.6g, \"steps\": %d, \"rise_mm\": %.6g, \"run_mm\": %.6g, "
+        "\"hole_width_mm\": %.6g, \"hole_length_mm\": %.6g, "
+        "\"hole_offset_mm\": %.6g, \"wall_height_mm\": %.6g, "
+        "\"ramp_grade_pct\": %.6g, \"ramp_mm\": %s, "
+        "\"texture\": \"%s\", \"texture_seed\": %llu, \"distractors\": [%s]},\n",
+        synth::hazard_name(sp.hazard),
+        (sp.hazard == synth::Hazard::Curb || sp.hazard == synth::Hazard::Stairs ||
+         sp.hazard == synth::Hazard::Hole)
+            ? "true"
+            : "false",
+        sp.edge_z * 1e3, sp.drop * 1e3, sp.steps, sp.rise * 1e3, sp.run * 1e3, sp.hole_width * 1e3,
+        sp.hole_length * 1e3, sp.hole_offset * 1e3, sp.wall_height * 1e3, sp.ramp_grade * 1e2,
+        std::isfinite(sp.ramp_length) ? fmt("%.6g", sp.ramp_length * 1e3).c_str() : "null",
+        negobs_cli::json_escape(o.texture_file.empty() ? o.texture_kind : o.texture_file).c_str(),
+        static_cast<unsigned long long>(o.texture_seed), dlist.c_str());
     std::fprintf(gt,
                  "\"render\": {\"supersample\": %d, \"noise\": %.6g, \"gain_right\": %.6g, "
                  "\"offset_right\": %.6g, \"brightness\": %.6g, \"blur\": %.6g, \"seed\": %llu, "
