@@ -65,7 +65,7 @@ void json_log_close(void)
     }
 }
 
-static const char *state_name(int s)
+static const char *state_name(negobs_detect_state_t s)
 {
     switch (s) {
     case NEGOBS_DETECT_CLEAR: return "CLEAR";
@@ -75,7 +75,7 @@ static const char *state_name(int s)
     }
 }
 
-static const char *level_name(int l)
+static const char *level_name(negobs_alert_level_t l)
 {
     switch (l) {
     case NEGOBS_LEVEL_NONE: return "NONE";
@@ -96,7 +96,7 @@ static const char *pattern_name(int p)
                                                                  : "?";
 }
 
-static const char *type_name(int t)
+static const char *type_name(negobs_hazard_type_t t)
 {
     switch (t) {
     case NEGOBS_HAZARD_UNKNOWN: return "UNKNOWN";
