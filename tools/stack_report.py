@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Worst-case stack depth of lib/ from GCC's -fcallgraph-info=su files.
 
-usage: stack_report.py [--max BYTES] [--hook FUNCTION]... DIR_OR_CI_FILES...
+usage: stack_report.py [--max BYTES] [--hook FUNCTION]...
+                       [--edge CALLER=CALLEE[,CALLEE...]]... DIR_OR_CI_FILES...
 
 For every function defined in the .ci files, the worst depth is its own
 frame plus the deepest callee. Calls to functions without a frame record
@@ -12,6 +13,10 @@ The one exception are the documented hooks into the caller's own code
 (the matcher's profiling clock and map observer): a function named with
 --hook may call through a pointer; the call is listed, and the caller
 adds its hook's own depth to the bound (the library cannot know it).
+A call through a pointer to the library's own functions (the matcher's
+row-band jobs, handed to the caller's executor and back) is followed when
+--edge names its possible targets: CALLER's pointer call then counts as a
+call to each listed CALLEE.
 Exit 1 when the deepest chain exceeds --max.
 """
 import os
@@ -47,12 +52,16 @@ def load(paths):
 def main(argv):
     limit = None
     hooks = set()
+    edges = {}
     args = argv[1:]
-    while len(args) >= 2 and args[0] in ('--max', '--hook'):
+    while len(args) >= 2 and args[0] in ('--max', '--hook', '--edge'):
         if args[0] == '--max':
             limit = int(args[1])
-        else:
+        elif args[0] == '--hook':
             hooks.add(args[1])
+        else:
+            caller, _, targets = args[1].partition('=')
+            edges.setdefault(caller, []).extend(t for t in targets.split(',') if t)
         args = args[2:]
     if not args:
         print(__doc__)
@@ -67,6 +76,13 @@ def main(argv):
             problems.append(f'{fn}: frame is {kind}')
     memo = {}
     hook_calls = set()
+    by_short = {}
+    for title in frames:
+        by_short.setdefault(title.rsplit(':', 1)[-1], []).append(title)
+    for caller, targets in edges.items():
+        for t in targets:
+            if t not in by_short:
+                problems.append(f'--edge {caller}={t}: no such function')
 
     def depth(fn, path):
         if fn in path:
@@ -77,9 +93,16 @@ def main(argv):
         best, chain = 0, []
         for callee in sorted(calls.get(fn, ())):
             if callee == '__indirect_call':
-                if fn.rsplit(':', 1)[-1] in hooks:
+                short = fn.rsplit(':', 1)[-1]
+                if short in hooks:
                     hook_calls.add(fn)
-                else:
+                if short in edges:
+                    for t in edges[short]:
+                        for title in by_short.get(t, ()):
+                            d, c = depth(title, path + [fn])
+                            if d > best:
+                                best, chain = d, c
+                elif short not in hooks:
                     problems.append(f'{fn}: indirect call')
                 continue
             d, c = depth(callee, path + [fn])
