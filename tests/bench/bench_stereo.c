@@ -19,7 +19,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "../stereo/synth.h"
+#include "../support/scene_pair.h"
 #include "negobs/pipeline.h"
 #include "negobs/valign.h"
 #include "negobs/version.h"

@@ -1,5 +1,5 @@
 /*
- * Detector tests on analytic synthetic disparity maps (tests/detect/synth.h):
+ * Detector tests on analytic synthetic disparity maps (tests/support/scene_disp.h):
  * rig of the project targets (H = 1.2 m, pitch 20 deg, f = 250 px at
  * 320x240, B = 120 mm), noise sigma 0.25 px unless stated.
  */

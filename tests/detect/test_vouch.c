@@ -1,6 +1,6 @@
 /*
  * The vouched range (clear_to_mm, short_sight) on analytic synthetic maps
- * (tests/detect/synth.h): rig of the project targets (H = 1.2 m, pitch
+ * (tests/support/scene_disp.h): rig of the project targets (H = 1.2 m, pitch
  * 20 deg, f = 250 px at 320x240, B = 120 mm), noise sigma 0.25 px unless
  * stated. Definitions: docs/DETECTION.md, "Verdicts and the vouched range".
  */

@@ -11,7 +11,7 @@
  *   negobs_digest --self-test  exit 1 unless every digest sees the change
  *
  * "digest": the kernels. The stereo engine runs on a generated pair
- * (tests/stereo/synth.h: slanted ground, drop-off, box, 2-row vertical
+ * (tests/support/scene_pair.h: slanted ground, drop-off, box, 2-row vertical
  * offset); its Q4 disparities, confidences and statistics are fed into the
  * same digest as the box sums, integral images, valign and fixed-point
  * helpers.
@@ -39,7 +39,7 @@
 
 #include "walk.h"
 
-#include "../stereo/synth.h"
+#include "scene_pair.h"
 #include "fixed_int.h"
 #include "integral.h"
 

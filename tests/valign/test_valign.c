@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "gen.h"
+#include "scene_valign.h"
 #include "negobs/stereo.h"
 #include "negobs/valign.h"
 #include "valign/valign_int.h"
