@@ -40,6 +40,7 @@
 #include "walk.h"
 
 #include "scene_pair.h"
+#include "test_rng.h"
 #include "fixed_int.h"
 #include "integral.h"
 
@@ -104,8 +105,7 @@ static uint64_t run(int perturb)
 
     d.h = 14695981039346656037ull;
     for (i = 0; i < sizeof pix; i++) {
-        seed = seed * 1664525u + 1013904223u;
-        pix[i] = (uint8_t)(seed >> 24);
+        pix[i] = (uint8_t)(test_lcg_next(&seed) >> 16);
     }
     if (perturb) {
         pix[(H / 2) * W + W / 2] ^= 1u;
