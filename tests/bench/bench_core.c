@@ -11,6 +11,8 @@
 #include "integral.h"
 #include "negobs/negobs.h"
 
+#include "../support/test_rng.h"
+
 static uint8_t img_buf[480 * 640];
 static uint16_t sum[480 * 640];
 static uint32_t sumsq[480 * 640];
@@ -65,8 +67,7 @@ int main(void)
     uint32_t s = 1;
     size_t i;
     for (i = 0; i < sizeof img_buf; i++) {
-        s = s * 1664525u + 1013904223u;
-        img_buf[i] = (uint8_t)(s >> 24);
+        img_buf[i] = (uint8_t)(test_lcg_next(&s) >> 16);
     }
     printf("negobs %s core kernels\n", negobs_version());
     bench(320, 240);

@@ -19,7 +19,8 @@
 #include <string.h>
 #include <time.h>
 
-#include "../stereo/synth.h"
+#include "../support/scene_pair.h"
+#include "../support/test_rng.h"
 #include "negobs/pipeline.h"
 #include "negobs/valign.h"
 #include "negobs/version.h"
@@ -180,10 +181,8 @@ static void make(kind_t k, int32_t w, int32_t h)
                 rpx[i] = (uint8_t)((((x + 3) / 4) & 1) ? 200 : 50);
                 break;
             case NOISE:
-                s = s * 1664525u + 1013904223u;
-                lpx[i] = (uint8_t)(s >> 24);
-                s = s * 1664525u + 1013904223u;
-                rpx[i] = (uint8_t)(s >> 24);
+                lpx[i] = (uint8_t)(test_lcg_next(&s) >> 16);
+                rpx[i] = (uint8_t)(test_lcg_next(&s) >> 16);
                 break;
             case CHECKER:
                 lpx[i] = (uint8_t)((((x / 8) + (y / 8)) & 1) ? 220 : 30);

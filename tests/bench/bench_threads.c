@@ -4,7 +4,7 @@
  *  - the typical generated 320x240 frame (range 0-63),
  *  - Middlebury Cones (450x375, range 0-63) from $NEGOBS_DATA when present,
  *  - and of negobs_pipeline_process over the 24-frame generated curb walk
- *    (tests/digest/walk.c, 320x240, mean per frame),
+ *    (tests/support/walk.c, 320x240, mean per frame),
  * with the CPU time of the whole process beside it (all threads), the
  * ratio to one thread, and a check that every thread count gives the same
  * disparities and statistics bit for bit. Wall time on a shared machine is
@@ -21,8 +21,8 @@
 #include <string.h>
 #include <time.h>
 
-#include "../digest/walk.h"
-#include "../stereo/synth.h"
+#include "../support/walk.h"
+#include "../support/scene_pair.h"
 #include "negobs/pipeline.h"
 #include "negobs/stereo.h"
 #include "negobs_port/pool.h"

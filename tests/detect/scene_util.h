@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "negobs/detect.h"
-#include "synth.h"
+#include "scene_disp.h"
 
 #define RIG_W 320
 #define RIG_H 240

@@ -1,5 +1,5 @@
 /*
- * Detector tests on analytic synthetic disparity maps (tests/detect/synth.h):
+ * Detector tests on analytic synthetic disparity maps (tests/support/scene_disp.h):
  * rig of the project targets (H = 1.2 m, pitch 20 deg, f = 250 px at
  * 320x240, B = 120 mm), noise sigma 0.25 px unless stated.
  */
@@ -517,9 +517,9 @@ static void left_texture(uint8_t *px, int v_split, int amp_band, int amp_gnd)
     for (v = 0; v < RIG_H; v++) {
         int amp = (v < v_split) ? amp_band : amp_gnd;
         for (u = 0; u < RIG_W; u++) {
-            h = h * 1664525u + 1013904223u;
+            uint32_t r = test_lcg_next(&h);
             px[v * RIG_W + u] =
-                (uint8_t)(128 + (int)((h >> 16) % (uint32_t)(2 * amp + 1)) -
+                (uint8_t)(128 + (int)((r >> 8) % (uint32_t)(2 * amp + 1)) -
                           amp);
         }
     }

@@ -1,6 +1,6 @@
 /*
  * The vouched range (clear_to_mm, short_sight) on analytic synthetic maps
- * (tests/detect/synth.h): rig of the project targets (H = 1.2 m, pitch
+ * (tests/support/scene_disp.h): rig of the project targets (H = 1.2 m, pitch
  * 20 deg, f = 250 px at 320x240, B = 120 mm), noise sigma 0.25 px unless
  * stated. Definitions: docs/DETECTION.md, "Verdicts and the vouched range".
  */
@@ -548,11 +548,11 @@ static void left_image(uint8_t *px, int32_t fill_px, int fill_value, int dark)
     int32_t v;
     for (v = 0; v < RIG_H; v++) {
         for (u = 0; u < RIG_W; u++) {
-            st = st * 1664525u + 1013904223u;
+            uint32_t r = test_lcg_next(&st);
             if (u < RIG_W - fill_px) {
-                px[v * RIG_W + u] = (uint8_t)(40u + (st >> 24) % 160u);
+                px[v * RIG_W + u] = (uint8_t)(40u + (r >> 16) % 160u);
             } else {
-                px[v * RIG_W + u] = dark ? (uint8_t)((st >> 24) % 8u)
+                px[v * RIG_W + u] = dark ? (uint8_t)((r >> 16) % 8u)
                                          : (uint8_t)fill_value;
             }
         }

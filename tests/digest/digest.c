@@ -11,7 +11,7 @@
  *   negobs_digest --self-test  exit 1 unless every digest sees the change
  *
  * "digest": the kernels. The stereo engine runs on a generated pair
- * (tests/stereo/synth.h: slanted ground, drop-off, box, 2-row vertical
+ * (tests/support/scene_pair.h: slanted ground, drop-off, box, 2-row vertical
  * offset); its Q4 disparities, confidences and statistics are fed into the
  * same digest as the box sums, integral images, valign and fixed-point
  * helpers.
@@ -39,7 +39,8 @@
 
 #include "walk.h"
 
-#include "../stereo/synth.h"
+#include "scene_pair.h"
+#include "test_rng.h"
 #include "fixed_int.h"
 #include "integral.h"
 
@@ -104,8 +105,7 @@ static uint64_t run(int perturb)
 
     d.h = 14695981039346656037ull;
     for (i = 0; i < sizeof pix; i++) {
-        seed = seed * 1664525u + 1013904223u;
-        pix[i] = (uint8_t)(seed >> 24);
+        pix[i] = (uint8_t)(test_lcg_next(&seed) >> 16);
     }
     if (perturb) {
         pix[(H / 2) * W + W / 2] ^= 1u;

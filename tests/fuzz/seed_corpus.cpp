@@ -1,7 +1,7 @@
 // Seed corpora for the fuzz targets, generated when the fuzzers run (never
 // stored): real frames (the opencv-doc aloe pair; Middlebury Cones from
 // $NEGOBS_DATA when present) and the project's own curb walk
-// (tests/digest/walk.h), cut to each target's input layout
+// (tests/support/walk.h), cut to each target's input layout
 // (tests/fuzz/fuzz_*.c). Real texture and real disparities let libFuzzer
 // start inside the matcher's growing, DP and detection paths instead of
 // having to find a matching pair by mutation.
@@ -19,7 +19,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "../digest/walk.h"
+#include "../support/walk.h"
 
 namespace {
 

@@ -50,8 +50,8 @@ static void make_pair(void)
     int32_t y;
     for (y = 0; y < H; y++) {
         for (x = 0; x < W + 40; x++) {
-            s = s * 1664525u + 1013904223u;
-            scene[y * (W + 40) + x] = (uint8_t)(64u + ((s >> 24) & 127u));
+            scene[y * (W + 40) + x] =
+                (uint8_t)(64u + ((test_lcg_next(&s) >> 16) & 127u));
         }
     }
     for (y = 0; y < H; y++) {

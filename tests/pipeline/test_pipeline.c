@@ -9,7 +9,7 @@
 
 #include "cmocka_all.h"
 #include "negobs/pipeline.h"
-#include "../valign/gen.h"
+#include "scene_valign.h"
 
 #define W 160
 #define H 120

@@ -166,12 +166,6 @@ static const negobs_motor_out_ops_t fake_ops = {
     .close = fake_close,
 };
 
-static uint32_t lcg(uint32_t *s)
-{
-    *s = *s * 1664525u + 1013904223u;
-    return *s >> 8;
-}
-
 /*
  * Random verdicts at random times (including pauses far beyond stale_ms):
  * an executor that only plays the posted schedules must give, at every
@@ -220,15 +214,16 @@ static void follow_the_library(int32_t stale_ms)
                     APP_VERDICT_CLEAR,    APP_VERDICT_CLEAR,
                     APP_VERDICT_CAUTION,  APP_VERDICT_CAUTION,
                     APP_VERDICT_IMMINENT, APP_VERDICT_NO_INFO};
-                app_verdict_t v = vs[lcg(&seed) % 6u];
-                in = verdict(v, 800 + (int32_t)(lcg(&seed) % 3500u), t);
+                app_verdict_t v = vs[test_lcg_next(&seed) % 6u];
+                in = verdict(v, 800 + (int32_t)(test_lcg_next(&seed) % 3500u),
+                             t);
                 inp = &in;
             }
             assert_int_equal(app_alert_step(&a, t, inp, &s), NEGOBS_OK);
             assert_int_equal(negobs_motor_exec_start(&ex, &s, now), NEGOBS_OK);
             /* mostly frames 33..400 ms apart, sometimes a long stall */
-            next_verdict = t + 33u + lcg(&seed) % 370u;
-            if (lcg(&seed) % 20u == 0u) {
+            next_verdict = t + 33u + test_lcg_next(&seed) % 370u;
+            if (test_lcg_next(&seed) % 20u == 0u) {
                 next_verdict += (uint32_t)stale_ms + 4000u;
             }
         } else {

@@ -8,7 +8,7 @@
  */
 #include <string.h>
 
-#include "../stereo/synth.h"
+#include "scene_pair.h"
 #include "cmocka_all.h"
 #include "negobs/stereo.h"
 #include "negobs_port/pool.h"

@@ -10,7 +10,7 @@
 
 #include "cmocka_all.h"
 #include "negobs/stereo.h"
-#include "synth.h"
+#include "scene_pair.h"
 
 #define W 160
 #define H 120

@@ -1,5 +1,5 @@
 /*
- * Regression on generated pairs with exact ground truth (synth.h): slanted
+ * Regression on generated pairs with exact ground truth (scene_pair.h): slanted
  * ground plane, a 5 px drop-off and a fronto-parallel box, with and without
  * a 2-row vertical misalignment. Thresholds are pinned a little above what
  * the engine achieves (see docs/DISPARITY.md), so a quality regression
@@ -10,7 +10,7 @@
 
 #include "cmocka_all.h"
 #include "negobs/stereo.h"
-#include "synth.h"
+#include "scene_pair.h"
 
 /* pinned near the measured values (see the printed "#" lines) */
 #define BAD1_MAX_PERMILLE 8

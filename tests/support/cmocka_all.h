@@ -9,11 +9,6 @@
 
 #include <cmocka.h>
 
-/* Deterministic generator for test inputs (same on every target). */
-static inline uint32_t test_lcg_next(uint32_t *state)
-{
-    *state = *state * 1664525u + 1013904223u;
-    return *state >> 8;
-}
+#include "test_rng.h"
 
 #endif

@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "gen.h"
+#include "scene_valign.h"
 #include "negobs/stereo.h"
 #include "negobs/valign.h"
 #include "valign/valign_int.h"
@@ -398,10 +398,8 @@ static void test_noise_and_saturation(void **state)
     default_cfg(&cfg);
     setup_ctx(&ctx, &cfg);
     for (i = 0; i < sizeof g_left; i++) {
-        s = s * 1664525u + 1013904223u;
-        g_left[i] = (uint8_t)(s >> 24);
-        s = s * 1664525u + 1013904223u;
-        g_right[i] = (uint8_t)(s >> 24);
+        g_left[i] = (uint8_t)(test_lcg_next(&s) >> 16);
+        g_right[i] = (uint8_t)(test_lcg_next(&s) >> 16);
     }
     assert_int_equal(negobs_valign_process(&ctx, &l, &r, &o, &st), NEGOBS_OK);
     printf("noise: accepted %d, samples %d, tiles %d\n", st.accepted,

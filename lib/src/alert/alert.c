@@ -293,44 +293,41 @@ static uint32_t earlier(uint32_t now, uint32_t a, uint32_t b)
     return (since(a, now) <= since(b, now)) ? a : b;
 }
 
-negobs_status_t negobs_alert_update(negobs_alert_t *c, uint32_t now,
-                                    const negobs_alert_input_t *input,
-                                    negobs_motor_cmd_t *cmd)
-{
-    negobs_alert_pattern_t want;
-    int32_t idx = 0;
-    uint32_t seg_start = now;
-    uint32_t seg_end = now;
-    int on = 0;
-    int playing;
-    uint32_t next;
-    uint32_t i;
+/* Where the current pattern stands at the time of an update. */
+typedef struct {
+    int playing;        /* 0 once a one-shot pattern has finished    */
+    int32_t idx;        /* segment index, -1 in a delayed start's gap */
+    uint32_t seg_start; /* ms, start of that segment                 */
+    uint32_t seg_end;   /* ms, end of that segment                   */
+    int on;             /* the segment drives the motor              */
+} play_t;
 
-    if (c == NULL || cmd == NULL) {
-        return NEGOBS_ERR_INVAL;
-    }
-    if (c->magic != ALERT_MAGIC) {
-        return NEGOBS_ERR_STATE;
-    }
-    if (input != NULL) {
-        c->in = *input;
+static void play_locate(const negobs_alert_t *c, uint32_t now, play_t *ps)
+{
+    ps->playing = locate(c, c->pat, c->pat_start_ms, now, &ps->idx,
+                         &ps->seg_start, &ps->seg_end);
+}
+
+/* The heartbeat and the staleness watchdog need a time origin even when no
+ * verdict has arrived yet. */
+static void first_update(negobs_alert_t *c, uint32_t now)
+{
+    c->started = 1;
+    c->pat_start_ms = now; /* the heartbeat counts from here */
+    /* Before any verdict, staleness counts from the first update. */
+    if (!c->have_input) {
+        c->in.verdict_ms = now;
+        c->in.no_info = 1;
         c->have_input = 1;
     }
-    if (!c->started) {
-        c->started = 1;
-        c->pat_start_ms = now; /* the heartbeat counts from here */
-        /* Before any verdict, staleness counts from the first update. */
-        if (!c->have_input) {
-            c->in.verdict_ms = now;
-            c->in.no_info = 1;
-            c->have_input = 1;
-        }
-    }
+}
 
-    /* Finish one-shot patterns (the NO_INFO burst chains into NO_INFO). */
-    playing = locate(c, c->pat, c->pat_start_ms, now, &idx, &seg_start,
-                     &seg_end);
-    if (!playing && c->pat != NEGOBS_PATTERN_NONE) {
+/* Finish one-shot patterns (the NO_INFO burst chains into NO_INFO), so the
+ * pattern in c->pat is always one that plays at now. */
+static void finish_one_shot(negobs_alert_t *c, uint32_t now, play_t *ps)
+{
+    play_locate(c, now, ps);
+    if (!ps->playing && c->pat != NEGOBS_PATTERN_NONE) {
         if (c->pat == NEGOBS_PATTERN_READY) {
             c->ready_pending = 0;
         }
@@ -339,57 +336,48 @@ negobs_status_t negobs_alert_update(negobs_alert_t *c, uint32_t now,
         } else {
             c->pat = NEGOBS_PATTERN_NONE; /* heartbeat: its gap first */
         }
-        c->pat_start_ms = seg_end;
-        playing = locate(c, c->pat, c->pat_start_ms, now, &idx, &seg_start,
-                         &seg_end);
+        c->pat_start_ms = ps->seg_end;
+        play_locate(c, now, ps);
     }
-    on = (playing && idx >= 0) ? seg_on(c->pat, idx) : 0;
+    ps->on = (ps->playing && ps->idx >= 0) ? seg_on(c->pat, ps->idx) : 0;
+}
 
-    want = desired(c, now);
-    if (want != c->pat && !(is_noinfo(want) && is_noinfo(c->pat))) {
-        int sw;
-        negobs_alert_pattern_t old = c->pat;
-        if (pats[want].prio > pats[c->pat].prio) {
-            sw = 1; /* pre-empt now (the min-pulse guard protects a pulse) */
-        } else if (is_caution(want) && is_caution(c->pat)) {
-            /* Band change: in the long gap after the two-pulse burst. */
-            sw = !on && idx == pat_n(c, c->pat) - 1;
-        } else {
-            sw = !on; /* lower priority: never cut a pulse */
+/* Switch to the wanted pattern only where the switch cannot be felt as a
+ * broken or fused pulse, unless the wanted one is more urgent. */
+static void switch_pattern(negobs_alert_t *c, uint32_t now, play_t *ps)
+{
+    negobs_alert_pattern_t want = desired(c, now);
+    int sw;
+    negobs_alert_pattern_t old = c->pat;
+    if (want == c->pat || (is_noinfo(want) && is_noinfo(c->pat))) {
+        return;
+    }
+    if (pats[want].prio > pats[c->pat].prio) {
+        sw = 1; /* pre-empt now (the min-pulse guard protects a pulse) */
+    } else if (is_caution(want) && is_caution(c->pat)) {
+        /* Band change: in the long gap after the two-pulse burst. */
+        sw = !ps->on && ps->idx == pat_n(c, c->pat) - 1;
+    } else {
+        sw = !ps->on; /* lower priority: never cut a pulse */
+    }
+    if (sw) {
+        /* A pending READY pre-empted by a hazard is dropped. */
+        start_pattern(c, want, now);
+        /* After a pulse that just ended, keep a gap so two patterns
+         * never fuse into one long pulse. TUNABLE: 100 ms. */
+        if (pats[want].prio <= pats[old].prio && c->motor_on) {
+            c->pat_start_ms = now + 100u;
         }
-        if (sw) {
-            /* A pending READY pre-empted by a hazard is dropped. */
-            start_pattern(c, want, now);
-            /* After a pulse that just ended, keep a gap so two patterns
-             * never fuse into one long pulse. TUNABLE: 100 ms. */
-            if (pats[want].prio <= pats[old].prio && c->motor_on) {
-                c->pat_start_ms = now + 100u;
-            }
-            playing = locate(c, c->pat, c->pat_start_ms, now, &idx, &seg_start,
-                             &seg_end);
-            on = (playing && idx >= 0) ? seg_on(c->pat, idx) : 0;
-        }
+        play_locate(c, now, ps);
+        ps->on = (ps->playing && ps->idx >= 0) ? seg_on(c->pat, ps->idx) : 0;
     }
+}
 
-    /* Remembered while it plays, so the entry burst sees the gap. */
-    if (is_noinfo(c->pat)) {
-        c->noinfo_seen = 1;
-        c->last_noinfo_ms = now;
-    }
-
-    next = playing ? seg_end : now + 1000u;
-    /* Minimum pulse: never switch off earlier than min_pulse_ms. */
-    if (!on && c->motor_on &&
-        since(now, c->on_since_ms) < c->cfg.min_pulse_ms) {
-        on = 1;
-        next = c->on_since_ms + (uint32_t)c->cfg.min_pulse_ms;
-    }
-    if (on && !c->motor_on) {
-        c->on_since_ms = now;
-    }
-    c->motor_on = on;
-
-    /* Wake up for the watchdog deadline and the end of an IMMINENT hold. */
+/* Wake up for the watchdog deadline, the end of an IMMINENT hold and the
+ * next low-battery reminder, which no segment boundary announces. */
+static uint32_t wake_deadlines(const negobs_alert_t *c, uint32_t now,
+                               uint32_t next)
+{
     if (since(now, c->in.verdict_ms) <= c->cfg.stale_ms) {
         next = earlier(now, next,
                        c->in.verdict_ms + (uint32_t)c->cfg.stale_ms + 1u);
@@ -410,21 +398,25 @@ negobs_status_t negobs_alert_update(negobs_alert_t *c, uint32_t now,
     if (since(next, now) <= 0) {
         next = now + 1u;
     }
+    return next;
+}
 
-    cmd->on = on;
-    cmd->duty_permille = on ? c->cfg.intensity_permille : 0;
-    cmd->next_change_ms = next;
-    cmd->pattern = c->pat;
-    /* Upcoming schedule of the current pattern, assuming no new input. */
+/* Upcoming schedule of the current pattern, assuming no new input, so a
+ * driver can play it without waking the caller for every segment. */
+static void fill_schedule(const negobs_alert_t *c, uint32_t now,
+                          const play_t *ps, uint32_t next,
+                          negobs_motor_cmd_t *cmd)
+{
+    uint32_t i;
     cmd->n_segments = 1;
     cmd->segments[0].start_ms = now;
-    cmd->segments[0].on = on;
+    cmd->segments[0].on = ps->on;
     cmd->segments[0].duty_permille = cmd->duty_permille;
-    if (playing) {
+    if (ps->playing) {
         int32_t n = pat_n(c, c->pat);
-        uint32_t t = seg_end;
-        int32_t k = idx;
-        if (idx < 0 || (on && !seg_on(c->pat, idx))) {
+        uint32_t t = ps->seg_end;
+        int32_t k = ps->idx;
+        if (ps->idx < 0 || (ps->on && !seg_on(c->pat, ps->idx))) {
             t = next; /* guard extension or delayed start */
         }
         for (i = 1; i < NEGOBS_ALERT_MAX_SEGMENTS; i++) {
@@ -448,6 +440,61 @@ negobs_status_t negobs_alert_update(negobs_alert_t *c, uint32_t now,
             t += (uint32_t)seg_dur(c, c->pat, k);
         }
     }
+}
+
+negobs_status_t negobs_alert_update(negobs_alert_t *c, uint32_t now,
+                                    const negobs_alert_input_t *input,
+                                    negobs_motor_cmd_t *cmd)
+{
+    play_t ps;
+    uint32_t next;
+
+    if (c == NULL || cmd == NULL) {
+        return NEGOBS_ERR_INVAL;
+    }
+    if (c->magic != ALERT_MAGIC) {
+        return NEGOBS_ERR_STATE;
+    }
+    if (input != NULL) {
+        c->in = *input;
+        c->have_input = 1;
+    }
+    if (!c->started) {
+        first_update(c, now);
+    }
+    ps.playing = 0;
+    ps.idx = 0;
+    ps.seg_start = now;
+    ps.seg_end = now;
+    ps.on = 0;
+
+    finish_one_shot(c, now, &ps);
+    switch_pattern(c, now, &ps);
+
+    /* Remembered while it plays, so the entry burst sees the gap. */
+    if (is_noinfo(c->pat)) {
+        c->noinfo_seen = 1;
+        c->last_noinfo_ms = now;
+    }
+
+    next = ps.playing ? ps.seg_end : now + 1000u;
+    /* Minimum pulse: never switch off earlier than min_pulse_ms. */
+    if (!ps.on && c->motor_on &&
+        since(now, c->on_since_ms) < c->cfg.min_pulse_ms) {
+        ps.on = 1;
+        next = c->on_since_ms + (uint32_t)c->cfg.min_pulse_ms;
+    }
+    if (ps.on && !c->motor_on) {
+        c->on_since_ms = now;
+    }
+    c->motor_on = ps.on;
+    next = wake_deadlines(c, now, next);
+
+    cmd->on = ps.on;
+    cmd->duty_permille = ps.on ? c->cfg.intensity_permille : 0;
+    cmd->next_change_ms = next;
+    cmd->pattern = c->pat;
+    fill_schedule(c, now, &ps, next, cmd);
     return NEGOBS_OK;
 }
 

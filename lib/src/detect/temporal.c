@@ -68,23 +68,13 @@ void temporal_update(temporal_t *t, const negobs_hazard_t *cands, uint32_t n,
                             hold_range_mm, now_ms);
 }
 
-void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
-                             const uint8_t *trusted, uint32_t n, int observed,
-                             int32_t seen_to_mm, int32_t hold_range_mm,
-                             uint32_t now_ms)
+/* Candidates nearest first (insertion sort, n <= 8): the nearest edge is
+ * the most urgent, so it gets first pick of the tracks. */
+static void sort_nearest_first(const negobs_hazard_t *cands, uint32_t n,
+                               uint32_t *order)
 {
-    const negobs_detect_config_t *cfg = t->cfg;
-    int32_t used[NEGOBS_DETECT_MAX_TRACKS];
-    uint32_t order[NEGOBS_DETECT_MAX_HAZARDS];
     uint32_t i;
     uint32_t j;
-    int32_t k;
-
-    if (n > NEGOBS_DETECT_MAX_HAZARDS) {
-        n = NEGOBS_DETECT_MAX_HAZARDS;
-    }
-    memset(used, 0, sizeof used);
-    /* Candidates nearest first (insertion sort, n <= 8). */
     for (i = 0; i < n; i++) {
         order[i] = i;
     }
@@ -97,42 +87,192 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
         }
         order[j] = x;
     }
+}
+
+/* The free track whose gate (the walking geometry of the file comment)
+ * holds the candidate, nearest predicted range first; -1 if none. */
+static int32_t assoc_best(const temporal_t *t, const negobs_hazard_t *c,
+                          const int32_t *used, uint32_t now_ms)
+{
+    const negobs_detect_config_t *cfg = t->cfg;
+    int32_t best = -1;
+    int32_t best_err = INT32_MAX;
+    int32_t k;
+    for (k = 0; k < NEGOBS_DETECT_MAX_TRACKS; k++) {
+        const tmp_track_t *tr = &t->tracks[k];
+        int32_t pred;
+        int32_t lo;
+        int32_t hi;
+        int32_t err;
+        int32_t age;
+        if (!tr->active || used[k]) {
+            continue;
+        }
+        age = elapsed_ms(now_ms, tr->last_seen_ms);
+        if (age < 0) {
+            age = 0;
+        }
+        pred = tr->held ? held_range(cfg, tr, now_ms) : tr->hz.range_mm;
+        hi = pred + cfg->assoc_range_mm;
+        lo = pred - cfg->assoc_range_mm -
+             (int32_t)(((int64_t)cfg->max_speed_mm_s * age) / 1000);
+        if (c->range_mm > hi || c->range_mm < lo) {
+            continue;
+        }
+        if (negobs_abs_s32(c->lateral_mm - tr->hz.lateral_mm) >
+            cfg->assoc_lateral_mm) {
+            continue;
+        }
+        err = negobs_abs_s32(c->range_mm - pred);
+        if (err < best_err) {
+            best_err = err;
+            best = k;
+        }
+    }
+    return best;
+}
+
+/* New track: an unused slot, else the weakest unconfirmed one, so a
+ * confirmed hazard is never displaced by a new sighting; -1 if all slots
+ * hold confirmed hazards. */
+static int32_t new_track_slot(const temporal_t *t, const int32_t *used)
+{
+    const negobs_detect_config_t *cfg = t->cfg;
+    uint32_t weakest = 0xFFFFFFFFu;
+    int32_t best = -1;
+    int32_t k;
+    for (k = 0; k < NEGOBS_DETECT_MAX_TRACKS; k++) {
+        if (!t->tracks[k].active) {
+            return k;
+        }
+    }
+    for (k = 0; k < NEGOBS_DETECT_MAX_TRACKS; k++) {
+        const tmp_track_t *tr = &t->tracks[k];
+        uint32_t hits = popcount32(tr->hist & window_mask(cfg));
+        if (!tr->confirmed && !used[k] && hits < weakest) {
+            weakest = hits;
+            best = k;
+        }
+    }
+    return best;
+}
+
+static void track_start(temporal_t *t, tmp_track_t *tr,
+                        const negobs_hazard_t *c, uint32_t now_ms)
+{
+    memset(tr, 0, sizeof *tr);
+    tr->active = 1;
+    tr->hz = *c;
+    tr->hz.track_id = t->next_id++;
+    tr->near_mm = c->range_mm;
+    tr->last_seen_ms = now_ms;
+    tr->hist = 0;
+}
+
+/* A sighting of an existing track: its range, approach speed and near
+ * bound follow the sighting, its identity and drop type persist. */
+static void track_refresh(const negobs_detect_config_t *cfg, tmp_track_t *tr,
+                          const negobs_hazard_t *c, uint32_t now_ms)
+{
+    int32_t age = elapsed_ms(now_ms, tr->last_seen_ms);
+    uint32_t id = tr->hz.track_id;
+    negobs_hazard_type_t old_type = tr->hz.type;
+    /* Where the track's own approach put this sighting: a real
+     * edge only comes nearer while the wearer walks on, so a
+     * sighting farther than that is as likely a range error of
+     * this frame (a ground model tilted by the drop itself read
+     * 15-19 % too far) as a wearer who turned back. Vouching
+     * takes the nearer (temporal_vouch_bound). */
+    int32_t pred = (tr->held ? held_range(cfg, tr, now_ms) : tr->hz.range_mm) -
+                   (int32_t)(((int64_t)tr->speed_mm_s * geom_max_s32(age, 0)) /
+                             1000);
+    tr->near_mm = geom_min_s32(c->range_mm, geom_max_s32(pred, 0));
+    if (age > 0) {
+        int32_t inst =
+            (int32_t)(((int64_t)(tr->hz.range_mm - c->range_mm) * 1000) / age);
+        inst = negobs_clamp_s32(inst, 0, cfg->max_speed_mm_s);
+        tr->speed_mm_s += (inst - tr->speed_mm_s) / 4;
+    }
+    tr->hz = *c;
+    tr->hz.track_id = id;
+    /* Missing ground never downgrades a measured drop. */
+    if (c->type == NEGOBS_HAZARD_UNKNOWN) {
+        tr->hz.type = old_type;
+    }
+    tr->last_seen_ms = now_ms;
+}
+
+/* A track without a sighting this frame: held tracks time out, tracks the
+ * frame could not vouch for wait, the others count a miss (confirmed ones
+ * close by are held instead, since the camera loses them underfoot). */
+static void track_unseen(const negobs_detect_config_t *cfg, tmp_track_t *tr,
+                         int observed, int32_t seen_to_mm,
+                         int32_t hold_range_mm, uint32_t now_ms)
+{
+    if (tr->held) {
+        if (elapsed_ms(now_ms, tr->hold_start_ms) > cfg->hold_ms) {
+            tr->active = 0;
+        }
+        return;
+    }
+    if (!observed || (tr->hz.range_mm > seen_to_mm &&
+                      !(tr->confirmed && tr->hz.range_mm <= hold_range_mm))) {
+        /* No evidence either way (the frame did not vouch for the
+         * track's place): it is not a miss, and only time can retire
+         * a confirmed track. An unconfirmed track's window still
+         * moves on: confirmation is confirm_k sightings within the
+         * last confirm_n frames, i.e. persistence in time. Were the
+         * window frozen, sightings scattered over frames that could
+         * not look between them (frames vouching 0 mm, trusting a
+         * candidate on its own strips only) would add up to a
+         * "3 of 5" over any number of frames: matching noise that
+         * recurs now and then would confirm. */
+        if (!tr->confirmed) {
+            tr->hist <<= 1;
+            if ((tr->hist & window_mask(cfg)) == 0u) {
+                tr->active = 0;
+                return;
+            }
+        }
+        if (elapsed_ms(now_ms, tr->last_seen_ms) > cfg->hold_ms) {
+            tr->active = 0;
+        }
+        return;
+    }
+    tr->hist <<= 1;
+    tr->misses++;
+    if (tr->confirmed) {
+        if (tr->hz.range_mm <= hold_range_mm) {
+            tr->held = 1;
+            tr->hold_start_ms = now_ms;
+        } else if (tr->misses >= cfg->clear_m) {
+            tr->active = 0;
+        }
+    } else if ((tr->hist & window_mask(cfg)) == 0u) {
+        tr->active = 0;
+    }
+}
+
+void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
+                             const uint8_t *trusted, uint32_t n, int observed,
+                             int32_t seen_to_mm, int32_t hold_range_mm,
+                             uint32_t now_ms)
+{
+    const negobs_detect_config_t *cfg = t->cfg;
+    int32_t used[NEGOBS_DETECT_MAX_TRACKS];
+    uint32_t order[NEGOBS_DETECT_MAX_HAZARDS];
+    uint32_t i;
+    int32_t k;
+
+    if (n > NEGOBS_DETECT_MAX_HAZARDS) {
+        n = NEGOBS_DETECT_MAX_HAZARDS;
+    }
+    memset(used, 0, sizeof used);
+    sort_nearest_first(cands, n, order);
 
     for (i = 0; i < n; i++) {
         const negobs_hazard_t *c = &cands[order[i]];
-        int32_t best = -1;
-        int32_t best_err = INT32_MAX;
-        for (k = 0; k < NEGOBS_DETECT_MAX_TRACKS; k++) {
-            tmp_track_t *tr = &t->tracks[k];
-            int32_t pred;
-            int32_t lo;
-            int32_t hi;
-            int32_t err;
-            int32_t age;
-            if (!tr->active || used[k]) {
-                continue;
-            }
-            age = elapsed_ms(now_ms, tr->last_seen_ms);
-            if (age < 0) {
-                age = 0;
-            }
-            pred = tr->held ? held_range(cfg, tr, now_ms) : tr->hz.range_mm;
-            hi = pred + cfg->assoc_range_mm;
-            lo = pred - cfg->assoc_range_mm -
-                 (int32_t)(((int64_t)cfg->max_speed_mm_s * age) / 1000);
-            if (c->range_mm > hi || c->range_mm < lo) {
-                continue;
-            }
-            if (negobs_abs_s32(c->lateral_mm - tr->hz.lateral_mm) >
-                cfg->assoc_lateral_mm) {
-                continue;
-            }
-            err = negobs_abs_s32(c->range_mm - pred);
-            if (err < best_err) {
-                best_err = err;
-                best = k;
-            }
-        }
+        int32_t best = assoc_best(t, c, used, now_ms);
         if ((!observed || (trusted != NULL && !trusted[order[i]])) &&
             (best < 0 || !t->tracks[best].confirmed)) {
             /* A degraded frame's candidate may refresh a hazard that clean
@@ -141,65 +281,13 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
             continue;
         }
         if (best < 0) {
-            /* New track: an unused slot, else the weakest unconfirmed one. */
-            uint32_t weakest = 0xFFFFFFFFu;
-            for (k = 0; k < NEGOBS_DETECT_MAX_TRACKS; k++) {
-                if (!t->tracks[k].active) {
-                    best = k;
-                    break;
-                }
-            }
-            if (best < 0) {
-                for (k = 0; k < NEGOBS_DETECT_MAX_TRACKS; k++) {
-                    tmp_track_t *tr = &t->tracks[k];
-                    uint32_t hits = popcount32(tr->hist & window_mask(cfg));
-                    if (!tr->confirmed && !used[k] && hits < weakest) {
-                        weakest = hits;
-                        best = k;
-                    }
-                }
-            }
+            best = new_track_slot(t, used);
             if (best < 0) {
                 continue; /* every slot holds a confirmed hazard */
             }
-            memset(&t->tracks[best], 0, sizeof t->tracks[best]);
-            t->tracks[best].active = 1;
-            t->tracks[best].hz = *c;
-            t->tracks[best].hz.track_id = t->next_id++;
-            t->tracks[best].near_mm = c->range_mm;
-            t->tracks[best].last_seen_ms = now_ms;
-            t->tracks[best].hist = 0;
+            track_start(t, &t->tracks[best], c, now_ms);
         } else {
-            tmp_track_t *tr = &t->tracks[best];
-            int32_t age = elapsed_ms(now_ms, tr->last_seen_ms);
-            uint32_t id = tr->hz.track_id;
-            negobs_hazard_type_t old_type = tr->hz.type;
-            /* Where the track's own approach put this sighting: a real
-             * edge only comes nearer while the wearer walks on, so a
-             * sighting farther than that is as likely a range error of
-             * this frame (a ground model tilted by the drop itself read
-             * 15-19 % too far) as a wearer who turned back. Vouching
-             * takes the nearer (temporal_vouch_bound). */
-            int32_t pred =
-                (tr->held ? held_range(cfg, tr, now_ms) : tr->hz.range_mm) -
-                (int32_t)(((int64_t)tr->speed_mm_s * geom_max_s32(age, 0)) /
-                          1000);
-            tr->near_mm = geom_min_s32(c->range_mm, geom_max_s32(pred, 0));
-            if (age > 0) {
-                int32_t inst = (int32_t)(((int64_t)(tr->hz.range_mm -
-                                                    c->range_mm) *
-                                          1000) /
-                                         age);
-                inst = negobs_clamp_s32(inst, 0, cfg->max_speed_mm_s);
-                tr->speed_mm_s += (inst - tr->speed_mm_s) / 4;
-            }
-            tr->hz = *c;
-            tr->hz.track_id = id;
-            /* Missing ground never downgrades a measured drop. */
-            if (c->type == NEGOBS_HAZARD_UNKNOWN) {
-                tr->hz.type = old_type;
-            }
-            tr->last_seen_ms = now_ms;
+            track_refresh(cfg, &t->tracks[best], c, now_ms);
         }
         used[best] = 1;
         t->tracks[best].hist = (t->tracks[best].hist << 1) | 1u;
@@ -216,49 +304,7 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
         if (!tr->active || used[k]) {
             continue;
         }
-        if (tr->held) {
-            if (elapsed_ms(now_ms, tr->hold_start_ms) > cfg->hold_ms) {
-                tr->active = 0;
-            }
-            continue;
-        }
-        if (!observed ||
-            (tr->hz.range_mm > seen_to_mm &&
-             !(tr->confirmed && tr->hz.range_mm <= hold_range_mm))) {
-            /* No evidence either way (the frame did not vouch for the
-             * track's place): it is not a miss, and only time can retire
-             * a confirmed track. An unconfirmed track's window still
-             * moves on: confirmation is confirm_k sightings within the
-             * last confirm_n frames, i.e. persistence in time. Were the
-             * window frozen, sightings scattered over frames that could
-             * not look between them (frames vouching 0 mm, trusting a
-             * candidate on its own strips only) would add up to a
-             * "3 of 5" over any number of frames: matching noise that
-             * recurs now and then would confirm. */
-            if (!tr->confirmed) {
-                tr->hist <<= 1;
-                if ((tr->hist & window_mask(cfg)) == 0u) {
-                    tr->active = 0;
-                    continue;
-                }
-            }
-            if (elapsed_ms(now_ms, tr->last_seen_ms) > cfg->hold_ms) {
-                tr->active = 0;
-            }
-            continue;
-        }
-        tr->hist <<= 1;
-        tr->misses++;
-        if (tr->confirmed) {
-            if (tr->hz.range_mm <= hold_range_mm) {
-                tr->held = 1;
-                tr->hold_start_ms = now_ms;
-            } else if (tr->misses >= cfg->clear_m) {
-                tr->active = 0;
-            }
-        } else if ((tr->hist & window_mask(cfg)) == 0u) {
-            tr->active = 0;
-        }
+        track_unseen(cfg, tr, observed, seen_to_mm, hold_range_mm, now_ms);
     }
     t->last_ms = now_ms;
     t->have_last = 1;

@@ -94,6 +94,237 @@ void stx_zsad3_run_ref(const uint8_t *a, const uint8_t *b, int32_t stride,
     }
 }
 
+/* Flat 3x3 windows (mean absolute deviation < 3 grey levels) have no
+ * reliable minimum, so they are not matched at all. */
+static int lowres_textured(const uint8_t *a, int32_t sa, int32_t lw)
+{
+    int32_t tex = 0;
+    int32_t k;
+    for (k = 0; k < 9; k++) {
+        int32_t t = 9 * (int32_t)a[(k / 3 - 1) * lw + (k % 3 - 1)] - sa;
+        tex += (t < 0) ? -t : t;
+    }
+    return tex >= 9 * 9 * 3;
+}
+
+/* The left-right check: the right pixel's own best match must land within
+ * one level of bestd, else the match is an occlusion or a repeat. */
+static int lowres_lr_agrees(const stx_t *s, int32_t x4, int32_t y4,
+                            int32_t bestd, int32_t dmin4, int32_t dmax4)
+{
+    int32_t lw = s->lw;
+    int32_t xr = x4 - bestd;
+    const uint8_t *b = s->lo_r + (ptrdiff_t)y4 * lw + xr;
+    int32_t rb = INT32_MAX;
+    int32_t rd = -1;
+    int32_t run[80]; /* one run of windows, scratch */
+    int32_t d4;
+    /* left windows xl = xr + d4 in [1, lw - 2]; the cost is
+     * symmetric (|t| = |-t|), so the run kernel with the
+     * right window fixed gives zsad3(a2, ., b, .) */
+    int32_t dlo = (dmin4 > 1 - xr) ? dmin4 : 1 - xr;
+    int32_t dhi = (dmax4 < lw - 2 - xr) ? dmax4 : lw - 2 - xr;
+    if (dlo <= dhi) {
+        stx_zsad3_run(b, s->lo_l + (ptrdiff_t)y4 * lw + xr + dlo, lw,
+                      dhi - dlo + 1, run);
+    }
+    for (d4 = dlo; d4 <= dhi; d4++) {
+        int32_t c = run[d4 - dlo];
+        if (c < rb) {
+            rb = c;
+            rd = d4;
+        }
+    }
+    return !(rd < bestd - 1 || rd > bestd + 1);
+}
+
+/* One low-res pixel's disparity level (disparity / 4), or
+ * -1 when it is flat, ambiguous or fails the left-right check: only
+ * trustworthy values may narrow the full-resolution search. */
+static int32_t lowres_match(const stx_t *s, int32_t x4, int32_t y4,
+                            int32_t dmin4, int32_t dmax4)
+{
+    int32_t lw = s->lw;
+    const uint8_t *a = s->lo_l + (ptrdiff_t)y4 * lw + x4;
+    int32_t sa = box3(a, lw);
+    int32_t best = INT32_MAX;
+    int32_t bestd = -1;
+    int32_t second = INT32_MAX;
+    int32_t d4;
+    int32_t costs[80];
+    int32_t run[80]; /* one run of windows, scratch */
+    if (!lowres_textured(a, sa, lw)) {
+        return -1;
+    }
+    /* the levels whose right window is inside: xr = x4 - d4 in
+     * [1, lw - 2], scored as one run of right windows */
+    {
+        int32_t dlo = (dmin4 > x4 - (lw - 2)) ? dmin4 : x4 - (lw - 2);
+        int32_t dhi = (dmax4 < x4 - 1) ? dmax4 : x4 - 1;
+        for (d4 = dmin4; d4 <= dmax4; d4++) {
+            costs[d4 - dmin4] = INT32_MAX;
+        }
+        if (dlo <= dhi) {
+            stx_zsad3_run(a, s->lo_r + (ptrdiff_t)y4 * lw + (x4 - dhi), lw,
+                          dhi - dlo + 1, run);
+            for (d4 = dlo; d4 <= dhi; d4++) {
+                costs[d4 - dmin4] = run[dhi - d4];
+            }
+        }
+    }
+    for (d4 = dmin4; d4 <= dmax4; d4++) {
+        int32_t c = costs[d4 - dmin4];
+        if (c < best) {
+            best = c;
+            bestd = d4;
+        }
+    }
+    if (bestd < 0) {
+        return -1;
+    }
+    for (d4 = dmin4; d4 <= dmax4; d4++) {
+        int32_t dd = d4 - bestd;
+        if ((dd >= 2 || dd <= -2) && costs[d4 - dmin4] < second) {
+            second = costs[d4 - dmin4];
+        }
+    }
+    if (second != INT32_MAX && second - best <= best / 8 + 9) {
+        return -1;
+    }
+    if (!lowres_lr_agrees(s, x4, y4, bestd, dmin4, dmax4)) {
+        return -1;
+    }
+    return bestd;
+}
+
+/* The global range from the 1st and 99th percentiles of the kept levels,
+ * so a few wrong matches cannot widen it. */
+static void lowres_global_range(stx_t *s, uint32_t kept, int32_t nd4,
+                                int32_t dmin4, int32_t dmin, int32_t dmax)
+{
+    int32_t margin = s->cfg.range_margin;
+    uint32_t cut = kept / 100u;
+    uint32_t cum = 0;
+    int32_t lo = 0;
+    int32_t hi = nd4 - 1;
+    int32_t i;
+    for (i = 0; i < nd4; i++) {
+        cum += s->hist[i];
+        if (cum > cut) {
+            lo = i;
+            break;
+        }
+    }
+    cum = 0;
+    for (i = nd4 - 1; i >= 0; i--) {
+        cum += s->hist[i];
+        if (cum > cut) {
+            hi = i;
+            break;
+        }
+    }
+    s->gdmin = negobs_clamp_s32(4 * (lo + dmin4) - 2 - margin, dmin, dmax);
+    s->gdmax = negobs_clamp_s32(4 * (hi + dmin4) + 2 + margin, s->gdmin, dmax);
+}
+
+/* Each tile's own min/max of the kept values, in the upper half of the
+ * tile arrays (the lower half is written from it by the dilation). */
+static void lowres_tile_own(stx_t *s, int32_t dmin4)
+{
+    int32_t lw = s->lw;
+    int32_t lh = s->lh;
+    int32_t ntile = s->tw * s->th;
+    int32_t t4 = s->tile / 4;
+    int16_t *olo = s->tile_lo + ntile;
+    int16_t *ohi = s->tile_hi + ntile;
+    int32_t x4;
+    int32_t y4;
+    int32_t i;
+    for (i = 0; i < ntile; i++) {
+        olo[i] = INT16_MAX;
+        ohi[i] = INT16_MIN;
+    }
+    for (y4 = 0; y4 < lh; y4++) {
+        for (x4 = 0; x4 < lw; x4++) {
+            uint8_t v = s->lo_d[y4 * lw + x4];
+            int32_t ti;
+            int32_t d;
+            if (v == STX_NONE8) {
+                continue;
+            }
+            ti = (y4 / t4) * s->tw + (x4 / t4);
+            if (y4 / t4 >= s->th || x4 / t4 >= s->tw) {
+                continue;
+            }
+            d = 4 * ((int32_t)v + dmin4);
+            if (d < olo[ti]) {
+                olo[ti] = (int16_t)d;
+            }
+            if (d > ohi[ti]) {
+                ohi[ti] = (int16_t)d;
+            }
+        }
+    }
+}
+
+/* Each tile's range is its own and its 8 neighbours' min/max, since a
+ * surface crossing a tile border must be found from both sides. */
+static void lowres_tile_dilate(stx_t *s, int32_t dmin, int32_t dmax)
+{
+    int32_t margin = s->cfg.range_margin;
+    int32_t ntile = s->tw * s->th;
+    const int16_t *olo = s->tile_lo + ntile;
+    const int16_t *ohi = s->tile_hi + ntile;
+    int32_t tx;
+    int32_t ty;
+    int32_t i;
+    int unknown = 0;
+    for (ty = 0; ty < s->th; ty++) {
+        for (tx = 0; tx < s->tw; tx++) {
+            int32_t l = INT16_MAX;
+            int32_t h = INT16_MIN;
+            int32_t dy;
+            int32_t dx;
+            for (dy = -1; dy <= 1; dy++) {
+                for (dx = -1; dx <= 1; dx++) {
+                    int32_t yy = ty + dy;
+                    int32_t xx = tx + dx;
+                    int32_t ti;
+                    if (yy < 0 || yy >= s->th || xx < 0 || xx >= s->tw) {
+                        continue;
+                    }
+                    ti = yy * s->tw + xx;
+                    if (olo[ti] < l) {
+                        l = olo[ti];
+                    }
+                    if (ohi[ti] > h) {
+                        h = ohi[ti];
+                    }
+                }
+            }
+            i = ty * s->tw + tx;
+            if (olo[i] > ohi[i]) {
+                /* No value of its own: the neighbours say nothing
+                 * about what is here (a smooth near floor shows no
+                 * texture at 1/4 scale and has the largest
+                 * disparities of the frame), so search it all. */
+                s->tile_lo[i] = (int16_t)dmin;
+                s->tile_hi[i] = (int16_t)dmax;
+                unknown = 1;
+            } else {
+                l = negobs_clamp_s32(l - 2 - margin, s->gdmin, s->gdmax);
+                h = negobs_clamp_s32(h + 2 + margin, l, s->gdmax);
+                s->tile_lo[i] = (int16_t)l;
+                s->tile_hi[i] = (int16_t)h;
+            }
+        }
+    }
+    if (unknown) {
+        s->gdmin = dmin;
+        s->gdmax = dmax;
+    }
+}
+
 void stx_lowres_range(stx_t *s)
 {
     int32_t lw = s->lw;
@@ -103,13 +334,11 @@ void stx_lowres_range(stx_t *s)
     int32_t dmin4 = dmin / 4;
     int32_t dmax4 = (dmax + 3) / 4;
     int32_t nd4 = dmax4 - dmin4 + 1;
-    int32_t margin = s->cfg.range_margin;
     int32_t x4;
     int32_t y4;
     int32_t i;
     uint32_t kept = 0;
     int32_t ntile = s->tw * s->th;
-    int32_t t4 = s->tile / 4;
 
     s->gdmin = dmin;
     s->gdmax = dmax;
@@ -127,194 +356,22 @@ void stx_lowres_range(stx_t *s)
 
     for (y4 = 1; y4 < lh - 1; y4++) {
         for (x4 = 1; x4 < lw - 1; x4++) {
-            const uint8_t *a = s->lo_l + (ptrdiff_t)y4 * lw + x4;
-            int32_t sa = box3(a, lw);
-            int32_t tex = 0;
-            int32_t best = INT32_MAX;
-            int32_t bestd = -1;
-            int32_t k;
-            int32_t second = INT32_MAX;
-            int32_t d4;
-            int32_t costs[80];
-            int32_t run[80]; /* one run of windows, scratch */
-            for (k = 0; k < 9; k++) {
-                int32_t t = 9 * (int32_t)a[(k / 3 - 1) * lw + (k % 3 - 1)] -
-                            sa;
-                tex += (t < 0) ? -t : t;
-            }
-            if (tex < 9 * 9 * 3) {
-                continue;
-            }
-            /* the levels whose right window is inside: xr = x4 - d4 in
-             * [1, lw - 2], scored as one run of right windows */
-            {
-                int32_t dlo = (dmin4 > x4 - (lw - 2)) ? dmin4 : x4 - (lw - 2);
-                int32_t dhi = (dmax4 < x4 - 1) ? dmax4 : x4 - 1;
-                for (d4 = dmin4; d4 <= dmax4; d4++) {
-                    costs[d4 - dmin4] = INT32_MAX;
-                }
-                if (dlo <= dhi) {
-                    stx_zsad3_run(a, s->lo_r + (ptrdiff_t)y4 * lw + (x4 - dhi),
-                                  lw, dhi - dlo + 1, run);
-                    for (d4 = dlo; d4 <= dhi; d4++) {
-                        costs[d4 - dmin4] = run[dhi - d4];
-                    }
-                }
-            }
-            for (d4 = dmin4; d4 <= dmax4; d4++) {
-                int32_t c = costs[d4 - dmin4];
-                if (c < best) {
-                    best = c;
-                    bestd = d4;
-                }
-            }
+            int32_t bestd = lowres_match(s, x4, y4, dmin4, dmax4);
             if (bestd < 0) {
                 continue;
-            }
-            for (d4 = dmin4; d4 <= dmax4; d4++) {
-                int32_t dd = d4 - bestd;
-                if ((dd >= 2 || dd <= -2) && costs[d4 - dmin4] < second) {
-                    second = costs[d4 - dmin4];
-                }
-            }
-            if (second != INT32_MAX && second - best <= best / 8 + 9) {
-                continue;
-            }
-            /* left-right check: the right pixel must pick us back */
-            {
-                int32_t xr = x4 - bestd;
-                const uint8_t *b = s->lo_r + (ptrdiff_t)y4 * lw + xr;
-                int32_t rb = INT32_MAX;
-                int32_t rd = -1;
-                /* left windows xl = xr + d4 in [1, lw - 2]; the cost is
-                 * symmetric (|t| = |-t|), so the run kernel with the
-                 * right window fixed gives zsad3(a2, ., b, .) */
-                int32_t dlo = (dmin4 > 1 - xr) ? dmin4 : 1 - xr;
-                int32_t dhi = (dmax4 < lw - 2 - xr) ? dmax4 : lw - 2 - xr;
-                if (dlo <= dhi) {
-                    stx_zsad3_run(b, s->lo_l + (ptrdiff_t)y4 * lw + xr + dlo,
-                                  lw, dhi - dlo + 1, run);
-                }
-                for (d4 = dlo; d4 <= dhi; d4++) {
-                    int32_t c = run[d4 - dlo];
-                    if (c < rb) {
-                        rb = c;
-                        rd = d4;
-                    }
-                }
-                if (rd < bestd - 1 || rd > bestd + 1) {
-                    continue;
-                }
             }
             s->lo_d[y4 * lw + x4] = (uint8_t)(bestd - dmin4);
             s->hist[bestd - dmin4]++;
             kept++;
         }
     }
+    /* too few values to trust: keep the configured range */
     if (kept < 16u) {
         return;
     }
-    {
-        uint32_t cut = kept / 100u;
-        uint32_t cum = 0;
-        int32_t lo = 0;
-        int32_t hi = nd4 - 1;
-        for (i = 0; i < nd4; i++) {
-            cum += s->hist[i];
-            if (cum > cut) {
-                lo = i;
-                break;
-            }
-        }
-        cum = 0;
-        for (i = nd4 - 1; i >= 0; i--) {
-            cum += s->hist[i];
-            if (cum > cut) {
-                hi = i;
-                break;
-            }
-        }
-        s->gdmin = negobs_clamp_s32(4 * (lo + dmin4) - 2 - margin, dmin, dmax);
-        s->gdmax = negobs_clamp_s32(4 * (hi + dmin4) + 2 + margin, s->gdmin,
-                                    dmax);
-    }
-    /* per tile: own min/max in the upper half of the arrays, then dilate */
-    {
-        int16_t *olo = s->tile_lo + ntile;
-        int16_t *ohi = s->tile_hi + ntile;
-        int32_t tx;
-        int32_t ty;
-        int unknown = 0;
-        for (i = 0; i < ntile; i++) {
-            olo[i] = INT16_MAX;
-            ohi[i] = INT16_MIN;
-        }
-        for (y4 = 0; y4 < lh; y4++) {
-            for (x4 = 0; x4 < lw; x4++) {
-                uint8_t v = s->lo_d[y4 * lw + x4];
-                int32_t ti;
-                int32_t d;
-                if (v == STX_NONE8) {
-                    continue;
-                }
-                ti = (y4 / t4) * s->tw + (x4 / t4);
-                if (y4 / t4 >= s->th || x4 / t4 >= s->tw) {
-                    continue;
-                }
-                d = 4 * ((int32_t)v + dmin4);
-                if (d < olo[ti]) {
-                    olo[ti] = (int16_t)d;
-                }
-                if (d > ohi[ti]) {
-                    ohi[ti] = (int16_t)d;
-                }
-            }
-        }
-        for (ty = 0; ty < s->th; ty++) {
-            for (tx = 0; tx < s->tw; tx++) {
-                int32_t l = INT16_MAX;
-                int32_t h = INT16_MIN;
-                int32_t dy;
-                int32_t dx;
-                for (dy = -1; dy <= 1; dy++) {
-                    for (dx = -1; dx <= 1; dx++) {
-                        int32_t yy = ty + dy;
-                        int32_t xx = tx + dx;
-                        int32_t ti;
-                        if (yy < 0 || yy >= s->th || xx < 0 || xx >= s->tw) {
-                            continue;
-                        }
-                        ti = yy * s->tw + xx;
-                        if (olo[ti] < l) {
-                            l = olo[ti];
-                        }
-                        if (ohi[ti] > h) {
-                            h = ohi[ti];
-                        }
-                    }
-                }
-                i = ty * s->tw + tx;
-                if (olo[i] > ohi[i]) {
-                    /* No value of its own: the neighbours say nothing
-                     * about what is here (a smooth near floor shows no
-                     * texture at 1/4 scale and has the largest
-                     * disparities of the frame), so search it all. */
-                    s->tile_lo[i] = (int16_t)dmin;
-                    s->tile_hi[i] = (int16_t)dmax;
-                    unknown = 1;
-                } else {
-                    l = negobs_clamp_s32(l - 2 - margin, s->gdmin, s->gdmax);
-                    h = negobs_clamp_s32(h + 2 + margin, l, s->gdmax);
-                    s->tile_lo[i] = (int16_t)l;
-                    s->tile_hi[i] = (int16_t)h;
-                }
-            }
-        }
-        if (unknown) {
-            s->gdmin = dmin;
-            s->gdmax = dmax;
-        }
-    }
+    lowres_global_range(s, kept, nd4, dmin4, dmin, dmax);
+    lowres_tile_own(s, dmin4);
+    lowres_tile_dilate(s, dmin, dmax);
 }
 
 void stx_tile_range(const stx_t *s, int32_t x, int32_t y, int32_t *lo,

@@ -2,7 +2,7 @@
  * A generated walk toward a curb, as stereo pairs for the whole pipeline
  * (the cross-target digest and the fuzz seeds use it; no OpenCV).
  *
- * The geometry is the detect tests' analytic scene (tests/detect/synth.h):
+ * The geometry is the detect tests' analytic scene (tests/support/scene_disp.h):
  * camera 1.2 m above level ground, pitched 20 deg down, a 15 cm drop whose
  * edge starts WALK_EDGE0_MM ahead and comes WALK_STEP_MM nearer every
  * frame (1 m/s at 10 frames/s). Its exact disparity becomes an image pair

@@ -1,6 +1,6 @@
 /*
- * Analytic synthetic disparity maps for the detect tests (test code may use
- * double; the library may not).
+ * Analytic synthetic disparity maps for the detect tests and the curb walk
+ * (walk.c) (test code may use double; the library may not).
  *
  * Camera at height H (m) above level ground, pitch p down, roll r. With the
  * unit ground normal n = (cos p sin r, cos p cos r, sin p) in camera
@@ -20,14 +20,15 @@
  * and by its DP along the row: averaging the columns of a strip does not
  * reduce it. It has its own generator, so maps without it are unchanged.
  */
-#ifndef NEGOBS_TEST_SYNTH_H
-#define NEGOBS_TEST_SYNTH_H
+#ifndef NEGOBS_TEST_SCENE_DISP_H
+#define NEGOBS_TEST_SCENE_DISP_H
 
 #include <math.h>
 #include <string.h>
 
 #include "negobs/depth.h"
 #include "negobs/fixed.h"
+#include "test_rng.h"
 
 #define SYNTH_MAX_SEG 16
 
@@ -76,8 +77,7 @@ static inline void synth_step(synth_scene_t *s, double z, double y)
 
 static inline double synth_uniform(uint32_t *st)
 {
-    *st = *st * 1664525u + 1013904223u;
-    return (double)(*st >> 8) / 16777216.0;
+    return (double)test_lcg_next(st) / 16777216.0;
 }
 
 static inline double synth_gauss(uint32_t *st)

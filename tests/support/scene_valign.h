@@ -8,11 +8,13 @@
  * column x matches right column x - d. d grows from d_top to d_bottom
  * down the frame, like a floor seen by a wearable camera.
  */
-#ifndef NEGOBS_TEST_VALIGN_GEN_H
-#define NEGOBS_TEST_VALIGN_GEN_H
+#ifndef NEGOBS_TEST_SCENE_VALIGN_H
+#define NEGOBS_TEST_SCENE_VALIGN_H
 
 #include <stdint.h>
 #include <string.h>
+
+#include "test_rng.h"
 
 #define GEN_W 320
 #define GEN_H 240
@@ -37,8 +39,7 @@ static inline void gen_texture(uint32_t seed)
     int32_t pass;
     for (y = 0; y < GEN_TH; y++) {
         for (x = 0; x < GEN_TW; x++) {
-            seed = seed * 1664525u + 1013904223u;
-            a[y][x] = (uint16_t)(seed >> 24);
+            a[y][x] = (uint16_t)(test_lcg_next(&seed) >> 16);
         }
     }
     for (pass = 0; pass < 2; pass++) {
@@ -88,8 +89,7 @@ static inline void gen_texture_joints(uint32_t seed)
             int32_t v;
             m = m < 0 ? m + 96 : m;
             dist = m < 48 ? m : 96 - m; /* 8 units = 1 row */
-            seed = seed * 1664525u + 1013904223u;
-            v = 150 + (int32_t)(seed >> 29) - 4;
+            v = 150 + (int32_t)(test_lcg_next(&seed) >> 21) - 4;
             if (dist < 12) {
                 v -= 70 * (12 - dist) / 12;
             }
@@ -151,4 +151,4 @@ static inline void gen_pair(const gen_model_t *m, int32_t d_top,
     }
 }
 
-#endif /* NEGOBS_TEST_VALIGN_GEN_H */
+#endif /* NEGOBS_TEST_SCENE_VALIGN_H */

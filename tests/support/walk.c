@@ -1,7 +1,7 @@
 /* The curb walk of walk.h: analytic disparity, then an integer texture warp. */
 #include "walk.h"
 
-#include "../detect/synth.h"
+#include "scene_disp.h"
 
 static int16_t walk_disp[WALK_MAX_PIXELS];
 

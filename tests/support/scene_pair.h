@@ -13,11 +13,13 @@
  * texture between neighbouring left pixels, nearest surface wins), then
  * shifted down by `voff` rows: left row y is right row y + voff.
  */
-#ifndef NEGOBS_TEST_SYNTH_H
-#define NEGOBS_TEST_SYNTH_H
+#ifndef NEGOBS_TEST_SCENE_PAIR_H
+#define NEGOBS_TEST_SCENE_PAIR_H
 
 #include <stdint.h>
 #include <string.h>
+
+#include "test_rng.h"
 
 #define SYNTH_MAX_W 400
 #define SYNTH_MAX_H 300
@@ -30,12 +32,6 @@ typedef struct synth_scene {
     int32_t voff;    /* right row = left row + voff                    */
     uint32_t seed;
 } synth_scene_t;
-
-static inline uint32_t synth_lcg(uint32_t *s)
-{
-    *s = *s * 1664525u + 1013904223u;
-    return *s >> 8;
-}
 
 static inline int32_t synth_disp_q8(const synth_scene_t *sc, int32_t x,
                                     int32_t y)
@@ -78,7 +74,7 @@ static inline void synth_render_fine(const synth_scene_t *sc,
 
     for (y = 0; y < h; y++) {
         for (x = 0; x < w; x++) {
-            raw[y * w + x] = (uint8_t)(synth_lcg(&s) & 0xFFu);
+            raw[y * w + x] = (uint8_t)(test_lcg_next(&s) & 0xFFu);
         }
     }
     for (y = 0; y < h; y++) {
@@ -172,7 +168,7 @@ static inline void synth_render_fine(const synth_scene_t *sc,
         int32_t src = y - sc->voff;
         if (src < 0 || src >= h) {
             for (x = 0; x < w; x++) {
-                right[y * w + x] = (uint8_t)(synth_lcg(&s) & 0xFFu);
+                right[y * w + x] = (uint8_t)(test_lcg_next(&s) & 0xFFu);
             }
         } else {
             memcpy(right + y * w, rrow[src], (size_t)w);
@@ -221,4 +217,4 @@ static inline void synth_score(const synth_scene_t *sc, const int16_t *disp,
     *dens_permille = (n > 0) ? (int32_t)((int64_t)nv * 1000 / n) : 0;
 }
 
-#endif /* NEGOBS_TEST_SYNTH_H */
+#endif /* NEGOBS_TEST_SCENE_PAIR_H */
