@@ -127,12 +127,12 @@ static int lowres_lr_agrees(const stx_t *s, int32_t x4, int32_t y4,
     if (dlo <= dhi) {
         stx_zsad3_run(b, s->lo_l + (ptrdiff_t)y4 * lw + xr + dlo, lw,
                       dhi - dlo + 1, run);
-    }
-    for (d4 = dlo; d4 <= dhi; d4++) {
-        int32_t c = run[d4 - dlo];
-        if (c < rb) {
-            rb = c;
-            rd = d4;
+        for (d4 = dlo; d4 <= dhi; d4++) {
+            int32_t c = run[d4 - dlo];
+            if (c < rb) {
+                rb = c;
+                rd = d4;
+            }
         }
     }
     return !(rd < bestd - 1 || rd > bestd + 1);
