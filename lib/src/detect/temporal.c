@@ -89,8 +89,8 @@ static void sort_nearest_first(const negobs_hazard_t *cands, uint32_t n,
     }
 }
 
-/* The free track whose gate (the walking geometry of the file comment)
- * holds the candidate, nearest predicted range first; -1 if none. */
+/* The unassociated track whose gate (the walking geometry of the file
+ * comment) holds the candidate, nearest predicted range first; -1 if none. */
 static int32_t assoc_best(const temporal_t *t, const negobs_hazard_t *c,
                           const int32_t *used, uint32_t now_ms)
 {
