@@ -212,6 +212,11 @@ typedef struct negobs_detect_config {
                                     the cane; docs/DETECTION.md)        */
     int32_t ttc_imminent_ms;        /**< IMMINENT if time to edge < (1200)  */
     int32_t corridor_half_width_mm; /**< lateral scan (default 600 mm) */
+    int32_t corridor_near_half_mm;  /**< corridor half-width at the feet:
+                                    range x tan 20 deg is added, up to
+                                    corridor_half_width_mm (default
+                                    250 mm; equal to it for a head-worn
+                                    camera; docs/DETECTION.md 10.2)     */
     int32_t strip_px;               /**< column strip width (default 16 px) */
     int32_t h_min_far_mm;           /**< smallest drop beyond near (100 mm) */
     int32_t h_min_near_mm;          /**< smallest drop within near (50 mm)  */

@@ -39,7 +39,17 @@ void negobs_detect_config_default(negobs_detect_config_t *cfg, int32_t width,
      * (docs/DETECTION.md, "Verdicts and the vouched range"). */
     cfg->near_min_mm = 1500;
     cfg->ttc_imminent_ms = 1200;
+    /* Half-width of the walking corridor (docs/DETECTION.md 10.2, "The
+     * corridor"). At the feet: 250 mm, half the shoulder width of a broad
+     * adult; a straight walker's feet land within +-0.15 m of the body's
+     * line, so that covers them with 0.1 m for sway and foot placement. It
+     * widens by tan 20 deg per mm of range (the path's heading off the
+     * camera's axis) up to 600 mm (reached at 0.96 m): 250 mm + 350 mm of
+     * heading, 13 deg at the near-zone minimum (1.5 m); a path bending more
+     * than that is a turn, and floor that far ahead is in view again, in the
+     * new heading's corridor, before it is reached. */
     cfg->corridor_half_width_mm = 600;
+    cfg->corridor_near_half_mm = 250;
     cfg->strip_px = 16;
     cfg->h_min_far_mm = 100;
     cfg->h_min_near_mm = 50;
@@ -139,6 +149,7 @@ static negobs_status_t config_check(const negobs_detect_config_t *c)
         !in_range(c->near_min_mm, 0, c->range_max_mm) ||
         !in_range(c->ttc_imminent_ms, 0, 10000) ||
         !in_range(c->corridor_half_width_mm, 100, 5000) ||
+        !in_range(c->corridor_near_half_mm, 100, 5000) ||
         !in_range(c->strip_px, 4, MAX_STRIP_PX) ||
         c->strip_px > c->rig.width || !in_range(c->h_min_far_mm, 10, 2000) ||
         !in_range(c->h_min_near_mm, 10, 2000) ||

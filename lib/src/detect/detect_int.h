@@ -57,4 +57,10 @@ negobs_status_t negobs_detect_photo_stats(const negobs_image_u8_t *img,
 negobs_status_t negobs_detect_fill_extent(const negobs_image_u8_t *img,
                                           int16_t *view_u0, int16_t *view_u1);
 
+/* Half-width (mm) of the walking corridor at floor distance range_mm:
+ * corridor_near_half_mm + range x tan 20 deg, capped at
+ * corridor_half_width_mm (detect_scan.c; docs/DETECTION.md 10.2). */
+int32_t negobs_detect_corridor_half_mm(const negobs_detect_config_t *cfg,
+                                       int32_t range_mm);
+
 #endif /* NEGOBS_DETECT_INT_H */

@@ -281,18 +281,55 @@ int det_in_view(const scan_ctx_t *s, int32_t uc, int32_t v, int32_t dg_q4)
            (ur_q4 >= s->view_r_u0[v] * 16 && ur_q4 < s->view_r_u1[v] * 16);
 }
 
+/* tan 20 deg x 1000: the heading a straight walker's path may take off
+ * the axis of a body-worn camera, which the corridor near the feet allows
+ * for (thorax rotation in the gait +-5-7 deg, the strap's yaw on the body
+ * up to 10 deg, veering a few deg; docs/DETECTION.md 10.2, "The
+ * corridor"). */
+#define CORRIDOR_HEADING_PERMILLE 364
+
+/* Half-width of the walking corridor at floor distance range_mm: the body's
+ * lane at the feet (corridor_near_half_mm) widened by the heading
+ * allowance, capped at corridor_half_width_mm (reached from 0.96 m with the
+ * defaults, so everything farther is scanned and vouched as before). */
+int32_t negobs_detect_corridor_half_mm(const negobs_detect_config_t *cfg,
+                                       int32_t range_mm)
+{
+    int64_t w = (int64_t)cfg->corridor_near_half_mm +
+                ((int64_t)geom_max_s32(range_mm, 0) *
+                 CORRIDOR_HEADING_PERMILLE) /
+                    1000;
+    return (int32_t)geom_clamp_s64(w, 0, cfg->corridor_half_width_mm);
+}
+
 /* 1 when the centre of strip si lies in the walking corridor at row v of
- * the ground model and in the view of both cameras (det_in_view): the
- * right camera sees the floor point of column u at u - d_g, so where
- * u < d_g (the left image's first columns near the feet) no frame can
- * match it. */
+ * the ground model (at its floor distance there: the corridor narrows
+ * near the feet, negobs_detect_corridor_half_mm) and in the view of both cameras
+ * (det_in_view): the right camera sees the floor point of column u at
+ * u - d_g, so where u < d_g (the left image's first columns near the
+ * feet) no frame can match it. This is what the walk must vouch for; the
+ * rule's scan keeps the full width (det_in_corridor) at every range. */
 int det_strip_in_corridor(const scan_ctx_t *s, int32_t n_strips, int32_t si,
                           int32_t v)
 {
-    int32_t uc = det_strip_u0(s->cfg, n_strips, si) + s->cfg->strip_px / 2;
+    const negobs_detect_config_t *cfg = s->cfg;
+    int32_t uc = det_strip_u0(cfg, n_strips, si) + cfg->strip_px / 2;
     int32_t dgc = negobs_ground_disp_q4(s->plane, uc, v);
-    return dgc > 0 && det_in_view(s, uc, v, dgc) &&
-           det_in_corridor(s, uc, dgc);
+    int32_t range = 0;
+    int32_t w;
+    if (dgc <= 0 || !det_in_view(s, uc, v, dgc) ||
+        !det_in_corridor(s, uc, dgc)) {
+        return 0;
+    }
+    if (cfg->corridor_near_half_mm >= cfg->corridor_half_width_mm) {
+        return 1; /* no narrowing (a head-worn camera) */
+    }
+    det_model_point(s, uc, v, dgc, &range, NULL, NULL);
+    w = negobs_detect_corridor_half_mm(cfg, range);
+    /* |X| = |u - cx| * B / d <= w, as det_in_corridor. */
+    return (int64_t)negobs_abs_s32(uc * 16 + 8 - cfg->rig.cx_q4) *
+               cfg->rig.baseline_um <=
+           (int64_t)w * 1000 * dgc;
 }
 
 /*
