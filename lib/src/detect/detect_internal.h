@@ -194,6 +194,9 @@ int32_t det_strip_u0(const negobs_detect_config_t *cfg, int32_t n_strips,
 int det_strip_in_corridor(const scan_ctx_t *s, int32_t n_strips, int32_t si,
                           int32_t v);
 
+int det_strip_in_walk(const scan_ctx_t *s, int32_t n_strips, int32_t si,
+                      int32_t v);
+
 void det_scan_strip(const scan_ctx_t *s, int32_t u0, int32_t u1,
                     strip_hit_t *hit);
 

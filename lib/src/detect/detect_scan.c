@@ -303,27 +303,40 @@ int32_t negobs_detect_corridor_half_mm(const negobs_detect_config_t *cfg,
 }
 
 /* 1 when the centre of strip si lies in the walking corridor at row v of
- * the ground model (at its floor distance there: the corridor narrows
- * near the feet, negobs_detect_corridor_half_mm) and in the view of both cameras
- * (det_in_view): the right camera sees the floor point of column u at
- * u - d_g, so where u < d_g (the left image's first columns near the
- * feet) no frame can match it. This is what the walk must vouch for; the
- * rule's scan keeps the full width (det_in_corridor) at every range. */
+ * the ground model (+-corridor_half_width_mm, det_in_corridor) and in the
+ * view of both cameras (det_in_view): the right camera sees the floor
+ * point of column u at u - d_g, so where u < d_g (the left image's first
+ * columns near the feet) no frame can match it. The cells' noise and the
+ * strips' support are measured over this. */
 int det_strip_in_corridor(const scan_ctx_t *s, int32_t n_strips, int32_t si,
                           int32_t v)
 {
+    int32_t uc = det_strip_u0(s->cfg, n_strips, si) + s->cfg->strip_px / 2;
+    int32_t dgc = negobs_ground_disp_q4(s->plane, uc, v);
+    return dgc > 0 && det_in_view(s, uc, v, dgc) &&
+           det_in_corridor(s, uc, dgc);
+}
+
+/* 1 when the walk must vouch for strip si at row v: in the corridor and
+ * the view (det_strip_in_corridor) and within the corridor's half-width at
+ * its floor distance, which is narrower near the feet
+ * (negobs_detect_corridor_half_mm). The rule's scan and the noise keep the
+ * full width at every range. */
+int det_strip_in_walk(const scan_ctx_t *s, int32_t n_strips, int32_t si,
+                      int32_t v)
+{
     const negobs_detect_config_t *cfg = s->cfg;
     int32_t uc = det_strip_u0(cfg, n_strips, si) + cfg->strip_px / 2;
-    int32_t dgc = negobs_ground_disp_q4(s->plane, uc, v);
+    int32_t dgc;
     int32_t range = 0;
     int32_t w;
-    if (dgc <= 0 || !det_in_view(s, uc, v, dgc) ||
-        !det_in_corridor(s, uc, dgc)) {
+    if (!det_strip_in_corridor(s, n_strips, si, v)) {
         return 0;
     }
     if (cfg->corridor_near_half_mm >= cfg->corridor_half_width_mm) {
         return 1; /* no narrowing (a head-worn camera) */
     }
+    dgc = negobs_ground_disp_q4(s->plane, uc, v);
     det_model_point(s, uc, v, dgc, &range, NULL, NULL);
     w = negobs_detect_corridor_half_mm(cfg, range);
     /* |X| = |u - cx| * B / d <= w, as det_in_corridor. */

@@ -187,7 +187,7 @@ static void walk_tally(const scan_ctx_t *s, detect_priv_t *p,
     memset(w, 0, sizeof *w);
     for (si = 0; si < p->n_strips; si++) {
         enum vouch_verdict vd;
-        if (!det_strip_in_corridor(s, p->n_strips, si, v)) {
+        if (!det_strip_in_walk(s, p->n_strips, si, v)) {
             bad_run = 0;
             open_run = 0;
             if (p->reach_v[si] == v + 1) {
