@@ -30,14 +30,19 @@ command -v meson > /dev/null || { echo "meson not installed"; exit 77; }
 command -v python3 > /dev/null || { echo "python3 not installed (png2raw.py)"; exit 77; }
 
 # 1. static aarch64 negobs_run (release: -O2 for TCG's sake). The board
-# cross file links libcamera (a shared library only: no static link) and
-# libturbojpeg; the emulated sections need neither (the libcamera-vimc
-# section builds its own dynamic program, build_libcamera.sh).
+# cross file links libcamera (a shared library only: no static link),
+# libturbojpeg and libsystemd (Debian ships no libsystemd.a); the emulated
+# sections need none of them (the libcamera-vimc section builds its own
+# dynamic program, build_libcamera.sh; the guest has no systemd).
 if [[ ! -f $A64/build.ninja ]]; then
   rm -rf "$A64"
   meson setup --cross-file "$ROOT/tools/cross/aarch64-linux-gnu.ini" --buildtype=release \
-    -Dtests=disabled -Dtools=disabled -Dlibcamera=disabled -Dmjpeg=disabled \
+    -Dtests=disabled -Dtools=disabled -Dlibcamera=disabled -Dmjpeg=disabled -Dsystemd=disabled \
     -Dc_link_args=-static "$A64" || exit 1
+else
+  # a tree configured before libsystemd-dev:arm64 was installed would pick
+  # it up at its next reconfigure and fail to link statically
+  meson configure "$A64" -Dsystemd=disabled || exit 1
 fi
 meson compile -C "$A64" firmware_app/negobs_run || exit 1
 if aarch64-linux-gnu-readelf -l "$A64/firmware_app/negobs_run" | grep -q 'program interpreter'; then
