@@ -8,6 +8,8 @@
 #   OUT/curb/{left,right}.raw   negobs_synth walk toward a 150 mm curb,
 #                       edge 4.0 m -> 1.24 m, 24 frames at 10 fps / 1.2 m/s
 #   OUT/flat/{left,right}.raw   one flat-ground pair (no hazard)
+#   OUT/fmt/            curb frames 0, 8, 16 as a side-by-side GREY
+#                       1280x720 camera, Y16 and Y10 640x480 (fmtraw.py)
 #   OUT/rig.conf        the synth rig for negobs_run --config
 #
 # Frames: negobs_synth renders 320x240 8-bit grey PNGs (native build in
@@ -79,6 +81,12 @@ scene() { # name synth-args...
 }
 scene curb --scene curb --drop-mm 150 --edge-mm 4000 --frames 24 --speed 1.2 --fps 10 || exit 1
 scene flat --scene flat --single || exit 1
+# camera-format frames of three curb frames (run-fmt-*: side by side, Y16, Y10)
+if [[ ! -f $OUT/fmt/sbs.raw || $OUT/curb/left.y -nt $OUT/fmt/sbs.raw ||
+      $ROOT/tests/hw/fmtraw.py -nt $OUT/fmt/sbs.raw ]]; then
+  rm -rf "$OUT/fmt"
+  python3 "$ROOT/tests/hw/fmtraw.py" "$OUT/curb" "$OUT/fmt" 0 8 16 || exit 1
+fi
 
 cat > "$OUT/rig.conf" <<'EOF'
 # negobs_synth's rig (tests/hw/build_negobs.sh): 320x240, f=250 px,
