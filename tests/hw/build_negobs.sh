@@ -36,15 +36,29 @@ command -v python3 > /dev/null || { echo "python3 not installed (png2raw.py)"; e
 # libturbojpeg and libsystemd (Debian ships no libsystemd.a); the emulated
 # sections need none of them (the libcamera-vimc section builds its own
 # dynamic program, build_libcamera.sh; the guest has no systemd).
+# The options go in a second machine file as well as on the command line:
+# meson (1.0, bookworm) re-applies the cross file's [project options]
+# (libcamera, systemd = enabled: the board build) over -D values whenever it
+# regenerates the tree, and the static link then fails.  A later machine
+# file wins over an earlier one on every regeneration.
+OVR=$ROOT/build/hw-negobs_run-a64.ini
+printf '%s\n' '# written by tests/hw/build_negobs.sh: the static emulator build' \
+  '[project options]' "libcamera = 'disabled'" "mjpeg = 'disabled'" "systemd = 'disabled'" > "$OVR.new"
+cmp -s "$OVR.new" "$OVR" || { mv "$OVR.new" "$OVR"; rm -rf "$A64"; }
+rm -f "$OVR.new"
+# a tree configured before this file existed (or with other options) is redone
+if [[ -f $A64/build.ninja ]] &&
+   ! meson introspect --buildoptions "$A64" | python3 -c '
+import json, sys
+o = {x["name"]: x["value"] for x in json.load(sys.stdin)}
+sys.exit(0 if all(o.get(k) == "disabled" for k in ("libcamera", "mjpeg", "systemd")) else 1)'; then
+  rm -rf "$A64"
+fi
 if [[ ! -f $A64/build.ninja ]]; then
   rm -rf "$A64"
-  meson setup --cross-file "$ROOT/tools/cross/aarch64-linux-gnu.ini" --buildtype=release \
-    -Dtests=disabled -Dtools=disabled -Dlibcamera=disabled -Dmjpeg=disabled -Dsystemd=disabled \
-    -Dc_link_args=-static "$A64" || exit 1
-else
-  # a tree configured before libsystemd-dev:arm64 was installed would pick
-  # it up at its next reconfigure and fail to link statically
-  meson configure "$A64" -Dsystemd=disabled || exit 1
+  meson setup --cross-file "$ROOT/tools/cross/aarch64-linux-gnu.ini" --cross-file "$OVR" \
+    --buildtype=release -Dtests=disabled -Dtools=disabled -Dlibcamera=disabled -Dmjpeg=disabled \
+    -Dsystemd=disabled -Dc_link_args=-static "$A64" || exit 1
 fi
 meson compile -C "$A64" firmware_app/negobs_run || exit 1
 if aarch64-linux-gnu-readelf -l "$A64/firmware_app/negobs_run" | grep -q 'program interpreter'; then
