@@ -79,7 +79,7 @@ if [ -z "$TC" ]; then
     fail "no clear verdict within 60 s"
 else
     hw_sleep 1
-    step "short press" 0.4 'button: short press: sensitivity preset 1 \(near\)' preset1
+    step "short press" 0.4 'button: short press: sensitivity preset 1 .near.' preset1
     step "long press" 2.5 'button: long press: paused' pause
     step "long press again" 2.5 'button: long press: resumed' resume
 fi

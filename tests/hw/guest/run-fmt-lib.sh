@@ -48,16 +48,18 @@ fmt_check() {
     np=$(grep -vc '^#' /tmp/rec/frames.txt 2>/dev/null)
     np=${np:-0}
     exact=0 same=0 i=0
+    : > /tmp/fmt.pairs
     while [ "$i" -lt "$np" ]; do
         l=$(dd if=/tmp/rec/left.y bs=76800 skip=$i count=1 2>/dev/null | md5sum | cut -d' ' -f1)
         r=$(dd if=/tmp/rec/right.y bs=76800 skip=$i count=1 2>/dev/null | md5sum | cut -d' ' -f1)
         li=$(awk -v m="$l" '$1 == m { print $2; exit }' $F/left.md5)
         ri=$(awk -v m="$r" '$1 == m { print $2; exit }' $F/right.md5)
-        say "pair $i: left = frame ${li:-none}, right = frame ${ri:-none}"
+        echo "${li:-none}/${ri:-none}" >> /tmp/fmt.pairs
         [ -n "$li" ] && [ -n "$ri" ] && exact=$((exact + 1))
         [ -n "$li" ] && [ "$li" = "$ri" ] && same=$((same + 1))
         i=$((i + 1))
     done
+    say "recorded pairs by original frame (left/right, none = no match): $(sort /tmp/fmt.pairs | uniq -c | awk '{ printf "%s x%s  ", $2, $1 }')"
     say "$exact of $np recorded pairs pixel-identical to the original frames, $same with left and right from the same frame"
     [ "$np" -ge 2 ] || fail "only $np pairs recorded"
     [ "$exact" -eq "$np" ] || fail "$((np - exact)) recorded pairs differ from every original frame"
