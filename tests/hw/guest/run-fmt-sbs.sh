@@ -10,6 +10,8 @@ SECTION=run-fmt-sbs
 . /tests/negobs_lib.sh
 . /tests/run-fmt-lib.sh
 negobs_prereq
-fmt_run GREY 1280 720 $F/sbs.raw $F/sbs.raw /dev/video0 || exit 1
+# 1280x720 frames cost TCG more than 640x480 ones (vivid copies each one
+# in the kernel): a 20 s run once recorded only 2 pairs, so 30 s here
+RUN_S=30 fmt_run GREY 1280 720 $F/sbs.raw $F/sbs.raw /dev/video0 || exit 1
 fmt_check "GREY 1280x720 side by side -> 320x240 per eye (2x2 bins, crop at 0,120)" all
 exit $RC
