@@ -613,8 +613,8 @@ int main(int argc, char **argv)
 			close(cap[e].fd);
 		printf(
 		    "v4l2_loop: injecting %ux%u %s frames (%s) into %s, %s\n",
-		    g_w, g_h, fourcc_name(),
-		    lf ? "from files" : "generated", out[0].path, out[1].path);
+		    g_w, g_h, fourcc_name(), lf ? "from files" : "generated",
+		    out[0].path, out[1].path);
 		/* capture nodes configured and frames waiting: a consumer
 		 * may start now */
 		if (readyfile) {
