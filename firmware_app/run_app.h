@@ -78,6 +78,7 @@ typedef struct run_settings {
     app_pipeline_config_t app;
     int32_t capture_width; /* V4L2 frame asked of the camera, 0 = off */
     int32_t capture_height;
+    char pixel_format[8];   /* V4L2 fourcc asked for, "" = cheapest listed */
     bool size_given;        /* --width/--height given                   */
     bool alert_binary;      /* config alert_binary                      */
     bool vertical_align;    /* config vertical_align                    */

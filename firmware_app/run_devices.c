@@ -210,10 +210,44 @@ static int capture_plan(const run_args_t *a, negobs_bin_plan_t *plan)
     return 0;
 }
 
+/* pixel_format as a fourcc: 1 to 4 printable characters, padded with
+ * spaces as V4L2 names them ("Y16" -> 'Y16 '); 0 when empty, -1 when
+ * malformed. */
+static int pixel_format_fourcc(uint32_t *fourcc)
+{
+    const char *p = run_cfg.pixel_format;
+    size_t n = strlen(p);
+    size_t i;
+    *fourcc = 0;
+    if (n == 0u) {
+        return 0;
+    }
+    if (n > 4u) {
+        return -1;
+    }
+    for (i = 0; i < 4u; i++) {
+        unsigned char c = i < n ? (unsigned char)p[i] : (unsigned char)' ';
+        if (c < 0x20u || c > 0x7Eu) {
+            return -1;
+        }
+        *fourcc |= (uint32_t)c << (8u * i);
+    }
+    return 0;
+}
+
 int camera_geometry(const run_args_t *a)
 {
     negobs_bin_plan_t plan;
-    int rc = capture_plan(a, &plan);
+    uint32_t fourcc;
+    int rc;
+    if (pixel_format_fourcc(&fourcc) != 0) {
+        fprintf(stderr,
+                "negobs_run: pixel_format '%s' is not a fourcc (1 to 4 "
+                "characters, e.g. Y16)\n",
+                run_cfg.pixel_format);
+        return EXIT_USAGE;
+    }
+    rc = capture_plan(a, &plan);
     if (rc < 0) {
         return -1;
     }
@@ -305,6 +339,7 @@ int open_camera(const run_args_t *a)
     cfg.capture_width = run_cfg.capture_width;
     cfg.capture_height = run_cfg.capture_height;
     cfg.side_by_side = side_by_side(a);
+    (void)pixel_format_fourcc(&cfg.pixel_format); /* checked at start */
     if (strcmp(camera_kind(a->left), "replay") == 0) {
         if (!run_cfg.size_given) {
             cfg.width = 0; /* take the size of the files */

@@ -32,6 +32,10 @@ static const app_cfg_key_t config_keys[] = {
      "this size; 0 = no binning (default 0)"},
     {"capture_height", APP_CFG_INT, &run_cfg.capture_height, 0, NEGOBS_MAX_DIM,
      "V4L2: frame height asked of the camera (default 0)"},
+    {"pixel_format", APP_CFG_STRING, run_cfg.pixel_format, 0,
+     sizeof run_cfg.pixel_format,
+     "V4L2: fourcc asked of the camera (GREY, YUYV, Y10, Y16, MJPG, ...); "
+     "empty = the cheapest usable one it lists (default)"},
     {"fps", APP_CFG_INT, &run_cfg.fps, 0, 240,
      "frame rate; replay: pacing, 0 = as fast as possible (default 30)"},
     {"frames", APP_CFG_INT, &run_cfg.frames, 0, INT32_MAX,

@@ -8,6 +8,8 @@
 #   OUT/curb/{left,right}.raw   negobs_synth walk toward a 150 mm curb,
 #                       edge 4.0 m -> 1.24 m, 24 frames at 10 fps / 1.2 m/s
 #   OUT/flat/{left,right}.raw   one flat-ground pair (no hazard)
+#   OUT/fmt/            curb frames 0, 8, 16 as a side-by-side GREY
+#                       1280x720 camera, Y16 and Y10 640x480 (fmtraw.py)
 #   OUT/rig.conf        the synth rig for negobs_run --config
 #
 # Frames: negobs_synth renders 320x240 8-bit grey PNGs (native build in
@@ -30,14 +32,33 @@ command -v meson > /dev/null || { echo "meson not installed"; exit 77; }
 command -v python3 > /dev/null || { echo "python3 not installed (png2raw.py)"; exit 77; }
 
 # 1. static aarch64 negobs_run (release: -O2 for TCG's sake). The board
-# cross file links libcamera (a shared library only: no static link) and
-# libturbojpeg; the emulated sections need neither (the libcamera-vimc
-# section builds its own dynamic program, build_libcamera.sh).
+# cross file links libcamera (a shared library only: no static link),
+# libturbojpeg and libsystemd (Debian ships no libsystemd.a); the emulated
+# sections need none of them (the libcamera-vimc section builds its own
+# dynamic program, build_libcamera.sh; the guest has no systemd).
+# The options go in a second machine file as well as on the command line:
+# meson (1.0, bookworm) re-applies the cross file's [project options]
+# (libcamera, systemd = enabled: the board build) over -D values whenever it
+# regenerates the tree, and the static link then fails.  A later machine
+# file wins over an earlier one on every regeneration.
+OVR=$ROOT/build/hw-negobs_run-a64.ini
+printf '%s\n' '# written by tests/hw/build_negobs.sh: the static emulator build' \
+  '[project options]' "libcamera = 'disabled'" "mjpeg = 'disabled'" "systemd = 'disabled'" > "$OVR.new"
+cmp -s "$OVR.new" "$OVR" || { mv "$OVR.new" "$OVR"; rm -rf "$A64"; }
+rm -f "$OVR.new"
+# a tree configured before this file existed (or with other options) is redone
+if [[ -f $A64/build.ninja ]] &&
+   ! meson introspect --buildoptions "$A64" | python3 -c '
+import json, sys
+o = {x["name"]: x["value"] for x in json.load(sys.stdin)}
+sys.exit(0 if all(o.get(k) == "disabled" for k in ("libcamera", "mjpeg", "systemd")) else 1)'; then
+  rm -rf "$A64"
+fi
 if [[ ! -f $A64/build.ninja ]]; then
   rm -rf "$A64"
-  meson setup --cross-file "$ROOT/tools/cross/aarch64-linux-gnu.ini" --buildtype=release \
-    -Dtests=disabled -Dtools=disabled -Dlibcamera=disabled -Dmjpeg=disabled \
-    -Dc_link_args=-static "$A64" || exit 1
+  meson setup --cross-file "$ROOT/tools/cross/aarch64-linux-gnu.ini" --cross-file "$OVR" \
+    --buildtype=release -Dtests=disabled -Dtools=disabled -Dlibcamera=disabled -Dmjpeg=disabled \
+    -Dsystemd=disabled -Dc_link_args=-static "$A64" || exit 1
 fi
 meson compile -C "$A64" firmware_app/negobs_run || exit 1
 if aarch64-linux-gnu-readelf -l "$A64/firmware_app/negobs_run" | grep -q 'program interpreter'; then
@@ -74,6 +95,12 @@ scene() { # name synth-args...
 }
 scene curb --scene curb --drop-mm 150 --edge-mm 4000 --frames 24 --speed 1.2 --fps 10 || exit 1
 scene flat --scene flat --single || exit 1
+# camera-format frames of three curb frames (run-fmt-*: side by side, Y16, Y10)
+if [[ ! -f $OUT/fmt/sbs.raw || $OUT/curb/left.y -nt $OUT/fmt/sbs.raw ||
+      $ROOT/tests/hw/fmtraw.py -nt $OUT/fmt/sbs.raw ]]; then
+  rm -rf "$OUT/fmt"
+  python3 "$ROOT/tests/hw/fmtraw.py" "$OUT/curb" "$OUT/fmt" 0 8 16 || exit 1
+fi
 
 cat > "$OUT/rig.conf" <<'EOF'
 # negobs_synth's rig (tests/hw/build_negobs.sh): 320x240, f=250 px,

@@ -17,6 +17,13 @@
 #                    right drift beyond pair_tolerance_ms, motor GPIO chip
 #                    gone, PWM writes failing): logged, no-info on the
 #                    line, recovered without a restart
+#   run-fmt-sbs / -y16 / -y10  the real negobs_run on a side-by-side
+#                    1280x720 GREY camera (one node), on Y16 and on Y10
+#                    cameras: recorded pairs = the original frames after
+#                    split, crop and 2x2 binning, pixel for pixel
+#   run-button       the real negobs_run's push button on a gpio-sim input
+#                    (pull set through sysfs): short press -> preset, long
+#                    press -> pause / resume, each confirmed on the motor
 #   libcamera-vimc   one vimc camera through negobs' libcamera backend
 #                    (Debian's arm64 libcamera 0.0.3, lc_capture)
 #   payload  /payload/run.sh from --payload DIR (drop-in for negobs_run)
@@ -45,11 +52,11 @@ set -u -o pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 HW=$ROOT/tests/hw
 WORK=${NEGOBS_HW_WORK:-$ROOT/build/hw}
-SECTIONS="vivid gpio pwm run-curb run-camera-loss run-curb-pwm run-fault-frozen run-fault-drift run-fault-gpio run-fault-pwm libcamera-vimc"
+SECTIONS="vivid gpio pwm run-curb run-camera-loss run-curb-pwm run-fault-frozen run-fault-drift run-fault-gpio run-fault-pwm run-fmt-sbs run-fmt-y16 run-fmt-y10 run-button libcamera-vimc"
 PAYLOAD=""
 PAYLOAD_FILES=()
 GPIO_SIM=1
-QEMU_TIMEOUT=420
+QEMU_TIMEOUT=720
 T0=$(date +%s.%N)
 
 while [[ $# -gt 0 ]]; do
@@ -345,7 +352,7 @@ for s in $SECTIONS; do
         else RESULT[$s]=SKIPPED; REASON[$s]="libcamera/vimc not available: $LC_WHY"; fi
         continue
       fi ;;
-    run-curb|run-camera-loss|run-curb-pwm|run-fault-frozen|run-fault-drift|run-fault-gpio|run-fault-pwm)
+    run-curb|run-camera-loss|run-curb-pwm|run-fault-frozen|run-fault-drift|run-fault-gpio|run-fault-pwm|run-fmt-sbs|run-fmt-y16|run-fmt-y10|run-button)
       if [[ ($s == run-curb-pwm || $s == run-fault-pwm) && $KMOD_OK != 1 ]]; then
         RESULT[$s]=SKIPPED; REASON[$s]="pwm-sim.ko could not be built (log: $LOG)"; continue
       fi
@@ -355,7 +362,7 @@ for s in $SECTIONS; do
         else RESULT[$s]=SKIPPED; REASON[$s]="negobs_run/negobs_synth not buildable: $NEGOBS_WHY"; fi
         continue
       fi
-      [[ $GPIOSIM_OK = 1 || $s == run-curb-pwm || $s == run-fault-pwm ]] || { RESULT[$s]=SKIPPED; REASON[$s]="gpio-sim.ko not built (--no-gpio-sim or build failure): no outside motor observer"; continue; } ;;
+      [[ $GPIOSIM_OK = 1 || $s == run-curb-pwm || $s == run-fault-pwm || $s == run-fmt-* ]] || { RESULT[$s]=SKIPPED; REASON[$s]="gpio-sim.ko not built (--no-gpio-sim or build failure): no outside motor observer"; continue; } ;;
     *) RESULT[$s]=FAIL; REASON[$s]="(unknown section)"; continue ;;
   esac
   RUN="$RUN $s"
@@ -381,12 +388,17 @@ mkdir -p "$IR"/{bin,sbin,proc,sys,dev,tmp,tests,payload,usr/bin,lib/modules/"$KV
 cp "$BB/bin/busybox" "$IR/bin/busybox"
 cp "$HW/guest/init.sh" "$IR/init" && chmod 755 "$IR/init"
 sed -i '1s|.*|#!/bin/busybox sh|' "$IR/init"
-cp "$HW/guest/"{lib,vivid,gpio,pwm,payload,negobs_lib,run-curb,run-camera-loss,run-curb-pwm}.sh "$HW/guest/"run-fault-*.sh "$IR/tests/"
+cp "$HW/guest/"{lib,vivid,gpio,pwm,payload,negobs_lib,run-curb,run-camera-loss,run-curb-pwm,run-button}.sh \
+  "$HW/guest/"run-fault-*.sh "$HW/guest/"run-fmt-*.sh "$IR/tests/"
 if [[ " $RUN " == *" run-"* ]]; then
   mkdir -p "$IR/negobs/curb" "$IR/negobs/flat"
   cp "$WORK/negobs/"{negobs_run,rig.conf} "$IR/negobs/"
   cp "$WORK/negobs/curb/"*.{raw,md5} "$IR/negobs/curb/"
   cp "$WORK/negobs/flat/"*.{raw,md5} "$IR/negobs/flat/"
+  if [[ " $RUN " == *" run-fmt-"* ]]; then
+    mkdir -p "$IR/negobs/fmt"
+    cp "$WORK/negobs/fmt/"*.{raw,md5} "$IR/negobs/fmt/"
+  fi
 fi
 cp "$GB/"* "$IR/bin/"
 cp "$HW/guest/libcamera-vimc.sh" "$IR/tests/"

@@ -41,6 +41,10 @@ printf 'capture_width = 2560\n' >"$T/cap1.conf"
 expect "capture width without height" 2 "set both capture_width and capture_height" --config "$T/cap1.conf" --alert none v4l2:/nonexistent/v0
 printf 'capture_width = 2560\ncapture_height = 720\nwidth = 640\nheight = 360\n' >"$T/cap2.conf"
 expect "binned side-by-side capture opens the node" 4 "open /nonexistent/v0" --config "$T/cap2.conf" --alert none v4l2:/nonexistent/v0
+printf 'pixel_format = Y16BE\n' >"$T/pf.conf"
+expect "pixel_format longer than a fourcc" 2 "pixel_format 'Y16BE' is not a fourcc" --config "$T/pf.conf" --alert none v4l2:/nonexistent/v0
+printf 'pixel_format = Y16\n' >"$T/pf2.conf"
+expect "pixel_format Y16 opens the node" 4 "open /nonexistent/v0" --config "$T/pf2.conf" --alert none v4l2:/nonexistent/v0
 # Discovery: a missing node, a file that is not a V4L2 device.
 expect "list a missing node" 4 "/nonexistent/v9: cannot open" --list-cameras /nonexistent/v9
 expect "list a non-video file" 4 "not a V4L2 device" --list-cameras "$T/cap.conf"

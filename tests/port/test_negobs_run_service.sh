@@ -44,6 +44,7 @@ while IFS= read -r line; do
         log_level) new=debug ;;
         record | calib | camera_left | camera_right | log_json | pwm_sysfs_root) new="$T/x_$key" ;;
         button) new=gpio:gpiochip9:3 ;;
+        pixel_format) new=Y16 ;;
         *)
             case $val in
                 true) new=false ;;

@@ -726,6 +726,43 @@ static void test_v4l2_side_by_side_one_node(void **state)
     assert_false(fk[0].is_open || fk[1].is_open);
 }
 
+/* pixel_format names the format: asked for even where a cheaper one is
+ * listed (the node offers NV12 and YUYV: YUYV is set), and a fourcc negobs
+ * cannot convert is refused before any S_FMT. */
+static void test_v4l2_configured_pixel_format_is_asked_for(void **state)
+{
+    static const uint32_t ts[] = {1000};
+    negobs_capture_config_t cfg;
+    (void)state;
+    script(0, ts, 1);
+    script(1, ts, 1);
+    negobs_capture_config_default(&cfg);
+    cfg.left = "/fake/video0";
+    cfg.right = "/fake/video1";
+    cfg.width = FW;
+    cfg.height = FH;
+    assert_int_equal(negobs_v4l2_init(&st, scratch, sizeof scratch, &cam),
+                     NEGOBS_OK);
+    assert_int_equal(negobs_capture_open(&cam, &cfg), NEGOBS_OK);
+    assert_int_equal(fk[0].fmt.pixelformat, V4L2_PIX_FMT_NV12);
+    negobs_capture_close(&cam);
+    cfg.pixel_format = V4L2_PIX_FMT_YUYV;
+    assert_int_equal(negobs_v4l2_init(&st, scratch, sizeof scratch, &cam),
+                     NEGOBS_OK);
+    assert_int_equal(negobs_capture_open(&cam, &cfg), NEGOBS_OK);
+    assert_int_equal(fk[0].fmt.pixelformat, V4L2_PIX_FMT_YUYV);
+    assert_int_equal(fk[1].fmt.pixelformat, V4L2_PIX_FMT_YUYV);
+    negobs_capture_close(&cam);
+    memset(&fk[0].fmt, 0, sizeof fk[0].fmt);
+    cfg.pixel_format = V4L2_PIX_FMT_RGB24;
+    assert_int_equal(negobs_v4l2_init(&st, scratch, sizeof scratch, &cam),
+                     NEGOBS_OK);
+    assert_int_equal(negobs_capture_open(&cam, &cfg), NEGOBS_ERR_UNSUPPORTED);
+    assert_non_null(strstr(negobs_capture_errmsg(&cam), "pixel format RGB3"));
+    assert_int_equal(fk[0].fmt.pixelformat, 0); /* never set */
+    assert_false(fk[0].is_open || fk[1].is_open);
+}
+
 /* A capture size larger than the processing size: 2x2 binned into the
  * scratch buffer (YUYV: every other byte, averaged). */
 static void test_v4l2_capture_binned_to_processing_size(void **state)
@@ -872,6 +909,7 @@ int main(void)
 #ifdef NEGOBS_TEST_MJPEG
         T(test_v4l2_mjpeg_decodes_and_detects_frozen),
 #endif
+        T(test_v4l2_configured_pixel_format_is_asked_for),
         T(test_v4l2_capture_binned_to_processing_size),
         T(test_v4l2_pairs_by_timestamp_and_counts_drops),
         T(test_v4l2_frozen_camera_withholds_pairs_until_it_changes),

@@ -95,7 +95,18 @@ static negobs_status_t dev_set_format(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
                                                : st->cfg.height;
     size_t n = negobs_v4l2_enum_modes(d->fd, cap_w, cap_h, modes,
                                       NEGOBS_V4L2_MAX_MODES);
-    best = negobs_v4l2_choose_format(modes, n, cap_w, cap_h, st->cfg.fps);
+    best = st->cfg.pixel_format != 0u
+               ? st->cfg.pixel_format
+               : negobs_v4l2_choose_format(modes, n, cap_w, cap_h,
+                                           st->cfg.fps);
+    if (negobs_v4l2_format_rank(best) < 0 && st->cfg.pixel_format != 0u) {
+        v4l2_error(st, 0,
+                   "%s: pixel format %c%c%c%c is not one negobs converts "
+                   "(GREY/NV12/NV21/YU12/YV12/YUYV/UYVY/Y10/Y16/MJPG)",
+                   d->path, (char)(best & 0x7Fu), (char)((best >> 8) & 0x7Fu),
+                   (char)((best >> 16) & 0x7Fu), (char)((best >> 24) & 0x7Fu));
+        return NEGOBS_ERR_UNSUPPORTED;
+    }
     if (best == 0) {
         v4l2_error(st, 0,
                    "%s: no GREY/NV12/NV21/YU12/YV12/YUYV/UYVY/Y10/Y16/MJPG "
@@ -119,6 +130,16 @@ static negobs_status_t dev_set_format(negobs_v4l2_t *st, negobs_v4l2_dev_t *d)
     if (f.fmt.pix.width > (uint32_t)NEGOBS_MAX_DIM ||
         f.fmt.pix.height > (uint32_t)NEGOBS_MAX_DIM) {
         v4l2_error(st, 0, "%s: driver size too large", d->path);
+        return NEGOBS_ERR_UNSUPPORTED;
+    }
+    if (st->cfg.pixel_format != 0u &&
+        f.fmt.pix.pixelformat != st->cfg.pixel_format) {
+        /* asked for by name: another format is a configuration error,
+         * not something to convert silently */
+        v4l2_error(st, 0,
+                   "%s: the node does not offer the configured pixel "
+                   "format (negobs_run --list-cameras)",
+                   d->path);
         return NEGOBS_ERR_UNSUPPORTED;
     }
     s = negobs_v4l2_check_format(f.fmt.pix.pixelformat,

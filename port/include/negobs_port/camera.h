@@ -63,8 +63,11 @@ typedef struct negobs_capture_config {
                                 0 = no binning: width x height per eye,
                                 the driver's nearest size as delivered */
     int32_t capture_height;
-    bool side_by_side; /**< V4L2: one node, left eye in the left
+    bool side_by_side;     /**< V4L2: one node, left eye in the left
                                 half of each frame (right is ignored)  */
+    uint32_t pixel_format; /**< V4L2: fourcc to ask for (NEGOBS_FOURCC);
+                                0 = the cheapest usable one the node
+                                lists (negobs_v4l2_choose_format())    */
 } negobs_capture_config_t;
 
 /** @brief Fill a config with the defaults (exposure/gain -1). */

@@ -32,7 +32,8 @@
  *       frames injected from files) and with -O saves -n frames of each
  *       eye (distinct ones when checking) as DIR/left_NNN.raw, right_NNN.raw.
  *
- * Options: -W width (640) -H height (480) -f GREY|YUYV (GREY)
+ * Options: -W width (640) -H height (480) -f GREY|YUYV|Y10|Y16 (GREY;
+ *          Y10/Y16, 2 bytes per pixel, only with -L/-R files)
  *          -n frames to check per capture node (8) -b buffers (4, >= 3)
  *          -T poll timeout ms (5000) -t seconds (inject: 0 = forever)
  *          -L file -R file (inject: raw frames) -q (quiet)
@@ -111,7 +112,21 @@ static int xioctl(int fd, unsigned long req, void *arg)
 
 static unsigned bpp(void)
 {
-	return g_fourcc == V4L2_PIX_FMT_YUYV ? 2u : 1u;
+	return g_fourcc == V4L2_PIX_FMT_GREY ? 1u : 2u;
+}
+
+static const char *fourcc_name(void)
+{
+	switch (g_fourcc) {
+	case V4L2_PIX_FMT_YUYV:
+		return "YUYV";
+	case V4L2_PIX_FMT_Y10:
+		return "Y10";
+	case V4L2_PIX_FMT_Y16:
+		return "Y16";
+	default:
+		return "GREY";
+	}
 }
 
 /* Luma of the synthetic scene at (x, y) for frame `n`: a horizontal gradient
@@ -414,7 +429,7 @@ static void usage(void)
 	    "[-P hold_ms] [-N nonoise_file] [-r readyfile] CAP0 CAP1 OUT0 OUT1\n"
 	    "       v4l2_loop capture [opts] [-x] [-O dir] CAP0 CAP1\n"
 	    "       v4l2_loop ctrl DEV 'Control Name' VALUE\n"
-	    "opts: -W w -H h -f GREY|YUYV -n frames -b bufs -T poll_ms -q\n");
+	    "opts: -W w -H h -f GREY|YUYV|Y10|Y16 -n frames -b bufs -T poll_ms -q\n");
 	exit(2);
 }
 
@@ -490,6 +505,10 @@ int main(int argc, char **argv)
 				g_fourcc = V4L2_PIX_FMT_GREY;
 			else if (strcmp(optarg, "YUYV") == 0)
 				g_fourcc = V4L2_PIX_FMT_YUYV;
+			else if (strcmp(optarg, "Y10") == 0)
+				g_fourcc = V4L2_PIX_FMT_Y10;
+			else if (strcmp(optarg, "Y16") == 0)
+				g_fourcc = V4L2_PIX_FMT_Y16;
 			else
 				usage();
 			break;
@@ -539,6 +558,9 @@ int main(int argc, char **argv)
 	g_size = (size_t)g_w * g_h * bpp();
 	setvbuf(stdout, NULL, _IOLBF, 0);
 
+	if ((g_fourcc == V4L2_PIX_FMT_Y10 || g_fourcc == V4L2_PIX_FMT_Y16) &&
+	    (!inject || !lf))
+		DIE("-f %s: only for injecting -L/-R files", fourcc_name());
 	memset(&src, 0, sizeof src);
 	if (lf || rf) {
 		const char *fn[2] = {lf, rf};
@@ -591,8 +613,8 @@ int main(int argc, char **argv)
 			close(cap[e].fd);
 		printf(
 		    "v4l2_loop: injecting %ux%u %s frames (%s) into %s, %s\n",
-		    g_w, g_h, g_fourcc == V4L2_PIX_FMT_GREY ? "GREY" : "YUYV",
-		    lf ? "from files" : "generated", out[0].path, out[1].path);
+		    g_w, g_h, fourcc_name(), lf ? "from files" : "generated",
+		    out[0].path, out[1].path);
 		/* capture nodes configured and frames waiting: a consumer
 		 * may start now */
 		if (readyfile) {
