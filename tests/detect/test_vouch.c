@@ -174,6 +174,51 @@ static void test_vouch_textureless_patch_limits_the_range(void **state)
     rig_teardown(&rig);
 }
 
+/* Two strips of clean floor (0.1 px of independent noise) whose matches
+ * read 0.25 px above the model from 1.5 m to the bottom row, as a painted
+ * patch or a stain can on a real matcher: a minimum drop there (0.66-0.79
+ * px of deficit) still stands out of that cell's noise and offset (3 x
+ * 0.03 + 0.25 px), so the floor is vouched and the frame is CLEAR.
+ * Measured about the band's median, the cells' spread also carried their
+ * offset, which then counted 4.8 times (3 x 1.25 + 1, about 1.1 px): the
+ * walk stopped at the bottom row, inside the fit rows, and the frame was
+ * NO_INFO with clear_to_mm 0. The same offset at 1 px stays unvouched. */
+static void test_vouch_local_offset_is_counted_once(void **state)
+{
+    synth_scene_t s;
+    int i;
+    int k;
+    (void)state;
+    for (k = 0; k < 2; k++) {
+        const int16_t off_q4 = (k == 0) ? 4 : 16; /* 0.25 / 1.0 px */
+        for (i = 0; i < 3; i++) {
+            int32_t u;
+            int32_t v;
+            rig_setup(&rig, NULL);
+            scene(&s, 0.1, (uint32_t)i + 61u);
+            synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
+            for (v = floor_row(&s, 1.5); v < RIG_H; v++) {
+                for (u = 144; u < 176; u++) {
+                    rig.disp[v * RIG_W + u] += off_q4;
+                }
+            }
+            assert_int_equal(rig_run(&rig), NEGOBS_OK);
+            print_message("offset %d/16 px: state %d, clear_to %d mm, "
+                          "reasons %u, candidates %u\n",
+                          off_q4, (int)rig.res.state, rig.res.clear_to_mm,
+                          rig.res.reasons, rig.res.n_candidates);
+            if (k == 0) {
+                assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+                assert_true(rig.res.clear_to_mm >= rig.cfg.range_warn_mm);
+            } else {
+                assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+                assert_true(rig.res.clear_to_mm < 1500);
+            }
+            rig_teardown(&rig);
+        }
+    }
+}
+
 /* A 20 cm drop at 2.2 m while the far field is too noisy to vouch for the
  * warning range (sigma 0.25 px at 1 m growing to 1.2 px at 5 m): the
  * drop's own strips pass the local check, so it confirms and is reported
@@ -824,6 +869,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_vouch_textureless_patch_limits_the_range),
+        cmocka_unit_test(test_vouch_local_offset_is_counted_once),
         cmocka_unit_test(test_vouch_hazard_bound_by_its_track),
         cmocka_unit_test(
             test_vouch_unverified_start_reports_the_floor_in_view),
