@@ -281,6 +281,8 @@ static void walk_tally(const scan_ctx_t *s, detect_priv_t *p,
  * first_row + 2 were not matched. Fills p->reach_v: how far each strip
  * alone stays vouched (the local check of a hazard's own strips).
  */
+static int vouch_band_ok(const scan_ctx_t *s, int32_t v, int32_t range_mm);
+
 int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
                        int32_t first_row, int candidates, uint32_t *cause,
                        int32_t *barred)
@@ -292,6 +294,7 @@ int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
     int32_t close_mm = -1; /* floor distance where the barred band began */
     int32_t close_walk_v = hgt;
     uint32_t close_why = 0;
+    int32_t local = 0; /* the walk stopped on a minority of its strips */
     int32_t si;
     int32_t v;
     *cause = 0;
@@ -315,6 +318,8 @@ int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
                 close_why = w.why;
             } else {
                 walking = 0;
+                local = n_corr > 0 && 2 * w.n_ok >= n_corr &&
+                        vouch_band_ok(s, v, range);
                 *cause = (w.why & NEGOBS_DEGRADED_NOISY) != 0u
                              ? NEGOBS_DEGRADED_NOISY
                              : NEGOBS_DEGRADED_FEW_GROUND;
@@ -347,8 +352,15 @@ int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
      * vouched for 1.5 m of floor with a 15 cm drop at 1.3 m). A gap in
      * support there is only unknown ground and ends the walk as usual; so
      * does noise on a frame with a candidate: a drop found there is what
-     * stops the walk (clear_to_mm is cut at it anyway). */
-    if (*cause == NEGOBS_DEGRADED_NOISY && !candidates &&
+     * stops the walk (clear_to_mm is cut at it anyway). So does noise
+     * that is local: a row where at least half of the corridor's strips
+     * still vouch (only min_strips adjacent ones failed) and whose band,
+     * pooled over every strip, passes the same test. A wrong model is
+     * wrong across the width, in the band's median; one stain or painted
+     * patch the matcher reads off is not (a dark patch in two strips of a
+     * 1.38 m / 11 deg camera's fit rows, 1.8-2.6 m ahead, zeroed a walk to
+     * 2.1 m). */
+    if (*cause == NEGOBS_DEGRADED_NOISY && !candidates && !local &&
         walk_v > hgt - 1 - (hgt * cfg->fit_rows_pct) / 100) {
         return 0;
     }
