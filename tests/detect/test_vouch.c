@@ -174,6 +174,98 @@ static void test_vouch_textureless_patch_limits_the_range(void **state)
     rig_teardown(&rig);
 }
 
+/* Two strips of clean floor (0.1 px of independent noise) whose matches
+ * read 0.25 px above the model from 1.5 m to the bottom row, as a painted
+ * patch or a stain can on a real matcher: a minimum drop there (0.66-0.79
+ * px of deficit) still stands out of that cell's noise and offset (3 x
+ * 0.03 + 0.25 px), so the floor is vouched and the frame is CLEAR.
+ * Measured about the band's median, the cells' spread also carried their
+ * offset, which then counted 4.8 times (3 x 1.25 + 1, about 1.1 px): the
+ * walk stopped at the bottom row, inside the fit rows, and the frame was
+ * NO_INFO with clear_to_mm 0. The same offset at 1 px stays unvouched. */
+static void test_vouch_local_offset_is_counted_once(void **state)
+{
+    synth_scene_t s;
+    int i;
+    int k;
+    (void)state;
+    for (k = 0; k < 2; k++) {
+        const int16_t off_q4 = (k == 0) ? 4 : 16; /* 0.25 / 1.0 px */
+        for (i = 0; i < 3; i++) {
+            int32_t u;
+            int32_t v;
+            rig_setup(&rig, NULL);
+            scene(&s, 0.1, (uint32_t)i + 61u);
+            synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
+            for (v = floor_row(&s, 1.5); v < RIG_H; v++) {
+                for (u = 144; u < 176; u++) {
+                    rig.disp[v * RIG_W + u] += off_q4;
+                }
+            }
+            assert_int_equal(rig_run(&rig), NEGOBS_OK);
+            print_message("offset %d/16 px: state %d, clear_to %d mm, "
+                          "reasons %u, candidates %u\n",
+                          off_q4, (int)rig.res.state, rig.res.clear_to_mm,
+                          rig.res.reasons, rig.res.n_candidates);
+            if (k == 0) {
+                assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+                assert_true(rig.res.clear_to_mm >= rig.cfg.range_warn_mm);
+            } else {
+                assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+                assert_true(rig.res.clear_to_mm < 1500);
+            }
+            rig_teardown(&rig);
+        }
+    }
+}
+
+/* A camera at 1.38 m / 11 deg, told its mounting: its ground fit's rows
+ * (the bottom quarter) see the floor 1.86-3.0 m ahead. Two corridor strips
+ * read 0.875 px high at 2.1-2.3 m (a stain the matcher reads off): the
+ * walk stops there, in the fit rows, on a row where the other strips and
+ * the band as a whole still vouch. The model describes its rows, so the
+ * frame is CLEAR with short sight up to the patch; on the old code, noise
+ * stopping the walk inside the fit rows made it 0 (NO_INFO). Noise across
+ * the width of the fit rows still does
+ * (test_vouch_noisy_near_field_is_no_info). */
+static void test_vouch_local_patch_in_the_fit_rows_ends_the_walk_there(
+    void **state)
+{
+    synth_scene_t s;
+    negobs_detect_config_t cfg;
+    int i;
+    (void)state;
+    negobs_detect_config_default(&cfg, RIG_W, RIG_H);
+    cfg.cam_height_mm = 1380;
+    cfg.cam_pitch_mdeg = 11000;
+    for (i = 0; i < 3; i++) {
+        int32_t u;
+        int32_t v;
+        rig_setup(&rig, &cfg);
+        synth_flat(&s, 1.38, 11.0);
+        s.noise_px = 0.1;
+        s.seed = (uint32_t)i + 71u;
+        synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
+        for (v = floor_row(&s, 2.3); v <= floor_row(&s, 2.1); v++) {
+            for (u = 144; u < 176; u++) {
+                rig.disp[v * RIG_W + u] += 14;
+            }
+        }
+        assert_int_equal(rig_run(&rig), NEGOBS_OK);
+        print_message("patch rows %d-%d: state %d, clear_to %d mm, "
+                      "short sight %d, reasons %u, candidates %u\n",
+                      floor_row(&s, 2.3), floor_row(&s, 2.1),
+                      (int)rig.res.state, rig.res.clear_to_mm,
+                      rig.res.short_sight, rig.res.reasons,
+                      rig.res.n_candidates);
+        assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+        assert_int_equal(rig.res.short_sight, 1);
+        assert_true(rig.res.clear_to_mm >= rig.cfg.near_min_mm);
+        assert_true(rig.res.clear_to_mm <= 2100 + 2100 / 10);
+        rig_teardown(&rig);
+    }
+}
+
 /* A 20 cm drop at 2.2 m while the far field is too noisy to vouch for the
  * warning range (sigma 0.25 px at 1 m growing to 1.2 px at 5 m): the
  * drop's own strips pass the local check, so it confirms and is reported
@@ -824,6 +916,9 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_vouch_textureless_patch_limits_the_range),
+        cmocka_unit_test(test_vouch_local_offset_is_counted_once),
+        cmocka_unit_test(
+            test_vouch_local_patch_in_the_fit_rows_ends_the_walk_there),
         cmocka_unit_test(test_vouch_hazard_bound_by_its_track),
         cmocka_unit_test(
             test_vouch_unverified_start_reports_the_floor_in_view),

@@ -95,7 +95,7 @@ typedef struct strip_hit {
 typedef struct vouch_cell {
     int32_t n;       /* seen strip rows                                 */
     int32_t sum;     /* sum of e                                        */
-    int32_t sum_abs; /* sum of |e - band median|                        */
+    int32_t sum_abs; /* sum of |e - the cell's own mean|               */
 } vouch_cell_t;
 
 typedef struct detect_priv {

@@ -46,12 +46,45 @@ static inline int32_t model_range_mm(const scan_ctx_t *s, int32_t u, int32_t v)
 }
 
 /*
+ * Second pass over the rows a strip's cells counted (the bottom row up to
+ * its support limit sup_v; the same in-corridor, seen rows): the sum of
+ * |e - the cell's own mean|. The cell's offset from the model is tested
+ * on its own (|o_cell| in vouch_cell_ok); measured about the band's
+ * median, as a one-pass sum, the spread also carried the cell's offset
+ * from the rest of the band, so one offset counted k x 1.25 + 1 times.
+ * The mean is rounded to whole 1/32 px, which adds at most 1/64 px to the
+ * mean deviation.
+ */
+static void vouch_cell_spread(const scan_ctx_t *s, detect_priv_t *p,
+                              int32_t si, int32_t *rr)
+{
+    const int32_t hgt = s->cfg->rig.height;
+    vouch_cell_t *c = p->cells + (size_t)si * NOISE_BANDS;
+    int32_t v;
+    for (v = hgt - 1; v >= s->band_v0 && v >= p->hits[si].sup_v; v--) {
+        int32_t e;
+        int32_t b;
+        int32_t mean_q5;
+        if (v <= p->hits[si].blocked_v ||
+            !det_strip_in_corridor(s, p->n_strips, si, v) ||
+            !det_strip_row_e(s, p, v, si, rr, &e)) {
+            continue;
+        }
+        b = band_of(s, v);
+        e = negobs_clamp_s32(e, -STRIP_BINS / 2, STRIP_BINS / 2);
+        mean_q5 = (int32_t)negobs_div_round_s64(c[b].sum, c[b].n);
+        c[b].sum_abs += negobs_abs_s32(e - mean_q5);
+    }
+}
+
+/*
  * Pass over every corridor strip from the bottom row up to the row of
- * range_max: the cells' statistics (seen rows, sum of e, sum of |e - the
- * band's median|; e clamped to +-2 px like det_strip_noise's histogram,
- * so one wild row weighs as a 2 px error, not as infinity) and each
- * strip's support limit sup_v. Rows past a closure (wall, up-step) are not
- * read. Runs after det_strip_noise (the band medians) and det_merge_strips
+ * range_max: the cells' statistics (seen rows, sum of e, then in a
+ * second pass the sum of |e - the cell's mean|, vouch_cell_spread; e
+ * clamped to +-2 px like det_strip_noise's histogram, so one wild row
+ * weighs as a 2 px error, not as infinity) and each strip's support limit
+ * sup_v. Rows past a closure (wall, up-step) are not read. Runs after
+ * det_strip_noise (the band medians) and det_merge_strips
  * (rows past a reported drop's edge are compared with its plateau,
  * det_strip_row_e).
  */
@@ -81,11 +114,9 @@ void det_vouch_collect(const scan_ctx_t *s, detect_priv_t *p)
             }
             if (det_strip_row_e(s, p, v, si, rr, &e)) {
                 int32_t b = band_of(s, v);
-                int32_t med_q5 = s->band_bias_q8[b] / 8;
                 e = negobs_clamp_s32(e, -STRIP_BINS / 2, STRIP_BINS / 2);
                 c[b].n++;
                 c[b].sum += e;
-                c[b].sum_abs += negobs_abs_s32(e - med_q5);
                 last_seen = v;
                 run = 0;
                 continue;
@@ -98,6 +129,7 @@ void det_vouch_collect(const scan_ctx_t *s, detect_priv_t *p)
                 break;
             }
         }
+        vouch_cell_spread(s, p, si, rr);
     }
 }
 
@@ -125,8 +157,9 @@ static inline int vouch_in_scan(const scan_ctx_t *s, int32_t range_mm)
  * ground's offset from the model (either sign: above the model it hides
  * deficits, below it reads as a drop that is not one). The spread is the
  * larger of the band's pooled 1.4826 * MAD (det_strip_noise) and the cell's
- * own mean absolute deviation x 1.2533 (the normal-distribution factor),
- * which also carries the cell's offset from the band median. The rule's
+ * own mean absolute deviation about its mean x 1.2533 (the
+ * normal-distribution factor); the offset is counted once, as |o_cell|.
+ * The rule's
  * geometric threshold must stay below the minimum drop, or it never fires
  * on one, and the per-pixel noise is capped by sigma_max as before.
  */
@@ -248,6 +281,8 @@ static void walk_tally(const scan_ctx_t *s, detect_priv_t *p,
  * first_row + 2 were not matched. Fills p->reach_v: how far each strip
  * alone stays vouched (the local check of a hazard's own strips).
  */
+static int vouch_band_ok(const scan_ctx_t *s, int32_t v, int32_t range_mm);
+
 int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
                        int32_t first_row, int candidates, uint32_t *cause,
                        int32_t *barred)
@@ -259,6 +294,7 @@ int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
     int32_t close_mm = -1; /* floor distance where the barred band began */
     int32_t close_walk_v = hgt;
     uint32_t close_why = 0;
+    int32_t local = 0; /* the walk stopped on a minority of its strips */
     int32_t si;
     int32_t v;
     *cause = 0;
@@ -282,6 +318,8 @@ int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
                 close_why = w.why;
             } else {
                 walking = 0;
+                local = n_corr > 0 && 2 * w.n_ok >= n_corr &&
+                        vouch_band_ok(s, v, range);
                 *cause = (w.why & NEGOBS_DEGRADED_NOISY) != 0u
                              ? NEGOBS_DEGRADED_NOISY
                              : NEGOBS_DEGRADED_FEW_GROUND;
@@ -314,8 +352,15 @@ int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
      * vouched for 1.5 m of floor with a 15 cm drop at 1.3 m). A gap in
      * support there is only unknown ground and ends the walk as usual; so
      * does noise on a frame with a candidate: a drop found there is what
-     * stops the walk (clear_to_mm is cut at it anyway). */
-    if (*cause == NEGOBS_DEGRADED_NOISY && !candidates &&
+     * stops the walk (clear_to_mm is cut at it anyway). So does noise
+     * that is local: a row where at least half of the corridor's strips
+     * still vouch (only min_strips adjacent ones failed) and whose band,
+     * pooled over every strip, passes the same test. A wrong model is
+     * wrong across the width, in the band's median; one stain or painted
+     * patch the matcher reads off is not (a dark patch in two strips of a
+     * 1.38 m / 11 deg camera's fit rows, 1.8-2.6 m ahead, zeroed a walk to
+     * 2.1 m). */
+    if (*cause == NEGOBS_DEGRADED_NOISY && !candidates && !local &&
         walk_v > hgt - 1 - (hgt * cfg->fit_rows_pct) / 100) {
         return 0;
     }
