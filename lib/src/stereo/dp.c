@@ -197,6 +197,84 @@ static inline int32_t stage1_run(stx_t *s, int32_t y, int keep)
     return argp;
 }
 
+/* Stage 1 of the feeding pass without rescoring: only the end column's
+ * scores (left in yprev) and each column's best value are needed, not the
+ * pointers nor the argmax, and every band cell but the GCS one costs the
+ * same neutral score. So each cell is the max of four values plus one
+ * constant, and the GCS cell gets its difference afterwards: the same sums
+ * as stage1_run(s, y, 0) (m + neutral + (1.0 - neutral) = m + 1.0, no
+ * overflow: |Y| < 2^28), in a loop the compiler can vectorise. */
+static void stage1_feed(stx_t *s)
+{
+    const int32_t w = s->w;
+    const int32_t nd = s->ndisp;
+    const int32_t dmin = s->dmin;
+    const int32_t jump = s->cfg.dp_jump_q14;
+    const int32_t neutral = s->cfg.dp_neutral_q14;
+    int32_t *yp = s->yprev + 1; /* index -1 .. nd valid */
+    int32_t *yc = s->ycur + 1;
+    int32_t x;
+    int32_t i;
+    int32_t bestp = 0;
+    int32_t plo = 0;
+    int32_t phi = -1; /* band of yc's stale content (column x-2) */
+    int32_t qlo = 0;  /* band of yp's content (column x-1)          */
+    int32_t qhi = -1;
+
+    for (i = -1; i <= nd; i++) {
+        yp[i] = NEG32;
+        yc[i] = NEG32;
+    }
+    for (x = 0; x < w; x++) {
+        int32_t bcur = NEG32;
+        int32_t gi = s->bscored[x] ? s->gcs_cur[x] - dmin : -2;
+        int32_t lo = s->blo[x] - dmin;
+        int32_t hi = s->bhi[x] - dmin;
+        for (i = plo; i <= phi; i++) {
+            yc[i] = NEG32;
+        }
+        if (x == 0) {
+            for (i = lo; i <= hi; i++) {
+                yc[i] = neutral;
+            }
+            bcur = (lo <= hi) ? neutral : NEG32;
+        } else {
+            const int32_t cjump = bestp - jump;
+            const int32_t *restrict pp = yp;
+            int32_t *restrict cc = yc;
+            for (i = lo; i <= hi; i++) {
+                int32_t m = pp[i];
+                int32_t v;
+                m = (pp[i - 1] > m) ? pp[i - 1] : m;
+                m = (pp[i + 1] > m) ? pp[i + 1] : m;
+                m = (cjump > m) ? cjump : m;
+                v = m + neutral;
+                cc[i] = v;
+                bcur = (v > bcur) ? v : bcur;
+            }
+        }
+        if (gi >= lo && gi <= hi) {
+            yc[gi] += STX_ONE_Q14 - neutral;
+            if (yc[gi] > bcur) {
+                bcur = yc[gi];
+            }
+        }
+        {
+            int32_t *tmp = yp;
+            yp = yc;
+            yc = tmp;
+        }
+        plo = qlo;
+        phi = qhi;
+        qlo = lo;
+        qhi = hi;
+        bestp = bcur;
+    }
+    if (yp != s->yprev + 1) {
+        memcpy(s->yprev, s->ycur, (size_t)(nd + 2) * sizeof *s->yprev);
+    }
+}
+
 static int32_t stage1(stx_t *s, int32_t y, int keep)
 {
     return keep ? stage1_run(s, y, 1) : stage1_run(s, y, 0);
@@ -394,7 +472,9 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
     s->gcs_cur = gcsrow;
 
     if (pass == 0) {
-        if (have) {
+        if (have && !s->cfg.dp_rescore) {
+            stage1_feed(s);
+        } else if (have) {
             (void)stage1(s, y, 0);
         }
         if (s->yend != NULL) {
