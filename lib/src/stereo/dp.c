@@ -275,6 +275,111 @@ static void stage1_feed(stx_t *s)
     }
 }
 
+/* Stage 1 of the back-tracking pass without rescoring: stage1_run(s, y, 1)
+ * with the GCS cell's score added after the band loop (as in stage1_feed),
+ * so the loop carries no per-cell cost test. Raising one cell cannot move
+ * the first argmax anywhere but to that cell. */
+static int32_t stage1_keep(stx_t *s)
+{
+    const int32_t w = s->w;
+    const int32_t nd = s->ndisp;
+    const int32_t dmin = s->dmin;
+    const int32_t jump = s->cfg.dp_jump_q14;
+    const int32_t neutral = s->cfg.dp_neutral_q14;
+    int32_t *yp = s->yprev + 1; /* index -1 .. nd valid */
+    int32_t *yc = s->ycur + 1;
+    int32_t x;
+    int32_t i;
+    int32_t bestp = 0;
+    int32_t argp = 0;
+    int32_t plo = 0;
+    int32_t phi = -1; /* band of yc's stale content (column x-2) */
+    int32_t qlo = 0;  /* band of yp's content (column x-1)          */
+    int32_t qhi = -1;
+
+    for (i = -1; i <= nd; i++) {
+        yp[i] = NEG32;
+        yc[i] = NEG32;
+    }
+    for (x = 0; x < w; x++) {
+        int32_t bcur = NEG32;
+        int32_t acur = 0;
+        int16_t *crow = s->cost + (ptrdiff_t)x * nd;
+        uint8_t *prow = s->p1 + (ptrdiff_t)x * nd;
+        int32_t gi = s->bscored[x] ? s->gcs_cur[x] - dmin : -2;
+        int32_t lo = s->blo[x] - dmin;
+        int32_t hi = s->bhi[x] - dmin;
+        for (i = plo; i <= phi; i++) {
+            yc[i] = NEG32;
+        }
+        if (x == 0) {
+            for (i = lo; i <= hi; i++) {
+                yc[i] = neutral;
+                crow[i] = (int16_t)neutral;
+                prow[i] = 1u;
+            }
+            if (lo <= hi) {
+                bcur = neutral;
+                acur = lo;
+            }
+        } else {
+            const int32_t cjump = bestp - jump;
+            const int32_t *restrict pp = yp;
+            int32_t *restrict cc = yc;
+            for (i = lo; i <= hi; i++) {
+                int32_t m = pp[i];
+                int32_t t = 1;
+                int32_t v;
+                if (pp[i - 1] > m) {
+                    m = pp[i - 1];
+                    t = 0;
+                }
+                if (pp[i + 1] > m) {
+                    m = pp[i + 1];
+                    t = 2;
+                }
+                if (cjump > m) {
+                    m = cjump;
+                    t = 3;
+                }
+                v = m + neutral;
+                cc[i] = v;
+                crow[i] = (int16_t)neutral;
+                prow[i] = (uint8_t)t;
+                if (v > bcur) {
+                    bcur = v;
+                    acur = i;
+                }
+            }
+        }
+        if (gi >= lo && gi <= hi) {
+            int32_t v = yc[gi] + (STX_ONE_Q14 - neutral);
+            yc[gi] = v;
+            crow[gi] = (int16_t)STX_ONE_Q14;
+            if (v > bcur || (v == bcur && gi < acur)) {
+                bcur = v;
+                acur = gi;
+            }
+        }
+        s->jump_to[x] = (int16_t)argp;
+        {
+            int32_t *tmp = yp;
+            yp = yc;
+            yc = tmp;
+        }
+        plo = qlo;
+        phi = qhi;
+        qlo = lo;
+        qhi = hi;
+        bestp = bcur;
+        argp = acur;
+    }
+    if (yp != s->yprev + 1) {
+        memcpy(s->yprev, s->ycur, (size_t)(nd + 2) * sizeof *s->yprev);
+    }
+    return argp;
+}
+
 static int32_t stage1(stx_t *s, int32_t y, int keep)
 {
     return keep ? stage1_run(s, y, 1) : stage1_run(s, y, 0);
@@ -499,7 +604,7 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
         return;
     }
     {
-        int32_t endarg = stage1(s, y, 1);
+        int32_t endarg = s->cfg.dp_rescore ? stage1(s, y, 1) : stage1_keep(s);
         d = s->dend[y];
         if (d < s->blo[w - 1] || d > s->bhi[w - 1]) {
             d = endarg + dmin;
