@@ -278,7 +278,8 @@ static void stage1_feed(stx_t *s)
 /* Stage 1 of the back-tracking pass without rescoring: stage1_run(s, y, 1)
  * with the GCS cell's score added after the band loop (as in stage1_feed),
  * so the loop carries no per-cell cost test. Raising one cell cannot move
- * the first argmax anywhere but to that cell. */
+ * the first argmax anywhere but to that cell. The cost row is left
+ * unwritten: only score_at() reads it, and only with dp_rescore. */
 static int32_t stage1_keep(stx_t *s)
 {
     const int32_t w = s->w;
@@ -304,7 +305,6 @@ static int32_t stage1_keep(stx_t *s)
     for (x = 0; x < w; x++) {
         int32_t bcur = NEG32;
         int32_t acur = 0;
-        int16_t *crow = s->cost + (ptrdiff_t)x * nd;
         uint8_t *prow = s->p1 + (ptrdiff_t)x * nd;
         int32_t gi = s->bscored[x] ? s->gcs_cur[x] - dmin : -2;
         int32_t lo = s->blo[x] - dmin;
@@ -315,7 +315,6 @@ static int32_t stage1_keep(stx_t *s)
         if (x == 0) {
             for (i = lo; i <= hi; i++) {
                 yc[i] = neutral;
-                crow[i] = (int16_t)neutral;
                 prow[i] = 1u;
             }
             if (lo <= hi) {
@@ -344,7 +343,6 @@ static int32_t stage1_keep(stx_t *s)
                 }
                 v = m + neutral;
                 cc[i] = v;
-                crow[i] = (int16_t)neutral;
                 prow[i] = (uint8_t)t;
                 if (v > bcur) {
                     bcur = v;
@@ -355,7 +353,6 @@ static int32_t stage1_keep(stx_t *s)
         if (gi >= lo && gi <= hi) {
             int32_t v = yc[gi] + (STX_ONE_Q14 - neutral);
             yc[gi] = v;
-            crow[gi] = (int16_t)STX_ONE_Q14;
             if (v > bcur || (v == bcur && gi < acur)) {
                 bcur = v;
                 acur = gi;
