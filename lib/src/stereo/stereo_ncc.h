@@ -24,16 +24,23 @@ void stx_stats_rows(const negobs_image_u8_t *img, int32_t ya, int32_t n,
  * VL+VR < tex_min. */
 int32_t stx_mncc_q14(uint32_t sum_lr, uint32_t sl, uint32_t vl, uint32_t sr,
                      uint32_t vr, uint32_t tex_min);
-/* num2 / den in Q14, rounded towards zero (den > 0, |num2| <= den). */
-int32_t stx_frac_q14(int32_t num2, int32_t den);
-
 /* The common scale of stx_frac_q14: |num2| and den shifted right together
- * by the fewest bits that bring den below 2^17, in fixed steps of 8, 4, 2,
- * 1, 1 instead of a loop. A step is taken only when den stays >= 2^17
- * after it, so the total is the least shift; each step leaves den below
- * the next step's bound, so the last one ends below 2^17 for any den. */
+ * by the fewest bits that bring den below 2^17. Shifting by s1 then s2
+ * floors like one shift by s1 + s2, so the count can be taken in one go:
+ * from the leading zeros where the compiler has them, else in fixed steps
+ * of 8, 4, 2, 1, 1 (a step is taken only when den stays >= 2^17 after it,
+ * so the total is the least shift; each step leaves den below the next
+ * step's bound, so the last one ends below 2^17 for any den). */
 static inline void stx_frac_scale(uint32_t *a, uint32_t *d)
 {
+#if defined(__GNUC__)
+    if (*d >= (1u << 17)) {
+        /* 32 - clz = bit length; keep 17 bits */
+        unsigned sh = (unsigned)(15 - __builtin_clz(*d));
+        *d >>= sh;
+        *a >>= sh;
+    }
+#else
     if (*d >= (1u << 25)) {
         *d >>= 8;
         *a >>= 8;
@@ -54,6 +61,23 @@ static inline void stx_frac_scale(uint32_t *a, uint32_t *d)
         *d >>= 1;
         *a >>= 1;
     }
+#endif
+}
+
+/* num2 / den in Q14, rounded towards zero (den > 0, |num2| <= den).
+ * Inline: the growth, the seeds and the DP call it about a million times
+ * a frame. */
+static inline int32_t stx_frac_q14(int32_t num2, int32_t den)
+{
+    uint32_t a = (uint32_t)((num2 < 0) ? -num2 : num2);
+    uint32_t d = (uint32_t)den;
+    uint32_t q;
+    stx_frac_scale(&a, &d);
+    if (a > d) {
+        a = d; /* cannot happen mathematically; keeps |c| <= 1 */
+    }
+    q = (a << 14) / d;
+    return (num2 < 0) ? -(int32_t)q : (int32_t)q;
 }
 
 /* stx_frac_q14(num2, den) >= t_q14 without the division (den > 0,
