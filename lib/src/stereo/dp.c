@@ -514,19 +514,52 @@ static int32_t score_at(stx_t *s, int32_t x, int32_t y, int32_t d)
     }
 }
 
+/* What score3() reads for one row, looked up once per row. */
+typedef struct score_row {
+    const stx_t *s;
+    int32_t w, gdmin, gdmax;
+    uint32_t tex_min;
+    int row_ok;           /* y inside the strip                     */
+    ptrdiff_t il0;        /* strip index of (0, y)                  */
+    ptrdiff_t ls, rs;     /* strides                                */
+    ptrdiff_t loff, roff; /* offsets of the windows' top rows       */
+    uint32_t visited;     /* cells scored, added to the stats once  */
+} score_row_t;
+
+static void score_row_init(score_row_t *r, const stx_t *s, int32_t y)
+{
+    r->s = s;
+    r->w = s->w;
+    r->gdmin = s->gdmin;
+    r->gdmax = s->gdmax;
+    r->tex_min = (uint32_t)s->cfg.texture_min;
+    r->row_ok = y >= s->y0 && y < s->y1;
+    r->il0 = (ptrdiff_t)(y - s->y0) * s->w;
+    r->ls = s->left->stride;
+    r->rs = s->right->stride;
+    r->loff = (ptrdiff_t)(y - STX_WIN_R) * r->ls;
+    r->roff = (ptrdiff_t)(y + s->voff - STX_WIN_R) * r->rs;
+    r->visited = 0;
+}
+
 /* score_at(d - 1), score_at(d), score_at(d + 1) without dp_rescore, in
  * one go: the left window, its statistics and the bounds are shared. Same
  * values and visited count as three stx_mncc_strip() calls. */
-static void score3(stx_t *s, int32_t x, int32_t y, int32_t d, int32_t c[3])
+static void score3(score_row_t *r, int32_t x, int32_t d, int32_t c[3])
 {
-    int32_t w = s->w;
+    const stx_t *s = r->s;
+    const int32_t w = r->w;
     int32_t j;
-    ptrdiff_t il = (ptrdiff_t)(y - s->y0) * w + x;
-    int left_ok = x >= STX_WIN_R && x < w - STX_WIN_R && y >= s->y0 &&
-                  y < s->y1 && s->vl[il] != 0u;
+    ptrdiff_t il = r->il0 + x;
+    int left_ok = x >= STX_WIN_R && x < w - STX_WIN_R && r->row_ok &&
+                  s->vl[il] != 0u;
     const uint8_t *a = NULL;
+    uint32_t sl = 0;
+    uint32_t vl = 0;
     if (left_ok) {
-        a = negobs_image_u8_row(s->left, y - STX_WIN_R) + x - STX_WIN_R;
+        a = s->left->data + r->loff + x - STX_WIN_R;
+        sl = s->sl[il];
+        vl = s->vl[il];
     }
     for (j = 0; j < 3; j++) {
         int32_t dj = d - 1 + j;
@@ -535,26 +568,27 @@ static void score3(stx_t *s, int32_t x, int32_t y, int32_t d, int32_t c[3])
         int32_t den;
         const uint8_t *b;
         uint32_t xs;
+        uint32_t vr;
         c[j] = STX_FLAT;
-        if (dj < s->gdmin || dj > s->gdmax) {
+        if (dj < r->gdmin || dj > r->gdmax) {
             continue;
         }
-        s->st.visited_cells++;
-        if (!left_ok || ur < STX_WIN_R || ur >= w - STX_WIN_R ||
-            s->vr[il - dj] == 0u) {
+        r->visited++;
+        if (!left_ok || ur < STX_WIN_R || ur >= w - STX_WIN_R) {
             continue;
         }
-        b = negobs_image_u8_row(s->right, y + s->voff - STX_WIN_R) + ur -
-            STX_WIN_R;
+        vr = s->vr[il - dj];
+        if (vr == 0u) {
+            continue;
+        }
+        b = s->right->data + r->roff + ur - STX_WIN_R;
 #if defined(STX_CROSS5_SIMD)
-        xs = (x + 5 < w)
-                 ? stx_cross5_simd(a, s->left->stride, b, s->right->stride)
-                 : stx_cross5_ref(a, s->left->stride, b, s->right->stride);
+        xs = (x + 5 < w) ? stx_cross5_simd(a, r->ls, b, r->rs)
+                         : stx_cross5_ref(a, r->ls, b, r->rs);
 #else
-        xs = stx_cross5_ref(a, s->left->stride, b, s->right->stride);
+        xs = stx_cross5_ref(a, r->ls, b, r->rs);
 #endif
-        if (stx_mncc_num_den(xs, s->sl[il], s->vl[il], s->sr[il - dj],
-                             s->vr[il - dj], (uint32_t)s->cfg.texture_min, &n2,
+        if (stx_mncc_num_den(xs, sl, vl, s->sr[il - dj], vr, r->tex_min, &n2,
                              &den)) {
             c[j] = stx_frac_q14(n2, den);
         }
@@ -569,6 +603,7 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
     int32_t dmin = s->dmin;
     int32_t x;
     int32_t d;
+    score_row_t srow;
     int have = row_bands(s, gcsrow);
 
     s->gcs_cur = gcsrow;
@@ -623,6 +658,7 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
         d = negobs_clamp_s32(d, s->blo[x - 1], s->bhi[x - 1]);
     }
     /* stage 5a: sub-pixel refinement and confidence */
+    score_row_init(&srow, s, y);
     for (x = 0; x < w; x++) {
         int32_t di = outrow[x];
         int32_t c0;
@@ -634,7 +670,7 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
             cp = score_at(s, x, y, di + 1);
         } else {
             int32_t c3[3];
-            score3(s, x, y, di, c3);
+            score3(&srow, x, di, c3);
             cm = c3[0];
             c0 = c3[1];
             cp = c3[2];
@@ -667,4 +703,5 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
             confrow[x] = (uint8_t)negobs_clamp_s32(conf, 0, 255);
         }
     }
+    s->st.visited_cells += srow.visited;
 }
