@@ -454,6 +454,8 @@ static void seed_scores(stx_t *s, int32_t u, int32_t v, int32_t lo, int32_t hi,
     ptrdiff_t ls = s->left->stride;
     ptrdiff_t rs = s->right->stride;
     int32_t yr = v + s->voff;
+    const uint16_t *srp = s->sr;
+    const uint32_t *vrp = s->vr;
     /* vl != 0: the left window is inside the image; the right rows are
      * checked too, so no pointer is ever formed outside the images */
     int ok_left = u >= STX_WIN_R && u < w - STX_WIN_R && vl != 0u &&
@@ -465,6 +467,9 @@ static void seed_scores(stx_t *s, int32_t u, int32_t v, int32_t lo, int32_t hi,
         a = negobs_image_u8_row(s->left, v - STX_WIN_R) + u - STX_WIN_R;
         rrow = negobs_image_u8_row(s->right, yr - STX_WIN_R);
     }
+    if (hi >= lo) {
+        s->st.visited_cells += (uint32_t)(hi - lo + 1);
+    }
     for (d = lo; d <= hi; d++) {
         int32_t ur = u - d;
         int32_t n2;
@@ -472,9 +477,8 @@ static void seed_scores(stx_t *s, int32_t u, int32_t v, int32_t lo, int32_t hi,
         uint32_t x;
         const uint8_t *b;
         sc[d - lo] = STX_FLAT;
-        s->st.visited_cells++;
         if (!ok_left || ur < STX_WIN_R || ur >= w - STX_WIN_R ||
-            s->vr[il - d] == 0u) {
+            vrp[il - d] == 0u) {
             continue;
         }
         b = rrow + ur - STX_WIN_R;
@@ -484,7 +488,7 @@ static void seed_scores(stx_t *s, int32_t u, int32_t v, int32_t lo, int32_t hi,
 #else
         x = stx_cross5_ref(a, ls, b, rs);
 #endif
-        if (stx_mncc_num_den(x, sl, vl, s->sr[il - d], s->vr[il - d], tex, &n2,
+        if (stx_mncc_num_den(x, sl, vl, srp[il - d], vrp[il - d], tex, &n2,
                              &den)) {
             sc[d - lo] = stx_frac_q14(n2, den);
         }
