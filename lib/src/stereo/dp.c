@@ -197,6 +197,22 @@ static inline int32_t stage1_run(stx_t *s, int32_t y, int keep)
     return argp;
 }
 
+/* Empty yc's stale band [plo, phi] (column x-2) where column x's band
+ * [lo, hi] will not overwrite it: the cells outside a column's band must
+ * read as NEG32 for the next column and for stage 2. */
+static inline void clear_stale(int32_t *yc, int32_t plo, int32_t phi,
+                               int32_t lo, int32_t hi)
+{
+    int32_t i;
+    int32_t e = (phi < lo - 1) ? phi : lo - 1;
+    for (i = plo; i <= e; i++) {
+        yc[i] = NEG32;
+    }
+    for (i = (plo > hi + 1) ? plo : hi + 1; i <= phi; i++) {
+        yc[i] = NEG32;
+    }
+}
+
 /* Stage 1 of the feeding pass without rescoring: only the end column's
  * scores (left in yprev) and each column's best value are needed, not the
  * pointers nor the argmax, and every band cell but the GCS one costs the
@@ -230,9 +246,7 @@ static void stage1_feed(stx_t *s)
         int32_t gi = s->bscored[x] ? s->gcs_cur[x] - dmin : -2;
         int32_t lo = s->blo[x] - dmin;
         int32_t hi = s->bhi[x] - dmin;
-        for (i = plo; i <= phi; i++) {
-            yc[i] = NEG32;
-        }
+        clear_stale(yc, plo, phi, lo, hi);
         if (x == 0) {
             for (i = lo; i <= hi; i++) {
                 yc[i] = neutral;
@@ -309,9 +323,7 @@ static int32_t stage1_keep(stx_t *s)
         int32_t gi = s->bscored[x] ? s->gcs_cur[x] - dmin : -2;
         int32_t lo = s->blo[x] - dmin;
         int32_t hi = s->bhi[x] - dmin;
-        for (i = plo; i <= phi; i++) {
-            yc[i] = NEG32;
-        }
+        clear_stale(yc, plo, phi, lo, hi);
         if (x == 0) {
             for (i = lo; i <= hi; i++) {
                 yc[i] = neutral;
