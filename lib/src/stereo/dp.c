@@ -573,6 +573,33 @@ static void score3(score_row_t *r, int32_t x, int32_t d, int32_t c[3])
         sl = s->sl[il];
         vl = s->vl[il];
     }
+#if defined(STX_CROSS5X3_SIMD)
+    /* the usual case: all three cells in range and inside; the right
+     * windows' top-left columns are ur - 1 .. ur + 1 - 2, one 8-byte load
+     * per row from x - d - 3 (ends at x - d + 4 < w), the left one ends at
+     * x + 5 < w; vr != 0 proves the right rows are inside the image */
+    if (left_ok && d - 1 >= r->gdmin && d + 1 <= r->gdmax &&
+        x - d - 1 >= STX_WIN_R && x - d + 4 < w && x + 5 < w &&
+        s->vr[il - d + 1] != 0u && s->vr[il - d] != 0u &&
+        s->vr[il - d - 1] != 0u) {
+        uint32_t xs3[3];
+        stx_cross5x3_simd(a, r->ls, s->right->data + r->roff + x - d - 3,
+                          r->rs, xs3);
+        r->visited += 3u;
+        for (j = 0; j < 3; j++) {
+            int32_t dj = d - 1 + j;
+            int32_t n2;
+            int32_t den;
+            /* right window of dj starts at x - dj - 2 = (x - d - 3) + 2 - j */
+            c[j] = STX_FLAT;
+            if (stx_mncc_num_den(xs3[2 - j], sl, vl, s->sr[il - dj],
+                                 s->vr[il - dj], r->tex_min, &n2, &den)) {
+                c[j] = stx_frac_q14(n2, den);
+            }
+        }
+        return;
+    }
+#endif
     for (j = 0; j < 3; j++) {
         int32_t dj = d - 1 + j;
         int32_t ur = x - dj;

@@ -148,6 +148,17 @@ static inline uint32_t stx_cross5_ref(const uint8_t *a, ptrdiff_t sa,
     return acc;
 }
 
+/* Plain C reference of stx_cross5x3_simd: the left window at a against
+ * the right windows at b, b + 1, b + 2. */
+static inline void stx_cross5x3_ref(const uint8_t *a, ptrdiff_t sa,
+                                    const uint8_t *b, ptrdiff_t sb,
+                                    uint32_t out[3])
+{
+    int32_t k;
+    for (k = 0; k < 3; k++) {
+        out[k] = stx_cross5_ref(a, sa, b + k, sb);
+    }
+}
 #if defined(NEGOBS_SIMD_SSE2)
 #define STX_CROSS5_SIMD 1
 /* SSE2 form of stx_cross5_ref (bit-exact: integer sums in any order).
@@ -193,6 +204,45 @@ static inline uint32_t stx_cross5_simd(const uint8_t *a, ptrdiff_t sa,
     acc = _mm_add_epi32(acc, _mm_shuffle_epi32(acc, 0x4E));
     acc = _mm_add_epi32(acc, _mm_shuffle_epi32(acc, 0xB1));
     return (uint32_t)_mm_cvtsi128_si32(acc);
+}
+#define STX_CROSS5X3_SIMD 1
+/* Three cross sums of one left window (top-left a) against the right
+ * windows at b, b + 1 and b + 2 (three consecutive disparities), as
+ * out[k] = stx_cross5_ref(a, sa, b + k, sb). Each right row is one 8-byte
+ * load (b .. b + 7: the caller guarantees b + 7 is inside the row) shifted
+ * by 0, 1 and 2 pixels after widening, so the left row is loaded and
+ * widened once for the three; the left load has stx_cross5_simd's
+ * contract. Bit-exact: integer sums in any order, each PMADDWD lane <=
+ * 130 050. */
+static inline void stx_cross5x3_simd(const uint8_t *a, ptrdiff_t sa,
+                                     const uint8_t *b, ptrdiff_t sb,
+                                     uint32_t out[3])
+{
+    const __m128i z = _mm_setzero_si128();
+    const __m128i m5 = _mm_set_epi32(0, 0, 0xFF, -1);
+    __m128i acc0 = z;
+    __m128i acc1 = z;
+    __m128i acc2 = z;
+    int32_t k;
+    for (k = 0; k < 5; k++) {
+        __m128i l = _mm_unpacklo_epi8(
+            _mm_and_si128(_mm_loadl_epi64((const __m128i *)a), m5), z);
+        __m128i r = _mm_unpacklo_epi8(_mm_loadl_epi64((const __m128i *)b), z);
+        acc0 = _mm_add_epi32(acc0, _mm_madd_epi16(l, r));
+        acc1 = _mm_add_epi32(acc1, _mm_madd_epi16(l, _mm_srli_si128(r, 2)));
+        acc2 = _mm_add_epi32(acc2, _mm_madd_epi16(l, _mm_srli_si128(r, 4)));
+        a += sa;
+        b += sb;
+    }
+    acc0 = _mm_add_epi32(acc0, _mm_shuffle_epi32(acc0, 0x4E));
+    acc1 = _mm_add_epi32(acc1, _mm_shuffle_epi32(acc1, 0x4E));
+    acc2 = _mm_add_epi32(acc2, _mm_shuffle_epi32(acc2, 0x4E));
+    acc0 = _mm_add_epi32(acc0, _mm_shuffle_epi32(acc0, 0xB1));
+    acc1 = _mm_add_epi32(acc1, _mm_shuffle_epi32(acc1, 0xB1));
+    acc2 = _mm_add_epi32(acc2, _mm_shuffle_epi32(acc2, 0xB1));
+    out[0] = (uint32_t)_mm_cvtsi128_si32(acc0);
+    out[1] = (uint32_t)_mm_cvtsi128_si32(acc1);
+    out[2] = (uint32_t)_mm_cvtsi128_si32(acc2);
 }
 #elif defined(NEGOBS_SIMD_NEON)
 #define STX_CROSS5_SIMD 1
