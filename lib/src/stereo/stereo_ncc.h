@@ -266,6 +266,34 @@ static inline uint32_t stx_cross5_simd(const uint8_t *a, ptrdiff_t sa,
     }
     return negobs_neon_addv_u32(acc);
 }
+#define STX_CROSS5X3_SIMD 1
+/* NEON form of stx_cross5x3_ref, same contract as the SSE2 one: the right
+ * row's 8 bytes shifted by 0, 1, 2 pixels with VEXT (zeros shifted in sit
+ * under the left row's masked bytes), products and pair sums as in
+ * stx_cross5_simd. */
+static inline void stx_cross5x3_simd(const uint8_t *a, ptrdiff_t sa,
+                                     const uint8_t *b, ptrdiff_t sb,
+                                     uint32_t out[3])
+{
+    const uint8x8_t m5 = vcreate_u8(UINT64_C(0x000000FFFFFFFFFF));
+    const uint8x8_t z = vdup_n_u8(0);
+    uint32x4_t acc0 = vdupq_n_u32(0);
+    uint32x4_t acc1 = vdupq_n_u32(0);
+    uint32x4_t acc2 = vdupq_n_u32(0);
+    int32_t k;
+    for (k = 0; k < 5; k++) {
+        uint8x8_t l = vand_u8(vld1_u8(a), m5);
+        uint8x8_t r = vld1_u8(b);
+        acc0 = vpadalq_u16(acc0, vmull_u8(l, r));
+        acc1 = vpadalq_u16(acc1, vmull_u8(l, vext_u8(r, z, 1)));
+        acc2 = vpadalq_u16(acc2, vmull_u8(l, vext_u8(r, z, 2)));
+        a += sa;
+        b += sb;
+    }
+    out[0] = negobs_neon_addv_u32(acc0);
+    out[1] = negobs_neon_addv_u32(acc1);
+    out[2] = negobs_neon_addv_u32(acc2);
+}
 #endif /* STX_CROSS5_SIMD: defined only where a SIMD form exists */
 
 /* Raw 5x5 cross sum at left (u, yl) and right (ur, yr); both windows
