@@ -470,7 +470,33 @@ static void seed_scores(stx_t *s, int32_t u, int32_t v, int32_t lo, int32_t hi,
     if (hi >= lo) {
         s->st.visited_cells += (uint32_t)(hi - lo + 1);
     }
-    for (d = lo; d <= hi; d++) {
+    d = lo;
+#if defined(STX_CROSS5X3_SIMD)
+    /* three disparities d .. d + 2 at once while their right windows
+     * (top-left columns u - d - 4 .. u - d - 2) are inside the row, with
+     * the 8-byte loads ending at u - d + 3 and u + 5 */
+    if (ok_left && u + 5 < w) {
+        for (; d + 2 <= hi && u - d - 2 >= STX_WIN_R && u - d + 3 < w;
+             d += 3) {
+            uint32_t x3[3];
+            int32_t k;
+            stx_cross5x3_simd(a, ls, rrow + u - d - 4, rs, x3);
+            for (k = 0; k < 3; k++) {
+                /* window of d + k starts at (u - d - 4) + 2 - k */
+                int32_t dk = d + k;
+                int32_t n2;
+                int32_t den;
+                sc[dk - lo] = STX_FLAT;
+                if (vrp[il - dk] != 0u &&
+                    stx_mncc_num_den(x3[2 - k], sl, vl, srp[il - dk],
+                                     vrp[il - dk], tex, &n2, &den)) {
+                    sc[dk - lo] = stx_frac_q14(n2, den);
+                }
+            }
+        }
+    }
+#endif
+    for (; d <= hi; d++) {
         int32_t ur = u - d;
         int32_t n2;
         int32_t den;
