@@ -287,6 +287,37 @@ static void check_cross5_all_positions(void)
     }
 }
 
+/* The three-disparity form against three reference sums, at every
+ * position whose 8-byte loads stay in the tight image (right: b + 7 <= W
+ * - 1; left: the window's column + 5 < W). */
+static void check_cross5x3_all_positions(void)
+{
+    int32_t y;
+    int32_t u;
+    int32_t bx;
+    for (y = STX_WIN_R; y < H - STX_WIN_R; y++) {
+        for (u = STX_WIN_R; u + 5 < W; u++) {
+            const uint8_t *pa = ta + (y - 2) * W + u - 2;
+            for (bx = 0; bx + 7 < W; bx++) {
+                uint32_t want[3];
+                const uint8_t *pb = tb + (y - 2) * W + bx;
+                stx_cross5x3_ref(pa, W, pb, W, want);
+                assert_int_equal(want[0], stx_cross5_ref(pa, W, pb, W));
+                assert_int_equal(want[2], stx_cross5_ref(pa, W, pb + 2, W));
+#if defined(STX_CROSS5X3_SIMD)
+                {
+                    uint32_t got[3];
+                    stx_cross5x3_simd(pa, W, pb, W, got);
+                    assert_int_equal(got[0], want[0]);
+                    assert_int_equal(got[1], want[1]);
+                    assert_int_equal(got[2], want[2]);
+                }
+#endif
+            }
+        }
+    }
+}
+
 static void test_cross5_variants_are_bit_exact(void **state)
 {
     uint32_t seed = 99u;
@@ -297,10 +328,12 @@ static void test_cross5_variants_are_bit_exact(void **state)
         tb[i] = (uint8_t)test_lcg_next(&seed);
     }
     check_cross5_all_positions();
+    check_cross5x3_all_positions();
     /* largest products: every lane at 255 (sum 1 625 625) */
     memset(ta, 255, sizeof ta);
     memset(tb, 255, sizeof tb);
     check_cross5_all_positions();
+    check_cross5x3_all_positions();
     assert_int_equal(stx_cross5_ref(ta, W, tb, W), 25u * 255u * 255u);
     /* bytes beyond the 5 columns must not leak into the sum */
     for (i = 0; i < H * W; i++) {
@@ -308,6 +341,7 @@ static void test_cross5_variants_are_bit_exact(void **state)
         tb[i] = (uint8_t)(255 - (i % 7));
     }
     check_cross5_all_positions();
+    check_cross5x3_all_positions();
 }
 
 int main(void)

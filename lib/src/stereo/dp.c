@@ -197,6 +197,198 @@ static inline int32_t stage1_run(stx_t *s, int32_t y, int keep)
     return argp;
 }
 
+/* Empty yc's stale band [plo, phi] (column x-2) where column x's band
+ * [lo, hi] will not overwrite it: the cells outside a column's band must
+ * read as NEG32 for the next column and for stage 2. */
+static inline void clear_stale(int32_t *yc, int32_t plo, int32_t phi,
+                               int32_t lo, int32_t hi)
+{
+    int32_t i;
+    int32_t e = (phi < lo - 1) ? phi : lo - 1;
+    for (i = plo; i <= e; i++) {
+        yc[i] = NEG32;
+    }
+    for (i = (plo > hi + 1) ? plo : hi + 1; i <= phi; i++) {
+        yc[i] = NEG32;
+    }
+}
+
+/* Stage 1 of the feeding pass without rescoring: only the end column's
+ * scores (left in yprev) and each column's best value are needed, not the
+ * pointers nor the argmax, and every band cell but the GCS one costs the
+ * same neutral score. So each cell is the max of four values plus one
+ * constant, and the GCS cell gets its difference afterwards: the same sums
+ * as stage1_run(s, y, 0) (m + neutral + (1.0 - neutral) = m + 1.0, no
+ * overflow: |Y| < 2^28), in a loop the compiler can vectorise. */
+static void stage1_feed(stx_t *s)
+{
+    const int32_t w = s->w;
+    const int32_t nd = s->ndisp;
+    const int32_t dmin = s->dmin;
+    const int32_t jump = s->cfg.dp_jump_q14;
+    const int32_t neutral = s->cfg.dp_neutral_q14;
+    int32_t *yp = s->yprev + 1; /* index -1 .. nd valid */
+    int32_t *yc = s->ycur + 1;
+    int32_t x;
+    int32_t i;
+    int32_t bestp = 0;
+    int32_t plo = 0;
+    int32_t phi = -1; /* band of yc's stale content (column x-2) */
+    int32_t qlo = 0;  /* band of yp's content (column x-1)          */
+    int32_t qhi = -1;
+
+    for (i = -1; i <= nd; i++) {
+        yp[i] = NEG32;
+        yc[i] = NEG32;
+    }
+    for (x = 0; x < w; x++) {
+        int32_t bcur = NEG32;
+        int32_t gi = s->bscored[x] ? s->gcs_cur[x] - dmin : -2;
+        int32_t lo = s->blo[x] - dmin;
+        int32_t hi = s->bhi[x] - dmin;
+        clear_stale(yc, plo, phi, lo, hi);
+        if (x == 0) {
+            for (i = lo; i <= hi; i++) {
+                yc[i] = neutral;
+            }
+            bcur = (lo <= hi) ? neutral : NEG32;
+        } else {
+            const int32_t cjump = bestp - jump;
+            const int32_t *restrict pp = yp;
+            int32_t *restrict cc = yc;
+            for (i = lo; i <= hi; i++) {
+                int32_t m = pp[i];
+                int32_t v;
+                m = (pp[i - 1] > m) ? pp[i - 1] : m;
+                m = (pp[i + 1] > m) ? pp[i + 1] : m;
+                m = (cjump > m) ? cjump : m;
+                v = m + neutral;
+                cc[i] = v;
+                bcur = (v > bcur) ? v : bcur;
+            }
+        }
+        if (gi >= lo && gi <= hi) {
+            yc[gi] += STX_ONE_Q14 - neutral;
+            if (yc[gi] > bcur) {
+                bcur = yc[gi];
+            }
+        }
+        {
+            int32_t *tmp = yp;
+            yp = yc;
+            yc = tmp;
+        }
+        plo = qlo;
+        phi = qhi;
+        qlo = lo;
+        qhi = hi;
+        bestp = bcur;
+    }
+    if (yp != s->yprev + 1) {
+        memcpy(s->yprev, s->ycur, (size_t)(nd + 2) * sizeof *s->yprev);
+    }
+}
+
+/* Stage 1 of the back-tracking pass without rescoring: stage1_run(s, y, 1)
+ * with the GCS cell's score added after the band loop (as in stage1_feed),
+ * so the loop carries no per-cell cost test. Raising one cell cannot move
+ * the first argmax anywhere but to that cell. The cost row is left
+ * unwritten: only score_at() reads it, and only with dp_rescore. */
+static int32_t stage1_keep(stx_t *s)
+{
+    const int32_t w = s->w;
+    const int32_t nd = s->ndisp;
+    const int32_t dmin = s->dmin;
+    const int32_t jump = s->cfg.dp_jump_q14;
+    const int32_t neutral = s->cfg.dp_neutral_q14;
+    int32_t *yp = s->yprev + 1; /* index -1 .. nd valid */
+    int32_t *yc = s->ycur + 1;
+    int32_t x;
+    int32_t i;
+    int32_t bestp = 0;
+    int32_t argp = 0;
+    int32_t plo = 0;
+    int32_t phi = -1; /* band of yc's stale content (column x-2) */
+    int32_t qlo = 0;  /* band of yp's content (column x-1)          */
+    int32_t qhi = -1;
+
+    for (i = -1; i <= nd; i++) {
+        yp[i] = NEG32;
+        yc[i] = NEG32;
+    }
+    for (x = 0; x < w; x++) {
+        int32_t bcur = NEG32;
+        int32_t acur = 0;
+        uint8_t *prow = s->p1 + (ptrdiff_t)x * nd;
+        int32_t gi = s->bscored[x] ? s->gcs_cur[x] - dmin : -2;
+        int32_t lo = s->blo[x] - dmin;
+        int32_t hi = s->bhi[x] - dmin;
+        clear_stale(yc, plo, phi, lo, hi);
+        if (x == 0) {
+            for (i = lo; i <= hi; i++) {
+                yc[i] = neutral;
+                prow[i] = 1u;
+            }
+            if (lo <= hi) {
+                bcur = neutral;
+                acur = lo;
+            }
+        } else {
+            const int32_t cjump = bestp - jump;
+            const int32_t *restrict pp = yp;
+            int32_t *restrict cc = yc;
+            for (i = lo; i <= hi; i++) {
+                int32_t m = pp[i];
+                int32_t t = 1;
+                int32_t v;
+                if (pp[i - 1] > m) {
+                    m = pp[i - 1];
+                    t = 0;
+                }
+                if (pp[i + 1] > m) {
+                    m = pp[i + 1];
+                    t = 2;
+                }
+                if (cjump > m) {
+                    m = cjump;
+                    t = 3;
+                }
+                v = m + neutral;
+                cc[i] = v;
+                prow[i] = (uint8_t)t;
+                if (v > bcur) {
+                    bcur = v;
+                    acur = i;
+                }
+            }
+        }
+        if (gi >= lo && gi <= hi) {
+            int32_t v = yc[gi] + (STX_ONE_Q14 - neutral);
+            yc[gi] = v;
+            if (v > bcur || (v == bcur && gi < acur)) {
+                bcur = v;
+                acur = gi;
+            }
+        }
+        s->jump_to[x] = (int16_t)argp;
+        {
+            int32_t *tmp = yp;
+            yp = yc;
+            yc = tmp;
+        }
+        plo = qlo;
+        phi = qhi;
+        qlo = lo;
+        qhi = hi;
+        bestp = bcur;
+        argp = acur;
+    }
+    if (yp != s->yprev + 1) {
+        memcpy(s->yprev, s->ycur, (size_t)(nd + 2) * sizeof *s->yprev);
+    }
+    return argp;
+}
+
 static int32_t stage1(stx_t *s, int32_t y, int keep)
 {
     return keep ? stage1_run(s, y, 1) : stage1_run(s, y, 0);
@@ -334,20 +526,80 @@ static int32_t score_at(stx_t *s, int32_t x, int32_t y, int32_t d)
     }
 }
 
+/* What score3() reads for one row, looked up once per row. */
+typedef struct score_row {
+    const stx_t *s;
+    int32_t w, gdmin, gdmax;
+    uint32_t tex_min;
+    int row_ok;           /* y inside the strip                     */
+    ptrdiff_t il0;        /* strip index of (0, y)                  */
+    ptrdiff_t ls, rs;     /* strides                                */
+    ptrdiff_t loff, roff; /* offsets of the windows' top rows       */
+    uint32_t visited;     /* cells scored, added to the stats once  */
+} score_row_t;
+
+static void score_row_init(score_row_t *r, const stx_t *s, int32_t y)
+{
+    r->s = s;
+    r->w = s->w;
+    r->gdmin = s->gdmin;
+    r->gdmax = s->gdmax;
+    r->tex_min = (uint32_t)s->cfg.texture_min;
+    r->row_ok = y >= s->y0 && y < s->y1;
+    r->il0 = (ptrdiff_t)(y - s->y0) * s->w;
+    r->ls = s->left->stride;
+    r->rs = s->right->stride;
+    r->loff = (ptrdiff_t)(y - STX_WIN_R) * r->ls;
+    r->roff = (ptrdiff_t)(y + s->voff - STX_WIN_R) * r->rs;
+    r->visited = 0;
+}
+
 /* score_at(d - 1), score_at(d), score_at(d + 1) without dp_rescore, in
  * one go: the left window, its statistics and the bounds are shared. Same
  * values and visited count as three stx_mncc_strip() calls. */
-static void score3(stx_t *s, int32_t x, int32_t y, int32_t d, int32_t c[3])
+static void score3(score_row_t *r, int32_t x, int32_t d, int32_t c[3])
 {
-    int32_t w = s->w;
+    const stx_t *s = r->s;
+    const int32_t w = r->w;
     int32_t j;
-    ptrdiff_t il = (ptrdiff_t)(y - s->y0) * w + x;
-    int left_ok = x >= STX_WIN_R && x < w - STX_WIN_R && y >= s->y0 &&
-                  y < s->y1 && s->vl[il] != 0u;
+    ptrdiff_t il = r->il0 + x;
+    int left_ok = x >= STX_WIN_R && x < w - STX_WIN_R && r->row_ok &&
+                  s->vl[il] != 0u;
     const uint8_t *a = NULL;
+    uint32_t sl = 0;
+    uint32_t vl = 0;
     if (left_ok) {
-        a = negobs_image_u8_row(s->left, y - STX_WIN_R) + x - STX_WIN_R;
+        a = s->left->data + r->loff + x - STX_WIN_R;
+        sl = s->sl[il];
+        vl = s->vl[il];
     }
+#if defined(STX_CROSS5X3_SIMD)
+    /* the usual case: all three cells in range and inside; the right
+     * windows' top-left columns are ur - 1 .. ur + 1 - 2, one 8-byte load
+     * per row from x - d - 3 (ends at x - d + 4 < w), the left one ends at
+     * x + 5 < w; vr != 0 proves the right rows are inside the image */
+    if (left_ok && d - 1 >= r->gdmin && d + 1 <= r->gdmax &&
+        x - d - 1 >= STX_WIN_R && x - d + 4 < w && x + 5 < w &&
+        s->vr[il - d + 1] != 0u && s->vr[il - d] != 0u &&
+        s->vr[il - d - 1] != 0u) {
+        uint32_t xs3[3];
+        stx_cross5x3_simd(a, r->ls, s->right->data + r->roff + x - d - 3,
+                          r->rs, xs3);
+        r->visited += 3u;
+        for (j = 0; j < 3; j++) {
+            int32_t dj = d - 1 + j;
+            int32_t n2;
+            int32_t den;
+            /* right window of dj starts at x - dj - 2 = (x - d - 3) + 2 - j */
+            c[j] = STX_FLAT;
+            if (stx_mncc_num_den(xs3[2 - j], sl, vl, s->sr[il - dj],
+                                 s->vr[il - dj], r->tex_min, &n2, &den)) {
+                c[j] = stx_frac_q14(n2, den);
+            }
+        }
+        return;
+    }
+#endif
     for (j = 0; j < 3; j++) {
         int32_t dj = d - 1 + j;
         int32_t ur = x - dj;
@@ -355,26 +607,27 @@ static void score3(stx_t *s, int32_t x, int32_t y, int32_t d, int32_t c[3])
         int32_t den;
         const uint8_t *b;
         uint32_t xs;
+        uint32_t vr;
         c[j] = STX_FLAT;
-        if (dj < s->gdmin || dj > s->gdmax) {
+        if (dj < r->gdmin || dj > r->gdmax) {
             continue;
         }
-        s->st.visited_cells++;
-        if (!left_ok || ur < STX_WIN_R || ur >= w - STX_WIN_R ||
-            s->vr[il - dj] == 0u) {
+        r->visited++;
+        if (!left_ok || ur < STX_WIN_R || ur >= w - STX_WIN_R) {
             continue;
         }
-        b = negobs_image_u8_row(s->right, y + s->voff - STX_WIN_R) + ur -
-            STX_WIN_R;
+        vr = s->vr[il - dj];
+        if (vr == 0u) {
+            continue;
+        }
+        b = s->right->data + r->roff + ur - STX_WIN_R;
 #if defined(STX_CROSS5_SIMD)
-        xs = (x + 5 < w)
-                 ? stx_cross5_simd(a, s->left->stride, b, s->right->stride)
-                 : stx_cross5_ref(a, s->left->stride, b, s->right->stride);
+        xs = (x + 5 < w) ? stx_cross5_simd(a, r->ls, b, r->rs)
+                         : stx_cross5_ref(a, r->ls, b, r->rs);
 #else
-        xs = stx_cross5_ref(a, s->left->stride, b, s->right->stride);
+        xs = stx_cross5_ref(a, r->ls, b, r->rs);
 #endif
-        if (stx_mncc_num_den(xs, s->sl[il], s->vl[il], s->sr[il - dj],
-                             s->vr[il - dj], (uint32_t)s->cfg.texture_min, &n2,
+        if (stx_mncc_num_den(xs, sl, vl, s->sr[il - dj], vr, r->tex_min, &n2,
                              &den)) {
             c[j] = stx_frac_q14(n2, den);
         }
@@ -389,12 +642,15 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
     int32_t dmin = s->dmin;
     int32_t x;
     int32_t d;
+    score_row_t srow;
     int have = row_bands(s, gcsrow);
 
     s->gcs_cur = gcsrow;
 
     if (pass == 0) {
-        if (have) {
+        if (have && !s->cfg.dp_rescore) {
+            stage1_feed(s);
+        } else if (have) {
             (void)stage1(s, y, 0);
         }
         if (s->yend != NULL) {
@@ -419,7 +675,7 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
         return;
     }
     {
-        int32_t endarg = stage1(s, y, 1);
+        int32_t endarg = s->cfg.dp_rescore ? stage1(s, y, 1) : stage1_keep(s);
         d = s->dend[y];
         if (d < s->blo[w - 1] || d > s->bhi[w - 1]) {
             d = endarg + dmin;
@@ -441,6 +697,7 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
         d = negobs_clamp_s32(d, s->blo[x - 1], s->bhi[x - 1]);
     }
     /* stage 5a: sub-pixel refinement and confidence */
+    score_row_init(&srow, s, y);
     for (x = 0; x < w; x++) {
         int32_t di = outrow[x];
         int32_t c0;
@@ -452,7 +709,7 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
             cp = score_at(s, x, y, di + 1);
         } else {
             int32_t c3[3];
-            score3(s, x, y, di, c3);
+            score3(&srow, x, di, c3);
             cm = c3[0];
             c0 = c3[1];
             cp = c3[2];
@@ -485,4 +742,5 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
             confrow[x] = (uint8_t)negobs_clamp_s32(conf, 0, 255);
         }
     }
+    s->st.visited_cells += srow.visited;
 }

@@ -193,8 +193,8 @@ typedef struct grow_env {
  * or -1 (no member scored, or the set cannot accept anything). Inline with
  * literal bounds at each call, so the compiler unrolls the set. */
 static inline int set_best(const grow_env_t *g, int first, int end,
-                           int use_memo, int32_t *bn_out, int32_t *bden_out,
-                           uint32_t *visited)
+                           int interior, int use_memo, int32_t *bn_out,
+                           int32_t *bden_out, uint32_t *visited)
 {
     int32_t bn = 0;
     int32_t bden = 0;
@@ -206,7 +206,7 @@ static inline int set_best(const grow_env_t *g, int first, int end,
     for (m = first; m < end; m++) {
         const nb_off_t *o = &g->nb[m];
         ptrdiff_t bit = g->bit0 + o->bit;
-        if ((g->interior ||
+        if ((interior ||
              ((uint32_t)(g->u + o->du) < (uint32_t)g->w &&
               (uint32_t)(g->vrow + o->dv) < (uint32_t)g->ny &&
               g->dr + o->dd >= g->drlo && g->dr + o->dd <= g->drhi)) &&
@@ -226,7 +226,7 @@ static inline int set_best(const grow_env_t *g, int first, int end,
         stx_cache_entry_t *e;
         int32_t nn;
         int32_t dn;
-        if (!g->interior &&
+        if (!interior &&
             ((uint32_t)qu >= (uint32_t)g->w ||
              (uint32_t)(g->vrow + o->dv) >= (uint32_t)g->ny ||
              g->dr + o->dd < g->drlo || g->dr + o->dd > g->drhi)) {
@@ -243,8 +243,8 @@ static inline int set_best(const grow_env_t *g, int first, int end,
         } else {
             int ok = 0;
             (*visited)++;
-            if (g->interior || (qu >= STX_WIN_R && qu < g->w - STX_WIN_R &&
-                                qur >= STX_WIN_R && qur < g->w - STX_WIN_R)) {
+            if (interior || (qu >= STX_WIN_R && qu < g->w - STX_WIN_R &&
+                             qur >= STX_WIN_R && qur < g->w - STX_WIN_R)) {
                 ptrdiff_t il = g->pix + o->pix;
                 ptrdiff_t ir = il + (qur - qu);
                 uint32_t vl = g->vl[il];
@@ -271,7 +271,7 @@ static inline int set_best(const grow_env_t *g, int first, int end,
 #if defined(STX_CROSS5_SIMD)
                         /* the 8-byte loads end at column qu + 5 (the right
                          * one at qur + 5 <= qu + 5) */
-                        x = (g->interior || qu + 5 < g->w)
+                        x = (interior || qu + 5 < g->w)
                                 ? stx_cross5_simd(a, g->ls, b, g->rs)
                                 : stx_cross5_ref(a, g->ls, b, g->rs);
 #else
@@ -306,6 +306,41 @@ static inline int set_best(const grow_env_t *g, int first, int end,
     *bn_out = bn;
     *bden_out = bden;
     return bm;
+}
+
+/* The four sets of the popped cell. `interior` and `use_memo` are
+ * literals at every call site (forced inline), so the usual interior cell
+ * runs without any per-member bounds test. */
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+static inline void
+grow_cell(stx_t *s, const grow_env_t *g, int interior, int use_memo,
+          uint32_t *visited)
+{
+    const int32_t dmin = s->dmin;
+    int k;
+    for (k = 0; k < 4; k++) {
+        int32_t bn = 0;
+        int32_t bden = 0;
+        int bm;
+        /* literal bounds per set (N1, N2: 3 members; N3, N4: 5) */
+        if (k == 0) {
+            bm = set_best(g, 0, 3, interior, use_memo, &bn, &bden, visited);
+        } else if (k == 1) {
+            bm = set_best(g, 3, 6, interior, use_memo, &bn, &bden, visited);
+        } else if (k == 2) {
+            bm = set_best(g, 6, 11, interior, use_memo, &bn, &bden, visited);
+        } else {
+            bm = set_best(g, 11, 16, interior, use_memo, &bn, &bden, visited);
+        }
+        if (bm >= 0 && bden != 0) {
+            (void)try_accept_frac(s, g->u + g->nb[bm].du,
+                                  g->vrow + g->nb[bm].dv + s->y0,
+                                  g->dr + g->nb[bm].dd + dmin, bn, bden,
+                                  (size_t)(g->bit0 + g->nb[bm].bit));
+        }
+    }
 }
 
 /* `use_memo` is a literal at both call sites (grow): forced inline, so the
@@ -362,7 +397,6 @@ grow_run(stx_t *s, int use_memo)
     }
 
     while (stx_queue_pop(&s->q, &item)) {
-        int k;
         g.u = stx_unpack_u(item);
         g.vrow = stx_unpack_v(item);
         g.dr = stx_unpack_d(item);
@@ -379,26 +413,10 @@ grow_run(stx_t *s, int use_memo)
                      g.ur >= 2 * STX_WIN_R && g.vrow >= 1 &&
                      g.vrow + 1 < g.ny && g.dr - 1 >= g.drlo &&
                      g.dr + 1 <= g.drhi;
-        for (k = 0; k < 4; k++) {
-            int32_t bn = 0;
-            int32_t bden = 0;
-            int bm;
-            /* literal bounds per set (N1, N2: 3 members; N3, N4: 5) */
-            if (k == 0) {
-                bm = set_best(&g, 0, 3, use_memo, &bn, &bden, &visited);
-            } else if (k == 1) {
-                bm = set_best(&g, 3, 6, use_memo, &bn, &bden, &visited);
-            } else if (k == 2) {
-                bm = set_best(&g, 6, 11, use_memo, &bn, &bden, &visited);
-            } else {
-                bm = set_best(&g, 11, 16, use_memo, &bn, &bden, &visited);
-            }
-            if (bm >= 0 && bden != 0) {
-                (void)try_accept_frac(s, g.u + g.nb[bm].du,
-                                      g.vrow + g.nb[bm].dv + s->y0,
-                                      g.dr + g.nb[bm].dd + dmin, bn, bden,
-                                      (size_t)(g.bit0 + g.nb[bm].bit));
-            }
+        if (g.interior) {
+            grow_cell(s, &g, 1, use_memo, &visited);
+        } else {
+            grow_cell(s, &g, 0, use_memo, &visited);
         }
     }
     s->st.visited_cells += visited;
@@ -436,6 +454,8 @@ static void seed_scores(stx_t *s, int32_t u, int32_t v, int32_t lo, int32_t hi,
     ptrdiff_t ls = s->left->stride;
     ptrdiff_t rs = s->right->stride;
     int32_t yr = v + s->voff;
+    const uint16_t *srp = s->sr;
+    const uint32_t *vrp = s->vr;
     /* vl != 0: the left window is inside the image; the right rows are
      * checked too, so no pointer is ever formed outside the images */
     int ok_left = u >= STX_WIN_R && u < w - STX_WIN_R && vl != 0u &&
@@ -447,16 +467,44 @@ static void seed_scores(stx_t *s, int32_t u, int32_t v, int32_t lo, int32_t hi,
         a = negobs_image_u8_row(s->left, v - STX_WIN_R) + u - STX_WIN_R;
         rrow = negobs_image_u8_row(s->right, yr - STX_WIN_R);
     }
-    for (d = lo; d <= hi; d++) {
+    if (hi >= lo) {
+        s->st.visited_cells += (uint32_t)(hi - lo + 1);
+    }
+    d = lo;
+#if defined(STX_CROSS5X3_SIMD)
+    /* three disparities d .. d + 2 at once while their right windows
+     * (top-left columns u - d - 4 .. u - d - 2) are inside the row, with
+     * the 8-byte loads ending at u - d + 3 and u + 5 */
+    if (ok_left && u + 5 < w) {
+        for (; d + 2 <= hi && u - d - 2 >= STX_WIN_R && u - d + 3 < w;
+             d += 3) {
+            uint32_t x3[3];
+            int32_t k;
+            stx_cross5x3_simd(a, ls, rrow + u - d - 4, rs, x3);
+            for (k = 0; k < 3; k++) {
+                /* window of d + k starts at (u - d - 4) + 2 - k */
+                int32_t dk = d + k;
+                int32_t n2;
+                int32_t den;
+                sc[dk - lo] = STX_FLAT;
+                if (vrp[il - dk] != 0u &&
+                    stx_mncc_num_den(x3[2 - k], sl, vl, srp[il - dk],
+                                     vrp[il - dk], tex, &n2, &den)) {
+                    sc[dk - lo] = stx_frac_q14(n2, den);
+                }
+            }
+        }
+    }
+#endif
+    for (; d <= hi; d++) {
         int32_t ur = u - d;
         int32_t n2;
         int32_t den;
         uint32_t x;
         const uint8_t *b;
         sc[d - lo] = STX_FLAT;
-        s->st.visited_cells++;
         if (!ok_left || ur < STX_WIN_R || ur >= w - STX_WIN_R ||
-            s->vr[il - d] == 0u) {
+            vrp[il - d] == 0u) {
             continue;
         }
         b = rrow + ur - STX_WIN_R;
@@ -466,7 +514,7 @@ static void seed_scores(stx_t *s, int32_t u, int32_t v, int32_t lo, int32_t hi,
 #else
         x = stx_cross5_ref(a, ls, b, rs);
 #endif
-        if (stx_mncc_num_den(x, sl, vl, s->sr[il - d], s->vr[il - d], tex, &n2,
+        if (stx_mncc_num_den(x, sl, vl, srp[il - d], vrp[il - d], tex, &n2,
                              &den)) {
             sc[d - lo] = stx_frac_q14(n2, den);
         }

@@ -84,19 +84,6 @@ void stx_stats_rows(const negobs_image_u8_t *img, int32_t ya, int32_t n,
     }
 }
 
-int32_t stx_frac_q14(int32_t num2, int32_t den)
-{
-    uint32_t a = (uint32_t)((num2 < 0) ? -num2 : num2);
-    uint32_t d = (uint32_t)den;
-    uint32_t q;
-    stx_frac_scale(&a, &d);
-    if (a > d) {
-        a = d; /* cannot happen mathematically; keeps |c| <= 1 */
-    }
-    q = (a << 14) / d;
-    return (num2 < 0) ? -(int32_t)q : (int32_t)q;
-}
-
 int32_t stx_mncc_q14(uint32_t sum_lr, uint32_t sl, uint32_t vl, uint32_t sr,
                      uint32_t vr, uint32_t tex_min)
 {

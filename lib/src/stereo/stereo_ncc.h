@@ -24,16 +24,23 @@ void stx_stats_rows(const negobs_image_u8_t *img, int32_t ya, int32_t n,
  * VL+VR < tex_min. */
 int32_t stx_mncc_q14(uint32_t sum_lr, uint32_t sl, uint32_t vl, uint32_t sr,
                      uint32_t vr, uint32_t tex_min);
-/* num2 / den in Q14, rounded towards zero (den > 0, |num2| <= den). */
-int32_t stx_frac_q14(int32_t num2, int32_t den);
-
 /* The common scale of stx_frac_q14: |num2| and den shifted right together
- * by the fewest bits that bring den below 2^17, in fixed steps of 8, 4, 2,
- * 1, 1 instead of a loop. A step is taken only when den stays >= 2^17
- * after it, so the total is the least shift; each step leaves den below
- * the next step's bound, so the last one ends below 2^17 for any den. */
+ * by the fewest bits that bring den below 2^17. Shifting by s1 then s2
+ * floors like one shift by s1 + s2, so the count can be taken in one go:
+ * from the leading zeros where the compiler has them, else in fixed steps
+ * of 8, 4, 2, 1, 1 (a step is taken only when den stays >= 2^17 after it,
+ * so the total is the least shift; each step leaves den below the next
+ * step's bound, so the last one ends below 2^17 for any den). */
 static inline void stx_frac_scale(uint32_t *a, uint32_t *d)
 {
+#if defined(__GNUC__)
+    if (*d >= (1u << 17)) {
+        /* 32 - clz = bit length; keep 17 bits */
+        unsigned sh = (unsigned)(15 - __builtin_clz(*d));
+        *d >>= sh;
+        *a >>= sh;
+    }
+#else
     if (*d >= (1u << 25)) {
         *d >>= 8;
         *a >>= 8;
@@ -54,6 +61,23 @@ static inline void stx_frac_scale(uint32_t *a, uint32_t *d)
         *d >>= 1;
         *a >>= 1;
     }
+#endif
+}
+
+/* num2 / den in Q14, rounded towards zero (den > 0, |num2| <= den).
+ * Inline: the growth, the seeds and the DP call it about a million times
+ * a frame. */
+static inline int32_t stx_frac_q14(int32_t num2, int32_t den)
+{
+    uint32_t a = (uint32_t)((num2 < 0) ? -num2 : num2);
+    uint32_t d = (uint32_t)den;
+    uint32_t q;
+    stx_frac_scale(&a, &d);
+    if (a > d) {
+        a = d; /* cannot happen mathematically; keeps |c| <= 1 */
+    }
+    q = (a << 14) / d;
+    return (num2 < 0) ? -(int32_t)q : (int32_t)q;
 }
 
 /* stx_frac_q14(num2, den) >= t_q14 without the division (den > 0,
@@ -124,6 +148,17 @@ static inline uint32_t stx_cross5_ref(const uint8_t *a, ptrdiff_t sa,
     return acc;
 }
 
+/* Plain C reference of stx_cross5x3_simd: the left window at a against
+ * the right windows at b, b + 1, b + 2. */
+static inline void stx_cross5x3_ref(const uint8_t *a, ptrdiff_t sa,
+                                    const uint8_t *b, ptrdiff_t sb,
+                                    uint32_t out[3])
+{
+    int32_t k;
+    for (k = 0; k < 3; k++) {
+        out[k] = stx_cross5_ref(a, sa, b + k, sb);
+    }
+}
 #if defined(NEGOBS_SIMD_SSE2)
 #define STX_CROSS5_SIMD 1
 /* SSE2 form of stx_cross5_ref (bit-exact: integer sums in any order).
@@ -170,6 +205,45 @@ static inline uint32_t stx_cross5_simd(const uint8_t *a, ptrdiff_t sa,
     acc = _mm_add_epi32(acc, _mm_shuffle_epi32(acc, 0xB1));
     return (uint32_t)_mm_cvtsi128_si32(acc);
 }
+#define STX_CROSS5X3_SIMD 1
+/* Three cross sums of one left window (top-left a) against the right
+ * windows at b, b + 1 and b + 2 (three consecutive disparities), as
+ * out[k] = stx_cross5_ref(a, sa, b + k, sb). Each right row is one 8-byte
+ * load (b .. b + 7: the caller guarantees b + 7 is inside the row) shifted
+ * by 0, 1 and 2 pixels after widening, so the left row is loaded and
+ * widened once for the three; the left load has stx_cross5_simd's
+ * contract. Bit-exact: integer sums in any order, each PMADDWD lane <=
+ * 130 050. */
+static inline void stx_cross5x3_simd(const uint8_t *a, ptrdiff_t sa,
+                                     const uint8_t *b, ptrdiff_t sb,
+                                     uint32_t out[3])
+{
+    const __m128i z = _mm_setzero_si128();
+    const __m128i m5 = _mm_set_epi32(0, 0, 0xFF, -1);
+    __m128i acc0 = z;
+    __m128i acc1 = z;
+    __m128i acc2 = z;
+    int32_t k;
+    for (k = 0; k < 5; k++) {
+        __m128i l = _mm_unpacklo_epi8(
+            _mm_and_si128(_mm_loadl_epi64((const __m128i *)a), m5), z);
+        __m128i r = _mm_unpacklo_epi8(_mm_loadl_epi64((const __m128i *)b), z);
+        acc0 = _mm_add_epi32(acc0, _mm_madd_epi16(l, r));
+        acc1 = _mm_add_epi32(acc1, _mm_madd_epi16(l, _mm_srli_si128(r, 2)));
+        acc2 = _mm_add_epi32(acc2, _mm_madd_epi16(l, _mm_srli_si128(r, 4)));
+        a += sa;
+        b += sb;
+    }
+    acc0 = _mm_add_epi32(acc0, _mm_shuffle_epi32(acc0, 0x4E));
+    acc1 = _mm_add_epi32(acc1, _mm_shuffle_epi32(acc1, 0x4E));
+    acc2 = _mm_add_epi32(acc2, _mm_shuffle_epi32(acc2, 0x4E));
+    acc0 = _mm_add_epi32(acc0, _mm_shuffle_epi32(acc0, 0xB1));
+    acc1 = _mm_add_epi32(acc1, _mm_shuffle_epi32(acc1, 0xB1));
+    acc2 = _mm_add_epi32(acc2, _mm_shuffle_epi32(acc2, 0xB1));
+    out[0] = (uint32_t)_mm_cvtsi128_si32(acc0);
+    out[1] = (uint32_t)_mm_cvtsi128_si32(acc1);
+    out[2] = (uint32_t)_mm_cvtsi128_si32(acc2);
+}
 #elif defined(NEGOBS_SIMD_NEON)
 #define STX_CROSS5_SIMD 1
 /* NEON form (AArch64, and ARMv7 built with -mfpu=neon) of stx_cross5_ref (bit-exact, same load contract as
@@ -191,6 +265,34 @@ static inline uint32_t stx_cross5_simd(const uint8_t *a, ptrdiff_t sa,
         b += sb;
     }
     return negobs_neon_addv_u32(acc);
+}
+#define STX_CROSS5X3_SIMD 1
+/* NEON form of stx_cross5x3_ref, same contract as the SSE2 one: the right
+ * row's 8 bytes shifted by 0, 1, 2 pixels with VEXT (zeros shifted in sit
+ * under the left row's masked bytes), products and pair sums as in
+ * stx_cross5_simd. */
+static inline void stx_cross5x3_simd(const uint8_t *a, ptrdiff_t sa,
+                                     const uint8_t *b, ptrdiff_t sb,
+                                     uint32_t out[3])
+{
+    const uint8x8_t m5 = vcreate_u8(UINT64_C(0x000000FFFFFFFFFF));
+    const uint8x8_t z = vdup_n_u8(0);
+    uint32x4_t acc0 = vdupq_n_u32(0);
+    uint32x4_t acc1 = vdupq_n_u32(0);
+    uint32x4_t acc2 = vdupq_n_u32(0);
+    int32_t k;
+    for (k = 0; k < 5; k++) {
+        uint8x8_t l = vand_u8(vld1_u8(a), m5);
+        uint8x8_t r = vld1_u8(b);
+        acc0 = vpadalq_u16(acc0, vmull_u8(l, r));
+        acc1 = vpadalq_u16(acc1, vmull_u8(l, vext_u8(r, z, 1)));
+        acc2 = vpadalq_u16(acc2, vmull_u8(l, vext_u8(r, z, 2)));
+        a += sa;
+        b += sb;
+    }
+    out[0] = negobs_neon_addv_u32(acc0);
+    out[1] = negobs_neon_addv_u32(acc1);
+    out[2] = negobs_neon_addv_u32(acc2);
 }
 #endif /* STX_CROSS5_SIMD: defined only where a SIMD form exists */
 
