@@ -166,6 +166,10 @@ static void carve_scratch(negobs_arena_t *a, stx_t *x,
     TAKE(x->rowd, int16_t, w);
     TAKE(x->line, int16_t, maxwh + 16);
     TAKE(x->line2, int16_t, maxwh + 16);
+    TAKE(x->flood, uint32_t, c->speckle_size + 2);
+    if (c->band_workers > 1) {
+        TAKE(x->flood_out, uint32_t, c->speckle_size + 2);
+    }
     if (x != NULL) {
         x->q.cap = c->queue_capacity;
     }
@@ -187,7 +191,6 @@ static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c)
     int32_t tw = (w + c->tile_size - 1) / c->tile_size;
     int32_t th = (h + c->tile_size - 1) / c->tile_size;
     int32_t nd4 = (c->max_disp + 3) / 4 - c->min_disp / 4 + 1;
-    size_t npx = (size_t)w * (size_t)h;
 
     if (s != NULL) {
         memset(s, 0, sizeof *s);
@@ -216,9 +219,8 @@ static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c)
     TAKE(s->p2, uint8_t, (size_t)h * (size_t)nd);
     TAKE(s->dend, int16_t, h);
     TAKE(s->zarg, int16_t, h);
-    TAKE(s->vis, uint8_t, (npx + 7u) / 8u);
-    TAKE(s->keep, uint8_t, (npx + 7u) / 8u);
-    TAKE(s->flood, uint32_t, c->speckle_size + 2);
+    TAKE(s->vis, uint8_t, (size_t)h * (((size_t)w + 7u) / 8u));
+    TAKE(s->keep, uint8_t, (size_t)h * (((size_t)w + 7u) / 8u));
     if (c->band_workers > 1) {
         int32_t k;
         TAKE(s->wk, stx_t, c->band_workers - 1);
@@ -231,6 +233,10 @@ static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c)
         }
         TAKE(s->yend, int32_t, (size_t)h * (size_t)nd);
         TAKE(s->yhave, uint8_t, h);
+        TAKE(s->vscore, int64_t,
+             (size_t)c->bands * (2u * STX_VSEARCH_MAX + 1u));
+        TAKE(s->lhist, uint32_t, (size_t)c->bands * ((size_t)nd4 + 2u));
+        TAKE(s->lkept, uint32_t, c->bands);
     }
     return s;
 }
@@ -417,12 +423,7 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
     s->voff = s->cfg.vertical_offset;
     s->gdmin = s->dmin;
     s->gdmax = s->dmin + s->ndisp - 1;
-    if (s->cfg.vertical_search > 0) {
-        s->voff = stx_vertical_estimate(s, s->cfg.vertical_search);
-    }
-    stx_lap(s, NEGOBS_STEREO_STAGE_VERTICAL);
-    stx_lowres_range(s);
-    stx_lap(s, NEGOBS_STEREO_STAGE_RANGE);
+    stx_bands_vertical_range(s);
     s->st.vertical_offset = s->voff;
     s->st.range_min = s->gdmin;
     s->st.range_max = s->gdmax;
@@ -443,7 +444,7 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
         stx_lap(s, NEGOBS_STEREO_STAGE_LR);
         stx_observe(s, NEGOBS_STEREO_STAGE_LR, disp_q4);
     }
-    stx_speckle(s, disp_q4);
+    stx_bands_filter(s, STX_FILTER_SPECKLE, disp_q4, NULL, 0);
     drop_out_of_view(s, disp_q4);
     stx_lap(s, NEGOBS_STEREO_STAGE_SPECKLE);
     stx_observe(s, NEGOBS_STEREO_STAGE_SPECKLE, disp_q4);
