@@ -375,6 +375,16 @@ static void test_config_and_workspace(void **state)
                             NEGOBS_STEREO_WORKSPACE_WORKER_MAX(320, 63) +
                         NEGOBS_STEREO_WORKSPACE_BANDS_MAX(240, 63));
     }
+    /* the most bands and the widest range the macros must cover */
+    negobs_stereo_config_default(&cfg, 640, 480);
+    cfg.max_disp = 255;
+    cfg.bands = NEGOBS_STEREO_MAX_BANDS;
+    assert_int_equal(negobs_stereo_workspace_size(&cfg, &one), NEGOBS_OK);
+    cfg.band_workers = 4;
+    assert_int_equal(negobs_stereo_workspace_size(&cfg, &more), NEGOBS_OK);
+    assert_true(more - one <=
+                3u * NEGOBS_STEREO_WORKSPACE_WORKER_MAX(640, 255) +
+                    NEGOBS_STEREO_WORKSPACE_BANDS_MAX(480, 255));
     cfg.band_workers = 1;
     cfg.bands = 0;
     assert_int_equal(negobs_stereo_workspace_size(&cfg, &more),

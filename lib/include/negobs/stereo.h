@@ -219,12 +219,17 @@ typedef struct negobs_stereo_config {
      (size_t)(w)*32u * (((size_t)(dmax) + 1u) / 8u + 2u) +                    \
      (size_t)8192u * 8u + 257u * 4u + 2048u * 12u +                           \
      ((size_t)(dmax) + 4u) * 8u + (size_t)(w) * ((size_t)(dmax) + 1u) * 3u +  \
-     (size_t)(w)*16u + 4096u)
+     (size_t)(w)*16u + 4096u + 2u * (258u * 4u + 48u))
 
 /** Upper bound of the once-only cost of band_workers > 1: the stage-1 end
- *  scores of every row, kept for the second DP stage. */
+ *  scores of every row, kept for the second DP stage, and the bands'
+ *  partial results of the vertical search and the 1/4-scale map (up to
+ *  NEGOBS_STEREO_MAX_BANDS bands). */
 #define NEGOBS_STEREO_WORKSPACE_BANDS_MAX(h, dmax)                            \
-    ((size_t)(h) * ((size_t)(dmax) + 1u) * 4u + (size_t)(h) + 128u)
+    ((size_t)(h) * ((size_t)(dmax) + 1u) * 4u + (size_t)(h) + 128u +          \
+     (size_t)NEGOBS_STEREO_MAX_BANDS *                                        \
+         (9u * 8u + 4u + ((size_t)(dmax) / 4u + 4u) * 4u) +                   \
+     3u * 48u)
 
 /** The bound for the profile negobs_stereo_config_default() picks
  *  (NEGOBS_STEREO_PROFILE_DEFAULT). */
