@@ -1,5 +1,6 @@
 /*
- * Row bands: the frame's stages 2-4 as independent jobs for the caller's
+ * Row bands: the frame's stages (all but the seam rule's check, the second
+ * DP stage and the output count) as independent jobs for the caller's
  * executor (negobs/executor.h). The library creates no thread.
  *
  * A band is a run of whole strips; its layout depends on cfg.bands and the
@@ -11,11 +12,15 @@
  * names a worker it does not have fails the frame (NEGOBS_ERR_STATE).
  *
  * Each worker owns one scratch area (the strip buffers, the queue, the
- * score cache, the memo and a DP row): worker 0 is the context itself, the
+ * score cache, the memo, a DP row and the speckle flood lists): worker 0 is the context itself, the
  * others are copies of the context (s->wk) with their own scratch and
  * statistics, merged after each parallel pass.
  *
- * Per frame: (a) every band grows on its own (window sums, Canny, GCS);
+ * Per frame: (0) the vertical offset search and the 1/4-scale map, each
+ * band taking its share of the sampling grid's rows or of the low-res
+ * rows, their integer partial sums added in band order on the caller's
+ * thread (stx_bands_vertical_range); (a) every band grows on its own
+ * (window sums, Canny, GCS);
  * (b) the seam rule (seam_pass) grows a band again, on the caller's
  * thread, with the matches above its border as seeds where it lacks them;
  * (c) DP stage 1 of every row, band by band, keeping each row's end scores
@@ -23,7 +28,9 @@
  * rows in order on the caller's thread (h x ndisp steps, about 1 % of the
  * frame); (e) the back-track with sub-pixel refinement, band by band;
  * (f) the LR check, the gap fill and the mean's rows by bands, the mean's
- * columns by as many column slices (each line is independent).
+ * columns by as many column slices (each line is independent); the
+ * speckle filter in two runs, marks then clears (refine.c:
+ * speckle_flood_band says why that is the sequential result).
  */
 #include <string.h>
 

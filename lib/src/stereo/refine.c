@@ -14,7 +14,10 @@
  * overflows the list, or touches a kept pixel, is kept; a complete region
  * smaller than speckle_size is invalidated. Every left-over part of an
  * overflowed region touches a kept pixel, so no part of a large region is
- * ever removed.
+ * ever removed. The result is therefore fixed by the components alone
+ * (fewer than speckle_size pixels: removed), which lets bands mark their
+ * own rows at the same time and clear them afterwards
+ * (stx_speckle_mark_rows, stx_speckle_clear_rows).
  *
  * Gap fill (after the speckles): short invalid runs of a row are filled
  * from their ends, see gap_fill_row().
