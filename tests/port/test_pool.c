@@ -158,6 +158,10 @@ static void same_for_threads(int32_t bands)
             process(&g_run[0]);
             process(&g_run[1]);
             assert_true(g_run[0].st.grown > 1000u);
+            /* the band stages really ran: speckles were removed, and the
+             * offset search found the rendered row offset */
+            assert_true(g_run[0].st.speckles_removed > 0u);
+            assert_int_equal(g_run[0].st.vertical_offset, frame - 1);
             assert_memory_equal(g_run[0].disp, g_run[1].disp,
                                 sizeof g_run[0].disp);
             assert_memory_equal(g_run[0].conf, g_run[1].conf,

@@ -158,6 +158,9 @@ static void same_for_every_worker_count(int32_t bands, int32_t strip_rows,
     render(7u + (uint32_t)bands);
     process(&g_run[0]);
     assert_true(g_run[0].st.grown > 1000u); /* the growth really ran */
+    /* and so did the band stages before and after it */
+    assert_true(g_run[0].st.speckles_removed > 0u);
+    assert_int_equal(g_run[0].st.vertical_offset, 1);
     for (n = 1; n <= WORKERS; n++) {
         fake_exec_t f = {n, 0, 0};
         negobs_executor_t e;
