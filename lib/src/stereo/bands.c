@@ -490,6 +490,11 @@ void stx_bands_filter(stx_t *s, stx_line_filter_t f,
  * (any split gives the same sums; this one follows the band count). */
 static void part(int32_t len, int32_t k, int32_t n, int32_t *a, int32_t *b)
 {
+    if (n < 1) {
+        *a = 0; /* no bands (cannot happen inside a band job): nothing */
+        *b = 0;
+        return;
+    }
     *a = (int32_t)((int64_t)len * k / n);
     *b = (int32_t)((int64_t)len * (k + 1) / n);
 }
