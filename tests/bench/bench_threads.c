@@ -116,11 +116,24 @@ static void sim_run(void *user, int32_t n_jobs, negobs_job_fn fn, void *arg)
     x->span_ms += span;
 }
 
+/* Thread CPU time in microseconds, as the engine's profiling clock. */
+static uint32_t clock_us(void *user)
+{
+    (void)user;
+    return (uint32_t)(thread_cpu_ms() * 1000.0);
+}
+
+static const char *const stage_names[NEGOBS_STEREO_STAGE_COUNT] = {
+    "vertical", "range",   "windows",  "canny", "gcs",   "dp",
+    "lr",       "speckle", "gap fill", "mean",  "output"};
+
 typedef struct timing {
-    double wall; /* best wall ms per frame */
-    double cpu;  /* process CPU ms of that run */
-    double proj; /* projected ms on `threads` idle cores (best run) */
-    int same;    /* output equal to the one-thread run */
+    double stage_ms[NEGOBS_STEREO_STAGE_COUNT]; /* 1 thread, best run */
+    double wall;                                /* best wall ms per frame */
+    double cpu;    /* process CPU ms of that run */
+    double proj;   /* projected ms on `threads` idle cores (best run) */
+    double serial; /* of which on the calling thread, outside band jobs */
+    int same;      /* output equal to the one-thread run */
     uint32_t seam_regrown;
 } timing_t;
 
@@ -162,6 +175,9 @@ static int time_stereo(int32_t w, int32_t h, int32_t threads, int reps,
         (void)negobs_stereo_set_executor(&ctx, &e);
     }
     t->wall = 1e30;
+    if (threads == 1) {
+        (void)negobs_stereo_set_clock(&ctx, clock_us, NULL);
+    }
     for (r = 0; r < reps; r++) {
         double w0 = wall_ms();
         double c0 = cpu_ms();
@@ -177,7 +193,11 @@ static int time_stereo(int32_t w, int32_t h, int32_t threads, int reps,
             t->cpu = cpu_ms() - c0;
         }
         if (threads == 1 && thread_cpu_ms() - tc0 < t->proj) {
+            int i;
             t->proj = thread_cpu_ms() - tc0; /* one core: its CPU time */
+            for (i = 0; i < NEGOBS_STEREO_STAGE_COUNT; i++) {
+                t->stage_ms[i] = (double)st.stage_ticks[i] / 1000.0;
+            }
         }
     }
     /* the projection: the same engine on the simulating executor */
@@ -197,7 +217,10 @@ static int time_stereo(int32_t w, int32_t h, int32_t threads, int reps,
             (void)negobs_stereo_process(&ctx, &li, &ri, &di, &ci, &st);
             frame = thread_cpu_ms() - c0;
             frame = frame - sim.jobs_ms + sim.span_ms;
-            t->proj = (frame < t->proj) ? frame : t->proj;
+            if (frame < t->proj) {
+                t->proj = frame;
+                t->serial = frame - sim.span_ms;
+            }
         }
     }
     memset(st.stage_ticks, 0, sizeof st.stage_ticks);
@@ -218,12 +241,14 @@ static void report(const char *what, int32_t w, int32_t h)
 {
     static const int32_t counts[] = {1, 2, 4};
     timing_t t1;
+    memset(&t1, 0, sizeof t1);
     size_t i;
     printf("\n%s %dx%d, range 0-63, %d bands, best of %d (wall ms per "
            "frame; CPU = all threads):\n",
            what, w, h, NEGOBS_STEREO_BANDS_DEFAULT, REPS);
     for (i = 0; i < sizeof counts / sizeof counts[0]; i++) {
         timing_t t;
+        memset(&t, 0, sizeof t);
         if (time_stereo(w, h, counts[i], REPS, i == 0, &t) != 0) {
             printf("  %d threads: failed\n", (int)counts[i]);
             return;
@@ -231,12 +256,21 @@ static void report(const char *what, int32_t w, int32_t h)
         if (i == 0) {
             t1 = t;
         }
-        printf("  %d thread%s: idle-core projection %7.2f ms (x%.2f), wall "
-               "%7.2f ms (x%.2f), CPU %7.2f ms, output %s, seam regrowths "
-               "%u\n",
+        printf("  %d thread%s: idle-core projection %7.2f ms (x%.2f, serial "
+               "%.2f), wall %7.2f ms (x%.2f), CPU %7.2f ms, output %s, seam "
+               "regrowths %u\n",
                (int)counts[i], counts[i] > 1 ? "s" : " ", t.proj,
-               t.proj / t1.proj, t.wall, t.wall / t1.wall, t.cpu,
-               t.same ? "identical" : "DIFFERENT", (unsigned)t.seam_regrown);
+               t.proj / t1.proj, counts[i] > 1 ? t.serial : t.proj, t.wall,
+               t.wall / t1.wall, t.cpu, t.same ? "identical" : "DIFFERENT",
+               (unsigned)t.seam_regrown);
+        if (i == 0) {
+            int k;
+            printf("    1 thread by stage (thread CPU ms):");
+            for (k = 0; k < NEGOBS_STEREO_STAGE_COUNT; k++) {
+                printf(" %s %.2f", stage_names[k], t.stage_ms[k]);
+            }
+            printf("\n");
+        }
     }
 }
 

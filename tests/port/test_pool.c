@@ -158,6 +158,66 @@ static void same_for_threads(int32_t bands)
             process(&g_run[0]);
             process(&g_run[1]);
             assert_true(g_run[0].st.grown > 1000u);
+            /* the band stages really ran: speckles were removed, and the
+             * offset search found the rendered row offset */
+            assert_true(g_run[0].st.speckles_removed > 0u);
+            assert_int_equal(g_run[0].st.vertical_offset, frame - 1);
+            assert_memory_equal(g_run[0].disp, g_run[1].disp,
+                                sizeof g_run[0].disp);
+            assert_memory_equal(g_run[0].conf, g_run[1].conf,
+                                sizeof g_run[0].conf);
+            assert_memory_equal(&g_run[0].st, &g_run[1].st,
+                                sizeof g_run[0].st);
+        }
+        negobs_pool_destroy(pool);
+    }
+}
+
+/* The fast profile on 3 workers at 320x240x64: three whole memos would
+ * pass NEGOBS_STEREO_FAST_BUDGET, so each narrows (to 21 levels); the
+ * maps stay those of the compact profile on one worker, for 1-3 threads.
+ * (With 4 workers the memo goes: narrower than 16 levels.) */
+static void test_fast_profile_narrowed_memo(void **state)
+{
+    negobs_stereo_config_t cfg;
+    size_t bytes = 0;
+    size_t one = 0;
+    static uint8_t ws[NEGOBS_STEREO_FAST_BUDGET] __attribute__((aligned(16)));
+    int32_t t;
+    (void)state;
+    negobs_stereo_config_default(&cfg, W, H);
+    cfg.max_disp = DMAX;
+    cfg.memory_profile = NEGOBS_STEREO_PROFILE_FAST;
+    assert_int_equal(negobs_stereo_workspace_size(&cfg, &one), NEGOBS_OK);
+    cfg.band_workers = 3;
+    assert_int_equal(negobs_stereo_workspace_size(&cfg, &bytes), NEGOBS_OK);
+    /* 3 full memos would take about 3 x one; a narrowed memo is still
+     * there (more than the compact workspace of 3 workers) */
+    assert_true(bytes <= NEGOBS_STEREO_FAST_BUDGET);
+    assert_true(3u * one > NEGOBS_STEREO_FAST_BUDGET);
+    {
+        size_t comp = 0;
+        cfg.memory_profile = NEGOBS_STEREO_PROFILE_COMPACT;
+        assert_int_equal(negobs_stereo_workspace_size(&cfg, &comp), NEGOBS_OK);
+        assert_true(bytes >
+                    comp + 3u * W * 32u * 4u * NEGOBS_STEREO_MEMO_MIN_LEVELS);
+        cfg.memory_profile = NEGOBS_STEREO_PROFILE_FAST;
+    }
+    init_run(&g_run[0], 4, 1);
+    for (t = 1; t <= 3; t++) {
+        negobs_pool_t *pool = NULL;
+        negobs_executor_t e;
+        int frame;
+        assert_int_equal(negobs_pool_create(&pool, t), NEGOBS_OK);
+        e = negobs_pool_executor(pool);
+        assert_int_equal(negobs_stereo_init(&g_run[1].ctx, &cfg, ws, bytes),
+                         NEGOBS_OK);
+        assert_int_equal(negobs_stereo_set_executor(&g_run[1].ctx, &e),
+                         NEGOBS_OK);
+        for (frame = 0; frame < 2; frame++) {
+            render(60u + (uint32_t)frame, frame);
+            process(&g_run[0]);
+            process(&g_run[1]);
             assert_memory_equal(g_run[0].disp, g_run[1].disp,
                                 sizeof g_run[0].disp);
             assert_memory_equal(g_run[0].conf, g_run[1].conf,
@@ -195,6 +255,7 @@ int main(void)
         cmocka_unit_test(test_stereo_bands3),
         cmocka_unit_test(test_stereo_bands4),
         cmocka_unit_test(test_stereo_bands5),
+        cmocka_unit_test(test_fast_profile_narrowed_memo),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -158,6 +158,9 @@ static void same_for_every_worker_count(int32_t bands, int32_t strip_rows,
     render(7u + (uint32_t)bands);
     process(&g_run[0]);
     assert_true(g_run[0].st.grown > 1000u); /* the growth really ran */
+    /* and so did the band stages before and after it */
+    assert_true(g_run[0].st.speckles_removed > 0u);
+    assert_int_equal(g_run[0].st.vertical_offset, 1);
     for (n = 1; n <= WORKERS; n++) {
         fake_exec_t f = {n, 0, 0};
         negobs_executor_t e;
@@ -175,10 +178,12 @@ static void same_for_every_worker_count(int32_t bands, int32_t strip_rows,
         process(&g_run[1]);
         assert_same();
         if (n > 1 && bands > 1) {
-            /* growth, DP stage 1, back-track, LR check, gap fill, the
-             * mean by rows and by columns: 7 runs a frame, 2 frames */
+            /* vertical offset, 4x4 means, 1/4-scale matches, growth,
+             * DP stage 1, back-track, LR check, speckle marks and
+             * clears, gap fill, the mean by rows and by columns: 12
+             * runs a frame, 2 frames */
             assert_int_equal(f.jobs_seen,
-                             14 * negobs_stereo_band_count(&g_run[1].ctx.cfg,
+                             24 * negobs_stereo_band_count(&g_run[1].ctx.cfg,
                                                            H - first_row));
         }
     }
@@ -373,6 +378,16 @@ static void test_config_and_workspace(void **state)
                             NEGOBS_STEREO_WORKSPACE_WORKER_MAX(320, 63) +
                         NEGOBS_STEREO_WORKSPACE_BANDS_MAX(240, 63));
     }
+    /* the most bands and the widest range the macros must cover */
+    negobs_stereo_config_default(&cfg, 640, 480);
+    cfg.max_disp = 255;
+    cfg.bands = NEGOBS_STEREO_MAX_BANDS;
+    assert_int_equal(negobs_stereo_workspace_size(&cfg, &one), NEGOBS_OK);
+    cfg.band_workers = 4;
+    assert_int_equal(negobs_stereo_workspace_size(&cfg, &more), NEGOBS_OK);
+    assert_true(more - one <=
+                3u * NEGOBS_STEREO_WORKSPACE_WORKER_MAX(640, 255) +
+                    NEGOBS_STEREO_WORKSPACE_BANDS_MAX(480, 255));
     cfg.band_workers = 1;
     cfg.bands = 0;
     assert_int_equal(negobs_stereo_workspace_size(&cfg, &more),

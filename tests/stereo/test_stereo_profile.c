@@ -157,6 +157,39 @@ static void test_workspace_budgets(void **state)
     cfg.memory_profile = NEGOBS_STEREO_PROFILE_FAST;
     assert_int_equal(negobs_stereo_workspace_size(&cfg, &fast), NEGOBS_OK);
     assert_true(fast <= 4u * 1024u * 1024u);
+    /* per-worker scratch included: the memo narrows as workers are
+     * added, and one worker's memo (its 32 levels) stays */
+    {
+        int32_t k;
+        size_t one = fast;
+        for (k = 1; k <= 4; k++) {
+            size_t comp = 0;
+            cfg.band_workers = k;
+            cfg.memory_profile = NEGOBS_STEREO_PROFILE_COMPACT;
+            assert_int_equal(negobs_stereo_workspace_size(&cfg, &comp),
+                             NEGOBS_OK);
+            cfg.memory_profile = NEGOBS_STEREO_PROFILE_FAST;
+            assert_int_equal(negobs_stereo_workspace_size(&cfg, &fast),
+                             NEGOBS_OK);
+            assert_true(fast <= NEGOBS_STEREO_FAST_BUDGET);
+            assert_true(fast >= comp);
+            if (k == 1) {
+                assert_int_equal(fast, one);
+            }
+        }
+        /* 2 workers at 320x240 keep the whole memo (within budget) */
+        negobs_stereo_config_default(&cfg, 320, 240);
+        cfg.band_workers = 2;
+        cfg.memory_profile = NEGOBS_STEREO_PROFILE_FAST;
+        assert_int_equal(negobs_stereo_workspace_size(&cfg, &fast), NEGOBS_OK);
+        cfg.memory_profile = NEGOBS_STEREO_PROFILE_COMPACT;
+        assert_int_equal(negobs_stereo_workspace_size(&cfg, &compact),
+                         NEGOBS_OK);
+        assert_true(fast > compact + 2u * 320u * 32u * 4u *
+                                         NEGOBS_STEREO_MEMO_LEVELS);
+        cfg.band_workers = 1;
+        cfg.memory_profile = NEGOBS_STEREO_PROFILE_FAST;
+    }
     cfg.memory_profile = 2;
     assert_int_equal(negobs_stereo_workspace_size(&cfg, &fast),
                      NEGOBS_ERR_INVAL);

@@ -134,8 +134,20 @@ typedef struct negobs_stereo_config {
  *  strip_rows x width x levels x 4 bytes more (1.3 MB at 320x240x64,
  *  2.6 MB at 640x480x64; <= 4 MB in all at 640x480x64). */
 #define NEGOBS_STEREO_PROFILE_FAST 1
-/** Width of the fast profile's memo band (disparity levels). */
+/** Width of the fast profile's memo band (disparity levels) with one
+ *  band worker. */
 #define NEGOBS_STEREO_MEMO_LEVELS 32
+/** The fast profile's workspace budget: every worker needs its own memo,
+ *  so with band_workers > 1 the memo band narrows until the workspace
+ *  holds within this (or within one worker's workspace where that is
+ *  larger): 4 MiB keeps 640x480x64 with 4 workers, per-worker scratch
+ *  included, inside the 4 MB the Linux board grants the matcher. */
+#define NEGOBS_STEREO_FAST_BUDGET ((size_t)4u * 1024u * 1024u)
+/** Narrower than this the memo band is dropped (no memo): on Cones
+ *  (release, callgrind, one frame) 32 levels save 3.6 % of the matcher's
+ *  instructions, 23 levels 2.0 %, 12 levels 0.06 %: a narrow band misses
+ *  most lookups and is not worth its memory. */
+#define NEGOBS_STEREO_MEMO_MIN_LEVELS 16
 /** The profile negobs_stereo_config_default() picks: compact on every
  *  target for now. The fast profile's memo saves only about 3 % of the
  *  instructions where the cross sum has SIMD (SSE2, NEON) and 10 % in plain
@@ -207,12 +219,17 @@ typedef struct negobs_stereo_config {
      (size_t)(w)*32u * (((size_t)(dmax) + 1u) / 8u + 2u) +                    \
      (size_t)8192u * 8u + 257u * 4u + 2048u * 12u +                           \
      ((size_t)(dmax) + 4u) * 8u + (size_t)(w) * ((size_t)(dmax) + 1u) * 3u +  \
-     (size_t)(w)*16u + 4096u)
+     (size_t)(w)*16u + 4096u + 2u * (258u * 4u + 48u))
 
 /** Upper bound of the once-only cost of band_workers > 1: the stage-1 end
- *  scores of every row, kept for the second DP stage. */
+ *  scores of every row, kept for the second DP stage, and the bands'
+ *  partial results of the vertical search and the 1/4-scale map (up to
+ *  NEGOBS_STEREO_MAX_BANDS bands). */
 #define NEGOBS_STEREO_WORKSPACE_BANDS_MAX(h, dmax)                            \
-    ((size_t)(h) * ((size_t)(dmax) + 1u) * 4u + (size_t)(h) + 128u)
+    ((size_t)(h) * ((size_t)(dmax) + 1u) * 4u + (size_t)(h) + 128u +          \
+     (size_t)NEGOBS_STEREO_MAX_BANDS *                                        \
+         (9u * 8u + 4u + ((size_t)(dmax) / 4u + 4u) * 4u) +                   \
+     3u * 48u)
 
 /** The bound for the profile negobs_stereo_config_default() picks
  *  (NEGOBS_STEREO_PROFILE_DEFAULT). */

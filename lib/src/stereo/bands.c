@@ -1,5 +1,6 @@
 /*
- * Row bands: the frame's stages 2-4 as independent jobs for the caller's
+ * Row bands: the frame's stages (all but the seam rule's check, the second
+ * DP stage and the output count) as independent jobs for the caller's
  * executor (negobs/executor.h). The library creates no thread.
  *
  * A band is a run of whole strips; its layout depends on cfg.bands and the
@@ -11,11 +12,15 @@
  * names a worker it does not have fails the frame (NEGOBS_ERR_STATE).
  *
  * Each worker owns one scratch area (the strip buffers, the queue, the
- * score cache, the memo and a DP row): worker 0 is the context itself, the
+ * score cache, the memo, a DP row and the speckle flood lists): worker 0 is the context itself, the
  * others are copies of the context (s->wk) with their own scratch and
  * statistics, merged after each parallel pass.
  *
- * Per frame: (a) every band grows on its own (window sums, Canny, GCS);
+ * Per frame: (0) the vertical offset search and the 1/4-scale map, each
+ * band taking its share of the sampling grid's rows or of the low-res
+ * rows, their integer partial sums added in band order on the caller's
+ * thread (stx_bands_vertical_range); (a) every band grows on its own
+ * (window sums, Canny, GCS);
  * (b) the seam rule (seam_pass) grows a band again, on the caller's
  * thread, with the matches above its border as seeds where it lacks them;
  * (c) DP stage 1 of every row, band by band, keeping each row's end scores
@@ -23,7 +28,9 @@
  * rows in order on the caller's thread (h x ndisp steps, about 1 % of the
  * frame); (e) the back-track with sub-pixel refinement, band by band;
  * (f) the LR check, the gap fill and the mean's rows by bands, the mean's
- * columns by as many column slices (each line is independent).
+ * columns by as many column slices (each line is independent); the
+ * speckle filter in two runs, marks then clears (refine.c:
+ * speckle_flood_band says why that is the sequential result).
  */
 #include <string.h>
 
@@ -100,6 +107,8 @@ static void worker_sync(const stx_t *s, stx_t *x)
     x->rowd = own.rowd;
     x->line = own.line;
     x->line2 = own.line2;
+    x->flood = own.flood;
+    x->flood_out = own.flood_out;
     memset(&x->st, 0, sizeof x->st);
     if (x->clock != NULL) {
         x->lap = x->clock(x->clock_user);
@@ -122,6 +131,7 @@ static void stats_merge(negobs_stereo_stats_t *to,
     to->gcs_matched += from->gcs_matched;
     to->lr_rejected += from->lr_rejected;
     to->gap_filled += from->gap_filled;
+    to->speckles_removed += from->speckles_removed;
     for (i = 0; i < NEGOBS_STEREO_STAGE_COUNT; i++) {
         to->stage_ticks[i] += from->stage_ticks[i];
     }
@@ -144,6 +154,7 @@ typedef struct band_job {
     stx_line_filter_t filter;
     uint8_t *conf_data;
     int32_t conf_stride;
+    int32_t step; /* stage 1: 0 the 4x4 means, 1 the matches */
 } band_job_t;
 
 /* The state of `worker`, or NULL for an index the executor must not
@@ -417,6 +428,12 @@ static void filter_job(void *arg, int32_t band, int32_t worker)
     case STX_FILTER_MEAN_ROWS:
         stx_amean_rows(x, j->disp, j->conf_data, j->conf_stride, a, b);
         break;
+    case STX_FILTER_SPECKLE_MARK:
+        stx_speckle_mark_rows(x, j->disp, a, b);
+        break;
+    case STX_FILTER_SPECKLE_CLEAR:
+        stx_speckle_clear_rows(x, j->disp, a, b);
+        break;
     case STX_FILTER_MEAN_COLS:
     default: {
         int32_t nb = negobs_stereo_band_count(&x->cfg, x->h);
@@ -439,6 +456,8 @@ void stx_bands_filter(stx_t *s, stx_line_filter_t f,
             stx_lr_check(s, disp_q4, conf, conf_stride);
         } else if (f == STX_FILTER_GAP_FILL) {
             stx_gap_fill(s, disp_q4, conf, conf_stride);
+        } else if (f == STX_FILTER_SPECKLE) {
+            stx_speckle(s, disp_q4);
         } else {
             stx_adaptive_mean(s, disp_q4, conf, conf_stride);
         }
@@ -447,12 +466,132 @@ void stx_bands_filter(stx_t *s, stx_line_filter_t f,
     job.s = s;
     job.disp = disp_q4;
     job.conf = NULL;
-    job.filter = (f == STX_FILTER_MEAN) ? STX_FILTER_MEAN_ROWS : f;
+    job.filter = f;
+    if (f == STX_FILTER_MEAN) {
+        job.filter = STX_FILTER_MEAN_ROWS;
+    } else if (f == STX_FILTER_SPECKLE) {
+        job.filter = STX_FILTER_SPECKLE_MARK;
+    }
     job.conf_data = conf;
     job.conf_stride = conf_stride;
     run_bands(s, filter_job, &job, NEGOBS_STEREO_STAGE_COUNT);
     if (f == STX_FILTER_MEAN) {
         job.filter = STX_FILTER_MEAN_COLS;
         run_bands(s, filter_job, &job, NEGOBS_STEREO_STAGE_COUNT);
+    } else if (f == STX_FILTER_SPECKLE) {
+        /* every band marked before any is cleared: a mark reads the
+         * other bands' pixels as they were */
+        job.filter = STX_FILTER_SPECKLE_CLEAR;
+        run_bands(s, filter_job, &job, NEGOBS_STEREO_STAGE_COUNT);
     }
+}
+
+/* Part `k` of `n` of [0, len): the split the stage-6 and stage-1 jobs use
+ * (any split gives the same sums; this one follows the band count). */
+static void part(int32_t len, int32_t k, int32_t n, int32_t *a, int32_t *b)
+{
+    if (n < 1) {
+        *a = 0; /* no bands (cannot happen inside a band job): nothing */
+        *b = 0;
+        return;
+    }
+    *a = (int32_t)((int64_t)len * k / n);
+    *b = (int32_t)((int64_t)len * (k + 1) / n);
+}
+
+/* Stage 6 over the band-th part of the grid rows: its score per offset. */
+static void vertical_job(void *arg, int32_t band, int32_t worker)
+{
+    band_job_t *j = (band_job_t *)arg;
+    stx_t *x;
+    int32_t a;
+    int32_t b;
+    int32_t nb;
+    x = band_job_begin(j, band, worker, &a, &b);
+    if (x == NULL) {
+        return;
+    }
+    nb = negobs_stereo_band_count(&x->cfg, x->h);
+    part(stx_vertical_grid_rows(x), band, nb, &a, &b);
+    stx_vertical_scores(x, x->cfg.vertical_search, a, b,
+                        j->s->vscore +
+                            (ptrdiff_t)band * (2 * STX_VSEARCH_MAX + 1));
+}
+
+/* Stage 1 over the band-th part of the low-res rows: the 4x4 means
+ * (j->step 0) or the matches (1), the latter with the part's
+ * histogram and kept count. */
+static void lowres_job(void *arg, int32_t band, int32_t worker)
+{
+    band_job_t *j = (band_job_t *)arg;
+    stx_t *x;
+    int32_t a;
+    int32_t b;
+    int32_t nb;
+    x = band_job_begin(j, band, worker, &a, &b);
+    if (x == NULL) {
+        return;
+    }
+    nb = negobs_stereo_band_count(&x->cfg, x->h);
+    part(x->lh, band, nb, &a, &b);
+    if (j->step == 0) {
+        stx_lowres_downsample_rows(x, a, b);
+    } else {
+        j->s->lkept[band] = stx_lowres_match_rows(
+            x, a, b,
+            j->s->lhist + (ptrdiff_t)band * (stx_lowres_levels(x) + 1));
+    }
+}
+
+void stx_bands_vertical_range(stx_t *s)
+{
+    band_job_t job;
+    int32_t nb = negobs_stereo_band_count(&s->cfg, s->h);
+    int32_t k;
+    int32_t i;
+    if (s->exec.run == NULL || s->exec.workers < 2 || nb < 2 ||
+        s->vscore == NULL) {
+        if (s->cfg.vertical_search > 0) {
+            s->voff = stx_vertical_estimate(s, s->cfg.vertical_search);
+        }
+        stx_lap(s, NEGOBS_STEREO_STAGE_VERTICAL);
+        stx_lowres_range(s);
+        stx_lap(s, NEGOBS_STEREO_STAGE_RANGE);
+        return;
+    }
+    memset(&job, 0, sizeof job);
+    job.s = s;
+    if (s->cfg.vertical_search > 0) {
+        int64_t sum[2 * STX_VSEARCH_MAX + 1];
+        int32_t n = 2 * s->cfg.vertical_search + 1;
+        run_bands(s, vertical_job, &job, NEGOBS_STEREO_STAGE_VERTICAL);
+        /* the bands' partial sums in band order (integers: exact) */
+        for (i = 0; i < n; i++) {
+            sum[i] = 0;
+            for (k = 0; k < nb; k++) {
+                sum[i] += s->vscore[k * (2 * STX_VSEARCH_MAX + 1) + i];
+            }
+        }
+        s->voff = stx_vertical_pick(sum, s->cfg.vertical_search);
+    }
+    stx_lap(s, NEGOBS_STEREO_STAGE_VERTICAL);
+    if (stx_lowres_begin(s)) {
+        int32_t bins = stx_lowres_levels(s) + 1;
+        uint32_t kept = 0;
+        job.step = 0;
+        run_bands(s, lowres_job, &job, NEGOBS_STEREO_STAGE_RANGE);
+        job.step = 1;
+        run_bands(s, lowres_job, &job, NEGOBS_STEREO_STAGE_RANGE);
+        for (i = 0; i < bins; i++) {
+            s->hist[i] = 0;
+            for (k = 0; k < nb; k++) {
+                s->hist[i] += s->lhist[k * bins + i];
+            }
+        }
+        for (k = 0; k < nb; k++) {
+            kept += s->lkept[k];
+        }
+        stx_lowres_finish(s, kept);
+    }
+    stx_lap(s, NEGOBS_STEREO_STAGE_RANGE);
 }

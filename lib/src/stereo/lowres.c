@@ -31,11 +31,11 @@
 #include "stereo/stereo_simd.h"
 
 static void downsample(const negobs_image_u8_t *img, int32_t voff,
-                       uint8_t *out, int32_t lw, int32_t lh)
+                       uint8_t *out, int32_t lw, int32_t y4a, int32_t y4b)
 {
     int32_t x4;
     int32_t y4;
-    for (y4 = 0; y4 < lh; y4++) {
+    for (y4 = y4a; y4 < y4b; y4++) {
         const uint8_t *rows[4];
         int32_t k;
         for (k = 0; k < 4; k++) {
@@ -325,53 +325,85 @@ static void lowres_tile_dilate(stx_t *s, int32_t dmin, int32_t dmax)
     }
 }
 
-void stx_lowres_range(stx_t *s)
+/* The configured range everywhere; 1 when the 1/4-scale map is to be
+ * made (auto_range and a frame large enough for it). */
+int stx_lowres_begin(stx_t *s)
 {
-    int32_t lw = s->lw;
-    int32_t lh = s->lh;
     int32_t dmin = s->dmin;
     int32_t dmax = s->dmin + s->ndisp - 1;
-    int32_t dmin4 = dmin / 4;
-    int32_t dmax4 = (dmax + 3) / 4;
-    int32_t nd4 = dmax4 - dmin4 + 1;
-    int32_t x4;
-    int32_t y4;
-    int32_t i;
-    uint32_t kept = 0;
     int32_t ntile = s->tw * s->th;
-
+    int32_t i;
     s->gdmin = dmin;
     s->gdmax = dmax;
     for (i = 0; i < ntile; i++) {
         s->tile_lo[i] = (int16_t)dmin;
         s->tile_hi[i] = (int16_t)dmax;
     }
-    if (!s->cfg.auto_range || lw < 5 || lh < 3) {
-        return;
+    if (!s->cfg.auto_range || s->lw < 5 || s->lh < 3) {
+        return 0;
     }
-    downsample(s->left, 0, s->lo_l, lw, lh);
-    downsample(s->right, s->voff, s->lo_r, lw, lh);
-    memset(s->lo_d, STX_NONE8, (size_t)lw * (size_t)lh);
-    memset(s->hist, 0, (size_t)(nd4 + 1) * sizeof *s->hist);
+    memset(s->lo_d, STX_NONE8, (size_t)s->lw * (size_t)s->lh);
+    return 1;
+}
 
-    for (y4 = 1; y4 < lh - 1; y4++) {
+int32_t stx_lowres_levels(const stx_t *s)
+{
+    return (s->dmin + s->ndisp - 1 + 3) / 4 - s->dmin / 4 + 1;
+}
+
+void stx_lowres_downsample_rows(stx_t *s, int32_t y4a, int32_t y4b)
+{
+    downsample(s->left, 0, s->lo_l, s->lw, y4a, y4b);
+    downsample(s->right, s->voff, s->lo_r, s->lw, y4a, y4b);
+}
+
+uint32_t stx_lowres_match_rows(stx_t *s, int32_t y4a, int32_t y4b,
+                               uint32_t *hist)
+{
+    int32_t lw = s->lw;
+    int32_t dmin4 = s->dmin / 4;
+    int32_t dmax4 = (s->dmin + s->ndisp - 1 + 3) / 4;
+    uint32_t kept = 0;
+    int32_t x4;
+    int32_t y4;
+    memset(hist, 0, (size_t)(dmax4 - dmin4 + 2) * sizeof *hist);
+    y4a = (y4a > 1) ? y4a : 1;
+    y4b = (y4b < s->lh - 1) ? y4b : s->lh - 1;
+    for (y4 = y4a; y4 < y4b; y4++) {
         for (x4 = 1; x4 < lw - 1; x4++) {
             int32_t bestd = lowres_match(s, x4, y4, dmin4, dmax4);
             if (bestd < 0) {
                 continue;
             }
             s->lo_d[y4 * lw + x4] = (uint8_t)(bestd - dmin4);
-            s->hist[bestd - dmin4]++;
+            hist[bestd - dmin4]++;
             kept++;
         }
     }
+    return kept;
+}
+
+void stx_lowres_finish(stx_t *s, uint32_t kept)
+{
+    int32_t dmin = s->dmin;
+    int32_t dmax = s->dmin + s->ndisp - 1;
+    int32_t dmin4 = dmin / 4;
     /* too few values to trust: keep the configured range */
     if (kept < 16u) {
         return;
     }
-    lowres_global_range(s, kept, nd4, dmin4, dmin, dmax);
+    lowres_global_range(s, kept, stx_lowres_levels(s), dmin4, dmin, dmax);
     lowres_tile_own(s, dmin4);
     lowres_tile_dilate(s, dmin, dmax);
+}
+
+void stx_lowres_range(stx_t *s)
+{
+    if (!stx_lowres_begin(s)) {
+        return;
+    }
+    stx_lowres_downsample_rows(s, 0, s->lh);
+    stx_lowres_finish(s, stx_lowres_match_rows(s, 0, s->lh, s->hist));
 }
 
 void stx_tile_range(const stx_t *s, int32_t x, int32_t y, int32_t *lo,
@@ -405,29 +437,41 @@ static void col5(const negobs_image_u8_t *img, int32_t x, int32_t y,
     }
 }
 
-int32_t stx_vertical_estimate(stx_t *s, int32_t n)
+/* The sampling grid of the vertical search: steps (sx, sy) and rows. */
+static void vertical_grid(const stx_t *s, int32_t *sx, int32_t *sy)
 {
-    int32_t sx = s->w / 12;
-    int32_t sy = s->h / 12;
-    int64_t best_score = -1;
-    int32_t best = 0;
+    *sx = (s->w / 12 < 4) ? 4 : s->w / 12;
+    *sy = (s->h / 12 < 4) ? 4 : s->h / 12;
+}
+
+int32_t stx_vertical_grid_rows(const stx_t *s)
+{
+    int32_t sx;
+    int32_t sy;
+    int32_t y0;
+    vertical_grid(s, &sx, &sy);
+    y0 = sy / 2 + 6;
+    return (s->h - 6 > y0) ? (s->h - 6 - y0 + sy - 1) / sy : 0;
+}
+
+void stx_vertical_scores(stx_t *s, int32_t n, int32_t g0, int32_t g1,
+                         int64_t *score)
+{
+    int32_t sx;
+    int32_t sy;
     int32_t k;
     int32_t dmax = s->dmin + s->ndisp - 1;
     uint32_t tex = (uint32_t)s->cfg.texture_min;
 
-    if (sx < 4) {
-        sx = 4;
-    }
-    if (sy < 4) {
-        sy = 4;
-    }
+    vertical_grid(s, &sx, &sy);
     for (k = 0; k <= 2 * n; k++) {
         /* order 0, -1, +1, -2, +2 ... so ties keep the smaller |offset| */
         int32_t off = (k & 1) ? -((k + 1) / 2) : (k / 2);
-        int64_t score = 0;
         int32_t x;
-        int32_t y;
-        for (y = sy / 2 + 6; y < s->h - 6; y += sy) {
+        int32_t g;
+        score[k] = 0;
+        for (g = g0; g < g1; g++) {
+            int32_t y = sy / 2 + 6 + g * sy;
             int32_t yr = y + off;
             if (yr < STX_WIN_R || yr >= s->h - STX_WIN_R) {
                 continue;
@@ -470,13 +514,30 @@ int32_t stx_vertical_estimate(stx_t *s, int32_t n)
                         bc = c;
                     }
                 }
-                score += bc;
+                score[k] += bc;
             }
         }
-        if (score > best_score) {
-            best_score = score;
+    }
+}
+
+int32_t stx_vertical_pick(const int64_t *score, int32_t n)
+{
+    int64_t best_score = -1;
+    int32_t best = 0;
+    int32_t k;
+    for (k = 0; k <= 2 * n; k++) {
+        int32_t off = (k & 1) ? -((k + 1) / 2) : (k / 2);
+        if (score[k] > best_score) {
+            best_score = score[k];
             best = off;
         }
     }
     return best;
+}
+
+int32_t stx_vertical_estimate(stx_t *s, int32_t n)
+{
+    int64_t score[2 * STX_VSEARCH_MAX + 1];
+    stx_vertical_scores(s, n, 0, stx_vertical_grid_rows(s), score);
+    return stx_vertical_pick(score, n);
 }

@@ -14,7 +14,10 @@
  * overflows the list, or touches a kept pixel, is kept; a complete region
  * smaller than speckle_size is invalidated. Every left-over part of an
  * overflowed region touches a kept pixel, so no part of a large region is
- * ever removed.
+ * ever removed. The result is therefore fixed by the components alone
+ * (fewer than speckle_size pixels: removed), which lets bands mark their
+ * own rows at the same time and clear them afterwards
+ * (stx_speckle_mark_rows, stx_speckle_clear_rows).
  *
  * Gap fill (after the speckles): short invalid runs of a row are filled
  * from their ends, see gap_fill_row().
@@ -161,6 +164,144 @@ void stx_speckle(stx_t *s, negobs_image_s16_t *disp)
                     negobs_image_s16_row(disp, qy)[qx] = NEGOBS_DISP_INVALID;
                 }
                 s->st.speckles_removed += (uint32_t)n;
+            }
+        }
+    }
+}
+
+/* Row-aligned bit of (x, y) in the speckle bitmaps: a band's rows own
+ * whole bytes, so bands mark their own pixels at the same time. */
+static size_t speckle_bit(const stx_t *s, int32_t x, int32_t y)
+{
+    return (size_t)y * (((size_t)s->w + 7u) & ~(size_t)7u) + (size_t)x;
+}
+
+static int in_list(const uint32_t *list, int32_t n, uint32_t p)
+{
+    int32_t i;
+    for (i = 0; i < n; i++) {
+        if (list[i] == p) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* One flood of the band pass from pixel p of rows [y0, y1): the pixels of
+ * the band it takes are marked visited, and kept when the region is
+ * large. Pixels outside the band are read, never marked: the flood keeps
+ * them in s->flood_out so it takes each once. A region is large when the
+ * flood overflows the list or touches a kept pixel (then it stops: the
+ * verdict cannot change); else it holds its whole region (every visited
+ * pixel of the band it meets is kept or belongs to a region already
+ * complete, which it cannot touch). */
+static void speckle_flood_band(stx_t *s, const negobs_image_s16_t *disp,
+                               int32_t px, int32_t py, int32_t y0, int32_t y1)
+{
+    int32_t w = s->w;
+    int32_t lim = s->cfg.speckle_size;
+    int32_t diff = s->cfg.speckle_diff_q4;
+    int32_t n = 0;
+    int32_t nout = 0;
+    int32_t head = 0;
+    int big = 0;
+    int32_t i;
+    bit_set(s->vis, speckle_bit(s, px, py));
+    s->flood[n++] = (uint32_t)(py * w + px);
+    while (head < n && !big) {
+        uint32_t q = s->flood[head++];
+        int32_t qy = (int32_t)(q / (uint32_t)w);
+        int32_t qx = (int32_t)(q - (uint32_t)qy * (uint32_t)w);
+        int32_t dq = negobs_image_s16_row(disp, qy)[qx];
+        int k;
+        for (k = 0; k < 4 && !big; k++) {
+            int32_t rx = qx + ((k == 0) ? -1 : ((k == 1) ? 1 : 0));
+            int32_t ry = qy + ((k == 2) ? -1 : ((k == 3) ? 1 : 0));
+            uint32_t r;
+            int32_t dr;
+            int inside;
+            if (rx < 0 || rx >= w || ry < 0 || ry >= s->h) {
+                continue;
+            }
+            dr = negobs_image_s16_row(disp, ry)[rx];
+            if (dr == NEGOBS_DISP_INVALID || dr - dq > diff ||
+                dq - dr > diff) {
+                continue;
+            }
+            r = (uint32_t)(ry * w + rx);
+            inside = (ry >= y0 && ry < y1);
+            if (inside) {
+                size_t b = speckle_bit(s, rx, ry);
+                if (bit_get(s->keep, b)) {
+                    big = 1;
+                    continue;
+                }
+                if (bit_get(s->vis, b)) {
+                    continue;
+                }
+            } else if (in_list(s->flood_out, nout, r)) {
+                continue;
+            }
+            if (n > lim) {
+                big = 1;
+                continue;
+            }
+            if (inside) {
+                bit_set(s->vis, speckle_bit(s, rx, ry));
+            } else {
+                s->flood_out[nout++] = r;
+            }
+            s->flood[n++] = r;
+        }
+    }
+    if (big || n >= lim) {
+        for (i = 0; i < n; i++) {
+            int32_t qy = (int32_t)(s->flood[i] / (uint32_t)w);
+            int32_t qx = (int32_t)(s->flood[i] - (uint32_t)qy * (uint32_t)w);
+            if (qy >= y0 && qy < y1) {
+                bit_set(s->keep, speckle_bit(s, qx, qy));
+            }
+        }
+    }
+}
+
+void stx_speckle_mark_rows(stx_t *s, const negobs_image_s16_t *disp,
+                           int32_t y0, int32_t y1)
+{
+    size_t rowbytes = ((size_t)s->w + 7u) / 8u;
+    int32_t y;
+    int32_t x;
+    if (s->cfg.speckle_size <= 1) {
+        return;
+    }
+    memset(s->vis + (size_t)y0 * rowbytes, 0, (size_t)(y1 - y0) * rowbytes);
+    memset(s->keep + (size_t)y0 * rowbytes, 0, (size_t)(y1 - y0) * rowbytes);
+    for (y = y0; y < y1; y++) {
+        const int16_t *row = negobs_image_s16_row(disp, y);
+        for (x = 0; x < s->w; x++) {
+            if (row[x] != NEGOBS_DISP_INVALID &&
+                !bit_get(s->vis, speckle_bit(s, x, y))) {
+                speckle_flood_band(s, disp, x, y, y0, y1);
+            }
+        }
+    }
+}
+
+void stx_speckle_clear_rows(stx_t *s, negobs_image_s16_t *disp, int32_t y0,
+                            int32_t y1)
+{
+    int32_t y;
+    int32_t x;
+    if (s->cfg.speckle_size <= 1) {
+        return;
+    }
+    for (y = y0; y < y1; y++) {
+        int16_t *row = negobs_image_s16_row(disp, y);
+        for (x = 0; x < s->w; x++) {
+            size_t b = speckle_bit(s, x, y);
+            if (row[x] != NEGOBS_DISP_INVALID && !bit_get(s->keep, b)) {
+                row[x] = NEGOBS_DISP_INVALID;
+                s->st.speckles_removed++;
             }
         }
     }

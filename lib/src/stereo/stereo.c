@@ -121,21 +121,18 @@ static negobs_status_t check_config(const negobs_stereo_config_t *c)
  * strip buffers of stages 2-4 and one DP row. bands.c: worker_sync()
  * lists the same fields. */
 static void carve_scratch(negobs_arena_t *a, stx_t *x,
-                          const negobs_stereo_config_t *c)
+                          const negobs_stereo_config_t *c, int32_t memo_k)
 {
     stx_t *s = x; /* TAKE stores only when not measuring */
     int32_t w = c->width;
     int32_t nd = c->max_disp - c->min_disp + 1;
     size_t spx = (size_t)c->strip_rows * (size_t)w;
     int32_t maxwh = (w > c->height) ? w : c->height;
-    if (c->memory_profile == NEGOBS_STEREO_PROFILE_FAST) {
-        int32_t k = (nd < NEGOBS_STEREO_MEMO_LEVELS)
-                        ? nd
-                        : NEGOBS_STEREO_MEMO_LEVELS;
+    if (memo_k > 0) {
         if (x != NULL) {
-            x->memo_k = k;
+            x->memo_k = memo_k;
         }
-        TAKE(x->memo, uint32_t, spx * (size_t)k);
+        TAKE(x->memo, uint32_t, spx * (size_t)memo_k);
         TAKE(x->memo_base, uint8_t, spx);
     }
     TAKE(x->sl, uint16_t, spx);
@@ -166,6 +163,10 @@ static void carve_scratch(negobs_arena_t *a, stx_t *x,
     TAKE(x->rowd, int16_t, w);
     TAKE(x->line, int16_t, maxwh + 16);
     TAKE(x->line2, int16_t, maxwh + 16);
+    TAKE(x->flood, uint32_t, c->speckle_size + 2);
+    if (c->band_workers > 1) {
+        TAKE(x->flood_out, uint32_t, c->speckle_size + 2);
+    }
     if (x != NULL) {
         x->q.cap = c->queue_capacity;
     }
@@ -175,7 +176,8 @@ static void carve_scratch(negobs_arena_t *a, stx_t *x,
  * The only place that decides the workspace layout. In measuring mode
  * (NULL base) `s` stays NULL and only the sizes are summed.
  */
-static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c)
+static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c,
+                    int32_t memo_k)
 {
     stx_t *s = (stx_t *)negobs_arena_take(a, sizeof(stx_t));
     int32_t w = c->width;
@@ -187,7 +189,6 @@ static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c)
     int32_t tw = (w + c->tile_size - 1) / c->tile_size;
     int32_t th = (h + c->tile_size - 1) / c->tile_size;
     int32_t nd4 = (c->max_disp + 3) / 4 - c->min_disp / 4 + 1;
-    size_t npx = (size_t)w * (size_t)h;
 
     if (s != NULL) {
         memset(s, 0, sizeof *s);
@@ -204,7 +205,7 @@ static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c)
         s->th = th;
         s->q.cap = c->queue_capacity;
     }
-    carve_scratch(a, s, c);
+    carve_scratch(a, s, c, memo_k);
     TAKE(s->lo_l, uint8_t, (size_t)lw * (size_t)lh);
     TAKE(s->lo_r, uint8_t, (size_t)lw * (size_t)lh);
     TAKE(s->lo_d, uint8_t, (size_t)lw * (size_t)lh);
@@ -216,9 +217,8 @@ static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c)
     TAKE(s->p2, uint8_t, (size_t)h * (size_t)nd);
     TAKE(s->dend, int16_t, h);
     TAKE(s->zarg, int16_t, h);
-    TAKE(s->vis, uint8_t, (npx + 7u) / 8u);
-    TAKE(s->keep, uint8_t, (npx + 7u) / 8u);
-    TAKE(s->flood, uint32_t, c->speckle_size + 2);
+    TAKE(s->vis, uint8_t, (size_t)h * (((size_t)w + 7u) / 8u));
+    TAKE(s->keep, uint8_t, (size_t)h * (((size_t)w + 7u) / 8u));
     if (c->band_workers > 1) {
         int32_t k;
         TAKE(s->wk, stx_t, c->band_workers - 1);
@@ -227,12 +227,57 @@ static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c)
             if (x != NULL) {
                 memset(x, 0, sizeof *x);
             }
-            carve_scratch(a, x, c);
+            carve_scratch(a, x, c, memo_k);
         }
         TAKE(s->yend, int32_t, (size_t)h * (size_t)nd);
         TAKE(s->yhave, uint8_t, h);
+        TAKE(s->vscore, int64_t,
+             (size_t)c->bands * (2u * STX_VSEARCH_MAX + 1u));
+        TAKE(s->lhist, uint32_t, (size_t)c->bands * ((size_t)nd4 + 2u));
+        TAKE(s->lkept, uint32_t, c->bands);
     }
     return s;
+}
+
+static size_t carve_bytes(const negobs_stereo_config_t *c, int32_t memo_k)
+{
+    negobs_arena_t a;
+    negobs_arena_init(&a, NULL, 0);
+    (void)carve(&a, c, memo_k);
+    return negobs_arena_used(&a);
+}
+
+/*
+ * The fast profile's memo levels per worker: NEGOBS_STEREO_MEMO_LEVELS (or
+ * the whole range when narrower) for one worker. Every worker needs its own
+ * memo, so with several the band narrows until the workspace fits
+ * NEGOBS_STEREO_FAST_BUDGET (or one worker's workspace, when that is
+ * larger); below NEGOBS_STEREO_MEMO_MIN_LEVELS there is no memo. The
+ * memo never changes the output, only the instructions.
+ */
+static int32_t memo_levels(const negobs_stereo_config_t *c)
+{
+    int32_t nd = c->max_disp - c->min_disp + 1;
+    int32_t k = (nd < NEGOBS_STEREO_MEMO_LEVELS) ? nd
+                                                 : NEGOBS_STEREO_MEMO_LEVELS;
+    negobs_stereo_config_t one;
+    size_t budget;
+    if (c->memory_profile != NEGOBS_STEREO_PROFILE_FAST) {
+        return 0;
+    }
+    if (c->band_workers < 2) {
+        return k;
+    }
+    one = *c;
+    one.band_workers = 1;
+    budget = carve_bytes(&one, k);
+    if (budget < NEGOBS_STEREO_FAST_BUDGET) {
+        budget = NEGOBS_STEREO_FAST_BUDGET;
+    }
+    while (k >= NEGOBS_STEREO_MEMO_MIN_LEVELS && carve_bytes(c, k) > budget) {
+        k--;
+    }
+    return (k >= NEGOBS_STEREO_MEMO_MIN_LEVELS || k == nd) ? k : 0;
 }
 
 negobs_status_t negobs_stereo_workspace_size(const negobs_stereo_config_t *cfg,
@@ -248,7 +293,7 @@ negobs_status_t negobs_stereo_workspace_size(const negobs_stereo_config_t *cfg,
         return st;
     }
     negobs_arena_init(&a, NULL, 0);
-    (void)carve(&a, cfg);
+    (void)carve(&a, cfg, memo_levels(cfg));
     if (negobs_arena_status(&a) != NEGOBS_OK) {
         return negobs_arena_status(&a);
     }
@@ -279,7 +324,7 @@ negobs_status_t negobs_stereo_init(negobs_stereo_t *ctx,
     if (negobs_arena_status(&a) != NEGOBS_OK) {
         return negobs_arena_status(&a);
     }
-    s = carve(&a, cfg);
+    s = carve(&a, cfg, memo_levels(cfg));
     if (negobs_arena_status(&a) != NEGOBS_OK || s == NULL) {
         return (negobs_arena_status(&a) != NEGOBS_OK) ? negobs_arena_status(&a)
                                                       : NEGOBS_ERR_NOSPACE;
@@ -417,12 +462,7 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
     s->voff = s->cfg.vertical_offset;
     s->gdmin = s->dmin;
     s->gdmax = s->dmin + s->ndisp - 1;
-    if (s->cfg.vertical_search > 0) {
-        s->voff = stx_vertical_estimate(s, s->cfg.vertical_search);
-    }
-    stx_lap(s, NEGOBS_STEREO_STAGE_VERTICAL);
-    stx_lowres_range(s);
-    stx_lap(s, NEGOBS_STEREO_STAGE_RANGE);
+    stx_bands_vertical_range(s);
     s->st.vertical_offset = s->voff;
     s->st.range_min = s->gdmin;
     s->st.range_max = s->gdmax;
@@ -443,7 +483,7 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
         stx_lap(s, NEGOBS_STEREO_STAGE_LR);
         stx_observe(s, NEGOBS_STEREO_STAGE_LR, disp_q4);
     }
-    stx_speckle(s, disp_q4);
+    stx_bands_filter(s, STX_FILTER_SPECKLE, disp_q4, NULL, 0);
     drop_out_of_view(s, disp_q4);
     stx_lap(s, NEGOBS_STEREO_STAGE_SPECKLE);
     stx_observe(s, NEGOBS_STEREO_STAGE_SPECKLE, disp_q4);

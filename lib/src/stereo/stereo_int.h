@@ -39,6 +39,9 @@ void stx_bands_pass0(stx_t *s, negobs_image_s16_t *disp_q4);
 /* Back-track, sub-pixel and confidence of every row, band by band. */
 void stx_bands_pass1(stx_t *s, negobs_image_s16_t *disp_q4,
                      negobs_image_u8_t *confidence);
+/* Stages 6 and 1 (vertical offset, 1/4-scale map and ranges) as band
+ * jobs when an executor with several workers is set, else in place. */
+void stx_bands_vertical_range(stx_t *s);
 /* A line filter of refine.c over the frame, band by band (rows) or in as
  * many column slices (the mean's vertical pass). */
 typedef enum stx_line_filter {
@@ -46,7 +49,10 @@ typedef enum stx_line_filter {
     STX_FILTER_GAP_FILL,
     STX_FILTER_MEAN,      /* rows, then columns                       */
     STX_FILTER_MEAN_ROWS, /* (the two passes of the mean, bands.c)    */
-    STX_FILTER_MEAN_COLS
+    STX_FILTER_MEAN_COLS,
+    STX_FILTER_SPECKLE,      /* mark by bands, then clear by bands       */
+    STX_FILTER_SPECKLE_MARK, /* (the two passes of the speckle filter)   */
+    STX_FILTER_SPECKLE_CLEAR
 } stx_line_filter_t;
 void stx_bands_filter(stx_t *s, stx_line_filter_t f,
                       negobs_image_s16_t *disp_q4, uint8_t *conf,
@@ -61,6 +67,24 @@ uint32_t stx_canny_strip(stx_t *s, int32_t y0, int32_t y1);
 void stx_lowres_range(stx_t *s);
 /* Estimate the vertical offset in [-n, n]; returns the chosen offset. */
 int32_t stx_vertical_estimate(stx_t *s, int32_t n);
+/* The same in steps, for band jobs (bands.c): begin (configured range;
+ * 1 when the map is to be made), the 4x4 means of low-res rows
+ * [y4a, y4b), their matches (kept count returned, histogram of
+ * stx_lowres_levels() + 1 bins written), then the ranges from the summed
+ * histogram in s->hist. */
+int stx_lowres_begin(stx_t *s);
+int32_t stx_lowres_levels(const stx_t *s);
+void stx_lowres_downsample_rows(stx_t *s, int32_t y4a, int32_t y4b);
+uint32_t stx_lowres_match_rows(stx_t *s, int32_t y4a, int32_t y4b,
+                               uint32_t *hist);
+void stx_lowres_finish(stx_t *s, uint32_t kept);
+/* The vertical search in steps: its grid rows, the score sums of every
+ * offset (2n + 1, order 0, -1, +1, ...) over grid rows [g0, g1), and the
+ * pick from the summed scores (integer sums: any split gives the same). */
+int32_t stx_vertical_grid_rows(const stx_t *s);
+void stx_vertical_scores(stx_t *s, int32_t n, int32_t g0, int32_t g1,
+                         int64_t *score);
+int32_t stx_vertical_pick(const int64_t *score, int32_t n);
 /* Tile range for pixel (x, y). */
 void stx_tile_range(const stx_t *s, int32_t x, int32_t y, int32_t *lo,
                     int32_t *hi);
@@ -104,6 +128,13 @@ void stx_amean_rows(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
                     int32_t conf_stride, int32_t y0, int32_t y1);
 void stx_amean_cols(stx_t *s, negobs_image_s16_t *disp, uint8_t *conf,
                     int32_t conf_stride, int32_t x0, int32_t x1);
+/* The speckle filter by bands: mark rows [y0, y1) (floods may read other
+ * rows, write only their own bitmap bits), then, once every band is
+ * marked, clear the band's pixels of small regions. */
+void stx_speckle_mark_rows(stx_t *s, const negobs_image_s16_t *disp,
+                           int32_t y0, int32_t y1);
+void stx_speckle_clear_rows(stx_t *s, negobs_image_s16_t *disp, int32_t y0,
+                            int32_t y1);
 /* keep_out_of_view == 0: drop values whose match lies left of the right
  * image (x - d < 0); the final pass then clears their confidence. */
 void stx_out_of_view(stx_t *s, negobs_image_s16_t *disp);

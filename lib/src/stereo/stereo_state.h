@@ -32,6 +32,7 @@
 #define STX_LOWRES 4       /* elementary map scale (1/4)      */
 #define STX_NONE8 0xFFu    /* empty u8 disparity slot         */
 #define STX_CACHE_BITS 11  /* growth score cache: 2048 entries */
+#define STX_VSEARCH_MAX 4  /* largest vertical_search (rows)   */
 
 /* One cached correlation of the growth stage (key 0 = empty). */
 typedef struct stx_cache_entry {
@@ -89,6 +90,12 @@ typedef struct stx {
     int16_t *tile_lo, *tile_hi;
     uint32_t *hist; /* ndisp/4 + 2 bins                           */
 
+    /* partial results of the band jobs of stages 6 and 1 (bands.c;
+     * NULL with one worker) */
+    int64_t *vscore; /* bands x (2 STX_VSEARCH_MAX + 1) offset scores */
+    uint32_t *lhist; /* bands x (ndisp/4 + 2) low-res histograms     */
+    uint32_t *lkept; /* bands: low-res values kept                   */
+
     /* DP */
     int32_t *yprev, *ycur;  /* ndisp + 2 scores each (stage 1)            */
     int64_t *zprev, *zcur;  /* ndisp (stage 2)                            */
@@ -119,9 +126,10 @@ typedef struct stx {
     /* refinement */
     int16_t *line; /* max(w, h) + 16 scratch                     */
     int16_t *line2;
-    uint8_t *vis;    /* w*h bits: speckle visited                  */
-    uint8_t *keep;   /* w*h bits: speckle "big region"             */
-    uint32_t *flood; /* speckle_size + 1 entries                   */
+    uint8_t *vis;        /* h rows of (w + 7) / 8 bytes: speckle visited */
+    uint8_t *keep;       /* the same: speckle "big region"               */
+    uint32_t *flood;     /* speckle_size + 2 entries (per worker)      */
+    uint32_t *flood_out; /* the same: a band flood's pixels outside it */
 
     /* optional profiling clock (negobs_stereo_set_clock) */
     negobs_stereo_clock_fn clock;
