@@ -15,21 +15,37 @@
 #define GFIT_N_SLOPES 32
 #define GFIT_N_K 128
 #define GFIT_ABS_BINS 64
+/* Column strips of the fit rows whose support is judged one by one
+ * (ground_fit.c, "Support"). */
+#define GFIT_COLS 16
 
 typedef struct gfit {
     const negobs_detect_config_t *cfg;
-    uint16_t *vhist;  /* rows x nbins v-disparity histogram           */
-    uint32_t *acc;    /* GFIT_N_SLOPES x GFIT_N_K Hough accumulator   */
-    uint32_t *absres; /* GFIT_ABS_BINS |residual| histogram (q4)      */
-    int32_t v_lo;     /* first fit row                                */
-    int32_t rows;     /* fit rows (v_lo .. height-1)                  */
-    int32_t nbins;    /* disparity bins                               */
-    int32_t bin_q4;   /* bin width (q4)                               */
-    int32_t step;     /* sampling step (px)                           */
+    uint16_t *vhist;   /* rows x nbins v-disparity histogram           */
+    uint32_t *acc;     /* GFIT_N_SLOPES x GFIT_N_K Hough accumulator   */
+    uint32_t *absres;  /* GFIT_ABS_BINS |residual| histogram (q4)      */
+    int32_t v_lo;      /* first fit row of the band being fitted       */
+    int32_t rows;      /* fit rows (v_lo .. height-1)                  */
+    int32_t band_v_lo; /* the bottom band: fit_rows_pct              */
+    int32_t band_step;
+    int32_t wide_v_lo; /* the wide band: up to the lowest horizon    */
+    int32_t wide_step;
+    int32_t wide;      /* 1 while the wide band is fitted            */
+    int32_t v_bot;     /* nearest sampled row with support (-1: none) */
+    int32_t near_rows; /* rows v_lo .. v_bot: the fractions' base    */
+    int32_t nbins;     /* disparity bins                               */
+    int32_t bin_q4;    /* bin width (q4)                               */
+    int32_t step;      /* sampling step of the band being fitted (px)  */
     int32_t s_q12[GFIT_N_SLOPES]; /* candidate slopes, px/row Q12    */
     int64_t k_lo_q12[GFIT_N_SLOPES];
     int64_t k_bin_q12[GFIT_N_SLOPES];
     int32_t n_slopes;
+    /* Support: column strips of width col_w; col_ok[i] when strip i's own
+     * valid share reaches ground_min_valid_pct this frame; support_cols:
+     * the sampled columns per row inside those strips. */
+    int32_t col_w;
+    uint8_t col_ok[GFIT_COLS];
+    int32_t support_cols;
     /* Track. */
     int32_t tracked;
     int32_t jumps;
@@ -45,7 +61,9 @@ typedef struct gfit_out {
     negobs_ground_pose_t pose;
     negobs_ground_frame_t frame;
     int32_t sigma_q4;
-    int32_t valid_permille;
+    int32_t valid_permille;   /* valid share of the fit rows in view   */
+    int32_t support_permille; /* share of them in the support strips */
+    int32_t wide;             /* 1: fitted on the wide band           */
     int32_t inliers;
 } gfit_out_t;
 
