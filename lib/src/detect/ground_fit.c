@@ -3,8 +3,11 @@
  *
  * 1. v-disparity. Over the bottom fit_rows_pct of the image (and never above
  *    the lowest horizon the priors allow: the principal row at pitch 0),
- *    every fit_step-th pixel with a valid disparity is counted into a
- *    (row, disparity bin) histogram.
+ *    every fit_step-th pixel with a valid disparity in a column strip of
+ *    the support (ground_support.c: the strips whose own valid share
+ *    reaches ground_min_valid_pct) is counted into a (row, disparity bin)
+ *    histogram. When this bottom band gives no accepted fit, the whole fit
+ *    runs again on the wide band: every row below that horizon.
  * 2. Constrained Hough. A flat ground is the line d = s*(v - v_h) in that
  *    histogram. Only lines whose (H, pitch) lie inside the physical
  *    priors of a worn camera (mount.c) are searched: 32 slopes
@@ -15,7 +18,9 @@
  *    not lose it.
  * 3. Plane refinement. Least squares of d = a*u + b*v + c on the samples
  *    within a gate of the current model (IRLS with 0/1 weights): once on
- *    the nearest third of the fit rows, once on the nearer half with a
+ *    the nearest third of the fit rows (counted from the nearest row with
+ *    support), after which strips that mostly disagree with the plane
+ *    leave the support (a front, a wall), once on the nearer half with a
  *    tighter gate, then twice on all fit rows with an asymmetric gate
  *    (+3 sigma / -2 sigma). Before each widening, the rows are only taken
  *    up to an edge: the first two sampled rows whose majority lies 3 sigma
@@ -25,9 +30,10 @@
  * 4. Noise. sigma = 1.4826 * MAD of the residuals of the samples in the
  *    nearer half of the fit rows (an overflow bin keeps far outliers
  *    counted), floored at sigma_min.
- * 5. Acceptance and tracking. The pose of the plane must be a possible
- *    floor (mount_pose_physical: the priors, never the configured hint)
- *    and enough samples must be inliers. An accepted fit is
+ * 5. Acceptance and tracking. The support must hold a quarter of the
+ *    band's samples, the pose of the plane must be a possible floor
+ *    (mount_pose_physical: the priors, never the configured hint) and
+ *    enough samples must be inliers. An accepted fit is
  *    blended into the track when it agrees with it at three reference
  *    points, and replaces it after two frames of disagreement.
  *
@@ -183,28 +189,6 @@ void gfit_reset(gfit_t *g)
     memset(&g->plane, 0, sizeof g->plane);
 }
 
-static int sample_valid(const negobs_image_u8_t *conf, int32_t min_conf,
-                        int32_t u, int32_t v, int32_t d)
-{
-    if (d == NEGOBS_DISP_INVALID || d < 0) {
-        return 0;
-    }
-    if (conf != NULL && (int32_t)negobs_image_u8_row(conf, v)[u] < min_conf) {
-        return 0;
-    }
-    return 1;
-}
-
-/* A sample the fit may use: valid, and in a column strip of the support
- * (gfit_process: a strip whose own valid share reaches
- * ground_min_valid_pct). */
-static int fit_sample(const gfit_t *g, const negobs_image_u8_t *conf,
-                      int32_t u, int32_t v, int32_t d)
-{
-    return g->col_ok[u / g->col_w] &&
-           sample_valid(conf, g->cfg->ground_min_confidence, u, v, d);
-}
-
 /* Hough peak over the v-disparity histogram. Returns 0 when empty. */
 static int hough_line(gfit_t *g, negobs_ground_plane_t *plane)
 {
@@ -329,7 +313,7 @@ static int32_t refine_step(const gfit_t *g, const negobs_image_s16_t *disp,
             int64_t r; /* q12: 1/256 of a q4 step */
             int64_t x;
             int64_t y;
-            if (!fit_sample(g, conf, u, v, d)) {
+            if (!gfit_sample_ok(g, conf, u, v, d)) {
                 continue;
             }
             r = geom_rshift_round_s64(
@@ -442,7 +426,7 @@ static int32_t ground_top(const gfit_t *g, const negobs_image_s16_t *disp,
         for (u = g->step / 2; u < rig->width;
              u += g->step, acc += (int64_t)plane->a_q20 * g->step) {
             int32_t d = row[u];
-            if (!fit_sample(g, conf, u, v, d)) {
+            if (!gfit_sample_ok(g, conf, u, v, d)) {
                 continue;
             }
             n++;
@@ -486,7 +470,7 @@ static int32_t noise_sigma(gfit_t *g, const negobs_image_s16_t *disp,
         for (u = g->step / 2; u < rig->width; u += g->step) {
             int32_t d = row[u];
             int32_t r;
-            if (!fit_sample(g, conf, u, v, d)) {
+            if (!gfit_sample_ok(g, conf, u, v, d)) {
                 continue;
             }
             r = d - (int32_t)geom_rshift_round_s64(
@@ -545,65 +529,6 @@ static int32_t blend(int32_t old, int32_t now, int32_t gain_q15)
 }
 
 /*
- * Line support: after the seed step, a column strip stays in the support
- * only when at least half of its usable samples in the nearer half of the
- * rows (counted from v_bot, where the ground under the feet is) lie within
- * the seed's gate (48 q4, 3 px) of the seed plane. A strip filled by a
- * cupboard front, a wall or a chair stands 3-7 px above the floor there on
- * the reference rig; left in, its samples made the noise estimate (a MAD,
- * which assumes the floor is the majority) several px wide, the gates
- * opened, and the plane bent toward the front (a front over 60 % of the
- * band's width: rejected). col_n: the strips' samples in view. Returns the
- * samples in view of the strips kept; *valid_out their usable samples.
- */
-static uint32_t line_support(gfit_t *g, const negobs_image_s16_t *disp,
-                             const negobs_image_u8_t *conf,
-                             const negobs_ground_plane_t *plane,
-                             const uint32_t *col_n, const uint32_t *col_valid,
-                             uint32_t *valid_out)
-{
-    const negobs_rig_t *rig = &g->cfg->rig;
-    uint32_t n[GFIT_COLS];
-    uint32_t agree[GFIT_COLS];
-    uint32_t kept = 0;
-    int32_t v;
-    int32_t u;
-    int32_t i;
-    memset(n, 0, sizeof n);
-    memset(agree, 0, sizeof agree);
-    for (v = rig->height - 1; v >= g->v_lo + g->near_rows / 2; v -= g->step) {
-        const int16_t *row = negobs_image_s16_row(disp, v);
-        int64_t base = (int64_t)plane->b_q20 * v + plane->c_q20;
-        for (u = g->step / 2; u < rig->width; u += g->step) {
-            int32_t d = row[u];
-            int32_t r;
-            if (!fit_sample(g, conf, u, v, d)) {
-                continue;
-            }
-            r = d - (int32_t)geom_rshift_round_s64(
-                        base + (int64_t)plane->a_q20 * u, 16);
-            n[u / g->col_w]++;
-            agree[u / g->col_w] += negobs_abs_s32(r) <= 48;
-        }
-    }
-    *valid_out = 0;
-    for (i = 0; i < GFIT_COLS; i++) {
-        if (g->col_ok[i] && 2u * agree[i] < n[i]) {
-            g->col_ok[i] = 0;
-        }
-        if (g->col_ok[i]) {
-            kept += col_n[i];
-            *valid_out += col_valid[i];
-        }
-    }
-    g->support_cols = 0;
-    for (u = g->step / 2; u < rig->width; u += g->step) {
-        g->support_cols += g->col_ok[u / g->col_w];
-    }
-    return kept;
-}
-
-/*
  * The fit on the current band of rows (g->v_lo, g->rows, g->step): the
  * support strips, the v-disparity histogram, the Hough line, the IRLS
  * refinement and the acceptance tests. Returns 1 with *fit and *sigma_q4
@@ -619,82 +544,21 @@ static int fit_band(gfit_t *g, const negobs_image_s16_t *disp,
     const negobs_rig_t *rig = &cfg->rig;
     negobs_ground_plane_t fit;
     negobs_ground_pose_t pose;
-    int32_t v;
-    int32_t u;
-    uint32_t samples = 0;
-    uint32_t valid = 0;
-    uint32_t support = 0;
-    uint32_t support_valid = 0;
-    uint32_t col_n[GFIT_COLS];
-    uint32_t col_valid[GFIT_COLS];
-    int32_t i;
+    gfit_support_t sup;
+    uint32_t samples;
+    uint32_t support;
+    uint32_t support_valid;
     int32_t inl = 0;
     int32_t sigma = 0;
     int ok = 0;
 
     memset(out, 0, sizeof *out);
-    memset(g->vhist, 0, (size_t)g->rows * (size_t)g->nbins * sizeof(uint16_t));
-    memset(col_n, 0, sizeof col_n);
-    memset(col_valid, 0, sizeof col_valid);
-    for (v = rig->height - 1; v >= g->v_lo; v -= g->step) {
-        const int16_t *row = negobs_image_s16_row(disp, v);
-        for (u = g->step / 2; u < rig->width; u += g->step) {
-            if (view_u0 != NULL && (u < view_u0[v] || u >= view_u1[v])) {
-                continue; /* out of view: no floor to find there */
-            }
-            col_n[u / g->col_w]++;
-            col_valid[u / g->col_w] += (uint32_t)sample_valid(
-                conf, cfg->ground_min_confidence, u, v, row[u]);
-        }
-    }
-    /* Support: the column strips whose own valid share reaches
-     * ground_min_valid_pct. A strip covered by an object nearer than the
-     * search range (hands), or by a surface the matcher cannot read, holds
-     * no floor the fit can use; its few chance matches are left out, and
-     * it does not dilute the share of the strips that do show floor. */
-    g->support_cols = 0;
-    for (i = 0; i < GFIT_COLS; i++) {
-        samples += col_n[i];
-        valid += col_valid[i];
-        g->col_ok[i] = (uint8_t)(col_n[i] > 0u &&
-                                 (uint64_t)col_valid[i] * 100u >=
-                                     (uint64_t)col_n[i] *
-                                         (uint32_t)cfg->ground_min_valid_pct);
-        if (g->col_ok[i]) {
-            support += col_n[i];
-            support_valid += col_valid[i];
-        }
-    }
-    for (u = g->step / 2; u < rig->width; u += g->step) {
-        g->support_cols += g->col_ok[u / g->col_w];
-    }
-    /* The histogram, and the nearest row with support (v_bot): the first
-     * sampled row from the bottom where a quarter of the support's columns
-     * hold a usable sample, the rule by which a row votes in ground_top.
-     * The refinement's "nearest third" and "nearer half" count from there:
-     * rows covered by a near object hold no ground under the feet. */
-    g->v_bot = -1;
-    for (v = rig->height - 1; v >= g->v_lo; v -= g->step) {
-        const int16_t *row = negobs_image_s16_row(disp, v);
-        uint16_t *h = g->vhist + (size_t)(v - g->v_lo) * (size_t)g->nbins;
-        int32_t n_row = 0;
-        for (u = g->step / 2; u < rig->width; u += g->step) {
-            int32_t d = row[u];
-            if ((view_u0 != NULL && (u < view_u0[v] || u >= view_u1[v])) ||
-                !fit_sample(g, conf, u, v, d)) {
-                continue;
-            }
-            n_row++;
-            if (d / g->bin_q4 < g->nbins) {
-                h[d / g->bin_q4]++;
-            }
-        }
-        if (g->v_bot < 0 && 4 * n_row >= g->support_cols && n_row > 0) {
-            g->v_bot = v;
-        }
-    }
-    g->near_rows = (g->v_bot >= g->v_lo) ? g->v_bot + 1 - g->v_lo : g->rows;
-    out->valid_permille = samples ? (int32_t)((valid * 1000u) / samples) : 0;
+    gfit_support(g, disp, conf, view_u0, view_u1, &sup);
+    samples = sup.samples;
+    support = sup.support;
+    support_valid = sup.support_valid;
+    out->valid_permille = samples ? (int32_t)((sup.valid * 1000u) / samples)
+                                  : 0;
     out->support_permille = samples ? (int32_t)((support * 1000u) / samples)
                                     : 0;
     /* Too little support: the strips that show floor span under a quarter
@@ -714,8 +578,7 @@ static int fit_band(gfit_t *g, const negobs_image_s16_t *disp,
         int32_t v_near;
         int32_t v_top;
         refine_step(g, disp, conf, &fit, 48, 48, v_seed);
-        support = line_support(g, disp, conf, &fit, col_n, col_valid,
-                               &support_valid);
+        support = gfit_line_support(g, disp, conf, &fit, &sup, &support_valid);
         if (4u * support < samples || support == 0u) {
             /* no planar support over a quarter of the width */
             out->support_permille = (int32_t)((support * 1000u) / samples);

@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "arena.h"
+#include "negobs/image.h"
 #include "negobs/detect.h"
 #include "negobs/ground.h"
 
@@ -66,6 +67,55 @@ typedef struct gfit_out {
     int32_t wide;             /* 1: fitted on the wide band           */
     int32_t inliers;
 } gfit_out_t;
+
+/* A sample with a disparity the fit may read: valid and, with a
+ * confidence map, at least min_conf confident. */
+static inline int gfit_sample_valid(const negobs_image_u8_t *conf,
+                                    int32_t min_conf, int32_t u, int32_t v,
+                                    int32_t d)
+{
+    if (d == NEGOBS_DISP_INVALID || d < 0) {
+        return 0;
+    }
+    return conf == NULL ||
+           (int32_t)negobs_image_u8_row(conf, v)[u] >= min_conf;
+}
+
+/* A sample the fit may use: valid, and in a column strip of the support
+ * (gfit_support). */
+static inline int gfit_sample_ok(const gfit_t *g,
+                                 const negobs_image_u8_t *conf, int32_t u,
+                                 int32_t v, int32_t d)
+{
+    return g->col_ok[u / g->col_w] &&
+           gfit_sample_valid(conf, g->cfg->ground_min_confidence, u, v, d);
+}
+
+/* The fit rows' samples per column strip (ground_support.c). */
+typedef struct gfit_support {
+    uint32_t col_n[GFIT_COLS];     /* samples in view                  */
+    uint32_t col_valid[GFIT_COLS]; /* of them valid                    */
+    uint32_t samples;              /* all in view                      */
+    uint32_t valid;                /* all valid                        */
+    uint32_t support;              /* in view, in the support strips   */
+    uint32_t support_valid;        /* valid, in the support strips     */
+} gfit_support_t;
+
+/* The support of the current band (g->v_lo, g->step): per column strip the
+ * samples in view and valid; col_ok, support_cols; the v-disparity
+ * histogram of the support's samples; v_bot and near_rows. view_u0 /
+ * view_u1 as in gfit_process. */
+void gfit_support(gfit_t *g, const negobs_image_s16_t *disp,
+                  const negobs_image_u8_t *conf, const int16_t *view_u0,
+                  const int16_t *view_u1, gfit_support_t *sup);
+
+/* After the seed step: strips whose near samples mostly lie outside the
+ * seed's gate of plane leave the support (col_ok, support_cols). Returns
+ * the samples in view of the strips kept; *valid_out their valid ones. */
+uint32_t gfit_line_support(gfit_t *g, const negobs_image_s16_t *disp,
+                           const negobs_image_u8_t *conf,
+                           const negobs_ground_plane_t *plane,
+                           const gfit_support_t *sup, uint32_t *valid_out);
 
 /* Carve buffers (measure mode when the arena has no base) and precompute
  * the Hough grid. cfg must be valid and outlive g. */
