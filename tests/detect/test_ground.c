@@ -395,6 +395,220 @@ static void test_ground_fit_rejects_what_cannot_be_a_floor(void **state)
     assert_true(o.reasons & NEGOBS_DEGRADED_FEW_GROUND);
 }
 
+/* Where the fit looks: the floor is found wherever the mounting priors let
+ * it lie, not only where the bottom rows of the image happen to show it
+ * (docs/DETECTION.md section 4, "Where the fit looks"). The maps are
+ * rendered, then edited: a near object beyond the matcher's search range
+ * leaves its pixels unmatched, save for a few chance matches at random
+ * disparities. */
+static uint32_t edit_rng = 1u;
+
+static int32_t edit_rand(int32_t n)
+{
+    edit_rng = edit_rng * 1103515245u + 12345u;
+    return (int32_t)((edit_rng >> 8) % (uint32_t)n);
+}
+
+/* Columns [u0, u1) of rows [v0, RIG_H) covered by an object too near to
+ * match: invalid, but chance_pct % of the pixels carry a random disparity
+ * of the 64 px search range. */
+static void cover_near(int16_t *d, int32_t u0, int32_t u1, int32_t v0,
+                       int32_t chance_pct)
+{
+    int32_t u;
+    int32_t v;
+    for (v = v0; v < RIG_H; v++) {
+        for (u = u0; u < u1; u++) {
+            d[v * RIG_W + u] = (int16_t)((edit_rand(100) < chance_pct)
+                                             ? edit_rand(64 * 16)
+                                             : NEGOBS_DISP_INVALID);
+        }
+    }
+}
+
+typedef void (*map_edit_fn)(int16_t *d);
+
+/* fit_scene with the rendered map edited before the fit. */
+static void fit_scene_edit(const synth_scene_t *s, map_edit_fn edit,
+                           gfit_out_t *out)
+{
+    static int16_t d[RIG_W * RIG_H];
+    static uint8_t mem[128 * 1024] __attribute__((aligned(16)));
+    static negobs_detect_config_t cfg;
+    negobs_image_s16_t img = {d, RIG_W, RIG_H, RIG_W};
+    negobs_arena_t ar;
+    gfit_t g;
+    negobs_detect_config_default(&cfg, RIG_W, RIG_H);
+    negobs_arena_init(&ar, mem, sizeof mem);
+    assert_int_equal(gfit_carve(&g, &ar, &cfg), NEGOBS_OK);
+    synth_render(s, &cfg.rig, d, RIG_W);
+    edit(d);
+    gfit_process(&g, &img, NULL, NULL, NULL, out);
+}
+
+/* Two hands, 0.35-0.5 m away, over the outer columns of the bottom 90
+ * rows (the whole bottom band); the floor between them is weakly matched
+ * (45 % dropout). Over the whole band only 22 % of the samples are
+ * valid, and the old fit said FEW_GROUND; the strips between the hands
+ * hold 55 % and span over a quarter of the width: the floor is fitted. */
+static void edit_hands(int16_t *d)
+{
+    cover_near(d, 0, 112, 150, 8);
+    cover_near(d, 208, RIG_W, 150, 8);
+}
+
+static void test_ground_fit_finds_the_floor_between_near_hands(void **state)
+{
+    static const double hs[] = {1.6, 1.75, 1.45};
+    static const double ps[] = {35.0, 40.0, 28.0};
+    static const double rs[] = {0.0, -6.0, 4.0};
+    int i;
+    (void)state;
+    for (i = 0; i < 3; i++) {
+        synth_scene_t s;
+        gfit_out_t o;
+        synth_flat(&s, hs[i], ps[i]);
+        s.roll_deg = rs[i];
+        s.noise_px = 0.25;
+        s.dropout = 0.45;
+        s.seed = (uint32_t)i + 300u;
+        edit_rng = (uint32_t)i + 1u;
+        fit_scene_edit(&s, edit_hands, &o);
+        print_message("hands, H %.2f m pitch %.0f roll %.0f: ok %d "
+                      "(valid %d permille, support %d), %d mm %d mdeg roll "
+                      "%d\n",
+                      hs[i], ps[i], rs[i], o.ok, (int)o.valid_permille,
+                      (int)o.support_permille, (int)o.pose.height_mm,
+                      (int)o.pose.pitch_mdeg, (int)o.pose.roll_mdeg);
+        assert_true(o.valid_permille < 250); /* the old gate's FEW_GROUND */
+        assert_int_equal(o.ok, 1);
+        assert_true(abs(o.pose.height_mm - (int)(hs[i] * 1000)) <=
+                    (int)(hs[i] * 40));
+        assert_true(abs(o.pose.pitch_mdeg - (int)(ps[i] * 1000)) <= 800);
+        assert_true(abs(o.pose.roll_mdeg - (int)(rs[i] * 1000)) <= 1500);
+    }
+}
+
+/* An object across the whole width of the bottom band (a bag, a table's
+ * edge held in front of the camera): the floor shows only in the rows
+ * above it. The old fit, bound to the bottom band, said FEW_GROUND; the
+ * wide band finds the floor there. */
+static void edit_bottom_band(int16_t *d)
+{
+    cover_near(d, 0, RIG_W, 176, 5);
+}
+
+static void test_ground_fit_looks_above_a_covered_bottom_band(void **state)
+{
+    static const double hs[] = {1.2, 1.6, 0.9};
+    static const double ps[] = {20.0, 30.0, 12.0};
+    int i;
+    (void)state;
+    for (i = 0; i < 3; i++) {
+        synth_scene_t s;
+        gfit_out_t o;
+        synth_flat(&s, hs[i], ps[i]);
+        s.noise_px = 0.25;
+        s.seed = (uint32_t)i + 310u;
+        edit_rng = (uint32_t)i + 11u;
+        fit_scene_edit(&s, edit_bottom_band, &o);
+        print_message("bottom band covered, H %.2f m pitch %.0f: ok %d wide "
+                      "%d, %d mm %d mdeg\n",
+                      hs[i], ps[i], o.ok, (int)o.wide, (int)o.pose.height_mm,
+                      (int)o.pose.pitch_mdeg);
+        assert_int_equal(o.ok, 1);
+        assert_int_equal(o.wide, 1);
+        assert_true(abs(o.pose.height_mm - (int)(hs[i] * 1000)) <=
+                    (int)(hs[i] * 40));
+        assert_true(abs(o.pose.pitch_mdeg - (int)(ps[i] * 1000)) <= 800);
+    }
+}
+
+/* A cupboard front 1.3 m ahead over the left 60 % of the bottom band
+ * (disparity f B / Z constant down its face, the matcher's noise on it),
+ * the floor beside it: the fit must be the floor's, not a plane bent
+ * toward the front. */
+static void edit_front(int16_t *d)
+{
+    int32_t u;
+    int32_t v;
+    for (v = 150; v < RIG_H; v++) {
+        for (u = 0; u < 192; u++) {
+            d[v * RIG_W + u] = (int16_t)(250 * 120 * 16 / 1300 + edit_rand(9) -
+                                         4);
+        }
+    }
+}
+
+static void test_ground_fit_ignores_a_front_in_the_bottom_band(void **state)
+{
+    synth_scene_t s;
+    gfit_out_t o;
+    (void)state;
+    synth_flat(&s, 1.2, 20.0);
+    s.noise_px = 0.25;
+    s.seed = 320u;
+    edit_rng = 21u;
+    fit_scene_edit(&s, edit_front, &o);
+    print_message("front: ok %d, %d mm %d mdeg roll %d\n", o.ok,
+                  (int)o.pose.height_mm, (int)o.pose.pitch_mdeg,
+                  (int)o.pose.roll_mdeg);
+    assert_int_equal(o.ok, 1);
+    assert_true(abs(o.pose.height_mm - 1200) <= 48);
+    assert_true(abs(o.pose.pitch_mdeg - 20000) <= 800);
+    assert_true(abs(o.pose.roll_mdeg) <= 800);
+}
+
+/* The danger of a fit that looks anywhere: the near floor is textureless
+ * (unmatched over the whole bottom band) and a 15 cm drop lies under it;
+ * only the lower surface beyond is matched, so the wide band fits the
+ * lower floor (a camera 15 cm higher). That fit may be reported, but the
+ * frame must never vouch past the drop: unmatched rows that may be floor
+ * stay unseen floor, and the walk starts at the bottom row. */
+static void test_ground_fit_anywhere_never_vouches_past_a_hidden_drop(
+    void **state)
+{
+    /* the last: a 45 deg camera, whose plane at the bottom row lies
+     * within mount_verify_near_mm of the feet; a wide-band fit must not
+     * verify the start by it (the floor it rests on is the lower one) */
+    static const double edges[] = {1.3, 1.6, 1.9, 0.8};
+    static const double pitches[] = {20.0, 20.0, 20.0, 45.0};
+    rig_t *r = malloc(sizeof *r);
+    int i;
+    int k;
+    (void)state;
+    assert_non_null(r);
+    for (i = 0; i < 4; i++) {
+        rig_setup(r, NULL);
+        for (k = 0; k < 6; k++) {
+            synth_scene_t s;
+            synth_flat(&s, 1.2, pitches[i]);
+            s.noise_px = 0.15;
+            s.seed = (uint32_t)(i * 10 + k) + 330u;
+            synth_step(&s, edges[i], -0.15);
+            s.inv_u0 = 0;
+            s.inv_u1 = RIG_W;
+            s.inv_v0 = (i == 3) ? 165 : 176;
+            s.inv_v1 = RIG_H;
+            assert_int_equal(rig_frame(r, &s), NEGOBS_OK);
+            print_message("drop at %.1f m under a textureless near floor "
+                          "(pitch %.0f): state %d, clear_to %d mm, ground "
+                          "%d, %d mm, reasons %u\n",
+                          edges[i], pitches[i], (int)r->res.state,
+                          r->res.clear_to_mm, (int)r->res.ground_valid,
+                          (int)r->res.pose.height_mm, r->res.reasons);
+            assert_true(r->res.state != NEGOBS_DETECT_CLEAR);
+            assert_true(r->res.clear_to_mm * 10 <= (int)(edges[i] * 11000));
+            if (r->res.ground_valid) {
+                assert_true((r->res.reasons &
+                             NEGOBS_DEGRADED_GROUND_UNVERIFIED) != 0u);
+            }
+        }
+        rig_teardown(r);
+    }
+    free(r);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -408,6 +622,11 @@ int main(void)
         cmocka_unit_test(test_ground_fit_stops_at_an_edge_inside_the_fit_rows),
         cmocka_unit_test(test_ground_fit_accepts_any_physical_mounting),
         cmocka_unit_test(test_ground_fit_rejects_what_cannot_be_a_floor),
+        cmocka_unit_test(test_ground_fit_finds_the_floor_between_near_hands),
+        cmocka_unit_test(test_ground_fit_looks_above_a_covered_bottom_band),
+        cmocka_unit_test(test_ground_fit_ignores_a_front_in_the_bottom_band),
+        cmocka_unit_test(
+            test_ground_fit_anywhere_never_vouches_past_a_hidden_drop),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -73,10 +73,13 @@ static int ground_unverified(detect_priv_t *p,
                              const gfit_out_t *g, uint32_t now_ms)
 {
     /* looking at the feet verifies the start unless the floor in view
-     * rose meanwhile; agreeing with the hint always does */
+     * rose meanwhile; agreeing with the hint always does. A fit of the
+     * wide band (ground_fit.c) never sees the feet: it exists because the
+     * bottom rows showed no floor, so its plane there is extrapolated,
+     * and the floor it rests on may lie beyond an edge. */
     const int risen = ground_risen(p, cfg, g, now_ms);
     if (!mount_height_unverified(cfg, g->pose.height_mm) ||
-        (!risen && mount_sees_feet(cfg, &g->plane, &g->frame))) {
+        (!risen && !g->wide && mount_sees_feet(cfg, &g->plane, &g->frame))) {
         p->unverified_on = 0;
         return 0;
     }

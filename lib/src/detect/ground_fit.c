@@ -3,8 +3,11 @@
  *
  * 1. v-disparity. Over the bottom fit_rows_pct of the image (and never above
  *    the lowest horizon the priors allow: the principal row at pitch 0),
- *    every fit_step-th pixel with a valid disparity is counted into a
- *    (row, disparity bin) histogram.
+ *    every fit_step-th pixel with a valid disparity in a column strip of
+ *    the support (ground_support.c: the strips whose own valid share
+ *    reaches ground_min_valid_pct) is counted into a (row, disparity bin)
+ *    histogram. When this bottom band gives no accepted fit, the whole fit
+ *    runs again on the wide band: every row below that horizon.
  * 2. Constrained Hough. A flat ground is the line d = s*(v - v_h) in that
  *    histogram. Only lines whose (H, pitch) lie inside the physical
  *    priors of a worn camera (mount.c) are searched: 32 slopes
@@ -15,7 +18,9 @@
  *    not lose it.
  * 3. Plane refinement. Least squares of d = a*u + b*v + c on the samples
  *    within a gate of the current model (IRLS with 0/1 weights): once on
- *    the nearest third of the fit rows, once on the nearer half with a
+ *    the nearest third of the fit rows (counted from the nearest row with
+ *    support), after which strips that mostly disagree with the plane
+ *    leave the support (a front, a wall), once on the nearer half with a
  *    tighter gate, then twice on all fit rows with an asymmetric gate
  *    (+3 sigma / -2 sigma). Before each widening, the rows are only taken
  *    up to an edge: the first two sampled rows whose majority lies 3 sigma
@@ -25,9 +30,10 @@
  * 4. Noise. sigma = 1.4826 * MAD of the residuals of the samples in the
  *    nearer half of the fit rows (an overflow bin keeps far outliers
  *    counted), floored at sigma_min.
- * 5. Acceptance and tracking. The pose of the plane must be a possible
- *    floor (mount_pose_physical: the priors, never the configured hint)
- *    and enough samples must be inliers. An accepted fit is
+ * 5. Acceptance and tracking. The support must hold a quarter of the
+ *    band's samples, the pose of the plane must be a possible floor
+ *    (mount_pose_physical: the priors, never the configured hint) and
+ *    enough samples must be inliers. An accepted fit is
  *    blended into the track when it agrees with it at three reference
  *    points, and replaces it after two frames of disagreement.
  *
@@ -52,6 +58,18 @@ static int32_t clamp_pitch(int32_t p)
     return negobs_clamp_s32(p, -10000, 70000);
 }
 
+/* Sampling step for a band of rows: fit_step_px, grown until the band
+ * holds at most GFIT_MAX_SAMPLES samples. */
+static int32_t band_step(const negobs_detect_config_t *cfg, int32_t rows)
+{
+    int32_t step = geom_max_s32(cfg->fit_step_px, 1);
+    while (((int64_t)cfg->rig.width / step + 1) * (rows / step + 1) >
+           GFIT_MAX_SAMPLES) {
+        step++;
+    }
+    return step;
+}
+
 negobs_status_t gfit_carve(gfit_t *g, negobs_arena_t *ar,
                            const negobs_detect_config_t *cfg)
 {
@@ -71,7 +89,6 @@ negobs_status_t gfit_carve(gfit_t *g, negobs_arena_t *ar,
     int32_t vh_floor;
     int32_t fit_rows;
     int32_t i;
-    int64_t samples;
 
     memset(g, 0, sizeof *g);
     g->cfg = cfg;
@@ -133,7 +150,8 @@ negobs_status_t gfit_carve(gfit_t *g, negobs_arena_t *ar,
     }
 
     /* Fit rows: bottom share, and at least 4 rows below the lowest
-     * horizon the priors allow. */
+     * horizon the priors allow. The wide band reaches up to that horizon
+     * bound: every row where the floor of some possible mounting can be. */
     fit_rows = (rig->height * cfg->fit_rows_pct) / 100;
     vh_floor = (int32_t)(vh_max_q4 / 16) + 4;
     g->v_lo = geom_max_s32(rig->height - fit_rows, vh_floor);
@@ -144,18 +162,17 @@ negobs_status_t gfit_carve(gfit_t *g, negobs_arena_t *ar,
         g->v_lo = 0;
     }
     g->rows = rig->height - g->v_lo;
+    g->wide_v_lo = negobs_clamp_s32(vh_floor, 0, g->v_lo);
     g->bin_q4 = 8;
     g->nbins = cfg->max_disp_q4 / g->bin_q4 + 1;
-    g->step = geom_max_s32(cfg->fit_step_px, 1);
-    samples = ((int64_t)rig->width / g->step + 1) * (g->rows / g->step + 1);
-    while (samples > GFIT_MAX_SAMPLES) {
-        g->step++;
-        samples = ((int64_t)rig->width / g->step + 1) *
-                  (g->rows / g->step + 1);
-    }
+    g->step = band_step(cfg, g->rows);
+    g->wide_step = band_step(cfg, rig->height - g->wide_v_lo);
+    g->col_w = (rig->width + GFIT_COLS - 1) / GFIT_COLS;
+    g->band_v_lo = g->v_lo;
+    g->band_step = g->step;
 
-    g->vhist = negobs_arena_take(ar, (size_t)g->rows * (size_t)g->nbins *
-                                         sizeof(uint16_t));
+    g->vhist = negobs_arena_take(ar, (size_t)(rig->height - g->wide_v_lo) *
+                                         (size_t)g->nbins * sizeof(uint16_t));
     g->acc = negobs_arena_take(ar, (size_t)GFIT_N_SLOPES * GFIT_N_K *
                                        sizeof(uint32_t));
     g->absres = negobs_arena_take(ar, GFIT_ABS_BINS * sizeof(uint32_t));
@@ -170,18 +187,6 @@ void gfit_reset(gfit_t *g)
     g->fails = 0;
     g->sigma_q4 = g->cfg->sigma_min_q4;
     memset(&g->plane, 0, sizeof g->plane);
-}
-
-static int sample_valid(const negobs_image_u8_t *conf, int32_t min_conf,
-                        int32_t u, int32_t v, int32_t d)
-{
-    if (d == NEGOBS_DISP_INVALID || d < 0) {
-        return 0;
-    }
-    if (conf != NULL && (int32_t)negobs_image_u8_row(conf, v)[u] < min_conf) {
-        return 0;
-    }
-    return 1;
 }
 
 /* Hough peak over the v-disparity histogram. Returns 0 when empty. */
@@ -308,7 +313,7 @@ static int32_t refine_step(const gfit_t *g, const negobs_image_s16_t *disp,
             int64_t r; /* q12: 1/256 of a q4 step */
             int64_t x;
             int64_t y;
-            if (!sample_valid(conf, g->cfg->ground_min_confidence, u, v, d)) {
+            if (!gfit_sample_ok(g, conf, u, v, d)) {
                 continue;
             }
             r = geom_rshift_round_s64(
@@ -421,14 +426,14 @@ static int32_t ground_top(const gfit_t *g, const negobs_image_s16_t *disp,
         for (u = g->step / 2; u < rig->width;
              u += g->step, acc += (int64_t)plane->a_q20 * g->step) {
             int32_t d = row[u];
-            if (!sample_valid(conf, g->cfg->ground_min_confidence, u, v, d)) {
+            if (!gfit_sample_ok(g, conf, u, v, d)) {
                 continue;
             }
             n++;
             n_def += d - (int32_t)geom_rshift_round_s64(acc, 16) <= -tau_q4;
         }
-        if (4 * n < rig->width / g->step) {
-            continue; /* under a quarter of the row sampled: no vote */
+        if (4 * n < g->support_cols) {
+            continue; /* under a quarter of the support sampled: no vote */
         }
         if (2 * n_def > n) {
             if (++run >= 2) {
@@ -459,13 +464,13 @@ static int32_t noise_sigma(gfit_t *g, const negobs_image_s16_t *disp,
      * feet is almost always there, so a drop farther up the fit region
      * does not inflate the estimate. */
     memset(g->absres, 0, GFIT_ABS_BINS * sizeof(uint32_t));
-    for (v = rig->height - 1; v >= g->v_lo + g->rows / 2; v -= g->step) {
+    for (v = rig->height - 1; v >= g->v_lo + g->near_rows / 2; v -= g->step) {
         const int16_t *row = negobs_image_s16_row(disp, v);
         int64_t base = (int64_t)plane->b_q20 * v + plane->c_q20;
         for (u = g->step / 2; u < rig->width; u += g->step) {
             int32_t d = row[u];
             int32_t r;
-            if (!sample_valid(conf, g->cfg->ground_min_confidence, u, v, d)) {
+            if (!gfit_sample_ok(g, conf, u, v, d)) {
                 continue;
             }
             r = d - (int32_t)geom_rshift_round_s64(
@@ -523,44 +528,45 @@ static int32_t blend(int32_t old, int32_t now, int32_t gain_q15)
     return (int32_t)(old + geom_rshift_round_s64(d * gain_q15, 15));
 }
 
-void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
-                  const negobs_image_u8_t *conf, const int16_t *view_u0,
-                  const int16_t *view_u1, gfit_out_t *out)
+/*
+ * The fit on the current band of rows (g->v_lo, g->rows, g->step): the
+ * support strips, the v-disparity histogram, the Hough line, the IRLS
+ * refinement and the acceptance tests. Returns 1 with *fit and *sigma_q4
+ * when the plane is accepted; out gets the shares, the inliers and the
+ * reason of a failure.
+ */
+static int fit_band(gfit_t *g, const negobs_image_s16_t *disp,
+                    const negobs_image_u8_t *conf, const int16_t *view_u0,
+                    const int16_t *view_u1, gfit_out_t *out,
+                    negobs_ground_plane_t *fit_out, int32_t *sigma_out)
 {
     const negobs_detect_config_t *cfg = g->cfg;
     const negobs_rig_t *rig = &cfg->rig;
     negobs_ground_plane_t fit;
     negobs_ground_pose_t pose;
-    int32_t v;
-    int32_t u;
-    uint32_t samples = 0;
-    uint32_t valid = 0;
+    gfit_support_t sup;
+    uint32_t samples;
+    uint32_t support;
+    uint32_t support_valid;
     int32_t inl = 0;
-    int32_t sigma;
+    int32_t sigma = 0;
     int ok = 0;
 
     memset(out, 0, sizeof *out);
-    memset(g->vhist, 0, (size_t)g->rows * (size_t)g->nbins * sizeof(uint16_t));
-    for (v = rig->height - 1; v >= g->v_lo; v -= g->step) {
-        const int16_t *row = negobs_image_s16_row(disp, v);
-        uint16_t *h = g->vhist + (size_t)(v - g->v_lo) * (size_t)g->nbins;
-        for (u = g->step / 2; u < rig->width; u += g->step) {
-            int32_t d = row[u];
-            if (view_u0 != NULL && (u < view_u0[v] || u >= view_u1[v])) {
-                continue; /* out of view: no floor to find there */
-            }
-            samples++;
-            if (!sample_valid(conf, cfg->ground_min_confidence, u, v, d)) {
-                continue;
-            }
-            valid++;
-            if (d / g->bin_q4 < g->nbins) {
-                h[d / g->bin_q4]++;
-            }
-        }
-    }
-    out->valid_permille = samples ? (int32_t)((valid * 1000u) / samples) : 0;
-    if (out->valid_permille < cfg->ground_min_valid_pct * 10) {
+    gfit_support(g, disp, conf, view_u0, view_u1, &sup);
+    samples = sup.samples;
+    support = sup.support;
+    support_valid = sup.support_valid;
+    out->valid_permille = samples ? (int32_t)((sup.valid * 1000u) / samples)
+                                  : 0;
+    out->support_permille = samples ? (int32_t)((support * 1000u) / samples)
+                                    : 0;
+    /* Too little support: the strips that show floor span under a quarter
+     * of the fit rows in view. The plane's roll (its u term) is then fitted
+     * over less than a quarter of the width, a lever four times shorter
+     * than the image's, and a scene whose floor shows only there (a gap
+     * between furniture) is as likely not floor at all. */
+    if (4u * support < samples || support == 0u) {
         out->reasons |= NEGOBS_DEGRADED_FEW_GROUND;
     } else if (hough_line(g, &fit)) {
         /* Every frame starts again from the Hough line and the nearer half
@@ -568,12 +574,21 @@ void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
          * with an edge in the fit rows. (Seeding from the track instead
          * lets a lower surface inside the fit rows pull the plane down a
          * little more every frame.) */
-        int32_t v_seed = g->v_lo + (2 * g->rows) / 3;
+        int32_t v_seed = g->v_lo + (2 * g->near_rows) / 3;
         int32_t v_near;
         int32_t v_top;
         refine_step(g, disp, conf, &fit, 48, 48, v_seed);
+        support = gfit_line_support(g, disp, conf, &fit, &sup, &support_valid);
+        if (4u * support < samples || support == 0u) {
+            /* no planar support over a quarter of the width */
+            out->support_permille = (int32_t)((support * 1000u) / samples);
+            out->reasons |= NEGOBS_DEGRADED_GROUND_REJECTED;
+            return 0;
+        }
+        out->support_permille = (int32_t)((support * 1000u) / samples);
         sigma = noise_sigma(g, disp, conf, &fit);
-        v_near = ground_top(g, disp, conf, &fit, v_seed, g->v_lo + g->rows / 2,
+        v_near = ground_top(g, disp, conf, &fit, v_seed,
+                            g->v_lo + g->near_rows / 2,
                             geom_max_s32(3 * sigma, 6));
         refine_step(g, disp, conf, &fit, geom_max_s32(3 * sigma, 12),
                     geom_max_s32(3 * sigma, 12), v_near);
@@ -592,7 +607,7 @@ void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
         sigma = noise_sigma(g, disp, conf, &fit);
         out->inliers = inl;
         if ((int64_t)inl * 100 >=
-                (int64_t)valid * cfg->ground_min_inlier_pct &&
+                (int64_t)support_valid * cfg->ground_min_inlier_pct &&
             inl >= 64 &&
             negobs_ground_pose_from_plane(rig, &fit, &pose, NULL) ==
                 NEGOBS_OK &&
@@ -604,6 +619,49 @@ void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
         if (!(out->reasons & NEGOBS_DEGRADED_FEW_GROUND)) {
             out->reasons |= NEGOBS_DEGRADED_GROUND_REJECTED;
         }
+        return 0;
+    }
+    *fit_out = fit;
+    *sigma_out = sigma;
+    return 1;
+}
+
+static void set_band(gfit_t *g, int wide)
+{
+    g->wide = wide;
+    g->v_lo = wide ? g->wide_v_lo : g->band_v_lo;
+    g->step = wide ? g->wide_step : g->band_step;
+    g->rows = g->cfg->rig.height - g->v_lo;
+}
+
+void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
+                  const negobs_image_u8_t *conf, const int16_t *view_u0,
+                  const int16_t *view_u1, gfit_out_t *out)
+{
+    const negobs_detect_config_t *cfg = g->cfg;
+    const negobs_rig_t *rig = &cfg->rig;
+    negobs_ground_plane_t fit;
+    int32_t sigma = 0;
+    int ok;
+
+    memset(out, 0, sizeof *out);
+    set_band(g, 0);
+    ok = fit_band(g, disp, conf, view_u0, view_u1, out, &fit, &sigma);
+    if (!ok && g->wide_v_lo < g->band_v_lo) {
+        /* No floor in the bottom band (hands, furniture or an unmatched
+         * surface over it): look for it in every row where the floor of a
+         * possible mounting can lie (section 4, "Where the fit looks"). */
+        gfit_out_t wide;
+        memset(&wide, 0, sizeof wide);
+        set_band(g, 1);
+        if (fit_band(g, disp, conf, view_u0, view_u1, &wide, &fit, &sigma)) {
+            *out = wide;
+            out->wide = 1;
+            ok = 1;
+        }
+        set_band(g, 0);
+    }
+    if (!ok) {
         if (++g->fails > 3) {
             g->tracked = 0;
         }
