@@ -680,4 +680,51 @@ cv::Mat overlay(const cv::Mat &left, const cv::Mat &disp_q4, int max_disp, int f
     return out;
 }
 
+namespace {
+
+bool bin_plan(int k, int eye_w, int eye_h, negobs_bin_plan_t &plan)
+{
+    return k >= 1 &&
+           negobs_bin_plan(eye_w, eye_h, eye_w / k, eye_h / k, &plan) == NEGOBS_OK &&
+           plan.k == k;
+}
+
+} // namespace
+
+bool bin_pair(int k, cv::Mat &left, cv::Mat &right, std::string &err)
+{
+    if (k == 1) {
+        return true;
+    }
+    negobs_bin_plan_t plan;
+    if (left.size() != right.size() || left.type() != CV_8UC1 ||
+        right.type() != CV_8UC1 || !bin_plan(k, left.cols, left.rows, plan)) {
+        err = "cannot bin a " + std::to_string(left.cols) + "x" +
+              std::to_string(left.rows) + " pair by " + std::to_string(k);
+        return false;
+    }
+    for (cv::Mat *m : {&left, &right}) {
+        cv::Mat src = m->isContinuous() ? *m : m->clone();
+        cv::Mat dst(plan.out_h, plan.out_w, CV_8UC1);
+        negobs_bin_u8(src.data, src.step, 1, &plan, dst.data, dst.step);
+        *m = dst;
+    }
+    return true;
+}
+
+void bin_camera(int k, int eye_w, int eye_h, CamParams &cam)
+{
+    negobs_bin_plan_t plan;
+    if (k == 1 || !bin_plan(k, eye_w, eye_h, plan)) {
+        return;
+    }
+    int32_t f_q4 = static_cast<int32_t>(std::lround(cam.f * 16.0));
+    int32_t cx_q4 = cam.cx < 0 ? -1 : static_cast<int32_t>(std::lround(cam.cx * 16.0));
+    int32_t cy_q4 = cam.cy < 0 ? -1 : static_cast<int32_t>(std::lround(cam.cy * 16.0));
+    negobs_bin_intrinsics_q4(&plan, &f_q4, &cx_q4, &cy_q4);
+    cam.f = f_q4 / 16.0;
+    cam.cx = cam.cx < 0 ? -1.0 : cx_q4 / 16.0;
+    cam.cy = cam.cy < 0 ? -1.0 : cy_q4 / 16.0;
+}
+
 } // namespace negobs_detect_tools

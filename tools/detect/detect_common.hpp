@@ -15,6 +15,7 @@
 
 extern "C" {
 #include "negobs/negobs.h"
+#include "negobs_port/frame_convert.h"
 #include "negobs_port/pool.h"
 }
 
@@ -153,6 +154,17 @@ cv::Mat colour_disparity(const cv::Mat &disp_q4, int max_disp);
 cv::Mat overlay(const cv::Mat &left, const cv::Mat &disp_q4, int max_disp, int frame,
                 const FrameOut &o, const GtFrame *gt,
                 const std::vector<cv::Rect> &labels = {});
+
+// Integer k x k area binning of a pair to the processing size, as the
+// device does (docs/CAMERAS.md, "Choosing the processing size"): the port's
+// own plan, bin and intrinsics (port/camera/frame_convert.c), so a binned
+// PNG is what the wearable would process. The eye is centre-cropped to a
+// multiple of k; f, cx and cy (in cam, for the eye's full size; cx, cy < 0:
+// the centre, kept) become f / k and (c - crop - (k - 1) / 2) / k, rounded
+// to 1/16 px by the port. k = 1: nothing changes. false + err on a size
+// the port refuses.
+bool bin_pair(int k, cv::Mat &left, cv::Mat &right, std::string &err);
+void bin_camera(int k, int eye_w, int eye_h, CamParams &cam);
 
 } // namespace negobs_detect_tools
 

@@ -447,6 +447,7 @@ struct Options {
     bool oakd = false; // --oakd: the OAK-D pairs table
     std::string oakd_dir;
     int oakd_repeat = 5;
+    int bin = 1; // --bin K: k x k area binning of the OAK-D pairs (the device's)
     std::string img_dir;
     std::string dump_dir; // --surdis-dump: raw maps + plane per frame
     // the assumptions of docs/journal/detection-surdis-21.md (no calibration
@@ -1945,9 +1946,30 @@ int evaluate_oakd(const Options &opt)
                     opt.oakd_dir.c_str());
         return 77;
     }
+    // The processing size: the first pair's, binned as the device would
+    // (--bin K, the port's integer area binning; f, cx, cy scale with it).
+    cv::Mat L0, R0;
+    std::string err0;
+    if (!load_grey((root / (names[0] + "_left.png")).string(), L0, err0)) {
+        std::fprintf(stderr, "negobs_detect_eval: error: %s\n", err0.c_str());
+        return 1;
+    }
+    const int eye_w = L0.cols, eye_h = L0.rows;
+    R0 = L0.clone();
+    if (!bin_pair(opt.bin, L0, R0, err0)) {
+        std::fprintf(stderr, "negobs_detect_eval: error: %s\n", err0.c_str());
+        return 1;
+    }
+    bin_camera(opt.bin, eye_w, eye_h, cam);
     Report rep;
-    rep.both("OAK-D pairs in " + root.filename().string() + ": f = " +
-             fmtd("%.2f", cam.f) + " px, B = " + fmtd("%.0f", cam.baseline_mm) +
+    rep.both("OAK-D pairs in " + root.filename().string() + ", processed at " +
+             std::to_string(L0.cols) + "x" + std::to_string(L0.rows) +
+             (opt.bin > 1 ? " (" + std::to_string(eye_w) + "x" + std::to_string(eye_h) +
+                                " binned " + std::to_string(opt.bin) + "x" +
+                                std::to_string(opt.bin) + ")"
+                          : std::string()) +
+             ": f = " + fmtd("%.2f", cam.f) +
+             " px, B = " + fmtd("%.0f", cam.baseline_mm) +
              " mm, cx, cy = " + fmtd("%.2f", cam.cx) + ", " + fmtd("%.2f", cam.cy) +
              " (calibration.json), no mounting hint; each pair fed " +
              std::to_string(opt.oakd_repeat) + " times at 10 fps, last frame shown.");
@@ -1959,7 +1981,12 @@ int evaluate_oakd(const Options &opt)
         cv::Mat L, R;
         std::string err;
         if (!load_grey((root / (n + "_left.png")).string(), L, err) ||
-            !load_grey((root / (n + "_right.png")).string(), R, err)) {
+            !load_grey((root / (n + "_right.png")).string(), R, err) ||
+            (L.cols != eye_w || L.rows != eye_h
+                 ? (err = n + ": not " + std::to_string(eye_w) + "x" +
+                          std::to_string(eye_h),
+                    false)
+                 : !bin_pair(opt.bin, L, R, err))) {
             std::fprintf(stderr, "negobs_detect_eval: error: %s\n", err.c_str());
             return 1;
         }
@@ -2029,7 +2056,8 @@ void usage(FILE *f)
         "                          [--surdis-vshift ROWS|auto|model] [--surdis-frames A-B]\n"
         "                          [--surdis-range-warn-mm R] [--surdis-range-max-mm R]\n"
         "                          [--surdis-max-disp N (15)] [--surdis-dump DIR]\n"
-        "       negobs_detect_eval --oakd [DIR] [--oakd-repeat N (5)] [--markdown FILE]\n"
+        "       negobs_detect_eval --oakd [DIR] [--oakd-repeat N (5)] [--bin K (1)]\n"
+        "                          [--markdown FILE]\n"
         "Synthetic suite (default, 273 sequences; --quick 17): renders each\n"
         "sequence with negobs_synth into --work (default /tmp/negobs_detect_eval),\n"
         "runs the pipeline, deletes the images unless --keep (kept ones are\n"
@@ -2057,7 +2085,8 @@ void usage(FILE *f)
         "$NEGOBS_DATA/oakd) with f, B, cx, cy from DIR/calibration.json and no\n"
         "mounting hint, each fed N times; prints one Markdown table row per pair\n"
         "(verdict with blocked_at_mm when set, clear_to_mm, mounting, the frame's fit,\n"
-        "noise_vouch_mm).\n"
+        "noise_vouch_mm). --bin K (1-4): bin every pair K x K first, as the device\n"
+        "does at its processing size (the port's area binning; f, cx, cy scale).\n"
         "--img-dir DIR: created (with parents) and checked writable before the run.\n"
         "Without arguments: this text and exit 2 (the suite takes many minutes;\n"
         "--all runs it). -h/--help, -V/--version; options take their value as\n"
@@ -2080,6 +2109,7 @@ enum LongOnly {
     O_SURDIS,
     O_OAKD,
     O_OAKD_REPEAT,
+    O_BIN,
     O_SURDIS_DUMP,
     O_SURDIS_F,
     O_SURDIS_B,
@@ -2109,6 +2139,7 @@ const struct option kLongOpts[] = {
     {"surdis", optional_argument, nullptr, O_SURDIS},
     {"oakd", optional_argument, nullptr, O_OAKD},
     {"oakd-repeat", required_argument, nullptr, O_OAKD_REPEAT},
+    {"bin", required_argument, nullptr, O_BIN},
     {"surdis-dump", required_argument, nullptr, O_SURDIS_DUMP},
     {"surdis-f", required_argument, nullptr, O_SURDIS_F},
     {"surdis-baseline-mm", required_argument, nullptr, O_SURDIS_B},
@@ -2227,6 +2258,7 @@ int main(int argc, char **argv)
         case O_OAKD_REPEAT:
             ok = negobs_cli::parse_int(optarg, 1, 100, opt.oakd_repeat);
             break;
+        case O_BIN: ok = negobs_cli::parse_int(optarg, 1, 4, opt.bin); break;
         case O_SURDIS_DUMP: opt.dump_dir = v; break;
         case O_SURDIS_F: ok = num(opt.surdis_f, 50, 5000); break;
         case O_SURDIS_B: ok = num(opt.surdis_B, 5, 500); break;

@@ -60,6 +60,10 @@ void usage(FILE *f)
            "                    the matcher estimates whole rows)\n"
            "  --vshift model    sub-pixel, row-varying alignment stage before the\n"
            "                    matcher (negobs/valign.h; uncalibrated rigs)\n"
+           "  --bin K           bin every pair K x K (1..4, default 1) to the\n"
+           "                    processing size, as the device does (the port's\n"
+           "                    integer area binning); the camera values above\n"
+           "                    describe the unbinned images and are scaled\n"
            "Options given on the command line override gt.json.\n"
            "  --fps F           frame rate for timestamps (10, or gt.json's)\n"
            "  --repeat N        single pair: feed it N times (confirmation needs\n"
@@ -155,7 +159,7 @@ int run(int argc, char **argv)
     double overlay_scale = 1.0;
     double f = -1, B = -1, cx = -1, cy = -1, H = -1, pitch = -1e9, fps = -1;
     int threads = 1; // the times stay one thread's CPU time
-    int max_disp = -1, vshift = 0, repeat = 1, first = 0, count = -1;
+    int max_disp = -1, vshift = 0, repeat = 1, first = 0, count = -1, bin = 1;
     bool valign = false;
     bool vshift_set = false, overlay_on = true, summary = false, quiet = false,
          whole = false;
@@ -179,7 +183,8 @@ int run(int argc, char **argv)
         O_SUMMARY,
         O_WHOLE,
         O_CALIB,
-        O_THREADS
+        O_THREADS,
+        O_BIN
     };
     static const struct option long_opts[] = {
         {"help", no_argument, nullptr, 'h'},
@@ -206,6 +211,7 @@ int run(int argc, char **argv)
         {"whole", no_argument, nullptr, O_WHOLE},
         {"calib", required_argument, nullptr, O_CALIB},
         {"threads", required_argument, nullptr, O_THREADS},
+        {"bin", required_argument, nullptr, O_BIN},
         {nullptr, 0, nullptr, 0},
     };
     if (argc < 2) {
@@ -253,6 +259,7 @@ int run(int argc, char **argv)
         case O_SUMMARY: summary = true; break;
         case 'q': quiet = true; break;
         case O_WHOLE: whole = true; break;
+        case O_BIN: ok = negobs_cli::parse_int(v, 1, 4, bin); break;
         case O_THREADS:
             ok = negobs_cli::parse_int(v, 1, NEGOBS_POOL_MAX_THREADS, threads);
             break;
@@ -444,6 +451,10 @@ int run(int argc, char **argv)
                 return fail(err);
             }
         }
+        const int eye_w = L.cols, eye_h = L.rows;
+        if (L.size() == R.size() && !bin_pair(bin, L, R, err)) {
+            return fail(err);
+        }
         if (L.size() != R.size()) {
             return fail("size mismatch: " + it.left + " is " + std::to_string(L.cols) +
                         "x" + std::to_string(L.rows) + ", " + it.right + " is " +
@@ -452,14 +463,15 @@ int run(int argc, char **argv)
         if (k == 0) {
             w = L.cols;
             h = L.rows;
-            if (have_gt && (gt.width != w || gt.height != h)) {
+            if (have_gt && (gt.width != eye_w || gt.height != eye_h)) {
                 return fail("gt.json says " + std::to_string(gt.width) + "x" +
                             std::to_string(gt.height) + ", images are " +
-                            std::to_string(w) + "x" + std::to_string(h));
+                            std::to_string(eye_w) + "x" + std::to_string(eye_h));
             }
             if (!have_gt && f <= 0) {
-                cam.f = 250.0 * w / 320.0;
+                cam.f = 250.0 * eye_w / 320.0;
             }
+            bin_camera(bin, eye_w, eye_h, cam);
             if (!runner.init(w, h, cam, err, whole)) {
                 return fail(err);
             }

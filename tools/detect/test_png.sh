@@ -7,6 +7,9 @@
 #  2. flat ground, 8 frames, and flat ground with painted distractors, 25
 #     frames: no frame may hold a hazard (state HAZARD).
 #  3. a right image of another size: exit 1 with "size mismatch".
+#  4. --bin 2: the curb rendered at 640x480, f=500, processed at 320x240
+#     with f, cx, cy binned: a confirmed hazard within 10 % of the truth
+#     (an unscaled f or cy puts it far off); --bin 5 is exit 2.
 # usage: test_png.sh NEGOBS_SYNTH NEGOBS_PNG WORKDIR
 set -eu
 synth=$1
@@ -117,3 +120,39 @@ if [ $rc -ne 1 ] || ! grep -q "size mismatch" "$work/mm.err"; then
     echo "FAIL: size mismatch gave exit $rc:"; cat "$work/mm.err"; exit 1
 fi
 echo "size mismatch: exit 1 ($(cat "$work/mm.err"))"
+
+# --bin 2: the same curb at 640x480 / f = 500, binned as the device does.
+"$synth" --scene curb --drop-mm 150 --edge-mm 5000 --frames 14 --fps 10 \
+    --speed 1.2 --noise 2 --blur 0.5 --seed 11 --threads 1 --quiet \
+    --width 640 --height 480 --f 500 --out "$work/curb640"
+"$png" --seq "$work/curb640" --bin 2 --no-overlay --json "$work/curb640.jsonl" \
+    --out "$work/curb640_out"
+ok=$(awk '
+{
+    gt = $0; sub(/.*"gt":\{[^}]*"edge_range_mm":/, "", gt); sub(/[,}].*/, "", gt)
+    hz = $0; sub(/.*"hazards":\[/, "", hz); sub(/\],"candidates".*/, "", hz)
+    n = split(hz, parts, /\{"type":/)
+    for (k = 2; k <= n; k++) {
+        if (parts[k] !~ /CONFIRMED/) continue
+        r = parts[k]; sub(/.*"range_mm":/, "", r); sub(/,.*/, "", r)
+        if (gt != "null" && gt > 0) {
+            e = (r - gt) / gt; if (e < 0) e = -e
+            if (e <= 0.10) good++
+        }
+    }
+}
+END { print good + 0 }' "$work/curb640.jsonl")
+if [ "$ok" -lt 1 ]; then
+    echo "FAIL: --bin 2: no confirmed hazard within 10 % of the true range"
+    exit 1
+fi
+echo "--bin 2: $ok frames with a confirmed hazard within 10 % of the true range"
+set +e
+"$png" "$work/flat/left_0000.png" "$work/flat/right_0000.png" --bin 5 \
+    --out "$work/bin5" > /dev/null 2>&1
+rc=$?
+set -e
+if [ $rc -ne 2 ]; then
+    echo "FAIL: --bin 5 gave exit $rc, not 2"; exit 1
+fi
+echo "--bin 5: exit 2"

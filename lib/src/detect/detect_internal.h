@@ -68,6 +68,9 @@ typedef struct strip_hit {
     /* vouch: farthest row the strip's support reaches from the bottom
      * (an unseen run or a closure ends it) */
     int32_t sup_v;
+    /* det_strip_occluder: rows at or below it are covered by a near
+     * occluder (out of view); rig.height when none */
+    int32_t occl_v;
 } strip_hit_t;
 
 /* A strip is closed by a positive obstacle after this many consecutive
@@ -199,6 +202,8 @@ int det_strip_in_walk(const scan_ctx_t *s, int32_t n_strips, int32_t si,
 
 void det_scan_strip(const scan_ctx_t *s, int32_t u0, int32_t u1,
                     strip_hit_t *hit);
+
+int32_t det_strip_occluder(const scan_ctx_t *s, int32_t u0, int32_t u1);
 
 int det_strip_row_e(const scan_ctx_t *s, const detect_priv_t *p, int32_t v,
                     int32_t si, int32_t *rr, int32_t *e_out);

@@ -297,6 +297,9 @@ void det_strip_noise(scan_ctx_t *s, detect_priv_t *p, uint16_t *hist)
         for (v = h - 1; v >= s->band_v0 && hs->blocked_v < 0; v--) {
             int32_t e;
             int32_t thr = geom_max_s32(BLOCK_MIN_Q5, 6 * det_sigma_at(s, v));
+            if (v >= hs->occl_v) {
+                continue; /* a near occluder: out of view */
+            }
             if (det_strip_row_e(s, p, v, si, rr, &e)) {
                 entered = 1;
                 strip_hist_add(s, hist, v, e);
@@ -327,7 +330,7 @@ void det_strip_noise(scan_ctx_t *s, detect_priv_t *p, uint16_t *hist)
     for (v = h - 1; v >= s->band_v0 && (any_candidate || any_closed); v--) {
         for (si = 0; si < p->n_strips; si++) {
             int32_t e;
-            if (v <= p->hits[si].blocked_v ||
+            if (v <= p->hits[si].blocked_v || v >= p->hits[si].occl_v ||
                 !det_strip_row_e(s, p, v, si, rr, &e)) {
                 continue; /* beyond a wall: nothing to vouch for there */
             }

@@ -701,7 +701,10 @@ void det_scan_strip(const scan_ctx_t *s, int32_t u0, int32_t u1,
     memset(hit, 0, sizeof *hit);
     hit->u0 = u0;
     hit->u1 = u1;
-    for (v = cfg->rig.height - 1; v >= 0; v--) {
+    /* rows covered by a near occluder are out of view, like rows below
+     * the image: the scan starts above it */
+    hit->occl_v = det_strip_occluder(s, u0, u1);
+    for (v = hit->occl_v - 1; v >= 0; v--) {
         enum row_class rc;
         enum scan_step step;
         int32_t dgc = negobs_ground_disp_q4(s->plane, uc, v);

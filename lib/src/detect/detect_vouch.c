@@ -65,7 +65,7 @@ static void vouch_cell_spread(const scan_ctx_t *s, detect_priv_t *p,
         int32_t e;
         int32_t b;
         int32_t mean_q5;
-        if (v <= p->hits[si].blocked_v ||
+        if (v <= p->hits[si].blocked_v || v >= p->hits[si].occl_v ||
             !det_strip_in_corridor(s, p->n_strips, si, v) ||
             !det_strip_row_e(s, p, v, si, rr, &e)) {
             continue;
@@ -109,8 +109,9 @@ void det_vouch_collect(const scan_ctx_t *s, detect_priv_t *p)
                 hs->sup_v = v + 1;
                 break;
             }
-            if (!det_strip_in_corridor(s, p->n_strips, si, v)) {
-                continue;
+            if (v >= hs->occl_v ||
+                !det_strip_in_corridor(s, p->n_strips, si, v)) {
+                continue; /* out of view: a near occluder, or the corridor */
             }
             if (det_strip_row_e(s, p, v, si, rr, &e)) {
                 int32_t b = band_of(s, v);
@@ -124,8 +125,8 @@ void det_vouch_collect(const scan_ctx_t *s, detect_priv_t *p)
             if (++run >= VOUCH_GAP_ROWS &&
                 model_range_mm(s, uc, v) - model_range_mm(s, uc, last_seen) >=
                     VOUCH_GAP_MM) {
-                hs->sup_v = (run == cfg->rig.height - v) ? cfg->rig.height
-                                                         : last_seen;
+                hs->sup_v = (run == hs->occl_v - v) ? cfg->rig.height
+                                                    : last_seen;
                 break;
             }
         }
@@ -208,6 +209,7 @@ typedef struct walk_row {
     int32_t max_bad_open; /* the same, barred strips left out            */
     uint32_t why;         /* NOISY / FEW_GROUND of the failing strips    */
     int32_t any_alive;    /* some strip still vouched from the bottom    */
+    int32_t n_occl;       /* strips covered by a near occluder          */
 } walk_row_t;
 
 static void walk_tally(const scan_ctx_t *s, detect_priv_t *p,
@@ -220,7 +222,9 @@ static void walk_tally(const scan_ctx_t *s, detect_priv_t *p,
     memset(w, 0, sizeof *w);
     for (si = 0; si < p->n_strips; si++) {
         enum vouch_verdict vd;
-        if (!det_strip_in_walk(s, p->n_strips, si, v)) {
+        if (!det_strip_in_walk(s, p->n_strips, si, v) ||
+            v >= p->hits[si].occl_v) {
+            w->n_occl += v >= p->hits[si].occl_v;
             bad_run = 0;
             open_run = 0;
             if (p->reach_v[si] == v + 1) {
@@ -308,6 +312,10 @@ int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
         walk_row_t w;
         walk_tally(s, p, first_row, v, range, &w);
         n_corr = w.n_open + w.n_barred;
+        if (walking && n_corr == 0 && w.n_occl > 0 && walk_v == hgt) {
+            continue; /* every lane covered by a near occluder: the walk
+                         starts above it, as above the bottom row */
+        }
         if (walking && close_mm < 0) {
             if (n_corr > 0 && 2 * w.n_ok >= n_corr &&
                 w.max_bad < cfg->min_strips) {
