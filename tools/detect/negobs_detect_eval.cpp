@@ -47,15 +47,55 @@ struct Rig {
     std::string name; // e.g. "320x240 B120"
     int w, h;
     double f, B;
+    // --set rigs only: the rendered mounting and the matcher's range
+    double H_mm = 1200, pitch_deg = 20;
+    int max_disp = -1; // < 0: library default
 };
 
-const Rig kRigs[] = {
+// The suite's rigs; --set rigs appends the rigs of kCheckRigs (their
+// indices then start at kNumSuiteRigs), so the reports of the default sets
+// (loops over the first four) do not change.
+std::vector<Rig> kRigs = {
     {"320x240 f250 B120", 320, 240, 250.0, 120.0}, // the target rig
     {"320x240 f250 B60", 320, 240, 250.0, 60.0},
     {"640x480 f500 B120", 640, 480, 500.0, 120.0},
     {"640x480 f500 B60", 640, 480, 500.0, 60.0},
 };
 constexpr int kMainRig = 0;
+constexpr int kNumSuiteRigs = 4;
+
+// --set rigs: cameras the default sets never render, so that thresholds
+// that should scale with f, B or the resolution show up (docs/EVALUATION.md,
+// "Other rigs"). The detector is told f, B and the image centre, no
+// mounting, and a matcher range that covers the floor at the bottom row
+// (rig_max_disp).
+const Rig kCheckRigs[] = {
+    {"OAK-D Lite 640x480 f451 B75, 1.2 m / 20 deg", 640, 480, 451.0, 75.0, 1200, 20},
+    {"OAK-D Lite 640x480 f451 B75, chest 0.9 m / 35 deg", 640, 480, 451.0, 75.0, 900, 35},
+    {"OAK-D Lite 640x480 f451 B75, head 1.7 m / 15 deg", 640, 480, 451.0, 75.0, 1700, 15},
+    {"wearable 752x480 f380 B30, 1.2 m / 20 deg", 752, 480, 380.0, 30.0, 1200, 20},
+    {"wearable 752x480 f380 B30, head 1.7 m / 15 deg", 752, 480, 380.0, 30.0, 1700, 15},
+    {"ZED-like 640x360 f350 B120, 1.2 m / 20 deg", 640, 360, 350.0, 120.0, 1200, 20},
+    {"ELP-like 640x360 f700 B60, chest 0.9 m / 35 deg", 640, 360, 700.0, 60.0, 900, 35},
+    {"ZED-like 640x360 f700 B120, head 1.7 m / 15 deg", 640, 360, 700.0, 120.0, 1700, 15},
+};
+
+// The disparity of the floor at the bottom image row at the rig's mounting
+// (f B / Z, Z the depth along the optical axis), plus 25 % for the head bob
+// and the mounting spread; below 63 px the library default (63) is kept.
+int rig_max_disp(const Rig &r)
+{
+    const double kPi = 3.14159265358979323846;
+    const double p = r.pitch_deg * kPi / 180.0;
+    const double below = p + std::atan2(r.h / 2.0, r.f); // bottom ray below horizon
+    if (below <= 0) {
+        return -1;
+    }
+    const double slant = r.H_mm / std::sin(below);
+    const double z = slant * std::cos(below - p);
+    const int d = static_cast<int>(std::ceil(1.25 * r.f * r.B / z));
+    return d <= 63 ? -1 : std::min(d, 255);
+}
 
 struct Seq {
     std::string name;
@@ -78,6 +118,7 @@ struct Seq {
     double gain_right = 1.0, offset_right = 0.0;
     double exposure_pct = 0.0;
     int exposure_lag = 0;
+    bool no_hint = false; // --set rigs: the detector is told no mounting
 };
 
 // Frame record.
@@ -125,7 +166,7 @@ const Ramp kRamps[] = {
     {20, "slope down 2 % (does not end)", "--grade-pct 2 --ramp-mm 0"},
 };
 
-enum class SuiteSet { All, Legacy, Generic };
+enum class SuiteSet { All, Legacy, Generic, Rigs };
 
 // Deterministic numbers for the walks' random mountings (splitmix64, the
 // generator negobs_synth uses), so the suite is the same everywhere.
@@ -209,6 +250,53 @@ void add_generic_walks(std::vector<Seq> &s, int &seed, int app_frames)
     }
 }
 
+// --set rigs: short walks per rig of kCheckRigs at its own mounting, the
+// detector told no mounting. Weak textures with the same shade on both
+// levels on the drops nearest the minimum, small camera mismatch.
+void add_rig_walks(std::vector<Seq> &s, int &seed)
+{
+    for (const Rig &r : kCheckRigs) {
+        const int rig = static_cast<int>(kRigs.size());
+        kRigs.push_back(r);
+        kRigs.back().max_disp = rig_max_disp(r);
+        auto add = [&](const std::string &scene, int drop, double start, int frames,
+                       const std::string &texture, const std::string &extra) {
+            Seq q;
+            q.generic = true;
+            q.no_hint = true;
+            q.H_mm = r.H_mm;
+            q.pitch_deg = r.pitch_deg;
+            q.roll_deg = 0;
+            q.texture = texture;
+            q.same_level = texture == "concrete" || texture == "worn";
+            q.gain_right = 1.04;
+            q.offset_right = -4;
+            char nm[160];
+            std::snprintf(nm, sizeof nm, "k%d_%s_%d_%s_s%.1f_%d", rig, scene.c_str(),
+                          drop, texture.c_str(), start / 1000.0, seed);
+            q.name = nm;
+            q.rig = rig;
+            q.scene = scene;
+            q.drop_mm = drop;
+            q.start_mm = start;
+            q.frames = frames;
+            q.yaw = 0;
+            q.seed = seed++;
+            q.approach = scene == "curb" && drop == 150;
+            q.extra = extra;
+            s.push_back(q);
+        };
+        // 6.0 m -> 1.3 m: the first confirmed range and the 1.5-3 m window
+        add("curb", 150, 6000, 40, "asphalt", "");
+        add("curb", 100, 4000, 24, "concrete", "");
+        // 5 cm within 1.5 m: 2.5 m -> 0.7 m (false vouches)
+        add("curb", 50, 2500, 16, "worn", "");
+        add("stairs", 170, 4000, 24, "paving", "--steps 4 --rise-mm 170 --run-mm 300");
+        add("flat", 0, 8000, 24, "concrete", "--distractors 6");
+        add("upstep", 150, 3000, 16, "asphalt", "");
+    }
+}
+
 std::vector<Seq> build_suite(bool quick, SuiteSet set)
 {
     std::vector<Seq> s;
@@ -232,6 +320,10 @@ std::vector<Seq> build_suite(bool quick, SuiteSet set)
         s.push_back(q);
     };
     const int app_frames = static_cast<int>((7000 - 1000) / (kSpeed * 100)) + 1;
+    if (set == SuiteSet::Rigs) {
+        add_rig_walks(s, seed);
+        return s;
+    }
     if (quick) {
         for (int drop : {100, 150, 300}) {
             for (double st : {2500.0, 4500.0}) {
@@ -507,7 +599,10 @@ bool run_seq(const Options &opt, const Seq &q, int idx, std::vector<Rec> &out,
     Runner runner;
     CamParams cam = gt.cam;
     cam.valign = opt.valign;
-    if (q.generic) {
+    if (q.no_hint) {
+        cam.height_mm = 0; // no hint: the detector measures the mounting
+        cam.max_disp = rig.max_disp;
+    } else if (q.generic) {
         // The detector is told a generic mounting, not the rendered one.
         cam.height_mm = 1200;
         cam.pitch_deg = 20;
@@ -908,6 +1003,86 @@ void report_generic(Report &rep, const std::vector<Seq> &suite,
     rep.both("");
 }
 
+int write_report(const Options &opt, const Report &rep)
+{
+    std::fputs(rep.text.c_str(), stdout);
+    if (!opt.markdown.empty()) {
+        std::ofstream md(opt.markdown);
+        if (!md) {
+            std::fprintf(stderr, "negobs_detect_eval: error: cannot write %s\n",
+                         opt.markdown.c_str());
+            return 1;
+        }
+        md << rep.md;
+    }
+    return 0;
+}
+
+// --set rigs: one row per rig with the issue 21 figures (accumulate), the
+// first confirmed range of its 15 cm approach, and PASS/FAIL for the two
+// safety requirements over all rigs.
+void report_rigs(Report &rep, const std::vector<Seq> &suite,
+                 const std::vector<std::vector<Rec>> &recs)
+{
+    std::map<int, Fig> fig;
+    std::map<int, Approach> app;
+    int fv = 0, imm = 0, imm_frames = 0, near_frames = 0, fv_near = 0;
+    for (size_t k = 0; k < suite.size(); ++k) {
+        const Seq &q = suite[k];
+        accumulate(q, recs[k], fig[q.rig]);
+        if (q.approach) {
+            app[q.rig] = approach_of(q, recs[k]);
+        }
+    }
+    rep.both("### Other rigs (--set rigs)");
+    rep.both("");
+    rep.both("Per rig: curb 15 cm 6.0 -> 1.3 m (asphalt), curb 10 cm 4.0 -> 1.2 m "
+             "(concrete, same shade), curb 5 cm 2.5 -> 0.7 m (worn, same shade), "
+             "stairs 4.0 -> 1.2 m, flat 24 frames, up-step 3.0 -> 1.2 m; right-camera "
+             "gain 1.04, offset -4; the detector is told f, B and the image centre, no "
+             "mounting. Scoring as in \"Issue 21 scoring\" (false vouch: vouched "
+             "distance > 1.1x the corridor distance of a minimum drop in view, or "
+             "CLEAR with one in view within 1.5 m). Detection: drops >= 10 cm in view "
+             "at 1.5-3 m. max disp: the matcher's range (- = library default 63).");
+    rep.both("");
+    rep.both("| rig | max disp | frames | NO_INFO | false vouches (frames with a minimum "
+             "drop in view) | detection 1.5-3 m | 15 cm first confirmed at | median "
+             "flat clear_to_mm | false IMMINENT (flat/up-step frames) |");
+    rep.both("|---|---|---|---|---|---|---|---|---|");
+    for (auto &kv : fig) {
+        const Rig &r = kRigs[kv.first];
+        const Fig &f = kv.second;
+        const Approach &a = app[kv.first];
+        fv += f.fv;
+        fv_near += f.fv_clear_near;
+        near_frames += f.drop_frames;
+        imm += f.imm;
+        imm_frames += f.neg_frames;
+        rep.both(
+            "| " + r.name + " | " +
+            (r.max_disp > 0 ? std::to_string(r.max_disp) : std::string("-")) + " | " +
+            std::to_string(f.frames) + " | " + pct(f.noinfo, f.frames) + " | " +
+            std::to_string(f.fv) + " (" + std::to_string(f.drop_frames) + ") | " +
+            ratio(f.det) + " | " +
+            (a.first_conf > 0 ? fmtd("%.2f m", a.first_conf / 1000) : "never") +
+            (a.first_view > 0 ? fmtd(" (in view %.2f m)", a.first_view / 1000) : "") +
+            " | " +
+            (f.flat_clear.empty() ? std::string("-")
+                                  : fmtd("%.0f mm", percentile(f.flat_clear, 0.5))) +
+            " | " + std::to_string(f.imm) + " (" + std::to_string(f.neg_frames) + ") |");
+    }
+    rep.both("");
+    rep.both("| requirement (all rigs) | measured | verdict |");
+    rep.both("|---|---|---|");
+    rep.both("| 0 false vouches | " + std::to_string(fv) + " frames (" +
+             std::to_string(fv_near) + " CLEAR within 1.5 m) of " +
+             std::to_string(near_frames) + " | " + (fv == 0 ? "PASS" : "FAIL") + " |");
+    rep.both("| 0 false IMMINENT (flat/up-step) | " + std::to_string(imm) + " in " +
+             std::to_string(imm_frames) + " frames | " + (imm == 0 ? "PASS" : "FAIL") +
+             " |");
+    rep.both("");
+}
+
 int evaluate_synth(const Options &opt)
 {
     const std::vector<Seq> suite = build_suite(opt.quick, opt.set);
@@ -990,6 +1165,10 @@ int evaluate_synth(const Options &opt)
     }
 
     Report rep;
+    if (opt.set == SuiteSet::Rigs) {
+        report_rigs(rep, suite, recs);
+        return write_report(opt, rep);
+    }
     size_t nframes = 0;
     for (auto &v : recs) {
         nframes += v.size();
@@ -1371,18 +1550,7 @@ int evaluate_synth(const Options &opt)
              " |");
     rep.both("");
     report_generic(rep, suite, recs);
-
-    std::fputs(rep.text.c_str(), stdout);
-    if (!opt.markdown.empty()) {
-        std::ofstream md(opt.markdown);
-        if (!md) {
-            std::fprintf(stderr, "negobs_detect_eval: error: cannot write %s\n",
-                         opt.markdown.c_str());
-            return 1;
-        }
-        md << rep.md;
-    }
-    return 0;
+    return write_report(opt, rep);
 }
 
 // ------------------------------------------------------------ SurDis
@@ -2020,7 +2188,7 @@ void usage(FILE *f)
 {
     std::fprintf(
         f,
-        "usage: negobs_detect_eval --all|--quick [--set all|legacy|generic] [--valign] [-j|--jobs N]\n"
+        "usage: negobs_detect_eval --all|--quick [--set all|legacy|generic|rigs] [--valign] [-j|--jobs N]\n"
         "                          [--work DIR] [--keep]\n"
         "                          [--synth PATH] [--markdown FILE] [--frames-json FILE]\n"
         "       negobs_detect_eval --surdis [DIR] [--img-dir DIR] [--markdown FILE]\n"
@@ -2043,6 +2211,9 @@ void usage(FILE *f)
         "legacy = only the former; generic = only the added walks. The issue 21\n"
         "scoring (NO_INFO share, false vouches, clear_to_mm, detection by type and\n"
         "texture, PASS/FAIL per target) is printed after the other tables.\n"
+        "rigs = only the other-rigs check (48 short walks on 8 cameras the other\n"
+        "sets never render, detector told no mounting): one table row per rig and\n"
+        "PASS/FAIL for false vouches and false IMMINENT (docs/EVALUATION.md).\n"
         "--valign: the synthetic suite runs the alignment stage (valign.h).\n"
         "--surdis: SurDis sequence 21 from DIR (default $NEGOBS_DATA/surdis,\n"
         "else <repo>/../shared/data/surdis); exit 77 if absent. --surdis-vshift:\n"
@@ -2203,10 +2374,12 @@ int main(int argc, char **argv)
         case O_QUICK: opt.quick = true; break;
         case O_ALL: break; // the default: the whole synthetic suite
         case O_SET:
-            ok = v == "all" || v == "legacy" || v == "generic";
+            ok = v == "all" || v == "legacy" || v == "generic" || v == "rigs";
             opt.set = v == "legacy"
                           ? SuiteSet::Legacy
-                          : (v == "generic" ? SuiteSet::Generic : SuiteSet::All);
+                          : (v == "generic"
+                                 ? SuiteSet::Generic
+                                 : (v == "rigs" ? SuiteSet::Rigs : SuiteSet::All));
             break;
         case O_VALIGN: opt.valign = true; break;
         case O_KEEP: opt.keep = true; break;
