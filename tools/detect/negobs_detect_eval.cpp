@@ -65,7 +65,7 @@ constexpr int kMainRig = 0;
 constexpr int kNumSuiteRigs = 4;
 
 // --set rigs: cameras the default sets never render, so that thresholds
-// that should scale with f, B or the resolution show up (docs/EVALUATION.md,
+// that should scale with f, B or the resolution show up (docs/DETECTION.md,
 // "Other rigs"). The detector is told f, B and the image centre, no
 // mounting, and a matcher range that covers the floor at the bottom row
 // (rig_max_disp).
@@ -78,6 +78,8 @@ const Rig kCheckRigs[] = {
     {"ZED-like 640x360 f350 B120, 1.2 m / 20 deg", 640, 360, 350.0, 120.0, 1200, 20},
     {"ELP-like 640x360 f700 B60, chest 0.9 m / 35 deg", 640, 360, 700.0, 60.0, 900, 35},
     {"ZED-like 640x360 f700 B120, head 1.7 m / 15 deg", 640, 360, 700.0, 120.0, 1700, 15},
+    // the floor at the bottom row is at about 73 px: needs --max-disp > 63
+    {"ZED-like 640x360 f700 B120, chest 0.9 m / 35 deg", 640, 360, 700.0, 120.0, 900, 35},
 };
 
 // The disparity of the floor at the bottom image row at the rig's mounting
@@ -531,7 +533,8 @@ struct Options {
     std::string frames_json;
     bool quick = false;
     SuiteSet set = SuiteSet::All;
-    bool valign = false; // synthetic suite: run the alignment stage
+    bool valign = false;   // synthetic suite: run the alignment stage
+    bool rig_hint = false; // --set rigs: tell the detector the rendered mounting
     bool keep = false;
     int jobs = 2;
     bool surdis = false;
@@ -600,7 +603,11 @@ bool run_seq(const Options &opt, const Seq &q, int idx, std::vector<Rec> &out,
     CamParams cam = gt.cam;
     cam.valign = opt.valign;
     if (q.no_hint) {
-        cam.height_mm = 0; // no hint: the detector measures the mounting
+        // no hint: the detector measures the mounting; --rig-hint keeps
+        // gt.json's camera, the rendered mounting (a start on verified ground)
+        if (!opt.rig_hint) {
+            cam.height_mm = 0;
+        }
         cam.max_disp = rig.max_disp;
     } else if (q.generic) {
         // The detector is told a generic mounting, not the rendered one.
@@ -1022,7 +1029,7 @@ int write_report(const Options &opt, const Report &rep)
 // first confirmed range of its 15 cm approach, and PASS/FAIL for the two
 // safety requirements over all rigs.
 void report_rigs(Report &rep, const std::vector<Seq> &suite,
-                 const std::vector<std::vector<Rec>> &recs)
+                 const std::vector<std::vector<Rec>> &recs, bool hinted)
 {
     std::map<int, Fig> fig;
     std::map<int, Approach> app;
@@ -1039,8 +1046,13 @@ void report_rigs(Report &rep, const std::vector<Seq> &suite,
     rep.both("Per rig: curb 15 cm 6.0 -> 1.3 m (asphalt), curb 10 cm 4.0 -> 1.2 m "
              "(concrete, same shade), curb 5 cm 2.5 -> 0.7 m (worn, same shade), "
              "stairs 4.0 -> 1.2 m, flat 24 frames, up-step 3.0 -> 1.2 m; right-camera "
-             "gain 1.04, offset -4; the detector is told f, B and the image centre, no "
-             "mounting. Scoring as in \"Issue 21 scoring\" (false vouch: vouched "
+             "gain 1.04, offset -4; the detector is told f, B and the image centre, " +
+             std::string(hinted ? "and the rendered mounting (--rig-hint: the start "
+                                  "on verified ground)"
+                                : "no mounting (no hint: the first 5 s are "
+                                  "GROUND_UNVERIFIED unless the floor within 0.6 m "
+                                  "is in view)") +
+             ". Scoring as in \"Issue 21 scoring\" (false vouch: vouched "
              "distance > 1.1x the corridor distance of a minimum drop in view, or "
              "CLEAR with one in view within 1.5 m). Detection: drops >= 10 cm in view "
              "at 1.5-3 m. max disp: the matcher's range (- = library default 63).");
@@ -1166,7 +1178,7 @@ int evaluate_synth(const Options &opt)
 
     Report rep;
     if (opt.set == SuiteSet::Rigs) {
-        report_rigs(rep, suite, recs);
+        report_rigs(rep, suite, recs, opt.rig_hint);
         return write_report(opt, rep);
     }
     size_t nframes = 0;
@@ -2188,7 +2200,7 @@ void usage(FILE *f)
 {
     std::fprintf(
         f,
-        "usage: negobs_detect_eval --all|--quick [--set all|legacy|generic|rigs] [--valign] [-j|--jobs N]\n"
+        "usage: negobs_detect_eval --all|--quick [--set all|legacy|generic|rigs] [--rig-hint] [--valign] [-j|--jobs N]\n"
         "                          [--work DIR] [--keep]\n"
         "                          [--synth PATH] [--markdown FILE] [--frames-json FILE]\n"
         "       negobs_detect_eval --surdis [DIR] [--img-dir DIR] [--markdown FILE]\n"
@@ -2211,9 +2223,11 @@ void usage(FILE *f)
         "legacy = only the former; generic = only the added walks. The issue 21\n"
         "scoring (NO_INFO share, false vouches, clear_to_mm, detection by type and\n"
         "texture, PASS/FAIL per target) is printed after the other tables.\n"
-        "rigs = only the other-rigs check (48 short walks on 8 cameras the other\n"
+        "rigs = only the other-rigs check (54 short walks on 9 cameras the other\n"
         "sets never render, detector told no mounting): one table row per rig and\n"
-        "PASS/FAIL for false vouches and false IMMINENT (docs/EVALUATION.md).\n"
+        "PASS/FAIL for false vouches and false IMMINENT (docs/DETECTION.md, \"The\n"
+        "evaluation suite\"); --rig-hint tells the detector each walk's rendered\n"
+        "mounting instead (a start on verified ground).\n"
         "--valign: the synthetic suite runs the alignment stage (valign.h).\n"
         "--surdis: SurDis sequence 21 from DIR (default $NEGOBS_DATA/surdis,\n"
         "else <repo>/../shared/data/surdis); exit 77 if absent. --surdis-vshift:\n"
@@ -2243,6 +2257,7 @@ enum LongOnly {
     O_ALL,
     O_SET,
     O_VALIGN,
+    O_RIG_HINT,
     O_KEEP,
     O_WORK,
     O_SYNTH,
@@ -2270,6 +2285,7 @@ const struct option kLongOpts[] = {
     {"all", no_argument, nullptr, O_ALL},
     {"set", required_argument, nullptr, O_SET},
     {"valign", no_argument, nullptr, O_VALIGN},
+    {"rig-hint", no_argument, nullptr, O_RIG_HINT},
     {"keep", no_argument, nullptr, O_KEEP},
     {"jobs", required_argument, nullptr, 'j'},
     {"work", required_argument, nullptr, O_WORK},
@@ -2382,6 +2398,7 @@ int main(int argc, char **argv)
                                  : (v == "rigs" ? SuiteSet::Rigs : SuiteSet::All));
             break;
         case O_VALIGN: opt.valign = true; break;
+        case O_RIG_HINT: opt.rig_hint = true; break;
         case O_KEEP: opt.keep = true; break;
         case 'j': ok = negobs_cli::parse_int(optarg, 1, 64, opt.jobs); break;
         case O_WORK: opt.work = v; break;
