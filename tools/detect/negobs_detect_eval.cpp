@@ -2477,6 +2477,11 @@ int main(int argc, char **argv)
                      argv[optind]);
         return 2;
     }
+    if (opt.rig_hint && opt.set != SuiteSet::Rigs) {
+        std::fprintf(stderr, "negobs_detect_eval: error: --rig-hint needs --set rigs "
+                             "(the other sets have their own mountings)\n");
+        return 2;
+    }
     if (!opt.img_dir.empty()) {
         const std::string e = prepare_img_dir(opt.img_dir);
         if (!e.empty()) {
