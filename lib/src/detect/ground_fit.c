@@ -566,7 +566,7 @@ static int fit_band(gfit_t *g, const negobs_image_s16_t *disp,
      * over less than a quarter of the width, a lever four times shorter
      * than the image's, and a scene whose floor shows only there (a gap
      * between furniture) is as likely not floor at all. */
-    if (4u * support < samples || support == 0u) {
+    if (samples == 0u || 4u * support < samples || support == 0u) {
         out->reasons |= NEGOBS_DEGRADED_FEW_GROUND;
     } else if (hough_line(g, &fit)) {
         /* Every frame starts again from the Hough line and the nearer half
