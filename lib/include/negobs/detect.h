@@ -60,8 +60,10 @@ typedef enum negobs_degraded_reason {
     NEGOBS_DEGRADED_FEW_GROUND = 1u << 3,      /**< valid ground pixels, or
                                                  support ends the vouched
                                                  range under near_min_mm */
-    NEGOBS_DEGRADED_GROUND_REJECTED = 1u << 4, /**< no planar support, or
-                                                 not a floor (priors) */
+    NEGOBS_DEGRADED_GROUND_REJECTED = 1u << 4, /**< no planar support,
+                                                 not a floor (priors), or
+                                                 a fit ground_drop_mm below
+                                                 the previous frame's */
     NEGOBS_DEGRADED_STALE = 1u << 5,           /**< frame too old / gap   */
     NEGOBS_DEGRADED_UNSYNCED = 1u << 6,        /**< L/R timestamps apart  */
     NEGOBS_DEGRADED_NOISY = 1u << 7,     /**< local noise ends the vouched

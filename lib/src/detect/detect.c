@@ -364,6 +364,12 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
     mount_update(&p->mount, cfg, g.ok ? &g.pose : NULL,
                  g.ok && !fw.unverified && !p->drop_on, frame->now_ms,
                  &res->mount);
+    if (det_fit_fell(p, cfg, &g)) {
+        /* the fit dropped onto a lower level, not the camera: no vouch */
+        fw.walk_to = 0;
+        fw.walk_cause = NEGOBS_DEGRADED_GROUND_REJECTED;
+        res->blocked_at_mm = 0;
+    }
     det_verdict(cfg, res, reasons, fw.walk_to, fw.walk_cause);
     /* a hazard's range this frame may be too far (temporal.c): vouch
      * no farther than its track's own prediction either */

@@ -205,3 +205,29 @@ void det_ground_ref_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
     p->ref_height_mm += dh / 4;
     p->ref_pitch_mdeg += (g->pose.pitch_mdeg - p->ref_pitch_mdeg) / 4;
 }
+
+/* Does this frame's ground fit lie ground_drop_mm or more below the
+ * previous frame's? Remembers this frame's fit for the next one.
+ *
+ * The fall is the mirror of the cue's rise, with the opposite reading.
+ * Walking up to a drop, the fit rows may come to hold the lower level
+ * beyond the edge: the fitted plane then tilts onto it, the camera reads
+ * lower and flatter than it is (on a 3 cm rig, a 17 cm stair edge at
+ * 1.96 m: 1566 -> 1356 mm and 10.8 -> 3.8 deg in one frame, against a
+ * true 1692 mm / 14.1 deg), and the walk read through that plane vouches
+ * past the edge. On a narrow baseline a minimum drop near the fit rows
+ * moves the floor disparity by less than the fit's pixel gates, so the
+ * fit cannot see the edge itself. ground_drop_mm (100 mm) in one frame
+ * period is a worn camera falling at about 1 m/s, four times the whole
+ * amplitude of the walking bob (about 25 mm): such a fit is more likely
+ * tilted onto a lower level than the floor under the feet, and the frame
+ * vouches nothing; the vouch returns once two successive fits agree
+ * again. A rise is left to the cue (det_ground_drop). */
+int det_fit_fell(detect_priv_t *p, const negobs_detect_config_t *cfg,
+                 const gfit_out_t *g)
+{
+    const int32_t prev = p->prev_fit_height_mm;
+    p->prev_fit_height_mm = g->ok ? g->pose.height_mm : 0;
+    return cfg->ground_drop_mm > 0 && g->ok && prev > 0 &&
+           prev - g->pose.height_mm >= cfg->ground_drop_mm;
+}

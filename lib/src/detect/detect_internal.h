@@ -137,6 +137,8 @@ typedef struct detect_priv {
     uint32_t near_cand_ms;
     int32_t near_cand_on;
     mount_track_t mount; /* the mounting the results report (mount.c) */
+    /* the previous frame's fitted camera height; 0: no fit (det_fit_fell) */
+    int32_t prev_fit_height_mm;
     /* per row: the columns of the left / right image in the field of view
      * [u0, u1) (detect_fill.c); height entries each */
     int16_t *view_l_u0;
@@ -239,5 +241,8 @@ int det_ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
 
 void det_ground_ref_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
                            const gfit_out_t *g, int unverified);
+
+int det_fit_fell(detect_priv_t *p, const negobs_detect_config_t *cfg,
+                 const gfit_out_t *g);
 
 #endif /* NEGOBS_DETECT_INTERNAL_H */
