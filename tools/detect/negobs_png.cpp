@@ -23,6 +23,7 @@
 #include "cli.hpp"
 #include "cli_parse.hpp"
 #include "detect_common.hpp"
+#include "disp_io.hpp"
 #include "rect_table.hpp"
 #include "session.hpp"
 
@@ -71,6 +72,9 @@ void usage(FILE *f)
            "  --first N --count N  sequence: frame subset\n"
            "  -j, --json FILE   JSON lines to FILE instead of stdout\n"
            "  --no-overlay      do not write pictures\n"
+           "  --disparity       also write OUTDIR/disp_NNNN.png: the disparity the\n"
+           "                    detector read (negobs_stereo's png16: value =\n"
+           "                    disparity * 16, 0 = no value)\n"
            "  --overlay-scale K scale the pictures by K (0.1..4, default 1; below 1\n"
            "                    also 32 grey levels per channel: small files)\n"
            "  --whole           time only the whole frame (no per-stage clock)\n"
@@ -152,6 +156,27 @@ struct Item {
 
 namespace {
 
+// The pipeline's disparity map (q4, NEGOBS_DISP_INVALID = no value) as
+// negobs_stereo's png16: what the detector read, after the pipeline's own
+// matcher settings, the row ROI and any alignment.
+bool write_disp_q4(const cv::Mat &disp_q4, const std::string &path, std::string &err)
+{
+    cv::Mat d(disp_q4.size(), CV_32F);
+    cv::Mat valid(disp_q4.size(), CV_8U);
+    for (int y = 0; y < disp_q4.rows; ++y) {
+        const int16_t *q = disp_q4.ptr<int16_t>(y);
+        float *o = d.ptr<float>(y);
+        uint8_t *m = valid.ptr<uint8_t>(y);
+        for (int x = 0; x < disp_q4.cols; ++x) {
+            const bool ok = q[x] != NEGOBS_DISP_INVALID && q[x] > 0;
+            o[x] = ok ? static_cast<float>(q[x]) / NEGOBS_DISP_ONE : 0.0f;
+            m[x] = ok ? 255 : 0;
+        }
+    }
+    return negobs_cli::write_disparity(path, d, valid, negobs_cli::DispFormat::Png16,
+                                       err);
+}
+
 int run(int argc, char **argv)
 {
     std::string seq, out, json_path, calib_path;
@@ -162,7 +187,7 @@ int run(int argc, char **argv)
     int max_disp = -1, vshift = 0, repeat = 1, first = 0, count = -1, bin = 1;
     bool valign = false;
     bool vshift_set = false, overlay_on = true, summary = false, quiet = false,
-         whole = false;
+         whole = false, disp_on = false;
     enum {
         O_SEQ = 256,
         O_JSON,
@@ -184,7 +209,8 @@ int run(int argc, char **argv)
         O_WHOLE,
         O_CALIB,
         O_THREADS,
-        O_BIN
+        O_BIN,
+        O_DISP
     };
     static const struct option long_opts[] = {
         {"help", no_argument, nullptr, 'h'},
@@ -212,6 +238,7 @@ int run(int argc, char **argv)
         {"calib", required_argument, nullptr, O_CALIB},
         {"threads", required_argument, nullptr, O_THREADS},
         {"bin", required_argument, nullptr, O_BIN},
+        {"disparity", no_argument, nullptr, O_DISP},
         {nullptr, 0, nullptr, 0},
     };
     if (argc < 2) {
@@ -256,6 +283,7 @@ int run(int argc, char **argv)
         case O_COUNT: ok = negobs_cli::parse_int(v, 1, 10000000, count); break;
         case O_SCALE: ok = negobs_cli::parse_double(v, 0.1, 4, overlay_scale); break;
         case O_NO_OVERLAY: overlay_on = false; break;
+        case O_DISP: disp_on = true; break;
         case O_SUMMARY: summary = true; break;
         case 'q': quiet = true; break;
         case O_WHOLE: whole = true; break;
@@ -279,8 +307,9 @@ int run(int argc, char **argv)
         return bad(seq.empty() ? "give LEFT RIGHT or --seq DIR"
                                : "--seq DIR takes no LEFT RIGHT arguments");
     }
-    if (out.empty() && overlay_on) {
-        return bad("--out DIR is required (or --no-overlay)");
+    if (out.empty() && (overlay_on || disp_on)) {
+        return bad(disp_on ? "--disparity needs --out DIR"
+                           : "--out DIR is required (or --no-overlay)");
     }
 
     GtSeq gt;
@@ -408,7 +437,7 @@ int run(int argc, char **argv)
         fps = have_gt ? gt.fps : 10.0;
     }
 
-    if (overlay_on) {
+    if (overlay_on || disp_on) {
         std::error_code ec;
         fs::create_directories(out, ec);
         if (ec) {
@@ -490,6 +519,15 @@ int run(int argc, char **argv)
             std::fprintf(jf, "%s\n",
                          json_line(frame_no, it.name, o, it.gt, w, h).c_str());
             std::fflush(jf);
+        }
+        if (disp_on) {
+            char fn[64];
+            std::snprintf(fn, sizeof fn, "disp_%04d.png", frame_no);
+            const std::string p = (fs::path(out) / fn).string();
+            std::string werr;
+            if (!write_disp_q4(runner.disparity(), p, werr)) {
+                return fail(werr);
+            }
         }
         if (overlay_on) {
             cv::Mat ov = overlay(L, runner.disparity(), max_disp_used, frame_no, o,
