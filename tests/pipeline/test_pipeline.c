@@ -62,6 +62,100 @@ static void test_pipeline_rejects_mismatched_stage_sizes(void **state)
                      NEGOBS_ERR_INVAL);
 }
 
+/* Runs n frames of the pair with a whole-row misalignment of off_rows
+ * (off_rows2 from frame `knock` on) through a pipeline searching the
+ * offset every `every` frames; the offsets each frame matched with go to
+ * offs, the last frame's disparity map to last. */
+static void run_vertical(int32_t every, int32_t off_rows, int32_t off_rows2,
+                         int32_t knock, int32_t n, int32_t *offs,
+                         int16_t *last)
+{
+    static uint8_t gl[GEN_W * GEN_H];
+    static uint8_t gr[GEN_W * GEN_H];
+    negobs_pipeline_config_t cfg;
+    negobs_pipeline_t *ctx = malloc(sizeof *ctx);
+    negobs_pipeline_result_t *res = malloc(sizeof *res);
+    negobs_pipeline_frame_t fr;
+    negobs_image_u8_t l;
+    negobs_image_u8_t r;
+    size_t bytes = 0;
+    void *raw;
+    void *ws;
+    int32_t k;
+    assert_non_null(ctx);
+    assert_non_null(res);
+    negobs_pipeline_config_default(&cfg, GEN_W, GEN_H);
+    cfg.vertical_every_frames = every;
+    assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes), NEGOBS_OK);
+    ws = aligned_ws(bytes, &raw);
+    assert_int_equal(negobs_pipeline_init(ctx, &cfg, ws, bytes), NEGOBS_OK);
+    gen_texture(11u);
+    l.data = gl;
+    l.width = GEN_W;
+    l.height = GEN_H;
+    l.stride = GEN_W;
+    r = l;
+    r.data = gr;
+    for (k = 0; k < n; k++) {
+        gen_model_t t = {(k < knock ? off_rows : off_rows2) * 65536, 0, 0};
+        gen_pair(&t, 4, 20, gl, gr);
+        memset(&fr, 0, sizeof fr);
+        fr.left = &l;
+        fr.right = &r;
+        fr.t_left_ms = fr.t_right_ms = fr.now_ms = 1000u + 100u * (uint32_t)k;
+        assert_int_equal(negobs_pipeline_process(ctx, &fr, res), NEGOBS_OK);
+        assert_int_equal(res->stereo_status, NEGOBS_OK);
+        offs[k] = res->stereo.vertical_offset;
+    }
+    memcpy(last, negobs_pipeline_disparity(ctx)->data,
+           (size_t)GEN_W * GEN_H * sizeof *last);
+    free(raw);
+    free(res);
+    free(ctx);
+}
+
+/* vertical_every_frames: the search runs on the first frame and every
+ * N-th; between them the last offset found is used. On a rig whose
+ * misalignment stays put, every frame is the same as with a search on
+ * every frame (bit for bit); after a knock (2 rows -> -1 row at frame 3)
+ * the frames before the next search keep the old offset, and that search
+ * finds the new one. The period is range-checked. */
+static void test_pipeline_vertical_search_every_n_frames(void **state)
+{
+    static int16_t d1[GEN_W * GEN_H];
+    static int16_t d10[GEN_W * GEN_H];
+    int32_t o1[12];
+    int32_t o10[12];
+    negobs_pipeline_config_t cfg;
+    size_t bytes;
+    int32_t k;
+    (void)state;
+    negobs_pipeline_config_default(&cfg, GEN_W, GEN_H);
+    assert_int_equal(cfg.vertical_every_frames, 10);
+    cfg.vertical_every_frames = 0;
+    assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes),
+                     NEGOBS_ERR_INVAL);
+    cfg.vertical_every_frames = 1001;
+    assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes),
+                     NEGOBS_ERR_INVAL);
+
+    run_vertical(1, 2, 2, 12, 6, o1, d1);
+    run_vertical(10, 2, 2, 12, 6, o10, d10);
+    for (k = 0; k < 6; k++) {
+        assert_int_equal(o1[k], 2);
+        assert_int_equal(o10[k], 2);
+    }
+    assert_memory_equal(d1, d10, sizeof d1);
+
+    run_vertical(1, 2, -1, 3, 12, o1, d1);
+    run_vertical(10, 2, -1, 3, 12, o10, d10);
+    for (k = 0; k < 12; k++) {
+        assert_int_equal(o1[k], k < 3 ? 2 : -1);
+        assert_int_equal(o10[k], k < 10 ? 2 : -1);
+    }
+    assert_memory_equal(d1, d10, sizeof d1);
+}
+
 /* valign.enable: its workspace and the aligned image are part of the exact
  * size, the stage runs before the matcher, the matcher's integer search
  * is off. */
@@ -424,6 +518,7 @@ int main(void)
         cmocka_unit_test(test_pipeline_workspace_is_exact),
         cmocka_unit_test(test_pipeline_rejects_mismatched_stage_sizes),
         cmocka_unit_test(test_pipeline_runs_alignment_stage),
+        cmocka_unit_test(test_pipeline_vertical_search_every_n_frames),
         cmocka_unit_test(test_pipeline_roi_first_row_follows_the_ground),
         cmocka_unit_test(test_pipeline_lost_camera_gives_no_info_pattern),
         cmocka_unit_test(test_pipeline_flat_grey_frames_are_not_clear),

@@ -35,11 +35,17 @@ typedef struct result {
     int32_t bad05; /* ... off by > 0.5 px                           */
     int32_t dens;  /* permille of visible pixels with a value        */
     negobs_stereo_stats_t st;
+    int32_t next_offset; /* g_hold_offset: the next frame's offset (found) */
 } result_t;
 
 static int g_flat_scene;
 static int g_near_scene;    /* floor 8 .. 44 px, bottom 48 rows flat at 1/4 */
 static int32_t g_first_row; /* negobs_stereo_set_first_row before a run */
+/* negobs_stereo_hold_vertical_offset before the run (NO_HOLD: none); the
+ * same pair is then matched once more without a hold (next_offset) */
+#define NO_HOLD (-100)
+static int32_t g_hold_offset = NO_HOLD;
+static int16_t disp_held[W * H];
 
 /* The confidence scale of negobs/stereo.h: 0 exactly where there is no
  * value; a value is filled (2), textureless (4) or matched (8..255). Run
@@ -105,6 +111,11 @@ static result_t run(int32_t voff, int32_t vsearch, int32_t fixed_off)
     assert_int_equal(negobs_stereo_init(&ctx, &cfg, ws, sizeof ws), NEGOBS_OK);
     assert_int_equal(negobs_stereo_set_first_row(&ctx, g_first_row),
                      NEGOBS_OK);
+    if (g_hold_offset != NO_HOLD) {
+        assert_int_equal(
+            negobs_stereo_hold_vertical_offset(&ctx, g_hold_offset),
+            NEGOBS_OK);
+    }
     li.data = left;
     li.width = W;
     li.height = H;
@@ -120,6 +131,15 @@ static result_t run(int32_t voff, int32_t vsearch, int32_t fixed_off)
     assert_int_equal(negobs_stereo_process(&ctx, &li, &ri, &di, &ci, &r.st),
                      NEGOBS_OK);
     check_confidence_scale();
+    r.next_offset = r.st.vertical_offset;
+    if (g_hold_offset != NO_HOLD) {
+        negobs_stereo_stats_t st2;
+        memcpy(disp_held, disp, sizeof disp);
+        assert_int_equal(negobs_stereo_process(&ctx, &li, &ri, &di, &ci, &st2),
+                         NEGOBS_OK);
+        r.next_offset = st2.vertical_offset;
+        memcpy(disp, disp_held, sizeof disp);
+    }
     synth_score(&sc, disp, gt, occ, 6, 16, &r.bad1, &r.dens);
     synth_score(&sc, disp, gt, occ, 6, 8, &r.bad05, &r.dens);
     printf("# voff=%d search=%d: bad1=%d.%d%% bad0.5=%d.%d%% density=%d.%d%% "
@@ -253,6 +273,51 @@ static void test_regress_fixed_offset(void **state)
     assert_true(r.bad1 <= BAD1_MAX_PERMILLE);
 }
 
+/* A held offset is the frame matched with that offset fixed (the same
+ * map, bit for bit, as vertical_search = 0 with it configured); the hold
+ * lasts one frame, the next one searches again; an offset outside the
+ * search range is refused. */
+static void test_regress_held_offset_is_one_frame_of_fixed_offset(void **state)
+{
+    static int16_t fixed[W * H];
+    result_t r;
+    result_t h;
+    negobs_stereo_config_t cfg;
+    negobs_stereo_t ctx;
+    size_t need;
+    (void)state;
+    r = run(2, 0, 2);
+    memcpy(fixed, disp, sizeof disp);
+    g_hold_offset = 2;
+    h = run(2, 4, 0);
+    g_hold_offset = NO_HOLD;
+    assert_int_equal(h.st.vertical_offset, 2);
+    assert_memory_equal(fixed, disp, sizeof disp);
+    assert_int_equal(h.bad1, r.bad1);
+    assert_int_equal(h.next_offset, 2);
+    /* held wrong: that frame is matched with it (and is bad), the next
+     * one finds the true offset again */
+    g_hold_offset = 0;
+    h = run(2, 4, 0);
+    g_hold_offset = NO_HOLD;
+    assert_int_equal(h.st.vertical_offset, 0);
+    assert_true(h.bad1 > BAD1_MAX_PERMILLE ||
+                h.dens < DENS_MIN_PERMILLE - 200);
+    assert_int_equal(h.next_offset, 2);
+    negobs_stereo_config_default(&cfg, W, H);
+    cfg.max_disp = 47;
+    cfg.vertical_search = 2;
+    assert_int_equal(negobs_stereo_workspace_size(&cfg, &need), NEGOBS_OK);
+    assert_int_equal(negobs_stereo_init(&ctx, &cfg, ws, sizeof ws), NEGOBS_OK);
+    assert_int_equal(negobs_stereo_hold_vertical_offset(&ctx, 3),
+                     NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_stereo_hold_vertical_offset(&ctx, -3),
+                     NEGOBS_ERR_INVAL);
+    assert_int_equal(negobs_stereo_hold_vertical_offset(&ctx, -2), NEGOBS_OK);
+    assert_int_equal(negobs_stereo_hold_vertical_offset(NULL, 0),
+                     NEGOBS_ERR_STATE);
+}
+
 static void test_regress_range_narrows_on_constant_scene(void **state)
 {
     result_t r;
@@ -300,6 +365,8 @@ int main(void)
         cmocka_unit_test(test_regress_negative_offset_is_found),
         cmocka_unit_test(test_regress_uncompensated_offset_fails),
         cmocka_unit_test(test_regress_fixed_offset),
+        cmocka_unit_test(
+            test_regress_held_offset_is_one_frame_of_fixed_offset),
         cmocka_unit_test(test_regress_range_narrows_on_constant_scene),
         cmocka_unit_test(test_regress_first_row_crop),
         cmocka_unit_test(

@@ -46,6 +46,15 @@ typedef struct negobs_pipeline_config {
     /** Rows kept above that row, for pitch changes between two frames
      *  (default height / 8: 30 rows at 240, about 6.8 deg at f 250). */
     int32_t roi_margin_rows;
+    /** The matcher's vertical offset search (stereo.vertical_search > 0)
+     *  runs on the first frame and then on every vertical_every_frames-th
+     *  one; the frames between match with the last offset found
+     *  (negobs_stereo_hold_vertical_offset). A rig's row misalignment is
+     *  mechanical: it moves with a knock or with heat, not from one frame
+     *  to the next, and a once-a-second search finds a knock within a
+     *  second. 1: search every frame. 1..1000 [10: once a second at
+     *  10 fps] */
+    int32_t vertical_every_frames;
 } negobs_pipeline_config_t;
 
 /** One frame pair with its capture times (ms, caller's monotonic clock). */
@@ -116,6 +125,8 @@ typedef struct negobs_pipeline {
             negobs_pipeline_clock_fn i;
             void *j;
             uint32_t k;
+            uint32_t l;
+            int32_t m;
         } layout_;
         uint64_t align_;
     } opaque_;
@@ -140,7 +151,8 @@ int32_t negobs_pipeline_roi_first_row(const negobs_pipeline_config_t *cfg,
  *    (docs/decisions/0001-pipeline-strict-matcher.md);
  *  - valign.min_disp / max_disp = the matcher's range, and
  *    detect.max_disp_q4 = (stereo.max_disp + 1) px: one disparity range;
- *  - stereo_roi = 1, roi_margin_rows = height / 8.
+ *  - stereo_roi = 1, roi_margin_rows = height / 8;
+ *  - vertical_every_frames = 10.
  * Defaults have one order: the stage's *_config_default(), then this
  * profile, then the application (firmware_app's app_pipeline and
  * negobs_run's settings, which change only what the user set).

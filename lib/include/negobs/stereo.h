@@ -358,6 +358,21 @@ negobs_status_t negobs_stereo_set_first_row(negobs_stereo_t *ctx,
                                             int32_t first_row);
 
 /**
+ * @brief Match the next frame with a vertical offset already known instead
+ * of searching it (cfg.vertical_search > 0): for a caller that
+ * re-estimates the rig's misalignment only now and then, as the pipeline
+ * does (vertical_every_frames). Applies to one frame; the frame after it
+ * searches again unless held again. With vertical_search == 0 the
+ * configured vertical_offset is used and the hold is ignored.
+ * @param offset rows, |offset| <= cfg.vertical_search (the range the search
+ *        would have looked in)
+ * @return NEGOBS_OK; NEGOBS_ERR_INVAL for an offset outside that range;
+ *         NEGOBS_ERR_STATE without init.
+ */
+negobs_status_t negobs_stereo_hold_vertical_offset(negobs_stereo_t *ctx,
+                                                   int32_t offset);
+
+/**
  * @brief Time every stage of the next frames with the caller's clock
  * (stats.stage_ticks). NULL (the state after init) turns it off. The
  * clock is only read, never waited on: the disparities and every other

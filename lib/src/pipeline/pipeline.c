@@ -33,6 +33,7 @@ void negobs_pipeline_config_default(negobs_pipeline_config_t *cfg,
     cfg->stereo.ncc_tau_q14 = 9830; /* 0.6 */
     cfg->stereo_roi = 1;
     cfg->roi_margin_rows = height / 8;
+    cfg->vertical_every_frames = 10;
 }
 
 /*
@@ -147,7 +148,8 @@ static negobs_status_t check_config(const negobs_pipeline_config_t *cfg)
     }
     if (cfg->stereo_roi < 0 || cfg->stereo_roi > 1 ||
         cfg->roi_margin_rows < 0 ||
-        cfg->roi_margin_rows > cfg->stereo.height) {
+        cfg->roi_margin_rows > cfg->stereo.height ||
+        cfg->vertical_every_frames < 1 || cfg->vertical_every_frames > 1000) {
         return NEGOBS_ERR_INVAL;
     }
     return NEGOBS_OK;
@@ -240,6 +242,9 @@ negobs_status_t negobs_pipeline_init(negobs_pipeline_t *ctx,
     p->confidence.width = cfg->stereo.width;
     p->confidence.height = cfg->stereo.height;
     p->confidence.stride = cfg->stereo.width;
+    /* no offset found yet: the first frame searches */
+    p->vframes = (uint32_t)cfg->vertical_every_frames;
+    p->voff = 0;
     p->magic = PIPELINE_MAGIC;
     return NEGOBS_OK;
 }
@@ -255,6 +260,21 @@ static void no_info_result(negobs_detect_result_t *res)
     res->reasons = NEGOBS_DEGRADED_BAD_INPUT;
     res->level = NEGOBS_LEVEL_NONE;
     res->nearest_range_mm = -1;
+}
+
+/* 1 when this frame matches with the offset the last search found
+ * (vertical_every_frames); 0 when it searches: the first frame, every
+ * vertical_every_frames-th one, and every frame until one search has
+ * succeeded (vframes stays at the period until then). */
+static int vertical_hold(negobs_pipeline_priv_t *p)
+{
+    if (p->cfg.stereo.vertical_search <= 0 ||
+        p->vframes + 1u >= (uint32_t)p->cfg.vertical_every_frames) {
+        return 0;
+    }
+    p->vframes++;
+    return negobs_stereo_hold_vertical_offset(&p->stereo, p->voff) ==
+           NEGOBS_OK;
 }
 
 /* Ticks since *t0 go to stage k; *t0 moves on. No clock: nothing. */
@@ -304,9 +324,14 @@ negobs_status_t negobs_pipeline_process(negobs_pipeline_t *ctx,
             lap(p, &t0, result, NEGOBS_PIPELINE_STAGE_VALIGN);
         }
         if (st == NEGOBS_OK) {
+            int held = vertical_hold(p);
             st = negobs_stereo_process(&p->stereo, frame->left, right,
                                        &p->disp_q4, &p->confidence,
                                        &result->stereo);
+            if (st == NEGOBS_OK && !held) {
+                p->voff = result->stereo.vertical_offset;
+                p->vframes = 0;
+            }
         }
         if (st == NEGOBS_OK && p->cfg.valign.enable) {
             /* the next estimate searches the range the matcher used */

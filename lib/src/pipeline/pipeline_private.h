@@ -22,6 +22,8 @@ typedef struct negobs_pipeline_priv {
     negobs_pipeline_clock_fn clock; /* NULL: no stage timings */
     void *clock_user;
     uint32_t magic;
+    uint32_t vframes; /* frames since the last vertical search   */
+    int32_t voff;     /* the offset that search found (rows)     */
 } negobs_pipeline_priv_t;
 
 /* The public storage is declared with the same members in the same order

@@ -434,6 +434,22 @@ negobs_status_t negobs_stereo_set_first_row(negobs_stereo_t *ctx,
     return NEGOBS_OK;
 }
 
+negobs_status_t negobs_stereo_hold_vertical_offset(negobs_stereo_t *ctx,
+                                                   int32_t offset)
+{
+    stx_t *s;
+    if (ctx == NULL || ctx->priv == NULL) {
+        return NEGOBS_ERR_STATE;
+    }
+    s = (stx_t *)ctx->priv;
+    if (offset < -s->cfg.vertical_search || offset > s->cfg.vertical_search) {
+        return NEGOBS_ERR_INVAL;
+    }
+    s->vhold = offset;
+    s->vhold_set = 1;
+    return NEGOBS_OK;
+}
+
 /* Unless keep_out_of_view: drop the values whose match lies left of the
  * right image. Applied after the DP and after every refinement, so no stage
  * builds on such values and every map the observer sees is what a run
@@ -462,7 +478,17 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
     s->voff = s->cfg.vertical_offset;
     s->gdmin = s->dmin;
     s->gdmax = s->dmin + s->ndisp - 1;
-    stx_bands_vertical_range(s);
+    if (s->vhold_set && s->cfg.vertical_search > 0) {
+        /* a held offset: this frame skips the search */
+        int32_t search = s->cfg.vertical_search;
+        s->cfg.vertical_search = 0;
+        s->voff = s->vhold;
+        stx_bands_vertical_range(s);
+        s->cfg.vertical_search = search;
+    } else {
+        stx_bands_vertical_range(s);
+    }
+    s->vhold_set = 0;
     s->st.vertical_offset = s->voff;
     s->st.range_min = s->gdmin;
     s->st.range_max = s->gdmax;

@@ -52,6 +52,8 @@ typedef struct stx {
     negobs_stereo_config_t cfg;
     int32_t w, h;        /* frame being matched (h: a crop's height)   */
     int32_t first_row;   /* negobs_stereo_set_first_row (0 = all rows) */
+    int32_t vhold;       /* negobs_stereo_hold_vertical_offset: rows */
+    int32_t vhold_set;   /* 1: the next frame uses vhold, no search   */
     int32_t dmin, ndisp; /* configured range: dmin .. dmin+ndisp-1     */
     int32_t sh;          /* strip rows                                 */
 
