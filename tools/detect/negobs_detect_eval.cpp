@@ -184,6 +184,10 @@ struct SplitMix {
     }
 };
 
+// --draw N shifts the seeds of the generic and rigs walks by N times this
+// (more than the suite's few hundred walks), so every draw is a set of
+// walks no other draw, and no tuning, has seen.
+constexpr int kDrawSeedStep = 100000;
 constexpr int kGenericClipFrames = 24; // 4.0 m -> 1.24 m: the whole 1.5-3 m window
 const char *const kTextures[] = {"asphalt", "paving", "concrete", "worn"};
 
@@ -195,13 +199,17 @@ const char *const kTextures[] = {"asphalt", "paving", "concrete", "worn"};
 // (on every fourth the right camera follows one frame late). Weak
 // textures (concrete, worn asphalt) also have the same brightness on both
 // levels. Appended after the other walks, so their seeds stay.
-void add_generic_walks(std::vector<Seq> &s, int &seed, int app_frames)
+void add_generic_walks(std::vector<Seq> &s, int &seed, int app_frames, int draw)
 {
     int n = 0;
     auto add = [&](int rig, const std::string &scene, int drop, double start, int frames,
                    const std::string &texture, bool approach, const std::string &extra) {
         Seq q;
-        SplitMix rng{static_cast<uint64_t>(seed) * 0x2545F4914F6CDD1Dull + 5};
+        // --draw N: another set of walks of the same kinds (mountings,
+        // camera mismatch, textures, noise); 0 is the suite's own
+        const int sd = seed + kDrawSeedStep * draw;
+        ++seed;
+        SplitMix rng{static_cast<uint64_t>(sd) * 0x2545F4914F6CDD1Dull + 5};
         q.H_mm = std::round(900 + 700 * rng.uniform());
         q.pitch_deg = std::round(10 * (5 + 40 * rng.uniform())) / 10;
         q.roll_deg = std::round(10 * (-8 + 16 * rng.uniform())) / 10;
@@ -216,7 +224,7 @@ void add_generic_walks(std::vector<Seq> &s, int &seed, int app_frames)
         char nm[160];
         std::snprintf(nm, sizeof nm, "g%d_%s_%d_%s_s%.1f_H%.0f_p%.0f_r%.0f_%d%s", rig,
                       scene.c_str(), drop, texture.c_str(), start / 1000.0, q.H_mm,
-                      q.pitch_deg, q.roll_deg, seed, approach ? "_appr" : "");
+                      q.pitch_deg, q.roll_deg, sd, approach ? "_appr" : "");
         q.name = nm;
         q.rig = rig;
         q.scene = scene;
@@ -224,7 +232,7 @@ void add_generic_walks(std::vector<Seq> &s, int &seed, int app_frames)
         q.start_mm = start;
         q.frames = frames;
         q.yaw = 0;
-        q.seed = seed++;
+        q.seed = sd;
         q.approach = approach;
         q.extra = extra;
         s.push_back(q);
@@ -255,7 +263,7 @@ void add_generic_walks(std::vector<Seq> &s, int &seed, int app_frames)
 // --set rigs: short walks per rig of kCheckRigs at its own mounting, the
 // detector told no mounting. Weak textures with the same shade on both
 // levels on the drops nearest the minimum, small camera mismatch.
-void add_rig_walks(std::vector<Seq> &s, int &seed)
+void add_rig_walks(std::vector<Seq> &s, int &seed, int draw)
 {
     for (const Rig &r : kCheckRigs) {
         const int rig = static_cast<int>(kRigs.size());
@@ -274,8 +282,10 @@ void add_rig_walks(std::vector<Seq> &s, int &seed)
             q.gain_right = 1.04;
             q.offset_right = -4;
             char nm[160];
+            const int sd = seed + kDrawSeedStep * draw; // --draw N
+            ++seed;
             std::snprintf(nm, sizeof nm, "k%d_%s_%d_%s_s%.1f_%d", rig, scene.c_str(),
-                          drop, texture.c_str(), start / 1000.0, seed);
+                          drop, texture.c_str(), start / 1000.0, sd);
             q.name = nm;
             q.rig = rig;
             q.scene = scene;
@@ -283,7 +293,7 @@ void add_rig_walks(std::vector<Seq> &s, int &seed)
             q.start_mm = start;
             q.frames = frames;
             q.yaw = 0;
-            q.seed = seed++;
+            q.seed = sd;
             q.approach = scene == "curb" && drop == 150;
             q.extra = extra;
             s.push_back(q);
@@ -301,7 +311,7 @@ void add_rig_walks(std::vector<Seq> &s, int &seed)
     }
 }
 
-std::vector<Seq> build_suite(bool quick, SuiteSet set)
+std::vector<Seq> build_suite(bool quick, SuiteSet set, int draw)
 {
     std::vector<Seq> s;
     int seed = 100;
@@ -325,7 +335,7 @@ std::vector<Seq> build_suite(bool quick, SuiteSet set)
     };
     const int app_frames = static_cast<int>((7000 - 1000) / (kSpeed * 100)) + 1;
     if (set == SuiteSet::Rigs) {
-        add_rig_walks(s, seed);
+        add_rig_walks(s, seed, draw);
         return s;
     }
     if (quick) {
@@ -412,7 +422,7 @@ std::vector<Seq> build_suite(bool quick, SuiteSet set)
         }
     }
     if (set != SuiteSet::Legacy) {
-        add_generic_walks(s, seed, app_frames);
+        add_generic_walks(s, seed, app_frames, draw);
     }
     if (set == SuiteSet::Generic) {
         s.erase(
@@ -539,6 +549,7 @@ struct Options {
     bool rig_hint = false; // --set rigs: tell the detector the rendered mounting
     bool keep = false;
     int jobs = 2;
+    int draw = 0; // --draw N: another draw of the generic / rigs walks
     bool surdis = false;
     std::string surdis_dir;
     bool oakd = false; // --oakd: the OAK-D pairs table
@@ -1110,7 +1121,7 @@ void report_rigs(Report &rep, const std::vector<Seq> &suite,
 
 int evaluate_synth(const Options &opt)
 {
-    const std::vector<Seq> suite = build_suite(opt.quick, opt.set);
+    const std::vector<Seq> suite = build_suite(opt.quick, opt.set, opt.draw);
     std::error_code ec;
     fs::create_directories(opt.work, ec);
     if (ec) {
@@ -2239,7 +2250,7 @@ void usage(FILE *f)
 {
     std::fprintf(
         f,
-        "usage: negobs_detect_eval --all|--quick [--set all|legacy|generic|rigs] [--rig-hint] [--valign] [-j|--jobs N]\n"
+        "usage: negobs_detect_eval --all|--quick [--set all|legacy|generic|rigs] [--rig-hint] [--draw N] [--valign] [-j|--jobs N]\n"
         "                          [--work DIR] [--keep]\n"
         "                          [--synth PATH] [--markdown FILE] [--frames-json FILE]\n"
         "       negobs_detect_eval --surdis [DIR] [--img-dir DIR] [--markdown FILE]\n"
@@ -2268,6 +2279,9 @@ void usage(FILE *f)
         "PASS/FAIL for false vouches and false IMMINENT (docs/DETECTION.md, \"The\n"
         "evaluation suite\"); --rig-hint tells the detector each walk's rendered\n"
         "mounting instead (a start on verified ground).\n"
+        "--draw N (with --set generic or rigs): render another draw of those walks\n"
+        "(the same kinds, new random mountings, camera mismatch and textures;\n"
+        "seeds shifted by N x 100000): walks nothing was tuned on. 0 = the suite's own.\n"
         "--valign: the synthetic suite runs the alignment stage (valign.h).\n"
         "--surdis: SurDis sequence 21 from DIR (default $NEGOBS_DATA/surdis,\n"
         "else <repo>/../shared/data/surdis); exit 77 if absent. --surdis-vshift:\n"
@@ -2299,6 +2313,7 @@ enum LongOnly {
     O_SET,
     O_VALIGN,
     O_RIG_HINT,
+    O_DRAW,
     O_KEEP,
     O_WORK,
     O_SYNTH,
@@ -2328,6 +2343,7 @@ const struct option kLongOpts[] = {
     {"set", required_argument, nullptr, O_SET},
     {"valign", no_argument, nullptr, O_VALIGN},
     {"rig-hint", no_argument, nullptr, O_RIG_HINT},
+    {"draw", required_argument, nullptr, O_DRAW},
     {"keep", no_argument, nullptr, O_KEEP},
     {"jobs", required_argument, nullptr, 'j'},
     {"work", required_argument, nullptr, O_WORK},
@@ -2442,6 +2458,7 @@ int main(int argc, char **argv)
             break;
         case O_VALIGN: opt.valign = true; break;
         case O_RIG_HINT: opt.rig_hint = true; break;
+        case O_DRAW: ok = negobs_cli::parse_int(optarg, 0, 1000, opt.draw); break;
         case O_KEEP: opt.keep = true; break;
         case 'j': ok = negobs_cli::parse_int(optarg, 1, 64, opt.jobs); break;
         case O_WORK: opt.work = v; break;
@@ -2507,6 +2524,11 @@ int main(int argc, char **argv)
     if (optind < argc) {
         std::fprintf(stderr, "negobs_detect_eval: error: unexpected argument %s\n",
                      argv[optind]);
+        return 2;
+    }
+    if (opt.draw > 0 && opt.set != SuiteSet::Rigs && opt.set != SuiteSet::Generic) {
+        std::fprintf(stderr, "negobs_detect_eval: error: --draw needs --set generic or "
+                             "--set rigs (the other walks are fixed)\n");
         return 2;
     }
     if (opt.rig_hint && opt.set != SuiteSet::Rigs) {
