@@ -137,8 +137,9 @@ typedef struct detect_priv {
     uint32_t near_cand_ms;
     int32_t near_cand_on;
     mount_track_t mount; /* the mounting the results report (mount.c) */
-    /* the previous frame's fitted camera height; 0: no fit (det_fit_fell) */
-    int32_t prev_fit_height_mm;
+    /* slow track of the fitted camera height, 0: no fit yet (det_fit_fell):
+     * follows a rise within a few frames, a fall over about 1.5 s */
+    int32_t slow_fit_height_mm;
     /* per row: the columns of the left / right image in the field of view
      * [u0, u1) (detect_fill.c); height entries each */
     int16_t *view_l_u0;
