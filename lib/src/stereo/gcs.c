@@ -162,9 +162,11 @@ typedef struct nb_off {
     int32_t du, dd, dv;
     ptrdiff_t pix; /* strip pixel index (left window statistics)      */
     ptrdiff_t bit; /* matching-table bit                               */
-    ptrdiff_t lp;  /* left image pointer                               */
-    ptrdiff_t rp;  /* right image pointer                              */
+    ptrdiff_t lp;  /* left window's top-left pixel                     */
+    ptrdiff_t rp;  /* right window's top-left pixel                    */
+    ptrdiff_t mo;  /* memo word (pix * memo_k)                         */
     uint32_t key;  /* packed cache key (fields never borrow: checked) */
+    uint32_t hkey; /* key * the cache's hash multiplier (mod 2^32)     */
 } nb_off_t;
 
 /* What the growing loop reads: hoisted from stx_t once per strip, plus the
@@ -185,7 +187,8 @@ typedef struct grow_env {
     int32_t u, vrow, dr, ur;
     ptrdiff_t pix, bit0;
     const uint8_t *la, *rb;
-    uint32_t key0;
+    uint32_t *mrow; /* memo words of the popped pixel (fast profile) */
+    uint32_t key0, hkey0;
     int interior;
 } grow_env_t;
 
@@ -236,7 +239,7 @@ static inline int set_best(const grow_env_t *g, int first, int end,
          * direct-mapped cache catches about a quarter of the correlations;
          * `visited` counts the misses */
         key = g->key0 + o->key;
-        e = &g->cache[(key * 2654435761u) >> (32 - STX_CACHE_BITS)];
+        e = &g->cache[(g->hkey0 + o->hkey) >> (32 - STX_CACHE_BITS)];
         if (e->key == key) {
             nn = e->num2;
             dn = e->den;
@@ -250,24 +253,21 @@ static inline int set_best(const grow_env_t *g, int first, int end,
                 uint32_t vl = g->vl[il];
                 uint32_t vrr = g->vr[ir];
                 if (vl != 0u && vrr != 0u) {
-                    const uint8_t *a = g->la + o->lp - STX_WIN_R * g->ls -
-                                       STX_WIN_R;
-                    const uint8_t *b = g->rb + o->rp - STX_WIN_R * g->rs -
-                                       STX_WIN_R;
                     uint32_t x;
                     uint32_t *mw = NULL;
                     if (use_memo) {
                         uint32_t k = (uint32_t)(g->dr + o->dd) -
                                      (uint32_t)g->memo_base[il];
                         if (k < g->memo_k) {
-                            mw = g->memo + il * (ptrdiff_t)g->memo_k +
-                                 (ptrdiff_t)k;
+                            mw = g->mrow + o->mo + (ptrdiff_t)k;
                         }
                     }
                     if (use_memo && mw != NULL &&
                         (*mw & ~STX_MEMO_SUM_MASK) == g->memo_tag) {
                         x = *mw & STX_MEMO_SUM_MASK;
                     } else {
+                        const uint8_t *a = g->la + o->lp;
+                        const uint8_t *b = g->rb + o->rp;
 #if defined(STX_CROSS5_SIMD)
                         /* the 8-byte loads end at column qu + 5 (the right
                          * one at qur + 5 <= qu + 5) */
@@ -374,6 +374,7 @@ grow_run(stx_t *s, int use_memo)
     g.cache = s->cache;
     g.memo = s->memo;
     g.memo_base = s->memo_base;
+    g.mrow = NULL;
     g.memo_k = (uint32_t)s->memo_k;
     g.memo_tag = s->memo_gen << STX_MEMO_SUM_BITS;
     g.ls = s->left->stride;
@@ -390,10 +391,12 @@ grow_run(stx_t *s, int use_memo)
         o->dv = dv;
         o->pix = (ptrdiff_t)dv * g.w + du;
         o->bit = o->pix * nd + dd;
-        o->lp = (ptrdiff_t)dv * g.ls + du;
-        o->rp = (ptrdiff_t)dv * g.rs + (du - dd);
+        o->lp = (ptrdiff_t)(dv - STX_WIN_R) * g.ls + du - STX_WIN_R;
+        o->rp = (ptrdiff_t)(dv - STX_WIN_R) * g.rs + (du - dd) - STX_WIN_R;
+        o->mo = o->pix * (ptrdiff_t)g.memo_k;
         /* added (mod 2^32) to a packed key: a sum, not stx_pack's OR */
         o->key = ((uint32_t)du << 20) + ((uint32_t)dv << 8) + (uint32_t)dd;
+        o->hkey = o->key * STX_CACHE_HASH;
     }
 
     while (stx_queue_pop(&s->q, &item)) {
@@ -406,6 +409,10 @@ grow_run(stx_t *s, int use_memo)
         g.la = lrow + (ptrdiff_t)g.vrow * g.ls + g.u;
         g.rb = rrow + (ptrdiff_t)g.vrow * g.rs + g.ur;
         g.key0 = item + 1u;
+        g.hkey0 = g.key0 * STX_CACHE_HASH;
+        if (use_memo) {
+            g.mrow = g.memo + g.pix * (ptrdiff_t)g.memo_k;
+        }
         /* every neighbour inside the strip and range, and every window
          * (and 8-byte SIMD load) inside the image: the usual case, where
          * the per-cell bounds tests can be skipped */

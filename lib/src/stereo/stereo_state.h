@@ -32,7 +32,12 @@
 #define STX_LOWRES 4       /* elementary map scale (1/4)      */
 #define STX_NONE8 0xFFu    /* empty u8 disparity slot         */
 #define STX_CACHE_BITS 11  /* growth score cache: 2048 entries */
-#define STX_VSEARCH_MAX 4  /* largest vertical_search (rows)   */
+/* The cache's slot of key k is (k * STX_CACHE_HASH) >> (32 - STX_CACHE_BITS)
+ * (Fibonacci hashing). The product is taken mod 2^32, so it distributes over
+ * a sum of keys: the growth adds a neighbour's premultiplied offset to the
+ * popped cell's premultiplied key instead of multiplying per neighbour. */
+#define STX_CACHE_HASH 2654435761u
+#define STX_VSEARCH_MAX 4 /* largest vertical_search (rows)   */
 
 /* One cached correlation of the growth stage (key 0 = empty). */
 typedef struct stx_cache_entry {
