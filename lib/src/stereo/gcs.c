@@ -161,6 +161,7 @@ static const int16_t nb_cell[16][3] = {
 typedef struct nb_off {
     int32_t du, dd, dv;
     ptrdiff_t pix; /* strip pixel index (left window statistics)      */
+    ptrdiff_t rpx; /* the same for the right pixel (pix - dd)          */
     ptrdiff_t bit; /* matching-table bit                               */
     ptrdiff_t lp;  /* left window's top-left pixel                     */
     ptrdiff_t rp;  /* right window's top-left pixel                    */
@@ -185,12 +186,31 @@ typedef struct grow_env {
     nb_off_t nb[16];
     /* popped cell */
     int32_t u, vrow, dr, ur;
-    ptrdiff_t pix, bit0;
+    ptrdiff_t pix, rpix, bit0;
     const uint8_t *la, *rb;
     uint32_t *mrow; /* memo words of the popped pixel (fast profile) */
     uint32_t key0, hkey0;
     int interior;
 } grow_env_t;
+
+/* Raw 5x5 cross sum of neighbour o's windows (both inside the image). */
+static inline uint32_t grow_cross(const grow_env_t *g, const nb_off_t *o,
+                                  int32_t qu, int interior)
+{
+    const uint8_t *a = g->la + o->lp;
+    const uint8_t *b = g->rb + o->rp;
+#if defined(STX_CROSS5_SIMD)
+    /* the 8-byte loads end at column qu + 5 (the right one at
+     * qur + 5 <= qu + 5) */
+    if (interior || qu + 5 < g->w) {
+        return stx_cross5_simd(a, g->ls, b, g->rs);
+    }
+#else
+    (void)qu;
+    (void)interior;
+#endif
+    return stx_cross5_ref(a, g->ls, b, g->rs);
+}
 
 /* Best member of the set nb[first .. end) as a fraction; returns its index
  * or -1 (no member scored, or the set cannot accept anything). Inline with
@@ -249,40 +269,41 @@ static inline int set_best(const grow_env_t *g, int first, int end,
             if (interior || (qu >= STX_WIN_R && qu < g->w - STX_WIN_R &&
                              qur >= STX_WIN_R && qur < g->w - STX_WIN_R)) {
                 ptrdiff_t il = g->pix + o->pix;
-                ptrdiff_t ir = il + (qur - qu);
+                ptrdiff_t ir = g->rpix + o->rpx;
                 uint32_t vl = g->vl[il];
                 uint32_t vrr = g->vr[ir];
                 if (vl != 0u && vrr != 0u) {
                     uint32_t x;
-                    uint32_t *mw = NULL;
+                    uint32_t den;
                     if (use_memo) {
                         uint32_t k = (uint32_t)(g->dr + o->dd) -
                                      (uint32_t)g->memo_base[il];
                         if (k < g->memo_k) {
-                            mw = g->mrow + o->mo + (ptrdiff_t)k;
+                            uint32_t *mw = g->mrow + o->mo + (ptrdiff_t)k;
+                            uint32_t mv = *mw;
+                            if ((mv & ~STX_MEMO_SUM_MASK) == g->memo_tag) {
+                                x = mv & STX_MEMO_SUM_MASK;
+                            } else {
+                                x = grow_cross(g, o, qu, interior);
+                                *mw = g->memo_tag | x;
+                            }
+                        } else {
+                            x = grow_cross(g, o, qu, interior);
                         }
-                    }
-                    if (use_memo && mw != NULL &&
-                        (*mw & ~STX_MEMO_SUM_MASK) == g->memo_tag) {
-                        x = *mw & STX_MEMO_SUM_MASK;
                     } else {
-                        const uint8_t *a = g->la + o->lp;
-                        const uint8_t *b = g->rb + o->rp;
-#if defined(STX_CROSS5_SIMD)
-                        /* the 8-byte loads end at column qu + 5 (the right
-                         * one at qur + 5 <= qu + 5) */
-                        x = (interior || qu + 5 < g->w)
-                                ? stx_cross5_simd(a, g->ls, b, g->rs)
-                                : stx_cross5_ref(a, g->ls, b, g->rs);
-#else
-                        x = stx_cross5_ref(a, g->ls, b, g->rs);
-#endif
-                        if (use_memo && mw != NULL) {
-                            *mw = g->memo_tag | x;
-                        }
+                        x = grow_cross(g, o, qu, interior);
                     }
-                    ok = stx_mncc_num_den(x, g->sl[il], vl, g->sr[ir], vrr,
-                                          g->tex_min, &nn, &dn);
+                    /* stx_mncc_num_den() with vl, vr != 0 known: their sum
+                     * (each < 2^24) is not 0 */
+                    den = vl + vrr;
+                    if (den >= g->tex_min) {
+                        int32_t num = (int32_t)((uint32_t)STX_WIN_N * x) -
+                                      (int32_t)((uint32_t)g->sl[il] *
+                                                (uint32_t)g->sr[ir]);
+                        nn = 2 * num;
+                        dn = (int32_t)den;
+                        ok = 1;
+                    }
                 }
             }
             if (!ok) {
@@ -390,6 +411,7 @@ grow_run(stx_t *s, int use_memo)
         o->dd = dd;
         o->dv = dv;
         o->pix = (ptrdiff_t)dv * g.w + du;
+        o->rpx = o->pix - dd;
         o->bit = o->pix * nd + dd;
         o->lp = (ptrdiff_t)(dv - STX_WIN_R) * g.ls + du - STX_WIN_R;
         o->rp = (ptrdiff_t)(dv - STX_WIN_R) * g.rs + (du - dd) - STX_WIN_R;
@@ -405,6 +427,7 @@ grow_run(stx_t *s, int use_memo)
         g.dr = stx_unpack_d(item);
         g.ur = g.u - (g.dr + dmin);
         g.pix = (ptrdiff_t)g.vrow * g.w + g.u;
+        g.rpix = g.pix + (g.ur - g.u);
         g.bit0 = g.pix * nd + g.dr;
         g.la = lrow + (ptrdiff_t)g.vrow * g.ls + g.u;
         g.rb = rrow + (ptrdiff_t)g.vrow * g.rs + g.ur;
