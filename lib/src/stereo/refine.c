@@ -118,7 +118,10 @@ void stx_speckle(stx_t *s, negobs_image_s16_t *disp)
             }
             bit_set(s->vis, p);
             s->flood[n++] = (uint32_t)p;
-            while (head < n) {
+            /* a large region stops flooding (as the band pass does): the
+             * rest of it is connected to the pixels kept here, so a later
+             * flood from any of them touches a kept pixel and keeps it */
+            while (head < n && !big) {
                 uint32_t q = s->flood[head++];
                 int32_t qy = (int32_t)(q / (uint32_t)w);
                 int32_t qx = (int32_t)(q - (uint32_t)qy * (uint32_t)w);
