@@ -128,9 +128,10 @@ typedef struct negobs_stereo_config {
 /** Today's strip-sized workspace: <= 512 KB at 320x240 with 64
  *  disparities. For microcontrollers (Cortex-M7 SRAM). */
 #define NEGOBS_STEREO_PROFILE_COMPACT 0
-/** Adds a per-strip memo of the 5x5 cross sums over a band of up to
- *  NEGOBS_STEREO_MEMO_LEVELS disparities around each tile's coarse range,
- *  so the growth correlates no cell of that band twice in a strip:
+/** Adds a per-strip memo of the growth's correlation numerators over a
+ *  band of up to NEGOBS_STEREO_MEMO_LEVELS disparities around each tile's
+ *  coarse range, so the growth correlates no cell of that band twice in a
+ *  strip:
  *  strip_rows x width x levels x 4 bytes more (1.3 MB at 320x240x64,
  *  2.6 MB at 640x480x64; <= 4 MB in all at 640x480x64). */
 #define NEGOBS_STEREO_PROFILE_FAST 1

@@ -181,7 +181,7 @@ typedef struct grow_env {
     stx_cache_entry_t *cache;
     uint32_t *memo; /* NULL: compact profile                  */
     const uint8_t *memo_base;
-    uint32_t memo_k, memo_tag; /* tag: the strip's stamp << 21         */
+    uint32_t memo_k, memo_gen; /* gen: the strip's stamp           */
     ptrdiff_t ls, rs;
     nb_off_t nb[16];
     /* popped cell */
@@ -194,8 +194,11 @@ typedef struct grow_env {
 } grow_env_t;
 
 /* Raw 5x5 cross sum of neighbour o's windows (both inside the image). */
-static inline uint32_t grow_cross(const grow_env_t *g, const nb_off_t *o,
-                                  int32_t qu, int interior)
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+static inline uint32_t
+grow_cross(const grow_env_t *g, const nb_off_t *o, int32_t qu, int interior)
 {
     const uint8_t *a = g->la + o->lp;
     const uint8_t *b = g->rb + o->rp;
@@ -212,12 +215,44 @@ static inline uint32_t grow_cross(const grow_env_t *g, const nb_off_t *o,
     return stx_cross5_ref(a, g->ls, b, g->rs);
 }
 
+/* The MNCC fraction of neighbour o (left pixel il, windows inside the
+ * image) into *nn / *dn; left as 0 / 0 when a window is flat. Same values
+ * as stx_mncc_num_den(): with vl, vr != 0 their sum (each < 2^24) is not
+ * 0, so only the texture test remains. */
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+static inline void
+grow_score(const grow_env_t *g, const nb_off_t *o, ptrdiff_t il, int32_t qu,
+           int interior, int32_t *nn, int32_t *dn)
+{
+    ptrdiff_t ir = g->rpix + o->rpx;
+    uint32_t vl = g->vl[il];
+    uint32_t vrr = g->vr[ir];
+    uint32_t den;
+    uint32_t x;
+    if (vl == 0u || vrr == 0u) {
+        return;
+    }
+    den = vl + vrr;
+    if (den < g->tex_min) {
+        return;
+    }
+    x = grow_cross(g, o, qu, interior);
+    *nn = 2 * ((int32_t)((uint32_t)STX_WIN_N * x) -
+               (int32_t)((uint32_t)g->sl[il] * (uint32_t)g->sr[ir]));
+    *dn = (int32_t)den;
+}
+
 /* Best member of the set nb[first .. end) as a fraction; returns its index
  * or -1 (no member scored, or the set cannot accept anything). Inline with
  * literal bounds at each call, so the compiler unrolls the set. */
-static inline int set_best(const grow_env_t *g, int first, int end,
-                           int interior, int use_memo, int32_t *bn_out,
-                           int32_t *bden_out, uint32_t *visited)
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+static inline int
+set_best(const grow_env_t *g, int first, int end, int interior, int use_memo,
+         int32_t *bn_out, int32_t *bden_out, uint32_t *visited)
 {
     int32_t bn = 0;
     int32_t bden = 0;
@@ -264,51 +299,37 @@ static inline int set_best(const grow_env_t *g, int first, int end,
             nn = e->num2;
             dn = e->den;
         } else {
-            int ok = 0;
             (*visited)++;
+            nn = 0;
+            dn = 0;
             if (interior || (qu >= STX_WIN_R && qu < g->w - STX_WIN_R &&
                              qur >= STX_WIN_R && qur < g->w - STX_WIN_R)) {
                 ptrdiff_t il = g->pix + o->pix;
-                ptrdiff_t ir = g->rpix + o->rpx;
-                uint32_t vl = g->vl[il];
-                uint32_t vrr = g->vr[ir];
-                if (vl != 0u && vrr != 0u) {
-                    uint32_t x;
-                    uint32_t den;
-                    if (use_memo) {
-                        uint32_t k = (uint32_t)(g->dr + o->dd) -
-                                     (uint32_t)g->memo_base[il];
-                        if (k < g->memo_k) {
-                            uint32_t *mw = g->mrow + o->mo + (ptrdiff_t)k;
-                            uint32_t mv = *mw;
-                            if ((mv & ~STX_MEMO_SUM_MASK) == g->memo_tag) {
-                                x = mv & STX_MEMO_SUM_MASK;
-                            } else {
-                                x = grow_cross(g, o, qu, interior);
-                                *mw = g->memo_tag | x;
+                if (use_memo) {
+                    uint32_t k = (uint32_t)(g->dr + o->dd) -
+                                 (uint32_t)g->memo_base[il];
+                    if (k < g->memo_k) {
+                        uint32_t *mw = g->mrow + o->mo + (ptrdiff_t)k;
+                        uint32_t mv = *mw;
+                        if ((mv >> STX_MEMO_NUM_BITS) == g->memo_gen) {
+                            /* the denominator is two loads, cheaper
+                             * than a bigger word */
+                            uint32_t nb = mv & STX_MEMO_NUM_MASK;
+                            if (nb != 0u) {
+                                nn = stx_memo_num2(nb);
+                                dn = (int32_t)(g->vl[il] +
+                                               g->vr[g->rpix + o->rpx]);
                             }
                         } else {
-                            x = grow_cross(g, o, qu, interior);
+                            grow_score(g, o, il, qu, interior, &nn, &dn);
+                            *mw = stx_memo_pack(g->memo_gen, nn, dn);
                         }
                     } else {
-                        x = grow_cross(g, o, qu, interior);
+                        grow_score(g, o, il, qu, interior, &nn, &dn);
                     }
-                    /* stx_mncc_num_den() with vl, vr != 0 known: their sum
-                     * (each < 2^24) is not 0 */
-                    den = vl + vrr;
-                    if (den >= g->tex_min) {
-                        int32_t num = (int32_t)((uint32_t)STX_WIN_N * x) -
-                                      (int32_t)((uint32_t)g->sl[il] *
-                                                (uint32_t)g->sr[ir]);
-                        nn = 2 * num;
-                        dn = (int32_t)den;
-                        ok = 1;
-                    }
+                } else {
+                    grow_score(g, o, il, qu, interior, &nn, &dn);
                 }
-            }
-            if (!ok) {
-                nn = 0;
-                dn = 0;
             }
             e->key = key;
             e->num2 = nn;
@@ -397,7 +418,7 @@ grow_run(stx_t *s, int use_memo)
     g.memo_base = s->memo_base;
     g.mrow = NULL;
     g.memo_k = (uint32_t)s->memo_k;
-    g.memo_tag = s->memo_gen << STX_MEMO_SUM_BITS;
+    g.memo_gen = s->memo_gen;
     g.ls = s->left->stride;
     g.rs = s->right->stride;
     lrow = s->left->data + (ptrdiff_t)s->y0 * g.ls;
