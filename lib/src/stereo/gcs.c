@@ -76,24 +76,14 @@ static inline int table_has(const stx_t *s, size_t bit)
     return (int)(((uint32_t)s->tbits[bit >> 3] >> (bit & 7u)) & 1u);
 }
 
-/* Accept candidate (u, v, d) with score c (>= tau, not in the table) when
- * the margin rule holds; push it when accepted. */
-static int accept_scored(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t c,
-                         size_t bit)
+/* Accept the candidate at left / right strip pixels il / ir, level dr
+ * (= d - dmin), packed as `item`, with score c (>= tau, not in the table)
+ * when the margin rule holds; push it when accepted. */
+static int accept_at(stx_t *s, ptrdiff_t il, ptrdiff_t ir, int32_t dr,
+                     int32_t c, size_t bit, uint32_t item)
 {
-    int32_t w = s->w;
-    int32_t vr = v - s->y0;
-    int32_t dr = d - s->dmin;
-    int32_t ur = u - d;
-    ptrdiff_t il;
-    ptrdiff_t ir;
-    uint8_t c8;
-    int32_t lim;
-
-    il = (ptrdiff_t)vr * w + u;
-    ir = (ptrdiff_t)vr * w + ur;
-    c8 = to_q8(c);
-    lim = (s->lc[il] < s->rc[ir]) ? s->lc[il] : s->rc[ir];
+    uint8_t c8 = to_q8(c);
+    int32_t lim = (s->lc[il] < s->rc[ir]) ? s->lc[il] : s->rc[ir];
     if ((int32_t)c8 + (s->cfg.ncc_mu_q14 >> 6) < lim) {
         return 0;
     }
@@ -101,8 +91,18 @@ static int accept_scored(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t c,
     table_update(&s->ld[il], &s->lc[il], &s->lc2[il], dr, c8, s->cfg.zonegap);
     table_update(&s->rd[ir], &s->rc[ir], &s->rc2[ir], dr, c8, s->cfg.zonegap);
     s->st.grown++;
-    stx_queue_push(&s->q, stx_pack(u, vr, dr), c >> 6);
+    stx_queue_push(&s->q, item, c >> 6);
     return 1;
+}
+
+/* accept_at() for candidate (u, v, d). */
+static int accept_scored(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t c,
+                         size_t bit)
+{
+    int32_t vr = v - s->y0;
+    int32_t dr = d - s->dmin;
+    ptrdiff_t il = (ptrdiff_t)vr * s->w + u;
+    return accept_at(s, il, il - d, dr, c, bit, stx_pack(u, vr, dr));
 }
 
 /* Try to accept candidate (u, v, d) with score c; push it when accepted. */
@@ -116,26 +116,6 @@ static int try_accept(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t c)
     if (table_has(s, bit)) {
         return 0;
     }
-    return accept_scored(s, u, v, d, c, bit);
-}
-
-/* try_accept for a score still held as the fraction num2 / den (den > 0)
- * of the cell whose table bit the growth loop already has: the table and
- * tau are tested before the division, which most growth candidates never
- * need. Same decisions as try_accept(stx_frac_q14()). */
-#if defined(__GNUC__)
-__attribute__((always_inline))
-#endif
-static inline int
-try_accept_frac(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t num2,
-                int32_t den, size_t bit)
-{
-    int32_t c;
-    if (table_has(s, bit) ||
-        !stx_frac_reaches(num2, den, s->cfg.ncc_tau_q14)) {
-        return 0;
-    }
-    c = stx_frac_q14(num2, den);
     return accept_scored(s, u, v, d, c, bit);
 }
 
@@ -350,6 +330,28 @@ set_best(const grow_env_t *g, int first, int end, int interior, int use_memo,
     return bm;
 }
 
+/* try_accept for neighbour nb of the popped cell, whose score is still
+ * held as the fraction num2 / den (den > 0): the table and tau are tested
+ * before the division, which most growth candidates never need. Same
+ * decisions as try_accept(stx_frac_q14()). The neighbour's indices are
+ * the popped cell's plus its offsets (its packed item too: an in-range
+ * neighbour's fields never borrow). */
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+static inline int
+try_accept_frac(stx_t *s, const grow_env_t *g, const nb_off_t *o, int32_t num2,
+                int32_t den)
+{
+    size_t bit = (size_t)(g->bit0 + o->bit);
+    if (table_has(s, bit) ||
+        !stx_frac_reaches(num2, den, s->cfg.ncc_tau_q14)) {
+        return 0;
+    }
+    return accept_at(s, g->pix + o->pix, g->rpix + o->rpx, g->dr + o->dd,
+                     stx_frac_q14(num2, den), bit, g->key0 - 1u + o->key);
+}
+
 /* The four sets of the popped cell. `interior` and `use_memo` are
  * literals at every call site (forced inline), so the usual interior cell
  * runs without any per-member bounds test. */
@@ -360,7 +362,6 @@ static inline void
 grow_cell(stx_t *s, const grow_env_t *g, int interior, int use_memo,
           uint32_t *visited)
 {
-    const int32_t dmin = s->dmin;
     int k;
     for (k = 0; k < 4; k++) {
         int32_t bn = 0;
@@ -377,10 +378,7 @@ grow_cell(stx_t *s, const grow_env_t *g, int interior, int use_memo,
             bm = set_best(g, 11, 16, interior, use_memo, &bn, &bden, visited);
         }
         if (bm >= 0 && bden != 0) {
-            (void)try_accept_frac(s, g->u + g->nb[bm].du,
-                                  g->vrow + g->nb[bm].dv + s->y0,
-                                  g->dr + g->nb[bm].dd + dmin, bn, bden,
-                                  (size_t)(g->bit0 + g->nb[bm].bit));
+            (void)try_accept_frac(s, g, &g->nb[bm], bn, bden);
         }
     }
 }
