@@ -38,54 +38,58 @@
 #define NEG32 (INT32_MIN / 2)
 #define NEG64 (INT64_MIN / 4)
 
-/* Bands of one row; returns 0 when the row has no GCS match at all. */
+/* Bands of one row; returns 0 when the row has no GCS match at all (the
+ * bands are then left as they were: nothing reads them). A run of holes
+ * between two matches (or a match and the row's end) shares one band, so
+ * it is found once per run and stored. */
 static int row_bands(stx_t *s, const int16_t *g)
 {
-    int32_t w = s->w;
-    int32_t b = s->cfg.band;
-    int32_t x;
-    int32_t last = NEGOBS_DISP_INVALID;
-    int any = 0;
-    int32_t lo_lim = s->gdmin;
-    int32_t hi_lim = s->gdmax;
+    const int32_t w = s->w;
+    const int32_t b = s->cfg.band;
+    const int32_t lo_lim = s->gdmin;
+    const int32_t hi_lim = s->gdmax;
+    int16_t *blo = s->blo;
+    int16_t *bhi = s->bhi;
+    uint8_t *bscored = s->bscored;
+    int32_t last = NEGOBS_DISP_INVALID; /* nearest match on the left */
+    int32_t x = 0;
 
-    /* left-nearest pass stores dl in blo, right-nearest pass finishes */
-    for (x = 0; x < w; x++) {
-        if (g[x] != NEGOBS_DISP_INVALID) {
-            last = g[x];
-            any = 1;
-        }
-        s->blo[x] = (int16_t)last;
-    }
-    if (!any) {
-        return 0;
-    }
-    last = NEGOBS_DISP_INVALID;
-    for (x = w - 1; x >= 0; x--) {
-        int32_t dl = s->blo[x];
+    while (x < w) {
         int32_t lo;
         int32_t hi;
         if (g[x] != NEGOBS_DISP_INVALID) {
             last = g[x];
-            lo = g[x] - b;
-            hi = g[x] + b;
-            s->bscored[x] = 1u;
+            lo = negobs_clamp_s32(last - b, lo_lim, hi_lim);
+            hi = negobs_clamp_s32(last + b, lo, hi_lim);
+            blo[x] = (int16_t)lo;
+            bhi[x] = (int16_t)hi;
+            bscored[x] = 1u;
+            x++;
         } else {
-            int32_t dr = last;
+            int32_t e = x + 1;
+            int32_t dl = last;
+            int32_t dr;
+            while (e < w && g[e] == NEGOBS_DISP_INVALID) {
+                e++;
+            }
+            dr = (e < w) ? g[e] : NEGOBS_DISP_INVALID;
             if (dl == NEGOBS_DISP_INVALID) {
+                if (dr == NEGOBS_DISP_INVALID) {
+                    return 0; /* the whole row is one run of holes */
+                }
                 dl = dr;
             }
             if (dr == NEGOBS_DISP_INVALID) {
                 dr = dl;
             }
-            lo = ((dl < dr) ? dl : dr) - b;
-            hi = ((dl > dr) ? dl : dr) + b;
-            s->bscored[x] = 0u;
+            lo = negobs_clamp_s32(((dl < dr) ? dl : dr) - b, lo_lim, hi_lim);
+            hi = negobs_clamp_s32(((dl > dr) ? dl : dr) + b, lo, hi_lim);
+            for (; x < e; x++) {
+                blo[x] = (int16_t)lo;
+                bhi[x] = (int16_t)hi;
+                bscored[x] = 0u;
+            }
         }
-        lo = negobs_clamp_s32(lo, lo_lim, hi_lim);
-        hi = negobs_clamp_s32(hi, lo, hi_lim);
-        s->blo[x] = (int16_t)lo;
-        s->bhi[x] = (int16_t)hi;
     }
     return 1;
 }
