@@ -233,6 +233,11 @@ static void stage1_feed(stx_t *s)
     const int32_t neutral = s->cfg.dp_neutral_q14;
     int32_t *yp = s->yprev + 1; /* index -1 .. nd valid */
     int32_t *yc = s->ycur + 1;
+    /* the row's inputs in locals: the stores below cannot move them */
+    const uint8_t *const bscored = s->bscored;
+    const int16_t *const gcs = s->gcs_cur;
+    const int16_t *const blo = s->blo;
+    const int16_t *const bhi = s->bhi;
     int32_t x;
     int32_t i;
     int32_t bestp = 0;
@@ -247,9 +252,9 @@ static void stage1_feed(stx_t *s)
     }
     for (x = 0; x < w; x++) {
         int32_t bcur = NEG32;
-        int32_t gi = s->bscored[x] ? s->gcs_cur[x] - dmin : -2;
-        int32_t lo = s->blo[x] - dmin;
-        int32_t hi = s->bhi[x] - dmin;
+        int32_t gi = bscored[x] ? gcs[x] - dmin : -2;
+        int32_t lo = blo[x] - dmin;
+        int32_t hi = bhi[x] - dmin;
         clear_stale(yc, plo, phi, lo, hi);
         if (x == 0) {
             for (i = lo; i <= hi; i++) {
@@ -307,6 +312,14 @@ static int32_t stage1_keep(stx_t *s)
     const int32_t neutral = s->cfg.dp_neutral_q14;
     int32_t *yp = s->yprev + 1; /* index -1 .. nd valid */
     int32_t *yc = s->ycur + 1;
+    /* the row's inputs and outputs in locals: the pointer stores (bytes,
+     * which may alias anything) would otherwise reload them per column */
+    const uint8_t *const bscored = s->bscored;
+    const int16_t *const gcs = s->gcs_cur;
+    const int16_t *const blo = s->blo;
+    const int16_t *const bhi = s->bhi;
+    int16_t *const jump_to = s->jump_to;
+    uint8_t *prow = s->p1;
     int32_t x;
     int32_t i;
     int32_t bestp = 0;
@@ -323,10 +336,9 @@ static int32_t stage1_keep(stx_t *s)
     for (x = 0; x < w; x++) {
         int32_t bcur = NEG32;
         int32_t acur = 0;
-        uint8_t *prow = s->p1 + (ptrdiff_t)x * nd;
-        int32_t gi = s->bscored[x] ? s->gcs_cur[x] - dmin : -2;
-        int32_t lo = s->blo[x] - dmin;
-        int32_t hi = s->bhi[x] - dmin;
+        int32_t gi = bscored[x] ? gcs[x] - dmin : -2;
+        int32_t lo = blo[x] - dmin;
+        int32_t hi = bhi[x] - dmin;
         clear_stale(yc, plo, phi, lo, hi);
         if (x == 0) {
             for (i = lo; i <= hi; i++) {
@@ -374,7 +386,8 @@ static int32_t stage1_keep(stx_t *s)
                 acur = gi;
             }
         }
-        s->jump_to[x] = (int16_t)argp;
+        jump_to[x] = (int16_t)argp;
+        prow += nd;
         {
             int32_t *tmp = yp;
             yp = yc;
