@@ -583,6 +583,7 @@ static void seed_edges(stx_t *s)
         for (u = STX_WIN_R; u < w - STX_WIN_R; u++) {
             int32_t lo;
             int32_t hi;
+            int32_t end;
             int32_t d;
             int32_t best = STX_FLAT;
             int32_t bestd = 0;
@@ -596,11 +597,13 @@ static void seed_edges(stx_t *s)
             stx_tile_range(s, u, v, &lo, &hi);
             lo = (lo < s->gdmin) ? s->gdmin : lo;
             hi = (hi > s->gdmax) ? s->gdmax : hi;
-            seed_scores(s, u, v, lo, (hi < u - STX_WIN_R) ? hi : u - STX_WIN_R,
-                        sc);
-            for (d = lo; d <= hi && d <= u - STX_WIN_R; d++) {
+            end = (hi < u - STX_WIN_R) ? hi : u - STX_WIN_R;
+            seed_scores(s, u, v, lo, end, sc);
+            /* STX_FLAT is INT32_MIN, below every score: "c > best" skips
+             * flat cells and takes the first of equal scores */
+            for (d = lo; d <= end; d++) {
                 int32_t c = sc[d - lo];
-                if (c != STX_FLAT && (best == STX_FLAT || c > best)) {
+                if (c > best) {
                     best = c;
                     bestd = d;
                 }
@@ -608,14 +611,12 @@ static void seed_edges(stx_t *s)
             if (best == STX_FLAT || best < s->cfg.seed_tau_q14) {
                 continue;
             }
-            for (d = lo; d <= hi && d <= u - STX_WIN_R; d++) {
-                int32_t c = sc[d - lo];
-                if (d >= bestd - 1 && d <= bestd + 1) {
-                    continue;
-                }
-                if (c != STX_FLAT && (second == STX_FLAT || c > second)) {
-                    second = c;
-                }
+            /* the best score two or more levels away */
+            for (d = lo; d <= bestd - 2; d++) {
+                second = (sc[d - lo] > second) ? sc[d - lo] : second;
+            }
+            for (d = bestd + 2; d <= end; d++) {
+                second = (sc[d - lo] > second) ? sc[d - lo] : second;
             }
             if (second != STX_FLAT && best - second < s->cfg.seed_margin_q14) {
                 continue;
