@@ -714,35 +714,43 @@ void stx_gcs_strip(stx_t *s, negobs_image_s16_t *out)
     }
     s->st.queue_overflows += s->q.overflows;
 
-    for (v = 0; v < n; v++) {
-        int16_t *o = negobs_image_s16_row(out, s->y0 + v);
-        int32_t u;
-        for (u = 0; u < w; u++) {
-            ptrdiff_t il = (ptrdiff_t)v * w + u;
-            int32_t dr = s->ld[il];
-            int32_t ur;
-            ptrdiff_t ir;
-            int32_t c;
-            int32_t lim;
-            int32_t dd;
-            o[u] = NEGOBS_DISP_INVALID;
-            if (dr == STX_NONE8) {
-                continue;
+    {
+        /* the tables in locals: the int16 output stores cannot move them */
+        const uint8_t *const ld = s->ld;
+        const uint8_t *const lc = s->lc;
+        const uint8_t *const lc2 = s->lc2;
+        const uint8_t *const rd = s->rd;
+        const uint8_t *const rc2 = s->rc2;
+        const int32_t dmin = s->dmin;
+        uint32_t matched = 0;
+        for (v = 0; v < n; v++) {
+            int16_t *o = negobs_image_s16_row(out, s->y0 + v);
+            ptrdiff_t row = (ptrdiff_t)v * w;
+            int32_t u;
+            for (u = 0; u < w; u++) {
+                ptrdiff_t il = row + u;
+                int32_t dr = ld[il];
+                ptrdiff_t ir;
+                int32_t lim;
+                int32_t dd;
+                o[u] = NEGOBS_DISP_INVALID;
+                if (dr == STX_NONE8) {
+                    continue;
+                }
+                ir = il - (dr + dmin);
+                dd = (int32_t)rd[ir] - dr;
+                if (dd > gap || dd < -gap) {
+                    continue;
+                }
+                lim = (int32_t)lc[il] * (256 - beta);
+                if ((int32_t)lc2[il] * 256 >= lim ||
+                    (int32_t)rc2[ir] * 256 >= lim) {
+                    continue;
+                }
+                o[u] = (int16_t)(dr + dmin);
+                matched++;
             }
-            ur = u - (dr + s->dmin);
-            ir = (ptrdiff_t)v * w + ur;
-            dd = (int32_t)s->rd[ir] - dr;
-            if (dd > gap || dd < -gap) {
-                continue;
-            }
-            c = s->lc[il];
-            lim = c * (256 - beta);
-            if ((int32_t)s->lc2[il] * 256 >= lim ||
-                (int32_t)s->rc2[ir] * 256 >= lim) {
-                continue;
-            }
-            o[u] = (int16_t)(dr + s->dmin);
-            s->st.gcs_matched++;
         }
+        s->st.gcs_matched += matched;
     }
 }
