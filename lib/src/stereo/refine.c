@@ -90,6 +90,12 @@ static void bit_set(uint8_t *b, size_t i)
     b[i >> 3] = (uint8_t)(b[i >> 3] | (1u << (i & 7u)));
 }
 
+/* Whether two valid neighbours belong to one speckle region. */
+static inline int speckle_joined(int32_t a, int32_t b, int32_t diff)
+{
+    return a - b <= diff && b - a <= diff;
+}
+
 void stx_speckle(stx_t *s, negobs_image_s16_t *disp)
 {
     int32_t w = s->w;
@@ -112,8 +118,25 @@ void stx_speckle(stx_t *s, negobs_image_s16_t *disp)
             int32_t head = 0;
             int big = 0;
             int32_t i;
-            if (bit_get(s->vis, p) ||
-                negobs_image_s16_row(disp, y)[x] == NEGOBS_DISP_INVALID) {
+            int32_t dp;
+            if (bit_get(s->vis, p)) {
+                continue;
+            }
+            dp = negobs_image_s16_row(disp, y)[x];
+            if (dp == NEGOBS_DISP_INVALID) {
+                continue;
+            }
+            /* joined to a kept pixel on the left or above (kept pixels are
+             * valid): the same region, so kept too, without a flood; its
+             * other unvisited pixels get their turn the same way */
+            if ((x > 0 && bit_get(s->keep, p - 1u) &&
+                 speckle_joined(negobs_image_s16_row(disp, y)[x - 1], dp,
+                                diff)) ||
+                (y > 0 && bit_get(s->keep, p - (size_t)w) &&
+                 speckle_joined(negobs_image_s16_row(disp, y - 1)[x], dp,
+                                diff))) {
+                bit_set(s->vis, p);
+                bit_set(s->keep, p);
                 continue;
             }
             bit_set(s->vis, p);
