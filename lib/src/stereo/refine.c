@@ -294,6 +294,7 @@ static void speckle_flood_band(stx_t *s, const negobs_image_s16_t *disp,
 void stx_speckle_mark_rows(stx_t *s, const negobs_image_s16_t *disp,
                            int32_t y0, int32_t y1)
 {
+    int32_t diff = s->cfg.speckle_diff_q4;
     size_t rowbytes = ((size_t)s->w + 7u) / 8u;
     int32_t y;
     int32_t x;
@@ -304,11 +305,24 @@ void stx_speckle_mark_rows(stx_t *s, const negobs_image_s16_t *disp,
     memset(s->keep + (size_t)y0 * rowbytes, 0, (size_t)(y1 - y0) * rowbytes);
     for (y = y0; y < y1; y++) {
         const int16_t *row = negobs_image_s16_row(disp, y);
+        const int16_t *up = (y > y0) ? negobs_image_s16_row(disp, y - 1)
+                                     : NULL;
         for (x = 0; x < s->w; x++) {
-            if (row[x] != NEGOBS_DISP_INVALID &&
-                !bit_get(s->vis, speckle_bit(s, x, y))) {
-                speckle_flood_band(s, disp, x, y, y0, y1);
+            size_t b = speckle_bit(s, x, y);
+            if (row[x] == NEGOBS_DISP_INVALID || bit_get(s->vis, b)) {
+                continue;
             }
+            /* joined to a kept pixel of this band on the left or above:
+             * kept without a flood (as in stx_speckle) */
+            if ((x > 0 && bit_get(s->keep, b - 1u) &&
+                 speckle_joined(row[x - 1], row[x], diff)) ||
+                (up != NULL && bit_get(s->keep, speckle_bit(s, x, y - 1)) &&
+                 speckle_joined(up[x], row[x], diff))) {
+                bit_set(s->vis, b);
+                bit_set(s->keep, b);
+                continue;
+            }
+            speckle_flood_band(s, disp, x, y, y0, y1);
         }
     }
 }
