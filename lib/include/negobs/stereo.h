@@ -145,8 +145,8 @@ typedef struct negobs_stereo_config {
  *  included, inside the 4 MB the Linux board grants the matcher. */
 #define NEGOBS_STEREO_FAST_BUDGET ((size_t)4u * 1024u * 1024u)
 /** Narrower than this the memo band is dropped (no memo): on Cones
- *  (release, callgrind, one frame) 32 levels save 7.4 % of the matcher's
- *  instructions, 23 levels 4.8 %, 12 levels 1.8 %: a narrow band misses
+ *  (release, callgrind, one frame) 32 levels save 7.6 % of the matcher's
+ *  instructions, 23 levels 4.9 %, 12 levels 1.8 %: a narrow band misses
  *  most lookups and is not worth its memory. */
 #define NEGOBS_STEREO_MEMO_MIN_LEVELS 16
 /** The profile negobs_stereo_config_default() picks: compact on every
