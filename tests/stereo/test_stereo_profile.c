@@ -1,5 +1,5 @@
 /*
- * Memory profiles: the fast profile's cross-sum memo changes instructions
+ * Memory profiles: the fast profile's growth memo changes instructions
  * and workspace only. Both profiles must give the same disparities,
  * confidences and statistics on generated scenes (several ranges, a
  * vertical offset, a range narrower than the memo band and one wider), also
@@ -36,6 +36,10 @@ typedef struct run {
 
 static run_t g_run[2];
 
+/* Overrides of the default config for the next init_run (-1: default). */
+static int32_t g_tau_q14 = -1;
+static int32_t g_texture_min = -1;
+
 static void init_run(run_t *r, int32_t profile, int32_t max_disp,
                      int32_t strip_rows)
 {
@@ -45,6 +49,12 @@ static void init_run(run_t *r, int32_t profile, int32_t max_disp,
     cfg.max_disp = max_disp;
     cfg.strip_rows = strip_rows;
     cfg.memory_profile = profile;
+    if (g_tau_q14 >= 0) {
+        cfg.ncc_tau_q14 = g_tau_q14;
+    }
+    if (g_texture_min >= 0) {
+        cfg.texture_min = g_texture_min;
+    }
     assert_int_equal(negobs_stereo_workspace_size(&cfg, &bytes), NEGOBS_OK);
     assert_true(bytes <= WS_BYTES);
     r->ws = ws_buf[r == &g_run[1]];
@@ -118,9 +128,22 @@ static void test_same_maps_narrow_range(void **state)
     compare(23, 16, 13u, 4, 18, 0);
 }
 
-/* 15 strips a frame with 8-row strips: 140 frames pass the 2047 stamps,
- * so words of old strips must read empty after the clear, and frames of
- * different content keep agreeing. */
+/* With tau 0 a cell of score 0 can be accepted, so a flat cell (no
+ * score) read back from the memo as anything else would change the
+ * growth: a high texture threshold makes many windows flat. */
+static void test_same_maps_flat_cells_tau0(void **state)
+{
+    (void)state;
+    g_tau_q14 = 0;
+    g_texture_min = 400000;
+    compare(63, 32, 14u, 8, 30, 0);
+    g_tau_q14 = -1;
+    g_texture_min = -1;
+}
+
+/* 15 strips a frame with 8-row strips: the 63 stamps wrap every 4-5
+ * frames (33 times in 140 frames), so words of old strips must read empty
+ * after each clear, and frames of different content keep agreeing. */
 static void test_same_maps_after_stamp_wrap(void **state)
 {
     int i;
@@ -202,6 +225,7 @@ int main(void)
         cmocka_unit_test(test_same_maps_wide_range),
         cmocka_unit_test(test_same_maps_narrow_range),
         cmocka_unit_test(test_same_maps_after_stamp_wrap),
+        cmocka_unit_test(test_same_maps_flat_cells_tau0),
         cmocka_unit_test(test_workspace_budgets),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -128,9 +128,10 @@ typedef struct negobs_stereo_config {
 /** Today's strip-sized workspace: <= 512 KB at 320x240 with 64
  *  disparities. For microcontrollers (Cortex-M7 SRAM). */
 #define NEGOBS_STEREO_PROFILE_COMPACT 0
-/** Adds a per-strip memo of the 5x5 cross sums over a band of up to
- *  NEGOBS_STEREO_MEMO_LEVELS disparities around each tile's coarse range,
- *  so the growth correlates no cell of that band twice in a strip:
+/** Adds a per-strip memo of the growth's correlation numerators over a
+ *  band of up to NEGOBS_STEREO_MEMO_LEVELS disparities around each tile's
+ *  coarse range, so the growth correlates no cell of that band twice in a
+ *  strip:
  *  strip_rows x width x levels x 4 bytes more (1.3 MB at 320x240x64,
  *  2.6 MB at 640x480x64; <= 4 MB in all at 640x480x64). */
 #define NEGOBS_STEREO_PROFILE_FAST 1
@@ -144,13 +145,13 @@ typedef struct negobs_stereo_config {
  *  included, inside the 4 MB the Linux board grants the matcher. */
 #define NEGOBS_STEREO_FAST_BUDGET ((size_t)4u * 1024u * 1024u)
 /** Narrower than this the memo band is dropped (no memo): on Cones
- *  (release, callgrind, one frame) 32 levels save 3.6 % of the matcher's
- *  instructions, 23 levels 2.0 %, 12 levels 0.06 %: a narrow band misses
+ *  (release, callgrind, one frame) 32 levels save 7.6 % of the matcher's
+ *  instructions, 23 levels 4.9 %, 12 levels 1.8 %: a narrow band misses
  *  most lookups and is not worth its memory. */
 #define NEGOBS_STEREO_MEMO_MIN_LEVELS 16
 /** The profile negobs_stereo_config_default() picks: compact on every
- *  target for now. The fast profile's memo saves only about 3 % of the
- *  instructions where the cross sum has SIMD (SSE2, NEON) and 10 % in plain
+ *  target for now. The fast profile's memo saves only about 7 % of the
+ *  instructions where the cross sum has SIMD (SSE2, NEON) and 14 % in plain
  *  C, and at 640x480 and up it would not fit the static pipeline workspace
  *  negobs_run carves (2.5 MB). Linux callers that have the memory set
  *  memory_profile, or build with -DNEGOBS_STEREO_PROFILE_DEFAULT=1. */

@@ -38,54 +38,58 @@
 #define NEG32 (INT32_MIN / 2)
 #define NEG64 (INT64_MIN / 4)
 
-/* Bands of one row; returns 0 when the row has no GCS match at all. */
+/* Bands of one row; returns 0 when the row has no GCS match at all (the
+ * bands are then left as they were: nothing reads them). A run of holes
+ * between two matches (or a match and the row's end) shares one band, so
+ * it is found once per run and stored. */
 static int row_bands(stx_t *s, const int16_t *g)
 {
-    int32_t w = s->w;
-    int32_t b = s->cfg.band;
-    int32_t x;
-    int32_t last = NEGOBS_DISP_INVALID;
-    int any = 0;
-    int32_t lo_lim = s->gdmin;
-    int32_t hi_lim = s->gdmax;
+    const int32_t w = s->w;
+    const int32_t b = s->cfg.band;
+    const int32_t lo_lim = s->gdmin;
+    const int32_t hi_lim = s->gdmax;
+    int16_t *blo = s->blo;
+    int16_t *bhi = s->bhi;
+    uint8_t *bscored = s->bscored;
+    int32_t last = NEGOBS_DISP_INVALID; /* nearest match on the left */
+    int32_t x = 0;
 
-    /* left-nearest pass stores dl in blo, right-nearest pass finishes */
-    for (x = 0; x < w; x++) {
-        if (g[x] != NEGOBS_DISP_INVALID) {
-            last = g[x];
-            any = 1;
-        }
-        s->blo[x] = (int16_t)last;
-    }
-    if (!any) {
-        return 0;
-    }
-    last = NEGOBS_DISP_INVALID;
-    for (x = w - 1; x >= 0; x--) {
-        int32_t dl = s->blo[x];
+    while (x < w) {
         int32_t lo;
         int32_t hi;
         if (g[x] != NEGOBS_DISP_INVALID) {
             last = g[x];
-            lo = g[x] - b;
-            hi = g[x] + b;
-            s->bscored[x] = 1u;
+            lo = negobs_clamp_s32(last - b, lo_lim, hi_lim);
+            hi = negobs_clamp_s32(last + b, lo, hi_lim);
+            blo[x] = (int16_t)lo;
+            bhi[x] = (int16_t)hi;
+            bscored[x] = 1u;
+            x++;
         } else {
-            int32_t dr = last;
+            int32_t e = x + 1;
+            int32_t dl = last;
+            int32_t dr;
+            while (e < w && g[e] == NEGOBS_DISP_INVALID) {
+                e++;
+            }
+            dr = (e < w) ? g[e] : NEGOBS_DISP_INVALID;
             if (dl == NEGOBS_DISP_INVALID) {
+                if (dr == NEGOBS_DISP_INVALID) {
+                    return 0; /* the whole row is one run of holes */
+                }
                 dl = dr;
             }
             if (dr == NEGOBS_DISP_INVALID) {
                 dr = dl;
             }
-            lo = ((dl < dr) ? dl : dr) - b;
-            hi = ((dl > dr) ? dl : dr) + b;
-            s->bscored[x] = 0u;
+            lo = negobs_clamp_s32(((dl < dr) ? dl : dr) - b, lo_lim, hi_lim);
+            hi = negobs_clamp_s32(((dl > dr) ? dl : dr) + b, lo, hi_lim);
+            for (; x < e; x++) {
+                blo[x] = (int16_t)lo;
+                bhi[x] = (int16_t)hi;
+                bscored[x] = 0u;
+            }
         }
-        lo = negobs_clamp_s32(lo, lo_lim, hi_lim);
-        hi = negobs_clamp_s32(hi, lo, hi_lim);
-        s->blo[x] = (int16_t)lo;
-        s->bhi[x] = (int16_t)hi;
     }
     return 1;
 }
@@ -229,6 +233,11 @@ static void stage1_feed(stx_t *s)
     const int32_t neutral = s->cfg.dp_neutral_q14;
     int32_t *yp = s->yprev + 1; /* index -1 .. nd valid */
     int32_t *yc = s->ycur + 1;
+    /* the row's inputs in locals: the stores below cannot move them */
+    const uint8_t *const bscored = s->bscored;
+    const int16_t *const gcs = s->gcs_cur;
+    const int16_t *const blo = s->blo;
+    const int16_t *const bhi = s->bhi;
     int32_t x;
     int32_t i;
     int32_t bestp = 0;
@@ -243,9 +252,9 @@ static void stage1_feed(stx_t *s)
     }
     for (x = 0; x < w; x++) {
         int32_t bcur = NEG32;
-        int32_t gi = s->bscored[x] ? s->gcs_cur[x] - dmin : -2;
-        int32_t lo = s->blo[x] - dmin;
-        int32_t hi = s->bhi[x] - dmin;
+        int32_t gi = bscored[x] ? gcs[x] - dmin : -2;
+        int32_t lo = blo[x] - dmin;
+        int32_t hi = bhi[x] - dmin;
         clear_stale(yc, plo, phi, lo, hi);
         if (x == 0) {
             for (i = lo; i <= hi; i++) {
@@ -303,6 +312,14 @@ static int32_t stage1_keep(stx_t *s)
     const int32_t neutral = s->cfg.dp_neutral_q14;
     int32_t *yp = s->yprev + 1; /* index -1 .. nd valid */
     int32_t *yc = s->ycur + 1;
+    /* the row's inputs and outputs in locals: the pointer stores (bytes,
+     * which may alias anything) would otherwise reload them per column */
+    const uint8_t *const bscored = s->bscored;
+    const int16_t *const gcs = s->gcs_cur;
+    const int16_t *const blo = s->blo;
+    const int16_t *const bhi = s->bhi;
+    int16_t *const jump_to = s->jump_to;
+    uint8_t *prow = s->p1;
     int32_t x;
     int32_t i;
     int32_t bestp = 0;
@@ -319,10 +336,9 @@ static int32_t stage1_keep(stx_t *s)
     for (x = 0; x < w; x++) {
         int32_t bcur = NEG32;
         int32_t acur = 0;
-        uint8_t *prow = s->p1 + (ptrdiff_t)x * nd;
-        int32_t gi = s->bscored[x] ? s->gcs_cur[x] - dmin : -2;
-        int32_t lo = s->blo[x] - dmin;
-        int32_t hi = s->bhi[x] - dmin;
+        int32_t gi = bscored[x] ? gcs[x] - dmin : -2;
+        int32_t lo = blo[x] - dmin;
+        int32_t hi = bhi[x] - dmin;
         clear_stale(yc, plo, phi, lo, hi);
         if (x == 0) {
             for (i = lo; i <= hi; i++) {
@@ -370,7 +386,8 @@ static int32_t stage1_keep(stx_t *s)
                 acur = gi;
             }
         }
-        s->jump_to[x] = (int16_t)argp;
+        jump_to[x] = (int16_t)argp;
+        prow += nd;
         {
             int32_t *tmp = yp;
             yp = yc;

@@ -76,24 +76,14 @@ static inline int table_has(const stx_t *s, size_t bit)
     return (int)(((uint32_t)s->tbits[bit >> 3] >> (bit & 7u)) & 1u);
 }
 
-/* Accept candidate (u, v, d) with score c (>= tau, not in the table) when
- * the margin rule holds; push it when accepted. */
-static int accept_scored(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t c,
-                         size_t bit)
+/* Accept the candidate at left / right strip pixels il / ir, level dr
+ * (= d - dmin), packed as `item`, with score c (>= tau, not in the table)
+ * when the margin rule holds; push it when accepted. */
+static int accept_at(stx_t *s, ptrdiff_t il, ptrdiff_t ir, int32_t dr,
+                     int32_t c, size_t bit, uint32_t item)
 {
-    int32_t w = s->w;
-    int32_t vr = v - s->y0;
-    int32_t dr = d - s->dmin;
-    int32_t ur = u - d;
-    ptrdiff_t il;
-    ptrdiff_t ir;
-    uint8_t c8;
-    int32_t lim;
-
-    il = (ptrdiff_t)vr * w + u;
-    ir = (ptrdiff_t)vr * w + ur;
-    c8 = to_q8(c);
-    lim = (s->lc[il] < s->rc[ir]) ? s->lc[il] : s->rc[ir];
+    uint8_t c8 = to_q8(c);
+    int32_t lim = (s->lc[il] < s->rc[ir]) ? s->lc[il] : s->rc[ir];
     if ((int32_t)c8 + (s->cfg.ncc_mu_q14 >> 6) < lim) {
         return 0;
     }
@@ -101,8 +91,18 @@ static int accept_scored(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t c,
     table_update(&s->ld[il], &s->lc[il], &s->lc2[il], dr, c8, s->cfg.zonegap);
     table_update(&s->rd[ir], &s->rc[ir], &s->rc2[ir], dr, c8, s->cfg.zonegap);
     s->st.grown++;
-    stx_queue_push(&s->q, stx_pack(u, vr, dr), c >> 6);
+    stx_queue_push(&s->q, item, c >> 6);
     return 1;
+}
+
+/* accept_at() for candidate (u, v, d). */
+static int accept_scored(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t c,
+                         size_t bit)
+{
+    int32_t vr = v - s->y0;
+    int32_t dr = d - s->dmin;
+    ptrdiff_t il = (ptrdiff_t)vr * s->w + u;
+    return accept_at(s, il, il - d, dr, c, bit, stx_pack(u, vr, dr));
 }
 
 /* Try to accept candidate (u, v, d) with score c; push it when accepted. */
@@ -116,26 +116,6 @@ static int try_accept(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t c)
     if (table_has(s, bit)) {
         return 0;
     }
-    return accept_scored(s, u, v, d, c, bit);
-}
-
-/* try_accept for a score still held as the fraction num2 / den (den > 0)
- * of the cell whose table bit the growth loop already has: the table and
- * tau are tested before the division, which most growth candidates never
- * need. Same decisions as try_accept(stx_frac_q14()). */
-#if defined(__GNUC__)
-__attribute__((always_inline))
-#endif
-static inline int
-try_accept_frac(stx_t *s, int32_t u, int32_t v, int32_t d, int32_t num2,
-                int32_t den, size_t bit)
-{
-    int32_t c;
-    if (table_has(s, bit) ||
-        !stx_frac_reaches(num2, den, s->cfg.ncc_tau_q14)) {
-        return 0;
-    }
-    c = stx_frac_q14(num2, den);
     return accept_scored(s, u, v, d, c, bit);
 }
 
@@ -161,10 +141,13 @@ static const int16_t nb_cell[16][3] = {
 typedef struct nb_off {
     int32_t du, dd, dv;
     ptrdiff_t pix; /* strip pixel index (left window statistics)      */
+    ptrdiff_t rpx; /* the same for the right pixel (pix - dd)          */
     ptrdiff_t bit; /* matching-table bit                               */
-    ptrdiff_t lp;  /* left image pointer                               */
-    ptrdiff_t rp;  /* right image pointer                              */
+    ptrdiff_t lp;  /* left window's top-left pixel                     */
+    ptrdiff_t rp;  /* right window's top-left pixel                    */
+    ptrdiff_t mo;  /* memo word (pix * memo_k)                         */
     uint32_t key;  /* packed cache key (fields never borrow: checked) */
+    uint32_t hkey; /* key * the cache's hash multiplier (mod 2^32)     */
 } nb_off_t;
 
 /* What the growing loop reads: hoisted from stx_t once per strip, plus the
@@ -178,23 +161,78 @@ typedef struct grow_env {
     stx_cache_entry_t *cache;
     uint32_t *memo; /* NULL: compact profile                  */
     const uint8_t *memo_base;
-    uint32_t memo_k, memo_tag; /* tag: the strip's stamp << 21         */
+    uint32_t memo_k, memo_gen; /* gen: the strip's stamp           */
     ptrdiff_t ls, rs;
     nb_off_t nb[16];
     /* popped cell */
     int32_t u, vrow, dr, ur;
-    ptrdiff_t pix, bit0;
+    ptrdiff_t pix, rpix, bit0;
     const uint8_t *la, *rb;
-    uint32_t key0;
+    uint32_t *mrow; /* memo words of the popped pixel (fast profile) */
+    uint32_t key0, hkey0;
     int interior;
 } grow_env_t;
+
+/* Raw 5x5 cross sum of neighbour o's windows (both inside the image). */
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+static inline uint32_t
+grow_cross(const grow_env_t *g, const nb_off_t *o, int32_t qu, int interior)
+{
+    const uint8_t *a = g->la + o->lp;
+    const uint8_t *b = g->rb + o->rp;
+#if defined(STX_CROSS5_SIMD)
+    /* the 8-byte loads end at column qu + 5 (the right one at
+     * qur + 5 <= qu + 5) */
+    if (interior || qu + 5 < g->w) {
+        return stx_cross5_simd(a, g->ls, b, g->rs);
+    }
+#else
+    (void)qu;
+    (void)interior;
+#endif
+    return stx_cross5_ref(a, g->ls, b, g->rs);
+}
+
+/* The MNCC fraction of neighbour o (left pixel il, windows inside the
+ * image) into *nn / *dn; left as 0 / 0 when a window is flat. Same values
+ * as stx_mncc_num_den(): with vl, vr != 0 their sum (each < 2^24) is not
+ * 0, so only the texture test remains. */
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+static inline void
+grow_score(const grow_env_t *g, const nb_off_t *o, ptrdiff_t il, int32_t qu,
+           int interior, int32_t *nn, int32_t *dn)
+{
+    ptrdiff_t ir = g->rpix + o->rpx;
+    uint32_t vl = g->vl[il];
+    uint32_t vrr = g->vr[ir];
+    uint32_t den;
+    uint32_t x;
+    if (vl == 0u || vrr == 0u) {
+        return;
+    }
+    den = vl + vrr;
+    if (den < g->tex_min) {
+        return;
+    }
+    x = grow_cross(g, o, qu, interior);
+    *nn = 2 * ((int32_t)((uint32_t)STX_WIN_N * x) -
+               (int32_t)((uint32_t)g->sl[il] * (uint32_t)g->sr[ir]));
+    *dn = (int32_t)den;
+}
 
 /* Best member of the set nb[first .. end) as a fraction; returns its index
  * or -1 (no member scored, or the set cannot accept anything). Inline with
  * literal bounds at each call, so the compiler unrolls the set. */
-static inline int set_best(const grow_env_t *g, int first, int end,
-                           int interior, int use_memo, int32_t *bn_out,
-                           int32_t *bden_out, uint32_t *visited)
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+static inline int
+set_best(const grow_env_t *g, int first, int end, int interior, int use_memo,
+         int32_t *bn_out, int32_t *bden_out, uint32_t *visited)
 {
     int32_t bn = 0;
     int32_t bden = 0;
@@ -236,58 +274,42 @@ static inline int set_best(const grow_env_t *g, int first, int end,
          * direct-mapped cache catches about a quarter of the correlations;
          * `visited` counts the misses */
         key = g->key0 + o->key;
-        e = &g->cache[(key * 2654435761u) >> (32 - STX_CACHE_BITS)];
+        e = &g->cache[(g->hkey0 + o->hkey) >> (32 - STX_CACHE_BITS)];
         if (e->key == key) {
             nn = e->num2;
             dn = e->den;
         } else {
-            int ok = 0;
             (*visited)++;
+            nn = 0;
+            dn = 0;
             if (interior || (qu >= STX_WIN_R && qu < g->w - STX_WIN_R &&
                              qur >= STX_WIN_R && qur < g->w - STX_WIN_R)) {
                 ptrdiff_t il = g->pix + o->pix;
-                ptrdiff_t ir = il + (qur - qu);
-                uint32_t vl = g->vl[il];
-                uint32_t vrr = g->vr[ir];
-                if (vl != 0u && vrr != 0u) {
-                    const uint8_t *a = g->la + o->lp - STX_WIN_R * g->ls -
-                                       STX_WIN_R;
-                    const uint8_t *b = g->rb + o->rp - STX_WIN_R * g->rs -
-                                       STX_WIN_R;
-                    uint32_t x;
-                    uint32_t *mw = NULL;
-                    if (use_memo) {
-                        uint32_t k = (uint32_t)(g->dr + o->dd) -
-                                     (uint32_t)g->memo_base[il];
-                        if (k < g->memo_k) {
-                            mw = g->memo + il * (ptrdiff_t)g->memo_k +
-                                 (ptrdiff_t)k;
+                if (use_memo) {
+                    uint32_t k = (uint32_t)(g->dr + o->dd) -
+                                 (uint32_t)g->memo_base[il];
+                    if (k < g->memo_k) {
+                        uint32_t *mw = g->mrow + o->mo + (ptrdiff_t)k;
+                        uint32_t mv = *mw;
+                        if ((mv >> STX_MEMO_NUM_BITS) == g->memo_gen) {
+                            /* the denominator is two loads, cheaper
+                             * than a bigger word */
+                            uint32_t nb = mv & STX_MEMO_NUM_MASK;
+                            if (nb != 0u) {
+                                nn = stx_memo_num2(nb);
+                                dn = (int32_t)(g->vl[il] +
+                                               g->vr[g->rpix + o->rpx]);
+                            }
+                        } else {
+                            grow_score(g, o, il, qu, interior, &nn, &dn);
+                            *mw = stx_memo_pack(g->memo_gen, nn, dn);
                         }
-                    }
-                    if (use_memo && mw != NULL &&
-                        (*mw & ~STX_MEMO_SUM_MASK) == g->memo_tag) {
-                        x = *mw & STX_MEMO_SUM_MASK;
                     } else {
-#if defined(STX_CROSS5_SIMD)
-                        /* the 8-byte loads end at column qu + 5 (the right
-                         * one at qur + 5 <= qu + 5) */
-                        x = (interior || qu + 5 < g->w)
-                                ? stx_cross5_simd(a, g->ls, b, g->rs)
-                                : stx_cross5_ref(a, g->ls, b, g->rs);
-#else
-                        x = stx_cross5_ref(a, g->ls, b, g->rs);
-#endif
-                        if (use_memo && mw != NULL) {
-                            *mw = g->memo_tag | x;
-                        }
+                        grow_score(g, o, il, qu, interior, &nn, &dn);
                     }
-                    ok = stx_mncc_num_den(x, g->sl[il], vl, g->sr[ir], vrr,
-                                          g->tex_min, &nn, &dn);
+                } else {
+                    grow_score(g, o, il, qu, interior, &nn, &dn);
                 }
-            }
-            if (!ok) {
-                nn = 0;
-                dn = 0;
             }
             e->key = key;
             e->num2 = nn;
@@ -308,6 +330,28 @@ static inline int set_best(const grow_env_t *g, int first, int end,
     return bm;
 }
 
+/* try_accept for neighbour nb of the popped cell, whose score is still
+ * held as the fraction num2 / den (den > 0): the table and tau are tested
+ * before the division, which most growth candidates never need. Same
+ * decisions as try_accept(stx_frac_q14()). The neighbour's indices are
+ * the popped cell's plus its offsets (its packed item too: an in-range
+ * neighbour's fields never borrow). */
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+static inline int
+try_accept_frac(stx_t *s, const grow_env_t *g, const nb_off_t *o, int32_t num2,
+                int32_t den)
+{
+    size_t bit = (size_t)(g->bit0 + o->bit);
+    if (table_has(s, bit) ||
+        !stx_frac_reaches(num2, den, s->cfg.ncc_tau_q14)) {
+        return 0;
+    }
+    return accept_at(s, g->pix + o->pix, g->rpix + o->rpx, g->dr + o->dd,
+                     stx_frac_q14(num2, den), bit, g->key0 - 1u + o->key);
+}
+
 /* The four sets of the popped cell. `interior` and `use_memo` are
  * literals at every call site (forced inline), so the usual interior cell
  * runs without any per-member bounds test. */
@@ -318,7 +362,6 @@ static inline void
 grow_cell(stx_t *s, const grow_env_t *g, int interior, int use_memo,
           uint32_t *visited)
 {
-    const int32_t dmin = s->dmin;
     int k;
     for (k = 0; k < 4; k++) {
         int32_t bn = 0;
@@ -335,10 +378,7 @@ grow_cell(stx_t *s, const grow_env_t *g, int interior, int use_memo,
             bm = set_best(g, 11, 16, interior, use_memo, &bn, &bden, visited);
         }
         if (bm >= 0 && bden != 0) {
-            (void)try_accept_frac(s, g->u + g->nb[bm].du,
-                                  g->vrow + g->nb[bm].dv + s->y0,
-                                  g->dr + g->nb[bm].dd + dmin, bn, bden,
-                                  (size_t)(g->bit0 + g->nb[bm].bit));
+            (void)try_accept_frac(s, g, &g->nb[bm], bn, bden);
         }
     }
 }
@@ -374,8 +414,9 @@ grow_run(stx_t *s, int use_memo)
     g.cache = s->cache;
     g.memo = s->memo;
     g.memo_base = s->memo_base;
+    g.mrow = NULL;
     g.memo_k = (uint32_t)s->memo_k;
-    g.memo_tag = s->memo_gen << STX_MEMO_SUM_BITS;
+    g.memo_gen = s->memo_gen;
     g.ls = s->left->stride;
     g.rs = s->right->stride;
     lrow = s->left->data + (ptrdiff_t)s->y0 * g.ls;
@@ -389,11 +430,14 @@ grow_run(stx_t *s, int use_memo)
         o->dd = dd;
         o->dv = dv;
         o->pix = (ptrdiff_t)dv * g.w + du;
+        o->rpx = o->pix - dd;
         o->bit = o->pix * nd + dd;
-        o->lp = (ptrdiff_t)dv * g.ls + du;
-        o->rp = (ptrdiff_t)dv * g.rs + (du - dd);
+        o->lp = (ptrdiff_t)(dv - STX_WIN_R) * g.ls + du - STX_WIN_R;
+        o->rp = (ptrdiff_t)(dv - STX_WIN_R) * g.rs + (du - dd) - STX_WIN_R;
+        o->mo = o->pix * (ptrdiff_t)g.memo_k;
         /* added (mod 2^32) to a packed key: a sum, not stx_pack's OR */
         o->key = ((uint32_t)du << 20) + ((uint32_t)dv << 8) + (uint32_t)dd;
+        o->hkey = o->key * STX_CACHE_HASH;
     }
 
     while (stx_queue_pop(&s->q, &item)) {
@@ -402,10 +446,15 @@ grow_run(stx_t *s, int use_memo)
         g.dr = stx_unpack_d(item);
         g.ur = g.u - (g.dr + dmin);
         g.pix = (ptrdiff_t)g.vrow * g.w + g.u;
+        g.rpix = g.pix + (g.ur - g.u);
         g.bit0 = g.pix * nd + g.dr;
         g.la = lrow + (ptrdiff_t)g.vrow * g.ls + g.u;
         g.rb = rrow + (ptrdiff_t)g.vrow * g.rs + g.ur;
         g.key0 = item + 1u;
+        g.hkey0 = g.key0 * STX_CACHE_HASH;
+        if (use_memo) {
+            g.mrow = g.memo + g.pix * (ptrdiff_t)g.memo_k;
+        }
         /* every neighbour inside the strip and range, and every window
          * (and 8-byte SIMD load) inside the image: the usual case, where
          * the per-cell bounds tests can be skipped */
@@ -534,6 +583,7 @@ static void seed_edges(stx_t *s)
         for (u = STX_WIN_R; u < w - STX_WIN_R; u++) {
             int32_t lo;
             int32_t hi;
+            int32_t end;
             int32_t d;
             int32_t best = STX_FLAT;
             int32_t bestd = 0;
@@ -547,11 +597,13 @@ static void seed_edges(stx_t *s)
             stx_tile_range(s, u, v, &lo, &hi);
             lo = (lo < s->gdmin) ? s->gdmin : lo;
             hi = (hi > s->gdmax) ? s->gdmax : hi;
-            seed_scores(s, u, v, lo, (hi < u - STX_WIN_R) ? hi : u - STX_WIN_R,
-                        sc);
-            for (d = lo; d <= hi && d <= u - STX_WIN_R; d++) {
+            end = (hi < u - STX_WIN_R) ? hi : u - STX_WIN_R;
+            seed_scores(s, u, v, lo, end, sc);
+            /* STX_FLAT is INT32_MIN, below every score: "c > best" skips
+             * flat cells and takes the first of equal scores */
+            for (d = lo; d <= end; d++) {
                 int32_t c = sc[d - lo];
-                if (c != STX_FLAT && (best == STX_FLAT || c > best)) {
+                if (c > best) {
                     best = c;
                     bestd = d;
                 }
@@ -559,14 +611,12 @@ static void seed_edges(stx_t *s)
             if (best == STX_FLAT || best < s->cfg.seed_tau_q14) {
                 continue;
             }
-            for (d = lo; d <= hi && d <= u - STX_WIN_R; d++) {
-                int32_t c = sc[d - lo];
-                if (d >= bestd - 1 && d <= bestd + 1) {
-                    continue;
-                }
-                if (c != STX_FLAT && (second == STX_FLAT || c > second)) {
-                    second = c;
-                }
+            /* the best score two or more levels away */
+            for (d = lo; d <= bestd - 2; d++) {
+                second = (sc[d - lo] > second) ? sc[d - lo] : second;
+            }
+            for (d = bestd + 2; d <= end; d++) {
+                second = (sc[d - lo] > second) ? sc[d - lo] : second;
             }
             if (second != STX_FLAT && best - second < s->cfg.seed_margin_q14) {
                 continue;
@@ -664,35 +714,43 @@ void stx_gcs_strip(stx_t *s, negobs_image_s16_t *out)
     }
     s->st.queue_overflows += s->q.overflows;
 
-    for (v = 0; v < n; v++) {
-        int16_t *o = negobs_image_s16_row(out, s->y0 + v);
-        int32_t u;
-        for (u = 0; u < w; u++) {
-            ptrdiff_t il = (ptrdiff_t)v * w + u;
-            int32_t dr = s->ld[il];
-            int32_t ur;
-            ptrdiff_t ir;
-            int32_t c;
-            int32_t lim;
-            int32_t dd;
-            o[u] = NEGOBS_DISP_INVALID;
-            if (dr == STX_NONE8) {
-                continue;
+    {
+        /* the tables in locals: the int16 output stores cannot move them */
+        const uint8_t *const ld = s->ld;
+        const uint8_t *const lc = s->lc;
+        const uint8_t *const lc2 = s->lc2;
+        const uint8_t *const rd = s->rd;
+        const uint8_t *const rc2 = s->rc2;
+        const int32_t dmin = s->dmin;
+        uint32_t matched = 0;
+        for (v = 0; v < n; v++) {
+            int16_t *o = negobs_image_s16_row(out, s->y0 + v);
+            ptrdiff_t row = (ptrdiff_t)v * w;
+            int32_t u;
+            for (u = 0; u < w; u++) {
+                ptrdiff_t il = row + u;
+                int32_t dr = ld[il];
+                ptrdiff_t ir;
+                int32_t lim;
+                int32_t dd;
+                o[u] = NEGOBS_DISP_INVALID;
+                if (dr == STX_NONE8) {
+                    continue;
+                }
+                ir = il - (dr + dmin);
+                dd = (int32_t)rd[ir] - dr;
+                if (dd > gap || dd < -gap) {
+                    continue;
+                }
+                lim = (int32_t)lc[il] * (256 - beta);
+                if ((int32_t)lc2[il] * 256 >= lim ||
+                    (int32_t)rc2[ir] * 256 >= lim) {
+                    continue;
+                }
+                o[u] = (int16_t)(dr + dmin);
+                matched++;
             }
-            ur = u - (dr + s->dmin);
-            ir = (ptrdiff_t)v * w + ur;
-            dd = (int32_t)s->rd[ir] - dr;
-            if (dd > gap || dd < -gap) {
-                continue;
-            }
-            c = s->lc[il];
-            lim = c * (256 - beta);
-            if ((int32_t)s->lc2[il] * 256 >= lim ||
-                (int32_t)s->rc2[ir] * 256 >= lim) {
-                continue;
-            }
-            o[u] = (int16_t)(dr + s->dmin);
-            s->st.gcs_matched++;
         }
+        s->st.gcs_matched += matched;
     }
 }

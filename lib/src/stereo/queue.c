@@ -31,54 +31,24 @@ void stx_queue_reset(stx_queue_t *q)
     q->overflows = 0;
 }
 
-int stx_queue_push(stx_queue_t *q, uint32_t item, int32_t key)
+int stx_queue_push_full(stx_queue_t *q, uint32_t item, int32_t key)
 {
     int32_t slot;
-
-    key = (key < 0) ? 0 : ((key >= STX_NBUCKET) ? STX_NBUCKET - 1 : key);
-    if (q->free_head < 0) {
-        int32_t lo = 0;
-        q->overflows++;
-        while (lo < STX_NBUCKET && q->head[lo] < 0) {
-            lo++;
-        }
-        if (lo >= STX_NBUCKET || key <= lo) {
-            return 0; /* drop the newcomer */
-        }
-        slot = q->head[lo]; /* evict one of the lowest */
-        q->head[lo] = q->next[slot];
-        q->count--;
-    } else {
-        slot = q->free_head;
-        q->free_head = q->next[slot];
+    int32_t lo = 0;
+    q->overflows++;
+    while (lo < STX_NBUCKET && q->head[lo] < 0) {
+        lo++;
     }
+    if (lo >= STX_NBUCKET || key <= lo) {
+        return 0; /* drop the newcomer */
+    }
+    slot = q->head[lo]; /* evict one of the lowest */
+    q->head[lo] = q->next[slot];
     q->item[slot] = item;
     q->next[slot] = q->head[key];
     q->head[key] = slot;
-    q->count++;
-    if ((uint32_t)q->count > q->peak) {
-        q->peak = (uint32_t)q->count;
-    }
     if (key > q->top) {
         q->top = key;
     }
-    return 1;
-}
-
-int stx_queue_pop(stx_queue_t *q, uint32_t *item)
-{
-    int32_t slot;
-    while (q->top >= 0 && q->head[q->top] < 0) {
-        q->top--;
-    }
-    if (q->top < 0) {
-        return 0;
-    }
-    slot = q->head[q->top];
-    q->head[q->top] = q->next[slot];
-    *item = q->item[slot];
-    q->next[slot] = q->free_head;
-    q->free_head = slot;
-    q->count--;
     return 1;
 }

@@ -90,6 +90,12 @@ static void bit_set(uint8_t *b, size_t i)
     b[i >> 3] = (uint8_t)(b[i >> 3] | (1u << (i & 7u)));
 }
 
+/* Whether two valid neighbours belong to one speckle region. */
+static inline int speckle_joined(int32_t a, int32_t b, int32_t diff)
+{
+    return a - b <= diff && b - a <= diff;
+}
+
 void stx_speckle(stx_t *s, negobs_image_s16_t *disp)
 {
     int32_t w = s->w;
@@ -112,13 +118,33 @@ void stx_speckle(stx_t *s, negobs_image_s16_t *disp)
             int32_t head = 0;
             int big = 0;
             int32_t i;
-            if (bit_get(s->vis, p) ||
-                negobs_image_s16_row(disp, y)[x] == NEGOBS_DISP_INVALID) {
+            int32_t dp;
+            if (bit_get(s->vis, p)) {
+                continue;
+            }
+            dp = negobs_image_s16_row(disp, y)[x];
+            if (dp == NEGOBS_DISP_INVALID) {
+                continue;
+            }
+            /* joined to a kept pixel on the left or above (kept pixels are
+             * valid): the same region, so kept too, without a flood; its
+             * other unvisited pixels get their turn the same way */
+            if ((x > 0 && bit_get(s->keep, p - 1u) &&
+                 speckle_joined(negobs_image_s16_row(disp, y)[x - 1], dp,
+                                diff)) ||
+                (y > 0 && bit_get(s->keep, p - (size_t)w) &&
+                 speckle_joined(negobs_image_s16_row(disp, y - 1)[x], dp,
+                                diff))) {
+                bit_set(s->vis, p);
+                bit_set(s->keep, p);
                 continue;
             }
             bit_set(s->vis, p);
             s->flood[n++] = (uint32_t)p;
-            while (head < n) {
+            /* a large region stops flooding (as the band pass does): the
+             * rest of it is connected to the pixels kept here, so a later
+             * flood from any of them touches a kept pixel and keeps it */
+            while (head < n && !big) {
                 uint32_t q = s->flood[head++];
                 int32_t qy = (int32_t)(q / (uint32_t)w);
                 int32_t qx = (int32_t)(q - (uint32_t)qy * (uint32_t)w);
@@ -268,6 +294,7 @@ static void speckle_flood_band(stx_t *s, const negobs_image_s16_t *disp,
 void stx_speckle_mark_rows(stx_t *s, const negobs_image_s16_t *disp,
                            int32_t y0, int32_t y1)
 {
+    int32_t diff = s->cfg.speckle_diff_q4;
     size_t rowbytes = ((size_t)s->w + 7u) / 8u;
     int32_t y;
     int32_t x;
@@ -278,11 +305,24 @@ void stx_speckle_mark_rows(stx_t *s, const negobs_image_s16_t *disp,
     memset(s->keep + (size_t)y0 * rowbytes, 0, (size_t)(y1 - y0) * rowbytes);
     for (y = y0; y < y1; y++) {
         const int16_t *row = negobs_image_s16_row(disp, y);
+        const int16_t *up = (y > y0) ? negobs_image_s16_row(disp, y - 1)
+                                     : NULL;
         for (x = 0; x < s->w; x++) {
-            if (row[x] != NEGOBS_DISP_INVALID &&
-                !bit_get(s->vis, speckle_bit(s, x, y))) {
-                speckle_flood_band(s, disp, x, y, y0, y1);
+            size_t b = speckle_bit(s, x, y);
+            if (row[x] == NEGOBS_DISP_INVALID || bit_get(s->vis, b)) {
+                continue;
             }
+            /* joined to a kept pixel of this band on the left or above:
+             * kept without a flood (as in stx_speckle) */
+            if ((x > 0 && bit_get(s->keep, b - 1u) &&
+                 speckle_joined(row[x - 1], row[x], diff)) ||
+                (up != NULL && bit_get(s->keep, speckle_bit(s, x, y - 1)) &&
+                 speckle_joined(up[x], row[x], diff))) {
+                bit_set(s->vis, b);
+                bit_set(s->keep, b);
+                continue;
+            }
+            speckle_flood_band(s, disp, x, y, y0, y1);
         }
     }
 }

@@ -22,12 +22,55 @@ typedef struct stx_queue {
 } stx_queue_t;
 
 void stx_queue_reset(stx_queue_t *q);
-/* Push with key (0..STX_NBUCKET-1). When full, the lowest-key entry is
- * evicted if the new key is higher, otherwise the new entry is dropped;
- * either way `overflows` is incremented. Returns 1 if stored. */
-int stx_queue_push(stx_queue_t *q, uint32_t item, int32_t key);
-/* Pop an entry of the highest non-empty bucket; 0 when empty. */
-int stx_queue_pop(stx_queue_t *q, uint32_t *item);
+/* stx_queue_push() when every slot is used (queue.c). */
+int stx_queue_push_full(stx_queue_t *q, uint32_t item, int32_t key);
+
+/* Push with key (clamped to 0..STX_NBUCKET-1). When full, the lowest-key
+ * entry is evicted if the new key is higher, otherwise the new entry is
+ * dropped; either way `overflows` is incremented. Returns 1 if stored.
+ * Inline: the growth pushes once per accepted cell. */
+static inline int stx_queue_push(stx_queue_t *q, uint32_t item, int32_t key)
+{
+    int32_t slot;
+    key = (key < 0) ? 0 : ((key >= STX_NBUCKET) ? STX_NBUCKET - 1 : key);
+    if (q->free_head < 0) {
+        return stx_queue_push_full(q, item, key);
+    }
+    slot = q->free_head;
+    q->free_head = q->next[slot];
+    q->item[slot] = item;
+    q->next[slot] = q->head[key];
+    q->head[key] = slot;
+    q->count++;
+    if ((uint32_t)q->count > q->peak) {
+        q->peak = (uint32_t)q->count;
+    }
+    if (key > q->top) {
+        q->top = key;
+    }
+    return 1;
+}
+
+/* Pop an entry of the highest non-empty bucket; 0 (and item 0) when
+ * empty. */
+static inline int stx_queue_pop(stx_queue_t *q, uint32_t *item)
+{
+    int32_t slot;
+    while (q->top >= 0 && q->head[q->top] < 0) {
+        q->top--;
+    }
+    if (q->top < 0) {
+        *item = 0u; /* defined on every path */
+        return 0;
+    }
+    slot = q->head[q->top];
+    q->head[q->top] = q->next[slot];
+    *item = q->item[slot];
+    q->next[slot] = q->free_head;
+    q->free_head = slot;
+    q->count--;
+    return 1;
+}
 
 static inline uint32_t stx_pack(int32_t u, int32_t v, int32_t d)
 {

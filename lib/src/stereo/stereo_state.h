@@ -8,7 +8,7 @@
  * for one strip at a time, which is what keeps the compact profile's
  * workspace near 512 KB at 320x240 with 64 disparities. Full-frame state is
  * limited to the low-resolution range maps and the DP stage-2 pointers
- * (H x D bytes). The fast profile adds the strip's cross-sum memo.
+ * (H x D bytes). The fast profile adds the strip's correlation memo.
  *
  * Fixed-point conventions (see docs/DISPARITY.md):
  *   correlation scores  Q14 int32, 16384 = 1.0 (MNCC in [-1, 1])
@@ -32,7 +32,12 @@
 #define STX_LOWRES 4       /* elementary map scale (1/4)      */
 #define STX_NONE8 0xFFu    /* empty u8 disparity slot         */
 #define STX_CACHE_BITS 11  /* growth score cache: 2048 entries */
-#define STX_VSEARCH_MAX 4  /* largest vertical_search (rows)   */
+/* The cache's slot of key k is (k * STX_CACHE_HASH) >> (32 - STX_CACHE_BITS)
+ * (Fibonacci hashing). The product is taken mod 2^32, so it distributes over
+ * a sum of keys: the growth adds a neighbour's premultiplied offset to the
+ * popped cell's premultiplied key instead of multiplying per neighbour. */
+#define STX_CACHE_HASH 2654435761u
+#define STX_VSEARCH_MAX 4 /* largest vertical_search (rows)   */
 
 /* One cached correlation of the growth stage (key 0 = empty). */
 typedef struct stx_cache_entry {
@@ -78,11 +83,11 @@ typedef struct stx {
     uint8_t *tbits; /* (v, u, d) triple membership, 1 bit each    */
     stx_queue_t q;
     stx_cache_entry_t *cache; /* direct-mapped, 1 << STX_CACHE_BITS       */
-    /* fast profile: cross-sum memo of the strip (NULL in compact) */
-    uint32_t *memo;     /* (strip pixel, level) -> gen << 21 | sum    */
+    /* fast profile: correlation memo of the strip (NULL in compact) */
+    uint32_t *memo;     /* (strip pixel, level) -> stamp | numerator  */
     uint8_t *memo_base; /* strip pixel: first memoised d - dmin       */
     int32_t memo_k;     /* levels per pixel (0 = no memo)             */
-    uint32_t memo_gen;  /* stamp of the current strip, 1 .. 2047      */
+    uint32_t memo_gen;  /* stamp of the current strip, 1 .. 63        */
 
     /* elementary low-resolution map and per-tile ranges */
     int32_t lw, lh; /* low-res size                               */
@@ -145,13 +150,29 @@ typedef struct stx {
     negobs_arena_t arena; /* the carve, for negobs_arena_check()        */
 } stx_t;
 
-/* Fast profile: the cross-sum memo's word layout (gcs.c). */
-/* A raw 5x5 cross sum is at most 25 * 255^2 = 1 625 625 < 2^21, so a memo
- * word holds it in its low 21 bits and the strip's stamp above them:
- * a word from an earlier strip reads as empty without clearing the table
- * (which would cost more than the sums it saves). */
-#define STX_MEMO_SUM_BITS 21
-#define STX_MEMO_SUM_MASK ((1u << STX_MEMO_SUM_BITS) - 1u)
-#define STX_MEMO_GEN_MAX ((1u << (32 - STX_MEMO_SUM_BITS)) - 1u)
+/* Fast profile: the growth's memo word (gcs.c). It holds the numerator
+ * of a cell's exact MNCC fraction num2 / den as num2 + 2^25 in its low 26
+ * bits (|num2| <= den = VL + VR <= 2 * 625 * 255^2 / 4 < 2^25, so a real
+ * value is never 0; 0 marks a flat window), and the strip's stamp
+ * (1 .. STX_MEMO_GEN_MAX) above them, so a word written for an earlier
+ * strip reads as empty without clearing the table each strip. The
+ * denominator is rebuilt from the window statistics (two loads). */
+#define STX_MEMO_NUM_BITS 26
+#define STX_MEMO_NUM_MASK ((1u << STX_MEMO_NUM_BITS) - 1u)
+#define STX_MEMO_NUM_BIAS (1 << (STX_MEMO_NUM_BITS - 1))
+#define STX_MEMO_GEN_MAX ((1u << (32 - STX_MEMO_NUM_BITS)) - 1u)
+
+/* Word of stamp gen for the fraction num2 / den (den == 0: flat). */
+static inline uint32_t stx_memo_pack(uint32_t gen, int32_t num2, int32_t den)
+{
+    return (gen << STX_MEMO_NUM_BITS) |
+           ((den != 0) ? (uint32_t)(num2 + STX_MEMO_NUM_BIAS) : 0u);
+}
+
+/* num2 of a word's non-zero low bits nb. */
+static inline int32_t stx_memo_num2(uint32_t nb)
+{
+    return (int32_t)nb - STX_MEMO_NUM_BIAS;
+}
 
 #endif /* NEGOBS_STEREO_STATE_H */
