@@ -192,6 +192,7 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
     negobs_hazard_t hz;
     int32_t s_i;
     int32_t v_top = cfg->rig.height - 1;
+    int32_t noise_med = -1; /* det_noise_median, measured when needed */
     uint32_t i;
 
     memset(&s, 0, sizeof s); /* every field defined before use */
@@ -260,6 +261,18 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
                                        ? fw->walk_to >= cfg->near_min_mm
                                        : (fw->walk_to >= cfg->range_warn_mm ||
                                           det_vouch_candidate(&s, p, c)));
+        /* A deficit read in a box without texture (flat paint, a smooth
+         * slab) is the matcher wandering, not a drop: it may refresh a
+         * confirmed track but not start or confirm one. The noise is
+         * measured once, on the first candidate that needs it. */
+        if (fw->trusted[i] && s.left != NULL &&
+            (c->flags & NEGOBS_HAZARD_F_GROUND_DROP) == 0u) {
+            if (noise_med < 0) {
+                noise_med = det_noise_median(s.left);
+            }
+            fw->trusted[i] = (uint8_t)det_box_textured(
+                s.left, noise_med, c->u0, c->v0, c->u1, c->v1);
+        }
         fw->n_trusted += fw->trusted[i];
     }
     canny_support(p, cfg, frame, res);

@@ -178,6 +178,11 @@ typedef struct scan_ctx {
     int32_t band_bias_q8[NOISE_BANDS];
 } scan_ctx_t;
 
+/* detect_texture.c: the left image's noise (median |3x3 second
+ * difference|, grey levels) and whether a box holds texture above it. */
+int32_t det_noise_median(const negobs_image_u8_t *img);
+int det_box_textured(const negobs_image_u8_t *img, int32_t noise_med,
+                     int32_t u0, int32_t v0, int32_t u1, int32_t v1);
 uint32_t det_photo_reasons(const negobs_detect_config_t *cfg,
                            const negobs_photo_stats_t *s);
 

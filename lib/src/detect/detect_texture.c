@@ -1,0 +1,101 @@
+/* Is there texture under a candidate? The sensor noise of the left image
+ * and the local contrast in a hazard's box (docs/DETECTION.md section 10,
+ * "Texture under a candidate"). */
+#include "detect_internal.h"
+
+/* Bins of |response| kept for the median; larger responses share the
+ * last one. The median of pure noise is 4.05 sigma, so 64 bins cover a
+ * sensor noise of 15 grey levels, more than any usable camera shows. */
+enum { NOISE_BINS_MAX = 64 };
+
+/*
+ * Median of |N * I| over every second pixel of every second row, N the
+ * 3x3 mask (1 -2 1; -2 4 -2; 1 -2 1). The mask cancels constant and
+ * linear intensity, and for pure noise of sigma s its response is normal
+ * with a deviation of 6 s (the mask's L2 norm), so the median of |N * I|
+ * is 6 x 0.6745 s = 4.05 s (Immerkaer's estimator, with the median in
+ * place of the mean: texture adds a tail, which moves the median less).
+ * Fine texture still raises it, so this is an upper bound of the noise,
+ * which makes the texture test below stricter, never looser. Returns
+ * the median in grey levels (0 for an image too small to measure).
+ */
+int32_t det_noise_median(const negobs_image_u8_t *img)
+{
+    uint32_t hist[NOISE_BINS_MAX];
+    uint32_t n = 0;
+    uint32_t acc = 0;
+    int32_t x;
+    int32_t y;
+    int32_t i;
+    memset(hist, 0, sizeof hist);
+    for (y = 1; y + 1 < img->height; y += 2) {
+        const uint8_t *a = negobs_image_u8_row(img, y - 1);
+        const uint8_t *b = negobs_image_u8_row(img, y);
+        const uint8_t *c = negobs_image_u8_row(img, y + 1);
+        for (x = 1; x + 1 < img->width; x += 2) {
+            int32_t r = (int32_t)a[x - 1] - 2 * a[x] + a[x + 1] -
+                        2 * (b[x - 1] - 2 * b[x] + b[x + 1]) + c[x - 1] -
+                        2 * c[x] + c[x + 1];
+            hist[geom_min_s32(negobs_abs_s32(r), NOISE_BINS_MAX - 1)]++;
+            n++;
+        }
+    }
+    if (n == 0u) {
+        return 0;
+    }
+    for (i = 0; i < NOISE_BINS_MAX; i++) {
+        acc += hist[i];
+        if (2u * acc >= n) {
+            return i;
+        }
+    }
+    return NOISE_BINS_MAX - 1;
+}
+
+/*
+ * 1 when at least half of the 5x5 windows of the left image centred in
+ * the box (every second pixel and row) hold a variance of at least four
+ * times the noise variance: texture with a signal-to-noise power of 3 or
+ * more, for which a window's expected NCC at the true match is at least
+ * 0.75. Below that the match wanders by tenths of a pixel (flat paint, a
+ * smooth slab), as much as a minimum drop's deficit on a narrow rig, so
+ * a deficit there is no evidence of a drop. With noise_med = 0 (no noise
+ * measured) every box passes.
+ *
+ * Scaling: v = 25 * sum(p^2) - (sum p)^2 = 625 * var (at most 1.02e7);
+ * sigma = noise_med / 4.047, so var >= 4 sigma^2 is
+ * v * 4095 >= 625000 * noise_med^2 (noise_med < 64: at most 2.6e9; in
+ * 64 bits).
+ */
+int det_box_textured(const negobs_image_u8_t *img, int32_t noise_med,
+                     int32_t u0, int32_t v0, int32_t u1, int32_t v1)
+{
+    const int64_t need = 625000 * (int64_t)noise_med * noise_med;
+    int32_t n = 0;
+    int32_t ok = 0;
+    int32_t x;
+    int32_t y;
+    u0 = geom_max_s32(u0, 2);
+    v0 = geom_max_s32(v0, 2);
+    u1 = geom_min_s32(u1, img->width - 3);
+    v1 = geom_min_s32(v1, img->height - 3);
+    for (y = v0; y <= v1; y += 2) {
+        for (x = u0; x <= u1; x += 2) {
+            int32_t s = 0;
+            int32_t q = 0;
+            int32_t j;
+            int32_t i;
+            for (j = -2; j <= 2; j++) {
+                const uint8_t *row = negobs_image_u8_row(img, y + j);
+                for (i = -2; i <= 2; i++) {
+                    int32_t p = row[x + i];
+                    s += p;
+                    q += p * p;
+                }
+            }
+            n++;
+            ok += (int64_t)(25 * q - s * s) * 4095 >= need;
+        }
+    }
+    return n == 0 || 2 * ok >= n;
+}

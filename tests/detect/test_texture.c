@@ -1,0 +1,115 @@
+/*
+ * Texture under a candidate (detect/detect_texture.c): the left image's
+ * noise estimate and the box test. Images are generated here with a known
+ * noise and known texture contrast, so each expectation follows from the
+ * numbers that made the image.
+ */
+#include <math.h>
+
+#include "cmocka_all.h"
+#include "detect/detect_internal.h"
+
+#define W 160
+#define H 120
+
+static uint8_t px[W * H];
+static const negobs_image_u8_t img = {px, W, H, W};
+static uint32_t rng = 12345u;
+
+/* Standard normal from the sum of 12 uniforms (deterministic). */
+static double gauss(void)
+{
+    double s = 0.0;
+    int i;
+    for (i = 0; i < 12; i++) {
+        rng = rng * 1664525u + 1013904223u;
+        s += (double)(rng >> 8) / 16777216.0;
+    }
+    return s - 6.0;
+}
+
+static uint8_t clamp_u8(double v)
+{
+    return (uint8_t)(v < 0.0 ? 0.0 : (v > 255.0 ? 255.0 : v + 0.5));
+}
+
+/* Grey 128 plus noise of sigma `noise`; the rectangle [u0, u1) x [v0, v1)
+ * also carries a texture of sigma `tex` (independent per pixel). */
+static void render(double noise, double tex, int u0, int v0, int u1, int v1)
+{
+    int x;
+    int y;
+    rng = 12345u;
+    for (y = 0; y < H; y++) {
+        for (x = 0; x < W; x++) {
+            double t = (x >= u0 && x < u1 && y >= v0 && y < v1) ? tex * gauss()
+                                                                : 0.0;
+            px[y * W + x] = clamp_u8(128.0 + t + noise * gauss());
+        }
+    }
+}
+
+/* The median |second difference| of pure noise is 4.05 sigma: sigma 2
+ * reads 8 (+-1 for the integer bins and the sample), sigma 4 reads 16,
+ * and a noise-free flat image reads 0. */
+static void test_noise_median_follows_the_noise(void **state)
+{
+    int32_t m;
+    (void)state;
+    render(2.0, 0.0, 0, 0, 0, 0);
+    m = det_noise_median(&img);
+    print_message("sigma 2: median %d\n", (int)m);
+    assert_true(m >= 7 && m <= 9);
+    render(4.0, 0.0, 0, 0, 0, 0);
+    m = det_noise_median(&img);
+    print_message("sigma 4: median %d\n", (int)m);
+    assert_true(m >= 15 && m <= 17);
+    render(0.0, 0.0, 0, 0, 0, 0);
+    assert_int_equal(det_noise_median(&img), 0);
+}
+
+/* A quarter of the image textured hardly moves the estimate (a median). */
+static void test_noise_median_resists_some_texture(void **state)
+{
+    int32_t m;
+    (void)state;
+    render(2.0, 10.0, 0, 0, W / 2, H / 2);
+    m = det_noise_median(&img);
+    print_message("sigma 2, a quarter textured: median %d\n", (int)m);
+    assert_true(m >= 7 && m <= 11);
+}
+
+/* With noise 2 and a quarter of the image carrying a texture of sigma 5
+ * (the estimate reads 10, sigma 2.5: texture raises it, which makes the
+ * test stricter): a box of flat paint (noise only) fails, a box in the
+ * texture (variance 29 against the threshold 4 x 2.5^2 = 25) passes, a
+ * box mostly on the flat side fails, and a texture of sigma 1.2 (variance
+ * 5.4) fails. With no noise measured (median 0) every box passes. */
+static void test_box_texture_against_the_noise(void **state)
+{
+    int32_t m;
+    (void)state;
+    render(2.0, 5.0, 120, 0, W, H);
+    m = det_noise_median(&img);
+    print_message("sigma 2, a quarter textured (5): median %d\n", (int)m);
+    assert_false(det_box_textured(&img, m, 10, 20, 60, 60));
+    assert_true(det_box_textured(&img, m, 124, 20, 155, 60));
+    /* a box mostly on the flat side */
+    assert_false(det_box_textured(&img, m, 60, 20, 130, 60));
+    render(2.0, 1.2, 120, 0, W, H);
+    assert_false(det_box_textured(&img, m, 124, 20, 155, 60));
+    assert_true(det_box_textured(&img, 0, 10, 20, 60, 60));
+    /* a box at the image border is clipped, not read outside */
+    render(2.0, 5.0, 0, 0, W, H);
+    assert_true(det_box_textured(&img, m, -10, -10, W + 10, H + 10));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_noise_median_follows_the_noise),
+        cmocka_unit_test(test_noise_median_resists_some_texture),
+        cmocka_unit_test(test_box_texture_against_the_noise),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
