@@ -104,12 +104,32 @@ static void test_box_texture_against_the_noise(void **state)
     assert_true(det_box_textured(&img, m, -10, -10, W + 10, H + 10));
 }
 
+/* Texture as fine as the pixels cannot be told from noise: an image
+ * covered by it reads the cap (24, a noise of 6 grey levels), and a box of
+ * that texture with a deviation of 20 grey levels still passes, where an
+ * uncapped estimate (about 80) would fail every window of the frame. */
+static void test_noise_median_is_capped(void **state)
+{
+    int32_t m;
+    int x;
+    (void)state;
+    rng = 99u;
+    for (x = 0; x < W * H; x++) {
+        px[x] = clamp_u8(128.0 + 20.0 * gauss());
+    }
+    m = det_noise_median(&img);
+    assert_int_equal(m, 24);
+    assert_true(det_box_textured(&img, m, 20, 20, 140, 100));
+    assert_false(det_box_textured(&img, 80, 20, 20, 140, 100));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_noise_median_follows_the_noise),
         cmocka_unit_test(test_noise_median_resists_some_texture),
         cmocka_unit_test(test_box_texture_against_the_noise),
+        cmocka_unit_test(test_noise_median_is_capped),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -263,10 +263,13 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
                                           det_vouch_candidate(&s, p, c)));
         /* A deficit read in a box without texture (flat paint, a smooth
          * slab) is the matcher wandering, not a drop: it may refresh a
-         * confirmed track but not start or confirm one. The noise is
+         * confirmed track but not start or confirm one. Missing ground
+         * (type UNKNOWN) is about matches that are absent, not wrong, and
+         * has its own texture policy (missing_policy). The noise is
          * measured once, on the first candidate that needs it. */
         if (fw->trusted[i] && s.left != NULL &&
-            (c->flags & NEGOBS_HAZARD_F_GROUND_DROP) == 0u) {
+            (c->flags & NEGOBS_HAZARD_F_GROUND_DROP) == 0u &&
+            c->type != NEGOBS_HAZARD_UNKNOWN) {
             if (noise_med < 0) {
                 noise_med = det_noise_median(s.left);
             }

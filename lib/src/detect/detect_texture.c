@@ -3,10 +3,13 @@
  * "Texture under a candidate"). */
 #include "detect_internal.h"
 
-/* Bins of |response| kept for the median; larger responses share the
- * last one. The median of pure noise is 4.05 sigma, so 64 bins cover a
- * sensor noise of 15 grey levels, more than any usable camera shows. */
-enum { NOISE_BINS_MAX = 64 };
+/* The largest median reported: 24 is a sensor noise of 6 grey levels
+ * (4.05 sigma), about the most a camera shows in the dim light the
+ * photometric gate still lets through. An image that reads more is
+ * covered by texture as fine as the pixels, which the estimator cannot
+ * tell from noise; capped, the box test then still passes windows of
+ * twelve grey levels' deviation, rather than failing a textured floor. */
+enum { NOISE_MEDIAN_MAX = 24, NOISE_BINS_MAX = NOISE_MEDIAN_MAX + 1 };
 
 /*
  * Median of |N * I| over every second pixel of every second row, N the
@@ -17,7 +20,8 @@ enum { NOISE_BINS_MAX = 64 };
  * place of the mean: texture adds a tail, which moves the median less).
  * Fine texture still raises it, so this is an upper bound of the noise,
  * which makes the texture test below stricter, never looser. Returns
- * the median in grey levels (0 for an image too small to measure).
+ * the median in grey levels, at most NOISE_MEDIAN_MAX (0 for an image
+ * too small to measure).
  */
 int32_t det_noise_median(const negobs_image_u8_t *img)
 {
@@ -49,7 +53,7 @@ int32_t det_noise_median(const negobs_image_u8_t *img)
             return i;
         }
     }
-    return NOISE_BINS_MAX - 1;
+    return NOISE_MEDIAN_MAX;
 }
 
 /*
@@ -64,8 +68,8 @@ int32_t det_noise_median(const negobs_image_u8_t *img)
  *
  * Scaling: v = 25 * sum(p^2) - (sum p)^2 = 625 * var (at most 1.02e7);
  * sigma = noise_med / 4.047, so var >= 4 sigma^2 is
- * v * 4095 >= 625000 * noise_med^2 (noise_med < 64: at most 2.6e9; in
- * 64 bits).
+ * v * 4095 >= 625000 * noise_med^2 (noise_med <= 24: at most 3.6e8;
+ * v * 4095 at most 4.2e10, in 64 bits).
  */
 int det_box_textured(const negobs_image_u8_t *img, int32_t noise_med,
                      int32_t u0, int32_t v0, int32_t u1, int32_t v1)
