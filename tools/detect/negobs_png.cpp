@@ -26,6 +26,7 @@
 #include "disp_io.hpp"
 #include "rect_table.hpp"
 #include "session.hpp"
+#include "stereo_common.hpp"
 
 namespace fs = std::filesystem;
 using namespace negobs_detect_tools;
@@ -161,18 +162,9 @@ namespace {
 // matcher settings, the row ROI and any alignment.
 bool write_disp_q4(const cv::Mat &disp_q4, const std::string &path, std::string &err)
 {
-    cv::Mat d(disp_q4.size(), CV_32F);
-    cv::Mat valid(disp_q4.size(), CV_8U);
-    for (int y = 0; y < disp_q4.rows; ++y) {
-        const int16_t *q = disp_q4.ptr<int16_t>(y);
-        float *o = d.ptr<float>(y);
-        uint8_t *m = valid.ptr<uint8_t>(y);
-        for (int x = 0; x < disp_q4.cols; ++x) {
-            const bool ok = q[x] != NEGOBS_DISP_INVALID && q[x] > 0;
-            o[x] = ok ? static_cast<float>(q[x]) / NEGOBS_DISP_ONE : 0.0f;
-            m[x] = ok ? 255 : 0;
-        }
-    }
+    cv::Mat d;
+    cv::Mat valid;
+    negobs_tools::negobs_q4_to_float(disp_q4, d, valid);
     return negobs_cli::write_disparity(path, d, valid, negobs_cli::DispFormat::Png16,
                                        err);
 }
