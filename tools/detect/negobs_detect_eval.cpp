@@ -188,6 +188,12 @@ struct SplitMix {
 // (more than the suite's few hundred walks), so every draw is a set of
 // walks no other draw, and no tuning, has seen.
 constexpr int kDrawSeedStep = 100000;
+// The seed of the next walk of draw `draw`; advances the suite's counter.
+int next_seed(int &seed, int draw)
+{
+    return seed++ + kDrawSeedStep * draw;
+}
+
 constexpr int kGenericClipFrames = 24; // 4.0 m -> 1.24 m: the whole 1.5-3 m window
 const char *const kTextures[] = {"asphalt", "paving", "concrete", "worn"};
 
@@ -207,8 +213,7 @@ void add_generic_walks(std::vector<Seq> &s, int &seed, int app_frames, int draw)
         Seq q;
         // --draw N: another set of walks of the same kinds (mountings,
         // camera mismatch, textures, noise); 0 is the suite's own
-        const int sd = seed + kDrawSeedStep * draw;
-        ++seed;
+        const int sd = next_seed(seed, draw);
         SplitMix rng{static_cast<uint64_t>(sd) * 0x2545F4914F6CDD1Dull + 5};
         q.H_mm = std::round(900 + 700 * rng.uniform());
         q.pitch_deg = std::round(10 * (5 + 40 * rng.uniform())) / 10;
@@ -282,8 +287,7 @@ void add_rig_walks(std::vector<Seq> &s, int &seed, int draw)
             q.gain_right = 1.04;
             q.offset_right = -4;
             char nm[160];
-            const int sd = seed + kDrawSeedStep * draw; // --draw N
-            ++seed;
+            const int sd = next_seed(seed, draw);
             std::snprintf(nm, sizeof nm, "k%d_%s_%d_%s_s%.1f_%d", rig, scene.c_str(),
                           drop, texture.c_str(), start / 1000.0, sd);
             q.name = nm;
