@@ -68,9 +68,35 @@ static int ground_risen(detect_priv_t *p, const negobs_detect_config_t *cfg,
            (int32_t)(now_ms - p->risen_ms) <= cfg->ground_drop_max_ms;
 }
 
+/* The travel that verifies a start beyond the nearest floor in view: half
+ * a stride (about 350 mm), for the trailing foot still on the ground of
+ * the start, and 150 mm for the travel's own error (its candidates are
+ * 1/24 of 2 m/s apart: 8 mm a frame at 10 fps, over the 10-20 frames of
+ * the walk). */
+#define WALK_MARGIN_MM 500
+
+/* Forward distance along the floor to the nearest floor in view: the
+ * bottom row's middle column on the fitted plane (0: none). */
+static int32_t nearest_floor_mm(const negobs_detect_config_t *cfg,
+                                const gfit_out_t *g)
+{
+    const int32_t u = cfg->rig.width / 2;
+    const int32_t v = cfg->rig.height - 1;
+    const int32_t z = negobs_depth_mm_from_disp_q4(
+        &cfg->rig, negobs_ground_disp_q4(&g->plane, u, v));
+    int32_t fwd = 0;
+    if (z <= 0) {
+        return 0;
+    }
+    negobs_ground_floor_point(&cfg->rig, &g->frame, u * 16, v * 16, z, &fwd,
+                              NULL);
+    return geom_max_s32(fwd, 0);
+}
+
 static int ground_unverified(detect_priv_t *p,
                              const negobs_detect_config_t *cfg,
-                             const gfit_out_t *g, uint32_t now_ms)
+                             const gfit_out_t *g,
+                             const negobs_image_u8_t *left, uint32_t now_ms)
 {
     /* looking at the feet verifies the start unless the floor in view
      * rose meanwhile; agreeing with the hint always does. A fit of the
@@ -78,8 +104,32 @@ static int ground_unverified(detect_priv_t *p,
      * bottom rows showed no floor, so its plane there is extrapolated,
      * and the floor it rests on may lie beyond an edge. */
     const int risen = ground_risen(p, cfg, g, now_ms);
+    /* So does walking over the floor that was nearer than the view on
+     * the first unverified frame (docs/DETECTION.md 6.2): a drop there
+     * has been stepped down by then, and the fit would have risen. Only
+     * a fit of the bottom band is walked on. The travel is followed on
+     * every frame before the reference, so that a frame verified by the
+     * hint or the feet but too noisy to take the reference does not
+     * restart the walk. */
+    const int32_t walked = g->wide
+                               ? 0
+                               : travel_step(&p->travel, &cfg->rig, &g->plane,
+                                             &g->frame, left, now_ms);
+    if (g->wide) {
+        travel_reset(&p->travel);
+    }
+    if (!p->walk_on) {
+        p->walk_on = 1;
+        p->walked_mm = 0;
+        p->walk_need_mm = nearest_floor_mm(cfg, g) + WALK_MARGIN_MM;
+    } else if (risen) {
+        p->walked_mm = 0;
+    } else {
+        p->walked_mm += walked;
+    }
     if (!mount_height_unverified(cfg, g->pose.height_mm) ||
-        (!risen && !g->wide && mount_sees_feet(cfg, &g->plane, &g->frame))) {
+        (!risen && !g->wide && mount_sees_feet(cfg, &g->plane, &g->frame)) ||
+        (!risen && p->walked_mm >= p->walk_need_mm)) {
         p->unverified_on = 0;
         return 0;
     }
@@ -147,7 +197,7 @@ int det_ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
     if (!p->ref_ok) {
         /* the reference itself is taken on a clean frame
          * (det_ground_ref_follow) */
-        *unverified = ground_unverified(p, cfg, g, now_ms);
+        *unverified = ground_unverified(p, cfg, g, s->left, now_ms);
         return 0;
     }
     dh = g->pose.height_mm - p->ref_height_mm;

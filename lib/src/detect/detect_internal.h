@@ -11,6 +11,7 @@
  *   detect_vouch.c   the vouched range and the verdict (section 10)
  *   detect_merge.c   strips -> hazards
  *   detect_cue.c     ground-drop cue (section 6.1)
+ *   detect_travel.c  travel along the floor: a start verified by walking
  *   detect.c         negobs_detect_process: the sequence of the above
  */
 #ifndef NEGOBS_DETECT_INTERNAL_H
@@ -28,6 +29,7 @@
 #include "mount.h"
 #include "temporal.h"
 #include "detect_int.h"
+#include "detect_travel.h"
 
 #define DETECT_MAGIC 0x4E474454u /* "NGDT" */
 #define MAX_STRIP_PX 64
@@ -124,6 +126,14 @@ typedef struct detect_priv {
      * ground_verify_mm or more below the configured height */
     uint32_t unverified_since_ms;
     int32_t unverified_on;
+    /* before the reference: the travel along the floor since the first
+     * frame (detect_travel.c), and the travel that verifies the start:
+     * the nearest floor in view on that frame plus WALK_MARGIN_MM
+     * (detect_cue.c) */
+    travel_track_t travel;
+    int32_t walk_on;
+    int32_t walked_mm;
+    int32_t walk_need_mm;
     /* before the reference: the lowest fit height of the last
      * ground_drop_max_ms, and the last frame whose fit stood
      * ground_drop_mm or more above it (detect_cue.c, ground_risen) */

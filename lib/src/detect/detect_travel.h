@@ -1,0 +1,50 @@
+/*
+ * Forward travel along the floor between two frames (detect_travel.c):
+ * what verifies a start that the mounting hint cannot (docs/DETECTION.md
+ * 6.2, "Verified by walking").
+ */
+#ifndef NEGOBS_DETECT_TRAVEL_H
+#define NEGOBS_DETECT_TRAVEL_H
+
+#include <stdint.h>
+
+#include "negobs/depth.h"
+#include "negobs/ground.h"
+#include "negobs/image.h"
+
+/* Floor patches kept from one frame to the next: an 8 x 8 grid. */
+#define TRAVEL_SAMPLES 64
+/* Side of a patch (px): odd, the matcher's own window size. */
+#define TRAVEL_PATCH 5
+#ifndef TRAVEL_STRIDE
+#define TRAVEL_STRIDE 2
+#endif
+
+typedef struct travel_track {
+    int32_t n; /* patches held from the previous frame (0: none) */
+    uint32_t t_ms;
+    int32_t fwd_mm[TRAVEL_SAMPLES]; /* floor point along the heading   */
+    int32_t lat_mm[TRAVEL_SAMPLES]; /* and across it                   */
+    uint8_t px[TRAVEL_SAMPLES][TRAVEL_PATCH * TRAVEL_PATCH];
+} travel_track_t;
+
+/* Forget the patches (the next frame measures nothing). */
+static inline void travel_reset(travel_track_t *t)
+{
+    t->n = 0;
+}
+
+/*
+ * The forward travel (mm) of the camera along the floor since the frame
+ * whose patches t holds, read on this frame's left image through this
+ * frame's floor (rig, frame); then this frame's patches replace them.
+ * Returns 0 when the travel is not measured clearly (no patches, too long
+ * a gap, a flat or moving scene, standing still): nothing is ever counted
+ * that the images do not show. Integer only.
+ */
+int32_t travel_step(travel_track_t *t, const negobs_rig_t *rig,
+                    const negobs_ground_plane_t *plane,
+                    const negobs_ground_frame_t *frame,
+                    const negobs_image_u8_t *left, uint32_t now_ms);
+
+#endif

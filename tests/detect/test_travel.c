@@ -1,0 +1,166 @@
+/*
+ * Travel along the floor between two frames (detect/detect_travel.c).
+ * The frames are rendered here by casting each pixel's ray onto a floor
+ * with a known texture, from a camera at a known height and pitch moved by
+ * a known distance, so every expectation follows from the rendering.
+ */
+#include <math.h>
+
+#include "cmocka_all.h"
+#include "detect/detect_internal.h"
+
+#define W 320
+#define H 240
+#define F_PX 250.0
+#define HEIGHT_MM 1200
+#define PITCH_DEG 20.0
+
+static uint8_t px[W * H];
+static const negobs_image_u8_t img = {px, W, H, W};
+static uint32_t rng = 777u;
+
+static double gauss(void)
+{
+    double s = 0.0;
+    int i;
+    for (i = 0; i < 12; i++) {
+        rng = rng * 1664525u + 1013904223u;
+        s += (double)(rng >> 8) / 16777216.0;
+    }
+    return s - 6.0;
+}
+
+/* A floor texture of several scales (mm along the heading, across it). */
+static double floor_grey(double fwd, double lat)
+{
+    return 128.0 + 30.0 * sin(fwd / 23.0) * cos(lat / 31.0) +
+           20.0 * sin(fwd / 61.0 + lat / 47.0) +
+           15.0 * cos(fwd / 11.0 - lat / 17.0);
+}
+
+/* The camera `walked_mm` along the floor, pitch down PITCH_DEG, no roll;
+ * sensor noise of sigma `noise` grey levels. Above the horizon: 200. */
+static void render(double walked_mm, double noise)
+{
+    const double p = PITCH_DEG * 3.14159265358979323846 / 180.0;
+    const double ny = cos(p);
+    const double nz = sin(p);
+    int u;
+    int v;
+    for (v = 0; v < H; v++) {
+        for (u = 0; u < W; u++) {
+            double rx = (u - (W - 1) / 2.0) / F_PX;
+            double ry = (v - (H - 1) / 2.0) / F_PX;
+            double rn = ry * ny + nz; /* ray . n, rz = 1 */
+            double g = 200.0;
+            if (rn > 1e-3) {
+                double t = HEIGHT_MM / rn;
+                /* fwd = (0, -sin p, cos p), right = (1, 0, 0) */
+                double fwd = t * (-ry * nz + ny);
+                double lat = t * rx;
+                g = floor_grey(fwd + walked_mm, lat);
+            }
+            g += noise * gauss();
+            px[v * W + u] = (uint8_t)(g < 0 ? 0 : (g > 255 ? 255 : g + 0.5));
+        }
+    }
+}
+
+typedef struct geo {
+    negobs_rig_t rig;
+    negobs_ground_plane_t plane;
+    negobs_ground_frame_t frame;
+} geo_t;
+
+static void geo_init(geo_t *g)
+{
+    negobs_ground_pose_t pose = {HEIGHT_MM, (int32_t)(PITCH_DEG * 1000), 0};
+    negobs_ground_pose_t back;
+    negobs_rig_default(&g->rig, W, H);
+    assert_int_equal(negobs_ground_plane_from_pose(&g->rig, &pose, &g->plane),
+                     NEGOBS_OK);
+    assert_int_equal(
+        negobs_ground_pose_from_plane(&g->rig, &g->plane, &back, &g->frame),
+        NEGOBS_OK);
+}
+
+/* Walking 120 mm between frames 100 ms apart (1.2 m/s) reads 120 mm within
+ * one candidate step of the grid (200 mm / 24 = 8 mm) plus rounding. */
+static void test_travel_reads_a_walk(void **state)
+{
+    static travel_track_t t;
+    geo_t g;
+    int k;
+    (void)state;
+    geo_init(&g);
+    travel_reset(&t);
+    render(0.0, 2.0);
+    assert_int_equal(travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 1000u),
+                     0);
+    for (k = 1; k <= 4; k++) {
+        int32_t mm;
+        render(120.0 * k, 2.0);
+        mm = travel_step(&t, &g.rig, &g.plane, &g.frame, &img,
+                         1000u + 100u * (uint32_t)k);
+        assert_in_range(mm, 104, 136);
+    }
+}
+
+/* Standing still: the same floor with fresh noise reads no travel. */
+static void test_travel_standing_still_reads_nothing(void **state)
+{
+    static travel_track_t t;
+    geo_t g;
+    int k;
+    (void)state;
+    geo_init(&g);
+    travel_reset(&t);
+    for (k = 0; k < 6; k++) {
+        render(0.0, 3.0);
+        assert_int_equal(travel_step(&t, &g.rig, &g.plane, &g.frame, &img,
+                                     1000u + 100u * (uint32_t)k),
+                         0);
+    }
+}
+
+/* Faster than the grid (3.5 m/s), a gap longer than 500 ms, no image, an
+ * image of another size, a blank floor: nothing is counted. */
+static void test_travel_counts_nothing_it_cannot_see(void **state)
+{
+    static travel_track_t t;
+    static uint8_t small_px[16 * 16];
+    const negobs_image_u8_t small = {small_px, 16, 16, 16};
+    geo_t g;
+    int i;
+    (void)state;
+    geo_init(&g);
+    travel_reset(&t);
+    render(0.0, 2.0);
+    (void)travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 1000u);
+    render(350.0, 2.0);
+    assert_int_equal(travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 1100u),
+                     0);
+    render(470.0, 2.0);
+    assert_int_equal(travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 1700u),
+                     0);
+    assert_int_equal(travel_step(&t, &g.rig, &g.plane, &g.frame, NULL, 1800u),
+                     0);
+    assert_int_equal(
+        travel_step(&t, &g.rig, &g.plane, &g.frame, &small, 1900u), 0);
+    for (i = 0; i < W * H; i++) {
+        px[i] = 128;
+    }
+    (void)travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 2000u);
+    assert_int_equal(travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 2100u),
+                     0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_travel_reads_a_walk),
+        cmocka_unit_test(test_travel_standing_still_reads_nothing),
+        cmocka_unit_test(test_travel_counts_nothing_it_cannot_see),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

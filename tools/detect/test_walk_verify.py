@@ -1,0 +1,116 @@
+#!/usr/bin/env python3
+"""A start the mounting hint cannot verify is verified by walking, never
+by standing still in front of a drop (docs/DETECTION.md 6.2).
+
+Three generated walks on the target rig (320x240, f = 250 px, B = 120 mm),
+asphalt, sensor noise 2:
+
+1. Told 1.2 m / 20 deg, the camera is at 1.45 m / 20 deg, walking at
+   1.2 m/s over flat ground for 3 s. The fitted height disagrees with the
+   hint by 250 mm, so until the walk every frame is GROUND_UNVERIFIED;
+   without a measured travel the whole walk (shorter than the 5 s after
+   which the view is taken as it is) was NO_INFO. It must say CLEAR within
+   the walk, and never before the camera has moved past the floor that
+   was nearer than its view on the first frame (the generator's own
+   camera position is the reference).
+2. Told the right mounting, standing still 0.7 m before a 15 cm drop (the
+   edge nearer than the view): the fit sees the lower level, 150 mm too
+   high. No frame of 4 s may say CLEAR: standing still walks nowhere.
+3. The same start, walking towards the edge: no frame may say CLEAR while
+   the edge is still ahead.
+
+usage: test_walk_verify.py NEGOBS_SYNTH NEGOBS_PNG WORKDIR
+"""
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+
+
+def run(synth, png, work, name, synth_args, png_args):
+    seq = os.path.join(work, name)
+    jsonl = os.path.join(work, name + ".jsonl")
+    subprocess.run([synth, "--seed", "5", "--noise", "2", "--blur", "0.5",
+                    "--fps", "10", "--texture-kind", "asphalt", "--quiet",
+                    "--threads", "1", "--out", seq] + synth_args, check=True)
+    subprocess.run([png, "--seq", seq, "--out", os.path.join(work, "out"),
+                    "--json", jsonl, "--no-overlay", "--quiet"] + png_args,
+                   check=True)
+    with open(os.path.join(seq, "gt.json")) as fh:
+        gt = json.load(fh)
+    with open(jsonl) as fh:
+        rows = [json.loads(line) for line in fh]
+    return gt, rows
+
+
+def verdicts(rows):
+    return " ".join("C" if r["state"] == "CLEAR" else
+                    (r["reasons"][0][:6] if r["reasons"] else r["state"][:6])
+                    for r in rows)
+
+
+def main():
+    if len(sys.argv) != 4:
+        print(__doc__.strip().splitlines()[-1], file=sys.stderr)
+        return 2
+    synth, png, work = sys.argv[1:]
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    failed = 0
+
+    # 1. wrong hint, walking over flat ground
+    gt, rows = run(synth, png, work, "hint", [
+        "--scene", "flat", "--frames", "30", "--speed", "1.2",
+        "--height-mm", "1450", "--pitch-deg", "20"],
+        ["--height-mm", "1200", "--pitch-deg", "20"])
+    print("wrong hint, walking:", verdicts(rows))
+    cam = gt["camera"]
+    # the floor nearest the view on the first frame: the bottom row's ray
+    half_fov = math.atan((cam["height"] / 2.0) / cam["f"])
+    near_mm = cam["H_mm"] / math.tan(math.radians(cam["pitch"]) + half_fov)
+    first_clear = next((r for r in rows if r["state"] == "CLEAR"), None)
+    if first_clear is None:
+        print("FAIL: no CLEAR frame in a 3 s walk over flat ground")
+        failed += 1
+    else:
+        i = first_clear["frame"]
+        walked = gt["frames"][i]["cam_z_mm"] - gt["frames"][0]["cam_z_mm"]
+        print("first CLEAR at frame %d: walked %.0f mm, the floor nearer "
+              "than the view ended at %.0f mm" % (i, walked, near_mm))
+        if walked < near_mm:
+            print("FAIL: CLEAR before the unseen floor was walked over")
+            failed += 1
+    if sum(r["state"] == "NO_INFO" for r in rows) == len(rows):
+        failed += 1
+
+    # 2. standing still before a drop nearer than the view
+    gt, rows = run(synth, png, work, "still", [
+        "--scene", "curb", "--drop-mm", "150", "--edge-mm", "700",
+        "--frames", "40", "--speed", "0", "--height-mm", "1200",
+        "--pitch-deg", "20"], ["--height-mm", "1200", "--pitch-deg", "20"])
+    print("standing 0.7 m before a 15 cm drop:", verdicts(rows))
+    if any(r["state"] == "CLEAR" for r in rows):
+        print("FAIL: CLEAR while standing still before the drop")
+        failed += 1
+
+    # 3. walking towards it
+    gt, rows = run(synth, png, work, "walk", [
+        "--scene", "curb", "--drop-mm", "150", "--edge-mm", "700",
+        "--frames", "20", "--speed", "1.2", "--height-mm", "1200",
+        "--pitch-deg", "20"], ["--height-mm", "1200", "--pitch-deg", "20"])
+    print("walking from 0.7 m to a 15 cm drop:", verdicts(rows))
+    for r in rows:
+        if r["state"] == "CLEAR" and r["gt"]["edge_range_mm"] > 0:
+            print("FAIL: frame %d CLEAR with the edge %d mm ahead" %
+                  (r["frame"], r["gt"]["edge_range_mm"]))
+            failed += 1
+    if failed:
+        print("FAIL: %d checks" % failed)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
