@@ -380,7 +380,7 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
     mount_update(&p->mount, cfg, g.ok ? &g.pose : NULL,
                  g.ok && !fw.unverified && !p->drop_on, frame->now_ms,
                  &res->mount);
-    if (det_fit_fell(p, cfg, &g)) {
+    if (det_fit_fell(p, cfg, &g, frame->left)) {
         /* the fit dropped onto a lower level, not the camera: no vouch */
         fw.walk_to = 0;
         fw.walk_cause = NEGOBS_DEGRADED_GROUND_REJECTED;

@@ -230,6 +230,10 @@ static negobs_status_t carve(negobs_arena_t *ar,
                                    (size_t)cfg->rig.height * sizeof(int16_t));
     p->fill_u1 = negobs_arena_take(ar,
                                    (size_t)cfg->rig.height * sizeof(int16_t));
+    p->row_prof = negobs_arena_take(ar,
+                                    (size_t)cfg->rig.height * sizeof(int32_t));
+    p->row_prof_cur = negobs_arena_take(ar, (size_t)cfg->rig.height *
+                                                sizeof(int32_t));
     *out = (p == &tmp) ? NULL : p;
     return negobs_arena_status(ar);
 }

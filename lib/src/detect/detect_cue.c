@@ -256,6 +256,12 @@ void det_ground_ref_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
     p->ref_pitch_mdeg += (g->pose.pitch_mdeg - p->ref_pitch_mdeg) / 4;
 }
 
+/* The walking pitch sway of a worn camera is 1-3 deg either way; a fit
+ * 5 deg flatter than the recent ones is not gait. Looking up that fast
+ * costs about a second without a vouch (the track follows a flattening by
+ * a sixteenth per frame), never an alarm. */
+#define FIT_PITCH_FALL_MDEG 5000
+
 /* Does this frame's ground fit lie ground_drop_mm or more below the
  * recent fits (a slow track of them)? Updates the track.
  *
@@ -282,20 +288,129 @@ void det_ground_ref_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
  * ground_drop_mm for about 15 frames (1.5 s at 10 fps), longer than a fit
  * sits on a lower level while walking past its edge; a wearer who
  * crouches gets that long of "no information". A rise is left to the cue
- * (det_ground_drop). */
+ * (det_ground_drop).
+ *
+ * On a steep camera the same tilt shows in the pitch alone: the lower
+ * level fills the far part of the fit rows and the plane flattens about a
+ * height that barely moves (6 cm rig at 1.26 m / 41 deg, a 5 cm curb at
+ * 0.72 m: 1230 -> 1225 mm but 39.5 -> 31.7 deg in one frame, and the walk
+ * vouched 833 mm). So a fit FIT_PITCH_FALL_MDEG or more flatter than a
+ * slow track of the fitted pitch (the same quarter / sixteenth) vouches
+ * nothing either. */
+/* Row profile of the left image: per row, the mean grey of the middle
+ * half of the columns, x 16. */
+static void row_profile(const negobs_image_u8_t *left, int32_t *prof)
+{
+    const int32_t u0 = left->width / 4;
+    const int32_t u1 = left->width - left->width / 4;
+    int32_t v;
+    for (v = 0; v < left->height; v++) {
+        const uint8_t *row = negobs_image_u8_row(left, v);
+        int32_t sum = 0;
+        int32_t u;
+        for (u = u0; u < u1; u++) {
+            sum += row[u];
+        }
+        prof[v] = sum * 16 / (u1 - u0);
+    }
+}
+
+/* Mean |a[v] - b[v + shift]| over the rows both hold (x 16 grey). */
+static int32_t profile_sad(const int32_t *a, const int32_t *b, int32_t h,
+                           int32_t shift)
+{
+    int64_t sum = 0;
+    int32_t n = 0;
+    int32_t v;
+    for (v = 0; v < h; v++) {
+        const int32_t w = v + shift;
+        if (w >= 0 && w < h) {
+            sum += negobs_abs_s32(a[v] - b[w]);
+            n++;
+        }
+    }
+    return (n > 0) ? (int32_t)(sum / n) : INT32_MAX;
+}
+
+/* Did the camera turn up by dpitch_mdeg since the profiled frame? A turn
+ * moves the whole image by about f tan(dpitch) rows; a fit that flattened
+ * onto a lower level moves nothing but the sway. The shift that explains
+ * the turn must match at most 3/4 as badly as no shift (both signs are
+ * tried: the image's row order is the caller's). */
+static int image_turned(const detect_priv_t *p,
+                        const negobs_detect_config_t *cfg, const int32_t *prof,
+                        int32_t dpitch_mdeg)
+{
+    const int32_t h = cfg->rig.height;
+    /* tan(x) ~ x (1 + x^2 / 3) for the few tens of degrees a head turns:
+     * x in rad = mdeg * pi / 180000 */
+    const int64_t x_q16 = (int64_t)dpitch_mdeg * 205887 / 180000; /* pi Q16 */
+    const int64_t tan_q16 = x_q16 + x_q16 * x_q16 / 65536 * x_q16 / 65536 / 3;
+    const int32_t shift =
+        (int32_t)((tan_q16 * cfg->rig.focal_q4 / 16 + 32768) / 65536);
+    int32_t c0;
+    int32_t c1;
+    if (shift < 2 || shift > h / 2) {
+        return 0;
+    }
+    c0 = profile_sad(prof, p->row_prof, h, 0);
+    c1 = geom_min_s32(profile_sad(prof, p->row_prof, h, shift),
+                      profile_sad(prof, p->row_prof, h, -shift));
+    return 4 * (int64_t)c1 <= 3 * (int64_t)c0;
+}
+
 int det_fit_fell(detect_priv_t *p, const negobs_detect_config_t *cfg,
-                 const gfit_out_t *g)
+                 const gfit_out_t *g, const negobs_image_u8_t *left)
 {
     const int32_t ref = p->slow_fit_height_mm;
     int32_t h;
+    int32_t pitch;
+    int pitch_fell;
+    int32_t *prof = p->row_prof_cur;
+    const int have_image = left != NULL && left->width == cfg->rig.width &&
+                           left->height == cfg->rig.height;
     if (!g->ok) {
         return 0; /* no fit: nothing vouched through one anyway */
     }
     h = g->pose.height_mm;
+    pitch = g->pose.pitch_mdeg;
+    if (have_image) {
+        row_profile(left, prof);
+    }
     if (ref <= 0) {
         p->slow_fit_height_mm = h;
-        return 0;
+        p->slow_fit_pitch_mdeg = pitch;
+        pitch_fell = 0;
+    } else {
+        const int32_t ref_p = p->slow_fit_pitch_mdeg;
+        p->slow_fit_height_mm = ref +
+                                ((h > ref) ? (h - ref) / 4 : (h - ref) / 16);
+        p->slow_fit_pitch_mdeg = ref_p + ((pitch > ref_p)
+                                              ? (pitch - ref_p) / 4
+                                              : (pitch - ref_p) / 16);
+        /* Without an image (or a profile to compare) a turn cannot be told
+         * from a tilted fit, and the pitch is not judged. */
+        pitch_fell = have_image && p->row_prof_ok &&
+                     ref_p - pitch >= FIT_PITCH_FALL_MDEG;
+        if (pitch_fell &&
+            image_turned(p, cfg, prof, p->row_prof_pitch_mdeg - pitch)) {
+            /* the camera turned up: the new pitch is the floor's */
+            p->slow_fit_pitch_mdeg = pitch;
+            pitch_fell = 0;
+        }
+        if (cfg->ground_drop_mm <= 0) {
+            return 0;
+        }
+        if (ref - h >= cfg->ground_drop_mm) {
+            pitch_fell = 1;
+        }
     }
-    p->slow_fit_height_mm = ref + ((h > ref) ? (h - ref) / 4 : (h - ref) / 16);
-    return cfg->ground_drop_mm > 0 && ref - h >= cfg->ground_drop_mm;
+    if (have_image) {
+        /* the profile of the last frame with a fit, and its pitch */
+        p->row_prof_cur = p->row_prof;
+        p->row_prof = prof;
+        p->row_prof_ok = 1;
+        p->row_prof_pitch_mdeg = pitch;
+    }
+    return pitch_fell;
 }

@@ -150,6 +150,13 @@ typedef struct detect_priv {
     /* slow track of the fitted camera height, 0: no fit yet (det_fit_fell):
      * follows a rise within a few frames, a fall over about 1.5 s */
     int32_t slow_fit_height_mm;
+    int32_t slow_fit_pitch_mdeg; /* the same track of the fitted pitch */
+    /* row profiles of the left image (det_fit_fell): the last frame with a
+     * fit and its pitch, and this frame's scratch; height entries each */
+    int32_t *row_prof;
+    int32_t *row_prof_cur;
+    int32_t row_prof_ok;
+    int32_t row_prof_pitch_mdeg;
     /* per row: the columns of the left / right image in the field of view
      * [u0, u1) (detect_fill.c); height entries each */
     int16_t *view_l_u0;
@@ -259,6 +266,6 @@ void det_ground_ref_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
                            const gfit_out_t *g, int unverified);
 
 int det_fit_fell(detect_priv_t *p, const negobs_detect_config_t *cfg,
-                 const gfit_out_t *g);
+                 const gfit_out_t *g, const negobs_image_u8_t *left);
 
 #endif /* NEGOBS_DETECT_INTERNAL_H */
