@@ -201,47 +201,109 @@ static void band_result(const negobs_stereo_stats_t *after,
     r->edges = after->edges - before->edges;
 }
 
-/* The start of every band job: the worker's state and the band's rows
+/* The start of every band job: the band that job index `job` names this
+ * frame (stx_bands_order), the worker's state and the band's rows
  * [*y0, *y1), the band marked done; NULL when the executor named a worker
- * or band that does not exist (the frame then fails on the unmarked band). */
-static stx_t *band_job_begin(band_job_t *j, int32_t band, int32_t worker,
-                             int32_t *y0, int32_t *y1)
+ * or job that does not exist (the frame then fails on the unmarked band). */
+static stx_t *band_job_begin(band_job_t *j, int32_t job, int32_t worker,
+                             int32_t *band, int32_t *y0, int32_t *y1)
 {
     stx_t *x = worker_state(j->s, worker);
-    if (x == NULL ||
-        negobs_stereo_band_rows(&x->cfg, x->h, band, y0, y1) != NEGOBS_OK) {
+    if (x == NULL || job < 0 ||
+        job >= negobs_stereo_band_count(&x->cfg, x->h)) {
         return NULL;
     }
-    j->s->band_done[band] = 1u;
+    *band = j->s->band_order[job];
+    if (negobs_stereo_band_rows(&x->cfg, x->h, *band, y0, y1) != NEGOBS_OK) {
+        return NULL;
+    }
+    j->s->band_done[*band] = 1u;
     return x;
 }
 
-static void pass0_grow_job(void *arg, int32_t band, int32_t worker)
+/* Rows of band `band` as negobs_stereo_band_rows gives them (0 when it
+ * does not exist). */
+static int32_t band_rows(const stx_t *s, int32_t band)
+{
+    int32_t y0 = 0;
+    int32_t y1 = 0;
+    (void)negobs_stereo_band_rows(&s->cfg, s->h, band, &y0, &y1);
+    return y1 - y0;
+}
+
+/*
+ * Longest band first (LPT): a run lasts as long as its busiest worker, and
+ * with fewer workers than bands the pool's first-come hand-out in index
+ * order can leave the costliest band for last (4 bands of 1, 2, 1 and 2
+ * strips on 2 workers: 1+1 against 2+2). The cost of a band is the
+ * cells its growth and back-track scored in the last frame, scaled to
+ * its rows now (a crop moves the borders), or its rows when no frame with
+ * this band count ran yet. Counts, not clock time: the order is the same
+ * on every run and needs no clock. Which band a job index names changes
+ * no output: every band is the same computation whichever job runs it.
+ */
+void stx_bands_order(stx_t *s)
+{
+    uint64_t cost[NEGOBS_STEREO_MAX_BANDS];
+    int32_t nb = negobs_stereo_band_count(&s->cfg, s->h);
+    int parallel = s->exec.run != NULL && s->exec.workers > 1;
+    int32_t k;
+    for (k = 0; k < nb; k++) {
+        int32_t rows = band_rows(s, k);
+        int32_t i;
+        if (s->band_work_nb == nb && s->band_work_rows[k] > 0) {
+            /* work per row of the last frame x rows now (< 2^32 x 2^15) */
+            cost[k] = (uint64_t)s->band_work[k] * (uint64_t)rows /
+                      (uint64_t)s->band_work_rows[k];
+        } else {
+            cost[k] = (uint64_t)rows;
+        }
+        /* insertion by cost, ties in band order; on the caller's thread
+         * alone the bands keep their order: with one worker DP stage 1
+         * feeds each row to stage 2 as it ends, so rows must come top to
+         * bottom (stx_dp_row) */
+        for (i = k; i > 0 && parallel && cost[s->band_order[i - 1]] < cost[k];
+             i--) {
+            s->band_order[i] = s->band_order[i - 1];
+        }
+        s->band_order[i] = (uint8_t)k;
+    }
+    for (k = 0; k < nb; k++) {
+        s->band_work[k] = 0;
+        s->band_work_rows[k] = band_rows(s, k);
+    }
+    s->band_work_nb = nb;
+}
+
+static void pass0_grow_job(void *arg, int32_t job, int32_t worker)
 {
     band_job_t *j = (band_job_t *)arg;
+    int32_t band;
     stx_t *x;
     negobs_stereo_stats_t before;
     int32_t yb0;
     int32_t yb1;
-    x = band_job_begin(j, band, worker, &yb0, &yb1);
+    x = band_job_begin(j, job, worker, &band, &yb0, &yb1);
     if (x == NULL) {
         return;
     }
     before = x->st;
     grow_band(x, j->disp, yb0, yb1, 0);
     band_result(&x->st, &before, &j->s->band_res[band]);
+    j->s->band_work[band] += x->st.visited_cells - before.visited_cells;
 }
 
 /* DP stage 1 of the rows of band `band` (the window sums again only for
  * dp_rescore, the one case that correlates). */
-static void pass0_dp_job(void *arg, int32_t band, int32_t worker)
+static void pass0_dp_job(void *arg, int32_t job, int32_t worker)
 {
     band_job_t *j = (band_job_t *)arg;
+    int32_t band;
     stx_t *x;
     int32_t yb0;
     int32_t yb1;
     int32_t y0;
-    x = band_job_begin(j, band, worker, &yb0, &yb1);
+    x = band_job_begin(j, job, worker, &band, &yb0, &yb1);
     if (x == NULL) {
         return;
     }
@@ -319,17 +381,20 @@ static void seam_pass(stx_t *s, negobs_image_s16_t *disp, int32_t nb)
 }
 
 /* Back-track, sub-pixel and confidence of the rows of band `band`. */
-static void pass1_job(void *arg, int32_t band, int32_t worker)
+static void pass1_job(void *arg, int32_t job, int32_t worker)
 {
     band_job_t *j = (band_job_t *)arg;
+    int32_t band;
     stx_t *x;
     int32_t yb0;
     int32_t yb1;
     int32_t y0;
-    x = band_job_begin(j, band, worker, &yb0, &yb1);
+    uint32_t visited0;
+    x = band_job_begin(j, job, worker, &band, &yb0, &yb1);
     if (x == NULL) {
         return;
     }
+    visited0 = x->st.visited_cells;
     for (y0 = yb0; y0 < yb1; y0 += x->sh) {
         int32_t y1 = (y0 + x->sh < yb1) ? y0 + x->sh : yb1;
         int32_t y;
@@ -343,6 +408,7 @@ static void pass1_job(void *arg, int32_t band, int32_t worker)
         }
         stx_lap(x, NEGOBS_STEREO_STAGE_DP);
     }
+    j->s->band_work[band] += x->st.visited_cells - visited0;
 }
 
 /* Every band through fn: on the executor when one is set (and there is
@@ -408,13 +474,14 @@ void stx_bands_pass1(stx_t *s, negobs_image_s16_t *disp_q4,
 
 /* Line filter over band `band`'s rows, or over the band-th of as many
  * column slices (the mean's vertical pass). */
-static void filter_job(void *arg, int32_t band, int32_t worker)
+static void filter_job(void *arg, int32_t job, int32_t worker)
 {
     band_job_t *j = (band_job_t *)arg;
+    int32_t band;
     stx_t *x;
     int32_t a;
     int32_t b;
-    x = band_job_begin(j, band, worker, &a, &b);
+    x = band_job_begin(j, job, worker, &band, &a, &b);
     if (x == NULL) {
         return;
     }
@@ -500,14 +567,15 @@ static void part(int32_t len, int32_t k, int32_t n, int32_t *a, int32_t *b)
 }
 
 /* Stage 6 over the band-th part of the grid rows: its score per offset. */
-static void vertical_job(void *arg, int32_t band, int32_t worker)
+static void vertical_job(void *arg, int32_t job, int32_t worker)
 {
     band_job_t *j = (band_job_t *)arg;
+    int32_t band;
     stx_t *x;
     int32_t a;
     int32_t b;
     int32_t nb;
-    x = band_job_begin(j, band, worker, &a, &b);
+    x = band_job_begin(j, job, worker, &band, &a, &b);
     if (x == NULL) {
         return;
     }
@@ -521,14 +589,15 @@ static void vertical_job(void *arg, int32_t band, int32_t worker)
 /* Stage 1 over the band-th part of the low-res rows: the 4x4 means
  * (j->step 0) or the matches (1), the latter with the part's
  * histogram and kept count. */
-static void lowres_job(void *arg, int32_t band, int32_t worker)
+static void lowres_job(void *arg, int32_t job, int32_t worker)
 {
     band_job_t *j = (band_job_t *)arg;
+    int32_t band;
     stx_t *x;
     int32_t a;
     int32_t b;
     int32_t nb;
-    x = band_job_begin(j, band, worker, &a, &b);
+    x = band_job_begin(j, job, worker, &band, &a, &b);
     if (x == NULL) {
         return;
     }
