@@ -450,6 +450,7 @@ static int walk_project(int32_t threads, int table, double *proj)
     double frames_ms = 0.0;
     double jobs = 0.0;
     double after = 0.0;
+    double stage_ms[NEGOBS_PIPELINE_STAGE_COUNT];
     negobs_pipeline_config_default(&pc, QW, QH);
     pc.stereo.band_workers = threads;
     if (negobs_pipeline_workspace_size(&pc, &bytes) != NEGOBS_OK ||
@@ -464,6 +465,8 @@ static int walk_project(int32_t threads, int table, double *proj)
     e.run = pass_run;
     e.user = &ps;
     (void)negobs_pipeline_set_executor(&p, &e);
+    (void)negobs_pipeline_set_clock(&p, clock_us, NULL);
+    memset(stage_ms, 0, sizeof stage_ms);
     for (f = 0; f < WALK_FRAMES; f++) {
         negobs_image_u8_t li = {lpx, QW, QH, QW};
         negobs_image_u8_t ri = {rpx, QW, QH, QW};
@@ -488,13 +491,17 @@ static int walk_project(int32_t threads, int table, double *proj)
         (void)negobs_pipeline_process(&p, &fr, &res);
         frame = thread_cpu_ms() - c0;
         after += thread_cpu_ms() - ps.last_exit;
+        for (k = 0; k < NEGOBS_PIPELINE_STAGE_COUNT; k++) {
+            stage_ms[k] += (double)res.stage_ticks[k] / 1000.0;
+        }
         frames_ms += frame - (ps.sim.jobs_ms - jobs0) +
                      (ps.sim.span_ms - span0);
     }
     *proj = frames_ms / WALK_FRAMES;
     if (table) {
-        printf("    by pass (ms per frame over the walk; serial = caller's "
-               "time before the run; band jobs in band order):\n");
+        printf(
+            "    by pass (ms per frame over the walk; serial = caller's "
+            "time before the run; band jobs in dispatch order, costliest first):\n");
         for (k = 0; k < ps.passes; k++) {
             int32_t b;
             const char *name = (ps.passes == 12) ? pass_names[k] : "run";
@@ -516,6 +523,13 @@ static int walk_project(int32_t threads, int table, double *proj)
         printf("      after the last run (output count, detector, alert) "
                "%5.2f; all band jobs %5.2f\n",
                after / WALK_FRAMES, jobs / WALK_FRAMES);
+        printf("      pipeline stages (thread CPU ms per frame, band jobs "
+               "included): valign %.2f stereo %.2f detect %.2f alert "
+               "%.2f\n",
+               stage_ms[NEGOBS_PIPELINE_STAGE_VALIGN] / WALK_FRAMES,
+               stage_ms[NEGOBS_PIPELINE_STAGE_STEREO] / WALK_FRAMES,
+               stage_ms[NEGOBS_PIPELINE_STAGE_DETECT] / WALK_FRAMES,
+               stage_ms[NEGOBS_PIPELINE_STAGE_ALERT] / WALK_FRAMES);
     }
     free(raw);
     return 0;
