@@ -8,7 +8,10 @@
  * with the CPU time of the whole process beside it (all threads), the
  * ratio to one thread, and a check that every thread count gives the same
  * disparities and statistics bit for bit. Wall time on a shared machine is
- * noisy: the best of REPS runs is kept and the online cores printed.
+ * noisy: the best of REPS runs is kept and the online cores printed, and
+ * an idle-core projection is printed beside it; for the walk also pass by
+ * pass (each parallel run's band jobs in dispatch order, its projected
+ * span and the caller's serial time before it) and the pipeline's stages.
  *
  * `bench_threads --once N` runs one 320x240 frame on N threads of the pool
  * and nothing else (no projection) (callgrind --separate-threads=yes counts instructions per
