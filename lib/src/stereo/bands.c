@@ -8,8 +8,11 @@
  * the growth crosses a band border only by the seam rule (gcs.c:
  * seed_carry; seam_pass below). Each band is therefore the same
  * computation whichever worker runs it, in whatever order: the output is
- * bit-identical for every thread count. An executor that skips a job or
- * names a worker it does not have fails the frame (NEGOBS_ERR_STATE).
+ * bit-identical for every thread count. With several workers job 0 of a
+ * run is the band expected to cost most (stx_bands_order), so an executor
+ * that starts jobs in index order balances best. An executor that skips a
+ * job or names a worker or job it does not have fails the frame
+ * (NEGOBS_ERR_STATE).
  *
  * Each worker owns one scratch area (the strip buffers, the queue, the
  * score cache, the memo, a DP row and the speckle flood lists): worker 0 is the context itself, the
