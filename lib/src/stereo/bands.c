@@ -224,13 +224,13 @@ static stx_t *band_job_begin(band_job_t *j, int32_t job, int32_t worker,
     return x;
 }
 
-/* Rows of band `band` as negobs_stereo_band_rows gives them (0 when it
- * does not exist). */
-static int32_t band_rows(const stx_t *s, int32_t band)
+/* Rows of band `band` of a frame of h rows, as negobs_stereo_band_rows
+ * gives them (0 when it does not exist). */
+static int32_t band_rows(const stx_t *s, int32_t h, int32_t band)
 {
     int32_t y0 = 0;
     int32_t y1 = 0;
-    (void)negobs_stereo_band_rows(&s->cfg, s->h, band, &y0, &y1);
+    (void)negobs_stereo_band_rows(&s->cfg, h, band, &y0, &y1);
     return y1 - y0;
 }
 
@@ -252,12 +252,13 @@ void stx_bands_order(stx_t *s)
     int parallel = s->exec.run != NULL && s->exec.workers > 1;
     int32_t k;
     for (k = 0; k < nb; k++) {
-        int32_t rows = band_rows(s, k);
+        int32_t rows = band_rows(s, s->h, k);
+        int32_t last = band_rows(s, s->band_work_h, k);
         int32_t i;
-        if (s->band_work_nb == nb && s->band_work_rows[k] > 0) {
+        if (s->band_work_nb == nb && last > 0) {
             /* work per row of the last frame x rows now (< 2^32 x 2^15) */
             cost[k] = (uint64_t)s->band_work[k] * (uint64_t)rows /
-                      (uint64_t)s->band_work_rows[k];
+                      (uint64_t)last;
         } else {
             cost[k] = (uint64_t)rows;
         }
@@ -273,8 +274,8 @@ void stx_bands_order(stx_t *s)
     }
     for (k = 0; k < nb; k++) {
         s->band_work[k] = 0;
-        s->band_work_rows[k] = band_rows(s, k);
     }
+    s->band_work_h = s->h;
     s->band_work_nb = nb;
 }
 

@@ -130,9 +130,9 @@ typedef struct stx {
     /* dispatch order (bands.c: stx_bands_order): job j of a run is band
      * band_order[j], costliest first by the last frame's work counts */
     uint8_t band_order[NEGOBS_STEREO_MAX_BANDS];
-    uint32_t band_work[NEGOBS_STEREO_MAX_BANDS];     /* cells scored   */
-    int32_t band_work_rows[NEGOBS_STEREO_MAX_BANDS]; /* its rows    */
-    int32_t band_work_nb; /* bands band_work describes (0: none)    */
+    uint32_t band_work[NEGOBS_STEREO_MAX_BANDS]; /* cells scored */
+    int32_t band_work_h;  /* rows of the frame band_work is of    */
+    int32_t band_work_nb; /* its band count (0: no frame yet)     */
     int exec_failed;      /* an executor skipped a job or named a bad worker */
     negobs_executor_t exec; /* run == NULL: the caller's thread       */
 
