@@ -363,6 +363,70 @@ static void test_dispatch_order(void **state)
     }
 }
 
+/* A per-worker clock, like thread CPU time: worker k's counter starts
+ * near k x 2^30 and each read advances it; the executor names the
+ * worker whose "thread" runs. */
+static uint32_t g_clock[WORKERS];
+static int32_t g_clock_worker;
+
+static uint32_t worker_clock(void *user)
+{
+    (void)user;
+    g_clock[g_clock_worker] += 3u;
+    return g_clock[g_clock_worker];
+}
+
+static void clocked_run(void *user, int32_t n_jobs, negobs_job_fn fn,
+                        void *arg)
+{
+    fake_exec_t *f = (fake_exec_t *)user;
+    int32_t j;
+    for (j = 0; j < n_jobs; j++) {
+        g_clock_worker = j % f->workers;
+        fn(arg, j, g_clock_worker);
+        g_clock_worker = 0;
+    }
+    f->runs++;
+}
+
+/* Stage ticks with a per-thread clock on several workers: each worker's
+ * ticks come from its own clock, so every stage gets a few ticks per
+ * read, never a difference between two workers' counters. */
+static void test_per_thread_clock(void **state)
+{
+    fake_exec_t f = {WORKERS, 0, 0};
+    negobs_executor_t e;
+    negobs_image_u8_t li = {left, W, H, W};
+    negobs_image_u8_t ri = {right, W, H, W};
+    negobs_image_s16_t di = {g_run[0].disp, W, H, W};
+    uint64_t total = 0;
+    int32_t k;
+    (void)state;
+    render(5u);
+    for (k = 0; k < WORKERS; k++) {
+        g_clock[k] = (uint32_t)k << 30;
+    }
+    g_clock_worker = 0;
+    init_run(&g_run[0], 4, WORKERS, 16);
+    e.workers = WORKERS;
+    e.run = clocked_run;
+    e.user = &f;
+    assert_int_equal(negobs_stereo_set_executor(&g_run[0].ctx, &e), NEGOBS_OK);
+    assert_int_equal(
+        negobs_stereo_set_clock(&g_run[0].ctx, worker_clock, NULL), NEGOBS_OK);
+    assert_int_equal(negobs_stereo_process(&g_run[0].ctx, &li, &ri, &di, NULL,
+                                           &g_run[0].st),
+                     NEGOBS_OK);
+    for (k = 0; k < NEGOBS_STEREO_STAGE_COUNT; k++) {
+        /* a few hundred reads of 3 ticks; a cross-worker difference
+         * would be about 2^30 */
+        assert_true(g_run[0].st.stage_ticks[k] < 100000u);
+        total += g_run[0].st.stage_ticks[k];
+    }
+    assert_true(total > 0u);
+    assert_true(g_run[0].st.stage_ticks[NEGOBS_STEREO_STAGE_GCS] > 0u);
+}
+
 /* An executor that skips the last job (mode 0), hands one job a worker
  * index outside [0, workers) (mode 1) or names a job index past the last
  * one instead of the last (mode 2). */
@@ -502,6 +566,7 @@ int main(void)
         cmocka_unit_test(test_same_bands5_crop),
         cmocka_unit_test(test_seam_rule_fills_seedless_bands),
         cmocka_unit_test(test_dispatch_order),
+        cmocka_unit_test(test_per_thread_clock),
         cmocka_unit_test(test_broken_executor_fails_the_frame),
         cmocka_unit_test(test_executor_checks),
         cmocka_unit_test(test_config_and_workspace),

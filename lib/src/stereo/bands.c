@@ -113,9 +113,6 @@ static void worker_sync(const stx_t *s, stx_t *x)
     x->flood = own.flood;
     x->flood_out = own.flood_out;
     memset(&x->st, 0, sizeof x->st);
-    if (x->clock != NULL) {
-        x->lap = x->clock(x->clock_user);
-    }
 }
 
 /* What a worker counted during a pass, into the context's statistics. */
@@ -221,6 +218,12 @@ static stx_t *band_job_begin(band_job_t *j, int32_t job, int32_t worker,
         return NULL;
     }
     j->s->band_done[*band] = 1u;
+    if (x != j->s && x->clock != NULL) {
+        /* another worker's ticks start here, read on its own thread: a
+         * per-thread clock (thread CPU time) read on the caller's thread
+         * would not compare, and its wait for the job is no stage's */
+        x->lap = x->clock(x->clock_user);
+    }
     return x;
 }
 
