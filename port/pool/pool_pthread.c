@@ -3,9 +3,12 @@
  *
  * One mutex guards the job counter: a frame has a handful of bands, each
  * several milliseconds of work, so a lock per job costs nothing measurable
- * and keeps the code obviously correct. Jobs are handed out in order to
- * whichever worker asks first (the slowest band does not hold up the
- * others); the library's results do not depend on who ran what.
+ * and keeps the code obviously correct. Jobs are handed out in index order
+ * to whichever worker asks first, so the library names its costliest band
+ * job 0 (bands.c: stx_bands_order); the results do not depend on who ran
+ * what. Waking a sleeping worker costs about 1 us a run on an idle
+ * machine (docs/journal/2026-12-02-pipeline-threads.md), so the workers
+ * sleep between runs rather than poll.
  */
 #define _POSIX_C_SOURCE 200809L
 

@@ -8,7 +8,10 @@
  * with the CPU time of the whole process beside it (all threads), the
  * ratio to one thread, and a check that every thread count gives the same
  * disparities and statistics bit for bit. Wall time on a shared machine is
- * noisy: the best of REPS runs is kept and the online cores printed.
+ * noisy: the best of REPS runs is kept and the online cores printed, and
+ * an idle-core projection is printed beside it; for the walk also pass by
+ * pass (each parallel run's band jobs in dispatch order, its projected
+ * span and the caller's serial time before it) and the pipeline's stages.
  *
  * `bench_threads --once N` runs one 320x240 frame on N threads of the pool
  * and nothing else (no projection) (callgrind --separate-threads=yes counts instructions per
@@ -343,6 +346,198 @@ static void cones(void)
     report("Middlebury Cones", w, h);
 }
 
+/*
+ * The pipeline's idle-core projection, pass by pass: the simulating
+ * executor above, plus which parallel pass each run is (its job function
+ * and how many runs of that function came before it in the frame), each
+ * band job's thread CPU time and the caller's serial time before the run.
+ */
+#define PASS_MAX 16
+#define PASS_BANDS 8
+
+typedef struct pass_sim {
+    sim_exec_t sim;
+    negobs_job_fn fn[PASS_MAX];
+    int32_t nth[PASS_MAX];
+    int32_t passes;
+    int32_t seq_fn_count; /* runs seen this frame */
+    negobs_job_fn seq_fn[PASS_MAX];
+    double band_ms[PASS_MAX][PASS_BANDS]; /* summed over frames */
+    double span_ms[PASS_MAX];
+    double serial_ms[PASS_MAX + 1]; /* before pass k; [PASS_MAX]: after */
+    double runs[PASS_MAX];
+    double last_exit; /* thread CPU ms when the last run returned */
+} pass_sim_t;
+
+/* Runs in the order frame 0 (which searches the vertical offset) makes
+ * them with the default configuration. */
+static const char *const pass_names[] = {
+    "vertical search", "low-res means", "low-res match", "grow (GCS)",
+    "DP stage 1",      "back-track",    "LR check",      "speckle marks",
+    "speckle clears",  "gap fill",      "mean rows",     "mean columns"};
+
+static void pass_run(void *user, int32_t n_jobs, negobs_job_fn fn, void *arg)
+{
+    pass_sim_t *ps = (pass_sim_t *)user;
+    sim_exec_t *x = &ps->sim;
+    double entry = thread_cpu_ms();
+    int32_t nth = 0;
+    int32_t key;
+    int32_t j;
+    int32_t k;
+    double span = 0.0;
+    for (k = 0; k < ps->seq_fn_count; k++) {
+        nth += ps->seq_fn[k] == fn;
+    }
+    if (ps->seq_fn_count < PASS_MAX) {
+        ps->seq_fn[ps->seq_fn_count++] = fn;
+    }
+    for (key = 0; key < ps->passes; key++) {
+        if (ps->fn[key] == fn && ps->nth[key] == nth) {
+            break;
+        }
+    }
+    if (key == ps->passes && ps->passes < PASS_MAX) {
+        ps->fn[key] = fn;
+        ps->nth[key] = nth;
+        ps->passes++;
+    }
+    if (key < PASS_MAX) {
+        ps->serial_ms[key] += entry - ps->last_exit;
+        ps->runs[key] += 1.0;
+    }
+    for (k = 0; k < x->workers; k++) {
+        x->load[k] = 0.0;
+    }
+    for (j = 0; j < n_jobs; j++) {
+        int32_t free_first = 0;
+        double t0;
+        double dt;
+        for (k = 1; k < x->workers; k++) {
+            if (x->load[k] < x->load[free_first]) {
+                free_first = k;
+            }
+        }
+        t0 = thread_cpu_ms();
+        fn(arg, j, free_first);
+        dt = thread_cpu_ms() - t0;
+        x->load[free_first] += dt;
+        x->jobs_ms += dt;
+        if (key < PASS_MAX && j < PASS_BANDS) {
+            ps->band_ms[key][j] += dt;
+        }
+    }
+    for (k = 0; k < x->workers; k++) {
+        span = (x->load[k] > span) ? x->load[k] : span;
+    }
+    x->span_ms += span;
+    if (key < PASS_MAX) {
+        ps->span_ms[key] += span;
+    }
+    ps->last_exit = thread_cpu_ms();
+}
+
+/* The walk on the simulating executor with `threads` simulated workers:
+ * projected ms per frame (mean), and the pass table when `table`. */
+static int walk_project(int32_t threads, int table, double *proj)
+{
+    negobs_pipeline_config_t pc;
+    negobs_pipeline_t p;
+    negobs_executor_t e;
+    static pass_sim_t ps;
+    size_t bytes = 0;
+    void *raw = NULL;
+    void *ws;
+    int32_t f;
+    int32_t k;
+    double frames_ms = 0.0;
+    double jobs = 0.0;
+    double after = 0.0;
+    double stage_ms[NEGOBS_PIPELINE_STAGE_COUNT];
+    negobs_pipeline_config_default(&pc, QW, QH);
+    pc.stereo.band_workers = threads;
+    if (negobs_pipeline_workspace_size(&pc, &bytes) != NEGOBS_OK ||
+        (ws = aligned(bytes, &raw)) == NULL ||
+        negobs_pipeline_init(&p, &pc, ws, bytes) != NEGOBS_OK) {
+        free(raw);
+        return -1;
+    }
+    memset(&ps, 0, sizeof ps);
+    ps.sim.workers = threads;
+    e.workers = threads;
+    e.run = pass_run;
+    e.user = &ps;
+    (void)negobs_pipeline_set_executor(&p, &e);
+    (void)negobs_pipeline_set_clock(&p, clock_us, NULL);
+    memset(stage_ms, 0, sizeof stage_ms);
+    for (f = 0; f < WALK_FRAMES; f++) {
+        negobs_image_u8_t li = {lpx, QW, QH, QW};
+        negobs_image_u8_t ri = {rpx, QW, QH, QW};
+        negobs_pipeline_frame_t fr;
+        negobs_pipeline_result_t res;
+        double c0;
+        double span0 = ps.sim.span_ms;
+        double jobs0 = ps.sim.jobs_ms;
+        double frame;
+        if (walk_render(&pc.detect.rig, f, lpx, rpx) != 0) {
+            break;
+        }
+        memset(&fr, 0, sizeof fr);
+        fr.left = &li;
+        fr.right = &ri;
+        fr.t_left_ms = (uint32_t)f * 100u;
+        fr.t_right_ms = fr.t_left_ms;
+        fr.now_ms = fr.t_left_ms + 20u;
+        ps.seq_fn_count = 0;
+        c0 = thread_cpu_ms();
+        ps.last_exit = c0;
+        (void)negobs_pipeline_process(&p, &fr, &res);
+        frame = thread_cpu_ms() - c0;
+        after += thread_cpu_ms() - ps.last_exit;
+        for (k = 0; k < NEGOBS_PIPELINE_STAGE_COUNT; k++) {
+            stage_ms[k] += (double)res.stage_ticks[k] / 1000.0;
+        }
+        frames_ms += frame - (ps.sim.jobs_ms - jobs0) +
+                     (ps.sim.span_ms - span0);
+    }
+    *proj = frames_ms / WALK_FRAMES;
+    if (table) {
+        printf(
+            "    by pass (ms per frame over the walk; serial = caller's "
+            "time before the run; band jobs in dispatch order, costliest first):\n");
+        for (k = 0; k < ps.passes; k++) {
+            int32_t b;
+            const char *name = (ps.passes == 12) ? pass_names[k] : "run";
+            double sum = 0.0;
+            for (b = 0; b < PASS_BANDS; b++) {
+                sum += ps.band_ms[k][b];
+            }
+            jobs += sum;
+            printf("      %-16s x%4.1f/frame serial before %5.2f | jobs %5.2f "
+                   "span(%d) %5.2f | bands",
+                   name, ps.runs[k] / WALK_FRAMES,
+                   ps.serial_ms[k] / WALK_FRAMES, sum / WALK_FRAMES,
+                   (int)threads, ps.span_ms[k] / WALK_FRAMES);
+            for (b = 0; b < PASS_BANDS && ps.band_ms[k][b] > 0.0; b++) {
+                printf(" %5.2f", ps.band_ms[k][b] / WALK_FRAMES);
+            }
+            printf("\n");
+        }
+        printf("      after the last run (output count, detector, alert) "
+               "%5.2f; all band jobs %5.2f\n",
+               after / WALK_FRAMES, jobs / WALK_FRAMES);
+        printf("      pipeline stages (thread CPU ms per frame, band jobs "
+               "included): valign %.2f stereo %.2f detect %.2f alert "
+               "%.2f\n",
+               stage_ms[NEGOBS_PIPELINE_STAGE_VALIGN] / WALK_FRAMES,
+               stage_ms[NEGOBS_PIPELINE_STAGE_STEREO] / WALK_FRAMES,
+               stage_ms[NEGOBS_PIPELINE_STAGE_DETECT] / WALK_FRAMES,
+               stage_ms[NEGOBS_PIPELINE_STAGE_ALERT] / WALK_FRAMES);
+    }
+    free(raw);
+    return 0;
+}
+
 /* The whole pipeline over the generated walk: mean wall ms per frame. */
 static int walk_run(int32_t threads, double *wall, double *cpu, uint32_t *hash)
 {
@@ -413,6 +608,7 @@ static void walk(void)
 {
     static const int32_t counts[] = {1, 2, 4};
     double w1 = 0.0;
+    double p1 = 1.0;
     uint32_t h1 = 0;
     size_t i;
     printf("\nnegobs_pipeline_process over the generated curb walk (%d "
@@ -444,6 +640,22 @@ static void walk(void)
                "ms, output %s\n",
                (int)counts[i], counts[i] > 1 ? "s" : " ", best, best / w1,
                best_cpu, hash == h1 ? "identical" : "DIFFERENT");
+        if (counts[i] > 1) {
+            double proj = 1e30;
+            for (r = 0; r < 3; r++) {
+                double pr;
+                if (walk_project(counts[i], r == 2, &pr) != 0) {
+                    printf("    projection failed\n");
+                    return;
+                }
+                proj = (pr < proj) ? pr : proj;
+            }
+            printf("    idle-core projection %7.2f ms (x%.2f of 1 thread's "
+                   "CPU %.2f ms)\n",
+                   proj, proj / p1, p1);
+        } else {
+            p1 = best_cpu;
+        }
     }
 }
 

@@ -4,12 +4,18 @@
  * and the disparities, confidences and statistics are bit-identical for
  * 1, 2, 3 and 4 threads against the bands run in order without an
  * executor, with band counts that do not divide the thread count (3, 5)
- * and over several frames. Native builds only (threads; see meson.build).
+ * and over several frames; and the whole pipeline over the generated curb
+ * walk, whose stereo ROI moves the band borders after the first frame (the
+ * band dispatch order then comes from a frame with other borders). Native
+ * builds only (threads; see meson.build).
  */
+#include <stdlib.h>
 #include <string.h>
 
 #include "scene_pair.h"
+#include "walk.h"
 #include "cmocka_all.h"
+#include "negobs/pipeline.h"
 #include "negobs/stereo.h"
 #include "negobs_port/pool.h"
 
@@ -247,6 +253,95 @@ static void test_stereo_bands5(void **state)
     same_for_threads(5);
 }
 
+/* ---- the pipeline on the pool ------------------------------------------ */
+
+typedef struct walk_out {
+    int16_t disp[WALK_FRAMES][W * H];
+    uint8_t conf[WALK_FRAMES][W * H];
+    negobs_stereo_stats_t st[WALK_FRAMES];
+    int32_t state[WALK_FRAMES];
+    int32_t level[WALK_FRAMES];
+} walk_out_t;
+
+/* The walk through one pipeline on `threads` pool threads (1: no
+ * executor, the bands in order on this thread). */
+static void walk_pipeline(int32_t threads, walk_out_t *out)
+{
+    negobs_pipeline_config_t pc;
+    negobs_pipeline_t p;
+    negobs_pool_t *pool = NULL;
+    negobs_executor_t e;
+    size_t bytes = 0;
+    void *raw;
+    void *ws;
+    int32_t f;
+    negobs_pipeline_config_default(&pc, W, H);
+    pc.stereo.band_workers = threads;
+    assert_int_equal(negobs_pipeline_workspace_size(&pc, &bytes), NEGOBS_OK);
+    raw = malloc(bytes + 16u);
+    assert_non_null(raw);
+    ws = (void *)(((uintptr_t)raw + 15u) & ~(uintptr_t)15u);
+    assert_int_equal(negobs_pipeline_init(&p, &pc, ws, bytes), NEGOBS_OK);
+    if (threads > 1) {
+        assert_int_equal(negobs_pool_create(&pool, threads), NEGOBS_OK);
+        e = negobs_pool_executor(pool);
+        assert_int_equal(negobs_pipeline_set_executor(&p, &e), NEGOBS_OK);
+    }
+    for (f = 0; f < WALK_FRAMES; f++) {
+        negobs_image_u8_t li = {left, W, H, W};
+        negobs_image_u8_t ri = {right, W, H, W};
+        negobs_pipeline_frame_t fr;
+        negobs_pipeline_result_t res;
+        assert_int_equal(walk_render(&pc.detect.rig, f, left, right), 0);
+        memset(&fr, 0, sizeof fr);
+        fr.left = &li;
+        fr.right = &ri;
+        fr.t_left_ms = (uint32_t)f * 100u;
+        fr.t_right_ms = fr.t_left_ms;
+        fr.now_ms = fr.t_left_ms + 20u;
+        assert_int_equal(negobs_pipeline_process(&p, &fr, &res), NEGOBS_OK);
+        assert_int_equal(res.stereo_status, NEGOBS_OK);
+        memcpy(out->disp[f], negobs_pipeline_disparity(&p)->data,
+               sizeof out->disp[f]);
+        memcpy(out->conf[f], negobs_pipeline_confidence(&p)->data,
+               sizeof out->conf[f]);
+        out->st[f] = res.stereo;
+        out->state[f] = (int32_t)res.detect.state;
+        out->level[f] = (int32_t)res.detect.level;
+    }
+    negobs_pool_destroy(pool);
+    free(raw);
+}
+
+static void test_pipeline_walk(void **state)
+{
+    static walk_out_t one;
+    static walk_out_t many;
+    int32_t t;
+    int32_t f;
+    int32_t crops = 0;
+    (void)state;
+    walk_pipeline(1, &one);
+    /* the ROI really moves the band borders: the first frame matches every
+     * row (8 strips, 2 per band), the next ones a crop (1, 2, 1 and 2) */
+    for (f = 1; f < WALK_FRAMES; f++) {
+        crops += one.st[f].first_row != one.st[f - 1].first_row;
+    }
+    assert_int_equal(one.st[0].first_row, 0);
+    assert_true(crops >= 1);
+    assert_true(one.st[WALK_FRAMES - 1].first_row > 0);
+    for (t = 2; t <= MAXT; t += 2) {
+        walk_pipeline(t, &many);
+        for (f = 0; f < WALK_FRAMES; f++) {
+            assert_memory_equal(one.disp[f], many.disp[f], sizeof one.disp[f]);
+            assert_memory_equal(one.conf[f], many.conf[f], sizeof one.conf[f]);
+            assert_memory_equal(&one.st[f], &many.st[f], sizeof one.st[f]);
+            assert_int_equal(one.state[f], many.state[f]);
+            assert_int_equal(one.level[f], many.level[f]);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -256,6 +351,7 @@ int main(void)
         cmocka_unit_test(test_stereo_bands4),
         cmocka_unit_test(test_stereo_bands5),
         cmocka_unit_test(test_fast_profile_narrowed_memo),
+        cmocka_unit_test(test_pipeline_walk),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

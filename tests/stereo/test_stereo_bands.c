@@ -4,13 +4,16 @@
  * caller's thread or out of order on any number of workers (here a
  * single-threaded executor that runs them backwards and rotates the
  * workers; tests/port/test_pool.c does the same with real threads). Band
- * counts that do not divide the workers (3, 5) and a crop are included.
+ * counts that do not divide the workers (3, 5) and a crop are included,
+ * and so is the dispatch order (costliest band first, from the last
+ * frame's work) over frames whose content and crop change.
  */
 #include <string.h>
 
 #include "cmocka_all.h"
 #include "negobs/stereo.h"
 #include "scene_pair.h"
+#include "stereo/stereo_int.h"
 
 #define W 160
 #define H 120
@@ -277,8 +280,156 @@ static void test_seam_rule_fills_seedless_bands(void **state)
     assert_int_equal(g_run[1].st.seam_regrown, 2);
 }
 
-/* An executor that skips the last job (mode 0) or hands one job a worker
- * index outside [0, workers) (mode 1). */
+/* Runs the jobs in index order, job j on worker j % workers: the
+ * pool's hand-out order, so band_order[0] really runs first. */
+static void in_order_run(void *user, int32_t n_jobs, negobs_job_fn fn,
+                         void *arg)
+{
+    fake_exec_t *f = (fake_exec_t *)user;
+    int32_t j;
+    for (j = 0; j < n_jobs; j++) {
+        fn(arg, j, j % f->workers);
+        f->jobs_seen++;
+    }
+    f->runs++;
+}
+
+/* The crops of a short sequence whose scene changes every frame, so each
+ * frame's dispatch order comes from a different last frame. */
+static const int32_t seq_first_row[] = {0, 24, 8, 8, 0};
+
+/*
+ * The dispatch order: a fresh context orders by rows (bands of 2, 3 and 3
+ * strips of 16 rows, the last strip 8 rows: 32, 48 and 40 rows), later
+ * frames by the last frame's cells scored per band, costliest first; on
+ * one worker the bands keep their order (DP stage 1 then feeds stage 2
+ * top to bottom). Whatever the order, every frame's output equals the
+ * one-worker, in-order run bit for bit, on in-order and on backwards
+ * executors.
+ */
+static void test_dispatch_order(void **state)
+{
+    int32_t k;
+    int backwards;
+    (void)state;
+    for (backwards = 0; backwards < 2; backwards++) {
+        fake_exec_t f = {2, 0, 0};
+        negobs_executor_t e;
+        const stx_t *s1;
+        const stx_t *s0;
+        e.workers = 2;
+        e.run = backwards ? fake_run : in_order_run;
+        e.user = &f;
+        init_run(&g_run[0], 3, 1, 16);
+        init_run(&g_run[1], 3, 2, 16);
+        assert_int_equal(negobs_stereo_set_executor(&g_run[1].ctx, &e),
+                         NEGOBS_OK);
+        s0 = (const stx_t *)g_run[0].ctx.priv;
+        s1 = (const stx_t *)g_run[1].ctx.priv;
+        for (k = 0; k < 5; k++) {
+            uint32_t work[3];
+            int32_t top = seq_first_row[k];
+            int32_t b;
+            render(40u + (uint32_t)k);
+            memcpy(work, s1->band_work, sizeof work);
+            assert_int_equal(negobs_stereo_set_first_row(&g_run[0].ctx, top),
+                             NEGOBS_OK);
+            assert_int_equal(negobs_stereo_set_first_row(&g_run[1].ctx, top),
+                             NEGOBS_OK);
+            process(&g_run[0]);
+            process(&g_run[1]);
+            assert_same();
+            for (b = 0; b < 3; b++) {
+                assert_int_equal(s0->band_order[b], b);
+            }
+            if (k == 0) {
+                assert_int_equal(s1->band_order[0], 1);
+                assert_int_equal(s1->band_order[1], 2);
+                assert_int_equal(s1->band_order[2], 0);
+            } else if (top == seq_first_row[k - 1]) {
+                /* same crop: the last frame's counts rank the bands */
+                assert_true(work[s1->band_order[0]] >=
+                            work[s1->band_order[1]]);
+                assert_true(work[s1->band_order[1]] >=
+                            work[s1->band_order[2]]);
+                assert_true(work[s1->band_order[2]] > 0u);
+            }
+            /* this frame's counts, for the next frame's order */
+            for (b = 0; b < 3; b++) {
+                assert_true(s1->band_work[b] > 0u);
+            }
+        }
+        assert_true(f.runs >= 5 * 11);
+    }
+}
+
+/* A per-worker clock, like thread CPU time: worker k's counter starts
+ * near k x 2^30 and each read advances it; the executor names the
+ * worker whose "thread" runs. */
+static uint32_t g_clock[WORKERS];
+static int32_t g_clock_worker;
+
+static uint32_t worker_clock(void *user)
+{
+    (void)user;
+    g_clock[g_clock_worker] += 3u;
+    return g_clock[g_clock_worker];
+}
+
+static void clocked_run(void *user, int32_t n_jobs, negobs_job_fn fn,
+                        void *arg)
+{
+    fake_exec_t *f = (fake_exec_t *)user;
+    int32_t j;
+    for (j = 0; j < n_jobs; j++) {
+        g_clock_worker = j % f->workers;
+        fn(arg, j, g_clock_worker);
+        g_clock_worker = 0;
+    }
+    f->runs++;
+}
+
+/* Stage ticks with a per-thread clock on several workers: each worker's
+ * ticks come from its own clock, so every stage gets a few ticks per
+ * read, never a difference between two workers' counters. */
+static void test_per_thread_clock(void **state)
+{
+    fake_exec_t f = {WORKERS, 0, 0};
+    negobs_executor_t e;
+    negobs_image_u8_t li = {left, W, H, W};
+    negobs_image_u8_t ri = {right, W, H, W};
+    negobs_image_s16_t di = {g_run[0].disp, W, H, W};
+    uint64_t total = 0;
+    int32_t k;
+    (void)state;
+    render(5u);
+    for (k = 0; k < WORKERS; k++) {
+        g_clock[k] = (uint32_t)k << 30;
+    }
+    g_clock_worker = 0;
+    init_run(&g_run[0], 4, WORKERS, 16);
+    e.workers = WORKERS;
+    e.run = clocked_run;
+    e.user = &f;
+    assert_int_equal(negobs_stereo_set_executor(&g_run[0].ctx, &e), NEGOBS_OK);
+    assert_int_equal(
+        negobs_stereo_set_clock(&g_run[0].ctx, worker_clock, NULL), NEGOBS_OK);
+    assert_int_equal(negobs_stereo_process(&g_run[0].ctx, &li, &ri, &di, NULL,
+                                           &g_run[0].st),
+                     NEGOBS_OK);
+    for (k = 0; k < NEGOBS_STEREO_STAGE_COUNT; k++) {
+        /* a few hundred reads of 3 ticks; a cross-worker difference
+         * would be about 2^30 */
+        assert_true(g_run[0].st.stage_ticks[k] < 100000u);
+        total += g_run[0].st.stage_ticks[k];
+    }
+    assert_true(total > 0u);
+    assert_true(g_run[0].st.stage_ticks[NEGOBS_STEREO_STAGE_GCS] > 0u);
+}
+
+/* An executor that skips the last job (mode 0), hands one job a worker
+ * index outside [0, workers) (mode 1) or names a job index past the last
+ * one instead of the last (mode 2). */
 typedef struct broken_exec {
     int mode;
     int32_t workers;
@@ -292,6 +443,10 @@ static void broken_run(void *user, int32_t n_jobs, negobs_job_fn fn, void *arg)
         if (b->mode == 0 && j == n_jobs - 1) {
             continue;
         }
+        if (b->mode == 2 && j == n_jobs - 1) {
+            fn(arg, n_jobs, 0);
+            continue;
+        }
         fn(arg, j, (b->mode == 1 && j == 1) ? b->workers : 0);
     }
 }
@@ -303,7 +458,7 @@ static void test_broken_executor_fails_the_frame(void **state)
     int mode;
     (void)state;
     render(21u);
-    for (mode = 0; mode < 2; mode++) {
+    for (mode = 0; mode < 3; mode++) {
         broken_exec_t b = {mode, 2};
         fake_exec_t f = {2, 0, 0};
         negobs_executor_t e;
@@ -410,6 +565,8 @@ int main(void)
         cmocka_unit_test(test_same_bands4),
         cmocka_unit_test(test_same_bands5_crop),
         cmocka_unit_test(test_seam_rule_fills_seedless_bands),
+        cmocka_unit_test(test_dispatch_order),
+        cmocka_unit_test(test_per_thread_clock),
         cmocka_unit_test(test_broken_executor_fails_the_frame),
         cmocka_unit_test(test_executor_checks),
         cmocka_unit_test(test_config_and_workspace),

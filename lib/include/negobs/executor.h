@@ -25,7 +25,9 @@ typedef void (*negobs_job_fn)(void *arg, int32_t job, int32_t worker);
  * run() must call fn(arg, j, worker) exactly once for every j in
  * [0, n_jobs), in any order and on any of its `workers` threads, and
  * return only after every call has returned. The results do not depend on
- * the order or on the number of workers.
+ * the order or on the number of workers. The library numbers the jobs
+ * costliest first, so starting them in index order, each on the first
+ * free worker, finishes soonest.
  */
 typedef struct negobs_executor {
     int32_t workers; /**< threads run() may use at once (>= 1)   */

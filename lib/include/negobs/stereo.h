@@ -400,7 +400,9 @@ negobs_status_t negobs_stereo_set_observer(negobs_stereo_t *ctx,
  * The disparities, confidences and statistics are the same either way and
  * for every exec->workers: only cfg.bands shapes the output. The clock
  * (negobs_stereo_set_clock) is then read from the executor's threads too,
- * and the band stages' ticks add up the workers' time.
+ * and the band stages' ticks add up the workers' time; each worker other
+ * than the caller reads it on its own thread from the start of each job,
+ * so a per-thread clock (thread CPU time) works too.
  * @return NEGOBS_OK; NEGOBS_ERR_INVAL when exec->run is NULL or
  *         exec->workers is outside [1, cfg.band_workers]; NEGOBS_ERR_STATE
  *         without init.

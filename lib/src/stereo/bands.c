@@ -8,8 +8,11 @@
  * the growth crosses a band border only by the seam rule (gcs.c:
  * seed_carry; seam_pass below). Each band is therefore the same
  * computation whichever worker runs it, in whatever order: the output is
- * bit-identical for every thread count. An executor that skips a job or
- * names a worker it does not have fails the frame (NEGOBS_ERR_STATE).
+ * bit-identical for every thread count. With several workers job 0 of a
+ * run is the band expected to cost most (stx_bands_order), so an executor
+ * that starts jobs in index order balances best. An executor that skips a
+ * job or names a worker or job it does not have fails the frame
+ * (NEGOBS_ERR_STATE).
  *
  * Each worker owns one scratch area (the strip buffers, the queue, the
  * score cache, the memo, a DP row and the speckle flood lists): worker 0 is the context itself, the
@@ -110,9 +113,6 @@ static void worker_sync(const stx_t *s, stx_t *x)
     x->flood = own.flood;
     x->flood_out = own.flood_out;
     memset(&x->st, 0, sizeof x->st);
-    if (x->clock != NULL) {
-        x->lap = x->clock(x->clock_user);
-    }
 }
 
 /* What a worker counted during a pass, into the context's statistics. */
@@ -201,47 +201,116 @@ static void band_result(const negobs_stereo_stats_t *after,
     r->edges = after->edges - before->edges;
 }
 
-/* The start of every band job: the worker's state and the band's rows
+/* The start of every band job: the band that job index `job` names this
+ * frame (stx_bands_order), the worker's state and the band's rows
  * [*y0, *y1), the band marked done; NULL when the executor named a worker
- * or band that does not exist (the frame then fails on the unmarked band). */
-static stx_t *band_job_begin(band_job_t *j, int32_t band, int32_t worker,
-                             int32_t *y0, int32_t *y1)
+ * or job that does not exist (the frame then fails on the unmarked band). */
+static stx_t *band_job_begin(band_job_t *j, int32_t job, int32_t worker,
+                             int32_t *band, int32_t *y0, int32_t *y1)
 {
     stx_t *x = worker_state(j->s, worker);
-    if (x == NULL ||
-        negobs_stereo_band_rows(&x->cfg, x->h, band, y0, y1) != NEGOBS_OK) {
+    if (x == NULL || job < 0 ||
+        job >= negobs_stereo_band_count(&x->cfg, x->h)) {
         return NULL;
     }
-    j->s->band_done[band] = 1u;
+    *band = j->s->band_order[job];
+    if (negobs_stereo_band_rows(&x->cfg, x->h, *band, y0, y1) != NEGOBS_OK) {
+        return NULL;
+    }
+    j->s->band_done[*band] = 1u;
+    if (x != j->s && x->clock != NULL) {
+        /* another worker's ticks start here, read on its own thread: a
+         * per-thread clock (thread CPU time) read on the caller's thread
+         * would not compare, and its wait for the job is no stage's */
+        x->lap = x->clock(x->clock_user);
+    }
     return x;
 }
 
-static void pass0_grow_job(void *arg, int32_t band, int32_t worker)
+/* Rows of band `band` of a frame of h rows, as negobs_stereo_band_rows
+ * gives them (0 when it does not exist). */
+static int32_t band_rows(const stx_t *s, int32_t h, int32_t band)
+{
+    int32_t y0 = 0;
+    int32_t y1 = 0;
+    (void)negobs_stereo_band_rows(&s->cfg, h, band, &y0, &y1);
+    return y1 - y0;
+}
+
+/*
+ * Longest band first (LPT): a run lasts as long as its busiest worker, and
+ * with fewer workers than bands the pool's first-come hand-out in index
+ * order can leave the costliest band for last (4 bands of 1, 2, 1 and 2
+ * strips on 2 workers: 1+1 against 2+2). The cost of a band is the
+ * cells its growth and back-track scored in the last frame, scaled to
+ * its rows now (a crop moves the borders), or its rows when no frame with
+ * this band count ran yet. Counts, not clock time: the order is the same
+ * on every run and needs no clock. Which band a job index names changes
+ * no output: every band is the same computation whichever job runs it.
+ */
+void stx_bands_order(stx_t *s)
+{
+    uint64_t cost[NEGOBS_STEREO_MAX_BANDS];
+    int32_t nb = negobs_stereo_band_count(&s->cfg, s->h);
+    int parallel = s->exec.run != NULL && s->exec.workers > 1;
+    int32_t k;
+    for (k = 0; k < nb; k++) {
+        int32_t rows = band_rows(s, s->h, k);
+        int32_t last = band_rows(s, s->band_work_h, k);
+        int32_t i;
+        if (s->band_work_nb == nb && last > 0) {
+            /* work per row of the last frame x rows now (< 2^32 x 2^15) */
+            cost[k] = (uint64_t)s->band_work[k] * (uint64_t)rows /
+                      (uint64_t)last;
+        } else {
+            cost[k] = (uint64_t)rows;
+        }
+        /* insertion by cost, ties in band order; on the caller's thread
+         * alone the bands keep their order: with one worker DP stage 1
+         * feeds each row to stage 2 as it ends, so rows must come top to
+         * bottom (stx_dp_row) */
+        for (i = k; i > 0 && parallel && cost[s->band_order[i - 1]] < cost[k];
+             i--) {
+            s->band_order[i] = s->band_order[i - 1];
+        }
+        s->band_order[i] = (uint8_t)k;
+    }
+    for (k = 0; k < nb; k++) {
+        s->band_work[k] = 0;
+    }
+    s->band_work_h = s->h;
+    s->band_work_nb = nb;
+}
+
+static void pass0_grow_job(void *arg, int32_t job, int32_t worker)
 {
     band_job_t *j = (band_job_t *)arg;
+    int32_t band;
     stx_t *x;
     negobs_stereo_stats_t before;
     int32_t yb0;
     int32_t yb1;
-    x = band_job_begin(j, band, worker, &yb0, &yb1);
+    x = band_job_begin(j, job, worker, &band, &yb0, &yb1);
     if (x == NULL) {
         return;
     }
     before = x->st;
     grow_band(x, j->disp, yb0, yb1, 0);
     band_result(&x->st, &before, &j->s->band_res[band]);
+    j->s->band_work[band] += x->st.visited_cells - before.visited_cells;
 }
 
 /* DP stage 1 of the rows of band `band` (the window sums again only for
  * dp_rescore, the one case that correlates). */
-static void pass0_dp_job(void *arg, int32_t band, int32_t worker)
+static void pass0_dp_job(void *arg, int32_t job, int32_t worker)
 {
     band_job_t *j = (band_job_t *)arg;
+    int32_t band;
     stx_t *x;
     int32_t yb0;
     int32_t yb1;
     int32_t y0;
-    x = band_job_begin(j, band, worker, &yb0, &yb1);
+    x = band_job_begin(j, job, worker, &band, &yb0, &yb1);
     if (x == NULL) {
         return;
     }
@@ -319,17 +388,20 @@ static void seam_pass(stx_t *s, negobs_image_s16_t *disp, int32_t nb)
 }
 
 /* Back-track, sub-pixel and confidence of the rows of band `band`. */
-static void pass1_job(void *arg, int32_t band, int32_t worker)
+static void pass1_job(void *arg, int32_t job, int32_t worker)
 {
     band_job_t *j = (band_job_t *)arg;
+    int32_t band;
     stx_t *x;
     int32_t yb0;
     int32_t yb1;
     int32_t y0;
-    x = band_job_begin(j, band, worker, &yb0, &yb1);
+    uint32_t visited0;
+    x = band_job_begin(j, job, worker, &band, &yb0, &yb1);
     if (x == NULL) {
         return;
     }
+    visited0 = x->st.visited_cells;
     for (y0 = yb0; y0 < yb1; y0 += x->sh) {
         int32_t y1 = (y0 + x->sh < yb1) ? y0 + x->sh : yb1;
         int32_t y;
@@ -343,6 +415,7 @@ static void pass1_job(void *arg, int32_t band, int32_t worker)
         }
         stx_lap(x, NEGOBS_STEREO_STAGE_DP);
     }
+    j->s->band_work[band] += x->st.visited_cells - visited0;
 }
 
 /* Every band through fn: on the executor when one is set (and there is
@@ -408,13 +481,14 @@ void stx_bands_pass1(stx_t *s, negobs_image_s16_t *disp_q4,
 
 /* Line filter over band `band`'s rows, or over the band-th of as many
  * column slices (the mean's vertical pass). */
-static void filter_job(void *arg, int32_t band, int32_t worker)
+static void filter_job(void *arg, int32_t job, int32_t worker)
 {
     band_job_t *j = (band_job_t *)arg;
+    int32_t band;
     stx_t *x;
     int32_t a;
     int32_t b;
-    x = band_job_begin(j, band, worker, &a, &b);
+    x = band_job_begin(j, job, worker, &band, &a, &b);
     if (x == NULL) {
         return;
     }
@@ -500,14 +574,15 @@ static void part(int32_t len, int32_t k, int32_t n, int32_t *a, int32_t *b)
 }
 
 /* Stage 6 over the band-th part of the grid rows: its score per offset. */
-static void vertical_job(void *arg, int32_t band, int32_t worker)
+static void vertical_job(void *arg, int32_t job, int32_t worker)
 {
     band_job_t *j = (band_job_t *)arg;
+    int32_t band;
     stx_t *x;
     int32_t a;
     int32_t b;
     int32_t nb;
-    x = band_job_begin(j, band, worker, &a, &b);
+    x = band_job_begin(j, job, worker, &band, &a, &b);
     if (x == NULL) {
         return;
     }
@@ -521,14 +596,15 @@ static void vertical_job(void *arg, int32_t band, int32_t worker)
 /* Stage 1 over the band-th part of the low-res rows: the 4x4 means
  * (j->step 0) or the matches (1), the latter with the part's
  * histogram and kept count. */
-static void lowres_job(void *arg, int32_t band, int32_t worker)
+static void lowres_job(void *arg, int32_t job, int32_t worker)
 {
     band_job_t *j = (band_job_t *)arg;
+    int32_t band;
     stx_t *x;
     int32_t a;
     int32_t b;
     int32_t nb;
-    x = band_job_begin(j, band, worker, &a, &b);
+    x = band_job_begin(j, job, worker, &band, &a, &b);
     if (x == NULL) {
         return;
     }

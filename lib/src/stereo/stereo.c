@@ -474,6 +474,8 @@ static void process_frame(stx_t *s, const negobs_image_u8_t *left,
     s->right = right;
     s->st.band = s->cfg.band;
 
+    stx_bands_order(s);
+
     /* stage 6 then 1: vertical offset, range */
     s->voff = s->cfg.vertical_offset;
     s->gdmin = s->dmin;

@@ -33,6 +33,9 @@ static inline void stx_lap(stx_t *s, negobs_stereo_stage_t stage)
 /* ---- bands.c ---------------------------------------------------------- */
 /* Init: give every extra worker the context's geometry, empty its memo. */
 void stx_bands_init(stx_t *s);
+/* The frame's band dispatch order, costliest band first (output-neutral:
+ * it only decides which band a job index names). Before the first job. */
+void stx_bands_order(stx_t *s);
 /* Stages 2-4 up to the end of the second DP stage, band by band (on the
  * executor when one is set): disp_q4 gets the GCS disparities (px). */
 void stx_bands_pass0(stx_t *s, negobs_image_s16_t *disp_q4);

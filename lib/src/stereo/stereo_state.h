@@ -127,7 +127,13 @@ typedef struct stx {
     struct stx *wk;  /* band_workers - 1 worker states (bands.c)     */
     stx_band_result_t band_res[NEGOBS_STEREO_MAX_BANDS];
     uint8_t band_done[NEGOBS_STEREO_MAX_BANDS]; /* jobs of the last run */
-    int exec_failed; /* an executor skipped a job or named a bad worker */
+    /* dispatch order (bands.c: stx_bands_order): job j of a run is band
+     * band_order[j], costliest first by the last frame's work counts */
+    uint8_t band_order[NEGOBS_STEREO_MAX_BANDS];
+    uint32_t band_work[NEGOBS_STEREO_MAX_BANDS]; /* cells scored */
+    int32_t band_work_h;  /* rows of the frame band_work is of    */
+    int32_t band_work_nb; /* its band count (0: no frame yet)     */
+    int exec_failed;      /* an executor skipped a job or named a bad worker */
     negobs_executor_t exec; /* run == NULL: the caller's thread       */
 
     /* refinement */
