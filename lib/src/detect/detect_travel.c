@@ -50,6 +50,8 @@
 
 #define TRAVEL_R (TRAVEL_PATCH / 2 * TRAVEL_STRIDE)
 #define TRAVEL_N (TRAVEL_PATCH * TRAVEL_PATCH)
+/* patch_cost()'s largest value, 25 x 25 x 255 */
+#define TRAVEL_WORST_COST 159375
 
 /* The floor's axes in camera coordinates, Q30: n (down to the floor),
  * fwd (along the floor in the heading), right (along the floor, to the
@@ -180,7 +182,7 @@ static int32_t measure(const travel_track_t *t, const negobs_rig_t *rig,
             (void)project(rig, a, t->fwd_mm[s] - tk, t->lat_mm[s], &u, &v);
             if (!patch_inside(left, u, v)) {
                 /* rounding at the border: count the worst difference */
-                cost[k] += TRAVEL_N * TRAVEL_N * 255;
+                cost[k] += TRAVEL_WORST_COST;
                 continue;
             }
             cost[k] += patch_cost(t->px[s], left, u, v);

@@ -511,6 +511,9 @@ static void filter_job(void *arg, int32_t job, int32_t worker)
     case STX_FILTER_MEAN_COLS:
     default: {
         int32_t nb = negobs_stereo_band_count(&x->cfg, x->h);
+        if (nb < 1) {
+            break; /* no band: the job cannot exist */
+        }
         a = (int32_t)((int64_t)x->w * band / nb);
         b = (int32_t)((int64_t)x->w * (band + 1) / nb);
         stx_amean_cols(x, j->disp, j->conf_data, j->conf_stride, a, b);
