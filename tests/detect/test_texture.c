@@ -8,6 +8,7 @@
 
 #include "cmocka_all.h"
 #include "detect/detect_internal.h"
+#include "test_rng.h"
 
 #define W 160
 #define H 120
@@ -16,16 +17,9 @@ static uint8_t px[W * H];
 static const negobs_image_u8_t img = {px, W, H, W};
 static uint32_t rng = 12345u;
 
-/* Standard normal from the sum of 12 uniforms (deterministic). */
 static double gauss(void)
 {
-    double s = 0.0;
-    int i;
-    for (i = 0; i < 12; i++) {
-        rng = rng * 1664525u + 1013904223u;
-        s += (double)(rng >> 8) / 16777216.0;
-    }
-    return s - 6.0;
+    return test_gauss12(&rng);
 }
 
 static uint8_t clamp_u8(double v)

@@ -8,6 +8,7 @@
 
 #include "cmocka_all.h"
 #include "detect/detect_internal.h"
+#include "test_rng.h"
 
 #define W 320
 #define H 240
@@ -21,13 +22,7 @@ static uint32_t rng = 777u;
 
 static double gauss(void)
 {
-    double s = 0.0;
-    int i;
-    for (i = 0; i < 12; i++) {
-        rng = rng * 1664525u + 1013904223u;
-        s += (double)(rng >> 8) / 16777216.0;
-    }
-    return s - 6.0;
+    return test_gauss12(&rng);
 }
 
 /* A floor texture of several scales (mm along the heading, across it). */

@@ -36,6 +36,8 @@ import shutil
 import subprocess
 import sys
 
+import walk_test
+
 NEAR_ZONE_MM = 1500.0
 RANGE_WARN_MM = 4000.0  # negobs_detect_config_default range_warn_mm
 
@@ -45,12 +47,10 @@ def min_drop_mm(dist_mm):
 
 
 def main():
-    if len(sys.argv) != 4:
-        print(__doc__.strip().splitlines()[-1], file=sys.stderr)
+    args = walk_test.setup(__doc__)
+    if args is None:
         return 2
-    synth, png, work = sys.argv[1:]
-    shutil.rmtree(work, ignore_errors=True)
-    os.makedirs(work)
+    synth, png, work = args
     narrow = ["--width", "752", "--height", "480", "--f", "380",
               "--baseline-mm", "30", "--height-mm", "1700", "--pitch-deg",
               "15", "--roll-deg", "0", "--gain-right", "1.04",

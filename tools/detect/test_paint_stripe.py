@@ -18,18 +18,17 @@ usage: test_paint_stripe.py NEGOBS_SYNTH NEGOBS_PNG WORKDIR
 """
 import json
 import os
-import shutil
 import subprocess
 import sys
 
+import walk_test
+
 
 def main():
-    if len(sys.argv) != 4:
-        print(__doc__.strip().splitlines()[-1], file=sys.stderr)
+    args = walk_test.setup(__doc__)
+    if args is None:
         return 2
-    synth, png, work = sys.argv[1:]
-    shutil.rmtree(work, ignore_errors=True)
-    os.makedirs(work)
+    synth, png, work = args
     seq = os.path.join(work, "flat")
     jsonl = os.path.join(work, "flat.jsonl")
     subprocess.run([synth, "--scene", "flat", "--drop-mm", "150",

@@ -24,9 +24,10 @@ usage: test_walk_verify.py NEGOBS_SYNTH NEGOBS_PNG WORKDIR
 import json
 import math
 import os
-import shutil
 import subprocess
 import sys
+
+import walk_test
 
 
 def run(synth, png, work, name, synth_args, png_args):
@@ -52,12 +53,10 @@ def verdicts(rows):
 
 
 def main():
-    if len(sys.argv) != 4:
-        print(__doc__.strip().splitlines()[-1], file=sys.stderr)
+    args = walk_test.setup(__doc__)
+    if args is None:
         return 2
-    synth, png, work = sys.argv[1:]
-    shutil.rmtree(work, ignore_errors=True)
-    os.makedirs(work)
+    synth, png, work = args
     failed = 0
 
     # 1. wrong hint, walking over flat ground
