@@ -289,7 +289,11 @@ typedef struct negobs_detect_config {
 typedef struct negobs_detect_frame {
     const negobs_image_s16_t *disp_q4;      /**< required                    */
     const negobs_image_u8_t *confidence;    /**< may be NULL                 */
-    const negobs_image_u8_t *left;          /**< may be NULL                 */
+    const negobs_image_u8_t *left;          /**< may be NULL; without it no
+                                        texture test under a candidate, no
+                                        start verified by walking and no
+                                        pitch-fall judgement
+                                        (DETECTION.md 6.2, 10.3)        */
     const negobs_photo_stats_t *left_stats; /**< may be NULL: from left  */
     const negobs_photo_stats_t *right_stats; /**< may be NULL             */
     uint32_t t_left_ms;  /**< capture time of the left image (ms)     */
