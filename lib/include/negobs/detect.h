@@ -41,8 +41,9 @@ extern "C" {
 /**
  * Upper bound of negobs_detect_workspace_size() as a constant expression,
  * for static buffers: any valid config with this width, height and
- * max_disp_q4 <= 16 * max_disp_px fits. (Context and tracks < 8 KiB,
- * v-disparity histogram <= h x (2 max_disp + 2) x 2 bytes, Hough 16 KiB,
+ * max_disp_q4 <= 16 * max_disp_px fits. (Context, tracks and the travel
+ * patches < 8 KiB, v-disparity histogram <= h x (2 max_disp + 2) x 2 bytes,
+ * Hough 16 KiB,
  * strips <= w/4 x (64 + 112) bytes (scan state, local-noise cells),
  * noise bands 2 + 2 KiB, the disparity Canny window 3 x w x 2 + 16 x w
  * bytes, two row profiles h x 8 bytes, plus arena guards.)

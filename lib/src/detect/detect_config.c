@@ -230,6 +230,7 @@ static negobs_status_t carve(negobs_arena_t *ar,
                                    (size_t)cfg->rig.height * sizeof(int16_t));
     p->fill_u1 = negobs_arena_take(ar,
                                    (size_t)cfg->rig.height * sizeof(int16_t));
+    p->travel = negobs_arena_take(ar, sizeof(travel_track_t));
     p->row_prof = negobs_arena_take(ar,
                                     (size_t)cfg->rig.height * sizeof(int32_t));
     p->row_prof_cur = negobs_arena_take(ar, (size_t)cfg->rig.height *
@@ -279,6 +280,7 @@ negobs_status_t negobs_detect_init(negobs_detect_t *ctx,
     }
     temporal_reset(&p->temporal, &ctx->cfg);
     mount_reset(&p->mount);
+    travel_reset(p->travel); /* carved memory is not zeroed */
     p->magic = DETECT_MAGIC;
     ctx->priv = p;
     return NEGOBS_OK;

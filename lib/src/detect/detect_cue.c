@@ -113,10 +113,10 @@ static int ground_unverified(detect_priv_t *p,
      * restart the walk. */
     const int32_t walked = g->wide
                                ? 0
-                               : travel_step(&p->travel, &cfg->rig, &g->plane,
+                               : travel_step(p->travel, &cfg->rig, &g->plane,
                                              &g->frame, left, now_ms);
     if (g->wide) {
-        travel_reset(&p->travel);
+        travel_reset(p->travel);
     }
     if (!p->walk_on) {
         p->walk_on = 1;

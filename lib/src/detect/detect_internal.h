@@ -130,7 +130,8 @@ typedef struct detect_priv {
      * frame (detect_travel.c), and the travel that verifies the start:
      * the nearest floor in view on that frame plus WALK_MARGIN_MM
      * (detect_cue.c) */
-    travel_track_t travel;
+    travel_track_t *travel; /* carved: it is 2 KiB, and the carve
+                               measures on a descriptor on the stack */
     int32_t walk_on;
     int32_t walked_mm;
     int32_t walk_need_mm;
