@@ -18,6 +18,13 @@ asphalt, sensor noise 2:
    high. No frame of 4 s may say CLEAR: standing still walks nowhere.
 3. The same start, walking towards the edge: no frame may say CLEAR while
    the edge is still ahead.
+4. A 3 cm head-worn rig (752x480, f = 380 px, 1.7 m / 15 deg, no hint)
+   over flat asphalt for 6 s (the walk k8_flat_0_asphalt_s8.0_700128 of
+   `negobs_detect_eval --set rigs --draw 7`): its fits spread by +-45 mm,
+   and a reference taken from the one frame that completed the walk
+   (1660 mm) read the next fits (1731-1737 mm) as a ground drop, IMMINENT
+   for 31 frames. The reference is now the mean fit of the walk: no
+   alert, and the walk verifies the start.
 
 usage: test_walk_verify.py NEGOBS_SYNTH NEGOBS_PNG WORKDIR
 """
@@ -105,6 +112,31 @@ def main():
             print("FAIL: frame %d CLEAR with the edge %d mm ahead" %
                   (r["frame"], r["gt"]["edge_range_mm"]))
             failed += 1
+    # 4. a narrow rig whose fits spread: the reference is the walk's mean
+    head = os.path.join(work, "head")
+    jsonl = os.path.join(work, "head.jsonl")
+    subprocess.run([synth, "--scene", "flat", "--drop-mm", "150",
+                    "--edge-mm", "8000", "--frames", "60", "--fps", "10",
+                    "--speed", "1.2", "--yaw-deg", "0", "--seed", "700128",
+                    "--noise", "2", "--blur", "0.5", "--width", "752",
+                    "--height", "480", "--f", "380", "--baseline-mm", "30",
+                    "--height-mm", "1700", "--pitch-deg", "15", "--threads",
+                    "1", "--quiet", "--distractors", "6", "--roll-deg", "0",
+                    "--texture-kind", "asphalt", "--gain-right", "1.04",
+                    "--offset-right", "-4", "--out", head], check=True)
+    subprocess.run([png, "--seq", head, "--out", os.path.join(work, "out"),
+                    "--json", jsonl, "--no-overlay", "--quiet",
+                    "--height-mm", "0"], check=True)
+    with open(jsonl) as fh:
+        rows = [json.loads(line) for line in fh]
+    print("3 cm rig, 1.7 m / 15 deg, no hint, flat:", verdicts(rows))
+    alarms = sum(r["level"] != "NONE" for r in rows)
+    if alarms:
+        print("FAIL: %d frames with an alert on flat ground" % alarms)
+        failed += 1
+    if not any(r["state"] == "CLEAR" for r in rows):
+        print("FAIL: the walk never verified the start")
+        failed += 1
     if failed:
         print("FAIL: %d checks" % failed)
         return 1

@@ -75,6 +75,14 @@ static int ground_risen(detect_priv_t *p, const negobs_detect_config_t *cfg,
  * the walk). */
 #define WALK_MARGIN_MM 500
 
+/* A start verified by walking takes as its reference the mean of the fits
+ * of the walk, not the last frame's: one fit on a narrow rig spreads by
+ * +-40-50 mm (3 cm rig at 1.7 m / 15 deg: 1653-1739 mm over six frames),
+ * which a single-frame reference hands on to the ground-drop cue as a
+ * rise of 70-100 mm. The mean of the first 64 fits (6.4 s at 10 fps, more
+ * than any walk to verification) is enough. */
+#define WALK_FITS_MAX 64
+
 /* Forward distance along the floor to the nearest floor in view: the
  * bottom row's middle column on the fitted plane (0: none). */
 static int32_t nearest_floor_mm(const negobs_detect_config_t *cfg,
@@ -122,14 +130,30 @@ static int ground_unverified(detect_priv_t *p,
         p->walk_on = 1;
         p->walked_mm = 0;
         p->walk_need_mm = nearest_floor_mm(cfg, g) + WALK_MARGIN_MM;
+        p->walk_fits = 0;
     } else if (risen) {
         p->walked_mm = 0;
+        p->walk_fits = 0;
     } else {
         p->walked_mm += walked;
     }
+    if (!g->wide && p->walk_fits < WALK_FITS_MAX) {
+        if (p->walk_fits == 0) {
+            p->walk_height_sum = 0;
+            p->walk_pitch_sum = 0;
+        }
+        p->walk_height_sum += g->pose.height_mm;
+        p->walk_pitch_sum += g->pose.pitch_mdeg;
+        p->walk_fits++;
+    }
+    p->walk_verified = 0;
     if (!mount_height_unverified(cfg, g->pose.height_mm) ||
-        (!risen && !g->wide && mount_sees_feet(cfg, &g->plane, &g->frame)) ||
-        (!risen && p->walked_mm >= p->walk_need_mm)) {
+        (!risen && !g->wide && mount_sees_feet(cfg, &g->plane, &g->frame))) {
+        p->unverified_on = 0;
+        return 0;
+    }
+    if (!risen && p->walked_mm >= p->walk_need_mm) {
+        p->walk_verified = 1;
         p->unverified_on = 0;
         return 0;
     }
@@ -246,6 +270,14 @@ void det_ground_ref_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
     if (!p->ref_ok) {
         if (cfg->ground_drop_mm > 0 && !unverified) {
             ground_ref_take(p, g);
+            if (p->walk_verified && p->walk_fits > 0) {
+                /* verified by walking: the walk's mean fit, not one
+                 * frame's, is the floor under the feet (detect_travel.c) */
+                p->ref_height_mm = (int32_t)(p->walk_height_sum /
+                                             p->walk_fits);
+                p->ref_pitch_mdeg = (int32_t)(p->walk_pitch_sum /
+                                              p->walk_fits);
+            }
         }
         return;
     }

@@ -133,6 +133,10 @@ typedef struct detect_priv {
     travel_track_t *travel; /* carved: it is 2 KiB, and the carve
                                measures on a descriptor on the stack */
     int32_t walk_on;
+    int32_t walk_verified; /* this frame was verified by the walk */
+    int32_t walk_fits;     /* fits of the walk, and their sums          */
+    int64_t walk_height_sum;
+    int64_t walk_pitch_sum;
     int32_t walked_mm;
     int32_t walk_need_mm;
     /* before the reference: the lowest fit height of the last
