@@ -27,7 +27,7 @@ typedef void (*negobs_job_fn)(void *arg, int32_t job, int32_t worker);
  * return only after every call has returned. The results do not depend on
  * the order or on the number of workers. The library numbers the jobs
  * costliest first, so starting them in index order, each on the first
- * free worker, finishes soonest.
+ * idle worker, finishes soonest.
  */
 typedef struct negobs_executor {
     int32_t workers; /**< threads run() may use at once (>= 1)   */
