@@ -88,16 +88,12 @@ static int ground_risen(detect_priv_t *p, const negobs_detect_config_t *cfg,
 static int32_t nearest_floor_mm(const negobs_detect_config_t *cfg,
                                 const gfit_out_t *g)
 {
-    const int32_t u = cfg->rig.width / 2;
-    const int32_t v = cfg->rig.height - 1;
-    const int32_t z = negobs_depth_mm_from_disp_q4(
-        &cfg->rig, negobs_ground_disp_q4(&g->plane, u, v));
     int32_t fwd = 0;
-    if (z <= 0) {
+    if (!mount_floor_point(&cfg->rig, &g->plane, &g->frame,
+                           cfg->rig.width / 2, cfg->rig.height - 1, &fwd,
+                           NULL)) {
         return 0;
     }
-    negobs_ground_floor_point(&cfg->rig, &g->frame, u * 16, v * 16, z, &fwd,
-                              NULL);
     return geom_max_s32(fwd, 0);
 }
 

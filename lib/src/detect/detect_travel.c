@@ -29,6 +29,7 @@
 #include "negobs/fixed.h"
 
 #include "geom_internal.h"
+#include "mount.h"
 
 /* The fastest travel measured: 2 m/s, a brisk walk (a cane user walks at
  * about 1 m/s). Beyond it the best T lies at the grid's end and nothing is
@@ -204,17 +205,10 @@ static int32_t floor_fwd(const negobs_rig_t *rig,
                          const negobs_ground_frame_t *fr, int32_t u, int32_t v,
                          int32_t *lat_mm)
 {
-    const int32_t d_q4 = negobs_ground_disp_q4(plane, u, v);
-    int32_t z;
-    int32_t fwd = -1;
-    if (d_q4 <= 0) {
+    int32_t fwd = 0;
+    if (!mount_floor_point(rig, plane, fr, u, v, &fwd, lat_mm)) {
         return -1;
     }
-    z = negobs_depth_mm_from_disp_q4(rig, d_q4);
-    if (z <= 0) {
-        return -1;
-    }
-    negobs_ground_floor_point(rig, fr, u * 16, v * 16, z, &fwd, lat_mm);
     return fwd;
 }
 

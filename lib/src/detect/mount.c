@@ -92,20 +92,32 @@ int mount_pose_physical(const negobs_detect_config_t *cfg,
            negobs_abs_s32(pose->roll_mdeg) <= cfg->mount_roll_max_mdeg;
 }
 
+int mount_floor_point(const negobs_rig_t *rig,
+                      const negobs_ground_plane_t *plane,
+                      const negobs_ground_frame_t *frame, int32_t u,
+                      int32_t v, int32_t *fwd_mm, int32_t *lat_mm)
+{
+    const int32_t z = negobs_depth_mm_from_disp_q4(
+        rig, negobs_ground_disp_q4(plane, u, v));
+    *fwd_mm = 0;
+    if (z <= 0) {
+        return 0; /* at or above the plane's horizon */
+    }
+    negobs_ground_floor_point(rig, frame, u * 16, v * 16, z, fwd_mm, lat_mm);
+    return 1;
+}
+
 int mount_sees_feet(const negobs_detect_config_t *cfg,
                     const negobs_ground_plane_t *plane,
                     const negobs_ground_frame_t *frame)
 {
     const negobs_rig_t *rig = &cfg->rig;
-    int32_t u = rig->width / 2;
-    int32_t v = rig->height - 1;
-    int32_t dg_q4 = negobs_ground_disp_q4(plane, u, v);
-    int32_t z = negobs_depth_mm_from_disp_q4(rig, dg_q4);
     int32_t fwd = 0;
-    if (cfg->mount_verify_near_mm <= 0 || z <= 0) {
+    if (cfg->mount_verify_near_mm <= 0 ||
+        !mount_floor_point(rig, plane, frame, rig->width / 2,
+                           rig->height - 1, &fwd, NULL)) {
         return 0;
     }
-    negobs_ground_floor_point(rig, frame, u * 16, v * 16, z, &fwd, NULL);
     return fwd <= cfg->mount_verify_near_mm;
 }
 

@@ -48,6 +48,17 @@ int mount_height_unverified(const negobs_detect_config_t *cfg,
                             int32_t fitted_height_mm);
 
 /*
+ * Where pixel (u, v) meets the fitted floor: forward and lateral floor
+ * distances (mm) from the camera foot, in *fwd_mm and *lat_mm (may be
+ * NULL). Returns 0, with *fwd_mm = 0, for a pixel at or above the plane's
+ * horizon, which meets no floor.
+ */
+int mount_floor_point(const negobs_rig_t *rig,
+                      const negobs_ground_plane_t *plane,
+                      const negobs_ground_frame_t *frame, int32_t u,
+                      int32_t v, int32_t *fwd_mm, int32_t *lat_mm);
+
+/*
  * 1 if the fitted floor reaches within mount_verify_near_mm of the feet at
  * the bottom row's centre. Such a fit's near rows are the floor under the
  * feet, so its height needs no hint: a drop farther ahead lies in the
