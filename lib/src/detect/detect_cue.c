@@ -89,9 +89,8 @@ static int32_t nearest_floor_mm(const negobs_detect_config_t *cfg,
                                 const gfit_out_t *g)
 {
     int32_t fwd = 0;
-    if (!mount_floor_point(&cfg->rig, &g->plane, &g->frame,
-                           cfg->rig.width / 2, cfg->rig.height - 1, &fwd,
-                           NULL)) {
+    if (!mount_floor_point(&cfg->rig, &g->plane, &g->frame, cfg->rig.width / 2,
+                           cfg->rig.height - 1, &fwd, NULL)) {
         return 0;
     }
     return geom_max_s32(fwd, 0);

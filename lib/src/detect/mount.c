@@ -94,8 +94,8 @@ int mount_pose_physical(const negobs_detect_config_t *cfg,
 
 int mount_floor_point(const negobs_rig_t *rig,
                       const negobs_ground_plane_t *plane,
-                      const negobs_ground_frame_t *frame, int32_t u,
-                      int32_t v, int32_t *fwd_mm, int32_t *lat_mm)
+                      const negobs_ground_frame_t *frame, int32_t u, int32_t v,
+                      int32_t *fwd_mm, int32_t *lat_mm)
 {
     const int32_t z = negobs_depth_mm_from_disp_q4(
         rig, negobs_ground_disp_q4(plane, u, v));
@@ -114,8 +114,8 @@ int mount_sees_feet(const negobs_detect_config_t *cfg,
     const negobs_rig_t *rig = &cfg->rig;
     int32_t fwd = 0;
     if (cfg->mount_verify_near_mm <= 0 ||
-        !mount_floor_point(rig, plane, frame, rig->width / 2,
-                           rig->height - 1, &fwd, NULL)) {
+        !mount_floor_point(rig, plane, frame, rig->width / 2, rig->height - 1,
+                           &fwd, NULL)) {
         return 0;
     }
     return fwd <= cfg->mount_verify_near_mm;

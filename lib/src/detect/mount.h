@@ -55,8 +55,8 @@ int mount_height_unverified(const negobs_detect_config_t *cfg,
  */
 int mount_floor_point(const negobs_rig_t *rig,
                       const negobs_ground_plane_t *plane,
-                      const negobs_ground_frame_t *frame, int32_t u,
-                      int32_t v, int32_t *fwd_mm, int32_t *lat_mm);
+                      const negobs_ground_frame_t *frame, int32_t u, int32_t v,
+                      int32_t *fwd_mm, int32_t *lat_mm);
 
 /*
  * 1 if the fitted floor reaches within mount_verify_near_mm of the feet at
