@@ -89,9 +89,12 @@ typedef struct sim_exec {
     double span_ms; /* sum over runs of the busiest worker's ms  */
 } sim_exec_t;
 
-static void sim_run(void *user, int32_t n_jobs, negobs_job_fn fn, void *arg)
+/* Run the n_jobs jobs of one run on x's simulated workers, each on the
+ * worker free first; job_ms (or NULL) gets each job's CPU ms for its first
+ * n_keep jobs. Returns the run's span (its busiest worker's ms). */
+static double sim_schedule(sim_exec_t *x, int32_t n_jobs, negobs_job_fn fn,
+                           void *arg, double *job_ms, int32_t n_keep)
 {
-    sim_exec_t *x = (sim_exec_t *)user;
     int32_t j;
     int32_t k;
     double span = 0.0;
@@ -112,11 +115,20 @@ static void sim_run(void *user, int32_t n_jobs, negobs_job_fn fn, void *arg)
         dt = thread_cpu_ms() - t0;
         x->load[free_first] += dt;
         x->jobs_ms += dt;
+        if (job_ms != NULL && j < n_keep) {
+            job_ms[j] += dt;
+        }
     }
     for (k = 0; k < x->workers; k++) {
         span = (x->load[k] > span) ? x->load[k] : span;
     }
     x->span_ms += span;
+    return span;
+}
+
+static void sim_run(void *user, int32_t n_jobs, negobs_job_fn fn, void *arg)
+{
+    (void)sim_schedule((sim_exec_t *)user, n_jobs, fn, arg, NULL, 0);
 }
 
 /* Thread CPU time in microseconds, as the engine's profiling clock. */
@@ -383,7 +395,6 @@ static void pass_run(void *user, int32_t n_jobs, negobs_job_fn fn, void *arg)
     double entry = thread_cpu_ms();
     int32_t nth = 0;
     int32_t key;
-    int32_t j;
     int32_t k;
     double span = 0.0;
     for (k = 0; k < ps->seq_fn_count; k++) {
@@ -406,31 +417,9 @@ static void pass_run(void *user, int32_t n_jobs, negobs_job_fn fn, void *arg)
         ps->serial_ms[key] += entry - ps->last_exit;
         ps->runs[key] += 1.0;
     }
-    for (k = 0; k < x->workers; k++) {
-        x->load[k] = 0.0;
-    }
-    for (j = 0; j < n_jobs; j++) {
-        int32_t free_first = 0;
-        double t0;
-        double dt;
-        for (k = 1; k < x->workers; k++) {
-            if (x->load[k] < x->load[free_first]) {
-                free_first = k;
-            }
-        }
-        t0 = thread_cpu_ms();
-        fn(arg, j, free_first);
-        dt = thread_cpu_ms() - t0;
-        x->load[free_first] += dt;
-        x->jobs_ms += dt;
-        if (key < PASS_MAX && j < PASS_BANDS) {
-            ps->band_ms[key][j] += dt;
-        }
-    }
-    for (k = 0; k < x->workers; k++) {
-        span = (x->load[k] > span) ? x->load[k] : span;
-    }
-    x->span_ms += span;
+    span = sim_schedule(x, n_jobs, fn, arg,
+                        (key < PASS_MAX) ? ps->band_ms[key] : NULL,
+                        PASS_BANDS);
     if (key < PASS_MAX) {
         ps->span_ms[key] += span;
     }
