@@ -96,6 +96,15 @@ static int32_t nearest_floor_mm(const negobs_detect_config_t *cfg,
     return geom_max_s32(fwd, 0);
 }
 
+/* The walk starts over: nothing walked, no fits taken. */
+static void walk_restart(detect_priv_t *p)
+{
+    p->walked_mm = 0;
+    p->walk_fits = 0;
+    p->walk_height_sum = 0;
+    p->walk_pitch_sum = 0;
+}
+
 static int ground_unverified(detect_priv_t *p,
                              const negobs_detect_config_t *cfg,
                              const gfit_out_t *g,
@@ -123,20 +132,14 @@ static int ground_unverified(detect_priv_t *p,
     }
     if (!p->walk_on) {
         p->walk_on = 1;
-        p->walked_mm = 0;
         p->walk_need_mm = nearest_floor_mm(cfg, g) + WALK_MARGIN_MM;
-        p->walk_fits = 0;
+        walk_restart(p);
     } else if (risen) {
-        p->walked_mm = 0;
-        p->walk_fits = 0;
+        walk_restart(p);
     } else {
         p->walked_mm += walked;
     }
     if (!g->wide && p->walk_fits < WALK_FITS_MAX) {
-        if (p->walk_fits == 0) {
-            p->walk_height_sum = 0;
-            p->walk_pitch_sum = 0;
-        }
         p->walk_height_sum += g->pose.height_mm;
         p->walk_pitch_sum += g->pose.pitch_mdeg;
         p->walk_fits++;
