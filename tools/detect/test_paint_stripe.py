@@ -16,9 +16,6 @@ IMMINENT).
 
 usage: test_paint_stripe.py NEGOBS_SYNTH NEGOBS_PNG WORKDIR
 """
-import json
-import os
-import subprocess
 import sys
 
 import walk_test
@@ -29,32 +26,18 @@ def main():
     if args is None:
         return 2
     synth, png, work = args
-    seq = os.path.join(work, "flat")
-    jsonl = os.path.join(work, "flat.jsonl")
-    subprocess.run([synth, "--scene", "flat", "--drop-mm", "150",
-                    "--edge-mm", "8000", "--frames", "14", "--fps", "10",
-                    "--speed", "1.2", "--yaw-deg", "0", "--seed", "200122",
-                    "--noise", "2", "--blur", "0.5", "--width", "752",
-                    "--height", "480", "--f", "380", "--baseline-mm", "30",
-                    "--height-mm", "1200", "--pitch-deg", "20", "--threads",
-                    "1", "--quiet", "--distractors", "6", "--roll-deg", "0",
-                    "--texture-kind", "asphalt", "--gain-right", "1.04",
-                    "--offset-right", "-4", "--out", seq], check=True)
-    subprocess.run([png, "--seq", seq, "--out", os.path.join(work, "out"),
-                    "--json", jsonl, "--no-overlay", "--quiet",
-                    "--height-mm", "0"], check=True)
+    rows = walk_test.wearable_flat_walk(synth, png, work, "flat", 14, 200122,
+                                        1200, 20)
     frames = alarms = candidates = 0
-    with open(jsonl) as fh:
-        for line in fh:
-            r = json.loads(line)
-            frames += 1
-            candidates += len(r["candidates"])
-            if r["hazards"] or r["level"] != "NONE":
-                alarms += 1
-                print("frame %d: %s %s, hazards %s" %
-                      (r["frame"], r["state"], r["level"],
-                       [(h["type"], h["range_mm"], h["drop_mm"])
-                        for h in r["hazards"]]))
+    for r in rows:
+        frames += 1
+        candidates += len(r["candidates"])
+        if r["hazards"] or r["level"] != "NONE":
+            alarms += 1
+            print("frame %d: %s %s, hazards %s" %
+                  (r["frame"], r["state"], r["level"],
+                   [(h["type"], h["range_mm"], h["drop_mm"])
+                    for h in r["hazards"]]))
     print("%d frames, %d candidates, %d with a hazard" %
           (frames, candidates, alarms))
     if frames != 14:

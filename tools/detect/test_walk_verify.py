@@ -113,22 +113,8 @@ def main():
                   (r["frame"], r["gt"]["edge_range_mm"]))
             failed += 1
     # 4. a narrow rig whose fits spread: the reference is the walk's mean
-    head = os.path.join(work, "head")
-    jsonl = os.path.join(work, "head.jsonl")
-    subprocess.run([synth, "--scene", "flat", "--drop-mm", "150",
-                    "--edge-mm", "8000", "--frames", "60", "--fps", "10",
-                    "--speed", "1.2", "--yaw-deg", "0", "--seed", "700128",
-                    "--noise", "2", "--blur", "0.5", "--width", "752",
-                    "--height", "480", "--f", "380", "--baseline-mm", "30",
-                    "--height-mm", "1700", "--pitch-deg", "15", "--threads",
-                    "1", "--quiet", "--distractors", "6", "--roll-deg", "0",
-                    "--texture-kind", "asphalt", "--gain-right", "1.04",
-                    "--offset-right", "-4", "--out", head], check=True)
-    subprocess.run([png, "--seq", head, "--out", os.path.join(work, "out"),
-                    "--json", jsonl, "--no-overlay", "--quiet",
-                    "--height-mm", "0"], check=True)
-    with open(jsonl) as fh:
-        rows = [json.loads(line) for line in fh]
+    rows = walk_test.wearable_flat_walk(synth, png, work, "head", 60, 700128,
+                                        1700, 15)
     print("3 cm rig, 1.7 m / 15 deg, no hint, flat:", verdicts(rows))
     alarms = sum(r["level"] != "NONE" for r in rows)
     if alarms:

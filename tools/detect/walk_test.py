@@ -1,7 +1,9 @@
 """Shared start of the generated-walk tests (test_*.py beside this file):
 the command line NEGOBS_SYNTH NEGOBS_PNG WORKDIR and a fresh WORKDIR."""
+import json
 import os
 import shutil
+import subprocess
 import sys
 
 
@@ -15,3 +17,29 @@ def setup(doc):
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
     return synth, png, work
+
+
+def wearable_flat_walk(synth, png, work, name, frames, seed, height_mm,
+                       pitch_deg):
+    """Render a flat asphalt walk of the 3 cm wearable rig as
+    `negobs_detect_eval --set rigs` draws it (752x480, f = 380 px,
+    B = 30 mm, 6 distractors, right camera gain 1.04 and offset -4; seed
+    and mounting given), run negobs_png on it without a mounting hint and
+    return its JSON lines, one dict per frame."""
+    seq = os.path.join(work, name)
+    jsonl = os.path.join(work, name + ".jsonl")
+    subprocess.run([synth, "--scene", "flat", "--drop-mm", "150",
+                    "--edge-mm", "8000", "--frames", str(frames), "--fps",
+                    "10", "--speed", "1.2", "--yaw-deg", "0", "--seed",
+                    str(seed), "--noise", "2", "--blur", "0.5", "--width",
+                    "752", "--height", "480", "--f", "380", "--baseline-mm",
+                    "30", "--height-mm", str(height_mm), "--pitch-deg",
+                    str(pitch_deg), "--threads", "1", "--quiet",
+                    "--distractors", "6", "--roll-deg", "0",
+                    "--texture-kind", "asphalt", "--gain-right", "1.04",
+                    "--offset-right", "-4", "--out", seq], check=True)
+    subprocess.run([png, "--seq", seq, "--out", os.path.join(work, "out"),
+                    "--json", jsonl, "--no-overlay", "--quiet",
+                    "--height-mm", "0"], check=True)
+    with open(jsonl) as fh:
+        return [json.loads(line) for line in fh]
