@@ -579,9 +579,9 @@ static void scan_found(const scan_ctx_t *s, int32_t uc, int32_t v,
  * than on its first row and reads nothing new. One or two POSITIVE rows
  * alone are the matcher's row-correlated noise: a strip median's error
  * runs +-0.2 px over 5-10 rows on weak texture at B = 6 cm, against a
- * tau of 0.2-0.25 px, and stopping on the first such row ended the scan
- * of most strips of a worn-asphalt walk within 0.5 m of the feet, before
- * the curb they should have found. Such a row is read as MIXED (*rc).
+ * tau of 0.2-0.25 px, so over the hundred-odd rows of a strip's scan
+ * one such crest is likely, and a scan that stopped there would never
+ * reach a drop beyond it. Such a row is read as MIXED (*rc).
  */
 static int scan_closed(const negobs_detect_config_t *cfg, enum row_class *rc,
                        scan_state_t *ss)
