@@ -3,14 +3,16 @@
  * and workspace only. Both profiles must give the same disparities,
  * confidences and statistics on generated scenes (several ranges, a
  * vertical offset, a range narrower than the memo band and one wider), also
- * after the memo's strip stamps have wrapped; and the workspace stays within
- * the documented budgets.
+ * after the memo's strip stamps have wrapped and with a memo too small to
+ * lend the DP room for every row's pointers; the DP gives the memo back
+ * empty; and the workspace stays within the documented budgets.
  */
 #include <string.h>
 
 #include "cmocka_all.h"
 #include "negobs/stereo.h"
 #include "scene_pair.h"
+#include "stereo/stereo_int.h"
 
 #define W 160
 #define H 120
@@ -161,6 +163,41 @@ static void test_same_maps_after_stamp_wrap(void **state)
     assert_same();
 }
 
+/* The DP keeps its stage-1 pointers in the memo between its passes
+ * (dp.c); 16 levels of 8-row strips hold 8 x 160 x 16 words (80 KiB),
+ * about 68 of the 120 rows' records (2 x 161 + ~5.5 x 160 bytes each),
+ * so the rest run stage 1 twice: both kinds of rows in one frame. */
+static void test_same_maps_store_partly_full(void **state)
+{
+    (void)state;
+    compare(15, 8, 15u, 3, 9, 0);
+}
+
+/* After a frame every memo word is empty or written by this frame's
+ * growth (a stamp 1 .. memo_gen): no DP record is left over for a later
+ * strip to read as a correlation. */
+static void test_memo_given_back_empty(void **state)
+{
+    const stx_t *s;
+    size_t n;
+    size_t i;
+    size_t stale = 0;
+    (void)state;
+    init_run(&g_run[1], NEGOBS_STEREO_PROFILE_FAST, 63, 32);
+    render(16u, 8, 30, 0);
+    process(&g_run[1]);
+    s = (const stx_t *)g_run[1].ctx.priv;
+    assert_non_null(s->memo);
+    n = (size_t)s->sh * (size_t)s->w * (size_t)s->memo_k;
+    for (i = 0; i < n; i++) {
+        uint32_t gen = s->memo[i] >> STX_MEMO_NUM_BITS;
+        if (s->memo[i] != 0u && (gen == 0u || gen > s->memo_gen)) {
+            stale++;
+        }
+    }
+    assert_int_equal(stale, 0);
+}
+
 static void test_workspace_budgets(void **state)
 {
     negobs_stereo_config_t cfg;
@@ -226,6 +263,8 @@ int main(void)
         cmocka_unit_test(test_same_maps_narrow_range),
         cmocka_unit_test(test_same_maps_after_stamp_wrap),
         cmocka_unit_test(test_same_maps_flat_cells_tau0),
+        cmocka_unit_test(test_same_maps_store_partly_full),
+        cmocka_unit_test(test_memo_given_back_empty),
         cmocka_unit_test(test_workspace_budgets),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -21,10 +21,14 @@
  * Memory: one row of pointers and costs (W x D bytes + W x D int16), the
  * stage-2 pointers (H x D bytes). Stage 1 runs twice per row (once to feed
  * stage 2, once with pointers for the back-track), recomputing its costs,
- * instead of keeping W x H x D pointers. The GCS correlation of the selected
- * cell is not kept (it would cost a byte per pixel), so it scores 1.0; with
- * dp_rescore = 1 the band is re-correlated instead (20 % slower on Cones,
- * same quality).
+ * instead of keeping W x H x D pointers, unless scratch idle during the DP
+ * was lent to it (s->dps; the fast profile lends the growth's memo): then
+ * the feeding pass keeps the band cells' pointers (a byte each, ~5.5 per
+ * pixel) and jump targets of as many rows as fit, and those rows are
+ * back-tracked without running stage 1 again. The GCS correlation of the
+ * selected cell is not kept (it would cost a byte per pixel), so it scores
+ * 1.0; with dp_rescore = 1 the band is re-correlated instead (20 % slower
+ * on Cones, same quality).
  *
  * Scaling and overflow: costs are Q14 in [-16384, 16384], dp_jump is
  * limited to [0, 32768], so |Y| <= W * 49152 < 2^28 for W <= 4096 and the
@@ -38,11 +42,12 @@
 #define NEG32 (INT32_MIN / 2)
 #define NEG64 (INT64_MIN / 4)
 
-/* Bands of one row; returns 0 when the row has no GCS match at all (the
- * bands are then left as they were: nothing reads them). A run of holes
- * between two matches (or a match and the row's end) shares one band, so
- * it is found once per run and stored. */
-static int row_bands(stx_t *s, const int16_t *g)
+/* Bands of one row; returns their cells (states summed over the columns),
+ * or 0 when the row has no GCS match at all (the bands are then left as
+ * they were: nothing reads them). A run of holes between two matches (or a
+ * match and the row's end) shares one band, so it is found once per run
+ * and stored. */
+static int32_t row_bands(stx_t *s, const int16_t *g)
 {
     const int32_t w = s->w;
     const int32_t b = s->cfg.band;
@@ -53,6 +58,7 @@ static int row_bands(stx_t *s, const int16_t *g)
     uint8_t *bscored = s->bscored;
     int32_t last = NEGOBS_DISP_INVALID; /* nearest match on the left */
     int32_t x = 0;
+    int32_t span = 0; /* the cells but one per column */
 
     while (x < w) {
         int32_t lo;
@@ -64,6 +70,7 @@ static int row_bands(stx_t *s, const int16_t *g)
             blo[x] = (int16_t)lo;
             bhi[x] = (int16_t)hi;
             bscored[x] = 1u;
+            span += hi - lo;
             x++;
         } else {
             int32_t e = x + 1;
@@ -84,6 +91,7 @@ static int row_bands(stx_t *s, const int16_t *g)
             }
             lo = negobs_clamp_s32(((dl < dr) ? dl : dr) - b, lo_lim, hi_lim);
             hi = negobs_clamp_s32(((dl > dr) ? dl : dr) + b, lo, hi_lim);
+            span += (hi - lo) * (e - x);
             for (; x < e; x++) {
                 blo[x] = (int16_t)lo;
                 bhi[x] = (int16_t)hi;
@@ -91,12 +99,13 @@ static int row_bands(stx_t *s, const int16_t *g)
             }
         }
     }
-    return 1;
+    return span + w;
 }
 
 /* Stage 1 forward pass; returns the index (d - dmin) of the best end.
  * `keep` is a literal at both call sites, so the compiler can drop the
- * pointer stores of the feeding pass. */
+ * pointer stores of the feeding pass. Pointers and costs go to s->p1 and
+ * s->cost with stride ndisp. */
 static inline int32_t stage1_run(stx_t *s, int32_t y, int keep)
 {
     int32_t w = s->w;
@@ -298,12 +307,17 @@ static void stage1_feed(stx_t *s)
     }
 }
 
-/* Stage 1 of the back-tracking pass without rescoring: stage1_run(s, y, 1)
- * with the GCS cell's score added after the band loop (as in stage1_feed),
- * so the loop carries no per-cell cost test. Raising one cell cannot move
- * the first argmax anywhere but to that cell. The cost row is left
- * unwritten: only score_at() reads it, and only with dp_rescore. */
-static int32_t stage1_keep(stx_t *s)
+/* Stage 1 with pointers without rescoring: stage1_run(s, y, 1) with the
+ * GCS cell's score added after the band loop (as in stage1_feed), so the
+ * loop carries no per-cell cost test. Raising one cell cannot move the
+ * first argmax anywhere but to that cell. The cost row is left unwritten:
+ * only score_at() reads it, and only with dp_rescore. The pointers go to
+ * `cells`, with stride ndisp or, if `packed` (a literal at each call
+ * site), column after column from each band's low end; each column's jump
+ * target to jump_to. Returns the last column's argmax and leaves its
+ * scores in yprev, as stage1_feed does. */
+static inline __attribute__((always_inline)) int32_t stage1_keep(
+    stx_t *s, uint8_t *cells, int16_t *jump_to, int packed)
 {
     const int32_t w = s->w;
     const int32_t nd = s->ndisp;
@@ -318,8 +332,7 @@ static int32_t stage1_keep(stx_t *s)
     const int16_t *const gcs = s->gcs_cur;
     const int16_t *const blo = s->blo;
     const int16_t *const bhi = s->bhi;
-    int16_t *const jump_to = s->jump_to;
-    uint8_t *prow = s->p1;
+    uint8_t *prow = cells;
     int32_t x;
     int32_t i;
     int32_t bestp = 0;
@@ -343,7 +356,7 @@ static int32_t stage1_keep(stx_t *s)
         if (x == 0) {
             for (i = lo; i <= hi; i++) {
                 yc[i] = neutral;
-                prow[i] = 1u;
+                prow[packed ? i - lo : i] = 1u;
             }
             if (lo <= hi) {
                 bcur = neutral;
@@ -371,7 +384,7 @@ static int32_t stage1_keep(stx_t *s)
                 }
                 v = m + neutral;
                 cc[i] = v;
-                prow[i] = (uint8_t)t;
+                prow[packed ? i - lo : i] = (uint8_t)t;
                 if (v > bcur) {
                     bcur = v;
                     acur = i;
@@ -387,7 +400,7 @@ static int32_t stage1_keep(stx_t *s)
             }
         }
         jump_to[x] = (int16_t)argp;
-        prow += nd;
+        prow += packed ? hi - lo + 1 : nd;
         {
             int32_t *tmp = yp;
             yp = yc;
@@ -651,6 +664,101 @@ static void score3(score_row_t *r, int32_t x, int32_t d, int32_t c[3])
     }
 }
 
+/* Rows [y0, y1)'s part [*a, *b) of the store: shares proportional to the
+ * rows, so the parts depend on the band layout only; whole 32-bit words
+ * (the lent memo's), so no band's record shares a word with another's. */
+static void store_part(const stx_t *s, int32_t y0, int32_t y1, size_t *a,
+                       size_t *b)
+{
+    uint64_t cap = (uint64_t)s->dps_cap;
+    *a = (size_t)(cap * (uint64_t)y0 / (uint64_t)s->h) & ~(size_t)3;
+    *b = (size_t)(cap * (uint64_t)y1 / (uint64_t)s->h) & ~(size_t)3;
+}
+
+void stx_dp_store_begin(stx_t *s, int32_t y0, int32_t y1, size_t limit)
+{
+    size_t a;
+    size_t b;
+    store_part(s, y0, y1, &a, &b);
+    s->dps_start = a;
+    s->dps_pos = a;
+    s->dps_end = (b - a < limit) ? b : a + limit;
+}
+
+size_t stx_dp_store_used(const stx_t *s)
+{
+    return s->dps_pos - s->dps_start;
+}
+
+void stx_dp_store_release(stx_t *s, int32_t y0, int32_t y1, size_t used)
+{
+    size_t a;
+    size_t b;
+    if (s->dps == NULL || used == 0) {
+        return;
+    }
+    store_part(s, y0, y1, &a, &b);
+    /* the lent memo: a zero word reads as empty (stx_memo_pack); a word
+     * the records only began must not keep its old stamp */
+    memset(s->dps + a, 0, (used + 3u) & ~(size_t)3);
+}
+
+/* The next record of the band's part of the store for a row of `cells`
+ * band cells: int16 jump_to[w + 1] (entry w: the last column's argmax),
+ * then the packed pointers, rounded up to even bytes. NULL when there is
+ * no store, with dp_rescore (its back-track needs the cost row, which is
+ * not kept), or when the record does not fit; such a row runs stage 1 in
+ * both passes. Both passes make the same decisions: the same cell counts
+ * in the same order, pass 1 limited to what pass 0 used. */
+static uint8_t *store_take(stx_t *s, int32_t cells)
+{
+    size_t need = ((size_t)2 * ((size_t)s->w + 1u) + (size_t)cells + 1u) &
+                  ~(size_t)1;
+    uint8_t *rec;
+    if (s->dps == NULL || s->cfg.dp_rescore ||
+        need > s->dps_end - s->dps_pos) {
+        return NULL;
+    }
+    rec = s->dps + s->dps_pos;
+    s->dps_pos += need;
+    return rec;
+}
+
+/* Integer disparities of one row into outrow, back-tracked from end
+ * disparity d (inside the last column's band) over the pointers `cells`
+ * (n of them; stage1_keep's layout, `packed` a literal) and the jump
+ * targets. */
+static inline __attribute__((always_inline)) void back_track(
+    const stx_t *s, int32_t d, const uint8_t *cells, int32_t n,
+    const int16_t *jump_to, int16_t *outrow, int packed)
+{
+    const int16_t *const blo = s->blo;
+    const int16_t *const bhi = s->bhi;
+    const int32_t dmin = s->dmin;
+    const uint8_t *p = cells + n; /* end of column x's pointers */
+    int32_t x;
+    for (x = s->w - 1; x >= 0; x--) {
+        int32_t lo = blo[x];
+        int t;
+        outrow[x] = (int16_t)d;
+        if (x == 0) {
+            break;
+        }
+        if (packed) {
+            p -= bhi[x] - lo + 1;
+            t = p[d - lo];
+        } else {
+            t = cells[(ptrdiff_t)x * s->ndisp + (d - dmin)];
+        }
+        if (t == 3) {
+            d = jump_to[x] + dmin;
+        } else {
+            d = d + t - 1;
+        }
+        d = negobs_clamp_s32(d, blo[x - 1], bhi[x - 1]);
+    }
+}
+
 void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
                 int16_t *outrow, uint8_t *confrow)
 {
@@ -660,12 +768,20 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
     int32_t x;
     int32_t d;
     score_row_t srow;
-    int have = row_bands(s, gcsrow);
+    int32_t cells = row_bands(s, gcsrow);
+    int have = cells > 0;
+    uint8_t *rec;
 
     s->gcs_cur = gcsrow;
 
     if (pass == 0) {
-        if (have && !s->cfg.dp_rescore) {
+        rec = have ? store_take(s, cells) : NULL;
+        if (rec != NULL) {
+            /* stage 1 once: its pointers kept for the back-track */
+            int16_t *jump_to = (int16_t *)(void *)rec;
+            jump_to[w] = (int16_t)stage1_keep(s, rec + 2 * (w + 1), jump_to,
+                                              1);
+        } else if (have && !s->cfg.dp_rescore) {
             stage1_feed(s);
         } else if (have) {
             (void)stage1(s, y, 0);
@@ -691,27 +807,25 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
         }
         return;
     }
-    {
-        int32_t endarg = s->cfg.dp_rescore ? stage1(s, y, 1) : stage1_keep(s);
+    rec = store_take(s, cells);
+    if (rec != NULL) {
+        const int16_t *jump_to = (const int16_t *)(const void *)rec;
+        d = s->dend[y];
+        if (d < s->blo[w - 1] || d > s->bhi[w - 1]) {
+            /* (the clamp keeps the record's reads inside the bands) */
+            d = negobs_clamp_s32(jump_to[w] + dmin, s->blo[w - 1],
+                                 s->bhi[w - 1]);
+        }
+        back_track(s, d, rec + 2 * (w + 1), cells, jump_to, outrow, 1);
+    } else {
+        int32_t endarg = s->cfg.dp_rescore
+                             ? stage1(s, y, 1)
+                             : stage1_keep(s, s->p1, s->jump_to, 0);
         d = s->dend[y];
         if (d < s->blo[w - 1] || d > s->bhi[w - 1]) {
             d = endarg + dmin;
         }
-    }
-    /* back-track; integer disparities into outrow */
-    for (x = w - 1; x >= 0; x--) {
-        int t;
-        outrow[x] = (int16_t)d;
-        if (x == 0) {
-            break;
-        }
-        t = s->p1[(ptrdiff_t)x * nd + (d - dmin)];
-        if (t == 3) {
-            d = s->jump_to[x] + dmin;
-        } else {
-            d = d + t - 1;
-        }
-        d = negobs_clamp_s32(d, s->blo[x - 1], s->bhi[x - 1]);
+        back_track(s, d, s->p1, cells, s->jump_to, outrow, 0);
     }
     /* stage 5a: sub-pixel refinement and confidence */
     score_row_init(&srow, s, y);

@@ -206,6 +206,13 @@ static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c,
         s->q.cap = c->queue_capacity;
     }
     carve_scratch(a, s, c, memo_k);
+    if (s != NULL && s->memo != NULL) {
+        /* the growth is over when the DP runs: its memo (worker 0's, as
+         * the bands' DP rows share one store) holds the DP's pointers
+         * between its two passes (dp.c) */
+        s->dps = (uint8_t *)s->memo;
+        s->dps_cap = (size_t)sh * (size_t)w * (size_t)memo_k * sizeof *s->memo;
+    }
     TAKE(s->lo_l, uint8_t, (size_t)lw * (size_t)lh);
     TAKE(s->lo_r, uint8_t, (size_t)lw * (size_t)lh);
     TAKE(s->lo_d, uint8_t, (size_t)lw * (size_t)lh);
