@@ -14,9 +14,10 @@
  *                               max_d' Y(x-1, d') - dp_jump )
  * i.e. Sun's |dd| <= 1 smoothness plus a penalised jump, which the band
  * needs where it moves by more than one level between columns.
- * Stage 2 runs down the end column x = W-1 over the normalised end scores
- * Y(W-1, y, d) - max_d Y(W-1, y, d) with the same recurrence and picks one
- * end disparity per row; each row is then back-tracked from it.
+ * Stage 2 (dp_stage2.c) runs down the end column x = W-1 over the
+ * normalised end scores Y(W-1, y, d) - max_d Y(W-1, y, d) with the same
+ * recurrence and picks one end disparity per row; each row is then
+ * back-tracked from it.
  *
  * Memory: one row of pointers and costs (W x D bytes + W x D int16), the
  * stage-2 pointers (H x D bytes). Stage 1 runs twice per row (once to feed
@@ -39,8 +40,7 @@
 
 #include "stereo/stereo_int.h"
 
-#define NEG32 (INT32_MIN / 2)
-#define NEG64 (INT64_MIN / 4)
+#define NEG32 STX_DP_NEG32
 
 /* Bands of one row; returns their cells (states summed over the columns),
  * or 0 when the row has no GCS match at all (the bands are then left as
@@ -424,122 +424,6 @@ static int32_t stage1(stx_t *s, int32_t y, int keep)
     return keep ? stage1_run(s, y, 1) : stage1_run(s, y, 0);
 }
 
-void stx_dp_stage2_reset(stx_t *s)
-{
-    s->zrows = 0;
-}
-
-/* Row y's stage-1 end scores ye (ndisp; unread unless `have`) into the
- * second stage; rows must come in order 0, 1, ... */
-static void stage2_feed(stx_t *s, int32_t y, int have, const int32_t *ye)
-{
-    int32_t nd = s->ndisp;
-    int32_t jump = s->cfg.dp_jump_q14;
-    int32_t ymax = NEG32;
-    int64_t zbest = NEG64;
-    int32_t zarg = 0;
-    int32_t i;
-    uint8_t *p = s->p2 + (ptrdiff_t)y * nd;
-    int64_t pbest = NEG64;
-    int32_t parg = 0;
-
-    if (have) {
-        for (i = 0; i < nd; i++) {
-            if (ye[i] > ymax) {
-                ymax = ye[i];
-            }
-        }
-    }
-    if (s->zrows > 0) {
-        for (i = 0; i < nd; i++) {
-            if (s->zprev[i] > pbest) {
-                pbest = s->zprev[i];
-                parg = i;
-            }
-        }
-        s->zarg[y - 1] = (int16_t)parg;
-    }
-    for (i = 0; i < nd; i++) {
-        int64_t e;
-        int64_t m;
-        int t = 1;
-        if (!have) {
-            e = 0; /* a row without matches says nothing */
-        } else if (ye[i] <= NEG32) {
-            s->zcur[i] = NEG64;
-            p[i] = 1u;
-            continue;
-        } else {
-            e = (int64_t)ye[i] - ymax;
-        }
-        if (s->zrows == 0) {
-            m = 0;
-        } else {
-            m = s->zprev[i];
-            if (i > 0 && s->zprev[i - 1] > m) {
-                m = s->zprev[i - 1];
-                t = 0;
-            }
-            if (i + 1 < nd && s->zprev[i + 1] > m) {
-                m = s->zprev[i + 1];
-                t = 2;
-            }
-            if (pbest - jump > m) {
-                m = pbest - jump;
-                t = 3;
-            }
-        }
-        s->zcur[i] = m + e;
-        p[i] = (uint8_t)t;
-        if (s->zcur[i] > zbest) {
-            zbest = s->zcur[i];
-            zarg = i;
-        }
-    }
-    (void)zarg;
-    memcpy(s->zprev, s->zcur, (size_t)nd * sizeof *s->zprev);
-    s->zrows++;
-}
-
-void stx_dp_stage2_feed_stored(stx_t *s)
-{
-    int32_t y;
-    for (y = 0; y < s->h; y++) {
-        stage2_feed(s, y, s->yhave[y], s->yend + (ptrdiff_t)y * s->ndisp);
-    }
-}
-
-void stx_dp_stage2_finish(stx_t *s)
-{
-    int32_t nd = s->ndisp;
-    int32_t y;
-    int32_t d = 0;
-    int64_t best = NEG64;
-    int32_t i;
-    if (s->zrows == 0) {
-        return;
-    }
-    for (i = 0; i < nd; i++) {
-        if (s->zprev[i] > best) {
-            best = s->zprev[i];
-            d = i;
-        }
-    }
-    for (y = s->zrows - 1; y >= 0; y--) {
-        int t;
-        s->dend[y] = (int16_t)(d + s->dmin);
-        if (y == 0) {
-            break;
-        }
-        t = s->p2[(ptrdiff_t)y * nd + d];
-        if (t == 3) {
-            d = s->zarg[y - 1];
-        } else {
-            d = negobs_clamp_s32(d + t - 1, 0, nd - 1);
-        }
-    }
-}
-
 static int32_t score_at(stx_t *s, int32_t x, int32_t y, int32_t d)
 {
     if (!s->cfg.dp_rescore || d < s->blo[x] || d > s->bhi[x] ||
@@ -794,7 +678,7 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
                        (size_t)nd * sizeof *s->yend);
             }
         } else {
-            stage2_feed(s, y, have, s->yprev + 1);
+            stx_dp_stage2_feed(s, y, have, s->yprev + 1);
         }
         return;
     }

@@ -116,7 +116,15 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
 void stx_dp_store_begin(stx_t *s, int32_t y0, int32_t y1, size_t limit);
 size_t stx_dp_store_used(const stx_t *s);
 void stx_dp_store_release(stx_t *s, int32_t y0, int32_t y1, size_t used);
+
+/* ---- dp_stage2.c ------------------------------------------------------ */
+/* Stage-1 scores at or below this are outside the band ("-inf"); real
+ * ones stay above it (dp.c: |Y| < 2^28). */
+#define STX_DP_NEG32 (INT32_MIN / 2)
 void stx_dp_stage2_reset(stx_t *s);
+/* Row y's stage-1 end scores ye (ndisp; unread unless `have`) into the
+ * second stage; rows must come in order 0, 1, ... */
+void stx_dp_stage2_feed(stx_t *s, int32_t y, int have, const int32_t *ye);
 /* With several band workers (s->yend): feed the stored rows 0 .. h-1. */
 void stx_dp_stage2_feed_stored(stx_t *s);
 void stx_dp_stage2_finish(stx_t *s);
