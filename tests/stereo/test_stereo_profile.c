@@ -3,8 +3,8 @@
  * and workspace only. Both profiles must give the same disparities,
  * confidences and statistics on generated scenes (several ranges, a
  * vertical offset, a range narrower than the memo band and one wider), also
- * after the memo's strip stamps have wrapped and with a memo too small to
- * lend the DP room for every row's pointers; the DP gives the memo back
+ * after the memo's strip stamps have wrapped and with too little scratch
+ * lent to the DP for every row's pointers; the DP gives the memo back
  * empty; and the workspace stays within the documented budgets.
  */
 #include <string.h>
@@ -41,6 +41,7 @@ static run_t g_run[2];
 /* Overrides of the default config for the next init_run (-1: default). */
 static int32_t g_tau_q14 = -1;
 static int32_t g_texture_min = -1;
+static int32_t g_queue = -1;
 
 static void init_run(run_t *r, int32_t profile, int32_t max_disp,
                      int32_t strip_rows)
@@ -56,6 +57,9 @@ static void init_run(run_t *r, int32_t profile, int32_t max_disp,
     }
     if (g_texture_min >= 0) {
         cfg.texture_min = g_texture_min;
+    }
+    if (g_queue >= 0) {
+        cfg.queue_capacity = g_queue;
     }
     assert_int_equal(negobs_stereo_workspace_size(&cfg, &bytes), NEGOBS_OK);
     assert_true(bytes <= WS_BYTES);
@@ -163,14 +167,18 @@ static void test_same_maps_after_stamp_wrap(void **state)
     assert_same();
 }
 
-/* The DP keeps its stage-1 pointers in the memo between its passes
- * (dp.c); 16 levels of 8-row strips hold 8 x 160 x 16 words (80 KiB),
- * about 68 of the 120 rows' records (2 x 161 + ~5.5 x 160 bytes each),
- * so the rest run stage 1 twice: both kinds of rows in one frame. */
+/* The DP keeps its stage-1 pointers between its passes in the memo
+ * (fast) or in the growth's strip scratch (compact; dp.c). With 16 levels,
+ * 8-row strips and a 1024-entry queue the memo has 80 KiB, room for about
+ * 68 of the 120 rows' records (2 x 161 + ~5.5 x 160 bytes each), the strip
+ * scratch about 48 KiB, about 40 rows; the other rows run stage 1 twice:
+ * both kinds of rows in one frame, in both profiles. */
 static void test_same_maps_store_partly_full(void **state)
 {
     (void)state;
+    g_queue = 1024;
     compare(15, 8, 15u, 3, 9, 0);
+    g_queue = -1;
 }
 
 /* After a frame every memo word is empty or written by this frame's

@@ -22,11 +22,12 @@
  * Memory: one row of pointers and costs (W x D bytes + W x D int16), the
  * stage-2 pointers (H x D bytes). Stage 1 runs twice per row (once to feed
  * stage 2, once with pointers for the back-track), recomputing its costs,
- * instead of keeping W x H x D pointers, unless scratch idle during the DP
- * was lent to it (s->dps; the fast profile lends the growth's memo): then
- * the feeding pass keeps the band cells' pointers (a byte each, ~5.5 per
- * pixel) and jump targets of as many rows as fit, and those rows are
- * back-tracked without running stage 1 again. The GCS correlation of the
+ * instead of keeping W x H x D pointers, except where scratch idle during
+ * the DP is lent to it (s->dps: the growth's memo in the fast profile, its
+ * strip scratch otherwise; stereo.c: carve): the feeding pass keeps the
+ * band cells' pointers (a byte each, ~5.5 per pixel) and jump targets of
+ * as many rows as fit, and those rows are back-tracked without running
+ * stage 1 again. The GCS correlation of the
  * selected cell is not kept (it would cost a byte per pixel), so it scores
  * 1.0; with dp_rescore = 1 the band is re-correlated instead (20 % slower
  * on Cones, same quality).
@@ -578,8 +579,8 @@ void stx_dp_store_release(stx_t *s, int32_t y0, int32_t y1, size_t used)
 {
     size_t a;
     size_t b;
-    if (s->dps == NULL || used == 0) {
-        return;
+    if (s->dps == NULL || used == 0 || !s->dps_zero) {
+        return; /* (the growth's strip scratch is set up every strip) */
     }
     store_part(s, y0, y1, &a, &b);
     /* the lent memo: a zero word reads as empty (stx_memo_pack); a word
