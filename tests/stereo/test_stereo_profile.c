@@ -168,15 +168,16 @@ static void test_same_maps_after_stamp_wrap(void **state)
 }
 
 /* The DP keeps its stage-1 pointers between its passes in the memo
- * (fast) or in the growth's strip scratch (compact; dp.c). With 16 levels,
- * 8-row strips and a 1024-entry queue the memo has 80 KiB, room for about
- * 68 of the 120 rows' records (2 x 161 + ~5.5 x 160 bytes each), the strip
- * scratch about 48 KiB, about 40 rows; the other rows run stage 1 twice:
- * both kinds of rows in one frame, in both profiles. */
+ * (fast, a byte per band cell) or in the growth's strip scratch (compact,
+ * two bits; dp.c). With 16 levels, 8-row strips and a 16-entry queue the
+ * memo has 80 KiB, room for 85 of the 116 records (161 + ~5.5 x 160 bytes
+ * each), the strip scratch about 40 KiB, room for 112 two-bit records;
+ * the other rows run stage 1 twice: both kinds of rows in one frame, in
+ * both profiles. */
 static void test_same_maps_store_partly_full(void **state)
 {
     (void)state;
-    g_queue = 1024;
+    g_queue = 16;
     compare(15, 8, 15u, 3, 9, 0);
     g_queue = -1;
 }

@@ -23,14 +23,14 @@
  * stage-2 pointers (H x D bytes). Stage 1 runs twice per row (once to feed
  * stage 2, once with pointers for the back-track), recomputing its costs,
  * instead of keeping W x H x D pointers, except where scratch idle during
- * the DP is lent to it (s->dps: the growth's memo in the fast profile, its
- * strip scratch otherwise; stereo.c: carve): the feeding pass keeps the
- * band cells' pointers (a byte each, ~5.5 per pixel) and jump targets of
- * as many rows as fit, and those rows are back-tracked without running
- * stage 1 again. The GCS correlation of the
- * selected cell is not kept (it would cost a byte per pixel), so it scores
- * 1.0; with dp_rescore = 1 the band is re-correlated instead (20 % slower
- * on Cones, same quality).
+ * the DP is lent to it (dp_store.c: the growth's memo in the fast profile,
+ * its strip scratch otherwise): the feeding pass keeps the band cells'
+ * pointers (~5.5 per pixel; a byte each in the memo, two bits in the
+ * smaller strip scratch) and jump targets of as many rows as fit, and
+ * those rows are back-tracked without running stage 1 again. The GCS
+ * correlation of the selected cell is not kept (it would cost a byte per
+ * pixel), so it scores 1.0; with dp_rescore = 1 the band is re-correlated
+ * instead (20 % slower on Cones, same quality).
  *
  * Scaling and overflow: costs are Q14 in [-16384, 16384], dp_jump is
  * limited to [0, 32768], so |Y| <= W * 49152 < 2^28 for W <= 4096 and the
@@ -39,6 +39,7 @@
  */
 #include <string.h>
 
+#include "stereo/dp_store.h"
 #include "stereo/stereo_int.h"
 
 #define NEG32 STX_DP_NEG32
@@ -313,12 +314,13 @@ static void stage1_feed(stx_t *s)
  * loop carries no per-cell cost test. Raising one cell cannot move the
  * first argmax anywhere but to that cell. The cost row is left unwritten:
  * only score_at() reads it, and only with dp_rescore. The pointers go to
- * `cells`, with stride ndisp or, if `packed` (a literal at each call
- * site), column after column from each band's low end; each column's jump
- * target to jump_to. Returns the last column's argmax and leaves its
- * scores in yprev, as stage1_feed does. */
+ * `cells` as `layout` says (STX_P1_*: with stride ndisp, or column after
+ * column from each band's low end, a byte or two bits each), each column's
+ * jump target to jump_to (int16 for STX_P1_STRIDED, else bytes: ndisp <=
+ * 256). Returns the last column's argmax and leaves its scores in yprev,
+ * as stage1_feed does. */
 static inline __attribute__((always_inline)) int32_t stage1_keep(
-    stx_t *s, uint8_t *cells, int16_t *jump_to, int packed)
+    stx_t *s, uint8_t *cells, void *jump_to, int layout)
 {
     const int32_t w = s->w;
     const int32_t nd = s->ndisp;
@@ -334,6 +336,7 @@ static inline __attribute__((always_inline)) int32_t stage1_keep(
     const int16_t *const blo = s->blo;
     const int16_t *const bhi = s->bhi;
     uint8_t *prow = cells;
+    stx_bitw_t bw;
     int32_t x;
     int32_t i;
     int32_t bestp = 0;
@@ -343,6 +346,10 @@ static inline __attribute__((always_inline)) int32_t stage1_keep(
     int32_t qlo = 0;  /* band of yp's content (column x-1)          */
     int32_t qhi = -1;
 
+    bw.base = cells;
+    bw.pos = 0;
+    bw.word = 0;
+    bw.n = 0;
     for (i = -1; i <= nd; i++) {
         yp[i] = NEG32;
         yc[i] = NEG32;
@@ -357,7 +364,11 @@ static inline __attribute__((always_inline)) int32_t stage1_keep(
         if (x == 0) {
             for (i = lo; i <= hi; i++) {
                 yc[i] = neutral;
-                prow[packed ? i - lo : i] = 1u;
+                if (layout == STX_P1_BITS) {
+                    stx_bitw_put(&bw, 1u);
+                } else {
+                    prow[layout == STX_P1_BYTES ? i - lo : i] = 1u;
+                }
             }
             if (lo <= hi) {
                 bcur = neutral;
@@ -385,7 +396,11 @@ static inline __attribute__((always_inline)) int32_t stage1_keep(
                 }
                 v = m + neutral;
                 cc[i] = v;
-                prow[packed ? i - lo : i] = (uint8_t)t;
+                if (layout == STX_P1_BITS) {
+                    stx_bitw_put(&bw, (uint32_t)t);
+                } else {
+                    prow[layout == STX_P1_BYTES ? i - lo : i] = (uint8_t)t;
+                }
                 if (v > bcur) {
                     bcur = v;
                     acur = i;
@@ -400,8 +415,13 @@ static inline __attribute__((always_inline)) int32_t stage1_keep(
                 acur = gi;
             }
         }
-        jump_to[x] = (int16_t)argp;
-        prow += packed ? hi - lo + 1 : nd;
+        if (layout == STX_P1_STRIDED) {
+            ((int16_t *)jump_to)[x] = (int16_t)argp;
+            prow += nd;
+        } else {
+            ((uint8_t *)jump_to)[x] = (uint8_t)argp;
+            prow += hi - lo + 1;
+        }
         {
             int32_t *tmp = yp;
             yp = yc;
@@ -417,7 +437,18 @@ static inline __attribute__((always_inline)) int32_t stage1_keep(
     if (yp != s->yprev + 1) {
         memcpy(s->yprev, s->ycur, (size_t)(nd + 2) * sizeof *s->yprev);
     }
+    if (layout == STX_P1_BITS && bw.n > 0) {
+        stx_bitw_flush(&bw);
+    }
     return argp;
+}
+
+/* The two-bit form out of line (inline, it made the byte form's code in
+ * stx_dp_row slower). */
+static __attribute__((noinline)) int32_t stage1_keep_bits(stx_t *s,
+                                                          uint8_t *rec)
+{
+    return stage1_keep(s, rec + s->w + 1, rec, STX_P1_BITS);
 }
 
 static int32_t stage1(stx_t *s, int32_t y, int keep)
@@ -549,78 +580,19 @@ static void score3(score_row_t *r, int32_t x, int32_t d, int32_t c[3])
     }
 }
 
-/* Rows [y0, y1)'s part [*a, *b) of the store: shares proportional to the
- * rows, so the parts depend on the band layout only; whole 32-bit words
- * (the lent memo's), so no band's record shares a word with another's. */
-static void store_part(const stx_t *s, int32_t y0, int32_t y1, size_t *a,
-                       size_t *b)
-{
-    uint64_t cap = (uint64_t)s->dps_cap;
-    *a = (size_t)(cap * (uint64_t)y0 / (uint64_t)s->h) & ~(size_t)3;
-    *b = (size_t)(cap * (uint64_t)y1 / (uint64_t)s->h) & ~(size_t)3;
-}
-
-void stx_dp_store_begin(stx_t *s, int32_t y0, int32_t y1, size_t limit)
-{
-    size_t a;
-    size_t b;
-    store_part(s, y0, y1, &a, &b);
-    s->dps_start = a;
-    s->dps_pos = a;
-    s->dps_end = (b - a < limit) ? b : a + limit;
-}
-
-size_t stx_dp_store_used(const stx_t *s)
-{
-    return s->dps_pos - s->dps_start;
-}
-
-void stx_dp_store_release(stx_t *s, int32_t y0, int32_t y1, size_t used)
-{
-    size_t a;
-    size_t b;
-    if (s->dps == NULL || used == 0 || !s->dps_zero) {
-        return; /* (the growth's strip scratch is set up every strip) */
-    }
-    store_part(s, y0, y1, &a, &b);
-    /* the lent memo: a zero word reads as empty (stx_memo_pack); a word
-     * the records only began must not keep its old stamp */
-    memset(s->dps + a, 0, (used + 3u) & ~(size_t)3);
-}
-
-/* The next record of the band's part of the store for a row of `cells`
- * band cells: int16 jump_to[w + 1] (entry w: the last column's argmax),
- * then the packed pointers, rounded up to even bytes. NULL when there is
- * no store, with dp_rescore (its back-track needs the cost row, which is
- * not kept), or when the record does not fit; such a row runs stage 1 in
- * both passes. Both passes make the same decisions: the same cell counts
- * in the same order, pass 1 limited to what pass 0 used. */
-static uint8_t *store_take(stx_t *s, int32_t cells)
-{
-    size_t need = ((size_t)2 * ((size_t)s->w + 1u) + (size_t)cells + 1u) &
-                  ~(size_t)1;
-    uint8_t *rec;
-    if (s->dps == NULL || s->cfg.dp_rescore ||
-        need > s->dps_end - s->dps_pos) {
-        return NULL;
-    }
-    rec = s->dps + s->dps_pos;
-    s->dps_pos += need;
-    return rec;
-}
-
 /* Integer disparities of one row into outrow, back-tracked from end
  * disparity d (inside the last column's band) over the pointers `cells`
- * (n of them; stage1_keep's layout, `packed` a literal) and the jump
+ * (n of them, in stage1_keep's `layout`, a literal) and the jump
  * targets. */
 static inline __attribute__((always_inline)) void back_track(
     const stx_t *s, int32_t d, const uint8_t *cells, int32_t n,
-    const int16_t *jump_to, int16_t *outrow, int packed)
+    const void *jump, int16_t *outrow, int layout)
 {
     const int16_t *const blo = s->blo;
     const int16_t *const bhi = s->bhi;
     const int32_t dmin = s->dmin;
-    const uint8_t *p = cells + n; /* end of column x's pointers */
+    const uint8_t *p = cells + n; /* end of column x's pointers (bytes) */
+    size_t b = (size_t)n * 2u;    /* the same in bits (two-bit fields)  */
     int32_t x;
     for (x = s->w - 1; x >= 0; x--) {
         int32_t lo = blo[x];
@@ -629,14 +601,21 @@ static inline __attribute__((always_inline)) void back_track(
         if (x == 0) {
             break;
         }
-        if (packed) {
+        if (layout == STX_P1_BITS) {
+            size_t k;
+            b -= (size_t)(bhi[x] - lo + 1) * 2u;
+            k = b + (size_t)(d - lo) * 2u;
+            t = (cells[k >> 3] >> (k & 7u)) & 3;
+        } else if (layout == STX_P1_BYTES) {
             p -= bhi[x] - lo + 1;
             t = p[d - lo];
         } else {
             t = cells[(ptrdiff_t)x * s->ndisp + (d - dmin)];
         }
         if (t == 3) {
-            d = jump_to[x] + dmin;
+            d = ((layout == STX_P1_STRIDED) ? ((const int16_t *)jump)[x]
+                                            : ((const uint8_t *)jump)[x]) +
+                dmin;
         } else {
             d = d + t - 1;
         }
@@ -660,12 +639,13 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
     s->gcs_cur = gcsrow;
 
     if (pass == 0) {
-        rec = have ? store_take(s, cells) : NULL;
+        rec = have ? stx_dp_store_take(s, cells) : NULL;
         if (rec != NULL) {
             /* stage 1 once: its pointers kept for the back-track */
-            int16_t *jump_to = (int16_t *)(void *)rec;
-            jump_to[w] = (int16_t)stage1_keep(s, rec + 2 * (w + 1), jump_to,
-                                              1);
+            rec[w] = (uint8_t)((stx_dp_store_layout(s) == STX_P1_BITS)
+                                   ? stage1_keep_bits(s, rec)
+                                   : stage1_keep(s, rec + w + 1, rec,
+                                                 STX_P1_BYTES));
         } else if (have && !s->cfg.dp_rescore) {
             stage1_feed(s);
         } else if (have) {
@@ -692,25 +672,27 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
         }
         return;
     }
-    rec = store_take(s, cells);
+    rec = stx_dp_store_take(s, cells);
     if (rec != NULL) {
-        const int16_t *jump_to = (const int16_t *)(const void *)rec;
         d = s->dend[y];
         if (d < s->blo[w - 1] || d > s->bhi[w - 1]) {
             /* (the clamp keeps the record's reads inside the bands) */
-            d = negobs_clamp_s32(jump_to[w] + dmin, s->blo[w - 1],
-                                 s->bhi[w - 1]);
+            d = negobs_clamp_s32(rec[w] + dmin, s->blo[w - 1], s->bhi[w - 1]);
         }
-        back_track(s, d, rec + 2 * (w + 1), cells, jump_to, outrow, 1);
+        if (stx_dp_store_layout(s) == STX_P1_BITS) {
+            back_track(s, d, rec + w + 1, cells, rec, outrow, STX_P1_BITS);
+        } else {
+            back_track(s, d, rec + w + 1, cells, rec, outrow, STX_P1_BYTES);
+        }
     } else {
-        int32_t endarg = s->cfg.dp_rescore
-                             ? stage1(s, y, 1)
-                             : stage1_keep(s, s->p1, s->jump_to, 0);
+        int32_t endarg = s->cfg.dp_rescore ? stage1(s, y, 1)
+                                           : stage1_keep(s, s->p1, s->jump_to,
+                                                         STX_P1_STRIDED);
         d = s->dend[y];
         if (d < s->blo[w - 1] || d > s->bhi[w - 1]) {
             d = endarg + dmin;
         }
-        back_track(s, d, s->p1, cells, s->jump_to, outrow, 0);
+        back_track(s, d, s->p1, cells, s->jump_to, outrow, STX_P1_STRIDED);
     }
     /* stage 5a: sub-pixel refinement and confidence */
     score_row_init(&srow, s, y);

@@ -262,7 +262,7 @@ static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c,
          * and is zeroed after them */
         s->dps = (uint8_t *)s->memo;
         s->dps_cap = (size_t)sh * (size_t)w * (size_t)memo_k * sizeof *s->memo;
-        s->dps_zero = 1;
+        s->dps_memo = 1;
     }
     TAKE(s->lo_l, uint8_t, (size_t)lw * (size_t)lh);
     TAKE(s->lo_r, uint8_t, (size_t)lw * (size_t)lh);

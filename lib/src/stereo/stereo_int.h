@@ -109,6 +109,8 @@ void stx_memo_clear(stx_t *s);
  * both passes. */
 void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
                 int16_t *outrow, uint8_t *confrow);
+
+/* ---- dp_store.c ------------------------------------------------------- */
 /* The pointer store: rows [y0, y1) take records from their part of it,
  * at most `limit` bytes (pass 0: all of it; pass 1: what pass 0 used,
  * stx_dp_store_used() after its rows). After pass 1, release gives the
@@ -116,6 +118,7 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
 void stx_dp_store_begin(stx_t *s, int32_t y0, int32_t y1, size_t limit);
 size_t stx_dp_store_used(const stx_t *s);
 void stx_dp_store_release(stx_t *s, int32_t y0, int32_t y1, size_t used);
+/* (the records' layout and the taking of one: stereo/dp_store.h) */
 
 /* ---- dp_stage2.c ------------------------------------------------------ */
 /* Stage-1 scores at or below this are outside the band ("-inf"); real

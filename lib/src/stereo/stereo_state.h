@@ -140,7 +140,7 @@ typedef struct stx {
     int32_t band_work_h;  /* rows of the frame band_work is of    */
     int32_t band_work_nb; /* its band count (0: no frame yet)     */
     int exec_failed;      /* an executor skipped a job or named a bad worker */
-    int dps_zero;         /* 1: the DP's store is zeroed when given back */
+    int dps_memo;         /* 1: the DP's store is the memo (dp.c)   */
     negobs_executor_t exec; /* run == NULL: the caller's thread       */
 
     /* refinement */
