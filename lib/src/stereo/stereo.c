@@ -131,9 +131,10 @@ static size_t slot(size_t *end, size_t bytes)
  * The growth's strip scratch (Canny, the matching table and its bitset,
  * the queue, the score cache) as one block: canny.c and gcs.c set all of
  * it up again at every strip, so it is idle from the end of the growth to
- * the next frame, and the DP borrows the block between its passes where
- * there is no memo to lend (dp.c). In a release build the block takes what
- * the separate blocks took; with debug guards it has one guard pair.
+ * the next frame, and the DP keeps its pointers in it between its passes
+ * (dp_store.c) unless carve() lends the memo, where that is larger. In a
+ * release build the block takes what the separate blocks took; with debug
+ * guards it has one guard pair.
  */
 static void carve_growth(negobs_arena_t *a, stx_t *x,
                          const negobs_stereo_config_t *c, size_t spx)
@@ -258,8 +259,8 @@ static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c,
             s->dps_cap) {
         /* the growth is over when the DP runs: worker 0's memo (the
          * bands' DP rows share one store), where larger than its strip
-         * scratch, holds the DP's pointers between its two passes (dp.c)
-         * and is zeroed after them */
+         * scratch, holds the DP's pointers between its two passes
+         * (dp_store.c) and is zeroed after them */
         s->dps = (uint8_t *)s->memo;
         s->dps_cap = (size_t)sh * (size_t)w * (size_t)memo_k * sizeof *s->memo;
         s->dps_memo = 1;
