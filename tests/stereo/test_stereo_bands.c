@@ -6,7 +6,9 @@
  * workers; tests/port/test_pool.c does the same with real threads). Band
  * counts that do not divide the workers (3, 5) and a crop are included,
  * and so is the dispatch order (costliest band first, from the last
- * frame's work) over frames whose content and crop change.
+ * frame's work) over frames whose content and crop change. The fast
+ * profile's runs (whose bands share the memo the DP borrows) must match
+ * the compact profile's in-order run.
  */
 #include <string.h>
 
@@ -25,9 +27,12 @@ static int16_t gt[W * H];
 static uint8_t occ[W * H];
 static uint8_t tex[W * H];
 
+/* the fast profile's bound: a memo per worker */
 #define WS_BYTES                                                              \
-    ((NEGOBS_STEREO_WORKSPACE_MAX_COMPACT(W, H, 47) +                         \
-      (WORKERS - 1) * NEGOBS_STEREO_WORKSPACE_WORKER_MAX(W, 47) +             \
+    ((NEGOBS_STEREO_WORKSPACE_MAX_FAST(W, H, 47) +                            \
+      (WORKERS - 1) *                                                         \
+          (NEGOBS_STEREO_WORKSPACE_WORKER_MAX(W, 47) +                        \
+           (size_t)W * 32u * (4u * NEGOBS_STEREO_MEMO_LEVELS + 1u)) +         \
       NEGOBS_STEREO_WORKSPACE_BANDS_MAX(H, 47) + 15u) &                       \
      ~(size_t)15u)
 static uint8_t ws_buf[2][WS_BYTES] __attribute__((aligned(16)));
@@ -40,6 +45,9 @@ typedef struct run {
 } run_t;
 
 static run_t g_run[2];
+
+/* memory profile of g_run[1] (g_run[0] keeps the default, compact) */
+static int32_t g_profile = NEGOBS_STEREO_PROFILE_COMPACT;
 
 /* Runs every job backwards, job j on worker (j + runs) % workers. */
 typedef struct fake_exec {
@@ -69,6 +77,9 @@ static void init_run(run_t *r, int32_t bands, int32_t workers,
     cfg.strip_rows = strip_rows;
     cfg.bands = bands;
     cfg.band_workers = workers;
+    if (r == &g_run[1]) {
+        cfg.memory_profile = g_profile;
+    }
     assert_int_equal(negobs_stereo_workspace_size(&cfg, &bytes), NEGOBS_OK);
     assert_true(bytes <= WS_BYTES);
     assert_int_equal(
@@ -215,6 +226,25 @@ static void test_same_bands5_crop(void **state)
     (void)state;
     /* 104 rows of 8-row strips: 13 strips in 5 bands (2, 3, 2, 3, 3) */
     same_for_every_worker_count(5, 8, 16);
+}
+
+/* The fast profile with several workers: pass 0 and pass 1 of a band run
+ * on different workers, and all keep their DP pointers in worker 0's memo,
+ * each band in its own part. */
+static void test_same_bands4_fast(void **state)
+{
+    (void)state;
+    g_profile = NEGOBS_STEREO_PROFILE_FAST;
+    same_for_every_worker_count(4, 32, 0);
+    g_profile = NEGOBS_STEREO_PROFILE_COMPACT;
+}
+
+static void test_same_bands5_crop_fast(void **state)
+{
+    (void)state;
+    g_profile = NEGOBS_STEREO_PROFILE_FAST;
+    same_for_every_worker_count(5, 8, 16);
+    g_profile = NEGOBS_STEREO_PROFILE_COMPACT;
 }
 
 /* xorshift32: repeatable texture */
@@ -484,6 +514,44 @@ static void test_broken_executor_fails_the_frame(void **state)
     }
 }
 
+/* The same in the fast profile, whose DP borrows the memo: whichever
+ * job was skipped, the memo comes back empty, so the frames after the
+ * failed one match the compact profile's. */
+static void test_broken_executor_fast(void **state)
+{
+    int mode;
+    (void)state;
+    render(22u);
+    init_run(&g_run[0], 4, 1, 32);
+    process(&g_run[0]);
+    g_profile = NEGOBS_STEREO_PROFILE_FAST;
+    for (mode = 0; mode < 3; mode++) {
+        broken_exec_t b = {mode, 2};
+        fake_exec_t f = {2, 0, 0};
+        negobs_executor_t e;
+        negobs_image_u8_t li = {left, W, H, W};
+        negobs_image_u8_t ri = {right, W, H, W};
+        negobs_image_s16_t di = {g_run[1].disp, W, H, W};
+        init_run(&g_run[1], 4, 2, 32);
+        e.workers = 2;
+        e.run = broken_run;
+        e.user = &b;
+        assert_int_equal(negobs_stereo_set_executor(&g_run[1].ctx, &e),
+                         NEGOBS_OK);
+        assert_int_equal(negobs_stereo_process(&g_run[1].ctx, &li, &ri, &di,
+                                               NULL, &g_run[1].st),
+                         NEGOBS_ERR_STATE);
+        e.run = fake_run;
+        e.user = &f;
+        assert_int_equal(negobs_stereo_set_executor(&g_run[1].ctx, &e),
+                         NEGOBS_OK);
+        process(&g_run[1]);
+        process(&g_run[1]);
+        assert_same();
+    }
+    g_profile = NEGOBS_STEREO_PROFILE_COMPACT;
+}
+
 static void test_executor_checks(void **state)
 {
     negobs_stereo_t none;
@@ -564,10 +632,13 @@ int main(void)
         cmocka_unit_test(test_same_bands3),
         cmocka_unit_test(test_same_bands4),
         cmocka_unit_test(test_same_bands5_crop),
+        cmocka_unit_test(test_same_bands4_fast),
+        cmocka_unit_test(test_same_bands5_crop_fast),
         cmocka_unit_test(test_seam_rule_fills_seedless_bands),
         cmocka_unit_test(test_dispatch_order),
         cmocka_unit_test(test_per_thread_clock),
         cmocka_unit_test(test_broken_executor_fails_the_frame),
+        cmocka_unit_test(test_broken_executor_fast),
         cmocka_unit_test(test_executor_checks),
         cmocka_unit_test(test_config_and_workspace),
     };

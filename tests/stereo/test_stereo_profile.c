@@ -3,14 +3,16 @@
  * and workspace only. Both profiles must give the same disparities,
  * confidences and statistics on generated scenes (several ranges, a
  * vertical offset, a range narrower than the memo band and one wider), also
- * after the memo's strip stamps have wrapped; and the workspace stays within
- * the documented budgets.
+ * after the memo's strip stamps have wrapped and with too little scratch
+ * lent to the DP for every row's pointers; the DP gives the memo back
+ * empty; and the workspace stays within the documented budgets.
  */
 #include <string.h>
 
 #include "cmocka_all.h"
 #include "negobs/stereo.h"
 #include "scene_pair.h"
+#include "stereo/stereo_int.h"
 
 #define W 160
 #define H 120
@@ -39,6 +41,7 @@ static run_t g_run[2];
 /* Overrides of the default config for the next init_run (-1: default). */
 static int32_t g_tau_q14 = -1;
 static int32_t g_texture_min = -1;
+static int32_t g_queue = -1;
 
 static void init_run(run_t *r, int32_t profile, int32_t max_disp,
                      int32_t strip_rows)
@@ -54,6 +57,9 @@ static void init_run(run_t *r, int32_t profile, int32_t max_disp,
     }
     if (g_texture_min >= 0) {
         cfg.texture_min = g_texture_min;
+    }
+    if (g_queue >= 0) {
+        cfg.queue_capacity = g_queue;
     }
     assert_int_equal(negobs_stereo_workspace_size(&cfg, &bytes), NEGOBS_OK);
     assert_true(bytes <= WS_BYTES);
@@ -161,6 +167,46 @@ static void test_same_maps_after_stamp_wrap(void **state)
     assert_same();
 }
 
+/* The DP keeps its stage-1 pointers between its passes in the memo
+ * (fast, a byte per band cell) or in the growth's strip scratch (compact,
+ * two bits; dp.c). With 16 levels, 8-row strips and a 16-entry queue the
+ * memo has 80 KiB, room for 85 of the 116 records (161 + ~5.5 x 160 bytes
+ * each), the strip scratch about 40 KiB, room for 112 two-bit records;
+ * the other rows run stage 1 twice: both kinds of rows in one frame, in
+ * both profiles. */
+static void test_same_maps_store_partly_full(void **state)
+{
+    (void)state;
+    g_queue = 16;
+    compare(15, 8, 15u, 3, 9, 0);
+    g_queue = -1;
+}
+
+/* After a frame every memo word is empty or written by this frame's
+ * growth (a stamp 1 .. memo_gen): no DP record is left over for a later
+ * strip to read as a correlation. */
+static void test_memo_given_back_empty(void **state)
+{
+    const stx_t *s;
+    size_t n;
+    size_t i;
+    size_t stale = 0;
+    (void)state;
+    init_run(&g_run[1], NEGOBS_STEREO_PROFILE_FAST, 63, 32);
+    render(16u, 8, 30, 0);
+    process(&g_run[1]);
+    s = (const stx_t *)g_run[1].ctx.priv;
+    assert_non_null(s->memo);
+    n = (size_t)s->sh * (size_t)s->w * (size_t)s->memo_k;
+    for (i = 0; i < n; i++) {
+        uint32_t gen = s->memo[i] >> STX_MEMO_NUM_BITS;
+        if (s->memo[i] != 0u && (gen == 0u || gen > s->memo_gen)) {
+            stale++;
+        }
+    }
+    assert_int_equal(stale, 0);
+}
+
 static void test_workspace_budgets(void **state)
 {
     negobs_stereo_config_t cfg;
@@ -226,6 +272,8 @@ int main(void)
         cmocka_unit_test(test_same_maps_narrow_range),
         cmocka_unit_test(test_same_maps_after_stamp_wrap),
         cmocka_unit_test(test_same_maps_flat_cells_tau0),
+        cmocka_unit_test(test_same_maps_store_partly_full),
+        cmocka_unit_test(test_memo_given_back_empty),
         cmocka_unit_test(test_workspace_budgets),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -27,9 +27,12 @@
  * (b) the seam rule (seam_pass) grows a band again, on the caller's
  * thread, with the matches above its border as seeds where it lacks them;
  * (c) DP stage 1 of every row, band by band, keeping each row's end scores
- * in s->yend when several workers exist; (d) the second DP stage takes the
- * rows in order on the caller's thread (h x ndisp steps, about 1 % of the
- * frame); (e) the back-track with sub-pixel refinement, band by band;
+ * in s->yend when several workers exist, and its pointers where the
+ * store lent to the DP has room (dp.c; each band in its own part of it,
+ * in proportion to its rows); (d) the second DP stage takes the rows in
+ * order on the caller's thread (h x ndisp steps, about 1 % of the frame);
+ * (e) the back-track with sub-pixel refinement, band by band, after which
+ * the store is given back;
  * (f) the LR check, the gap fill and the mean's rows by bands, the mean's
  * columns by as many column slices (each line is independent); the
  * speckle filter in two runs, marks then clears (refine.c:
@@ -314,6 +317,7 @@ static void pass0_dp_job(void *arg, int32_t job, int32_t worker)
     if (x == NULL) {
         return;
     }
+    stx_dp_store_begin(x, yb0, yb1, SIZE_MAX);
     for (y0 = yb0; y0 < yb1; y0 += x->sh) {
         int32_t y1 = (y0 + x->sh < yb1) ? y0 + x->sh : yb1;
         int32_t y;
@@ -326,6 +330,7 @@ static void pass0_dp_job(void *arg, int32_t job, int32_t worker)
         }
         stx_lap(x, NEGOBS_STEREO_STAGE_DP);
     }
+    j->s->dps_used[band] = (uint32_t)stx_dp_store_used(x);
 }
 
 /*
@@ -402,6 +407,7 @@ static void pass1_job(void *arg, int32_t job, int32_t worker)
         return;
     }
     visited0 = x->st.visited_cells;
+    stx_dp_store_begin(x, yb0, yb1, j->s->dps_used[band]);
     for (y0 = yb0; y0 < yb1; y0 += x->sh) {
         int32_t y1 = (y0 + x->sh < yb1) ? y0 + x->sh : yb1;
         int32_t y;
@@ -473,10 +479,20 @@ void stx_bands_pass1(stx_t *s, negobs_image_s16_t *disp_q4,
                      negobs_image_u8_t *confidence)
 {
     band_job_t job;
+    int32_t k;
     job.s = s;
     job.disp = disp_q4;
     job.conf = confidence;
     run_bands(s, pass1_job, &job, NEGOBS_STEREO_STAGE_DP);
+    /* here, not in the jobs: also a band whose pass-1 job an executor
+     * skipped gives its part back */
+    for (k = 0; k < negobs_stereo_band_count(&s->cfg, s->h); k++) {
+        int32_t y0 = 0;
+        int32_t y1 = 0;
+        (void)negobs_stereo_band_rows(&s->cfg, s->h, k, &y0, &y1);
+        stx_dp_store_release(s, y0, y1, s->dps_used[k]);
+        s->dps_used[k] = 0;
+    }
 }
 
 /* Line filter over band `band`'s rows, or over the band-th of as many

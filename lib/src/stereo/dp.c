@@ -14,17 +14,23 @@
  *                               max_d' Y(x-1, d') - dp_jump )
  * i.e. Sun's |dd| <= 1 smoothness plus a penalised jump, which the band
  * needs where it moves by more than one level between columns.
- * Stage 2 runs down the end column x = W-1 over the normalised end scores
- * Y(W-1, y, d) - max_d Y(W-1, y, d) with the same recurrence and picks one
- * end disparity per row; each row is then back-tracked from it.
+ * Stage 2 (dp_stage2.c) runs down the end column x = W-1 over the
+ * normalised end scores Y(W-1, y, d) - max_d Y(W-1, y, d) with the same
+ * recurrence and picks one end disparity per row; each row is then
+ * back-tracked from it.
  *
  * Memory: one row of pointers and costs (W x D bytes + W x D int16), the
  * stage-2 pointers (H x D bytes). Stage 1 runs twice per row (once to feed
  * stage 2, once with pointers for the back-track), recomputing its costs,
- * instead of keeping W x H x D pointers. The GCS correlation of the selected
- * cell is not kept (it would cost a byte per pixel), so it scores 1.0; with
- * dp_rescore = 1 the band is re-correlated instead (20 % slower on Cones,
- * same quality).
+ * instead of keeping W x H x D pointers, except where scratch idle during
+ * the DP is lent to it (dp_store.c: the growth's memo in the fast profile,
+ * its strip scratch otherwise): the feeding pass keeps the band cells'
+ * pointers (~5.5 per pixel; a byte each in the memo, two bits in the
+ * smaller strip scratch) and jump targets of as many rows as fit, and
+ * those rows are back-tracked without running stage 1 again. The GCS
+ * correlation of the selected cell is not kept (it would cost a byte per
+ * pixel), so it scores 1.0; with dp_rescore = 1 the band is re-correlated
+ * instead (20 % slower on Cones, same quality).
  *
  * Scaling and overflow: costs are Q14 in [-16384, 16384], dp_jump is
  * limited to [0, 32768], so |Y| <= W * 49152 < 2^28 for W <= 4096 and the
@@ -33,16 +39,17 @@
  */
 #include <string.h>
 
+#include "stereo/dp_store.h"
 #include "stereo/stereo_int.h"
 
-#define NEG32 (INT32_MIN / 2)
-#define NEG64 (INT64_MIN / 4)
+#define NEG32 STX_DP_NEG32
 
-/* Bands of one row; returns 0 when the row has no GCS match at all (the
- * bands are then left as they were: nothing reads them). A run of holes
- * between two matches (or a match and the row's end) shares one band, so
- * it is found once per run and stored. */
-static int row_bands(stx_t *s, const int16_t *g)
+/* Bands of one row; returns their cells (states summed over the columns),
+ * or 0 when the row has no GCS match at all (the bands are then left as
+ * they were: nothing reads them). A run of holes between two matches (or a
+ * match and the row's end) shares one band, so it is found once per run
+ * and stored. */
+static int32_t row_bands(stx_t *s, const int16_t *g)
 {
     const int32_t w = s->w;
     const int32_t b = s->cfg.band;
@@ -53,6 +60,7 @@ static int row_bands(stx_t *s, const int16_t *g)
     uint8_t *bscored = s->bscored;
     int32_t last = NEGOBS_DISP_INVALID; /* nearest match on the left */
     int32_t x = 0;
+    int32_t span = 0; /* the cells but one per column */
 
     while (x < w) {
         int32_t lo;
@@ -64,6 +72,7 @@ static int row_bands(stx_t *s, const int16_t *g)
             blo[x] = (int16_t)lo;
             bhi[x] = (int16_t)hi;
             bscored[x] = 1u;
+            span += hi - lo;
             x++;
         } else {
             int32_t e = x + 1;
@@ -84,6 +93,7 @@ static int row_bands(stx_t *s, const int16_t *g)
             }
             lo = negobs_clamp_s32(((dl < dr) ? dl : dr) - b, lo_lim, hi_lim);
             hi = negobs_clamp_s32(((dl > dr) ? dl : dr) + b, lo, hi_lim);
+            span += (hi - lo) * (e - x);
             for (; x < e; x++) {
                 blo[x] = (int16_t)lo;
                 bhi[x] = (int16_t)hi;
@@ -91,12 +101,13 @@ static int row_bands(stx_t *s, const int16_t *g)
             }
         }
     }
-    return 1;
+    return span + w;
 }
 
 /* Stage 1 forward pass; returns the index (d - dmin) of the best end.
  * `keep` is a literal at both call sites, so the compiler can drop the
- * pointer stores of the feeding pass. */
+ * pointer stores of the feeding pass. Pointers and costs go to s->p1 and
+ * s->cost with stride ndisp. */
 static inline int32_t stage1_run(stx_t *s, int32_t y, int keep)
 {
     int32_t w = s->w;
@@ -298,12 +309,18 @@ static void stage1_feed(stx_t *s)
     }
 }
 
-/* Stage 1 of the back-tracking pass without rescoring: stage1_run(s, y, 1)
- * with the GCS cell's score added after the band loop (as in stage1_feed),
- * so the loop carries no per-cell cost test. Raising one cell cannot move
- * the first argmax anywhere but to that cell. The cost row is left
- * unwritten: only score_at() reads it, and only with dp_rescore. */
-static int32_t stage1_keep(stx_t *s)
+/* Stage 1 with pointers without rescoring: stage1_run(s, y, 1) with the
+ * GCS cell's score added after the band loop (as in stage1_feed), so the
+ * loop carries no per-cell cost test. Raising one cell cannot move the
+ * first argmax anywhere but to that cell. The cost row is left unwritten:
+ * only score_at() reads it, and only with dp_rescore. The pointers go to
+ * `cells` as `layout` says (STX_P1_*: with stride ndisp, or column after
+ * column from each band's low end, a byte or two bits each), each column's
+ * jump target to jump_to (int16 for STX_P1_STRIDED, else bytes: ndisp <=
+ * 256). Returns the last column's argmax and leaves its scores in yprev,
+ * as stage1_feed does. */
+static inline __attribute__((always_inline)) int32_t stage1_keep(
+    stx_t *s, uint8_t *cells, void *jump_to, int layout)
 {
     const int32_t w = s->w;
     const int32_t nd = s->ndisp;
@@ -318,8 +335,8 @@ static int32_t stage1_keep(stx_t *s)
     const int16_t *const gcs = s->gcs_cur;
     const int16_t *const blo = s->blo;
     const int16_t *const bhi = s->bhi;
-    int16_t *const jump_to = s->jump_to;
-    uint8_t *prow = s->p1;
+    uint8_t *prow = cells;
+    stx_bitw_t bw;
     int32_t x;
     int32_t i;
     int32_t bestp = 0;
@@ -329,6 +346,10 @@ static int32_t stage1_keep(stx_t *s)
     int32_t qlo = 0;  /* band of yp's content (column x-1)          */
     int32_t qhi = -1;
 
+    bw.base = cells;
+    bw.pos = 0;
+    bw.word = 0;
+    bw.n = 0;
     for (i = -1; i <= nd; i++) {
         yp[i] = NEG32;
         yc[i] = NEG32;
@@ -343,7 +364,11 @@ static int32_t stage1_keep(stx_t *s)
         if (x == 0) {
             for (i = lo; i <= hi; i++) {
                 yc[i] = neutral;
-                prow[i] = 1u;
+                if (layout == STX_P1_BITS) {
+                    stx_bitw_put(&bw, 1u);
+                } else {
+                    prow[layout == STX_P1_BYTES ? i - lo : i] = 1u;
+                }
             }
             if (lo <= hi) {
                 bcur = neutral;
@@ -371,7 +396,11 @@ static int32_t stage1_keep(stx_t *s)
                 }
                 v = m + neutral;
                 cc[i] = v;
-                prow[i] = (uint8_t)t;
+                if (layout == STX_P1_BITS) {
+                    stx_bitw_put(&bw, (uint32_t)t);
+                } else {
+                    prow[layout == STX_P1_BYTES ? i - lo : i] = (uint8_t)t;
+                }
                 if (v > bcur) {
                     bcur = v;
                     acur = i;
@@ -386,8 +415,13 @@ static int32_t stage1_keep(stx_t *s)
                 acur = gi;
             }
         }
-        jump_to[x] = (int16_t)argp;
-        prow += nd;
+        if (layout == STX_P1_STRIDED) {
+            ((int16_t *)jump_to)[x] = (int16_t)argp;
+            prow += nd;
+        } else {
+            ((uint8_t *)jump_to)[x] = (uint8_t)argp;
+            prow += hi - lo + 1;
+        }
         {
             int32_t *tmp = yp;
             yp = yc;
@@ -403,128 +437,23 @@ static int32_t stage1_keep(stx_t *s)
     if (yp != s->yprev + 1) {
         memcpy(s->yprev, s->ycur, (size_t)(nd + 2) * sizeof *s->yprev);
     }
+    if (layout == STX_P1_BITS && bw.n > 0) {
+        stx_bitw_flush(&bw);
+    }
     return argp;
+}
+
+/* The two-bit form out of line (inline, it made the byte form's code in
+ * stx_dp_row slower). */
+static __attribute__((noinline)) int32_t stage1_keep_bits(stx_t *s,
+                                                          uint8_t *rec)
+{
+    return stage1_keep(s, rec + s->w + 1, rec, STX_P1_BITS);
 }
 
 static int32_t stage1(stx_t *s, int32_t y, int keep)
 {
     return keep ? stage1_run(s, y, 1) : stage1_run(s, y, 0);
-}
-
-void stx_dp_stage2_reset(stx_t *s)
-{
-    s->zrows = 0;
-}
-
-/* Row y's stage-1 end scores ye (ndisp; unread unless `have`) into the
- * second stage; rows must come in order 0, 1, ... */
-static void stage2_feed(stx_t *s, int32_t y, int have, const int32_t *ye)
-{
-    int32_t nd = s->ndisp;
-    int32_t jump = s->cfg.dp_jump_q14;
-    int32_t ymax = NEG32;
-    int64_t zbest = NEG64;
-    int32_t zarg = 0;
-    int32_t i;
-    uint8_t *p = s->p2 + (ptrdiff_t)y * nd;
-    int64_t pbest = NEG64;
-    int32_t parg = 0;
-
-    if (have) {
-        for (i = 0; i < nd; i++) {
-            if (ye[i] > ymax) {
-                ymax = ye[i];
-            }
-        }
-    }
-    if (s->zrows > 0) {
-        for (i = 0; i < nd; i++) {
-            if (s->zprev[i] > pbest) {
-                pbest = s->zprev[i];
-                parg = i;
-            }
-        }
-        s->zarg[y - 1] = (int16_t)parg;
-    }
-    for (i = 0; i < nd; i++) {
-        int64_t e;
-        int64_t m;
-        int t = 1;
-        if (!have) {
-            e = 0; /* a row without matches says nothing */
-        } else if (ye[i] <= NEG32) {
-            s->zcur[i] = NEG64;
-            p[i] = 1u;
-            continue;
-        } else {
-            e = (int64_t)ye[i] - ymax;
-        }
-        if (s->zrows == 0) {
-            m = 0;
-        } else {
-            m = s->zprev[i];
-            if (i > 0 && s->zprev[i - 1] > m) {
-                m = s->zprev[i - 1];
-                t = 0;
-            }
-            if (i + 1 < nd && s->zprev[i + 1] > m) {
-                m = s->zprev[i + 1];
-                t = 2;
-            }
-            if (pbest - jump > m) {
-                m = pbest - jump;
-                t = 3;
-            }
-        }
-        s->zcur[i] = m + e;
-        p[i] = (uint8_t)t;
-        if (s->zcur[i] > zbest) {
-            zbest = s->zcur[i];
-            zarg = i;
-        }
-    }
-    (void)zarg;
-    memcpy(s->zprev, s->zcur, (size_t)nd * sizeof *s->zprev);
-    s->zrows++;
-}
-
-void stx_dp_stage2_feed_stored(stx_t *s)
-{
-    int32_t y;
-    for (y = 0; y < s->h; y++) {
-        stage2_feed(s, y, s->yhave[y], s->yend + (ptrdiff_t)y * s->ndisp);
-    }
-}
-
-void stx_dp_stage2_finish(stx_t *s)
-{
-    int32_t nd = s->ndisp;
-    int32_t y;
-    int32_t d = 0;
-    int64_t best = NEG64;
-    int32_t i;
-    if (s->zrows == 0) {
-        return;
-    }
-    for (i = 0; i < nd; i++) {
-        if (s->zprev[i] > best) {
-            best = s->zprev[i];
-            d = i;
-        }
-    }
-    for (y = s->zrows - 1; y >= 0; y--) {
-        int t;
-        s->dend[y] = (int16_t)(d + s->dmin);
-        if (y == 0) {
-            break;
-        }
-        t = s->p2[(ptrdiff_t)y * nd + d];
-        if (t == 3) {
-            d = s->zarg[y - 1];
-        } else {
-            d = negobs_clamp_s32(d + t - 1, 0, nd - 1);
-        }
-    }
 }
 
 static int32_t score_at(stx_t *s, int32_t x, int32_t y, int32_t d)
@@ -651,6 +580,49 @@ static void score3(score_row_t *r, int32_t x, int32_t d, int32_t c[3])
     }
 }
 
+/* Integer disparities of one row into outrow, back-tracked from end
+ * disparity d (inside the last column's band) over the pointers `cells`
+ * (n of them, in stage1_keep's `layout`, a literal) and the jump
+ * targets. */
+static inline __attribute__((always_inline)) void back_track(
+    const stx_t *s, int32_t d, const uint8_t *cells, int32_t n,
+    const void *jump, int16_t *outrow, int layout)
+{
+    const int16_t *const blo = s->blo;
+    const int16_t *const bhi = s->bhi;
+    const int32_t dmin = s->dmin;
+    const uint8_t *p = cells + n; /* end of column x's pointers (bytes) */
+    size_t b = (size_t)n * 2u;    /* the same in bits (two-bit fields)  */
+    int32_t x;
+    for (x = s->w - 1; x >= 0; x--) {
+        int32_t lo = blo[x];
+        int t;
+        outrow[x] = (int16_t)d;
+        if (x == 0) {
+            break;
+        }
+        if (layout == STX_P1_BITS) {
+            size_t k;
+            b -= (size_t)(bhi[x] - lo + 1) * 2u;
+            k = b + (size_t)(d - lo) * 2u;
+            t = (cells[k >> 3] >> (k & 7u)) & 3;
+        } else if (layout == STX_P1_BYTES) {
+            p -= bhi[x] - lo + 1;
+            t = p[d - lo];
+        } else {
+            t = cells[(ptrdiff_t)x * s->ndisp + (d - dmin)];
+        }
+        if (t == 3) {
+            d = ((layout == STX_P1_STRIDED) ? ((const int16_t *)jump)[x]
+                                            : ((const uint8_t *)jump)[x]) +
+                dmin;
+        } else {
+            d = d + t - 1;
+        }
+        d = negobs_clamp_s32(d, blo[x - 1], bhi[x - 1]);
+    }
+}
+
 void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
                 int16_t *outrow, uint8_t *confrow)
 {
@@ -660,12 +632,21 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
     int32_t x;
     int32_t d;
     score_row_t srow;
-    int have = row_bands(s, gcsrow);
+    int32_t cells = row_bands(s, gcsrow);
+    int have = cells > 0;
+    uint8_t *rec;
 
     s->gcs_cur = gcsrow;
 
     if (pass == 0) {
-        if (have && !s->cfg.dp_rescore) {
+        rec = have ? stx_dp_store_take(s, cells) : NULL;
+        if (rec != NULL) {
+            /* stage 1 once: its pointers kept for the back-track */
+            rec[w] = (uint8_t)((stx_dp_store_layout(s) == STX_P1_BITS)
+                                   ? stage1_keep_bits(s, rec)
+                                   : stage1_keep(s, rec + w + 1, rec,
+                                                 STX_P1_BYTES));
+        } else if (have && !s->cfg.dp_rescore) {
             stage1_feed(s);
         } else if (have) {
             (void)stage1(s, y, 0);
@@ -678,7 +659,7 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
                        (size_t)nd * sizeof *s->yend);
             }
         } else {
-            stage2_feed(s, y, have, s->yprev + 1);
+            stx_dp_stage2_feed(s, y, have, s->yprev + 1);
         }
         return;
     }
@@ -691,27 +672,27 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
         }
         return;
     }
-    {
-        int32_t endarg = s->cfg.dp_rescore ? stage1(s, y, 1) : stage1_keep(s);
+    rec = stx_dp_store_take(s, cells);
+    if (rec != NULL) {
+        d = s->dend[y];
+        if (d < s->blo[w - 1] || d > s->bhi[w - 1]) {
+            /* (the clamp keeps the record's reads inside the bands) */
+            d = negobs_clamp_s32(rec[w] + dmin, s->blo[w - 1], s->bhi[w - 1]);
+        }
+        if (stx_dp_store_layout(s) == STX_P1_BITS) {
+            back_track(s, d, rec + w + 1, cells, rec, outrow, STX_P1_BITS);
+        } else {
+            back_track(s, d, rec + w + 1, cells, rec, outrow, STX_P1_BYTES);
+        }
+    } else {
+        int32_t endarg = s->cfg.dp_rescore ? stage1(s, y, 1)
+                                           : stage1_keep(s, s->p1, s->jump_to,
+                                                         STX_P1_STRIDED);
         d = s->dend[y];
         if (d < s->blo[w - 1] || d > s->bhi[w - 1]) {
             d = endarg + dmin;
         }
-    }
-    /* back-track; integer disparities into outrow */
-    for (x = w - 1; x >= 0; x--) {
-        int t;
-        outrow[x] = (int16_t)d;
-        if (x == 0) {
-            break;
-        }
-        t = s->p1[(ptrdiff_t)x * nd + (d - dmin)];
-        if (t == 3) {
-            d = s->jump_to[x] + dmin;
-        } else {
-            d = d + t - 1;
-        }
-        d = negobs_clamp_s32(d, s->blo[x - 1], s->bhi[x - 1]);
+        back_track(s, d, s->p1, cells, s->jump_to, outrow, STX_P1_STRIDED);
     }
     /* stage 5a: sub-pixel refinement and confidence */
     score_row_init(&srow, s, y);

@@ -117,6 +117,66 @@ static negobs_status_t check_config(const negobs_stereo_config_t *c)
         }                                                                     \
     } while (0)
 
+/* Offset of the next `bytes` in a block laid out as the arena would lay
+ * out separate blocks (without guards), and the block's end in *end. */
+static size_t slot(size_t *end, size_t bytes)
+{
+    size_t at = *end;
+    *end += (bytes + (NEGOBS_ARENA_ALIGN - 1u)) &
+            ~(size_t)(NEGOBS_ARENA_ALIGN - 1u);
+    return at;
+}
+
+/*
+ * The growth's strip scratch (Canny, the matching table and its bitset,
+ * the queue, the score cache) as one block: canny.c and gcs.c set all of
+ * it up again at every strip, so it is idle from the end of the growth to
+ * the next frame, and the DP keeps its pointers in it between its passes
+ * (dp_store.c) unless carve() lends the memo, where that is larger. In a
+ * release build the block takes what the separate blocks took; with debug
+ * guards it has one guard pair.
+ */
+static void carve_growth(negobs_arena_t *a, stx_t *x,
+                         const negobs_stereo_config_t *c, size_t spx)
+{
+    size_t w = (size_t)c->width;
+    size_t nd = (size_t)(c->max_disp - c->min_disp + 1);
+    size_t q = (size_t)c->queue_capacity;
+    size_t end = 0;
+    size_t mag = slot(&end, (spx + 2u * w) * sizeof(uint16_t));
+    size_t edge = slot(&end, spx);
+    size_t ld = slot(&end, spx);
+    size_t lc = slot(&end, spx);
+    size_t lc2 = slot(&end, spx);
+    size_t rd = slot(&end, spx);
+    size_t rc = slot(&end, spx);
+    size_t rc2 = slot(&end, spx);
+    size_t tbits = slot(&end, (spx * nd + 7u) / 8u);
+    size_t item = slot(&end, q * sizeof(uint32_t));
+    size_t next = slot(&end, q * sizeof(int32_t));
+    size_t head = slot(&end, STX_NBUCKET * sizeof(int32_t));
+    size_t cache = slot(&end, sizeof(stx_cache_entry_t) << STX_CACHE_BITS);
+    uint8_t *g = (uint8_t *)negobs_arena_take(a, end);
+    if (x == NULL || g == NULL) {
+        return;
+    }
+    x->mag = (uint16_t *)(void *)(g + mag);
+    x->edge = g + edge;
+    x->ld = g + ld;
+    x->lc = g + lc;
+    x->lc2 = g + lc2;
+    x->rd = g + rd;
+    x->rc = g + rc;
+    x->rc2 = g + rc2;
+    x->tbits = g + tbits;
+    x->q.item = (uint32_t *)(void *)(g + item);
+    x->q.next = (int32_t *)(void *)(g + next);
+    x->q.head = (int32_t *)(void *)(g + head);
+    x->cache = (stx_cache_entry_t *)(void *)(g + cache);
+    x->dps = g; /* carve() prefers the memo where there is one */
+    x->dps_cap = end;
+}
+
 /* The scratch of one band worker (the context itself is worker 0): the
  * strip buffers of stages 2-4 and one DP row. bands.c: worker_sync()
  * lists the same fields. */
@@ -139,19 +199,7 @@ static void carve_scratch(negobs_arena_t *a, stx_t *x,
     TAKE(x->sr, uint16_t, spx);
     TAKE(x->vl, uint32_t, spx);
     TAKE(x->vr, uint32_t, spx);
-    TAKE(x->mag, uint16_t, spx + 2u * (size_t)w);
-    TAKE(x->edge, uint8_t, spx);
-    TAKE(x->ld, uint8_t, spx);
-    TAKE(x->lc, uint8_t, spx);
-    TAKE(x->lc2, uint8_t, spx);
-    TAKE(x->rd, uint8_t, spx);
-    TAKE(x->rc, uint8_t, spx);
-    TAKE(x->rc2, uint8_t, spx);
-    TAKE(x->tbits, uint8_t, (spx * (size_t)nd + 7u) / 8u);
-    TAKE(x->q.item, uint32_t, c->queue_capacity);
-    TAKE(x->q.next, int32_t, c->queue_capacity);
-    TAKE(x->q.head, int32_t, STX_NBUCKET);
-    TAKE(x->cache, stx_cache_entry_t, 1u << STX_CACHE_BITS);
+    carve_growth(a, x, c, spx);
     TAKE(x->yprev, int32_t, nd + 2);
     TAKE(x->ycur, int32_t, nd + 2);
     TAKE(x->p1, uint8_t, (size_t)w * (size_t)nd);
@@ -206,6 +254,17 @@ static stx_t *carve(negobs_arena_t *a, const negobs_stereo_config_t *c,
         s->q.cap = c->queue_capacity;
     }
     carve_scratch(a, s, c, memo_k);
+    if (s != NULL && s->memo != NULL &&
+        (size_t)sh * (size_t)w * (size_t)memo_k * sizeof *s->memo >
+            s->dps_cap) {
+        /* the growth is over when the DP runs: worker 0's memo (the
+         * bands' DP rows share one store), where larger than its strip
+         * scratch, holds the DP's pointers between its two passes
+         * (dp_store.c) and is zeroed after them */
+        s->dps = (uint8_t *)s->memo;
+        s->dps_cap = (size_t)sh * (size_t)w * (size_t)memo_k * sizeof *s->memo;
+        s->dps_memo = 1;
+    }
     TAKE(s->lo_l, uint8_t, (size_t)lw * (size_t)lh);
     TAKE(s->lo_r, uint8_t, (size_t)lw * (size_t)lh);
     TAKE(s->lo_d, uint8_t, (size_t)lw * (size_t)lh);

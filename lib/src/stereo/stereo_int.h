@@ -101,12 +101,33 @@ void stx_memo_clear(stx_t *s);
 
 /* ---- dp.c ------------------------------------------------------------- */
 /* Stage 1 of one row (needs the strip statistics of row y). With
- * pass == 0 the end column feeds stage 2; with pass == 1 the row is
- * back-tracked from s->dend[y] and written (integer px) to out, costs kept
- * in s->cost for sub-pixel refinement. `gcsrow` holds the GCS result. */
+ * pass == 0 the end column feeds stage 2 (and the pointers go to the store
+ * when they fit); with pass == 1 the row is back-tracked from s->dend[y]
+ * (stage 1 runs again unless its pointers were stored) and written
+ * (integer px) to out, costs kept in s->cost for sub-pixel refinement.
+ * `gcsrow` holds the GCS result; rows of a band come in the same order in
+ * both passes. */
 void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
                 int16_t *outrow, uint8_t *confrow);
+
+/* ---- dp_store.c ------------------------------------------------------- */
+/* The pointer store: rows [y0, y1) take records from their part of it,
+ * at most `limit` bytes (pass 0: all of it; pass 1: what pass 0 used,
+ * stx_dp_store_used() after its rows). After pass 1, release gives the
+ * part's used bytes back to their owner. */
+void stx_dp_store_begin(stx_t *s, int32_t y0, int32_t y1, size_t limit);
+size_t stx_dp_store_used(const stx_t *s);
+void stx_dp_store_release(stx_t *s, int32_t y0, int32_t y1, size_t used);
+/* (the records' layout and the taking of one: stereo/dp_store.h) */
+
+/* ---- dp_stage2.c ------------------------------------------------------ */
+/* Stage-1 scores at or below this are outside the band ("-inf"); real
+ * ones stay above it (dp.c: |Y| < 2^28). */
+#define STX_DP_NEG32 (INT32_MIN / 2)
 void stx_dp_stage2_reset(stx_t *s);
+/* Row y's stage-1 end scores ye (ndisp; unread unless `have`) into the
+ * second stage; rows must come in order 0, 1, ... */
+void stx_dp_stage2_feed(stx_t *s, int32_t y, int have, const int32_t *ye);
 /* With several band workers (s->yend): feed the stored rows 0 .. h-1. */
 void stx_dp_stage2_feed_stored(stx_t *s);
 void stx_dp_stage2_finish(stx_t *s);

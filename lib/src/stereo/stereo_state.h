@@ -117,6 +117,12 @@ typedef struct stx {
     int16_t *dend;          /* h: stage-2 end disparity per row          */
     int16_t *zarg;          /* h: argmax of stage-2 scores per row       */
     int32_t zrows;          /* rows fed to stage 2 so far                */
+    /* stage-1 pointer store (dp.c): scratch lent to the DP (the growth's
+     * memo or its strip scratch, worker 0's), NULL: none */
+    uint8_t *dps;
+    size_t dps_cap;
+    size_t dps_start, dps_pos, dps_end; /* the band's part, next record */
+    uint32_t dps_used[NEGOBS_STEREO_MAX_BANDS]; /* bytes, by pass 0    */
 
     /* row bands (bands.c): per-row stage-1 end scores when several
      * workers run pass 0 at once (NULL with one worker: the rows then
@@ -134,6 +140,7 @@ typedef struct stx {
     int32_t band_work_h;  /* rows of the frame band_work is of    */
     int32_t band_work_nb; /* its band count (0: no frame yet)     */
     int exec_failed;      /* an executor skipped a job or named a bad worker */
+    int dps_memo;         /* 1: the DP's store is the memo (dp.c)   */
     negobs_executor_t exec; /* run == NULL: the caller's thread       */
 
     /* refinement */
