@@ -481,36 +481,40 @@ static void broken_run(void *user, int32_t n_jobs, negobs_job_fn fn, void *arg)
     }
 }
 
-/* A broken executor makes the frame fail (never a map with holes of
- * unknown content), and the next frame on a sound one succeeds. */
+/* One frame of run r on an executor that breaks in `mode`: the frame
+ * fails (never a map with holes of unknown content). Then the sound fake
+ * executor f is installed for the frames after it. */
+static void fail_one_frame(run_t *r, int mode, fake_exec_t *f)
+{
+    broken_exec_t b = {mode, 2};
+    negobs_executor_t e;
+    negobs_image_u8_t li = {left, W, H, W};
+    negobs_image_u8_t ri = {right, W, H, W};
+    negobs_image_s16_t di = {r->disp, W, H, W};
+    e.workers = 2;
+    e.run = broken_run;
+    e.user = &b;
+    assert_int_equal(negobs_stereo_set_executor(&r->ctx, &e), NEGOBS_OK);
+    assert_int_equal(
+        negobs_stereo_process(&r->ctx, &li, &ri, &di, NULL, &r->st),
+        NEGOBS_ERR_STATE);
+    e.run = fake_run;
+    e.user = f;
+    assert_int_equal(negobs_stereo_set_executor(&r->ctx, &e), NEGOBS_OK);
+}
+
+/* A broken executor makes the frame fail, and the next frame on a sound
+ * one succeeds. */
 static void test_broken_executor_fails_the_frame(void **state)
 {
     int mode;
     (void)state;
     render(21u);
     for (mode = 0; mode < 3; mode++) {
-        broken_exec_t b = {mode, 2};
         fake_exec_t f = {2, 0, 0};
-        negobs_executor_t e;
-        negobs_image_u8_t li = {left, W, H, W};
-        negobs_image_u8_t ri = {right, W, H, W};
-        negobs_image_s16_t di = {g_run[0].disp, W, H, W};
         init_run(&g_run[0], 4, 2, 32);
-        e.workers = 2;
-        e.run = broken_run;
-        e.user = &b;
-        assert_int_equal(negobs_stereo_set_executor(&g_run[0].ctx, &e),
-                         NEGOBS_OK);
-        assert_int_equal(negobs_stereo_process(&g_run[0].ctx, &li, &ri, &di,
-                                               NULL, &g_run[0].st),
-                         NEGOBS_ERR_STATE);
-        e.run = fake_run;
-        e.user = &f;
-        assert_int_equal(negobs_stereo_set_executor(&g_run[0].ctx, &e),
-                         NEGOBS_OK);
-        assert_int_equal(negobs_stereo_process(&g_run[0].ctx, &li, &ri, &di,
-                                               NULL, &g_run[0].st),
-                         NEGOBS_OK);
+        fail_one_frame(&g_run[0], mode, &f);
+        process(&g_run[0]);
     }
 }
 
@@ -526,25 +530,9 @@ static void test_broken_executor_fast(void **state)
     process(&g_run[0]);
     g_profile = NEGOBS_STEREO_PROFILE_FAST;
     for (mode = 0; mode < 3; mode++) {
-        broken_exec_t b = {mode, 2};
         fake_exec_t f = {2, 0, 0};
-        negobs_executor_t e;
-        negobs_image_u8_t li = {left, W, H, W};
-        negobs_image_u8_t ri = {right, W, H, W};
-        negobs_image_s16_t di = {g_run[1].disp, W, H, W};
         init_run(&g_run[1], 4, 2, 32);
-        e.workers = 2;
-        e.run = broken_run;
-        e.user = &b;
-        assert_int_equal(negobs_stereo_set_executor(&g_run[1].ctx, &e),
-                         NEGOBS_OK);
-        assert_int_equal(negobs_stereo_process(&g_run[1].ctx, &li, &ri, &di,
-                                               NULL, &g_run[1].st),
-                         NEGOBS_ERR_STATE);
-        e.run = fake_run;
-        e.user = &f;
-        assert_int_equal(negobs_stereo_set_executor(&g_run[1].ctx, &e),
-                         NEGOBS_OK);
+        fail_one_frame(&g_run[1], mode, &f);
         process(&g_run[1]);
         process(&g_run[1]);
         assert_same();
