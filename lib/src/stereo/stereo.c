@@ -140,7 +140,7 @@ static void carve_growth(negobs_arena_t *a, stx_t *x,
                          const negobs_stereo_config_t *c, size_t spx)
 {
     size_t w = (size_t)c->width;
-    size_t nd = (size_t)(c->max_disp - c->min_disp + 1);
+    size_t nd = (size_t)c->max_disp - (size_t)c->min_disp + 1u;
     size_t q = (size_t)c->queue_capacity;
     size_t end = 0;
     size_t mag = slot(&end, (spx + 2u * w) * sizeof(uint16_t));
