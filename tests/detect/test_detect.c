@@ -1116,6 +1116,52 @@ static void test_detect_small_rise_does_not_close_the_path(void **state)
     rig_teardown(&rig);
 }
 
+/* Raise rows [v0, v0 + n) of the map by add_q4 (a band of rows a matcher
+ * reads high across the image). */
+static void raise_rows(rig_t *r, int v0, int n, int add_q4)
+{
+    int v;
+    int u;
+    for (v = v0; v < v0 + n; v++) {
+        for (u = 0; u < RIG_W; u++) {
+            int16_t *d = &r->disp[v * RIG_W + u];
+            if (*d != NEGOBS_DISP_INVALID) {
+                *d = (int16_t)(*d + add_q4);
+            }
+        }
+    }
+}
+
+/* A 15 cm drop at 2.5 m (rows up to 144) beyond two rows read 1 px high
+ * at 1.8 m (rows 180-181, tau there 0.45 px): one or two rows above
+ * the model are noise, not a wall, and the scan goes on to the drop (it
+ * used to stop at the first such row, and the drop was never seen). Three
+ * such rows are a closure, as three deficit rows are a drop: the scan
+ * stops there, and nothing beyond is reported. */
+static void test_detect_two_high_rows_do_not_end_the_scan(void **state)
+{
+    synth_scene_t s;
+    const negobs_hazard_t *h;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.1, 611u);
+    synth_step(&s, 2.5, -0.15);
+    assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+    h = rig_nearest(&rig);
+    assert_non_null(h);
+    synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
+    raise_rows(&rig, 180, 2, 16);
+    assert_int_equal(rig_run(&rig), NEGOBS_OK);
+    h = rig_nearest(&rig);
+    assert_non_null(h);
+    assert_in_range(h->range_mm, 2300, 2700);
+    synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
+    raise_rows(&rig, 180, rig.cfg.min_edge_rows, 16);
+    assert_int_equal(rig_run(&rig), NEGOBS_OK);
+    assert_null(rig_nearest(&rig));
+    rig_teardown(&rig);
+}
+
 /* 0.35 px of row-correlated noise (0.36 px per pixel) on flat ground: the
  * per-pixel figure passes the old test (3 * 1.25 * 0.36 / 4 = 0.34 px is
  * less than the 0.58 px deficit of 100 mm at 4 m), but the strip median
@@ -1627,6 +1673,7 @@ int main(void)
         cmocka_unit_test(test_detect_no_false_hazard_on_wall),
         cmocka_unit_test(test_detect_wall_before_warning_range_is_clear),
         cmocka_unit_test(test_detect_small_rise_does_not_close_the_path),
+        cmocka_unit_test(test_detect_two_high_rows_do_not_end_the_scan),
         cmocka_unit_test(
             test_detect_unconfirmed_candidate_with_noisy_near_rows),
         cmocka_unit_test(

@@ -117,6 +117,78 @@ static void test_noise_median_is_capped(void **state)
     assert_false(det_box_textured(&img, 80, 20, 20, 140, 100));
 }
 
+/* Bars of grey 98 and 158, 4 px each (every 5x5 window holds an edge, a
+ * variance near 900 against the 4 x 2.5^2 = 25 the noise asks), plus
+ * noise of sigma 2. Horizontal bars (a painted stripe's long edges, rows
+ * of the same grey) match every disparity along the row about as well:
+ * the box fails. The same bars upright pass. */
+static void render_bars(int horizontal)
+{
+    int x;
+    int y;
+    rng = 777u;
+    for (y = 0; y < H; y++) {
+        for (x = 0; x < W; x++) {
+            int k = horizontal ? y : x;
+            px[y * W + x] = clamp_u8(((k / 4) % 2 ? 158.0 : 98.0) +
+                                     2.0 * gauss());
+        }
+    }
+}
+
+static void test_box_horizontal_edges_fail(void **state)
+{
+    (void)state;
+    render_bars(1);
+    assert_false(det_box_textured(&img, 10, 20, 20, 140, 100));
+    assert_false(det_box_textured(&img, 0, 20, 20, 140, 100));
+    render_bars(0);
+    assert_true(det_box_textured(&img, 10, 20, 20, 140, 100));
+}
+
+/* A floor seen at a slant: its texture is foreshortened vertically, so
+ * the vertical gradient outweighs the horizontal one. Texture of sigma
+ * 12, each pixel the normalised sum of `len` independent samples along
+ * the row: a 2-px horizontal difference then has a variance of
+ * 4 x 144 / len, a vertical one 2 x 144, so len 5 gives 2.5 times more
+ * vertical energy and len 15 (with the noise of sigma 2) about 6 times,
+ * both inside the 1/10 the test allows for grazing views: both pass. */
+static void render_streaks(int len)
+{
+    static double t[W * H];
+    int x;
+    int y;
+    int i;
+    rng = 4242u;
+    for (x = 0; x < W * H; x++) {
+        t[x] = 12.0 * gauss();
+    }
+    for (y = 0; y < H; y++) {
+        for (x = 0; x < W; x++) {
+            double a = 0.0;
+            for (i = 0; i < len; i++) {
+                a += t[y * W + (x + i) % W];
+            }
+            px[y * W + x] = clamp_u8(128.0 + a / sqrt((double)len) +
+                                     2.0 * gauss());
+        }
+    }
+}
+
+static void test_box_foreshortened_texture_passes(void **state)
+{
+    int32_t m;
+    (void)state;
+    render_streaks(5);
+    m = det_noise_median(&img);
+    print_message("streaks 5: median %d\n", (int)m);
+    assert_true(det_box_textured(&img, m, 20, 20, 140, 100));
+    render_streaks(15);
+    m = det_noise_median(&img);
+    print_message("streaks 15: median %d\n", (int)m);
+    assert_true(det_box_textured(&img, m, 20, 20, 140, 100));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -124,6 +196,8 @@ int main(void)
         cmocka_unit_test(test_noise_median_resists_some_texture),
         cmocka_unit_test(test_box_texture_against_the_noise),
         cmocka_unit_test(test_noise_median_is_capped),
+        cmocka_unit_test(test_box_horizontal_edges_fail),
+        cmocka_unit_test(test_box_foreshortened_texture_passes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

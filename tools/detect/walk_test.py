@@ -43,3 +43,35 @@ def wearable_flat_walk(synth, png, work, name, frames, seed, height_mm,
                     "--height-mm", "0"], check=True)
     with open(jsonl) as fh:
         return [json.loads(line) for line in fh]
+
+
+def generic_flat_walk(synth, png, work, name, frames, seed, mount, camera):
+    """Render a flat walk of the 6 cm suite rig as `negobs_detect_eval
+    --set generic` draws it (320x240, f = 250 px, B = 60 mm, 6
+    distractors, the same shade on both levels, exposure steps of 25 %
+    every 8 frames with the right camera one frame late): mount is
+    (height_mm, pitch_deg, roll_deg), camera is (texture, gain_right,
+    offset_right). Run negobs_png on it with the generic hint the suite
+    gives (1.2 m / 20 deg) and return its JSON lines, one dict per
+    frame."""
+    seq = os.path.join(work, name)
+    jsonl = os.path.join(work, name + ".jsonl")
+    height_mm, pitch_deg, roll_deg = mount
+    texture, gain, offset = camera
+    subprocess.run([synth, "--scene", "flat", "--drop-mm", "150",
+                    "--edge-mm", "8000", "--frames", str(frames), "--fps",
+                    "10", "--speed", "1.2", "--yaw-deg", "0", "--seed",
+                    str(seed), "--noise", "2", "--blur", "0.5", "--width",
+                    "320", "--height", "240", "--f", "250", "--baseline-mm",
+                    "60", "--height-mm", str(height_mm), "--pitch-deg",
+                    str(pitch_deg), "--threads", "1", "--quiet",
+                    "--distractors", "6", "--roll-deg", str(roll_deg),
+                    "--texture-kind", texture, "--gain-right", str(gain),
+                    "--offset-right", str(offset), "--lower-shade", "1",
+                    "--exposure-pct", "25", "--exposure-every", "8",
+                    "--exposure-lag-right", "1", "--out", seq], check=True)
+    subprocess.run([png, "--seq", seq, "--out", os.path.join(work, "out"),
+                    "--json", jsonl, "--no-overlay", "--quiet",
+                    "--height-mm", "1200", "--pitch-deg", "20"], check=True)
+    with open(jsonl) as fh:
+        return [json.loads(line) for line in fh]

@@ -64,13 +64,63 @@ int32_t det_noise_median(const negobs_image_u8_t *img)
  * 0.75. Below that the match wanders by tenths of a pixel (flat paint, a
  * smooth slab), as much as a minimum drop's deficit on a narrow rig, so
  * a deficit there is no evidence of a drop. With noise_med = 0 (no noise
- * measured) every box passes.
+ * measured) the variance test passes every window.
+ *
+ * A window must also show horizontal structure (window_sees_columns):
+ * variance alone passes the long edge of a painted stripe across the
+ * path, where every disparity along the row matches about as well (the
+ * aperture problem) and the matcher returns confident disparities
+ * pixels off, which read as a deep deficit.
  *
  * Scaling: v = 25 * sum(p^2) - (sum p)^2 = 625 * var (at most 1.02e7);
  * sigma = noise_med / 4.047, so var >= 4 sigma^2 is
  * v * 4095 >= 625000 * noise_med^2 (noise_med <= 24: at most 3.6e8;
  * v * 4095 at most 4.2e10, in 64 bits).
  */
+/*
+ * 1 when the 5x5 window centred at (x, y) holds horizontal gradient
+ * energy of at least 1/APERTURE_RATIO_INV of its vertical one, both from
+ * 2-pixel central differences (the scale the 5x5 NCC matches at; a
+ * 1-pixel difference misses the 2-5 px contrast of real optics and
+ * rendered texture): gxx over the window's inner 3 columns x 5 rows,
+ * gyy over its 5 columns x inner 3 rows, 15 differences each. A
+ * horizontal edge has gxx near 0 and fails; an upright one passes.
+ *
+ * Why 1/10, and not 1: a floor seen at a slant is foreshortened
+ * vertically by about sin(grazing angle), so its own texture shows
+ * several times more vertical than horizontal gradient; 1/10 keeps
+ * floors seen at grazing angles down to about 18 deg (sin^2 = 0.1),
+ * and still fails a stripe's edge, whose horizontal energy is the noise
+ * alone. Scaling: each squared difference is at most 255^2, each sum at
+ * most 15 * 65025 = 975 375, times 10 fits in 32 bits.
+ */
+enum { APERTURE_RATIO_INV = 10 };
+
+static inline int window_sees_columns(const negobs_image_u8_t *img, int32_t x,
+                                      int32_t y)
+{
+    int32_t gxx = 0;
+    int32_t gyy = 0;
+    int32_t j;
+    int32_t i;
+    for (j = -2; j <= 2; j++) {
+        const uint8_t *row = negobs_image_u8_row(img, y + j);
+        for (i = -1; i <= 1; i++) {
+            int32_t g = (int32_t)row[x + i + 1] - row[x + i - 1];
+            gxx += g * g;
+        }
+    }
+    for (j = -1; j <= 1; j++) {
+        const uint8_t *up = negobs_image_u8_row(img, y + j - 1);
+        const uint8_t *dn = negobs_image_u8_row(img, y + j + 1);
+        for (i = -2; i <= 2; i++) {
+            int32_t g = (int32_t)dn[x + i] - up[x + i];
+            gyy += g * g;
+        }
+    }
+    return APERTURE_RATIO_INV * gxx >= gyy;
+}
+
 int det_box_textured(const negobs_image_u8_t *img, int32_t noise_med,
                      int32_t u0, int32_t v0, int32_t u1, int32_t v1)
 {
@@ -98,7 +148,8 @@ int det_box_textured(const negobs_image_u8_t *img, int32_t noise_med,
                 }
             }
             n++;
-            ok += (int64_t)(25 * q - s * s) * 4095 >= need;
+            ok += (int64_t)(25 * q - s * s) * 4095 >= need &&
+                  window_sees_columns(img, x, y);
         }
     }
     return n == 0 || 2 * ok >= n;
