@@ -1162,6 +1162,46 @@ static void test_detect_two_high_rows_do_not_end_the_scan(void **state)
     rig_teardown(&rig);
 }
 
+/* A drop seen on one frame and not on the next (its edge left the view,
+ * or the fit moved onto the lower level) is not vouched past on the next
+ * frames: a 15 cm drop at 2.5 m raises a candidate on one frame; the
+ * following frames show flat ground, and until confirm_n frames have
+ * passed their vouched range stays below the sighting, less what the
+ * walker may have come nearer (hold_speed_mm_s). Then the sighting has
+ * expired and the flat floor is vouched beyond it again. */
+static void test_detect_recent_sighting_bounds_the_vouch(void **state)
+{
+    synth_scene_t s;
+    int32_t seen;
+    int i;
+    (void)state;
+    rig_setup(&rig, NULL);
+    scene(&s, 0.05, 907u);
+    assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+    assert_true(rig.res.clear_to_mm > 3000);
+    synth_step(&s, 2.5, -0.15);
+    assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+    assert_true(rig.res.n_candidates > 0u);
+    seen = rig.res.candidates[0].range_mm;
+    for (i = 1; i < (int)rig.res.n_candidates; i++) {
+        seen = seen < rig.res.candidates[i].range_mm
+                   ? seen
+                   : rig.res.candidates[i].range_mm;
+    }
+    scene(&s, 0.05, 908u);
+    for (i = 1; i < rig.cfg.confirm_n; i++) {
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        assert_int_equal(rig.res.n_candidates, 0u);
+        print_message("frame %d after: clear_to %d mm (seen at %d)\n", i,
+                      (int)rig.res.clear_to_mm, (int)seen);
+        assert_true(rig.res.clear_to_mm <=
+                    seen - rig.cfg.hold_speed_mm_s * i / 10);
+    }
+    assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+    assert_true(rig.res.clear_to_mm > seen);
+    rig_teardown(&rig);
+}
+
 /* 0.35 px of row-correlated noise (0.36 px per pixel) on flat ground: the
  * per-pixel figure passes the old test (3 * 1.25 * 0.36 / 4 = 0.34 px is
  * less than the 0.58 px deficit of 100 mm at 4 m), but the strip median
@@ -1674,6 +1714,7 @@ int main(void)
         cmocka_unit_test(test_detect_wall_before_warning_range_is_clear),
         cmocka_unit_test(test_detect_small_rise_does_not_close_the_path),
         cmocka_unit_test(test_detect_two_high_rows_do_not_end_the_scan),
+        cmocka_unit_test(test_detect_recent_sighting_bounds_the_vouch),
         cmocka_unit_test(
             test_detect_unconfirmed_candidate_with_noisy_near_rows),
         cmocka_unit_test(

@@ -386,7 +386,9 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
         fw.walk_cause = NEGOBS_DEGRADED_GROUND_REJECTED;
         res->blocked_at_mm = 0;
     }
-    det_verdict(cfg, res, reasons, fw.walk_to, fw.walk_cause);
+    det_verdict(cfg, res, reasons, fw.walk_to, fw.walk_cause,
+                det_sight_bound(p, cfg, frame->now_ms));
+    det_sight_note(p, res, frame->now_ms);
     /* a hazard's range this frame may be too far (temporal.c): vouch
      * no farther than its track's own prediction either */
     res->clear_to_mm = geom_min_s32(

@@ -34,6 +34,10 @@
 #define DETECT_MAGIC 0x4E474454u /* "NGDT" */
 #define MAX_STRIP_PX 64
 
+/* Frames of candidate sightings kept (detect_sight.c): confirm_n is at
+ * most 31, and a sighting counts for confirm_n - 1 frames after its own. */
+#define SIGHT_FRAMES 32
+
 enum row_class {
     ROW_INVALID = 0,
     ROW_GROUND,
@@ -172,6 +176,12 @@ typedef struct detect_priv {
     int32_t view_r_held;
     int16_t *fill_u0; /* scratch: this frame's fill of one image       */
     int16_t *fill_u1;
+    /* the nearest candidate of each of the last frames, newest at
+     * sight_head - 1 (detect_sight.c); INT32_MAX: none that frame */
+    int32_t sight_range_mm[SIGHT_FRAMES];
+    uint32_t sight_ms[SIGHT_FRAMES];
+    int32_t sight_head;
+    int32_t sight_n;
 } detect_priv_t;
 
 /* Scan context shared by the strips of one frame. */
@@ -253,10 +263,16 @@ int det_vouch_candidate(const scan_ctx_t *s, const detect_priv_t *p,
 
 void det_verdict(const negobs_detect_config_t *cfg,
                  negobs_detect_result_t *res, uint32_t reasons,
-                 int32_t walk_to, uint32_t walk_cause);
+                 int32_t walk_to, uint32_t walk_cause, int32_t sight_mm);
 
 void det_merge_strips(const scan_ctx_t *s, detect_priv_t *p,
                       negobs_detect_result_t *res);
+
+int32_t det_sight_bound(const detect_priv_t *p,
+                        const negobs_detect_config_t *cfg, uint32_t now_ms);
+
+void det_sight_note(detect_priv_t *p, const negobs_detect_result_t *res,
+                    uint32_t now_ms);
 
 void det_near_candidate_note(detect_priv_t *p,
                              const negobs_detect_config_t *cfg,

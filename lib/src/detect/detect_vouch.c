@@ -433,8 +433,9 @@ int det_vouch_candidate(const scan_ctx_t *s, const detect_priv_t *p,
 /*
  * The det_verdict (docs/DETECTION.md, "Verdicts and the vouched range"):
  * clear_to_mm is the vouched walk, cut at the nearest candidate of this
- * frame (a suspected drop is not vouched past, confirmed or not) and at
- * the nearest reported hazard. A gating or ground reason is NO_INFO with
+ * frame (a suspected drop is not vouched past, confirmed or not), at
+ * sight_mm (the recent frames' candidates, det_sight_bound) and at the
+ * nearest reported hazard. A gating or ground reason is NO_INFO with
  * clear_to_mm 0 (unverified ground alone keeps the vouched range); a
  * confirmed or held hazard is HAZARD; a vouched range
  * below near_min_mm is NO_INFO (with the reason the walk stopped) unless
@@ -444,9 +445,9 @@ int det_vouch_candidate(const scan_ctx_t *s, const detect_priv_t *p,
  */
 void det_verdict(const negobs_detect_config_t *cfg,
                  negobs_detect_result_t *res, uint32_t reasons,
-                 int32_t walk_to, uint32_t walk_cause)
+                 int32_t walk_to, uint32_t walk_cause, int32_t sight_mm)
 {
-    int32_t clear_to = walk_to;
+    int32_t clear_to = geom_min_s32(walk_to, sight_mm);
     uint32_t i;
     for (i = 0; i < res->n_candidates; i++) {
         clear_to = geom_min_s32(clear_to,
