@@ -31,28 +31,7 @@ def main():
     synth, png, work = args
     rows = walk_test.generic_flat_walk(synth, png, work, "flat", 30, 500364,
                                        (1442, 28.0, 5.8), ("worn", 1.1, -3))
-    frames = alarms = candidates = 0
-    for r in rows:
-        frames += 1
-        candidates += len(r["candidates"])
-        if r["hazards"] or r["level"] != "NONE":
-            alarms += 1
-            print("frame %d: %s %s, hazards %s" %
-                  (r["frame"], r["state"], r["level"],
-                   [(h["type"], h["range_mm"], h["drop_mm"])
-                    for h in r["hazards"]]))
-    print("%d frames, %d candidates, %d with a hazard" %
-          (frames, candidates, alarms))
-    if frames != 30:
-        print("FAIL: %d frames processed" % frames)
-        return 1
-    if candidates == 0:
-        print("FAIL: the stripe raised no candidate; the walk tests nothing")
-        return 1
-    if alarms:
-        print("FAIL: %d frames with a hazard on flat ground" % alarms)
-        return 1
-    return 0
+    return walk_test.check_flat_no_alarm(rows, 30, "the stripe")
 
 
 if __name__ == "__main__":

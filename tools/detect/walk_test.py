@@ -19,6 +19,25 @@ def setup(doc):
     return synth, png, work
 
 
+def _render_and_run(synth, png, work, name, synth_args, png_args):
+    """Render a walk with negobs_synth (synth_args after the common
+    --fps 10 --speed 1.2 --noise 2 --blur 0.5 ones), run negobs_png on it
+    (png_args: the mounting hint) and return its JSON lines, one dict per
+    frame."""
+    seq = os.path.join(work, name)
+    jsonl = os.path.join(work, name + ".jsonl")
+    subprocess.run([synth, "--scene", "flat", "--drop-mm", "150",
+                    "--edge-mm", "8000", "--fps", "10", "--speed", "1.2",
+                    "--yaw-deg", "0", "--noise", "2", "--blur", "0.5",
+                    "--threads", "1", "--quiet", "--distractors", "6"] +
+                   synth_args + ["--out", seq], check=True)
+    subprocess.run([png, "--seq", seq, "--out", os.path.join(work, "out"),
+                    "--json", jsonl, "--no-overlay", "--quiet"] + png_args,
+                   check=True)
+    with open(jsonl) as fh:
+        return [json.loads(line) for line in fh]
+
+
 def wearable_flat_walk(synth, png, work, name, frames, seed, height_mm,
                        pitch_deg):
     """Render a flat asphalt walk of the 3 cm wearable rig as
@@ -26,23 +45,14 @@ def wearable_flat_walk(synth, png, work, name, frames, seed, height_mm,
     B = 30 mm, 6 distractors, right camera gain 1.04 and offset -4; seed
     and mounting given), run negobs_png on it without a mounting hint and
     return its JSON lines, one dict per frame."""
-    seq = os.path.join(work, name)
-    jsonl = os.path.join(work, name + ".jsonl")
-    subprocess.run([synth, "--scene", "flat", "--drop-mm", "150",
-                    "--edge-mm", "8000", "--frames", str(frames), "--fps",
-                    "10", "--speed", "1.2", "--yaw-deg", "0", "--seed",
-                    str(seed), "--noise", "2", "--blur", "0.5", "--width",
-                    "752", "--height", "480", "--f", "380", "--baseline-mm",
-                    "30", "--height-mm", str(height_mm), "--pitch-deg",
-                    str(pitch_deg), "--threads", "1", "--quiet",
-                    "--distractors", "6", "--roll-deg", "0",
-                    "--texture-kind", "asphalt", "--gain-right", "1.04",
-                    "--offset-right", "-4", "--out", seq], check=True)
-    subprocess.run([png, "--seq", seq, "--out", os.path.join(work, "out"),
-                    "--json", jsonl, "--no-overlay", "--quiet",
-                    "--height-mm", "0"], check=True)
-    with open(jsonl) as fh:
-        return [json.loads(line) for line in fh]
+    return _render_and_run(
+        synth, png, work, name,
+        ["--frames", str(frames), "--seed", str(seed), "--width", "752",
+         "--height", "480", "--f", "380", "--baseline-mm", "30",
+         "--height-mm", str(height_mm), "--pitch-deg", str(pitch_deg),
+         "--roll-deg", "0", "--texture-kind", "asphalt", "--gain-right",
+         "1.04", "--offset-right", "-4"],
+        ["--height-mm", "0"])
 
 
 def generic_flat_walk(synth, png, work, name, frames, seed, mount, camera):
@@ -54,24 +64,44 @@ def generic_flat_walk(synth, png, work, name, frames, seed, mount, camera):
     offset_right). Run negobs_png on it with the generic hint the suite
     gives (1.2 m / 20 deg) and return its JSON lines, one dict per
     frame."""
-    seq = os.path.join(work, name)
-    jsonl = os.path.join(work, name + ".jsonl")
     height_mm, pitch_deg, roll_deg = mount
     texture, gain, offset = camera
-    subprocess.run([synth, "--scene", "flat", "--drop-mm", "150",
-                    "--edge-mm", "8000", "--frames", str(frames), "--fps",
-                    "10", "--speed", "1.2", "--yaw-deg", "0", "--seed",
-                    str(seed), "--noise", "2", "--blur", "0.5", "--width",
-                    "320", "--height", "240", "--f", "250", "--baseline-mm",
-                    "60", "--height-mm", str(height_mm), "--pitch-deg",
-                    str(pitch_deg), "--threads", "1", "--quiet",
-                    "--distractors", "6", "--roll-deg", str(roll_deg),
-                    "--texture-kind", texture, "--gain-right", str(gain),
-                    "--offset-right", str(offset), "--lower-shade", "1",
-                    "--exposure-pct", "25", "--exposure-every", "8",
-                    "--exposure-lag-right", "1", "--out", seq], check=True)
-    subprocess.run([png, "--seq", seq, "--out", os.path.join(work, "out"),
-                    "--json", jsonl, "--no-overlay", "--quiet",
-                    "--height-mm", "1200", "--pitch-deg", "20"], check=True)
-    with open(jsonl) as fh:
-        return [json.loads(line) for line in fh]
+    return _render_and_run(
+        synth, png, work, name,
+        ["--frames", str(frames), "--seed", str(seed), "--width", "320",
+         "--height", "240", "--f", "250", "--baseline-mm", "60",
+         "--height-mm", str(height_mm), "--pitch-deg", str(pitch_deg),
+         "--roll-deg", str(roll_deg), "--texture-kind", texture,
+         "--gain-right", str(gain), "--offset-right", str(offset),
+         "--lower-shade", "1", "--exposure-pct", "25", "--exposure-every",
+         "8", "--exposure-lag-right", "1"],
+        ["--height-mm", "1200", "--pitch-deg", "20"])
+
+
+def check_flat_no_alarm(rows, frames, what):
+    """0 when the JSON lines of a flat walk hold `frames` frames, at least
+    one raw candidate (else the walk tests nothing; `what` names what
+    should raise it) and no frame with a hazard or an alert level; else
+    1, after printing why."""
+    n = alarms = candidates = 0
+    for r in rows:
+        n += 1
+        candidates += len(r["candidates"])
+        if r["hazards"] or r["level"] != "NONE":
+            alarms += 1
+            print("frame %d: %s %s, hazards %s" %
+                  (r["frame"], r["state"], r["level"],
+                   [(h["type"], h["range_mm"], h["drop_mm"])
+                    for h in r["hazards"]]))
+    print("%d frames, %d candidates, %d with a hazard" %
+          (n, candidates, alarms))
+    if n != frames:
+        print("FAIL: %d frames processed" % n)
+        return 1
+    if candidates == 0:
+        print("FAIL: %s raised no candidate; the walk tests nothing" % what)
+        return 1
+    if alarms:
+        print("FAIL: %d frames with a hazard on flat ground" % alarms)
+        return 1
+    return 0
