@@ -4,6 +4,7 @@
  * 320x240, B = 120 mm), noise sigma 0.25 px unless stated.
  */
 #include <math.h>
+#include <stdlib.h>
 
 #include "cmocka_all.h"
 #include "detect/detect_int.h"
@@ -1616,9 +1617,12 @@ static void test_detect_wrong_height_is_unverified_then_accepted(void **state)
         if (rig.res.reasons & NEGOBS_DEGRADED_GROUND_UNVERIFIED) {
             assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
             assert_true(i <= 11); /* 1000 ms at 10 fps, then accepted */
+            assert_int_equal(rig.res.ground_ref_by, NEGOBS_GROUND_REF_NONE);
             unverified++;
         }
     }
+    /* accepted by time alone: not evidence a device may remember */
+    assert_int_equal(rig.res.ground_ref_by, NEGOBS_GROUND_REF_TIME);
     print_message("configured 150 mm low: %d unverified frames, last state "
                   "%d\n",
                   unverified, (int)rig.res.state);
@@ -1631,6 +1635,8 @@ static void test_detect_wrong_height_is_unverified_then_accepted(void **state)
     s.seed = 300u;
     assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
     assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+    assert_int_equal(rig.res.ground_ref_by, NEGOBS_GROUND_REF_HINT);
+    assert_true(abs(rig.res.ground_ref_height_mm - 1200) < 50);
     rig_teardown(&rig);
 }
 
@@ -1663,6 +1669,9 @@ static void test_detect_camera_raised_becomes_the_reference(void **state)
                   hazard_frames, (int)rig.res.state);
     assert_true(hazard_frames >= 3);
     assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+    /* the raised camera was accepted after ground_drop_max_ms: the same
+     * view as standing that long before a drop, so not evidence */
+    assert_int_equal(rig.res.ground_ref_by, NEGOBS_GROUND_REF_TIME);
     rig_teardown(&rig);
 
     rig_setup(&rig, &c);

@@ -5,6 +5,7 @@
  * 1.35 m / 25 deg, away from the library's generic 1.2 m / 20 deg hint.
  */
 #include <math.h>
+#include <stdlib.h>
 
 #include "cmocka_all.h"
 #include "scene_util.h"
@@ -208,6 +209,15 @@ static void test_mount_look_at_the_feet_verifies_the_start(void **state)
              * FEW_GROUND: the track keeps the old plane for a frame) */
             if (!off && i >= 4) {
                 assert_int_equal(rig.res.state, NEGOBS_DETECT_CLEAR);
+                /* the look at the feet is evidence a device may keep */
+                assert_int_equal(rig.res.ground_ref_by,
+                                 NEGOBS_GROUND_REF_FEET);
+                assert_true(abs(rig.res.ground_ref_height_mm - 1200) <= 50);
+            }
+            if (off) {
+                assert_int_equal(rig.res.ground_ref_by,
+                                 NEGOBS_GROUND_REF_NONE);
+                assert_int_equal(rig.res.ground_ref_height_mm, 0);
             }
         }
         print_message("flat, no hint, looked down first (check %s): %d "

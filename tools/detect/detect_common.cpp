@@ -432,6 +432,18 @@ const char *mount_source_name(int s)
     }
 }
 
+const char *ground_ref_name(int by)
+{
+    switch (by) {
+    case NEGOBS_GROUND_REF_NONE: return "none";
+    case NEGOBS_GROUND_REF_HINT: return "hint";
+    case NEGOBS_GROUND_REF_FEET: return "feet";
+    case NEGOBS_GROUND_REF_WALK: return "walk";
+    case NEGOBS_GROUND_REF_TIME: return "time";
+    default: return "?";
+    }
+}
+
 std::string reasons_string(uint32_t reasons, const char *sep)
 {
     static const char *const names[] = {
@@ -540,7 +552,9 @@ std::string json_line(int frame, const std::string &name, const FrameOut &o,
       << "},\"mount\":{\"height_mm\":" << d.mount.height_mm
       << ",\"pitch_mdeg\":" << d.mount.pitch_mdeg
       << ",\"roll_mdeg\":" << d.mount.roll_mdeg << ",\"source\":\""
-      << mount_source_name(d.mount.source) << "\"},\"ms\":{";
+      << mount_source_name(d.mount.source) << "\"},\"ground_ref\":{\"by\":\""
+      << ground_ref_name(d.ground_ref_by) << "\",\"height_mm\":" << d.ground_ref_height_mm
+      << ",\"pitch_mdeg\":" << d.ground_ref_pitch_mdeg << "},\"ms\":{";
     if (o.stereo_ms >= 0) {
         s << "\"stereo\":" << fmt("%.2f", o.stereo_ms)
           << ",\"detect\":" << fmt("%.2f", o.detect_ms) << ",";

@@ -137,6 +137,8 @@ const char *state_name(int state);
 const char *level_name(int level);
 // "config", "estimated" or "held" (negobs_mount_source_t).
 const char *mount_source_name(int source);
+// negobs_ground_ref_by_t as the JSON's ground_ref.by: none hint feet walk time
+const char *ground_ref_name(int by);
 const char *pattern_name(int pattern);
 const char *type_name(int type);
 std::string reasons_string(uint32_t reasons, const char *sep);

@@ -88,6 +88,14 @@ def main():
         if walked < near_mm:
             print("FAIL: CLEAR before the unseen floor was walked over")
             failed += 1
+        # the ground under the feet, as a device may remember it
+        ref = first_clear["ground_ref"]
+        print("ground under the feet: by %s, %d mm (rendered %d mm)" %
+              (ref["by"], ref["height_mm"], cam["H_mm"]))
+        if ref["by"] != "walk" or abs(ref["height_mm"] - cam["H_mm"]) > 50:
+            print("FAIL: the walk did not establish the ground under the "
+                  "feet at the rendered height")
+            failed += 1
     if sum(r["state"] == "NO_INFO" for r in rows) == len(rows):
         failed += 1
 
@@ -99,6 +107,9 @@ def main():
     print("standing 0.7 m before a 15 cm drop:", verdicts(rows))
     if any(r["state"] == "CLEAR" for r in rows):
         print("FAIL: CLEAR while standing still before the drop")
+        failed += 1
+    if any(r["ground_ref"]["by"] != "none" for r in rows):
+        print("FAIL: a ground under the feet while standing before the drop")
         failed += 1
 
     # 3. walking towards it

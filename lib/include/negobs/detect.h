@@ -152,6 +152,21 @@ typedef enum negobs_mount_source {
                                      last estimate, held                 */
 } negobs_mount_source_t;
 
+/** How the ground under the feet (the reference of the ground-drop cue,
+ *  docs/DETECTION.md 6.1) was established. Only the first three are
+ *  evidence that the floor in view is the floor under the feet; a
+ *  mounting remembered across switch-ons must come from one of them. */
+typedef enum negobs_ground_ref_by {
+    NEGOBS_GROUND_REF_NONE = 0, /**< not yet: the start is unverified   */
+    NEGOBS_GROUND_REF_HINT = 1, /**< the fit agreed with cam_height_mm   */
+    NEGOBS_GROUND_REF_FEET = 2, /**< the view reached the feet           */
+    NEGOBS_GROUND_REF_WALK = 3, /**< verified by walking (6.2)           */
+    NEGOBS_GROUND_REF_TIME = 4  /**< taken as it is after
+                                      ground_drop_max_ms without proof (or
+                                      a raised camera accepted): not
+                                      evidence                          */
+} negobs_ground_ref_by_t;
+
 /** Camera mounting over the floor, as used by one frame. */
 typedef struct negobs_mount {
     int32_t height_mm;  /**< camera centre above the floor (mm)        */
@@ -359,6 +374,15 @@ typedef struct negobs_detect_result {
      *  near-zone minimum. See docs/DETECTION.md 10.2, "Barred lanes". */
     int32_t blocked_at_mm;
     negobs_mount_t mount; /**< camera mounting used this frame */
+    /** The ground under the feet as the detector holds it after this
+     *  frame: how it was established (negobs_ground_ref_by_t) and the
+     *  camera's height and pitch over it, followed slowly on clean frames
+     *  (0 while ground_ref_by is NEGOBS_GROUND_REF_NONE). What a device
+     *  may remember as its next cam_height_mm / cam_pitch_mdeg hint when
+     *  ground_ref_by is HINT, FEET or WALK. */
+    int32_t ground_ref_by;
+    int32_t ground_ref_height_mm;
+    int32_t ground_ref_pitch_mdeg;
 } negobs_detect_result_t;
 
 /** Context; place it anywhere. Fields are private. */

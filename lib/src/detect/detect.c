@@ -380,6 +380,11 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
     mount_update(&p->mount, cfg, g.ok ? &g.pose : NULL,
                  g.ok && !fw.unverified && !p->drop_on, frame->now_ms,
                  &res->mount);
+    if (p->ref_ok) {
+        res->ground_ref_by = p->ref_by;
+        res->ground_ref_height_mm = p->ref_height_mm;
+        res->ground_ref_pitch_mdeg = p->ref_pitch_mdeg;
+    }
     if (det_fit_fell(p, cfg, &g, frame->left)) {
         /* the fit dropped onto a lower level, not the camera: no vouch */
         fw.walk_to = 0;

@@ -34,10 +34,13 @@
  * against 100 mm): a 10 cm drop at switch-on reads 98-103 mm high, just
  * under the cue's threshold, and the hint is the only reference there is.
  */
-/* The view's camera height and pitch become the reference. */
-static inline void ground_ref_take(detect_priv_t *p, const gfit_out_t *g)
+/* The view's camera height and pitch become the reference, established
+ * by `by` (negobs_ground_ref_by_t). */
+static inline void ground_ref_take(detect_priv_t *p, const gfit_out_t *g,
+                                   int32_t by)
 {
     p->ref_ok = 1;
+    p->ref_by = by;
     p->ref_height_mm = g->pose.height_mm;
     p->ref_pitch_mdeg = g->pose.pitch_mdeg;
     p->drop_on = 0;
@@ -145,20 +148,27 @@ static int ground_unverified(detect_priv_t *p,
         p->walk_fits++;
     }
     p->walk_verified = 0;
-    if (!mount_height_unverified(cfg, g->pose.height_mm) ||
-        (!risen && !g->wide && mount_sees_feet(cfg, &g->plane, &g->frame))) {
+    if (!mount_height_unverified(cfg, g->pose.height_mm)) {
         p->unverified_on = 0;
+        p->verify_by = NEGOBS_GROUND_REF_HINT;
+        return 0;
+    }
+    if (!risen && !g->wide && mount_sees_feet(cfg, &g->plane, &g->frame)) {
+        p->unverified_on = 0;
+        p->verify_by = NEGOBS_GROUND_REF_FEET;
         return 0;
     }
     if (!risen && p->walked_mm >= p->walk_need_mm) {
         p->walk_verified = 1;
         p->unverified_on = 0;
+        p->verify_by = NEGOBS_GROUND_REF_WALK;
         return 0;
     }
     if (!p->unverified_on) {
         p->unverified_on = 1;
         p->unverified_since_ms = now_ms;
     }
+    p->verify_by = NEGOBS_GROUND_REF_TIME;
     return (int32_t)(now_ms - p->unverified_since_ms) <=
            cfg->ground_drop_max_ms;
 }
@@ -234,7 +244,9 @@ int det_ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
         p->drop_since_ms = now_ms;
     } else if ((int32_t)(now_ms - p->drop_since_ms) >
                cfg->ground_drop_max_ms) {
-        ground_ref_take(p, g);
+        /* a raised camera, or a lower floor stood before that long:
+         * accepted, but not evidence */
+        ground_ref_take(p, g, NEGOBS_GROUND_REF_TIME);
         return 0;
     }
     dg = negobs_ground_disp_q4(&g->plane, cfg->rig.width / 2, vb);
@@ -267,7 +279,7 @@ void det_ground_ref_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
     int32_t dh = g->pose.height_mm - p->ref_height_mm;
     if (!p->ref_ok) {
         if (cfg->ground_drop_mm > 0 && !unverified) {
-            ground_ref_take(p, g);
+            ground_ref_take(p, g, p->verify_by);
             if (p->walk_verified && p->walk_fits > 0) {
                 /* verified by walking: the walk's mean fit, not one
                  * frame's, is the floor under the feet (detect_travel.c) */

@@ -122,6 +122,8 @@ typedef struct detect_priv {
     /* ground-drop cue: the camera height and pitch over the ground under
      * the feet, followed on clean frames only */
     int32_t ref_ok;
+    int32_t ref_by;    /* negobs_ground_ref_by_t of the reference      */
+    int32_t verify_by; /* how ground_unverified() last verified a frame */
     int32_t ref_height_mm;
     int32_t ref_pitch_mdeg;
     uint32_t drop_since_ms; /* first frame of the current cue           */
