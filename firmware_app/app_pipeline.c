@@ -233,6 +233,9 @@ static app_verdict_t verdict_of(const app_pipeline_t *p,
     st->short_sight = d->short_sight;
     st->hazards = d->n_hazards;
     st->mount = d->mount;
+    st->ground_ref_by = d->ground_ref_by;
+    st->ground_ref_height_mm = d->ground_ref_height_mm;
+    st->ground_ref_pitch_mdeg = d->ground_ref_pitch_mdeg;
     /* An image the gate refused names the reason; else two images that
      * each passed but disagree: no match between them can be trusted,
      * whatever the detector made of it. */

@@ -108,6 +108,12 @@ typedef struct app_frame_stats {
                                    stage_us; 0 without app_pipeline_set_clock */
     uint32_t stage_us[NEGOBS_STEREO_STAGE_COUNT]; /**< per matcher stage
                                    (negobs_stereo_stage_t), microseconds */
+    /* The ground under the feet as the detector holds it: how it was
+     * established (negobs_ground_ref_by_t) and the camera over it (0
+     * before); what mount_file keeps (app_mount.h). */
+    int32_t ground_ref_by;
+    int32_t ground_ref_height_mm;
+    int32_t ground_ref_pitch_mdeg;
 } app_frame_stats_t;
 
 typedef struct app_pipeline {

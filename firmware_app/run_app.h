@@ -86,6 +86,7 @@ typedef struct run_settings {
     char camera_left[128];  /* LEFT when none is given on the command line */
     char camera_right[128]; /* RIGHT, likewise                             */
     char log_json[256];     /* --log-json FILE: one JSON line per pair     */
+    char mount_file[256];   /* remembered mounting (app_mount.h), "" = off */
     char button[96];        /* gpio:CHIP:LINE of the push button, or ""    */
     bool button_active_low; /* pressed = line low (button to ground)       */
     int32_t button_long_ms; /* held this long: a long press                */

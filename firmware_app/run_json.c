@@ -22,6 +22,7 @@
 #include <unistd.h>
 
 #include "negobs/version.h"
+#include "app_mount.h"
 #include "run_app.h"
 
 static FILE *json_out;
@@ -218,6 +219,11 @@ static void library_json(FILE *f, const negobs_pipeline_result_t *r, int32_t w,
             : d->mount.source == NEGOBS_MOUNT_ESTIMATED ? "estimated"
             : d->mount.source == NEGOBS_MOUNT_HELD      ? "held"
                                                         : "?");
+    fprintf(f,
+            ",\"ground_ref\":{\"by\":\"%s\",\"height_mm\":%ld,"
+            "\"pitch_mdeg\":%ld}",
+            app_ground_ref_name(d->ground_ref_by),
+            (long)d->ground_ref_height_mm, (long)d->ground_ref_pitch_mdeg);
 }
 
 void json_log_pair(uint32_t index, uint64_t ts_left_ns, uint64_t ts_right_ns,

@@ -8,10 +8,78 @@
 #include "negobs_port/clock.h"
 #include "negobs_port/pool.h"
 #include "negobs_port/record_queue.h"
+#include "app_mount.h"
 #include "run_app.h"
 
 static app_pipeline_t pipeline;
 static app_alert_t alert_sm;
+static app_mount_keep_t mount_keep;
+static bool mount_fail_logged;
+
+/* Start from the remembered mounting (app_mount.h) when there is one: it
+ * replaces the configured hints. A missing file is the first run; a bad
+ * one is reported and ignored: it is a hint, the detector still measures
+ * the mounting and verifies the start. */
+static void mount_recall(void)
+{
+    char msg[384];
+    int32_t h = 0;
+    int32_t p = 0;
+    int rc;
+    memset(&mount_keep, 0, sizeof mount_keep);
+    mount_fail_logged = false;
+    if (run_cfg.mount_file[0] == '\0') {
+        return;
+    }
+    rc = app_mount_load(run_cfg.mount_file, &h, &p, msg, sizeof msg);
+    if (rc > 0) {
+        run_cfg.app.cam_height_mm = h;
+        run_cfg.app.cam_pitch_mdeg = p;
+        mount_keep.have = 1;
+        mount_keep.height_mm = h;
+        mount_keep.pitch_mdeg = p;
+        logmsg(LOG_INFO, "mounting hint from %s: %ld mm, %ld mdeg",
+               run_cfg.mount_file, (long)h, (long)p);
+    } else if (rc == 0) {
+        logmsg(LOG_INFO, "no remembered mounting in %s yet: hint %ld mm",
+               run_cfg.mount_file, (long)run_cfg.app.cam_height_mm);
+    } else {
+        logmsg(LOG_WARN, "remembered mounting ignored: %s", msg);
+    }
+}
+
+/* Keep the ground under the feet once the detector established it with
+ * evidence; a failed write is logged once and never stops the warnings. */
+static void mount_remember(uint32_t now_ms)
+{
+    char msg[384];
+    const app_frame_stats_t *st = &pipeline.last;
+    if (run_cfg.mount_file[0] == '\0' ||
+        !app_mount_due(&mount_keep, st->ground_ref_by,
+                       st->ground_ref_height_mm, st->ground_ref_pitch_mdeg,
+                       now_ms)) {
+        return;
+    }
+    if (app_mount_save(run_cfg.mount_file, st->ground_ref_height_mm,
+                       st->ground_ref_pitch_mdeg, msg, sizeof msg) == 0) {
+        app_mount_saved(&mount_keep, st->ground_ref_height_mm,
+                        st->ground_ref_pitch_mdeg, now_ms);
+        mount_fail_logged = false;
+        logmsg(LOG_INFO, "mounting remembered (%s): %ld mm, %ld mdeg",
+               app_ground_ref_name(st->ground_ref_by),
+               (long)st->ground_ref_height_mm,
+               (long)st->ground_ref_pitch_mdeg);
+    } else {
+        /* try again after the save interval, quietly */
+        app_mount_saved(&mount_keep, mount_keep.height_mm,
+                        mount_keep.pitch_mdeg, now_ms);
+        mount_keep.have = mount_keep.height_mm > 0;
+        if (!mount_fail_logged) {
+            logmsg(LOG_WARN, "cannot remember the mounting: %s", msg);
+            mount_fail_logged = true;
+        }
+    }
+}
 
 /* The matcher's stage clock: monotonic ns modulo 2^32 (it takes
  * differences of successive reads). */
@@ -29,6 +97,7 @@ int loop_setup(negobs_motor_schedule_t *noinfo_sched)
     run_cfg.app.row_crop = run_cfg.row_crop ? 1 : 0;
     run_cfg.app.threads = run_cfg.threads > 0 ? run_cfg.threads
                                               : negobs_pool_online_cores();
+    mount_recall();
     if (app_pipeline_init(&pipeline, &run_cfg.app) != NEGOBS_OK) {
         if (calib_loaded()) {
             fprintf(stderr,
@@ -318,6 +387,7 @@ static int judge_pair(negobs_frame_pair_t *pair, uint64_t now, uint32_t done,
     json_log_pair(done, pair->left.ts_ns, pair->right.ts_ns, img_l->width,
                   img_l->height, v, &pipeline, alert_pattern_now(),
                   button_preset_name());
+    mount_remember((uint32_t)now);
     logmsg(LOG_DEBUG, "pair %lu verdict %s first_row %ld", (unsigned long)done,
            app_verdict_name(v), (long)pipeline.last.first_row);
     if (run_log_level >= LOG_DEBUG && pipeline.last.stereo_us > 0u) {

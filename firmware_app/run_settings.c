@@ -141,6 +141,11 @@ static const app_cfg_key_t config_keys[] = {
     {"log_json", APP_CFG_STRING, run_cfg.log_json, 0, sizeof run_cfg.log_json,
      "one JSON line per judged pair to this file, negobs_png's fields "
      "(default: off)"},
+    {"mount_file", APP_CFG_STRING, run_cfg.mount_file, 0,
+     sizeof run_cfg.mount_file,
+     "keep the mounting measured with evidence on the floor in this file "
+     "and start with it as the cam_height_mm / cam_pitch_mdeg hints "
+     "(they replace the configured ones; default: off)"},
     {"button", APP_CFG_STRING, run_cfg.button, 0, sizeof run_cfg.button,
      "push button input gpio:CHIP:LINE (file:PATH: its first byte, '1' "
      "pressed; tests): long press pause/resume, short press next "
