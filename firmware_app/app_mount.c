@@ -63,8 +63,8 @@ int app_mount_load(const char *path, int32_t *height_mm, int32_t *pitch_mdeg,
     if (!in_priors((int32_t)(h > 100000 ? 100000 : h),
                    (int32_t)(p > 1000000 ? 1000000 : p))) {
         snprintf(msg, msg_len,
-                 "%s: %ld mm / %ld mdeg is outside %d-%d mm / 0-%d mdeg",
-                 path, h, p, APP_MOUNT_HEIGHT_MIN_MM, APP_MOUNT_HEIGHT_MAX_MM,
+                 "%s: %ld mm / %ld mdeg is outside %d-%d mm / 0-%d mdeg", path,
+                 h, p, APP_MOUNT_HEIGHT_MIN_MM, APP_MOUNT_HEIGHT_MAX_MM,
                  APP_MOUNT_PITCH_MAX_MDEG);
         return -1;
     }
@@ -107,8 +107,8 @@ int app_mount_save(const char *path, int32_t height_mm, int32_t pitch_mdeg,
     return 0;
 }
 
-int app_mount_due(const app_mount_keep_t *k, int32_t ref_by,
-                  int32_t height_mm, int32_t pitch_mdeg, uint32_t now_ms)
+int app_mount_due(const app_mount_keep_t *k, int32_t ref_by, int32_t height_mm,
+                  int32_t pitch_mdeg, uint32_t now_ms)
 {
     int32_t dh;
     int32_t dp;
@@ -119,8 +119,8 @@ int app_mount_due(const app_mount_keep_t *k, int32_t ref_by,
     if (!in_priors(height_mm, pitch_mdeg)) {
         return 0;
     }
-    if (k->saved && (uint32_t)(now_ms - k->saved_ms) <
-                        APP_MOUNT_SAVE_EVERY_MS) {
+    if (k->saved &&
+        (uint32_t)(now_ms - k->saved_ms) < APP_MOUNT_SAVE_EVERY_MS) {
         return 0;
     }
     if (!k->have) {

@@ -44,11 +44,11 @@
 #define APP_MOUNT_SAVE_EVERY_MS 30000u
 
 typedef struct app_mount_keep {
-    int32_t have;       /**< height_mm / pitch_mdeg hold the file's value */
-    int32_t height_mm;  /**< last value loaded or saved                   */
+    int32_t have;      /**< height_mm / pitch_mdeg hold the file's value */
+    int32_t height_mm; /**< last value loaded or saved                   */
     int32_t pitch_mdeg;
-    int32_t saved;      /**< saved at least once by this run              */
-    uint32_t saved_ms;  /**< when                                         */
+    int32_t saved;     /**< saved at least once by this run              */
+    uint32_t saved_ms; /**< when                                         */
 } app_mount_keep_t;
 
 /**
@@ -73,8 +73,8 @@ int app_mount_save(const char *path, int32_t height_mm, int32_t pitch_mdeg,
  *        it, and APP_MOUNT_SAVE_EVERY_MS passed since this run's last
  *        save. The caller saves, then calls app_mount_saved().
  */
-int app_mount_due(const app_mount_keep_t *k, int32_t ref_by,
-                  int32_t height_mm, int32_t pitch_mdeg, uint32_t now_ms);
+int app_mount_due(const app_mount_keep_t *k, int32_t ref_by, int32_t height_mm,
+                  int32_t pitch_mdeg, uint32_t now_ms);
 
 /** @brief Note a successful save (or a load: saved stays 0). */
 void app_mount_saved(app_mount_keep_t *k, int32_t height_mm,

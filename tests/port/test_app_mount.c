@@ -60,12 +60,12 @@ static void test_mount_round_trip(void **state)
 static void test_mount_load_refuses(void **state)
 {
     static const char *const bad[] = {
-        "cam_height_mm = 1400\n",                         /* no pitch   */
+        "cam_height_mm = 1400\n",                          /* no pitch   */
         "cam_height_mm = 99999\ncam_pitch_mdeg = 20000\n", /* priors     */
         "cam_height_mm = 500\ncam_pitch_mdeg = 20000\n",
         "cam_height_mm = 1400\ncam_pitch_mdeg = 70000\n",
-        "cam_height_mm = 1400\ncam_pitch_mdeg = 2x\n",     /* not a number */
-        "cam_height_mm = 1400\nfocal_px = 250\n",          /* other keys */
+        "cam_height_mm = 1400\ncam_pitch_mdeg = 2x\n", /* not a number */
+        "cam_height_mm = 1400\nfocal_px = 250\n",      /* other keys */
         "garbage\n",
     };
     char msg[256];
@@ -117,19 +117,19 @@ static void test_mount_due_only_on_evidence(void **state)
     app_mount_keep_t k;
     (void)state;
     memset(&k, 0, sizeof k);
-    assert_int_equal(app_mount_due(&k, NEGOBS_GROUND_REF_NONE, 1400, 20000,
-                                   0u), 0);
-    assert_int_equal(app_mount_due(&k, NEGOBS_GROUND_REF_TIME, 1400, 20000,
-                                   0u), 0);
-    assert_int_equal(app_mount_due(&k, NEGOBS_GROUND_REF_HINT, 1400, 20000,
-                                   0u), 1);
-    assert_int_equal(app_mount_due(&k, NEGOBS_GROUND_REF_FEET, 1400, 20000,
-                                   0u), 1);
-    assert_int_equal(app_mount_due(&k, NEGOBS_GROUND_REF_WALK, 1400, 20000,
-                                   0u), 1);
+    assert_int_equal(
+        app_mount_due(&k, NEGOBS_GROUND_REF_NONE, 1400, 20000, 0u), 0);
+    assert_int_equal(
+        app_mount_due(&k, NEGOBS_GROUND_REF_TIME, 1400, 20000, 0u), 0);
+    assert_int_equal(
+        app_mount_due(&k, NEGOBS_GROUND_REF_HINT, 1400, 20000, 0u), 1);
+    assert_int_equal(
+        app_mount_due(&k, NEGOBS_GROUND_REF_FEET, 1400, 20000, 0u), 1);
+    assert_int_equal(
+        app_mount_due(&k, NEGOBS_GROUND_REF_WALK, 1400, 20000, 0u), 1);
     /* outside the priors: never */
-    assert_int_equal(app_mount_due(&k, NEGOBS_GROUND_REF_WALK, 2400, 20000,
-                                   0u), 0);
+    assert_int_equal(
+        app_mount_due(&k, NEGOBS_GROUND_REF_WALK, 2400, 20000, 0u), 0);
 }
 
 /* After a save: not within APP_MOUNT_SAVE_EVERY_MS, and then only when
@@ -142,24 +142,28 @@ static void test_mount_due_rate_and_change(void **state)
     (void)state;
     memset(&k, 0, sizeof k);
     app_mount_saved(&k, 1400, 20000, t0);
-    assert_int_equal(app_mount_due(&k, NEGOBS_GROUND_REF_WALK, 1500, 20000,
-                                   t0 + 1000u), 0);
+    assert_int_equal(
+        app_mount_due(&k, NEGOBS_GROUND_REF_WALK, 1500, 20000, t0 + 1000u), 0);
     assert_int_equal(app_mount_due(&k, NEGOBS_GROUND_REF_WALK, 1419, 21999,
-                                   t0 + APP_MOUNT_SAVE_EVERY_MS), 0);
+                                   t0 + APP_MOUNT_SAVE_EVERY_MS),
+                     0);
     assert_int_equal(app_mount_due(&k, NEGOBS_GROUND_REF_WALK, 1420, 20000,
-                                   t0 + APP_MOUNT_SAVE_EVERY_MS), 1);
+                                   t0 + APP_MOUNT_SAVE_EVERY_MS),
+                     1);
     assert_int_equal(app_mount_due(&k, NEGOBS_GROUND_REF_WALK, 1380, 20000,
-                                   t0 + APP_MOUNT_SAVE_EVERY_MS), 1);
+                                   t0 + APP_MOUNT_SAVE_EVERY_MS),
+                     1);
     assert_int_equal(app_mount_due(&k, NEGOBS_GROUND_REF_WALK, 1400, 22000,
-                                   t0 + APP_MOUNT_SAVE_EVERY_MS), 1);
+                                   t0 + APP_MOUNT_SAVE_EVERY_MS),
+                     1);
     memset(&k, 0, sizeof k);
     k.have = 1; /* loaded, not yet saved by this run */
     k.height_mm = 1400;
     k.pitch_mdeg = 20000;
-    assert_int_equal(app_mount_due(&k, NEGOBS_GROUND_REF_HINT, 1405, 20100,
-                                   5u), 0);
-    assert_int_equal(app_mount_due(&k, NEGOBS_GROUND_REF_HINT, 1430, 20100,
-                                   5u), 1);
+    assert_int_equal(
+        app_mount_due(&k, NEGOBS_GROUND_REF_HINT, 1405, 20100, 5u), 0);
+    assert_int_equal(
+        app_mount_due(&k, NEGOBS_GROUND_REF_HINT, 1430, 20100, 5u), 1);
 }
 
 int main(void)

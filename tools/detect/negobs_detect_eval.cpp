@@ -890,7 +890,8 @@ void report_generic(Report &rep, const std::vector<Seq> &suite,
     }
     // --remembered: the added walks were told what their first walk kept,
     // not the generic mounting the targets are defined with
-    const std::string told = remembered ? "remembered mounting (--remembered)" : "generic mounting";
+    const std::string told = remembered ? "remembered mounting (--remembered)"
+                                        : "generic mounting";
     rep.both("### Issue 21 scoring: what is in view, " + told);
     rep.both("");
     rep.both(
