@@ -114,22 +114,27 @@ static void test_mount_save_failure_keeps_the_old_file(void **state)
  * front of the same drop). */
 static void test_mount_due_only_on_evidence(void **state)
 {
+    static const struct {
+        int32_t by;
+        int32_t height_mm;
+        int due;
+    } cases[] = {
+        {NEGOBS_GROUND_REF_NONE, 1400, 0},
+        {NEGOBS_GROUND_REF_TIME, 1400, 0},
+        {NEGOBS_GROUND_REF_HINT, 1400, 1},
+        {NEGOBS_GROUND_REF_FEET, 1400, 1},
+        {NEGOBS_GROUND_REF_WALK, 1400, 1},
+        {NEGOBS_GROUND_REF_WALK, 2400, 0}, /* outside the priors: never */
+    };
     app_mount_keep_t k;
+    size_t i;
     (void)state;
     memset(&k, 0, sizeof k);
-    assert_int_equal(
-        app_mount_due(&k, NEGOBS_GROUND_REF_NONE, 1400, 20000, 0u), 0);
-    assert_int_equal(
-        app_mount_due(&k, NEGOBS_GROUND_REF_TIME, 1400, 20000, 0u), 0);
-    assert_int_equal(
-        app_mount_due(&k, NEGOBS_GROUND_REF_HINT, 1400, 20000, 0u), 1);
-    assert_int_equal(
-        app_mount_due(&k, NEGOBS_GROUND_REF_FEET, 1400, 20000, 0u), 1);
-    assert_int_equal(
-        app_mount_due(&k, NEGOBS_GROUND_REF_WALK, 1400, 20000, 0u), 1);
-    /* outside the priors: never */
-    assert_int_equal(
-        app_mount_due(&k, NEGOBS_GROUND_REF_WALK, 2400, 20000, 0u), 0);
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        assert_int_equal(
+            app_mount_due(&k, cases[i].by, cases[i].height_mm, 20000, 0u),
+            cases[i].due);
+    }
 }
 
 /* After a save: not within APP_MOUNT_SAVE_EVERY_MS, and then only when
