@@ -456,7 +456,11 @@ for s in $RUN; do
   case $line in
     "SECTION $s: PASS"*) RESULT[$s]=PASS; REASON[$s]="" ;;
     "SECTION $s: SKIPPED:"*) RESULT[$s]=SKIPPED; REASON[$s]=${line#"SECTION $s: SKIPPED: "} ;;
-    "SECTION $s: FAIL"*) RESULT[$s]=FAIL; REASON[$s]="(see $GLOG)" ;;
+    "SECTION $s: FAIL"*) RESULT[$s]=FAIL
+      # the section's own first complaint, so that a CI log that keeps
+      # only the SECTION lines still says what went wrong
+      why=$(grep -m1 -E "^$s: FAIL: " "$GLOG.txt" | sed "s/^$s: FAIL: //")
+      REASON[$s]="(${why:+$why; }see $GLOG)" ;;
     *) RESULT[$s]=FAIL; REASON[$s]="(no result on the serial log; qemu rc $QRC, see $GLOG)" ;;
   esac
 done

@@ -8,6 +8,13 @@
  *       prints one line per change of state, "T V" with T = CLOCK_BOOTTIME
  *       in seconds (same clock as /proc/uptime) and V = 0 or 1; the first
  *       line is the state at start.  Runs until SIGTERM/SIGINT.
+ *   motor_watch [-i ms] -c DIR
+ *       The same for the first line of a gpio-sim chip configured in
+ *       configfs DIR: the value file is found from DIR/dev_name and
+ *       DIR/bank0/chip_name, and found again whenever it cannot be read.
+ *       So the observer can run before the chip comes (back) under a
+ *       number nobody knows yet: a watcher started after the chip
+ *       returned misses what the line did meanwhile.
  *   motor_watch now
  *       Prints the current CLOCK_BOOTTIME (mark an event in the same clock).
  *
@@ -58,10 +65,43 @@ static int read_state(const char *path)
 	return strtol(buf, NULL, 10) > 0;
 }
 
+/* Reads the first line of DIR/NAME into buf, without the newline. */
+static int read_line(const char *dir, const char *name, char *buf, size_t n)
+{
+	char p[512];
+	FILE *f;
+	size_t len;
+	snprintf(p, sizeof p, "%s/%s", dir, name);
+	f = fopen(p, "r");
+	if (!f)
+		return -1;
+	if (!fgets(buf, (int)n, f)) {
+		fclose(f);
+		return -1;
+	}
+	fclose(f);
+	len = strcspn(buf, "\n");
+	buf[len] = '\0';
+	return len > 0 ? 0 : -1;
+}
+
+/* The sim value file of line 0 of the gpio-sim chip configured in DIR. */
+static int resolve_sim(const char *dir, char *path, size_t n)
+{
+	char dev[128], chip[128];
+	if (read_line(dir, "dev_name", dev, sizeof dev) != 0 ||
+	    read_line(dir, "bank0/chip_name", chip, sizeof chip) != 0)
+		return -1;
+	snprintf(path, n, "/sys/devices/platform/%s/%s/sim_gpio0/value", dev,
+		 chip);
+	return 0;
+}
+
 int main(int argc, char **argv)
 {
 	int ms = 5, last = -2, v;
-	const char *path;
+	const char *path, *simdir = NULL;
+	static char simpath[512];
 	unsigned long samples = 0;
 	double prev = 0, gap = 0, t;
 	struct sigaction sa;
@@ -76,9 +116,15 @@ int main(int argc, char **argv)
 		path = argv[3];
 	} else if (argc == 2) {
 		path = argv[1];
+	} else if (argc == 5 && strcmp(argv[1], "-i") == 0 &&
+		   strcmp(argv[3], "-c") == 0) {
+		ms = atoi(argv[2]);
+		simdir = argv[4];
+		path = simpath;
 	} else {
 		fprintf(stderr,
-			"usage: motor_watch [-i ms] FILE | motor_watch now\n");
+			"usage: motor_watch [-i ms] FILE | "
+			"motor_watch [-i ms] -c DIR | motor_watch now\n");
 		return 2;
 	}
 	memset(&sa, 0, sizeof sa);
@@ -90,6 +136,9 @@ int main(int argc, char **argv)
 	d.tv_nsec = (long)(ms % 1000) * 1000000L;
 	while (!stop) {
 		v = read_state(path);
+		if (v < 0 && simdir &&
+		    resolve_sim(simdir, simpath, sizeof simpath) == 0)
+			v = read_state(path);
 		t = now_s();
 		if (samples > 0 && t - prev > gap)
 			gap = t - prev;

@@ -32,14 +32,18 @@ else
     say "gpio chip removed at boot $TF (negobs_run $(sec_of $TF)s); /dev: $(ls /dev | grep gpiochip | tr '\n' ' ')"
     TL=$(wait_log 'motor: output failing' "$(sec_of $TF)" $FAIL_LIMIT_S)
     hw_sleep $HOLD_S
+    # the observer follows the new chip's simulated pin (same edge file);
+    # it runs before the chip returns, because the line plays the 2 s
+    # recovery burst from the first write that works, which can come
+    # before a watcher started afterwards has read its first sample
+    kill "$WATCH_PID" 2>/dev/null; wait "$WATCH_PID" 2>/dev/null
+    motor_watch -i 5 -c "$G" >> /tmp/edges &
+    WATCH_PID=$!
+    hw_sleep 1
     TB=$(now); echo 1 > "$G/live" || fail "cannot bring the chip back"
     chip=$(cat "$G/bank0/chip_name")
     say "gpio chip back at boot $TB as /dev/$chip (negobs_run $(sec_of $TB)s)"
     [ "/dev/$chip" = "$HW_GPIOCHIP" ] || say "note: the chip came back under another name (negobs_run finds it by its label)"
-    # the observer follows the new chip's simulated pin (same edge file)
-    kill "$WATCH_PID" 2>/dev/null; wait "$WATCH_PID" 2>/dev/null
-    motor_watch -i 5 "/sys/devices/platform/$(cat "$G/dev_name")/$chip/sim_gpio0/value" >> /tmp/edges &
-    WATCH_PID=$!
     TK=$(wait_log 'motor: output back' "$(back_after $TB)" $BACK_LIMIT_S)
     # let the no-info hold (2 s) and a few pairs pass
     hw_sleep 9
