@@ -119,8 +119,8 @@ int app_mount_due(const app_mount_keep_t *k, int32_t ref_by, int32_t height_mm,
     if (!in_priors(height_mm, pitch_mdeg)) {
         return 0;
     }
-    if (k->saved &&
-        (uint32_t)(now_ms - k->saved_ms) < APP_MOUNT_SAVE_EVERY_MS) {
+    if (k->tried &&
+        (uint32_t)(now_ms - k->tried_ms) < APP_MOUNT_SAVE_EVERY_MS) {
         return 0;
     }
     if (!k->have) {
@@ -138,8 +138,14 @@ void app_mount_saved(app_mount_keep_t *k, int32_t height_mm,
     k->have = 1;
     k->height_mm = height_mm;
     k->pitch_mdeg = pitch_mdeg;
-    k->saved = 1;
-    k->saved_ms = now_ms;
+    k->tried = 1;
+    k->tried_ms = now_ms;
+}
+
+void app_mount_failed(app_mount_keep_t *k, uint32_t now_ms)
+{
+    k->tried = 1;
+    k->tried_ms = now_ms;
 }
 
 const char *app_ground_ref_name(int32_t ref_by)

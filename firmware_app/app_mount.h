@@ -47,8 +47,8 @@ typedef struct app_mount_keep {
     int32_t have;      /**< height_mm / pitch_mdeg hold the file's value */
     int32_t height_mm; /**< last value loaded or saved                   */
     int32_t pitch_mdeg;
-    int32_t saved;     /**< saved at least once by this run              */
-    uint32_t saved_ms; /**< when                                         */
+    int32_t tried;     /**< a save tried (done or failed) by this run    */
+    uint32_t tried_ms; /**< when the last one was                        */
 } app_mount_keep_t;
 
 /**
@@ -71,14 +71,22 @@ int app_mount_save(const char *path, int32_t height_mm, int32_t pitch_mdeg,
  *        (by HINT, FEET or WALK), inside the priors, and either nothing is
  *        remembered yet or it moved APP_MOUNT_SAVE_DH_MM / _DP_MDEG from
  *        it, and APP_MOUNT_SAVE_EVERY_MS passed since this run's last
- *        save. The caller saves, then calls app_mount_saved().
+ *        try. The caller saves, then calls app_mount_saved() or
+ *        app_mount_failed().
  */
 int app_mount_due(const app_mount_keep_t *k, int32_t ref_by, int32_t height_mm,
                   int32_t pitch_mdeg, uint32_t now_ms);
 
-/** @brief Note a successful save (or a load: saved stays 0). */
+/** @brief Note a successful save: it is what is remembered now. */
 void app_mount_saved(app_mount_keep_t *k, int32_t height_mm,
                      int32_t pitch_mdeg, uint32_t now_ms);
+
+/**
+ * @brief Note a failed save: what is remembered is unchanged, and the
+ *        next try waits APP_MOUNT_SAVE_EVERY_MS like the next save would
+ *        (a full or read-only card is not written every frame).
+ */
+void app_mount_failed(app_mount_keep_t *k, uint32_t now_ms);
 
 /** @brief negobs_ground_ref_by_t as logs write it. */
 const char *app_ground_ref_name(int32_t ref_by);

@@ -71,9 +71,7 @@ static void mount_remember(uint32_t now_ms)
                (long)st->ground_ref_pitch_mdeg);
     } else {
         /* try again after the save interval, quietly */
-        app_mount_saved(&mount_keep, mount_keep.height_mm,
-                        mount_keep.pitch_mdeg, now_ms);
-        mount_keep.have = mount_keep.height_mm > 0;
+        app_mount_failed(&mount_keep, now_ms);
         if (!mount_fail_logged) {
             logmsg(LOG_WARN, "cannot remember the mounting: %s", msg);
             mount_fail_logged = true;

@@ -171,6 +171,38 @@ static void test_mount_due_rate_and_change(void **state)
         app_mount_due(&k, NEGOBS_GROUND_REF_HINT, 1430, 20100, 5u), 1);
 }
 
+/* A failed save holds the next try back like a save, and keeps what
+ * was remembered: the change rule still reads against the loaded value,
+ * and with nothing remembered the first success is still due. */
+static void test_mount_failed_save_waits_and_keeps(void **state)
+{
+    app_mount_keep_t k;
+    const uint32_t t0 = 1000u;
+    (void)state;
+    memset(&k, 0, sizeof k);
+    app_mount_failed(&k, t0);
+    assert_int_equal(k.have, 0);
+    assert_int_equal(
+        app_mount_due(&k, NEGOBS_GROUND_REF_WALK, 1400, 20000, t0 + 1000u), 0);
+    assert_int_equal(app_mount_due(&k, NEGOBS_GROUND_REF_WALK, 1400, 20000,
+                                   t0 + APP_MOUNT_SAVE_EVERY_MS),
+                     1);
+    memset(&k, 0, sizeof k);
+    k.have = 1; /* loaded */
+    k.height_mm = 1400;
+    k.pitch_mdeg = 20000;
+    app_mount_failed(&k, t0);
+    assert_int_equal(k.have, 1);
+    assert_int_equal(k.height_mm, 1400);
+    assert_int_equal(k.pitch_mdeg, 20000);
+    assert_int_equal(app_mount_due(&k, NEGOBS_GROUND_REF_WALK, 1410, 20000,
+                                   t0 + APP_MOUNT_SAVE_EVERY_MS),
+                     0);
+    assert_int_equal(app_mount_due(&k, NEGOBS_GROUND_REF_WALK, 1420, 20000,
+                                   t0 + APP_MOUNT_SAVE_EVERY_MS),
+                     1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -182,6 +214,7 @@ int main(void)
             test_mount_save_failure_keeps_the_old_file, setup, teardown),
         cmocka_unit_test(test_mount_due_only_on_evidence),
         cmocka_unit_test(test_mount_due_rate_and_change),
+        cmocka_unit_test(test_mount_failed_save_waits_and_keeps),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
