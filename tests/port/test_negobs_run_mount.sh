@@ -35,6 +35,12 @@ fps = 10
 alert = none
 CONF
 clears() { sed -n 's/.*summary .* clear=\([0-9]*\) .*/\1/p' "$1"; }
+# Two runs of the same pairs judged alike: clear counts within 2. The
+# detector reads time from the processing clock and the replay stamps a
+# pair it delivers late (a loaded machine) at delivery, as a live camera
+# would; so the walk that verifies the start can end a pair or two apart
+# between runs. The remembered mounting moves the count by 10 or more.
+alike() { [ -n "$1" ] && [ -n "$2" ] && [ $(($1 - $2)) -le 2 ] && [ $(($2 - $1)) -le 2 ]; }
 run() { # NAME LOG ARGS...
     name=$1; log=$2; shift 2
     if "$RUN" --config "$T/rig.conf" "$@" replay:"$T/raw/pgm" >"$log" 2>&1; then
@@ -52,7 +58,7 @@ PLAIN=$(clears "$T/plain.log")
 run "first run with a mount file" "$T/first.log" --set mount_file="$T/mount"
 FIRST=$(clears "$T/first.log")
 check "first run: no remembered mounting yet" 'grep -q "no remembered mounting in" "$T/first.log"' "$T/first.log"
-check "first run: verdicts as without the file ($FIRST clear, $PLAIN without)" '[ "$FIRST" = "$PLAIN" ]' "$T/first.log"
+check "first run: verdicts as without the file ($FIRST clear, $PLAIN without)" 'alike "$FIRST" "$PLAIN"' "$T/first.log"
 check "first run: kept after the walk verified the start" 'grep -q "mounting remembered (walk)" "$T/first.log"' "$T/first.log"
 H=$(sed -n 's/^cam_height_mm = \([0-9]*\)$/\1/p' "$T/mount" 2>/dev/null)
 check "the file holds the measured height (${H:-none} mm for 1450)" '[ -n "$H" ] && [ "$H" -ge 1400 ] && [ "$H" -le 1500 ]' "$T/first.log"
@@ -65,11 +71,11 @@ check "second run: clear from its first pairs ($SECOND of 30, first run $FIRST)"
 # Fail-safe: an unwritable place and a damaged file.
 run "unwritable mount file" "$T/nowrite.log" --set mount_file="$T/nodir/mount"
 check "unwritable: warned once" '[ "$(grep -c "cannot remember the mounting" "$T/nowrite.log")" -eq 1 ]' "$T/nowrite.log"
-check "unwritable: verdicts unchanged" '[ "$(clears "$T/nowrite.log")" = "$PLAIN" ]' "$T/nowrite.log"
+check "unwritable: verdicts unchanged ($(clears "$T/nowrite.log") clear, $PLAIN without)" 'alike "$(clears "$T/nowrite.log")" "$PLAIN"' "$T/nowrite.log"
 printf 'cam_height_mm = 99999\ncam_pitch_mdeg = 20000\n' >"$T/bad"
 run "damaged mount file" "$T/bad.log" --set mount_file="$T/bad"
 check "damaged: ignored with a reason" 'grep -q "remembered mounting ignored: .*outside" "$T/bad.log"' "$T/bad.log"
-check "damaged: verdicts as without it" '[ "$(clears "$T/bad.log")" = "$PLAIN" ]' "$T/bad.log"
+check "damaged: verdicts as without it ($(clears "$T/bad.log") clear, $PLAIN without)" 'alike "$(clears "$T/bad.log")" "$PLAIN"' "$T/bad.log"
 check "damaged: replaced by the measured mounting" 'grep -q "^cam_height_mm = 1[45][0-9][0-9]$" "$T/bad"' "$T/bad.log"
 
 echo "$pass passed, $fail failed"
