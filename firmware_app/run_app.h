@@ -127,6 +127,8 @@ void warn_default_geometry(void);
 void settings_write_prefixed(FILE *out, const char *prefix);
 void logmsg(int level, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
+/** Log lines dropped because stderr's reader was not taking them. */
+unsigned long log_lines_dropped(void);
 
 /* ---- devices (run_devices.c) ----------------------------------------- */
 
@@ -193,6 +195,8 @@ void json_log_pair(uint32_t index, uint64_t ts_left_ns, uint64_t ts_right_ns,
                    const app_pipeline_t *p, negobs_alert_pattern_t pattern,
                    const char *preset);
 void json_log_close(void);
+/** JSON lines dropped because the log's reader was not taking them. */
+unsigned long json_lines_dropped(void);
 /** Calibration identity for meta.txt (run_devices.c). */
 void calib_identity(uint32_t *crc32, size_t *bytes);
 /** meta.txt in the session folder: version, geometry, calibration,

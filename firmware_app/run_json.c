@@ -22,48 +22,68 @@
 #include <unistd.h>
 
 #include "negobs/version.h"
+#include "app_logout.h"
 #include "app_mount.h"
 #include "run_app.h"
 
-static FILE *json_out;
-static bool json_failed;
+/* The log's descriptor, written without waiting (app_logout.h): a reader
+ * that stops reading loses lines, counted and reported, and never holds
+ * up a verdict. Each line is built whole in json_line first. */
+static app_logout_t json_out;
+static bool json_on;
+static char json_line[APP_LOGOUT_LINE_MAX];
 static char json_path[256];
 
 void json_log_open(const char *path)
 {
     /* O_NONBLOCK: a FIFO nobody reads fails at once (ENXIO) instead of
-     * holding up the start; O_APPEND: a restarted service adds to it. */
+     * holding up the start, and stays on for the writes; O_APPEND: a
+     * restarted service adds to it. */
     int fd = open(path, O_WRONLY | O_CREAT | O_APPEND | O_NONBLOCK | O_CLOEXEC,
                   0644);
     (void)snprintf(json_path, sizeof json_path, "%s", path);
-    if (fd >= 0) {
-        int fl = fcntl(fd, F_GETFL);
-        if (fl >= 0) {
-            (void)fcntl(fd, F_SETFL, fl & ~O_NONBLOCK);
-        }
-        json_out = fdopen(fd, "a");
-        if (json_out == NULL) {
-            (void)close(fd);
-        }
-    }
-    if (json_out == NULL) {
-        json_failed = true;
+    if (fd < 0) {
         logmsg(LOG_ERROR, "log-json: %s: %s; running without it", path,
                strerror(errno));
         return;
     }
+    app_logout_init(&json_out, fd, true);
+    json_on = true;
     logmsg(LOG_INFO, "log-json: one line per pair to %s", path);
+}
+
+/* Lines dropped since the last report, said once lines flow again (and
+ * at the end). */
+static void json_report_dropped(void)
+{
+    unsigned long n = app_logout_take_dropped(&json_out);
+    if (n > 0u) {
+        logmsg(LOG_WARN,
+               "log-json: %s: %lu line(s) dropped: the reader was not "
+               "taking them",
+               json_path, n);
+    }
 }
 
 void json_log_close(void)
 {
-    if (json_out != NULL) {
-        if (fclose(json_out) != 0 && !json_failed) {
+    if (json_on) {
+        json_report_dropped();
+        if (app_logout_flush(&json_out) == 0) {
+            logmsg(LOG_WARN, "log-json: %s: the last line left unfinished",
+                   json_path);
+        }
+        if (close(json_out.fd) != 0) {
             logmsg(LOG_ERROR, "log-json: %s: %s (last lines lost)", json_path,
                    strerror(errno));
         }
-        json_out = NULL;
+        json_on = false;
     }
+}
+
+unsigned long json_lines_dropped(void)
+{
+    return json_out.dropped_total;
 }
 
 static const char *state_name(negobs_detect_state_t s)
@@ -231,10 +251,16 @@ void json_log_pair(uint32_t index, uint64_t ts_left_ns, uint64_t ts_right_ns,
                    const app_pipeline_t *p, negobs_alert_pattern_t pattern,
                    const char *preset)
 {
-    FILE *f = json_out;
+    FILE *f;
     const app_frame_stats_t *st = &p->last;
-    if (f == NULL) {
+    long len;
+    int rc;
+    if (!json_on) {
         return;
+    }
+    f = fmemopen(json_line, sizeof json_line, "w");
+    if (f == NULL) {
+        return; /* no memory stream: this line only */
     }
     fprintf(f, "{\"frame\":%lu,\"file\":\"pair_%06lu\"", (unsigned long)index,
             (unsigned long)index);
@@ -263,14 +289,25 @@ void json_log_pair(uint32_t index, uint64_t ts_left_ns, uint64_t ts_right_ns,
             app_verdict_name(v), app_reason_name(st->reason),
             (long)st->mean[0], (long)st->mean[1], (long)st->texture_q4[0],
             (long)st->texture_q4[1], preset);
-    if (fflush(f) != 0 || ferror(f)) {
-        json_failed = true;
+    len = (fflush(f) == 0 && !ferror(f)) ? ftell(f) : -1;
+    (void)fclose(f);
+    if (len <= 0 || (size_t)len >= sizeof json_line - 1u ||
+        json_line[len - 1] != '\n') {
+        /* longer than the buffer (hundreds of candidates): not cut */
+        json_out.dropped++;
+        json_out.dropped_total++;
+        return;
+    }
+    rc = app_logout_line(&json_out, json_line, (size_t)len);
+    if (rc == 1 && json_out.dropped > 0u) {
+        json_report_dropped();
+    } else if (rc < 0) {
         logmsg(LOG_ERROR,
                "log-json: %s: write failed: %s; the log stops here, "
                "detection and alerting go on",
-               json_path, strerror(errno));
-        (void)fclose(f);
-        json_out = NULL;
+               json_path, strerror(json_out.err));
+        (void)close(json_out.fd);
+        json_on = false;
     }
 }
 

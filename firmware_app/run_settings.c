@@ -6,10 +6,12 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "negobs/version.h"
 #include "negobs_port/clock.h"
 #include "app_config.h"
+#include "app_logout.h"
 #include "negobs_port/pool.h"
 #include "run_app.h"
 
@@ -186,24 +188,77 @@ void settings_default(void)
 
 /* ---- logging -------------------------------------------------------- */
 
-void logmsg(int level, const char *fmt, ...)
+/* stderr as the log writes it: never waiting for its reader
+ * (app_logout.h); a line that cannot go now is dropped and counted. */
+static app_logout_t log_err;
+static bool log_err_on;
+
+/* The start of a line: the journal priority, the time and the level's
+ * tag. Returns its length. */
+static size_t log_prefix(char *buf, size_t size, int level)
 {
     static const char *const tag[] = {"error", "warn", "info", "debug"};
+    uint64_t t = negobs_clock_now_ms() - run_log_t0_ms;
+    size_t n = 0;
+    int k;
+    if (run_log_journal) {
+        k = snprintf(buf, size, "<%d>", service_log_priority(level));
+        n = k > 0 ? (size_t)k : 0u;
+    }
+    k = snprintf(buf + n, size - n,
+                 "[%5lu.%03lu] %s: ", (unsigned long)(t / 1000u),
+                 (unsigned long)(t % 1000u), tag[level]);
+    return n + (k > 0 ? (size_t)k : 0u);
+}
+
+void logmsg(int level, const char *fmt, ...)
+{
+    char line[1024];
+    unsigned long lost;
+    size_t n;
+    int k;
     va_list ap;
-    uint64_t t;
     if (level > run_log_level) {
         return;
     }
-    t = negobs_clock_now_ms() - run_log_t0_ms;
-    if (run_log_journal) {
-        fprintf(stderr, "<%d>", service_log_priority(level));
+    if (!log_err_on) {
+        app_logout_init(&log_err, STDERR_FILENO, false);
+        log_err_on = true;
     }
-    fprintf(stderr, "[%5lu.%03lu] %s: ", (unsigned long)(t / 1000u),
-            (unsigned long)(t % 1000u), tag[level]);
+    n = log_prefix(line, sizeof line, level);
     va_start(ap, fmt);
-    vfprintf(stderr, fmt, ap);
+    /* the analyser, following logmsg into its callers, loses va_start */
+    /* NOLINTNEXTLINE(clang-analyzer-valist.Uninitialized) */
+    k = vsnprintf(line + n, sizeof line - n, fmt, ap);
     va_end(ap);
-    fputc('\n', stderr);
+    if (k < 0) {
+        k = 0;
+    }
+    if ((size_t)k >= sizeof line - n - 1u) {
+        n = sizeof line - 5u; /* cut: "...", the newline, the terminator */
+        memcpy(line + n, "...", 3);
+        n += 3;
+    } else {
+        n += (size_t)k;
+    }
+    line[n++] = '\n';
+    line[n] = '\0';
+    lost = log_err.dropped;
+    if (app_logout_line(&log_err, line, n) == 1 && lost > 0u) {
+        /* said after the line that got through: nothing can be said
+         * before it without the same wait */
+        (void)app_logout_take_dropped(&log_err);
+        n = (size_t)snprintf(line, sizeof line,
+                             "%s[log] %lu line(s) before this one dropped: "
+                             "stderr was not being read\n",
+                             run_log_journal ? "<4>" : "", lost);
+        (void)app_logout_line(&log_err, line, n);
+    }
+}
+
+unsigned long log_lines_dropped(void)
+{
+    return log_err_on ? log_err.dropped_total : 0u;
 }
 
 static int parse_log_level(const char *s)
