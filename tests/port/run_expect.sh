@@ -21,3 +21,16 @@ expect() {
     fi
     ok "$name"
 }
+
+# flat_pairs N HEIGHT_MM: N pairs of negobs_synth's flat walk (1.2 m/s at
+# 10 fps, 224x168, f 175, B 120 mm, pitch 20 deg, camera HEIGHT_MM high)
+# in $T/raw/pgm for replay:$T/raw/pgm. The caller sets SYNTH and PNG2RAW
+# (tests/hw/png2raw.py); the script stops on a failure.
+flat_pairs() {
+    "$SYNTH" --scene flat --edge-mm 9000 --frames "$1" --speed 1.2 --fps 10 \
+        --f 175 --baseline-mm 120 --height-mm "$2" --pitch-deg 20 \
+        --width 224 --height 168 --noise 2 --seed 11 --out "$T/png" \
+        >/dev/null || { echo "FAIL: negobs_synth"; exit 1; }
+    python3 "$PNG2RAW" "$T/png" "$T/raw" --pgm >/dev/null ||
+        { echo "FAIL: png2raw"; exit 1; }
+}

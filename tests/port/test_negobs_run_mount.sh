@@ -19,11 +19,7 @@ trap 'rm -rf "$T"' EXIT
 # 30 pairs paced at 10 fps (the walk is measured between timestamps),
 # 3.6 m walked: the view starts 1.4 m ahead, so the walk
 # verifies the start after about 1.9 m (16 pairs).
-"$SYNTH" --scene flat --edge-mm 9000 --frames 30 --speed 1.2 --fps 10 \
-    --f 175 --baseline-mm 120 --height-mm 1450 --pitch-deg 20 --width 224 \
-    --height 168 --noise 2 --seed 11 --out "$T/png" >/dev/null ||
-    { echo "FAIL: negobs_synth"; exit 1; }
-python3 "$PNG2RAW" "$T/png" "$T/raw" --pgm >/dev/null || { echo "FAIL: png2raw"; exit 1; }
+flat_pairs 30 1450
 cat >"$T/rig.conf" <<CONF
 focal_px = 175
 baseline_mm = 120

@@ -18,11 +18,7 @@ T=$(mktemp -d "${TMPDIR:-/tmp}/negobs-stall-XXXXXX")
 READER=""
 trap '[ -n "$READER" ] && kill $READER 2>/dev/null; rm -rf "$T"' EXIT
 . "$(dirname "$0")/run_expect.sh"
-"$SYNTH" --scene flat --edge-mm 9000 --frames 10 --speed 1.2 --fps 10 \
-    --f 175 --baseline-mm 120 --height-mm 1200 --pitch-deg 20 --width 224 \
-    --height 168 --noise 2 --seed 11 --out "$T/png" >/dev/null ||
-    { echo "FAIL: negobs_synth"; exit 1; }
-python3 "$PNG2RAW" "$T/png" "$T/raw" --pgm >/dev/null || { echo "FAIL: png2raw"; exit 1; }
+flat_pairs 10 1200
 # The reader: opens the FIFO, shrinks its pipe to one page (Linux;
 # elsewhere the default 64 KiB fills later), never reads.
 cat >"$T/reader.py" <<'PY'
