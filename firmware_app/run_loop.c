@@ -2,6 +2,9 @@
  * the recording, status lines and the summary. */
 #define _POSIX_C_SOURCE 200809L
 
+#include <pthread.h>
+#include <signal.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "negobs/status.h"
@@ -48,35 +51,133 @@ static void mount_recall(void)
     }
 }
 
+/* A save runs on a short-lived thread of its own: a card busy with
+ * writeback (a recording on the same card) can hold even a 100-byte
+ * write or rename for seconds, and the verdicts never wait for an
+ * optional output. One save at a time; its result is taken on a later
+ * pair (or when the loop ends) and logged then. */
+typedef struct mount_job {
+    pthread_t thread;
+    bool running; /* started, not yet joined */
+    pthread_mutex_t lock;
+    bool done; /* under lock: the save returned */
+    int rc;
+    int32_t by;
+    int32_t height_mm;
+    int32_t pitch_mdeg;
+    uint32_t started_ms;
+    char msg[384];
+} mount_job_t;
+static mount_job_t mount_job = {.lock = PTHREAD_MUTEX_INITIALIZER};
+
+static void *mount_save_main(void *arg)
+{
+    mount_job_t *j = arg;
+    int rc = app_mount_save(run_cfg.mount_file, j->height_mm, j->pitch_mdeg,
+                            j->msg, sizeof j->msg);
+    (void)pthread_mutex_lock(&j->lock);
+    j->rc = rc;
+    j->done = true;
+    (void)pthread_mutex_unlock(&j->lock);
+    return NULL;
+}
+
+static void mount_report(int rc, const char *msg)
+{
+    mount_job_t *j = &mount_job;
+    if (rc == 0) {
+        app_mount_saved(&mount_keep, j->height_mm, j->pitch_mdeg,
+                        j->started_ms);
+        mount_fail_logged = false;
+        logmsg(LOG_INFO, "mounting remembered (%s): %ld mm, %ld mdeg",
+               app_ground_ref_name(j->by), (long)j->height_mm,
+               (long)j->pitch_mdeg);
+        return;
+    }
+    /* try again after the save interval, quietly */
+    app_mount_failed(&mount_keep, j->started_ms);
+    if (!mount_fail_logged) {
+        logmsg(LOG_WARN, "cannot remember the mounting: %s", msg);
+        mount_fail_logged = true;
+    }
+}
+
+/* At the end of the run a save in flight gets this long to finish; a
+ * card (or a FIFO put in the file's place) that holds it longer does not
+ * hold up the exit: the old file then stays, untouched (the save writes
+ * a temporary file and renames it). */
+#define MOUNT_EXIT_WAIT_MS 2000u
+
+/* Take the result of the save in flight once it is done, waiting up to
+ * wait_ms for it. */
+static void mount_collect(uint32_t wait_ms)
+{
+    mount_job_t *j = &mount_job;
+    uint64_t until = negobs_clock_now_ms() + wait_ms;
+    bool done;
+    if (!j->running) {
+        return;
+    }
+    for (;;) {
+        (void)pthread_mutex_lock(&j->lock);
+        done = j->done;
+        (void)pthread_mutex_unlock(&j->lock);
+        if (done || negobs_clock_now_ms() >= until) {
+            break;
+        }
+        negobs_clock_sleep_ms(10);
+    }
+    if (!done) {
+        if (wait_ms > 0u) {
+            (void)pthread_detach(j->thread);
+            j->running = false;
+            logmsg(LOG_WARN,
+                   "cannot remember the mounting: %s still not written "
+                   "after %u ms; the old one stays",
+                   run_cfg.mount_file, (unsigned)wait_ms);
+        }
+        return;
+    }
+    (void)pthread_join(j->thread, NULL);
+    j->running = false;
+    mount_report(j->rc, j->msg);
+}
+
 /* Keep the ground under the feet once the detector established it with
  * evidence; a failed write is logged once and never stops the warnings. */
 static void mount_remember(uint32_t now_ms)
 {
-    char msg[384];
+    mount_job_t *j = &mount_job;
     const app_frame_stats_t *st = &pipeline.last;
-    if (run_cfg.mount_file[0] == '\0' ||
-        !app_mount_due(&mount_keep, st->ground_ref_by,
-                       st->ground_ref_height_mm, st->ground_ref_pitch_mdeg,
-                       now_ms)) {
+    sigset_t all;
+    sigset_t old;
+    int rc;
+    if (run_cfg.mount_file[0] == '\0') {
         return;
     }
-    if (app_mount_save(run_cfg.mount_file, st->ground_ref_height_mm,
-                       st->ground_ref_pitch_mdeg, msg, sizeof msg) == 0) {
-        app_mount_saved(&mount_keep, st->ground_ref_height_mm,
-                        st->ground_ref_pitch_mdeg, now_ms);
-        mount_fail_logged = false;
-        logmsg(LOG_INFO, "mounting remembered (%s): %ld mm, %ld mdeg",
-               app_ground_ref_name(st->ground_ref_by),
-               (long)st->ground_ref_height_mm,
-               (long)st->ground_ref_pitch_mdeg);
-    } else {
-        /* try again after the save interval, quietly */
-        app_mount_failed(&mount_keep, now_ms);
-        if (!mount_fail_logged) {
-            logmsg(LOG_WARN, "cannot remember the mounting: %s", msg);
-            mount_fail_logged = true;
-        }
+    mount_collect(0u);
+    if (j->running || !app_mount_due(&mount_keep, st->ground_ref_by,
+                                     st->ground_ref_height_mm,
+                                     st->ground_ref_pitch_mdeg, now_ms)) {
+        return;
     }
+    j->by = st->ground_ref_by;
+    j->height_mm = st->ground_ref_height_mm;
+    j->pitch_mdeg = st->ground_ref_pitch_mdeg;
+    j->started_ms = now_ms;
+    j->done = false;
+    j->rc = -1;
+    (void)snprintf(j->msg, sizeof j->msg, "%s", "no thread for the save");
+    /* signals go to the main thread */
+    (void)sigfillset(&all);
+    (void)pthread_sigmask(SIG_BLOCK, &all, &old);
+    rc = pthread_create(&j->thread, NULL, mount_save_main, j);
+    (void)pthread_sigmask(SIG_SETMASK, &old, NULL);
+    if (rc != 0) {
+        mount_report(-1, j->msg);
+        return;
+    }
+    j->running = true;
 }
 
 /* The matcher's stage clock: monotonic ns modulo 2^32 (it takes
@@ -428,7 +529,16 @@ static int judge_pair(negobs_frame_pair_t *pair, uint64_t now, uint32_t done,
     return -1;
 }
 
+static int run_pairs(void);
+
 int run_loop(void)
+{
+    int rc = run_pairs();
+    mount_collect(MOUNT_EXIT_WAIT_MS); /* a save in flight, then said */
+    return rc;
+}
+
+static int run_pairs(void)
 {
     run_status_t st;
     negobs_frame_pair_t pair;

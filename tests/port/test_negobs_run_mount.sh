@@ -74,5 +74,16 @@ check "damaged: ignored with a reason" 'grep -q "remembered mounting ignored: .*
 check "damaged: verdicts as without it ($(clears "$T/bad.log") clear, $PLAIN without)" 'alike "$(clears "$T/bad.log")" "$PLAIN"' "$T/bad.log"
 check "damaged: replaced by the measured mounting" 'grep -q "^cam_height_mm = 1[45][0-9][0-9]$" "$T/bad"' "$T/bad.log"
 
+# A save that never finishes (a FIFO nobody reads in the place of the
+# temporary file: fopen waits for a reader, as a stalled card would hold
+# the write) holds up no verdict and, 2 s after the last pair, not the exit.
+mkdir -p "$T/stall" && mkfifo "$T/stall/mount.tmp"
+timeout 60 "$RUN" --config "$T/rig.conf" --set mount_file="$T/stall/mount" \
+    replay:"$T/raw/pgm" >"$T/stall.log" 2>&1
+rc=$?
+check "stalled save: the run ends by itself, exit 0 (exit $rc)" '[ $rc -eq 0 ]' "$T/stall.log"
+check "stalled save: every pair judged ($(clears "$T/stall.log") clear, $PLAIN without)" 'grep -q "summary pairs=30 " "$T/stall.log" && alike "$(clears "$T/stall.log")" "$PLAIN"' "$T/stall.log"
+check "stalled save: said at the end" 'grep -q "still not written after 2000 ms; the old one stays" "$T/stall.log"' "$T/stall.log"
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]
