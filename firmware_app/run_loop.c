@@ -82,10 +82,11 @@ static void *mount_save_main(void *arg)
     return NULL;
 }
 
-static void mount_report(int rc, const char *msg)
+/* The result of the save (j->rc, j->msg), kept and logged. */
+static void mount_report(void)
 {
     mount_job_t *j = &mount_job;
-    if (rc == 0) {
+    if (j->rc == 0) {
         app_mount_saved(&mount_keep, j->height_mm, j->pitch_mdeg,
                         j->started_ms);
         mount_fail_logged = false;
@@ -97,7 +98,7 @@ static void mount_report(int rc, const char *msg)
     /* try again after the save interval, quietly */
     app_mount_failed(&mount_keep, j->started_ms);
     if (!mount_fail_logged) {
-        logmsg(LOG_WARN, "cannot remember the mounting: %s", msg);
+        logmsg(LOG_WARN, "cannot remember the mounting: %s", j->msg);
         mount_fail_logged = true;
     }
 }
@@ -140,7 +141,7 @@ static void mount_collect(uint32_t wait_ms)
     }
     (void)pthread_join(j->thread, NULL);
     j->running = false;
-    mount_report(j->rc, j->msg);
+    mount_report();
 }
 
 /* Keep the ground under the feet once the detector established it with
@@ -174,7 +175,7 @@ static void mount_remember(uint32_t now_ms)
     rc = pthread_create(&j->thread, NULL, mount_save_main, j);
     (void)pthread_sigmask(SIG_SETMASK, &old, NULL);
     if (rc != 0) {
-        mount_report(-1, j->msg);
+        mount_report(); /* rc -1, "no thread for the save" */
         return;
     }
     j->running = true;

@@ -243,11 +243,12 @@ void logmsg(int level, const char *fmt, ...)
     }
     line[n++] = '\n';
     line[n] = '\0';
-    lost = log_err.dropped;
-    if (app_logout_line(&log_err, line, n) == 1 && lost > 0u) {
+    lost = app_logout_line(&log_err, line, n) == 1
+               ? app_logout_take_dropped(&log_err)
+               : 0u;
+    if (lost > 0u) {
         /* said after the line that got through: nothing can be said
          * before it without the same wait */
-        (void)app_logout_take_dropped(&log_err);
         n = (size_t)snprintf(line, sizeof line,
                              "%s[log] %lu line(s) before this one dropped: "
                              "stderr was not being read\n",
