@@ -458,8 +458,10 @@ for s in $RUN; do
     "SECTION $s: SKIPPED:"*) RESULT[$s]=SKIPPED; REASON[$s]=${line#"SECTION $s: SKIPPED: "} ;;
     "SECTION $s: FAIL"*) RESULT[$s]=FAIL
       # the section's own first complaint, so that a CI log that keeps
-      # only the SECTION lines still says what went wrong
-      why=$(grep -m1 -E "^$s: FAIL: " "$GLOG.txt" | sed "s/^$s: FAIL: //")
+      # only the SECTION lines still says what went wrong (init.sh prints
+      # a section's lines as "[NAME] ..."; a killed section says so last)
+      why=$(grep -m1 -E "^\[$s\] (.*FAIL: |section did not finish)" "$GLOG.txt" |
+            sed -e "s/^\[$s\] //" -e "s/^$s: FAIL: //")
       REASON[$s]="(${why:+$why; }see $GLOG)" ;;
     *) RESULT[$s]=FAIL; REASON[$s]="(no result on the serial log; qemu rc $QRC, see $GLOG)" ;;
   esac

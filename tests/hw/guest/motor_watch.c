@@ -17,6 +17,12 @@
  *       returned misses what the line did meanwhile.
  *   motor_watch now
  *       Prints the current CLOCK_BOOTTIME (mark an event in the same clock).
+ *   motor_watch press FILE MS
+ *       A button press on a gpio-sim line: writes "pull-down" to FILE (its
+ *       sim_gpioN/pull), sleeps MS ms, writes "pull-up", and prints the
+ *       boot times of both writes.  One process holds the press, so a
+ *       loaded TCG guest stretches it by one wake-up, not by the shell's
+ *       process starts (a 400 ms press held from a script read 1.2 s).
  *
  * Every sample also reports the largest gap between two samples at exit
  * ("# samples N max_gap_ms G") so the run shows how finely the line was
@@ -97,6 +103,39 @@ static int resolve_sim(const char *dir, char *path, size_t n)
 	return 0;
 }
 
+static int write_str(const char *path, const char *s)
+{
+	int fd = open(path, O_WRONLY);
+	ssize_t n;
+	if (fd < 0)
+		return -1;
+	n = write(fd, s, strlen(s));
+	close(fd);
+	return n == (ssize_t)strlen(s) ? 0 : -1;
+}
+
+static int press(const char *path, int ms)
+{
+	struct timespec d;
+	double t0, t1;
+	if (ms <= 0 || write_str(path, "pull-down") != 0) {
+		fprintf(stderr, "motor_watch: cannot press %s\n", path);
+		return 1;
+	}
+	t0 = now_s();
+	d.tv_sec = ms / 1000;
+	d.tv_nsec = (long)(ms % 1000) * 1000000L;
+	while (nanosleep(&d, &d) != 0 && errno == EINTR)
+		;
+	if (write_str(path, "pull-up") != 0) {
+		fprintf(stderr, "motor_watch: cannot release %s\n", path);
+		return 1;
+	}
+	t1 = now_s();
+	printf("%.3f %.3f\n", t0, t1);
+	return 0;
+}
+
 int main(int argc, char **argv)
 {
 	int ms = 5, last = -2, v;
@@ -111,6 +150,8 @@ int main(int argc, char **argv)
 		printf("%.3f\n", now_s());
 		return 0;
 	}
+	if (argc == 4 && strcmp(argv[1], "press") == 0)
+		return press(argv[2], atoi(argv[3]));
 	if (argc == 4 && strcmp(argv[1], "-i") == 0) {
 		ms = atoi(argv[2]);
 		path = argv[3];
@@ -124,7 +165,8 @@ int main(int argc, char **argv)
 	} else {
 		fprintf(stderr,
 			"usage: motor_watch [-i ms] FILE | "
-			"motor_watch [-i ms] -c DIR | motor_watch now\n");
+			"motor_watch [-i ms] -c DIR | motor_watch now | "
+			"motor_watch press FILE MS\n");
 		return 2;
 	}
 	memset(&sa, 0, sizeof sa);
