@@ -181,6 +181,8 @@ bool service_watchdog_on(void);
 void service_pair_done(void);
 void service_status(const char *text);
 void service_stopping(void);
+/** Notifications the notify socket's full queue could not take. */
+unsigned long service_notify_dropped(void);
 /** LOG_* -> sd-daemon priority (3 err, 4 warning, 6 info, 7 debug). */
 int service_log_priority(int level);
 

@@ -436,13 +436,14 @@ static void log_summary(uint32_t done, const run_status_t *st)
     logmsg(LOG_INFO,
            "summary pairs=%lu no-info=%lu clear=%lu caution=%lu "
            "imminent=%lu last_reason=%s dropped=%lu timeouts=%lu "
-           "log_dropped=%lu json_dropped=%lu %s",
+           "log_dropped=%lu json_dropped=%lu notify_dropped=%lu %s",
            (unsigned long)done, (unsigned long)st->verdicts[0],
            (unsigned long)st->verdicts[1], (unsigned long)st->verdicts[2],
            (unsigned long)st->verdicts[3],
            app_reason_name(pipeline.last.reason),
            (unsigned long)cs.dropped_pairs, (unsigned long)cs.timeouts,
-           log_lines_dropped(), json_lines_dropped(), rec);
+           log_lines_dropped(), json_lines_dropped(), service_notify_dropped(),
+           rec);
 }
 
 /* One pair: [rectify] -> pipeline -> latency gate -> alert; the pair is
