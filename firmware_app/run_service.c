@@ -1,6 +1,7 @@
 /*
  * negobs_run under systemd: readiness, watchdog and stop notifications
- * (the sd_notify protocol, when built with libsystemd), and journald priorities.
+ * (the sd_notify protocol, when built with libsystemd), and journald
+ * priorities.
  *
  * Readiness means "a pair has been judged": the unit's Type=notify start
  * only succeeds once cameras, pipeline and motor work together, so a
