@@ -14,6 +14,7 @@
 #ifndef NEGOBS_RUN_APP_H
 #define NEGOBS_RUN_APP_H
 
+#include <pthread.h>
 #include <signal.h>
 #include <stdbool.h>
 #include <stdint.h>
@@ -171,6 +172,24 @@ negobs_alert_pattern_t alert_pattern_now(void);
 void record_start(void);
 void record_stop(void);
 int run_loop(void);
+
+/* ---- helper threads -------------------------------------------------- */
+
+/** pthread_create() with every signal blocked in the new thread, so
+ *  asynchronous signals (SIGINT, SIGTERM) reach the main thread; 0 or
+ *  pthread_create()'s error. */
+static inline int run_thread_start(pthread_t *t, void *(*fn)(void *),
+                                   void *arg)
+{
+    sigset_t all;
+    sigset_t old;
+    int rc;
+    (void)sigfillset(&all);
+    (void)pthread_sigmask(SIG_BLOCK, &all, &old);
+    rc = pthread_create(t, NULL, fn, arg);
+    (void)pthread_sigmask(SIG_SETMASK, &old, NULL);
+    return rc;
+}
 
 /* ---- systemd and journald (run_service.c) --------------------------- */
 

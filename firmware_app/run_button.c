@@ -109,8 +109,6 @@ void button_start(const negobs_motor_schedule_t *noinfo)
     char chip[64];
     char line[16];
     uint32_t off = 0;
-    sigset_t all;
-    sigset_t old;
     preset = run_cfg.sensitivity;
     noinfo_tail = *noinfo;
     if (run_cfg.button[0] == '\0') {
@@ -133,12 +131,7 @@ void button_start(const negobs_motor_schedule_t *noinfo)
         return;
     }
     button_quit = false;
-    /* signals go to the main thread */
-    (void)sigfillset(&all);
-    (void)pthread_sigmask(SIG_BLOCK, &all, &old);
-    button_running = pthread_create(&button_thread, NULL, button_main, NULL) ==
-                     0;
-    (void)pthread_sigmask(SIG_SETMASK, &old, NULL);
+    button_running = run_thread_start(&button_thread, button_main, NULL) == 0;
     if (!button_running) {
         negobs_input_gpio_close(&button_in);
         logmsg(LOG_ERROR, "button: cannot start its thread; running "

@@ -3,7 +3,6 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include <pthread.h>
-#include <signal.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -150,9 +149,6 @@ static void mount_remember(uint32_t now_ms)
 {
     mount_job_t *j = &mount_job;
     const app_frame_stats_t *st = &pipeline.last;
-    sigset_t all;
-    sigset_t old;
-    int rc;
     if (run_cfg.mount_file[0] == '\0') {
         return;
     }
@@ -169,12 +165,7 @@ static void mount_remember(uint32_t now_ms)
     j->done = false;
     j->rc = -1;
     (void)snprintf(j->msg, sizeof j->msg, "%s", "no thread for the save");
-    /* signals go to the main thread */
-    (void)sigfillset(&all);
-    (void)pthread_sigmask(SIG_BLOCK, &all, &old);
-    rc = pthread_create(&j->thread, NULL, mount_save_main, j);
-    (void)pthread_sigmask(SIG_SETMASK, &old, NULL);
-    if (rc != 0) {
+    if (run_thread_start(&j->thread, mount_save_main, j) != 0) {
         mount_report(); /* rc -1, "no thread for the save" */
         return;
     }

@@ -12,7 +12,7 @@
  * (WatchdogSec= in the unit), while the motor thread already plays
  * no-information on its own.
  *
- * The notifications are sent without waiting (notify_send()): libsystemd's
+ * The notifications are sent without waiting (notify()): libsystemd's
  * sd_notify() blocks while the notify socket's queue is full (a PID 1
  * that is busy or stopped, or any reader that stops reading; the queue
  * holds net.unix.max_dgram_qlen datagrams, as few as 10), and the main
@@ -119,7 +119,7 @@ static void notify_open(void)
 #endif
 
 /* One datagram, never waiting: a full queue drops it (counted). */
-static void notify_send(const char *state)
+static void notify(const char *state)
 {
     ssize_t n;
     if (notify_fd < 0) {
@@ -159,11 +159,6 @@ void service_init(void)
 bool service_watchdog_on(void)
 {
     return watchdog_every_ms > 0u;
-}
-
-static void notify(const char *state)
-{
-    notify_send(state);
 }
 
 void service_pair_done(void)

@@ -31,14 +31,17 @@ except OSError:
 open(sys.argv[1] + ".ready", "w").close()
 time.sleep(120)
 PY
+wait_ready() { # FILE: up to 10 s for the reader's FILE.ready
+    i=0
+    while [ ! -f "$1.ready" ] && [ $i -lt 100 ]; do sleep 0.1; i=$((i + 1)); done
+    [ -f "$1.ready" ]
+}
 stall_reader() { # FIFO: a reader that never reads, running when this returns
     rm -f "$1" "$1.ready"
     mkfifo "$1" || return 1
     python3 "$T/reader.py" "$1" &
     READER=$!
-    i=0
-    while [ ! -f "$1.ready" ] && [ $i -lt 100 ]; do sleep 0.1; i=$((i + 1)); done
-    [ -f "$1.ready" ]
+    wait_ready "$1"
 }
 ARGS="--fps 0 --frames 200 --set replay_loop=true --set alert=none
       --set focal_px=175 --set baseline_mm=120 --set max_disp=23"
@@ -94,9 +97,7 @@ notify_reader() { # ADDR OUT: the reader bound, running when this returns
     rm -f "$2" "$2.ready"
     python3 "$T/notify.py" "$1" "$2" &
     READER=$!
-    i=0
-    while [ ! -f "$2.ready" ] && [ $i -lt 100 ]; do sleep 0.1; i=$((i + 1)); done
-    [ -f "$2.ready" ]
+    wait_ready "$2"
 }
 # (the string is in the program only when it sends notifications)
 if grep -aq NOTIFY_SOCKET "$RUN"; then
