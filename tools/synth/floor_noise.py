@@ -25,36 +25,21 @@ python3-opencv.
 """
 import argparse
 import os
-import subprocess
 import sys
 import tempfile
 
-try:
-    import cv2
-    import numpy as np
-except ImportError as e:  # the host tools' OpenCV is the Debian one
-    sys.stderr.write("floor_noise.py: needs python3-opencv and python3-numpy (%s)\n" % e)
-    sys.exit(77)  # meson's "skipped" for the test that runs it
+from walk_tools import built_tools, int_list, need_opencv, read_disp16, run
+
+PROG = "floor_noise.py"
+cv2, np = need_opencv(PROG)
 
 STRIP_PX = 16
 FIRST_COL = 70
 FLOOR_ROWS_FROM = 0.4
 
 
-def run(cmd):
-    r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                       text=True)
-    if r.returncode != 0:
-        sys.stderr.write("floor_noise.py: %s failed (exit %d)\n%s" %
-                         (os.path.basename(cmd[0]), r.returncode, r.stderr))
-        sys.exit(1)
-
-
 def read16(path):
-    m = cv2.imread(path, cv2.IMREAD_UNCHANGED)
-    if m is None:
-        sys.exit("floor_noise.py: cannot read %s" % path)
-    return m.astype(np.float32) / 16.0
+    return read_disp16(PROG, path).astype(np.float32)
 
 
 def measure(folder, frames):
@@ -103,24 +88,17 @@ def main():
     args = ap.parse_args()
     if args.frames < 2:
         ap.error("--frames must be at least 2")
-    synth = os.path.join(args.build, "tools", "synth", "negobs_synth")
-    png = os.path.join(args.build, "tools", "detect", "negobs_png")
-    for p in (synth, png):
-        if not os.access(p, os.X_OK):
-            ap.error("%s not found: build the tools first" % p)
-    try:
-        baselines = [int(b) for b in args.baselines.split(",")]
-    except ValueError:
-        ap.error("--baselines takes integers (mm)")
+    synth, png = built_tools(ap, args.build)
+    baselines = int_list(ap, args.baselines, "--baselines")
     work = args.work or tempfile.mkdtemp(prefix="floor_noise_")
     print("texture   B mm  matcher  valid   mae  bad0.5  strip sd  bias (px)")
     for tex in args.textures.split(","):
         for b in baselines:
             d = os.path.join(work, "%s_%d" % (tex, b))
-            run([synth, "--scene", "flat", "--texture-kind", tex, "--baseline-mm", str(b),
+            run(PROG, [synth, "--scene", "flat", "--texture-kind", tex, "--baseline-mm", str(b),
                  "--frames", str(args.frames), "--noise", str(args.noise),
                  "--seed", str(args.seed), "--gt-disparity", "-q", "--out", d])
-            run([png, "--seq", d, "--out", os.path.join(d, "out"), "--disparity",
+            run(PROG, [png, "--seq", d, "--out", os.path.join(d, "out"), "--disparity",
                  "--json", os.path.join(d, "out.json")])
             for name, a in measure(d, args.frames).items():
                 e = np.concatenate(a["abs"])

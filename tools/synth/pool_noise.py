@@ -31,16 +31,13 @@ tool fails, 2 on a bad command line, 77 without python3-opencv.
 import argparse
 import json
 import os
-import subprocess
 import sys
 import tempfile
 
-try:
-    import cv2
-    import numpy as np
-except ImportError as e:  # the host tools' OpenCV is the Debian one
-    sys.stderr.write("pool_noise.py: needs python3-opencv and python3-numpy (%s)\n" % e)
-    sys.exit(77)  # meson's "skipped" for the test that runs it
+from walk_tools import built_tools, int_list, need_opencv, read_disp16, run
+
+PROG = "pool_noise.py"
+cv2, np = need_opencv(PROG)
 
 CELL_ALONG_MM = 40
 CELL_ACROSS_MM = 160
@@ -48,22 +45,6 @@ CELL_MIN_PX = 8
 CLIP_PX = 2.0
 BANDS_MM = ((1000, 2000), (2000, 3000), (3000, 4000))
 POOLS = (2, 4, 8)
-
-
-def run(cmd):
-    r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                       text=True)
-    if r.returncode != 0:
-        sys.stderr.write("pool_noise.py: %s failed (exit %d)\n%s" %
-                         (os.path.basename(cmd[0]), r.returncode, r.stderr))
-        sys.exit(1)
-
-
-def read16(path):
-    m = cv2.imread(path, cv2.IMREAD_UNCHANGED)
-    if m is None:
-        sys.exit("pool_noise.py: cannot read %s" % path)
-    return m.astype(np.float64) / 16.0
 
 
 def floor_coords(cam, fr, gt):
@@ -89,8 +70,8 @@ def cell_errors(folder):
     cells = {}
     for fr in g["frames"]:
         i = fr["i"]
-        gt = read16(os.path.join(folder, fr["disparity"]))
-        me = read16(os.path.join(folder, "out", "disp_%04d.png" % i))
+        gt = read_disp16(PROG, os.path.join(folder, fr["disparity"]))
+        me = read_disp16(PROG, os.path.join(folder, "out", "disp_%04d.png" % i))
         fwd, along, across = floor_coords(cam, fr, gt)
         ok = (gt > 0.5) & (me > 0) & (fwd >= BANDS_MM[0][0]) & (fwd < BANDS_MM[-1][1])
         key = (np.floor(along[ok] / CELL_ALONG_MM).astype(np.int64) * 100000 +
@@ -137,27 +118,23 @@ def main():
     a = ap.parse_args()
     if a.frames < 2 * max(POOLS):
         ap.error("--frames must be at least %d" % (2 * max(POOLS)))
-    synth = os.path.join(a.build, "tools", "synth", "negobs_synth")
-    png = os.path.join(a.build, "tools", "detect", "negobs_png")
-    for tool in (synth, png):
-        if not os.access(tool, os.X_OK):
-            sys.stderr.write("pool_noise.py: %s not built\n" % tool)
-            sys.exit(1)
+    synth, png = built_tools(ap, a.build)
+    baselines = int_list(ap, a.baselines, "--baselines")
     work = a.work or tempfile.mkdtemp(prefix="pool_noise.")
     print("%-9s %4s %9s %6s %6s %5s %6s %6s %6s" %
           ("texture", "B", "band m", "cells", "sd1", "corr", "sd2", "sd4", "sd8"))
     for tex in a.textures.split(","):
-        for b in a.baselines.split(","):
-            folder = os.path.join(work, "%s_B%s" % (tex, b))
-            run([synth, "--out", folder, "--scene", "flat", "--texture-kind", tex,
-                 "--baseline-mm", b, "--frames", str(a.frames), "--noise", "2",
+        for b in baselines:
+            folder = os.path.join(work, "%s_B%d" % (tex, b))
+            run(PROG, [synth, "--out", folder, "--scene", "flat", "--texture-kind", tex,
+                 "--baseline-mm", str(b), "--frames", str(a.frames), "--noise", "2",
                  "--blur", "0.5", "--seed", str(a.seed), "--gt-disparity"])
-            run([png, "--seq", folder, "--out", os.path.join(folder, "out"),
+            run(PROG, [png, "--seq", folder, "--out", os.path.join(folder, "out"),
                  "--disparity", "--no-overlay", "-q"])
             cells = cell_errors(folder)
             for lo, hi in BANDS_MM:
                 f = band_figures(cells, lo, hi)
-                print("%-9s %4s %4.0f-%-4.0f %6d %6.3f %5.2f %6.3f %6.3f %6.3f" %
+                print("%-9s %4d %4.0f-%-4.0f %6d %6.3f %5.2f %6.3f %6.3f %6.3f" %
                       (tex, b, lo / 1000, hi / 1000, f["n"], f["sd1"], f["corr"],
                        f["sd2"], f["sd4"], f["sd8"]))
             sys.stdout.flush()
