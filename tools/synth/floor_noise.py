@@ -95,11 +95,12 @@ def main():
     for tex in args.textures.split(","):
         for b in baselines:
             d = os.path.join(work, "%s_%d" % (tex, b))
-            run(PROG, [synth, "--scene", "flat", "--texture-kind", tex, "--baseline-mm", str(b),
-                 "--frames", str(args.frames), "--noise", str(args.noise),
-                 "--seed", str(args.seed), "--gt-disparity", "-q", "--out", d])
-            run(PROG, [png, "--seq", d, "--out", os.path.join(d, "out"), "--disparity",
-                 "--json", os.path.join(d, "out.json")])
+            run(PROG, [synth, "--scene", "flat", "--texture-kind", tex,
+                       "--baseline-mm", str(b), "--frames", str(args.frames),
+                       "--noise", str(args.noise), "--seed", str(args.seed),
+                       "--gt-disparity", "-q", "--out", d])
+            run(PROG, [png, "--seq", d, "--out", os.path.join(d, "out"),
+                       "--disparity", "--json", os.path.join(d, "out.json")])
             for name, a in measure(d, args.frames).items():
                 e = np.concatenate(a["abs"])
                 s = np.array(a["strip"])

@@ -12,9 +12,9 @@ fixed floor patches through the walk: cells 40 mm along the walk by 160 mm
 across, placed with each frame's true pose (gt.json), so the alignment is
 exact and the figures are an upper bound of what a device that measures
 its own travel can pool. Per cell and frame the error is the median of
-(negobs - truth) over the cell's pixels (at least 8): the statistic the
-detector's drop test reads, one strip median per row. Printed per floor
-band (1-2, 2-3, 3-4 m ahead):
+(negobs - truth) over the cell's pixels (at least 8), like the strip
+medians the detector's drop test reads. Printed per floor band (1-2, 2-3,
+3-4 m ahead; a mean over frames counts in the band of its last frame):
 
   sd1       standard deviation of one frame's cell errors (px; errors
             clipped to +-2 px like the detector's histograms)
@@ -126,11 +126,12 @@ def main():
     for tex in a.textures.split(","):
         for b in baselines:
             folder = os.path.join(work, "%s_B%d" % (tex, b))
-            run(PROG, [synth, "--out", folder, "--scene", "flat", "--texture-kind", tex,
-                 "--baseline-mm", str(b), "--frames", str(a.frames), "--noise", "2",
-                 "--blur", "0.5", "--seed", str(a.seed), "--gt-disparity"])
+            run(PROG, [synth, "--out", folder, "--scene", "flat",
+                       "--texture-kind", tex, "--baseline-mm", str(b),
+                       "--frames", str(a.frames), "--noise", "2", "--blur", "0.5",
+                       "--seed", str(a.seed), "--gt-disparity"])
             run(PROG, [png, "--seq", folder, "--out", os.path.join(folder, "out"),
-                 "--disparity", "--no-overlay", "-q"])
+                       "--disparity", "--no-overlay", "-q"])
             cells = cell_errors(folder)
             for lo, hi in BANDS_MM:
                 f = band_figures(cells, lo, hi)
@@ -138,6 +139,8 @@ def main():
                       (tex, b, lo / 1000, hi / 1000, f["n"], f["sd1"], f["corr"],
                        f["sd2"], f["sd4"], f["sd8"]))
             sys.stdout.flush()
+    if not a.work:
+        print("(walks in %s)" % work)
     return 0
 
 
