@@ -224,6 +224,77 @@ grow_score(const grow_env_t *g, const nb_off_t *o, ptrdiff_t il, int32_t qu,
     *dn = (int32_t)den;
 }
 
+/* Both windows of neighbour o inside the image (qu, qur its left and
+ * right columns). */
+static inline int member_inside(const grow_env_t *g, int32_t qu, int32_t qur,
+                                int interior)
+{
+    return interior || (qu >= STX_WIN_R && qu < g->w - STX_WIN_R &&
+                        qur >= STX_WIN_R && qur < g->w - STX_WIN_R);
+}
+
+/* Fast profile: the score of neighbour o from the strip's memo, computed
+ * and kept on its first look. The memo holds
+ * every cell of the band, so the compact profile's cache in front of it
+ * would only add a probe to every look. */
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+static inline void
+member_memo(const grow_env_t *g, const nb_off_t *o, int32_t qu, int32_t qur,
+            int interior, int32_t *nn, int32_t *dn)
+{
+    ptrdiff_t il = g->pix + o->pix;
+    uint32_t k;
+    if (!member_inside(g, qu, qur, interior)) {
+        return;
+    }
+    k = (uint32_t)(g->dr + o->dd) - (uint32_t)g->memo_base[il];
+    if (k < g->memo_k) {
+        uint32_t *mw = g->mrow + o->mo + (ptrdiff_t)k;
+        uint32_t mv = *mw;
+        if ((mv >> STX_MEMO_NUM_BITS) == g->memo_gen) {
+            /* the denominator is two loads, cheaper than a bigger word */
+            uint32_t nb = mv & STX_MEMO_NUM_MASK;
+            if (nb != 0u) {
+                *nn = stx_memo_num2(nb);
+                *dn = (int32_t)(g->vl[il] + g->vr[g->rpix + o->rpx]);
+            }
+        } else {
+            grow_score(g, o, il, qu, interior, nn, dn);
+            *mw = stx_memo_pack(g->memo_gen, *nn, *dn);
+        }
+    } else {
+        grow_score(g, o, il, qu, interior, nn, dn);
+    }
+}
+
+/* Compact profile (no memo): neighbouring seeds share most of their
+ * neighbourhoods, and a small direct-mapped cache catches about a quarter
+ * of the correlations. */
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+static inline void
+member_cached(const grow_env_t *g, const nb_off_t *o, int32_t qu, int32_t qur,
+              int interior, int32_t *nn, int32_t *dn)
+{
+    uint32_t key = g->key0 + o->key;
+    stx_cache_entry_t *e =
+        &g->cache[(g->hkey0 + o->hkey) >> (32 - STX_CACHE_BITS)];
+    if (e->key == key) {
+        *nn = e->num2;
+        *dn = e->den;
+        return;
+    }
+    if (member_inside(g, qu, qur, interior)) {
+        grow_score(g, o, g->pix + o->pix, qu, interior, nn, dn);
+    }
+    e->key = key;
+    e->num2 = *nn;
+    e->den = *dn;
+}
+
 /* Best member of the set nb[first .. end) as a fraction; returns its index
  * or -1 (no member scored, or the set cannot accept anything). Inline with
  * literal bounds at each call, so the compiler unrolls the set. */
@@ -260,8 +331,6 @@ set_best(const grow_env_t *g, int first, int end, int interior, int use_memo,
         const nb_off_t *o = &g->nb[m];
         int32_t qu = g->u + o->du;
         int32_t qur = g->ur + o->du - o->dd;
-        uint32_t key;
-        stx_cache_entry_t *e;
         int32_t nn;
         int32_t dn;
         if (!interior &&
@@ -270,50 +339,16 @@ set_best(const grow_env_t *g, int first, int end, int interior, int use_memo,
              g->dr + o->dd < g->drlo || g->dr + o->dd > g->drhi)) {
             continue; /* outside: never scored */
         }
-        /* neighbouring seeds share most of their neighbourhoods: a small
-         * direct-mapped cache catches about a quarter of the correlations;
-         * `visited` counts the misses */
-        key = g->key0 + o->key;
-        e = &g->cache[(g->hkey0 + o->hkey) >> (32 - STX_CACHE_BITS)];
-        if (e->key == key) {
-            nn = e->num2;
-            dn = e->den;
+        nn = 0;
+        dn = 0;
+        /* every look counts, whichever structure answers it: the
+         * statistic is the same in both profiles and for every number of
+         * band workers (whose memo bands differ) */
+        (*visited)++;
+        if (use_memo) {
+            member_memo(g, o, qu, qur, interior, &nn, &dn);
         } else {
-            (*visited)++;
-            nn = 0;
-            dn = 0;
-            if (interior || (qu >= STX_WIN_R && qu < g->w - STX_WIN_R &&
-                             qur >= STX_WIN_R && qur < g->w - STX_WIN_R)) {
-                ptrdiff_t il = g->pix + o->pix;
-                if (use_memo) {
-                    uint32_t k = (uint32_t)(g->dr + o->dd) -
-                                 (uint32_t)g->memo_base[il];
-                    if (k < g->memo_k) {
-                        uint32_t *mw = g->mrow + o->mo + (ptrdiff_t)k;
-                        uint32_t mv = *mw;
-                        if ((mv >> STX_MEMO_NUM_BITS) == g->memo_gen) {
-                            /* the denominator is two loads, cheaper
-                             * than a bigger word */
-                            uint32_t nb = mv & STX_MEMO_NUM_MASK;
-                            if (nb != 0u) {
-                                nn = stx_memo_num2(nb);
-                                dn = (int32_t)(g->vl[il] +
-                                               g->vr[g->rpix + o->rpx]);
-                            }
-                        } else {
-                            grow_score(g, o, il, qu, interior, &nn, &dn);
-                            *mw = stx_memo_pack(g->memo_gen, nn, dn);
-                        }
-                    } else {
-                        grow_score(g, o, il, qu, interior, &nn, &dn);
-                    }
-                } else {
-                    grow_score(g, o, il, qu, interior, &nn, &dn);
-                }
-            }
-            e->key = key;
-            e->num2 = nn;
-            e->den = dn;
+            member_cached(g, o, qu, qur, interior, &nn, &dn);
         }
         if (dn == 0) {
             continue; /* window outside the image or flat */
