@@ -305,8 +305,10 @@ static inline int
 set_best(const grow_env_t *g, int first, int end, int interior, int use_memo,
          int32_t *bn_out, int32_t *bden_out, uint32_t *visited)
 {
-    int32_t bn = 0;
-    int32_t bden = 0;
+    /* -2/1 lies below every score (an MNCC fraction is >= -1), so the
+     * first scored member always replaces it without a test of its own */
+    int32_t bn = -2;
+    int32_t bden = 1;
     int bm = -1;
     int fresh = 0;
     int m;
@@ -354,7 +356,7 @@ set_best(const grow_env_t *g, int first, int end, int interior, int use_memo,
             continue; /* window outside the image or flat */
         }
         /* nn/dn > bn/bden, both dens > 0 (products < 2^50) */
-        if (bden == 0 || (int64_t)nn * bden > (int64_t)bn * dn) {
+        if ((int64_t)nn * bden > (int64_t)bn * dn) {
             bn = nn;
             bden = dn;
             bm = m;
@@ -412,7 +414,7 @@ grow_cell(stx_t *s, const grow_env_t *g, int interior, int use_memo,
         } else {
             bm = set_best(g, 11, 16, interior, use_memo, &bn, &bden, visited);
         }
-        if (bm >= 0 && bden != 0) {
+        if (bm >= 0) { /* then bden > 0 */
             (void)try_accept_frac(s, g, &g->nb[bm], bn, bden);
         }
     }
