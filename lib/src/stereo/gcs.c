@@ -9,7 +9,7 @@
  * strip borders, though not across the border of a row band (bands.c): the
  * bands grow independently, so they can run at once.
  *
- * Growing (docs/DISPARITY.md): pop the best candidate, evaluate the 16-point
+ * Growing (docs/DISPARITY.md): pop the best candidate, evaluate the 12-point
  * neighbourhood (sets N1..N4), and from each set consider only its best
  * member q. q is accepted when
  *   c(q) >= tau,
@@ -128,12 +128,18 @@ static int32_t eval(stx_t *s, int32_t u, int32_t v, int32_t d)
     return stx_mncc_strip(s, u, v, d);
 }
 
-/* The 16-point neighbourhood as (du, dd, dv), dd = du - du', grouped in
- * the sets N1 (left, 3), N2 (right, 3), N3 (up, 5), N4 (down, 5). */
-static const int16_t nb_cell[16][3] = {
-    {-1, 0, 0}, {-2, -1, 0}, {-1, 1, 0},   {1, 0, 0},   {2, 1, 0},  {1, -1, 0},
-    {0, 0, -1}, {1, 1, -1},  {-1, -1, -1}, {0, -1, -1}, {0, 1, -1}, {0, 0, 1},
-    {1, 1, 1},  {-1, -1, 1}, {0, -1, 1},   {0, 1, 1},
+/* The 12-point neighbourhood as (du, dd, dv), dd = du - du', grouped in
+ * the sets N1 (left), N2 (right), N3 (up), N4 (down), 3 members each.
+ * N3 and N4 keep the left column and change d by moving the right one;
+ * the paper's two more members per row, which move the left column
+ * diagonally (u +- 1, v +- 1), are reached in two steps through N1 / N2
+ * of the cell above or below. Without them the growth looks at a quarter
+ * fewer cells and the Middlebury figures and the detection suite hold
+ * (docs/DISPARITY.md, "Stage 3"). */
+#define NB_CELLS 12
+static const int16_t nb_cell[NB_CELLS][3] = {
+    {-1, 0, 0}, {-2, -1, 0}, {-1, 1, 0}, {1, 0, 0}, {2, 1, 0},  {1, -1, 0},
+    {0, 0, -1}, {0, -1, -1}, {0, 1, -1}, {0, 0, 1}, {0, -1, 1}, {0, 1, 1},
 };
 
 /* Per-strip offsets of a neighbour relative to the popped cell, in every
@@ -163,7 +169,7 @@ typedef struct grow_env {
     const uint8_t *memo_base;
     uint32_t memo_k, memo_gen; /* gen: the strip's stamp           */
     ptrdiff_t ls, rs;
-    nb_off_t nb[16];
+    nb_off_t nb[NB_CELLS];
     /* popped cell */
     int32_t u, vrow, dr, ur;
     ptrdiff_t pix, rpix, bit0;
@@ -404,15 +410,15 @@ grow_cell(stx_t *s, const grow_env_t *g, int interior, int use_memo,
         int32_t bn = 0;
         int32_t bden = 0;
         int bm;
-        /* literal bounds per set (N1, N2: 3 members; N3, N4: 5) */
+        /* literal bounds per set (3 members each) */
         if (k == 0) {
             bm = set_best(g, 0, 3, interior, use_memo, &bn, &bden, visited);
         } else if (k == 1) {
             bm = set_best(g, 3, 6, interior, use_memo, &bn, &bden, visited);
         } else if (k == 2) {
-            bm = set_best(g, 6, 11, interior, use_memo, &bn, &bden, visited);
+            bm = set_best(g, 6, 9, interior, use_memo, &bn, &bden, visited);
         } else {
-            bm = set_best(g, 11, 16, interior, use_memo, &bn, &bden, visited);
+            bm = set_best(g, 9, 12, interior, use_memo, &bn, &bden, visited);
         }
         if (bm >= 0) { /* then bden > 0 */
             (void)try_accept_frac(s, g, &g->nb[bm], bn, bden);
@@ -458,7 +464,7 @@ grow_run(stx_t *s, int use_memo)
     g.rs = s->right->stride;
     lrow = s->left->data + (ptrdiff_t)s->y0 * g.ls;
     rrow = s->right->data + ((ptrdiff_t)s->y0 + s->voff) * g.rs;
-    for (m = 0; m < 16; m++) {
+    for (m = 0; m < NB_CELLS; m++) {
         int32_t du = nb_cell[m][0];
         int32_t dd = nb_cell[m][1];
         int32_t dv = nb_cell[m][2];
