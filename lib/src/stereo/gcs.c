@@ -240,9 +240,9 @@ static inline int member_inside(const grow_env_t *g, int32_t qu, int32_t qur,
 }
 
 /* Fast profile: the score of neighbour o from the strip's memo, computed
- * and kept on its first look. The memo holds
- * every cell of the band, so the compact profile's cache in front of it
- * would only add a probe to every look. */
+ * and kept on its first look. The memo holds every cell of the band, so
+ * the compact profile's cache in front of it would only add a probe to
+ * every look. */
 #if defined(__GNUC__)
 __attribute__((always_inline))
 #endif
