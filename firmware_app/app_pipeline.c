@@ -29,6 +29,8 @@ static int32_t lib_h;
 static int lib_ready;
 static negobs_pool_t *lib_pool; /* band threads (threads > 1)  */
 static int32_t lib_pool_threads;
+static int32_t lib_workers; /* matcher threads of this frame size */
+static int32_t lib_profile; /* its NEGOBS_STEREO_PROFILE_*         */
 
 void app_pipeline_config_default(app_pipeline_config_t *cfg)
 {
@@ -124,6 +126,30 @@ static negobs_status_t pool_setup(int32_t threads)
     return negobs_pipeline_set_executor(&lib_pipe, &e);
 }
 
+/* The workspace of pc with the fast memory profile where lib_ws holds it,
+ * else with the compact one: NEGOBS_ERR_NOSPACE when neither fits. The
+ * fast profile's memo saves the growth's repeated correlations (about a
+ * tenth of the matcher's instructions) and changes no output
+ * (docs/DISPARITY.md, "Memory profiles"). */
+static negobs_status_t ws_fit(negobs_pipeline_config_t *pc, size_t *bytes)
+{
+    static const int32_t profiles[2] = {NEGOBS_STEREO_PROFILE_FAST,
+                                        NEGOBS_STEREO_PROFILE_COMPACT};
+    int i;
+    for (i = 0; i < 2; i++) {
+        negobs_status_t st;
+        pc->stereo.memory_profile = profiles[i];
+        st = negobs_pipeline_workspace_size(pc, bytes);
+        if (st != NEGOBS_OK) {
+            return st;
+        }
+        if (*bytes <= sizeof lib_ws) {
+            return NEGOBS_OK;
+        }
+    }
+    return NEGOBS_ERR_NOSPACE;
+}
+
 /* (Re)initialise the library pipeline for this frame size. */
 static negobs_status_t lib_setup(const app_pipeline_config_t *c, int32_t w,
                                  int32_t h)
@@ -163,17 +189,16 @@ static negobs_status_t lib_setup(const app_pipeline_config_t *c, int32_t w,
     pc.detect.saturated_max_permille = c->sat_permille_max;
     pc.detect.texture_min_q4 = c->texture_min_q4;
     /* One scratch area per thread; fewer threads where the workspace
-     * cannot hold them all (the disparities do not depend on it). */
+     * cannot hold them all, and the memo only where it fits beside them
+     * (threads cut the latency more than the memo does). The disparities
+     * depend on neither. */
     for (pc.stereo.band_workers = c->threads;; pc.stereo.band_workers--) {
-        st = negobs_pipeline_workspace_size(&pc, &bytes);
-        if (st != NEGOBS_OK) {
-            return st;
-        }
-        if (bytes <= sizeof lib_ws) {
+        st = ws_fit(&pc, &bytes);
+        if (st == NEGOBS_OK) {
             break;
         }
-        if (pc.stereo.band_workers == 1) {
-            return NEGOBS_ERR_NOSPACE;
+        if (st != NEGOBS_ERR_NOSPACE || pc.stereo.band_workers == 1) {
+            return st;
         }
     }
     st = negobs_pipeline_init(&lib_pipe, &pc, lib_ws, bytes);
@@ -186,6 +211,8 @@ static negobs_status_t lib_setup(const app_pipeline_config_t *c, int32_t w,
     }
     lib_w = w;
     lib_h = h;
+    lib_workers = pc.stereo.band_workers;
+    lib_profile = pc.stereo.memory_profile;
     lib_ready = 1;
     return NEGOBS_OK;
 }
@@ -311,6 +338,8 @@ app_verdict_t app_process_pair_at(app_pipeline_t *p,
                                    ((uint64_t)left->width *
                                     (uint64_t)left->height));
     st->first_row = res.stereo.first_row;
+    st->matcher_threads = lib_workers;
+    st->memory_profile = lib_profile;
     {
         int k;
         uint64_t sum = 0;

@@ -102,6 +102,11 @@ typedef struct app_frame_stats {
     int32_t valid_permille;   /**< share of pixels with a disparity      */
     int32_t first_row;        /**< first image row the matcher read (0:
                                    the whole frame; row_crop)            */
+    int32_t matcher_threads;  /**< threads the matcher ran on: `threads`,
+                                   or fewer where the workspace holds
+                                   fewer (0: the library did not run)    */
+    int32_t memory_profile;   /**< NEGOBS_STEREO_PROFILE_* the matcher
+                                   ran with: fast where its memo fits   */
     int32_t latency_ms;       /**< capture to verdict (latency gate), or
                                    -1 when not measured                  */
     uint32_t stereo_us;       /**< matcher time of this pair, the sum of

@@ -437,6 +437,30 @@ static void log_summary(uint32_t done, const run_status_t *st)
            rec);
 }
 
+/* Once per frame size (and whenever it changes): the threads and the
+ * memory profile the matcher runs with, which depend on what the static
+ * workspace holds at that size (app_pipeline.c). */
+static void log_matcher_setup(const app_frame_stats_t *st,
+                              const negobs_image_u8_t *img)
+{
+    static int32_t logged_w;
+    static int32_t logged_h;
+    static int32_t logged_threads;
+    if (st->matcher_threads <= 0 ||
+        (img->width == logged_w && img->height == logged_h &&
+         st->matcher_threads == logged_threads)) {
+        return;
+    }
+    logged_w = img->width;
+    logged_h = img->height;
+    logged_threads = st->matcher_threads;
+    logmsg(LOG_INFO, "matcher at %ldx%ld: %ld thread(s), %s memory profile",
+           (long)img->width, (long)img->height, (long)st->matcher_threads,
+           st->memory_profile == NEGOBS_STEREO_PROFILE_FAST
+               ? "fast (growth memo)"
+               : "compact");
+}
+
 /* One pair: [rectify] -> pipeline -> latency gate -> alert; the pair is
  * released here. -1 to go on, else an exit code. */
 static int judge_pair(negobs_frame_pair_t *pair, uint64_t now, uint32_t done,
@@ -482,6 +506,7 @@ static int judge_pair(negobs_frame_pair_t *pair, uint64_t now, uint32_t done,
                   img_l->height, v, &pipeline, alert_pattern_now(),
                   button_preset_name());
     mount_remember((uint32_t)now);
+    log_matcher_setup(&pipeline.last, img_l);
     logmsg(LOG_DEBUG, "pair %lu verdict %s first_row %ld", (unsigned long)done,
            app_verdict_name(v), (long)pipeline.last.first_row);
     if (run_log_level >= LOG_DEBUG && pipeline.last.stereo_us > 0u) {

@@ -130,6 +130,36 @@ static void test_too_large_frames_give_no_info(void **state)
     assert_int_equal(p.last.reason, APP_REASON_BAD_INPUT);
 }
 
+/* The matcher gets the fast profile's memo where the static workspace
+ * holds it beside the threads asked for: at 320x240 with 2 threads it
+ * does (about 3.7 MB of the 4.5). The largest supported frame with 4
+ * threads still runs, on what fits. */
+static void test_matcher_setup_follows_the_workspace(void **state)
+{
+    app_pipeline_t p;
+    app_pipeline_config_t c;
+    negobs_image_u8_t small = {big, 320, 240, 320};
+    negobs_image_u8_t duo = {big, 752, 480, 752};
+    (void)state;
+    app_pipeline_config_default(&c);
+    c.threads = 2;
+    assert_int_equal(app_pipeline_init(&p, &c), NEGOBS_OK);
+    fill(big, 320, 240, 320, 5, 40, 160);
+    (void)app_process_pair(&p, &small, &small);
+    assert_int_not_equal(p.last.reason, APP_REASON_BAD_INPUT);
+    assert_int_equal(p.last.matcher_threads, 2);
+    assert_int_equal(p.last.memory_profile, NEGOBS_STEREO_PROFILE_FAST);
+
+    c.threads = 4;
+    assert_int_equal(app_pipeline_init(&p, &c), NEGOBS_OK);
+    fill(big, 752, 480, 752, 6, 40, 160);
+    (void)app_process_pair(&p, &duo, &duo);
+    assert_int_not_equal(p.last.reason, APP_REASON_BAD_INPUT);
+    assert_in_range(p.last.matcher_threads, 1, 4);
+    assert_true(p.last.memory_profile == NEGOBS_STEREO_PROFILE_FAST ||
+                p.last.memory_profile == NEGOBS_STEREO_PROFILE_COMPACT);
+}
+
 /* One home for the photometric thresholds: the app's defaults are the
  * detector's, and what the user sets reaches the detector's gate. */
 static void test_gate_thresholds_are_the_detectors(void **state)
@@ -246,6 +276,7 @@ int main(void)
         cmocka_unit_test(test_unusable_images_give_no_info_with_reason),
         cmocka_unit_test(test_bad_input_gives_no_info),
         cmocka_unit_test(test_too_large_frames_give_no_info),
+        cmocka_unit_test(test_matcher_setup_follows_the_workspace),
         cmocka_unit_test(test_gate_thresholds_are_the_detectors),
         cmocka_unit_test(test_late_clear_is_not_trusted),
         cmocka_unit_test(test_stage_clock_fills_stage_times),

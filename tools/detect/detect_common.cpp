@@ -284,6 +284,7 @@ bool Runner::init(int width, int height, const CamParams &cam, std::string &err,
         cfg_.valign.max_disp = cfg_.stereo.max_disp;
     }
     cfg_.stereo.band_workers = threads_;
+    cfg_.stereo.memory_profile = profile_;
     size_t bytes = 0;
     negobs_status_t st = negobs_pipeline_workspace_size(&cfg_, &bytes);
     if (st != NEGOBS_OK) {

@@ -103,6 +103,9 @@ public:
     // negobs_port pool; 1, the default: the calling thread). The output
     // does not depend on it.
     void set_threads(int threads) { threads_ = threads < 1 ? 1 : threads; }
+    // The matcher's memory profile (NEGOBS_STEREO_PROFILE_*) from the next
+    // init() on; the output does not depend on it.
+    void set_memory_profile(int profile) { profile_ = profile; }
 
     // Runs one pair captured at t_ms through negobs_pipeline_process. Stage
     // timings come from the pipeline's clock hook (thread CPU time); with
@@ -129,6 +132,7 @@ private:
     bool whole_ = false;
     bool ready_ = false;
     int threads_ = 1;
+    int profile_ = NEGOBS_STEREO_PROFILE_DEFAULT;
     negobs_pool_t *pool_ = nullptr;
 };
 

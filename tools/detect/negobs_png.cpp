@@ -83,6 +83,9 @@ void usage(FILE *f)
            "                    the output is the same for every N; with N > 1 the\n"
            "                    stage times add up the threads' CPU time and the\n"
            "                    total is the calling thread's\n"
+           "  --profile P       the matcher's memory profile: compact (default,\n"
+           "                    the library's) or fast (its growth memo, as\n"
+           "                    negobs_run takes where it fits); same output\n"
            "  --summary         one summary line at the end (stdout)\n"
            "  -q, --quiet       no JSON lines on stdout\n"
            "  -h, --help        this text\n"
@@ -176,6 +179,7 @@ int run(int argc, char **argv)
     double overlay_scale = 1.0;
     double f = -1, B = -1, cx = -1, cy = -1, H = -1, pitch = -1e9, fps = -1;
     int threads = 1; // the times stay one thread's CPU time
+    int profile = NEGOBS_STEREO_PROFILE_DEFAULT;
     int max_disp = -1, vshift = 0, repeat = 1, first = 0, count = -1, bin = 1;
     bool valign = false;
     bool vshift_set = false, overlay_on = true, summary = false, quiet = false,
@@ -201,6 +205,7 @@ int run(int argc, char **argv)
         O_WHOLE,
         O_CALIB,
         O_THREADS,
+        O_PROFILE,
         O_BIN,
         O_DISP
     };
@@ -229,6 +234,7 @@ int run(int argc, char **argv)
         {"whole", no_argument, nullptr, O_WHOLE},
         {"calib", required_argument, nullptr, O_CALIB},
         {"threads", required_argument, nullptr, O_THREADS},
+        {"profile", required_argument, nullptr, O_PROFILE},
         {"bin", required_argument, nullptr, O_BIN},
         {"disparity", no_argument, nullptr, O_DISP},
         {nullptr, 0, nullptr, 0},
@@ -282,6 +288,11 @@ int run(int argc, char **argv)
         case O_BIN: ok = negobs_cli::parse_int(v, 1, 4, bin); break;
         case O_THREADS:
             ok = negobs_cli::parse_int(v, 1, NEGOBS_POOL_MAX_THREADS, threads);
+            break;
+        case O_PROFILE:
+            ok = std::string(v) == "compact" || std::string(v) == "fast";
+            profile = (std::string(v) == "fast") ? NEGOBS_STEREO_PROFILE_FAST
+                                                 : NEGOBS_STEREO_PROFILE_COMPACT;
             break;
         case ':': return bad("option " + a + " needs a value");
         default: return bad("unknown option " + a);
@@ -448,6 +459,7 @@ int run(int argc, char **argv)
 
     Runner runner;
     runner.set_threads(threads);
+    runner.set_memory_profile(profile);
     int w = 0, h = 0;
     int n = 0, nhaz = 0, nnoinfo = 0, first_conf = -1;
     int first_conf_range = -1;

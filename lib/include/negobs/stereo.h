@@ -150,11 +150,12 @@ typedef struct negobs_stereo_config {
  *  most lookups and is not worth its memory. */
 #define NEGOBS_STEREO_MEMO_MIN_LEVELS 16
 /** The profile negobs_stereo_config_default() picks: compact on every
- *  target for now. The fast profile's memo saves only about 7 % of the
- *  instructions where the cross sum has SIMD (SSE2, NEON) and 14 % in plain
- *  C, and at 640x480 and up it would not fit the static pipeline workspace
- *  negobs_run carves (2.5 MB). Linux callers that have the memory set
- *  memory_profile, or build with -DNEGOBS_STEREO_PROFILE_DEFAULT=1. */
+ *  target. The fast profile's memo saves about 9 % of the instructions
+ *  where the cross sum has SIMD (SSE2, NEON), and its size depends on the
+ *  frame and the band workers, so the caller that owns the memory
+ *  chooses: negobs_run takes it wherever its static workspace holds it
+ *  beside the threads. Others set memory_profile, or build with
+ *  -DNEGOBS_STEREO_PROFILE_DEFAULT=1. */
 #ifndef NEGOBS_STEREO_PROFILE_DEFAULT
 #define NEGOBS_STEREO_PROFILE_DEFAULT NEGOBS_STEREO_PROFILE_COMPACT
 #endif
