@@ -131,33 +131,44 @@ static void test_too_large_frames_give_no_info(void **state)
 }
 
 /* The matcher gets the fast profile's memo where the static workspace
- * holds it beside the threads asked for: at 320x240 with 2 threads it
- * does (about 3.7 MB of the 4.5). The largest supported frame with 4
- * threads still runs, on what fits. */
+ * holds it beside the threads asked for: at 320x240 with 1 or 2 threads
+ * it does (about 2.0 / 3.8 MB of the 4.5). The largest supported frame
+ * with 4 threads still runs, on what fits. The cases with threads run in
+ * native builds only (qemu-user hangs in clone(); tests/port/meson.build). */
 static void test_matcher_setup_follows_the_workspace(void **state)
 {
     app_pipeline_t p;
     app_pipeline_config_t c;
     negobs_image_u8_t small = {big, 320, 240, 320};
-    negobs_image_u8_t duo = {big, 752, 480, 752};
     (void)state;
     app_pipeline_config_default(&c);
-    c.threads = 2;
+    c.threads = 1;
     assert_int_equal(app_pipeline_init(&p, &c), NEGOBS_OK);
     fill(big, 320, 240, 320, 5, 40, 160);
     (void)app_process_pair(&p, &small, &small);
     assert_int_not_equal(p.last.reason, APP_REASON_BAD_INPUT);
-    assert_int_equal(p.last.matcher_threads, 2);
+    assert_int_equal(p.last.matcher_threads, 1);
     assert_int_equal(p.last.memory_profile, NEGOBS_STEREO_PROFILE_FAST);
+#if defined(NEGOBS_TEST_THREADS)
+    {
+        negobs_image_u8_t duo = {big, 752, 480, 752};
+        c.threads = 2;
+        assert_int_equal(app_pipeline_init(&p, &c), NEGOBS_OK);
+        (void)app_process_pair(&p, &small, &small);
+        assert_int_not_equal(p.last.reason, APP_REASON_BAD_INPUT);
+        assert_int_equal(p.last.matcher_threads, 2);
+        assert_int_equal(p.last.memory_profile, NEGOBS_STEREO_PROFILE_FAST);
 
-    c.threads = 4;
-    assert_int_equal(app_pipeline_init(&p, &c), NEGOBS_OK);
-    fill(big, 752, 480, 752, 6, 40, 160);
-    (void)app_process_pair(&p, &duo, &duo);
-    assert_int_not_equal(p.last.reason, APP_REASON_BAD_INPUT);
-    assert_in_range(p.last.matcher_threads, 1, 4);
-    assert_true(p.last.memory_profile == NEGOBS_STEREO_PROFILE_FAST ||
-                p.last.memory_profile == NEGOBS_STEREO_PROFILE_COMPACT);
+        c.threads = 4;
+        assert_int_equal(app_pipeline_init(&p, &c), NEGOBS_OK);
+        fill(big, 752, 480, 752, 6, 40, 160);
+        (void)app_process_pair(&p, &duo, &duo);
+        assert_int_not_equal(p.last.reason, APP_REASON_BAD_INPUT);
+        assert_in_range(p.last.matcher_threads, 1, 4);
+        assert_true(p.last.memory_profile == NEGOBS_STEREO_PROFILE_FAST ||
+                    p.last.memory_profile == NEGOBS_STEREO_PROFILE_COMPACT);
+    }
+#endif
 }
 
 /* One home for the photometric thresholds: the app's defaults are the
