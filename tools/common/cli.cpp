@@ -9,10 +9,24 @@
 #include <opencv2/core.hpp>
 
 extern "C" {
+#include "negobs/stereo.h"
 #include "negobs/version.h"
 }
 
 namespace negobs_cli {
+
+bool parse_memory_profile(const char *s, int &out)
+{
+    const std::string name = (s != nullptr) ? s : "";
+    if (name == "compact") {
+        out = NEGOBS_STEREO_PROFILE_COMPACT;
+    } else if (name == "fast") {
+        out = NEGOBS_STEREO_PROFILE_FAST;
+    } else {
+        return false;
+    }
+    return true;
+}
 
 bool parse_int(const char *s, long lo, long hi, int &out)
 {

@@ -32,6 +32,10 @@ struct UsageError : std::runtime_error {
 bool parse_int(const char *s, long lo, long hi, int &out);
 bool parse_double(const char *s, double lo, double hi, double &out);
 
+// The matcher's memory profile by name: "compact" or "fast" into the
+// NEGOBS_STEREO_PROFILE_* value; anything else is refused (false).
+bool parse_memory_profile(const char *s, int &out);
+
 // The same, throwing UsageError naming the option and the accepted range.
 int int_arg(const char *opt, const char *s, long lo, long hi);
 double double_arg(const char *opt, const char *s, double lo, double hi);

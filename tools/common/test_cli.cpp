@@ -8,6 +8,10 @@
 #include <string>
 #include <unistd.h>
 
+extern "C" {
+#include "negobs/stereo.h"
+}
+
 #include "cli.hpp"
 
 namespace {
@@ -39,6 +43,13 @@ int main(int argc, char **argv)
     int i = -1;
     double d = -1;
     check(parse_int("42", 0, 100, i) && i == 42, "42 in 0..100");
+    check(parse_memory_profile("fast", i) && i == NEGOBS_STEREO_PROFILE_FAST &&
+              parse_memory_profile("compact", i) &&
+              i == NEGOBS_STEREO_PROFILE_COMPACT,
+          "memory profiles by name");
+    check(!parse_memory_profile("Fast", i) && !parse_memory_profile("", i) &&
+              !parse_memory_profile(nullptr, i),
+          "unknown memory profile names refused");
     check(!parse_int("42x", 0, 100, i) && !parse_int("", 0, 100, i) &&
               !parse_int("101", 0, 100, i) && !parse_int("-1", 0, 100, i) &&
               !parse_int("99999999999999999999", 0, 100, i) &&

@@ -289,11 +289,7 @@ int run(int argc, char **argv)
         case O_THREADS:
             ok = negobs_cli::parse_int(v, 1, NEGOBS_POOL_MAX_THREADS, threads);
             break;
-        case O_PROFILE:
-            ok = std::string(v) == "compact" || std::string(v) == "fast";
-            profile = (std::string(v) == "fast") ? NEGOBS_STEREO_PROFILE_FAST
-                                                 : NEGOBS_STEREO_PROFILE_COMPACT;
-            break;
+        case O_PROFILE: ok = negobs_cli::parse_memory_profile(v, profile); break;
         case ':': return bad("option " + a + " needs a value");
         default: return bad("unknown option " + a);
         }

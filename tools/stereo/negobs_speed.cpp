@@ -128,11 +128,7 @@ int main(int argc, char **argv)
         } else if (c == 'w') {
             pgm_prefix = v;
         } else if (c == 'p') {
-            if (v == "compact") {
-                profile = NEGOBS_STEREO_PROFILE_COMPACT;
-            } else if (v == "fast") {
-                profile = NEGOBS_STEREO_PROFILE_FAST;
-            } else {
+            if (!negobs_cli::parse_memory_profile(v.c_str(), profile)) {
                 return usage("--profile takes compact or fast");
             }
         } else if (c == ':') {
