@@ -254,8 +254,11 @@ static void test_workspace_budgets(void **state)
         cfg.memory_profile = NEGOBS_STEREO_PROFILE_COMPACT;
         assert_int_equal(negobs_stereo_workspace_size(&cfg, &compact),
                          NEGOBS_OK);
+        /* more than 31 levels a worker: the whole memo (a worker with a
+         * memo has no score cache, so the difference is a little less
+         * than the two memos) */
         assert_true(fast > compact + 2u * 320u * 32u * 4u *
-                                         NEGOBS_STEREO_MEMO_LEVELS);
+                                         (NEGOBS_STEREO_MEMO_LEVELS - 1));
         cfg.band_workers = 1;
         cfg.memory_profile = NEGOBS_STEREO_PROFILE_FAST;
     }

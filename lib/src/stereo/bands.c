@@ -15,7 +15,7 @@
  * (NEGOBS_ERR_STATE).
  *
  * Each worker owns one scratch area (the strip buffers, the queue, the
- * score cache, the memo, a DP row and the speckle flood lists): worker 0 is the context itself, the
+ * score cache or the memo, a DP row and the speckle flood lists): worker 0 is the context itself, the
  * others are copies of the context (s->wk) with their own scratch and
  * statistics, merged after each parallel pass.
  *

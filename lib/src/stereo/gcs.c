@@ -746,7 +746,9 @@ void stx_gcs_strip(stx_t *s, negobs_image_s16_t *out)
     memset(s->rc2, 0, cells);
     memset(s->tbits, 0, (cells * (size_t)s->ndisp + 7u) / 8u);
     stx_queue_reset(&s->q);
-    memset(s->cache, 0, sizeof(stx_cache_entry_t) << STX_CACHE_BITS);
+    if (s->cache != NULL) { /* compact profile: no memo */
+        memset(s->cache, 0, sizeof(stx_cache_entry_t) << STX_CACHE_BITS);
+    }
     memo_strip(s);
 
     seed_carry(s, out);

@@ -129,15 +129,18 @@ static size_t slot(size_t *end, size_t bytes)
 
 /*
  * The growth's strip scratch (Canny, the matching table and its bitset,
- * the queue, the score cache) as one block: canny.c and gcs.c set all of
- * it up again at every strip, so it is idle from the end of the growth to
- * the next frame, and the DP keeps its pointers in it between its passes
- * (dp_store.c) unless carve() lends the memo, where that is larger. In a
- * release build the block takes what the separate blocks took; with debug
- * guards it has one guard pair.
+ * the queue, and without a memo the score cache) as one block: canny.c
+ * and gcs.c set all of it up again at every strip, so it is idle from the
+ * end of the growth to the next frame, and the DP keeps its pointers in
+ * it between its passes (dp_store.c) unless carve() lends the memo, where
+ * that is larger. A worker with a memo reads its scores from the memo
+ * alone (gcs.c: member_memo), so it has no cache. In a release build the
+ * block takes what the separate blocks took; with debug guards it has one
+ * guard pair.
  */
 static void carve_growth(negobs_arena_t *a, stx_t *x,
-                         const negobs_stereo_config_t *c, size_t spx)
+                         const negobs_stereo_config_t *c, size_t spx,
+                         int32_t memo_k)
 {
     size_t w = (size_t)c->width;
     size_t nd = (size_t)c->max_disp - (size_t)c->min_disp + 1u;
@@ -155,7 +158,9 @@ static void carve_growth(negobs_arena_t *a, stx_t *x,
     size_t item = slot(&end, q * sizeof(uint32_t));
     size_t next = slot(&end, q * sizeof(int32_t));
     size_t head = slot(&end, STX_NBUCKET * sizeof(int32_t));
-    size_t cache = slot(&end, sizeof(stx_cache_entry_t) << STX_CACHE_BITS);
+    size_t cache = (memo_k > 0) ? 0u
+                                : slot(&end, sizeof(stx_cache_entry_t)
+                                                 << STX_CACHE_BITS);
     uint8_t *g = (uint8_t *)negobs_arena_take(a, end);
     if (x == NULL || g == NULL) {
         return;
@@ -172,7 +177,7 @@ static void carve_growth(negobs_arena_t *a, stx_t *x,
     x->q.item = (uint32_t *)(void *)(g + item);
     x->q.next = (int32_t *)(void *)(g + next);
     x->q.head = (int32_t *)(void *)(g + head);
-    x->cache = (stx_cache_entry_t *)(void *)(g + cache);
+    x->cache = (memo_k > 0) ? NULL : (stx_cache_entry_t *)(void *)(g + cache);
     x->dps = g; /* carve() prefers the memo where there is one */
     x->dps_cap = end;
 }
@@ -199,7 +204,7 @@ static void carve_scratch(negobs_arena_t *a, stx_t *x,
     TAKE(x->sr, uint16_t, spx);
     TAKE(x->vl, uint32_t, spx);
     TAKE(x->vr, uint32_t, spx);
-    carve_growth(a, x, c, spx);
+    carve_growth(a, x, c, spx, memo_k);
     TAKE(x->yprev, int32_t, nd + 2);
     TAKE(x->ycur, int32_t, nd + 2);
     TAKE(x->p1, uint8_t, (size_t)w * (size_t)nd);
