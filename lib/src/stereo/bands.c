@@ -15,9 +15,10 @@
  * (NEGOBS_ERR_STATE).
  *
  * Each worker owns one scratch area (the strip buffers, the queue, the
- * score cache or the memo, a DP row and the speckle flood lists): worker 0 is the context itself, the
- * others are copies of the context (s->wk) with their own scratch and
- * statistics, merged after each parallel pass.
+ * score cache or the memo, a DP row and the speckle flood lists): worker 0
+ * is the context itself, the others are copies of the context (s->wk)
+ * with their own scratch and statistics, merged after each parallel
+ * pass.
  *
  * Per frame: (0) the vertical offset search and the 1/4-scale map, each
  * band taking its share of the sampling grid's rows or of the low-res
