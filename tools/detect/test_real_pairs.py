@@ -185,20 +185,14 @@ def main():
         return 2
     evaluator, png, work = sys.argv[1:]
     data = data_dir()
-    errors = []
-    ran = 0
+    runs = []  # (label, command, check of its stdout)
 
     oakd = os.path.join(data, "oakd")
     if os.path.isfile(os.path.join(oakd, "calibration.json")):
         for binning in ("1", "2"):
-            label = "OAK-D (--bin %s)" % binning
-            rc, out, err = run([evaluator, "--oakd", oakd, "--bin", binning])
-            if rc != 0:
-                errors.append("%s: exit %d: %s" % (label, rc, err.strip()))
-                continue
-            errors += check_oakd(out, label)
-            ran += 1
-            print("%s: checked" % label)
+            runs.append(("OAK-D (--bin %s)" % binning,
+                         [evaluator, "--oakd", oakd, "--bin", binning],
+                         check_oakd))
     else:
         print("OAK-D pairs not found under %s: skipped" % oakd)
 
@@ -206,14 +200,9 @@ def main():
     if os.path.isdir(surdis):
         for hint, extra in (("the generic hint", []),
                             ("no mounting hint", ["--surdis-height-mm", "0"])):
-            label = "SurDis (%s)" % hint
-            rc, out, err = run([evaluator, "--surdis", surdis] + extra)
-            if rc != 0:
-                errors.append("%s: exit %d: %s" % (label, rc, err.strip()))
-                continue
-            errors += check_surdis(out, label)
-            ran += 1
-            print("%s: checked" % label)
+            runs.append(("SurDis (%s)" % hint,
+                         [evaluator, "--surdis", surdis] + extra,
+                         check_surdis))
     else:
         print("SurDis not found under %s: skipped" % surdis)
 
@@ -221,20 +210,26 @@ def main():
     if os.path.isdir(urban):
         for n in range(1, 5):
             label = "urban%d" % n
-            left = os.path.join(urban, "urban%d_left.pgm" % n)
-            right = os.path.join(urban, "urban%d_right.pgm" % n)
-            rc, out, err = run([png, left, right, "--out",
-                                os.path.join(work, label), "--no-overlay",
-                                "--height-mm", "0", "--repeat", "5", "--bin",
-                                "2"] + URBAN_CAMERA)
-            if rc != 0:
-                errors.append("%s: exit %d: %s" % (label, rc, err.strip()))
-                continue
-            errors += check_urban(out.splitlines(), label)
-            ran += 1
-            print("%s: checked" % label)
+            runs.append((label, [png,
+                                 os.path.join(urban, label + "_left.pgm"),
+                                 os.path.join(urban, label + "_right.pgm"),
+                                 "--out", os.path.join(work, label),
+                                 "--no-overlay", "--height-mm", "0",
+                                 "--repeat", "5", "--bin", "2"] + URBAN_CAMERA,
+                         lambda out, lab: check_urban(out.splitlines(), lab)))
     else:
         print("LIBELAS urban pairs not found under %s: skipped" % urban)
+
+    errors = []
+    ran = 0
+    for label, cmd, check in runs:
+        rc, out, err = run(cmd)
+        if rc != 0:
+            errors.append("%s: exit %d: %s" % (label, rc, err.strip()))
+            continue
+        errors += check(out, label)
+        ran += 1
+        print("%s: checked" % label)
 
     if ran == 0 and not errors:
         print("no real data under %s (set NEGOBS_DATA): skipped" % data)
