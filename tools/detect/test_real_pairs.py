@@ -17,9 +17,9 @@ off for nothing:
 * LIBELAS urban pairs (car-mounted, 1344x391, no calibration shipped):
   flat streets ahead, so no hazard may be reported. The camera values are
   assumed, not given (f = 645.24 px, cx, cy = 635.96, 194.13, B = 570.7
-  mm: libviso2's published calibration of a Karlsruhe sequence from the
-  same car); a wrong f or B scales the measured mounting, not the flatness
-  of the street.
+  mm: libviso2's published calibration of a Karlsruhe street sequence of
+  the same image size, assumed to fit these pairs); a wrong f or B scales
+  the measured mounting, not the flatness of the street.
 
 Each set that is absent is skipped with a message; with none present the
 test exits 77 (skipped). `--selftest` feeds the checks known-bad reports
