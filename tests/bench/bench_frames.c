@@ -14,27 +14,7 @@
 
 #include "negobs/stereo.h"
 
-/* Binary PGM (P5, maxval 255) into a new buffer; NULL on any error. */
-static uint8_t *read_pgm(const char *path, int32_t *w, int32_t *h)
-{
-    FILE *f = fopen(path, "rb");
-    uint8_t *px = NULL;
-    int maxv = 0;
-    if (f == NULL) {
-        return NULL;
-    }
-    if (fscanf(f, "P5 %d %d %d", w, h, &maxv) == 3 && maxv == 255 && *w > 0 &&
-        *h > 0 && *w <= 4096 && *h <= 4096 && fgetc(f) != EOF) {
-        size_t n = (size_t)*w * (size_t)*h;
-        px = malloc(n);
-        if (px != NULL && fread(px, 1, n, f) != n) {
-            free(px);
-            px = NULL;
-        }
-    }
-    fclose(f);
-    return px;
-}
+#include "bench_pgm.h"
 
 static int usage(const char *msg)
 {
@@ -91,8 +71,8 @@ int main(int argc, char **argv)
             return usage("unknown option");
         }
     }
-    l = read_pgm(argv[1], &w, &h);
-    r = read_pgm(argv[2], &w2, &h2);
+    l = bench_read_pgm(argv[1], &w, &h);
+    r = bench_read_pgm(argv[2], &w2, &h2);
     if (l == NULL || r == NULL || w != w2 || h != h2) {
         return usage("cannot read the pair (binary 8-bit PGM, same size)");
     }
