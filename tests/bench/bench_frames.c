@@ -14,7 +14,7 @@
 
 #include "negobs/stereo.h"
 
-#include "bench_pgm.h"
+#include "bench_common.h"
 
 static int usage(const char *msg)
 {
@@ -57,12 +57,7 @@ int main(int argc, char **argv)
     }
     for (a = 4; a < argc; a++) {
         if (strcmp(argv[a], "--profile") == 0 && a + 1 < argc) {
-            a++;
-            if (strcmp(argv[a], "compact") == 0) {
-                profile = NEGOBS_STEREO_PROFILE_COMPACT;
-            } else if (strcmp(argv[a], "fast") == 0) {
-                profile = NEGOBS_STEREO_PROFILE_FAST;
-            } else {
+            if (!bench_parse_profile(argv[++a], &profile)) {
                 return usage("--profile takes compact or fast");
             }
         } else if (strcmp(argv[a], "--max-disp") == 0 && a + 1 < argc) {
