@@ -130,12 +130,9 @@ static int32_t eval(stx_t *s, int32_t u, int32_t v, int32_t d)
 
 /* The 12-point neighbourhood as (du, dd, dv), dd = du - du', grouped in
  * the sets N1 (left), N2 (right), N3 (up), N4 (down), 3 members each.
- * N3 and N4 keep the left column and change d by moving the right one;
- * the paper's two more members per row, which move the left column
- * diagonally (u +- 1, v +- 1), are reached in two steps through N1 / N2
- * of the cell above or below. Without them the growth looks at a quarter
- * fewer cells and the Middlebury figures and the detection suite hold
- * (docs/DISPARITY.md, "Stage 3"). */
+ * N3 and N4 keep the left column; the paper's diagonal members are
+ * reached in two steps through N1 / N2 of the row above or below, for a
+ * quarter fewer looks (docs/DISPARITY.md, "Stage 3"). */
 #define NB_CELLS 12
 static const int16_t nb_cell[NB_CELLS][3] = {
     {-1, 0, 0}, {-2, -1, 0}, {-1, 1, 0}, {1, 0, 0}, {2, 1, 0},  {1, -1, 0},
