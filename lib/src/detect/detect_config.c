@@ -215,6 +215,8 @@ static negobs_status_t carve(negobs_arena_t *ar,
     p->cells = negobs_arena_take(ar, (size_t)p->n_strips * NOISE_BANDS *
                                          sizeof(vouch_cell_t));
     p->reach_v = negobs_arena_take(ar, (size_t)p->n_strips * sizeof(int32_t));
+    p->row_e = negobs_arena_take(
+        ar, (size_t)p->n_strips * (size_t)cfg->rig.height * sizeof(int16_t));
     p->canny.mag = negobs_arena_take(ar, dcanny_mag_bytes(cfg->rig.width));
     p->canny.label = negobs_arena_take(ar, dcanny_label_bytes(cfg->rig.width));
     p->canny.width = cfg->rig.width;

@@ -94,6 +94,14 @@ typedef struct strip_hit {
 #define BAR_H_MM 400
 #define BAR_RUN_MM 200
 
+/* det_strip_row_e's memo (detect_priv_t.row_e): not asked yet, and asked
+ * with no value (outside the corridor or too few voting pixels). A value
+ * that does not fit the int16 left beside them (only a wild map's) is
+ * not kept: it is worked out again at each ask, so the memo never
+ * changes an answer. */
+#define ROW_E_UNSET (-32768)
+#define ROW_E_NONE (-32767)
+
 #define NOISE_BANDS 8
 #define NOISE_BINS 64
 /* Signed strip-median residuals, 1/32 px bins centred on 0: +-2 px. */
@@ -119,6 +127,11 @@ typedef struct detect_priv {
     vouch_cell_t *cells;    /* n_strips x NOISE_BANDS local-noise cells   */
     int32_t *reach_v;       /* per strip: farthest row vouched from the
                              bottom without a break (height: none)      */
+    /* det_strip_row_e's answers this frame, height x n_strips (row v,
+     * strip si at v * n_strips + si; ROW_E_UNSET: not asked yet). The
+     * noise and the vouch read each corridor row of each strip two to
+     * four times, and its median is the detector's costliest sum. */
+    int16_t *row_e;
     /* ground-drop cue: the camera height and pitch over the ground under
      * the feet, followed on clean frames only */
     int32_t ref_ok;
@@ -247,6 +260,10 @@ void det_scan_strip(const scan_ctx_t *s, int32_t u0, int32_t u1,
 
 int32_t det_strip_occluder(const scan_ctx_t *s, int32_t u0, int32_t u1);
 
+/* The strip-median residual of strip si on row v inside the corridor
+ * (detect_noise.c, strip_row_e), memoised in p->row_e: valid from
+ * det_strip_noise, which clears the memo, to the end of the vouch, while
+ * the strips' candidates (reported, edge_v, rho1_q15) stay fixed. */
 int det_strip_row_e(const scan_ctx_t *s, const detect_priv_t *p, int32_t v,
                     int32_t si, int32_t *rr, int32_t *e_out);
 

@@ -184,7 +184,24 @@ static int strip_row_e(const scan_ctx_t *s, const detect_priv_t *p, int32_t v,
 int det_strip_row_e(const scan_ctx_t *s, const detect_priv_t *p, int32_t v,
                     int32_t si, int32_t *rr, int32_t *e_out)
 {
-    return strip_row_e(s, p, v, si, rr, e_out, 1);
+    int16_t *m = p->row_e + (size_t)v * (size_t)p->n_strips + (size_t)si;
+    int32_t e = 0;
+    if (*m == ROW_E_NONE) {
+        return 0;
+    }
+    if (*m != ROW_E_UNSET) {
+        *e_out = *m;
+        return 1;
+    }
+    if (!strip_row_e(s, p, v, si, rr, &e, 1)) {
+        *m = ROW_E_NONE;
+        return 0;
+    }
+    if (e > ROW_E_NONE && e <= INT16_MAX) {
+        *m = (int16_t)e;
+    }
+    *e_out = e;
+    return 1;
 }
 
 /* Count e (1/32 px) in the histogram of row v's band. */
@@ -277,6 +294,9 @@ void det_strip_noise(scan_ctx_t *s, detect_priv_t *p, uint16_t *hist)
      * a wall is not measured as ground noise either. */
     int32_t any_candidate = 0;
     int32_t any_closed = 0;
+    for (v = 0; v < h * p->n_strips; v++) {
+        p->row_e[v] = ROW_E_UNSET; /* a new frame's memo */
+    }
     for (si = 0; si < p->n_strips; si++) {
         p->hits[si].blocked_v = -1;
         p->hits[si].pos_run = 0;
