@@ -45,8 +45,9 @@ extern "C" {
  * patches < 8 KiB, v-disparity histogram <= h x (2 max_disp + 2) x 2 bytes,
  * Hough 16 KiB,
  * strips <= w/4 x (64 + 112) bytes (scan state, local-noise cells),
- * their row medians' memo <= w/4 x h x 2 bytes, noise bands 2 + 2 KiB, the disparity Canny window 3 x w x 2 + 16 x w
- * bytes, two row profiles h x 8 bytes, plus arena guards.)
+ * their row medians' memo <= w/4 x h x 2 bytes, noise bands 2 + 2 KiB,
+ * the disparity Canny window 3 x w x 2 + 16 x w bytes, two row profiles
+ * h x 8 bytes, plus arena guards.)
  */
 #define NEGOBS_DETECT_WORKSPACE_MAX(w, h, max_disp_px)                        \
     ((size_t)8192u +                                                          \

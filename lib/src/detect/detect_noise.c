@@ -285,7 +285,11 @@ void det_strip_noise(scan_ctx_t *s, detect_priv_t *p, uint16_t *hist)
     int32_t b;
     int32_t v;
     int32_t si;
+    size_t i;
 
+    for (i = 0; i < (size_t)h * (size_t)p->n_strips; i++) {
+        p->row_e[i] = ROW_E_UNSET; /* a new frame's memo */
+    }
     /* Pass 1: where does a wall or up-step close each strip? Rows far
      * above the ground (1 px and 3 per-pixel sigmas: more than the ground
      * model's own offsets, +0.7 px at most on SurDis) for BLOCK_ROWS rows
@@ -294,9 +298,6 @@ void det_strip_noise(scan_ctx_t *s, detect_priv_t *p, uint16_t *hist)
      * a wall is not measured as ground noise either. */
     int32_t any_candidate = 0;
     int32_t any_closed = 0;
-    for (v = 0; v < h * p->n_strips; v++) {
-        p->row_e[v] = ROW_E_UNSET; /* a new frame's memo */
-    }
     for (si = 0; si < p->n_strips; si++) {
         p->hits[si].blocked_v = -1;
         p->hits[si].pos_run = 0;
