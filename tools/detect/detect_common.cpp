@@ -285,6 +285,7 @@ bool Runner::init(int width, int height, const CamParams &cam, std::string &err,
     }
     cfg_.stereo.band_workers = threads_;
     cfg_.stereo.memory_profile = profile_;
+    cfg_.coarse_pass = coarse_;
     size_t bytes = 0;
     negobs_status_t st = negobs_pipeline_workspace_size(&cfg_, &bytes);
     if (st != NEGOBS_OK) {
@@ -544,6 +545,9 @@ std::string json_line(int frame, const std::string &name, const FrameOut &o,
       << "," << o.res.stereo.range_max
       << "],\"vertical_offset\":" << o.res.stereo.vertical_offset
       << ",\"first_row\":" << o.res.stereo.first_row
+      << ",\"weak_permille\":" << o.res.weak_permille
+      << ",\"coarse\":" << o.res.coarse_ran
+      << ",\"coarse_replaced\":" << o.res.coarse_replaced
       << "},\"ground\":{\"valid\":" << d.ground_valid
       << ",\"valid_permille\":" << d.ground_valid_permille
       << ",\"inliers\":" << d.ground_inliers

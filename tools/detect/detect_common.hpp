@@ -106,6 +106,9 @@ public:
     // The matcher's memory profile (NEGOBS_STEREO_PROFILE_*) from the next
     // init() on; the output does not depend on it.
     void set_memory_profile(int profile) { profile_ = profile; }
+    // The pipeline's half-resolution pass (coarse_pass, 1 by default)
+    // from the next init() on.
+    void set_coarse(int on) { coarse_ = on ? 1 : 0; }
 
     // Runs one pair captured at t_ms through negobs_pipeline_process. Stage
     // timings come from the pipeline's clock hook (thread CPU time); with
@@ -133,6 +136,7 @@ private:
     bool ready_ = false;
     int threads_ = 1;
     int profile_ = NEGOBS_STEREO_PROFILE_DEFAULT;
+    int coarse_ = 1;
     negobs_pool_t *pool_ = nullptr;
 };
 

@@ -144,6 +144,8 @@ struct Rec {
     bool in_view; // edge visible in the corridor (middle half of the columns)
     int clear_to_mm;
     int short_sight;
+    int weak_permille = 0; // the pipeline's half-resolution pass:
+    int coarse = 0;        // weak share, whether it ran
     negobs_mount_t mount;
     double gt_H_mm, gt_pitch, gt_roll; // true pose of the frame
     int range_warn_mm;                 // the detector's warning range (config)
@@ -691,6 +693,8 @@ bool run_seq(const Options &opt, const Seq &q, int idx, std::vector<Rec> &out,
         r.range_warn_mm = runner.config().detect.range_warn_mm;
         r.clear_to_mm = o.res.detect.clear_to_mm;
         r.short_sight = o.res.detect.short_sight;
+        r.weak_permille = o.res.weak_permille;
+        r.coarse = o.res.coarse_ran;
         r.mount = o.res.detect.mount;
         r.gt_H_mm = k < poses.size() ? poses[k].H_mm : NAN;
         r.gt_pitch = k < poses.size() ? poses[k].pitch : NAN;
@@ -1221,7 +1225,8 @@ int evaluate_synth(const Options &opt)
                         "\"est_mm\":%.0f,\"est_drop\":%d,\"unmatched\":%d,"
                         "\"stereo_ms\":%.2f,\"detect_ms\":%.3f,\"in_view\":%d,"
                         "\"clear_to_mm\":%d,\"short_sight\":%d,\"mount\":[%d,%d,%d,%d],"
-                        "\"gt_pose\":[%.0f,%.2f,%.2f]}\n",
+                        "\"gt_pose\":[%.0f,%.2f,%.2f],\"weak_permille\":%d,"
+                        "\"coarse\":%d}\n",
                         suite[k].name.c_str(), r.i, r.gt_range ? r.gt_mm : -1.0,
                         state_name(r.state), reasons_string(r.reasons, "|").c_str(),
                         level_name(r.level), r.matched ? 1 : 0,
@@ -1229,7 +1234,7 @@ int evaluate_synth(const Options &opt)
                         r.n_unmatched, r.stereo_ms, r.detect_ms, r.in_view ? 1 : 0,
                         r.clear_to_mm, r.short_sight, r.mount.height_mm,
                         r.mount.pitch_mdeg, r.mount.roll_mdeg, r.mount.source, r.gt_H_mm,
-                        r.gt_pitch, r.gt_roll);
+                        r.gt_pitch, r.gt_roll, r.weak_permille, r.coarse);
                 }
             }
             std::fclose(f);

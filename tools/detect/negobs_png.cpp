@@ -86,6 +86,9 @@ void usage(FILE *f)
            "  --profile P       the matcher's memory profile: compact (default,\n"
            "                    the library's) or fast (its growth memo, as\n"
            "                    negobs_run takes where it fits); same output\n"
+           "  --coarse on|off   the half-resolution pass for weakly textured\n"
+           "                    floors (on, the library's default;\n"
+           "                    docs/DETECTION.md)\n"
            "  --summary         one summary line at the end (stdout)\n"
            "  -q, --quiet       no JSON lines on stdout\n"
            "  -h, --help        this text\n"
@@ -180,6 +183,7 @@ int run(int argc, char **argv)
     double f = -1, B = -1, cx = -1, cy = -1, H = -1, pitch = -1e9, fps = -1;
     int threads = 1; // the times stay one thread's CPU time
     int profile = NEGOBS_STEREO_PROFILE_DEFAULT;
+    int coarse = 1;
     int max_disp = -1, vshift = 0, repeat = 1, first = 0, count = -1, bin = 1;
     bool valign = false;
     bool vshift_set = false, overlay_on = true, summary = false, quiet = false,
@@ -206,6 +210,7 @@ int run(int argc, char **argv)
         O_CALIB,
         O_THREADS,
         O_PROFILE,
+        O_COARSE,
         O_BIN,
         O_DISP
     };
@@ -235,6 +240,7 @@ int run(int argc, char **argv)
         {"calib", required_argument, nullptr, O_CALIB},
         {"threads", required_argument, nullptr, O_THREADS},
         {"profile", required_argument, nullptr, O_PROFILE},
+        {"coarse", required_argument, nullptr, O_COARSE},
         {"bin", required_argument, nullptr, O_BIN},
         {"disparity", no_argument, nullptr, O_DISP},
         {nullptr, 0, nullptr, 0},
@@ -290,6 +296,10 @@ int run(int argc, char **argv)
             ok = negobs_cli::parse_int(v, 1, NEGOBS_POOL_MAX_THREADS, threads);
             break;
         case O_PROFILE: ok = negobs_cli::parse_memory_profile(v, profile); break;
+        case O_COARSE:
+            ok = (v != nullptr && (std::string(v) == "on" || std::string(v) == "off"));
+            coarse = (ok && std::string(v) == "on") ? 1 : 0;
+            break;
         case ':': return bad("option " + a + " needs a value");
         default: return bad("unknown option " + a);
         }
@@ -456,6 +466,7 @@ int run(int argc, char **argv)
     Runner runner;
     runner.set_threads(threads);
     runner.set_memory_profile(profile);
+    runner.set_coarse(coarse);
     int w = 0, h = 0;
     int n = 0, nhaz = 0, nnoinfo = 0, first_conf = -1;
     int first_conf_range = -1;

@@ -55,6 +55,19 @@ typedef struct negobs_pipeline_config {
      *  second. 1: search every frame. 1..1000 [10: once a second at
      *  10 fps] */
     int32_t vertical_every_frames;
+    /** Half-resolution pass for weak texture (docs/DETECTION.md, "Weak
+     *  texture: the half-resolution pass"): when the full-size map leaves
+     *  more than coarse_weak_permille of the rows it matched below
+     *  detect.min_confidence, the same matcher runs on the 2x2-averaged
+     *  pair, and each of those pixels takes the half-size value (doubled)
+     *  where that one reaches detect.min_confidence. 0: off, 1: on. Off,
+     *  or a half frame too small for the matcher, leaves the workspace
+     *  and every output as without it. [1] */
+    int32_t coarse_pass;
+    /** The weak share, in permille of the matched rows' pixels right of
+     *  the first stereo.max_disp columns (which no disparity can match),
+     *  above which the pass runs. 0..1000 [125: see the docs] */
+    int32_t coarse_weak_permille;
 } negobs_pipeline_config_t;
 
 /** One frame pair with its capture times (ms, caller's monotonic clock). */
@@ -100,6 +113,12 @@ typedef struct negobs_pipeline_result {
      *  as the left's (detect.stats); zero when the matcher did not run. */
     negobs_photo_stats_t right_stats;
     negobs_motor_cmd_t motor; /**< what the motor does now/next  */
+    /** Half-resolution pass (coarse_pass): the full-size map's weak share
+     *  (permille, as coarse_weak_permille; 0 when the matcher did not
+     *  run), 1 when the pass ran, and the pixels that took its value. */
+    int32_t weak_permille;
+    int32_t coarse_ran;
+    uint32_t coarse_replaced;
     /** clock ticks per stage (negobs_pipeline_set_clock); all 0 without
      *  a clock. Not part of the output: timings differ between runs. */
     uint64_t stage_ticks[NEGOBS_PIPELINE_STAGE_COUNT];
@@ -127,6 +146,12 @@ typedef struct negobs_pipeline {
             uint32_t k;
             uint32_t l;
             int32_t m;
+            int32_t n;
+            negobs_stereo_t o;
+            negobs_image_u8_t p;
+            negobs_image_u8_t q;
+            negobs_image_s16_t r;
+            negobs_image_u8_t s;
         } layout_;
         uint64_t align_;
     } opaque_;
@@ -152,7 +177,8 @@ int32_t negobs_pipeline_roi_first_row(const negobs_pipeline_config_t *cfg,
  *  - valign.min_disp / max_disp = the matcher's range, and
  *    detect.max_disp_q4 = (stereo.max_disp + 1) px: one disparity range;
  *  - stereo_roi = 1, roi_margin_rows = height / 8;
- *  - vertical_every_frames = 10.
+ *  - vertical_every_frames = 10;
+ *  - coarse_pass = 1, coarse_weak_permille = 125.
  * Defaults have one order: the stage's *_config_default(), then this
  * profile, then the application (firmware_app's app_pipeline and
  * negobs_run's settings, which change only what the user set).

@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "arena.h"
+#include "coarse.h"
 #include "detect/detect_int.h"
 #include "pipeline_private.h"
 
@@ -34,6 +35,13 @@ void negobs_pipeline_config_default(negobs_pipeline_config_t *cfg,
     cfg->stereo_roi = 1;
     cfg->roi_margin_rows = height / 8;
     cfg->vertical_every_frames = 10;
+    cfg->coarse_pass = 1;
+    /* The pass pays when the detector would discard a sizeable part of
+     * the rows it reads. On textured floors 2-8 % of those pixels are
+     * weak (occlusions beside obstacles, the drop's own face, thin
+     * shadows), on a smooth floor half or more: an eighth lies between
+     * (figures in docs/DETECTION.md). */
+    cfg->coarse_weak_permille = 125;
 }
 
 /*
@@ -91,6 +99,14 @@ typedef struct carve_out {
     size_t detect_bytes;
     int16_t *disp;
     uint8_t *conf;
+    int coarse; /* the half-resolution pass is carved     */
+    negobs_stereo_config_t half_cfg;
+    void *half_ws;
+    size_t half_bytes;
+    uint8_t *half_left;
+    uint8_t *half_right;
+    int16_t *half_disp;
+    uint8_t *half_conf;
 } carve_out_t;
 
 /*
@@ -129,6 +145,21 @@ static negobs_status_t carve(negobs_arena_t *a,
     out->detect_ws = negobs_arena_take(a, out->detect_bytes);
     out->disp = (int16_t *)negobs_arena_take(a, npix * sizeof(int16_t));
     out->conf = (uint8_t *)negobs_arena_take(a, npix);
+    out->coarse = pl_coarse_config(cfg, &out->half_cfg);
+    if (out->coarse) {
+        size_t nhalf = (size_t)out->half_cfg.width *
+                       (size_t)out->half_cfg.height;
+        st = negobs_stereo_workspace_size(&out->half_cfg, &out->half_bytes);
+        if (st != NEGOBS_OK) {
+            return st;
+        }
+        out->half_ws = negobs_arena_take(a, out->half_bytes);
+        out->half_left = (uint8_t *)negobs_arena_take(a, nhalf);
+        out->half_right = (uint8_t *)negobs_arena_take(a, nhalf);
+        out->half_disp = (int16_t *)negobs_arena_take(a,
+                                                      nhalf * sizeof(int16_t));
+        out->half_conf = (uint8_t *)negobs_arena_take(a, nhalf);
+    }
     return negobs_arena_status(a);
 }
 
@@ -149,7 +180,9 @@ static negobs_status_t check_config(const negobs_pipeline_config_t *cfg)
     if (cfg->stereo_roi < 0 || cfg->stereo_roi > 1 ||
         cfg->roi_margin_rows < 0 ||
         cfg->roi_margin_rows > cfg->stereo.height ||
-        cfg->vertical_every_frames < 1 || cfg->vertical_every_frames > 1000) {
+        cfg->vertical_every_frames < 1 || cfg->vertical_every_frames > 1000 ||
+        cfg->coarse_pass < 0 || cfg->coarse_pass > 1 ||
+        cfg->coarse_weak_permille < 0 || cfg->coarse_weak_permille > 1000) {
         return NEGOBS_ERR_INVAL;
     }
     return NEGOBS_OK;
@@ -176,6 +209,36 @@ negobs_status_t negobs_pipeline_workspace_size(
     }
     *bytes_out = negobs_arena_used(&a);
     return NEGOBS_OK;
+}
+
+static void half_image(negobs_image_u8_t *img, uint8_t *data,
+                       const negobs_stereo_config_t *c)
+{
+    img->data = data;
+    img->width = c->width;
+    img->height = c->height;
+    img->stride = c->width;
+}
+
+static negobs_status_t half_init(negobs_pipeline_priv_t *p,
+                                 const carve_out_t *c)
+{
+    negobs_stereo_config_t h = c->half_cfg;
+    if (p->cfg.stereo.vertical_search == 0) {
+        /* aligned rows (valign) or a fixed offset: no search here either */
+        h.vertical_search = 0;
+        if (p->cfg.valign.enable) {
+            h.vertical_offset = 0;
+        }
+    }
+    half_image(&p->left_half, c->half_left, &h);
+    half_image(&p->right_half, c->half_right, &h);
+    half_image(&p->conf_half, c->half_conf, &h);
+    p->disp_half.data = c->half_disp;
+    p->disp_half.width = h.width;
+    p->disp_half.height = h.height;
+    p->disp_half.stride = h.width;
+    return negobs_stereo_init(&p->stereo_half, &h, c->half_ws, c->half_bytes);
 }
 
 negobs_status_t negobs_pipeline_init(negobs_pipeline_t *ctx,
@@ -242,6 +305,13 @@ negobs_status_t negobs_pipeline_init(negobs_pipeline_t *ctx,
     p->confidence.width = cfg->stereo.width;
     p->confidence.height = cfg->stereo.height;
     p->confidence.stride = cfg->stereo.width;
+    p->coarse = c.coarse;
+    if (c.coarse) {
+        st = half_init(p, &c);
+        if (st != NEGOBS_OK) {
+            return st;
+        }
+    }
     /* no offset found yet: the first frame searches */
     p->vframes = (uint32_t)cfg->vertical_every_frames;
     p->voff = 0;
@@ -275,6 +345,52 @@ static int vertical_hold(negobs_pipeline_priv_t *p)
     p->vframes++;
     return negobs_stereo_hold_vertical_offset(&p->stereo, p->voff) ==
            NEGOBS_OK;
+}
+
+/*
+ * The half-resolution pass (coarse.c) on the pair the full-size matcher
+ * just matched, when the weak share of its map is above
+ * coarse_weak_permille. Same rows (from the full-size first row), the
+ * full-size vertical offset halved. A refused half frame leaves the
+ * full-size map as it is.
+ */
+static void half_pass(negobs_pipeline_priv_t *p, const negobs_image_u8_t *left,
+                      const negobs_image_u8_t *right,
+                      negobs_pipeline_result_t *result)
+{
+    const negobs_detect_config_t *d = &p->cfg.detect;
+    int32_t y0 = result->stereo.first_row;
+    int32_t hy0 = y0 / 2;
+    negobs_stereo_stats_t hs;
+
+    result->weak_permille = pl_weak_permille(
+        &p->confidence, y0, p->cfg.stereo.max_disp, d->min_confidence);
+    if (result->weak_permille <= p->cfg.coarse_weak_permille) {
+        return;
+    }
+    pl_bin2_u8(left, &p->left_half);
+    pl_bin2_u8(right, &p->right_half);
+    if (p->cfg.stereo.vertical_search > 0) {
+        int32_t v = result->stereo.vertical_offset;
+        /* half a row rounds away from zero: either way it is half a
+         * half-size row off, and a row is the search's own step */
+        v = (v >= 0) ? (v + 1) / 2 : -((1 - v) / 2);
+        (void)negobs_stereo_hold_vertical_offset(&p->stereo_half, v);
+    }
+    if (hy0 > p->disp_half.height - NEGOBS_STEREO_MIN_HEIGHT) {
+        hy0 = p->disp_half.height - NEGOBS_STEREO_MIN_HEIGHT;
+    }
+    (void)negobs_stereo_set_first_row(&p->stereo_half, hy0 > 0 ? hy0 : 0);
+    if (negobs_stereo_process(&p->stereo_half, &p->left_half, &p->right_half,
+                              &p->disp_half, &p->conf_half,
+                              &hs) != NEGOBS_OK) {
+        return;
+    }
+    result->coarse_ran = 1;
+    result->coarse_replaced = pl_coarse_fuse(
+        &p->disp_q4, &p->confidence, &p->disp_half, &p->conf_half, y0,
+        d->min_confidence, p->cfg.stereo.min_disp * NEGOBS_DISP_ONE,
+        d->max_disp_q4);
 }
 
 /* Ticks since *t0 go to stage k; *t0 moves on. No clock: nothing. */
@@ -331,6 +447,9 @@ negobs_status_t negobs_pipeline_process(negobs_pipeline_t *ctx,
             if (st == NEGOBS_OK && !held) {
                 p->voff = result->stereo.vertical_offset;
                 p->vframes = 0;
+            }
+            if (st == NEGOBS_OK && p->coarse) {
+                half_pass(p, frame->left, right, result);
             }
         }
         if (st == NEGOBS_OK && p->cfg.valign.enable) {
@@ -404,6 +523,12 @@ negobs_status_t negobs_pipeline_set_executor(negobs_pipeline_t *ctx,
     p = negobs_pipeline_priv(ctx);
     if (p->magic != PIPELINE_MAGIC) {
         return NEGOBS_ERR_STATE;
+    }
+    if (p->coarse) {
+        negobs_status_t st = negobs_stereo_set_executor(&p->stereo_half, exec);
+        if (st != NEGOBS_OK) {
+            return st;
+        }
     }
     return negobs_stereo_set_executor(&p->stereo, exec);
 }

@@ -22,8 +22,14 @@ typedef struct negobs_pipeline_priv {
     negobs_pipeline_clock_fn clock; /* NULL: no stage timings */
     void *clock_user;
     uint32_t magic;
-    uint32_t vframes; /* frames since the last vertical search   */
-    int32_t voff;     /* the offset that search found (rows)     */
+    uint32_t vframes;             /* frames since the last vertical search   */
+    int32_t voff;                 /* the offset that search found (rows)     */
+    int32_t coarse;               /* 1: the half-resolution pass is set up   */
+    negobs_stereo_t stereo_half;  /* the matcher on the half-size pair */
+    negobs_image_u8_t left_half;  /* 2x2 averages of the left image    */
+    negobs_image_u8_t right_half; /* ... of the right image matched    */
+    negobs_image_s16_t disp_half; /* its map (disp_q4 of the half size) */
+    negobs_image_u8_t conf_half;  /* its confidence                    */
 } negobs_pipeline_priv_t;
 
 /* The public storage is declared with the same members in the same order

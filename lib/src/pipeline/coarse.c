@@ -1,0 +1,155 @@
+/*
+ * Half-resolution pass for weakly textured floors.
+ *
+ * The matcher correlates 5x5 windows. On a smooth floor the grain inside
+ * such a window is about as strong as the sensor noise, and near the feet,
+ * where the floor is magnified most, the true match's correlation falls
+ * below the growth threshold: the map there is the DP's guess with a low
+ * confidence, which the detector rightly does not use, and the frame has
+ * no information. A 2x2 area average halves the noise's amplitude and
+ * brings twice the floor into each window, so the same matcher on the
+ * half-size pair correlates the true match well above the threshold
+ * (docs/DETECTION.md, "Weak texture: the half-resolution pass", gives the
+ * figures).
+ *
+ * The full-resolution map stays the primary one: where its confidence is
+ * high enough for the detector it is kept as it is (twice the resolution,
+ * sharper edges), and only the pixels the detector would not use take the
+ * half-size value when that one is confident. The pass runs only when
+ * those pixels are a sizeable share of the rows the detector reads, so a
+ * textured floor costs nothing more and gives the same output.
+ */
+#include "coarse.h"
+
+#include <stddef.h>
+
+static int32_t half_up(int32_t v)
+{
+    return (v + 1) / 2;
+}
+
+int pl_coarse_config(const negobs_pipeline_config_t *cfg,
+                     negobs_stereo_config_t *out)
+{
+    const negobs_stereo_config_t *f = &cfg->stereo;
+    size_t bytes;
+    int32_t tile;
+    int32_t off;
+
+    if (!cfg->coarse_pass) {
+        return 0;
+    }
+    *out = *f;
+    out->width = f->width / 2;
+    out->height = f->height / 2;
+    /* the half-size pair's disparities are half the full ones: the range
+     * keeps every full-size value (min rounded down, max up) */
+    out->min_disp = f->min_disp / 2;
+    out->max_disp = half_up(f->max_disp);
+    out->range_margin = half_up(f->range_margin);
+    tile = ((f->tile_size / 2) / 4) * 4;
+    out->tile_size = (tile < 8) ? 8 : tile;
+    out->strip_rows = (f->strip_rows / 2 < 8) ? 8 : f->strip_rows / 2;
+    out->seed_step = half_up(f->seed_step);
+    out->speckle_size = f->speckle_size / 4;
+    out->gap_fill = f->gap_fill / 2;
+    /* a quarter of the pixels: half the queue is still twice as much per
+     * pixel as the full-size matcher has */
+    out->queue_capacity = (f->queue_capacity / 2 < 16) ? 16
+                                                       : f->queue_capacity / 2;
+    /* Memory: the pass runs on weak frames only, and the compact profile
+     * gives the same output as the fast one (negobs/stereo.h) in a
+     * fraction of the memory, which on a wearable goes to the full-size
+     * matcher's threads first. */
+    out->memory_profile = NEGOBS_STEREO_PROFILE_COMPACT;
+    /* a fixed offset halves like every length; a searched one is held at
+     * the full-size result each frame (pipeline.c) */
+    off = f->vertical_offset;
+    out->vertical_offset = (off >= 0) ? (off + 1) / 2 : -((1 - off) / 2);
+    return negobs_stereo_workspace_size(out, &bytes) == NEGOBS_OK;
+}
+
+void pl_bin2_u8(const negobs_image_u8_t *src, const negobs_image_u8_t *dst)
+{
+    int32_t x;
+    int32_t y;
+    for (y = 0; y < dst->height; y++) {
+        const uint8_t *a = negobs_image_u8_row(src, 2 * y);
+        const uint8_t *b = negobs_image_u8_row(src, 2 * y + 1);
+        uint8_t *o = negobs_image_u8_row(dst, y);
+        for (x = 0; x < dst->width; x++) {
+            uint32_t s = (uint32_t)a[2 * x] + a[2 * x + 1] + b[2 * x] +
+                         b[2 * x + 1];
+            o[x] = (uint8_t)((s + 2u) >> 2);
+        }
+    }
+}
+
+int32_t pl_weak_permille(const negobs_image_u8_t *conf, int32_t y0, int32_t x0,
+                         int32_t min_conf)
+{
+    uint32_t weak = 0;
+    uint32_t n;
+    int32_t x;
+    int32_t y;
+    if (y0 < 0) {
+        y0 = 0;
+    }
+    if (x0 < 0) {
+        x0 = 0;
+    }
+    if (y0 >= conf->height || x0 >= conf->width) {
+        return 0;
+    }
+    n = (uint32_t)(conf->height - y0) * (uint32_t)(conf->width - x0);
+    for (y = y0; y < conf->height; y++) {
+        const uint8_t *c = negobs_image_u8_row(conf, y);
+        for (x = x0; x < conf->width; x++) {
+            weak += ((int32_t)c[x] < min_conf) ? 1u : 0u;
+        }
+    }
+    /* n <= 4096 * 4096: weak * 1000 fits 64 bits, not always 32 */
+    return (int32_t)(((uint64_t)weak * 1000u) / n);
+}
+
+uint32_t pl_coarse_fuse(negobs_image_s16_t *disp, negobs_image_u8_t *conf,
+                        const negobs_image_s16_t *half_disp,
+                        const negobs_image_u8_t *half_conf, int32_t y0,
+                        int32_t min_conf, int32_t dmin_q4, int32_t dmax_q4)
+{
+    uint32_t replaced = 0;
+    int32_t y1 = 2 * half_disp->height;
+    int32_t x1 = 2 * half_disp->width;
+    int32_t x;
+    int32_t y;
+    if (y0 < 0) {
+        y0 = 0;
+    }
+    y1 = (y1 < disp->height) ? y1 : disp->height;
+    x1 = (x1 < disp->width) ? x1 : disp->width;
+    for (y = y0; y < y1; y++) {
+        int16_t *d = negobs_image_s16_row(disp, y);
+        uint8_t *c = negobs_image_u8_row(conf, y);
+        const int16_t *hd = negobs_image_s16_row(half_disp, y / 2);
+        const uint8_t *hc = negobs_image_u8_row(half_conf, y / 2);
+        for (x = 0; x < x1; x++) {
+            int32_t v;
+            if ((int32_t)c[x] >= min_conf || (int32_t)hc[x / 2] < min_conf ||
+                hd[x / 2] == NEGOBS_DISP_INVALID) {
+                continue;
+            }
+            /* the half-size pixel x/2 is centred on full-size x 2(x/2) +
+             * 0.5, within half a pixel of x: on a floor whose disparity
+             * changes by a fraction of a pixel per row that is noise, not
+             * bias */
+            v = 2 * (int32_t)hd[x / 2];
+            if (v < dmin_q4 || v > dmax_q4) {
+                continue;
+            }
+            d[x] = (int16_t)v;
+            c[x] = hc[x / 2];
+            replaced++;
+        }
+    }
+    return replaced;
+}
