@@ -14,14 +14,16 @@
 /*
  * The library pipeline lives in static memory: its workspace at the
  * largest supported frame (752x480, the DUO camera) with debug guards is
- * about 2.3 MB with one matcher thread; each further thread adds a band
- * scratch area of about 1 MB there (0.9 MB at 640x480, 0.45 MB at
- * 320x240), so 4.5 MB hold 4 threads at 640x480 and 3 at 752x480 (fewer
- * are used where fewer fit: same output). Untouched pages of a static
- * buffer cost no RAM. NEGOBS_RUN_MAX sizes beyond that are refused with a
- * no-information verdict rather than a crash.
+ * about 3.2 MB with one matcher thread, the half-resolution pass for weak
+ * texture included (docs/DETECTION.md); each further thread adds a band
+ * scratch area of about 1.3 MB there (1.05 MB at 640x480, 0.6 MB at
+ * 320x240: the full-size and the half-size matcher's), so 7 MiB hold 4
+ * threads at 752x480 and 640x480 (fewer are used where fewer fit: same
+ * output). Untouched pages of a static buffer cost no RAM.
+ * NEGOBS_RUN_MAX sizes beyond that are refused with a no-information
+ * verdict rather than a crash.
  */
-#define APP_WS_BYTES (4608u * 1024u)
+#define APP_WS_BYTES (7168u * 1024u)
 static uint8_t lib_ws[APP_WS_BYTES] __attribute__((aligned(16)));
 static negobs_pipeline_t lib_pipe;
 static int32_t lib_w;

@@ -120,19 +120,24 @@ static void test_bad_input_gives_no_info(void **state)
 
 static void test_too_large_frames_give_no_info(void **state)
 {
-    app_pipeline_t p = pipe_init();
+    app_pipeline_t p;
+    app_pipeline_config_t c;
     negobs_image_u8_t l = {big, 1280, 800, 1280};
     (void)state;
+    app_pipeline_config_default(&c);
+    c.max_disp = 127;
+    assert_int_equal(app_pipeline_init(&p, &c), NEGOBS_OK);
     fill(big, 1280, 800, 1280, 3, 40, 160);
-    /* The pipeline's static workspace does not fit 1280x800, which must
-     * give no-info, not a crash or "clear". */
+    /* The pipeline's static workspace does not fit 1280x800 with 128
+     * disparities (about 8 MB), which must give no-info, not a crash or
+     * "clear". */
     assert_int_equal(app_process_pair(&p, &l, &l), APP_VERDICT_NO_INFO);
     assert_int_equal(p.last.reason, APP_REASON_BAD_INPUT);
 }
 
 /* The matcher gets the fast profile's memo where the static workspace
  * holds it beside the threads asked for: at 320x240 with 1 or 2 threads
- * it does (about 2.0 / 3.8 MB of the 4.5). The largest supported frame
+ * it does (about 2.4 / 4.4 MB of the 7). The largest supported frame
  * with 4 threads still runs, on what fits. The cases with threads run in
  * native builds only (qemu-user hangs in clone(); tests/port/meson.build). */
 static void test_matcher_setup_follows_the_workspace(void **state)
