@@ -8,6 +8,7 @@
 
 #include "cmocka_all.h"
 #include "scene_util.h"
+#include "test_rng.h"
 #include "detect/detect_int.h"
 
 static rig_t rig;
@@ -326,6 +327,82 @@ static void test_vouch_drop_in_clean_strips_despite_far_noise(void **state)
      * two candidates start two tracks) */
     assert_true(hazard_at >= 2 && hazard_at <= 3);
     assert_int_equal(rig.res.state, NEGOBS_DETECT_HAZARD);
+    rig_teardown(&rig);
+}
+
+/* Grey 128 plus uniform noise of +-amp (amp 0: flat) on a w x h image. */
+static void grey_noise(uint8_t *px, int w, int h, int amp, uint32_t seed)
+{
+    int i;
+    for (i = 0; i < w * h; i++) {
+        uint32_t r = test_lcg_next(&seed);
+        px[i] = (uint8_t)(128 + (amp > 0 ? (int)((r >> 8) %
+                                                 (uint32_t)(2 * amp + 1)) -
+                                               amp
+                                         : 0));
+    }
+}
+
+/* Frames of a 20 cm drop at 2.2 m with the given left images; returns the
+ * first frame with a confirmed hazard, -1 for none. */
+static int drop_frames_with_left(const negobs_image_u8_t *left,
+                                 const negobs_image_u8_t *left_half)
+{
+    synth_scene_t s;
+    int i;
+    int hazard_at = -1;
+    rig.frame.left = left;
+    rig.frame.left_half = left_half;
+    for (i = 0; i < 6; i++) {
+        scene(&s, 0.25, (uint32_t)i + 21u);
+        synth_step(&s, 2.2, -0.20);
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        if (rig.res.state == NEGOBS_DETECT_HAZARD && hazard_at < 0) {
+            hazard_at = i;
+        }
+    }
+    return hazard_at;
+}
+
+/* Texture under a candidate at the scale the map was measured at: a left
+ * image with nothing but noise fails the box test, so the drop's candidate
+ * cannot start a track; the same frames with a textured half-size image
+ * (what a half-resolution pass matched, pipeline/coarse.c) pass it at that
+ * scale. A half-size image of the wrong size is a malformed frame. */
+static void test_vouch_texture_at_the_half_scale(void **state)
+{
+    static uint8_t full[RIG_W * RIG_H];
+    static uint8_t half[(RIG_W / 2) * (RIG_H / 2)];
+    negobs_image_u8_t left = {full, RIG_W, RIG_H, RIG_W};
+    negobs_image_u8_t left_half = {half, RIG_W / 2, RIG_H / 2, RIG_W / 2};
+    negobs_image_u8_t wrong = {half, RIG_W / 2, RIG_H / 2 - 1, RIG_W / 2};
+    (void)state;
+    grey_noise(full, RIG_W, RIG_H, 6, 7u); /* flat paint: noise only */
+    grey_noise(half, RIG_W / 2, RIG_H / 2, 3, 9u);
+
+    rig_setup(&rig, NULL);
+    assert_int_equal(drop_frames_with_left(&left, NULL), -1);
+    rig_teardown(&rig);
+
+    rig_setup(&rig, NULL);
+    assert_int_equal(drop_frames_with_left(&left, &left_half), -1);
+    rig_teardown(&rig);
+
+    grey_noise(half, RIG_W / 2, RIG_H / 2, 40, 9u); /* textured at half */
+    rig_setup(&rig, NULL);
+    assert_in_range(drop_frames_with_left(&left, &left_half), 2, 3);
+    rig_teardown(&rig);
+
+    rig_setup(&rig, NULL);
+    rig.frame.left = &left;
+    rig.frame.left_half = &wrong;
+    {
+        synth_scene_t s;
+        scene(&s, 0.25, 21u);
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_ERR_INVAL);
+        assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
+        assert_true(rig.res.reasons & NEGOBS_DEGRADED_BAD_INPUT);
+    }
     rig_teardown(&rig);
 }
 
@@ -931,6 +1008,7 @@ int main(void)
         cmocka_unit_test(test_vouch_fill_is_not_in_the_valid_share),
         cmocka_unit_test(test_vouch_drop_beside_fill_is_found),
         cmocka_unit_test(test_vouch_drop_in_clean_strips_despite_far_noise),
+        cmocka_unit_test(test_vouch_texture_at_the_half_scale),
         cmocka_unit_test(test_vouch_no_false_vouch_on_walks),
         cmocka_unit_test(test_vouch_bounds_by_state),
         cmocka_unit_test(test_vouch_noisy_near_field_is_no_info),

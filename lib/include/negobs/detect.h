@@ -324,6 +324,14 @@ typedef struct negobs_detect_frame {
                                          fill is then not known; with
                                          left, the fill of both images is
                                          out of view (DETECTION.md 10.2) */
+    const negobs_image_u8_t *left_half; /**< may be NULL: the 2x2 average
+                                         of left that a half-resolution
+                                         pass matched (width / 2 x
+                                         height / 2; the pipeline's
+                                         coarse_pass). A candidate's box
+                                         is then also tested for texture
+                                         at that scale (DETECTION.md,
+                                         "Texture under a candidate") */
 } negobs_detect_frame_t;
 
 /** Frame result. */

@@ -42,7 +42,11 @@ static int frame_malformed(const negobs_detect_config_t *cfg,
            (frame->left != NULL &&
             negobs_image_u8_check(frame->left) != NEGOBS_OK) ||
            (frame->right != NULL &&
-            negobs_image_u8_check(frame->right) != NEGOBS_OK);
+            negobs_image_u8_check(frame->right) != NEGOBS_OK) ||
+           (frame->left_half != NULL &&
+            (negobs_image_u8_check(frame->left_half) != NEGOBS_OK ||
+             frame->left_half->width != cfg->rig.width / 2 ||
+             frame->left_half->height != cfg->rig.height / 2));
 }
 
 static int same_size(const negobs_detect_config_t *cfg,
@@ -193,6 +197,7 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
     int32_t s_i;
     int32_t v_top = cfg->rig.height - 1;
     int32_t noise_med = -1; /* det_noise_median, measured when needed */
+    int32_t noise_half = -1; /* the same, of frame->left_half */
     uint32_t i;
 
     memset(&s, 0, sizeof s); /* every field defined before use */
@@ -275,6 +280,17 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
             }
             fw->trusted[i] = (uint8_t)det_box_textured(
                 s.left, noise_med, c->u0, c->v0, c->u1, c->v1);
+            /* Where a half-resolution pass supplied the map, the same
+             * test at its scale: its 5x5 windows span 10x10 pixels of a
+             * pair with half the noise (pipeline/coarse.c). */
+            if (!fw->trusted[i] && frame->left_half != NULL) {
+                if (noise_half < 0) {
+                    noise_half = det_noise_median(frame->left_half);
+                }
+                fw->trusted[i] = (uint8_t)det_box_textured(
+                    frame->left_half, noise_half, c->u0 / 2, c->v0 / 2,
+                    c->u1 / 2, c->v1 / 2);
+            }
         }
         fw->n_trusted += fw->trusted[i];
     }

@@ -476,6 +476,7 @@ negobs_status_t negobs_pipeline_process(negobs_pipeline_t *ctx,
         df.t_right_ms = frame->t_right_ms;
         df.now_ms = frame->now_ms;
         df.first_row = result->stereo.first_row;
+        df.left_half = result->coarse_ran ? &p->left_half : NULL;
         st = negobs_detect_process(&p->detect, &df, &result->detect);
     }
     if (st != NEGOBS_OK) {
