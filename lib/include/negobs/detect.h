@@ -320,7 +320,7 @@ typedef struct negobs_detect_frame {
                               (negobs_stereo_set_first_row); a frame
                               whose warning-range row lies there cannot
                               vouch for it: FEW_GROUND. 0 = all rows  */
-    const negobs_image_u8_t *right; /**< may be NULL: its rectification
+    const negobs_image_u8_t *right;     /**< may be NULL: its rectification
                                          fill is then not known; with
                                          left, the fill of both images is
                                          out of view (DETECTION.md 10.2) */

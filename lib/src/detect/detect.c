@@ -196,7 +196,7 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
     negobs_hazard_t hz;
     int32_t s_i;
     int32_t v_top = cfg->rig.height - 1;
-    int32_t noise_med = -1; /* det_noise_median, measured when needed */
+    int32_t noise_med = -1;  /* det_noise_median, measured when needed */
     int32_t noise_half = -1; /* the same, of frame->left_half */
     uint32_t i;
 
