@@ -343,20 +343,47 @@ static void grey_noise(uint8_t *px, int w, int h, int amp, uint32_t seed)
     }
 }
 
+static int16_t half_map[(RIG_W / 2) * (RIG_H / 2)];
+
 /* Frames of a 20 cm drop at 2.2 m with the given left images; returns the
- * first frame with a confirmed hazard, -1 for none. */
+ * first frame with a confirmed hazard, -1 for none. With `halved`, the map
+ * is what a half-resolution pass supplies (pipeline/coarse.c): each 2x2
+ * block carries its top-left value rounded to an even 1/16 px, and
+ * half_map holds those values halved; else half_map is offset by one
+ * pixel, so no full-size value is a half-size one. */
 static int drop_frames_with_left(const negobs_image_u8_t *left,
-                                 const negobs_image_u8_t *left_half)
+                                 const negobs_image_u8_t *left_half,
+                                 int halved)
 {
+    static const negobs_image_s16_t hm = {half_map, RIG_W / 2, RIG_H / 2,
+                                          RIG_W / 2};
     synth_scene_t s;
     int i;
     int hazard_at = -1;
     rig.frame.left = left;
     rig.frame.left_half = left_half;
+    rig.frame.disp_half_q4 = (left_half != NULL) ? &hm : NULL;
     for (i = 0; i < 6; i++) {
+        int x;
+        int y;
         scene(&s, 0.25, (uint32_t)i + 21u);
         synth_step(&s, 2.2, -0.20);
-        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
+        for (y = 0; y < RIG_H; y++) {
+            for (x = 0; x < RIG_W; x++) {
+                int16_t d = rig.disp[(y & ~1) * RIG_W + (x & ~1)];
+                int16_t h = (d == NEGOBS_DISP_INVALID) ? d : (int16_t)(d / 2);
+                if (halved) {
+                    rig.disp[y * RIG_W + x] = (h == NEGOBS_DISP_INVALID)
+                                                  ? h
+                                                  : (int16_t)(2 * h);
+                }
+                half_map[(y / 2) * (RIG_W / 2) + x / 2] =
+                    (h == NEGOBS_DISP_INVALID || halved) ? h
+                                                         : (int16_t)(h + 8);
+            }
+        }
+        assert_int_equal(rig_run(&rig), NEGOBS_OK);
         if (rig.res.state == NEGOBS_DETECT_HAZARD && hazard_at < 0) {
             hazard_at = i;
         }
@@ -366,9 +393,10 @@ static int drop_frames_with_left(const negobs_image_u8_t *left,
 
 /* Texture under a candidate at the scale the map was measured at: a left
  * image with nothing but noise fails the box test, so the drop's candidate
- * cannot start a track; the same frames with a textured half-size image
- * (what a half-resolution pass matched, pipeline/coarse.c) pass it at that
- * scale. A half-size image of the wrong size is a malformed frame. */
+ * cannot start a track. The same frames whose map came from a
+ * half-resolution pass over a textured half-size image pass it at that
+ * scale; with the full-size matcher's values in the box they do not. A
+ * half-size image of the wrong size is a malformed frame. */
 static void test_vouch_texture_at_the_half_scale(void **state)
 {
     static uint8_t full[RIG_W * RIG_H];
@@ -381,16 +409,20 @@ static void test_vouch_texture_at_the_half_scale(void **state)
     grey_noise(half, RIG_W / 2, RIG_H / 2, 3, 9u);
 
     rig_setup(&rig, NULL);
-    assert_int_equal(drop_frames_with_left(&left, NULL), -1);
+    assert_int_equal(drop_frames_with_left(&left, NULL, 1), -1);
     rig_teardown(&rig);
 
     rig_setup(&rig, NULL);
-    assert_int_equal(drop_frames_with_left(&left, &left_half), -1);
+    assert_int_equal(drop_frames_with_left(&left, &left_half, 1), -1);
     rig_teardown(&rig);
 
     grey_noise(half, RIG_W / 2, RIG_H / 2, 40, 9u); /* textured at half */
     rig_setup(&rig, NULL);
-    assert_in_range(drop_frames_with_left(&left, &left_half), 2, 3);
+    assert_in_range(drop_frames_with_left(&left, &left_half, 1), 2, 3);
+    rig_teardown(&rig);
+
+    rig_setup(&rig, NULL);
+    assert_int_equal(drop_frames_with_left(&left, &left_half, 0), -1);
     rig_teardown(&rig);
 
     rig_setup(&rig, NULL);
@@ -403,6 +435,45 @@ static void test_vouch_texture_at_the_half_scale(void **state)
         assert_int_equal(rig.res.state, NEGOBS_DETECT_NO_INFO);
         assert_true(rig.res.reasons & NEGOBS_DEGRADED_BAD_INPUT);
     }
+    rig_teardown(&rig);
+}
+
+/* Frames of a drop of drop_m at 2.2 m under row-correlated matcher noise
+ * (strip medians wander by about row_px); returns the first frame with a
+ * confirmed hazard, -1 for none. No frame may vouch past the edge. */
+static int drop_frames_in_row_noise(double drop_m, double row_px)
+{
+    synth_scene_t s;
+    int i;
+    int hazard_at = -1;
+    for (i = 0; i < 6; i++) {
+        scene(&s, 0.25, (uint32_t)i + 41u);
+        s.noise_row_px = row_px;
+        s.noise_row_len_px = 48;
+        s.noise_row_rows = 4;
+        synth_step(&s, 2.2, -drop_m);
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        assert_true(rig.res.clear_to_mm <= 2200 + 2200 / 10);
+        if (rig.res.state == NEGOBS_DETECT_HAZARD && hazard_at < 0) {
+            hazard_at = i;
+        }
+    }
+    return hazard_at;
+}
+
+/* The local check with a candidate's own deficit (detect_vouch.c,
+ * vouch_own_deficit): in noise of 0.25 px on the strip medians a minimum
+ * drop at 2.2 m (0.9 px deep, k = 3) cannot be vouched for, but a 30 cm
+ * drop there is 2.4 px deep and stands out, so its candidate may start a
+ * track; a 10 cm one in the same noise still may not. */
+static void test_vouch_deep_drop_stands_out_of_noise(void **state)
+{
+    (void)state;
+    rig_setup(&rig, NULL);
+    assert_in_range(drop_frames_in_row_noise(0.30, 0.25), 2, 4);
+    rig_teardown(&rig);
+    rig_setup(&rig, NULL);
+    assert_int_equal(drop_frames_in_row_noise(0.10, 0.25), -1);
     rig_teardown(&rig);
 }
 
@@ -1009,6 +1080,7 @@ int main(void)
         cmocka_unit_test(test_vouch_drop_beside_fill_is_found),
         cmocka_unit_test(test_vouch_drop_in_clean_strips_despite_far_noise),
         cmocka_unit_test(test_vouch_texture_at_the_half_scale),
+        cmocka_unit_test(test_vouch_deep_drop_stands_out_of_noise),
         cmocka_unit_test(test_vouch_no_false_vouch_on_walks),
         cmocka_unit_test(test_vouch_bounds_by_state),
         cmocka_unit_test(test_vouch_noisy_near_field_is_no_info),

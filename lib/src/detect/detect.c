@@ -46,7 +46,11 @@ static int frame_malformed(const negobs_detect_config_t *cfg,
            (frame->left_half != NULL &&
             (negobs_image_u8_check(frame->left_half) != NEGOBS_OK ||
              frame->left_half->width != cfg->rig.width / 2 ||
-             frame->left_half->height != cfg->rig.height / 2));
+             frame->left_half->height != cfg->rig.height / 2)) ||
+           (frame->disp_half_q4 != NULL &&
+            (negobs_image_s16_check(frame->disp_half_q4) != NEGOBS_OK ||
+             frame->disp_half_q4->width != cfg->rig.width / 2 ||
+             frame->disp_half_q4->height != cfg->rig.height / 2));
 }
 
 static int same_size(const negobs_detect_config_t *cfg,
@@ -280,10 +284,15 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
             }
             fw->trusted[i] = (uint8_t)det_box_textured(
                 s.left, noise_med, c->u0, c->v0, c->u1, c->v1);
-            /* Where a half-resolution pass supplied the map, the same
-             * test at its scale: its 5x5 windows span 10x10 pixels of a
-             * pair with half the noise (pipeline/coarse.c). */
-            if (!fw->trusted[i] && frame->left_half != NULL) {
+            /* Where a half-resolution pass supplied the box's values,
+             * the same test at its scale: its 5x5 windows span 10x10
+             * pixels of a pair with half the noise (pipeline/coarse.c).
+             * Values the full-size matcher kept are judged at full size
+             * only. */
+            if (!fw->trusted[i] && frame->left_half != NULL &&
+                frame->disp_half_q4 != NULL &&
+                det_box_from_half(frame->disp_q4, frame->disp_half_q4, c->u0,
+                                  c->v0, c->u1, c->v1)) {
                 if (noise_half < 0) {
                     noise_half = det_noise_median(frame->left_half);
                 }

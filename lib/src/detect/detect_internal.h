@@ -230,6 +230,12 @@ typedef struct scan_ctx {
 int32_t det_noise_median(const negobs_image_u8_t *img);
 int det_box_textured(const negobs_image_u8_t *img, int32_t noise_med,
                      int32_t u0, int32_t v0, int32_t u1, int32_t v1);
+/* 1 when at least half of the box's pixels with a value carry the value of
+ * the half-size map (doubled): the map there is the half-resolution
+ * pass's measurement, so its texture is judged at that scale. */
+int det_box_from_half(const negobs_image_s16_t *disp,
+                      const negobs_image_s16_t *disp_half, int32_t u0,
+                      int32_t v0, int32_t u1, int32_t v1);
 uint32_t det_photo_reasons(const negobs_detect_config_t *cfg,
                            const negobs_photo_stats_t *s);
 

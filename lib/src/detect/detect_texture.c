@@ -154,3 +154,31 @@ int det_box_textured(const negobs_image_u8_t *img, int32_t noise_med,
     }
     return n == 0 || 2 * ok >= n;
 }
+
+int det_box_from_half(const negobs_image_s16_t *disp,
+                      const negobs_image_s16_t *disp_half, int32_t u0,
+                      int32_t v0, int32_t u1, int32_t v1)
+{
+    int32_t n = 0;
+    int32_t half = 0;
+    int32_t x;
+    int32_t y;
+    u0 = geom_max_s32(u0, 0);
+    v0 = geom_max_s32(v0, 0);
+    u1 = geom_min_s32(u1, geom_min_s32(disp->width, 2 * disp_half->width) - 1);
+    v1 = geom_min_s32(v1,
+                      geom_min_s32(disp->height, 2 * disp_half->height) - 1);
+    for (y = v0; y <= v1; y++) {
+        const int16_t *d = negobs_image_s16_row(disp, y);
+        const int16_t *h = negobs_image_s16_row(disp_half, y / 2);
+        for (x = u0; x <= u1; x++) {
+            if (d[x] == NEGOBS_DISP_INVALID) {
+                continue;
+            }
+            n++;
+            half += h[x / 2] != NEGOBS_DISP_INVALID &&
+                    (int32_t)d[x] == 2 * (int32_t)h[x / 2];
+        }
+    }
+    return n > 0 && 2 * half >= n;
+}

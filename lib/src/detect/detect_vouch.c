@@ -164,15 +164,15 @@ static inline int vouch_in_scan(const scan_ctx_t *s, int32_t range_mm)
  * geometric threshold must stay below the minimum drop, or it never fires
  * on one, and the per-pixel noise is capped by sigma_max as before.
  */
-static enum vouch_verdict vouch_cell_ok(const scan_ctx_t *s,
-                                        const detect_priv_t *p, int32_t si,
-                                        int32_t v, int32_t range_mm)
+static enum vouch_verdict vouch_cell_sees(const scan_ctx_t *s,
+                                          const detect_priv_t *p, int32_t si,
+                                          int32_t v, int32_t range_mm,
+                                          int32_t dg, int64_t rel_num,
+                                          int64_t rel_den)
 {
     const negobs_detect_config_t *cfg = s->cfg;
     const int32_t b = band_of(s, v);
     const vouch_cell_t *c = p->cells + (size_t)si * NOISE_BANDS + b;
-    int32_t uc = det_strip_u0(cfg, p->n_strips, si) + cfg->strip_px / 2;
-    int32_t dg = negobs_ground_disp_q4(s->plane, uc, v);
     int32_t h = vouch_h_mm(range_mm);
     int32_t h_t = (det_h_min_at(cfg, range_mm) * cfg->h_thresh_pct) / 100;
     int32_t sig_q8 = s->band_strip_q8[b];
@@ -190,13 +190,24 @@ static enum vouch_verdict vouch_cell_ok(const scan_ctx_t *s,
         sig_q8 = geom_max_s32(sig_q8, sd_q8);
         bias_q8 = negobs_abs_s32((c->sum * 8) / c->n);
     }
-    /* k_q4/16 * sig/256 + bias/256 <= dg/16 * h / (H + h). */
-    if (((int64_t)cfg->k_sigma_q4 * sig_q8 + 16 * (int64_t)bias_q8) *
-            (s->frame->height_mm + h) >
-        (int64_t)dg * h * 256) {
+    /* k_q4/16 * sig/256 + bias/256 <= dg/16 * rel_num / rel_den. */
+    if (((int64_t)cfg->k_sigma_q4 * sig_q8 + 16 * (int64_t)bias_q8) * rel_den >
+        (int64_t)dg * rel_num * 256) {
         return VOUCH_NOISE;
     }
     return VOUCH_OK;
+}
+
+static enum vouch_verdict vouch_cell_ok(const scan_ctx_t *s,
+                                        const detect_priv_t *p, int32_t si,
+                                        int32_t v, int32_t range_mm)
+{
+    const negobs_detect_config_t *cfg = s->cfg;
+    int32_t uc = det_strip_u0(cfg, p->n_strips, si) + cfg->strip_px / 2;
+    int32_t h = vouch_h_mm(range_mm);
+    return vouch_cell_sees(s, p, si, v, range_mm,
+                           negobs_ground_disp_q4(s->plane, uc, v), h,
+                           (int64_t)s->frame->height_mm + h);
 }
 
 /* One row of the walk: its corridor strips' tallies, with the strips
@@ -379,25 +390,53 @@ int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
  * 1.4826 * MAD of strip medians and its positive offset. Robust to the
  * few blurred rows just past an edge, which a cell's mean deviation is
  * not. */
-static int vouch_band_ok(const scan_ctx_t *s, int32_t v, int32_t range_mm)
+static int vouch_band_sees(const scan_ctx_t *s, int32_t v, int32_t dg,
+                           int64_t rel_num, int64_t rel_den)
 {
     const negobs_detect_config_t *cfg = s->cfg;
     const int32_t b = band_of(s, v);
-    int32_t h = vouch_h_mm(range_mm);
-    int32_t dg = negobs_ground_disp_q4(s->plane, cfg->rig.width / 2, v);
     return s->band_strip_q8[b] > 0 &&
            ((int64_t)cfg->k_sigma_q4 * s->band_strip_q8[b] +
             16 * (int64_t)geom_max_s32(s->band_bias_q8[b], 0)) *
-                   (s->frame->height_mm + h) <=
-               (int64_t)dg * h * 256;
+                   rel_den <=
+               (int64_t)dg * rel_num * 256;
+}
+
+static int vouch_band_ok(const scan_ctx_t *s, int32_t v, int32_t range_mm)
+{
+    int32_t h = vouch_h_mm(range_mm);
+    return vouch_band_sees(
+        s, v, negobs_ground_disp_q4(s->plane, s->cfg->rig.width / 2, v), h,
+        (int64_t)s->frame->height_mm + h);
+}
+
+/* The local check with the strip's own deficit in place of a minimum
+ * drop's: its first plateau lies rho1 (relative) below the ground at its
+ * edge, and that deficit must stand out of the same noise and offset by
+ * the same k (in the cell one band nearer and in the band-pooled test at
+ * the edge row). A drop deeper than the minimum is seen in noise that
+ * would hide the minimum; the ground disparity is taken at the edge, the
+ * smaller one, where the deficit was measured. */
+static int vouch_own_deficit(const scan_ctx_t *s, const detect_priv_t *p,
+                             int32_t si, const strip_hit_t *sh, int32_t vn,
+                             int32_t uc)
+{
+    int32_t dg = negobs_ground_disp_q4(s->plane, uc, sh->edge_v);
+    if (sh->rho1_q15 <= 0) {
+        return 0;
+    }
+    return vouch_cell_sees(s, p, si, vn, model_range_mm(s, uc, vn), dg,
+                           sh->rho1_q15, 32768) == VOUCH_OK &&
+           vouch_band_sees(s, sh->edge_v, dg, sh->rho1_q15, 32768);
 }
 
 /* 1 when a candidate's own strips pass the local check around its edge:
  * at least half of them, and at least min_strips, can see a minimum drop
  * in the cell one band nearer than their edge (the ground it stands out
  * from, within their support), and the band-pooled noise at the edge row
- * allows it. Noise farther off, or under the feet, does not make a drop
- * in clean strips unknown. min_strips, because the rule reports nothing
+ * allows it; or their own deficit stands out there (vouch_own_deficit).
+ * Noise farther off, or under the feet, does not make a drop in clean
+ * strips unknown. min_strips, because the rule reports nothing
  * narrower: one clean strip of a two-strip candidate is evidence below
  * the detector's resolution (on a flat worn-asphalt walk of the suite,
  * such candidates on frames vouching 0-840 mm, three in five frames at
@@ -422,10 +461,11 @@ int det_vouch_candidate(const scan_ctx_t *s, const detect_priv_t *p,
         }
         cnt++;
         vn = geom_min_s32(sh->edge_v + s->band_rows, hgt - 1);
-        pass += vouch_cell_ok(s, p, si, vn, model_range_mm(s, uc, vn)) ==
-                    VOUCH_OK &&
-                vouch_band_ok(s, sh->edge_v,
-                              model_range_mm(s, uc, sh->edge_v));
+        pass += (vouch_cell_ok(s, p, si, vn, model_range_mm(s, uc, vn)) ==
+                     VOUCH_OK &&
+                 vouch_band_ok(s, sh->edge_v,
+                               model_range_mm(s, uc, sh->edge_v))) ||
+                vouch_own_deficit(s, p, si, sh, vn, uc);
     }
     return pass >= s->cfg->min_strips && 2 * pass >= cnt;
 }

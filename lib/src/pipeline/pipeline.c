@@ -477,6 +477,7 @@ negobs_status_t negobs_pipeline_process(negobs_pipeline_t *ctx,
         df.now_ms = frame->now_ms;
         df.first_row = result->stereo.first_row;
         df.left_half = result->coarse_ran ? &p->left_half : NULL;
+        df.disp_half_q4 = result->coarse_ran ? &p->disp_half : NULL;
         st = negobs_detect_process(&p->detect, &df, &result->detect);
     }
     if (st != NEGOBS_OK) {
