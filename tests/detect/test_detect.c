@@ -1348,9 +1348,11 @@ static void test_detect_unconfirmed_candidate_with_noisy_near_rows(
     rig_teardown(&rig);
 }
 
-/* A 0.4 m wide hole at 2.0-2.5 m, two strips wide (columns 144-175), on
- * frames whose near rows carry row-correlated noise (they vouch 0 mm, so
- * a candidate is trusted only by its own strips). When the ground before
+/* A 0.4 m wide, 10 cm deep hole at 2.0-2.5 m, two strips wide (columns
+ * 144-175), on frames whose near rows carry row-correlated noise (they
+ * vouch 0 mm, so a candidate is trusted only by its own strips). A
+ * minimum drop: a deeper one's own deficit would stand out of the noise
+ * below (vouch_own_deficit) and rightly pass there. When the ground before
  * the edge in one of the two strips alternates +-0.31 px from row to row
  * above the noisy rows (still GROUND for the rule, but it could not show
  * a 10 cm drop at 3
@@ -1372,7 +1374,7 @@ static int narrow_hole_hazards(int corrupt)
         row_scene(&s, 0.1, 0.25, (uint32_t)i + 701u);
         s.noise_row_v0 = RIG_H - 40;
         s.lat_half_m = 0.2;
-        synth_step(&s, edge, -0.20);
+        synth_step(&s, edge, -0.10);
         synth_step(&s, edge + 0.3, 0.0);
         synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
         ve = (int32_t)lround(
