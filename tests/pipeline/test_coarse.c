@@ -13,6 +13,7 @@
 #include "pipeline/coarse.h"
 #include "scene_disp.h"
 #include "test_rng.h"
+#include "test_ws.h"
 #include "walk.h"
 
 #define W 320
@@ -21,15 +22,6 @@
 static uint8_t left_px[W * H];
 static uint8_t right_px[W * H];
 static int16_t gt_q4[W * H];
-
-static void *aligned_ws(size_t bytes, void **raw)
-{
-    uintptr_t p;
-    *raw = malloc(bytes + 16u);
-    assert_non_null(*raw);
-    p = ((uintptr_t)*raw + 15u) & ~(uintptr_t)15u;
-    return (void *)p;
-}
 
 static void test_bin2_rounds_the_mean_and_drops_an_odd_edge(void **state)
 {
@@ -214,7 +206,7 @@ static void run_floor(int coarse, floor_score_t *sc)
     negobs_pipeline_config_default(&cfg, W, H);
     cfg.coarse_pass = coarse;
     assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes), NEGOBS_OK);
-    ws = aligned_ws(bytes, &raw);
+    ws = test_aligned_ws(bytes, &raw);
     assert_int_equal(negobs_pipeline_init(ctx, &cfg, ws, bytes), NEGOBS_OK);
     for (i = 0; i < 5; i++) {
         render_smooth_floor(&cfg.detect.rig, 1000u + (uint32_t)i, 24, 3.0);
@@ -292,7 +284,7 @@ static void test_textured_walk_is_unchanged(void **state)
         assert_non_null(ctx[k]);
         assert_int_equal(negobs_pipeline_workspace_size(&cfg[k], &bytes),
                          NEGOBS_OK);
-        ws = aligned_ws(bytes, &raw[k]);
+        ws = test_aligned_ws(bytes, &raw[k]);
         assert_int_equal(negobs_pipeline_init(ctx[k], &cfg[k], ws, bytes),
                          NEGOBS_OK);
     }

@@ -10,21 +10,13 @@
 #include "cmocka_all.h"
 #include "negobs/pipeline.h"
 #include "scene_valign.h"
+#include "test_ws.h"
 
 #define W 160
 #define H 120
 
 static uint8_t left_px[W * H];
 static uint8_t right_px[W * H];
-
-static void *aligned_ws(size_t bytes, void **raw)
-{
-    uintptr_t p;
-    *raw = malloc(bytes + 16u);
-    assert_non_null(*raw);
-    p = ((uintptr_t)*raw + 15u) & ~(uintptr_t)15u;
-    return (void *)p;
-}
 
 static void test_pipeline_workspace_is_exact(void **state)
 {
@@ -38,7 +30,7 @@ static void test_pipeline_workspace_is_exact(void **state)
     negobs_pipeline_config_default(&cfg, W, H);
     assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes), NEGOBS_OK);
     assert_true(bytes > (size_t)W * H * 3u);
-    ws = aligned_ws(bytes, &raw);
+    ws = test_aligned_ws(bytes, &raw);
     assert_int_equal(negobs_pipeline_init(ctx, &cfg, ws, bytes - 1),
                      NEGOBS_ERR_NOSPACE);
     assert_int_equal(negobs_pipeline_init(ctx, &cfg, ws, bytes), NEGOBS_OK);
@@ -87,7 +79,7 @@ static void run_vertical(int32_t every, int32_t off_rows, int32_t off_rows2,
     negobs_pipeline_config_default(&cfg, GEN_W, GEN_H);
     cfg.vertical_every_frames = every;
     assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes), NEGOBS_OK);
-    ws = aligned_ws(bytes, &raw);
+    ws = test_aligned_ws(bytes, &raw);
     assert_int_equal(negobs_pipeline_init(ctx, &cfg, ws, bytes), NEGOBS_OK);
     gen_texture(11u);
     l.data = gl;
@@ -189,7 +181,7 @@ static void test_pipeline_runs_alignment_stage(void **state)
     cfg.valign.width = GEN_W;
     assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes), NEGOBS_OK);
     assert_true(bytes >= off_bytes + (size_t)GEN_W * GEN_H);
-    ws = aligned_ws(bytes, &raw);
+    ws = test_aligned_ws(bytes, &raw);
     assert_int_equal(negobs_pipeline_init(ctx, &cfg, ws, bytes - 1),
                      NEGOBS_ERR_NOSPACE);
     assert_int_equal(negobs_pipeline_init(ctx, &cfg, ws, bytes), NEGOBS_OK);
@@ -318,7 +310,7 @@ static void test_pipeline_lost_camera_gives_no_info_pattern(void **state)
     assert_non_null(ctx);
     negobs_pipeline_config_default(&cfg, W, H);
     assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes), NEGOBS_OK);
-    ws = aligned_ws(bytes, &raw);
+    ws = test_aligned_ws(bytes, &raw);
     assert_int_equal(negobs_pipeline_init(ctx, &cfg, ws, bytes), NEGOBS_OK);
     memset(&fr, 0, sizeof fr);
     fr.left = &left;
@@ -362,7 +354,7 @@ static void test_pipeline_flat_grey_frames_are_not_clear(void **state)
     memset(right_px, 128, sizeof right_px);
     negobs_pipeline_config_default(&cfg, W, H);
     assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes), NEGOBS_OK);
-    ws = aligned_ws(bytes, &raw);
+    ws = test_aligned_ws(bytes, &raw);
     assert_int_equal(negobs_pipeline_init(ctx, &cfg, ws, bytes), NEGOBS_OK);
     memset(&fr, 0, sizeof fr);
     fr.left = &left;
@@ -391,7 +383,7 @@ static void test_pipeline_tick_without_frames_falls_to_no_info(void **state)
     assert_non_null(ctx);
     negobs_pipeline_config_default(&cfg, W, H);
     assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes), NEGOBS_OK);
-    ws = aligned_ws(bytes, &raw);
+    ws = test_aligned_ws(bytes, &raw);
     memset(ctx, 0, sizeof *ctx); /* never initialised */
     assert_int_equal(negobs_pipeline_tick(ctx, 0, &cmd), NEGOBS_ERR_STATE);
     assert_int_equal(negobs_pipeline_init(ctx, &cfg, ws, bytes), NEGOBS_OK);
@@ -447,7 +439,7 @@ static void test_pipeline_clock_times_stages_without_changing_output(
     negobs_pipeline_config_default(&cfg, GEN_W, GEN_H);
     cfg.valign.enable = 1;
     assert_int_equal(negobs_pipeline_workspace_size(&cfg, &bytes), NEGOBS_OK);
-    ws = aligned_ws(bytes, &raw);
+    ws = test_aligned_ws(bytes, &raw);
     memset(ctx, 0, sizeof *ctx);
     assert_int_equal(negobs_pipeline_set_clock(ctx, counting_clock, &reads),
                      NEGOBS_ERR_STATE);
