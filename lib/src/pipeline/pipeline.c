@@ -37,10 +37,10 @@ void negobs_pipeline_config_default(negobs_pipeline_config_t *cfg,
     cfg->vertical_every_frames = 10;
     cfg->coarse_pass = 1;
     /* The pass pays when the detector would discard a sizeable part of
-     * the rows it reads. On textured floors 2-8 % of those pixels are
-     * weak (occlusions beside obstacles, the drop's own face, thin
-     * shadows), on a smooth floor half or more: an eighth lies between
-     * (figures in docs/DETECTION.md). */
+     * the rows it reads. On textured floors a median of 3-4 % of those
+     * pixels are weak (occlusions beside obstacles, the drop's own face,
+     * hard shadows), on smooth concrete half or more: an eighth lies
+     * between (figures in docs/DETECTION.md). */
     cfg->coarse_weak_permille = 125;
 }
 
