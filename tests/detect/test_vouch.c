@@ -372,15 +372,19 @@ static int drop_frames_with_left(const negobs_image_u8_t *left,
         for (y = 0; y < RIG_H; y++) {
             for (x = 0; x < RIG_W; x++) {
                 int16_t d = rig.disp[(y & ~1) * RIG_W + (x & ~1)];
-                int16_t h = (d == NEGOBS_DISP_INVALID) ? d : (int16_t)(d / 2);
-                if (halved) {
-                    rig.disp[y * RIG_W + x] = (h == NEGOBS_DISP_INVALID)
-                                                  ? h
-                                                  : (int16_t)(2 * h);
+                int16_t h = d;
+                int16_t full = d;
+                if (d != NEGOBS_DISP_INVALID) {
+                    h = (int16_t)(d / 2);
+                    full = (int16_t)(2 * h);
                 }
-                half_map[(y / 2) * (RIG_W / 2) + x / 2] =
-                    (h == NEGOBS_DISP_INVALID || halved) ? h
-                                                         : (int16_t)(h + 8);
+                if (halved) {
+                    rig.disp[y * RIG_W + x] = full;
+                }
+                half_map[(y / 2) * (RIG_W / 2) + x / 2] = h;
+                if (!halved && h != NEGOBS_DISP_INVALID) {
+                    half_map[(y / 2) * (RIG_W / 2) + x / 2] = (int16_t)(h + 8);
+                }
             }
         }
         assert_int_equal(rig_run(&rig), NEGOBS_OK);
