@@ -78,8 +78,8 @@ void pl_bin2_u8(const negobs_image_u8_t *src, const negobs_image_u8_t *dst)
         const uint8_t *b = negobs_image_u8_row(src, 2 * y + 1);
         uint8_t *o = negobs_image_u8_row(dst, y);
         for (x = 0; x < dst->width; x++) {
-            uint32_t s = (uint32_t)a[2 * x] + a[2 * x + 1] + b[2 * x] +
-                         b[2 * x + 1];
+            ptrdiff_t x2 = (ptrdiff_t)2 * x;
+            uint32_t s = (uint32_t)a[x2] + a[x2 + 1] + b[x2] + b[x2 + 1];
             o[x] = (uint8_t)((s + 2u) >> 2);
         }
     }
