@@ -7,8 +7,8 @@
  * below the growth threshold: the map there is the DP's guess with a low
  * confidence, which the detector rightly does not use, and the frame has
  * no information. A 2x2 area average halves the noise's amplitude and
- * brings twice the floor into each window, so the same matcher on the
- * half-size pair correlates the true match well above the threshold
+ * brings four times the floor into each window, so the same matcher on
+ * the half-size pair correlates the true match well above the threshold
  * (docs/DETECTION.md, "Weak texture: the half-resolution pass", gives the
  * figures).
  *
