@@ -23,6 +23,11 @@ static uint8_t left_px[W * H];
 static uint8_t right_px[W * H];
 static int16_t gt_q4[W * H];
 
+static uint8_t clamp_u8(double v)
+{
+    return (uint8_t)(v < 0.0 ? 0.0 : (v > 255.0 ? 255.0 : v + 0.5));
+}
+
 static void test_bin2_rounds_the_mean_and_drops_an_odd_edge(void **state)
 {
     /* 5 x 3: the last column and row have no partner and are dropped */
@@ -70,7 +75,8 @@ static void test_fuse_takes_confident_half_values_only_where_weak(void **state)
     }
     c[1] = 180; /* confident at full size: kept */
     assert_int_equal(
-        pl_coarse_fuse(&disp, &conf, &hdisp, &hconf, 0, 120, 0, 1024), 3);
+        pl_coarse_fuse(NULL, &disp, &conf, &hdisp, &hconf, 0, 120, 0, 1024),
+        3);
     assert_int_equal(d[0], 200); /* doubled */
     assert_int_equal(c[0], 200);
     assert_int_equal(d[1], 7);
@@ -80,12 +86,75 @@ static void test_fuse_takes_confident_half_values_only_where_weak(void **state)
     /* a weak half-size value is not taken, nor one outside the range */
     hc[0] = 100;
     assert_int_equal(
-        pl_coarse_fuse(&disp, &conf, &hdisp, &hconf, 0, 120, 0, 1024), 0);
+        pl_coarse_fuse(NULL, &disp, &conf, &hdisp, &hconf, 0, 120, 0, 1024),
+        0);
     hc[0] = 200;
     d[0] = 7;
     c[0] = 30;
     assert_int_equal(
-        pl_coarse_fuse(&disp, &conf, &hdisp, &hconf, 0, 120, 0, 100), 0);
+        pl_coarse_fuse(NULL, &disp, &conf, &hdisp, &hconf, 0, 120, 0, 100), 0);
+}
+
+/* A confident full-size value measured in a window without texture takes
+ * the half-size value; one in a textured window keeps its own. The left
+ * image: vertical stripes (a 6 px period, +-40 grey) in columns 0-31, a
+ * flat grey in columns 32-63, both under sensor noise of sigma 2. Every
+ * full-size value is confident (200), every half-size one too. */
+static void test_fuse_replaces_values_measured_without_texture(void **state)
+{
+    enum { FW = 64, FH = 16 };
+    static uint8_t lp[FW * FH];
+    static int16_t d[FW * FH];
+    static uint8_t c[FW * FH];
+    static int16_t hd[(FW / 2) * (FH / 2)];
+    static uint8_t hc[(FW / 2) * (FH / 2)];
+    negobs_image_u8_t left = {lp, FW, FH, FW};
+    negobs_image_s16_t disp = {d, FW, FH, FW};
+    negobs_image_u8_t conf = {c, FW, FH, FW};
+    negobs_image_s16_t hdisp = {hd, FW / 2, FH / 2, FW / 2};
+    negobs_image_u8_t hconf = {hc, FW / 2, FH / 2, FW / 2};
+    uint32_t st = 99u;
+    int32_t striped = 0;
+    int32_t flat = 0;
+    int32_t x;
+    int32_t y;
+    (void)state;
+    for (y = 0; y < FH; y++) {
+        for (x = 0; x < FW; x++) {
+            const double stripe = (x < 32 && (x / 3) % 2 == 0) ? 40.0 : -40.0;
+            lp[y * FW + x] = clamp_u8(128.0 + ((x < 32) ? stripe : 0.0) +
+                                      2.0 * test_gauss12(&st));
+            d[y * FW + x] = 160;
+            c[y * FW + x] = 200;
+        }
+    }
+    memset(hc, 200, sizeof hc);
+    for (x = 0; x < (FW / 2) * (FH / 2); x++) {
+        hd[x] = 96; /* doubled: 192 */
+    }
+    assert_true(pl_coarse_fuse(&left, &disp, &conf, &hdisp, &hconf, 0, 120, 0,
+                               1024) > 0);
+    /* inside the image by the window's reach: the striped half keeps its
+     * values, the flat half takes the half-size ones */
+    for (y = 2; y < FH - 2; y++) {
+        for (x = 2; x < FW - 2; x++) {
+            if (x < 28) {
+                striped += d[y * FW + x] == 160;
+            } else if (x >= 36) {
+                flat += d[y * FW + x] == 192;
+            }
+        }
+    }
+    assert_int_equal(striped, 26 * (FH - 4));
+    assert_int_equal(flat, 26 * (FH - 4));
+    /* without the image the confident values all stay */
+    for (x = 0; x < FW * FH; x++) {
+        d[x] = 160;
+        c[x] = 200;
+    }
+    assert_int_equal(
+        pl_coarse_fuse(NULL, &disp, &conf, &hdisp, &hconf, 0, 120, 0, 1024),
+        0);
 }
 
 static void test_config_checks_and_small_frames(void **state)
@@ -146,11 +215,6 @@ static int32_t blotch(int32_t x_q4, int32_t y, int32_t amp)
     top = k[0] * (128 - fx) + k[1] * fx;
     bot = k[2] * (128 - fx) + k[3] * fx;
     return 128 + ((top * (128 - fy) + bot * fy) / 16384) * amp / 128;
-}
-
-static uint8_t clamp_u8(double v)
-{
-    return (uint8_t)(v < 0.0 ? 0.0 : (v > 255.0 ? 255.0 : v + 0.5));
 }
 
 /* A smooth level floor seen by the default rig (1.2 m, 20 deg): blotches
@@ -328,6 +392,7 @@ int main(void)
         cmocka_unit_test(test_weak_share_counts_the_area_right_of_x0),
         cmocka_unit_test(
             test_fuse_takes_confident_half_values_only_where_weak),
+        cmocka_unit_test(test_fuse_replaces_values_measured_without_texture),
         cmocka_unit_test(test_config_checks_and_small_frames),
         cmocka_unit_test(test_smooth_floor_is_read_at_half_resolution),
         cmocka_unit_test(test_textured_walk_is_unchanged),

@@ -37,6 +37,23 @@ static inline int32_t negobs_bearing_mdeg(int32_t lateral_mm,
 }
 
 /**
+ * @brief Sensor noise of an image: the median of |3x3 second difference|
+ * over every second pixel and row, in grey levels (4.05 x the noise's
+ * sigma), at most 24; 0 for an image too small to measure
+ * (detect_texture.c).
+ */
+int32_t det_noise_median(const negobs_image_u8_t *img);
+
+/**
+ * @brief 1 when the 5x5 window centred at (x, y) holds texture: a variance
+ * of at least four times the noise's (noise_med from det_noise_median)
+ * and horizontal structure a row-wise matcher can lock onto
+ * (detect_texture.c). The window must lie inside the image.
+ */
+int det_window_textured(const negobs_image_u8_t *img, int32_t noise_med,
+                        int32_t x, int32_t y);
+
+/**
  * @brief Photometric statistics of an image, sampling every 2nd pixel of
  *        every 2nd row.
  * @return NEGOBS_OK or NEGOBS_ERR_INVAL.

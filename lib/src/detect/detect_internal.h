@@ -225,9 +225,8 @@ typedef struct scan_ctx {
     int32_t band_bias_q8[NOISE_BANDS];
 } scan_ctx_t;
 
-/* detect_texture.c: the left image's noise (median |3x3 second
- * difference|, grey levels) and whether a box holds texture above it. */
-int32_t det_noise_median(const negobs_image_u8_t *img);
+/* detect_texture.c: whether a box holds texture above the image's noise
+ * (det_noise_median, det_window_textured in detect_int.h). */
 int det_box_textured(const negobs_image_u8_t *img, int32_t noise_med,
                      int32_t u0, int32_t v0, int32_t u1, int32_t v1);
 /* 1 when at least half of the box's pixels with a value carry the value of

@@ -57,8 +57,9 @@ int32_t det_noise_median(const negobs_image_u8_t *img)
 }
 
 /*
- * 1 when at least half of the 5x5 windows of the left image centred in
- * the box (every second pixel and row) hold a variance of at least four
+ * Texture of one 5x5 window (det_window_textured), and of a box: 1 when at
+ * least half of the windows centred in the box (every second pixel and
+ * row) hold it. A textured window holds a variance of at least four
  * times the noise variance: texture with a signal-to-noise power of 3 or
  * more, for which a window's expected NCC at the true match is at least
  * 0.75. Below that the match wanders by tenths of a pixel (flat paint, a
@@ -121,10 +122,30 @@ static inline int window_sees_columns(const negobs_image_u8_t *img, int32_t x,
     return APERTURE_RATIO_INV * gxx >= gyy;
 }
 
+/* The window must lie inside the image: 2 <= x < width - 2, the same for y. */
+int det_window_textured(const negobs_image_u8_t *img, int32_t noise_med,
+                        int32_t x, int32_t y)
+{
+    const int64_t need = 625000 * (int64_t)noise_med * noise_med;
+    int32_t s = 0;
+    int32_t q = 0;
+    int32_t j;
+    int32_t i;
+    for (j = -2; j <= 2; j++) {
+        const uint8_t *row = negobs_image_u8_row(img, y + j);
+        for (i = -2; i <= 2; i++) {
+            int32_t p = row[x + i];
+            s += p;
+            q += p * p;
+        }
+    }
+    return (int64_t)(25 * q - s * s) * 4095 >= need &&
+           window_sees_columns(img, x, y);
+}
+
 int det_box_textured(const negobs_image_u8_t *img, int32_t noise_med,
                      int32_t u0, int32_t v0, int32_t u1, int32_t v1)
 {
-    const int64_t need = 625000 * (int64_t)noise_med * noise_med;
     int32_t n = 0;
     int32_t ok = 0;
     int32_t x;
@@ -135,21 +156,8 @@ int det_box_textured(const negobs_image_u8_t *img, int32_t noise_med,
     v1 = geom_min_s32(v1, img->height - 3);
     for (y = v0; y <= v1; y += 2) {
         for (x = u0; x <= u1; x += 2) {
-            int32_t s = 0;
-            int32_t q = 0;
-            int32_t j;
-            int32_t i;
-            for (j = -2; j <= 2; j++) {
-                const uint8_t *row = negobs_image_u8_row(img, y + j);
-                for (i = -2; i <= 2; i++) {
-                    int32_t p = row[x + i];
-                    s += p;
-                    q += p * p;
-                }
-            }
             n++;
-            ok += (int64_t)(25 * q - s * s) * 4095 >= need &&
-                  window_sees_columns(img, x, y);
+            ok += det_window_textured(img, noise_med, x, y);
         }
     }
     return n == 0 || 2 * ok >= n;

@@ -13,15 +13,23 @@
  * figures).
  *
  * The full-resolution map stays the primary one: where its confidence is
- * high enough for the detector it is kept as it is (twice the resolution,
- * sharper edges), and only the pixels the detector would not use take the
- * half-size value when that one is confident. The pass runs only when
+ * high enough for the detector and its window holds texture it is kept as
+ * it is (twice the resolution, sharper edges). The pixels the detector
+ * would not use take the half-size value when that one is confident, and
+ * so do confident ones measured in a window without texture (the
+ * detector's own texture test, detect_texture.c): there the correlation
+ * is high because the window is bland, not because the match is right,
+ * and the detector would refuse any deficit read from it; the half-size
+ * window, four times the floor with half the noise, holds the texture
+ * the full-size one lacks (docs/DETECTION.md gives the figures). The pass runs only when
  * those pixels are a sizeable share of the rows the detector reads, so a
  * textured floor costs nothing more and gives the same output.
  */
 #include "coarse.h"
 
 #include <stddef.h>
+
+#include "detect/detect_int.h"
 
 static int32_t half_up(int32_t v)
 {
@@ -112,43 +120,80 @@ int32_t pl_weak_permille(const negobs_image_u8_t *conf, int32_t y0, int32_t x0,
     return (int32_t)(((uint64_t)weak * 1000u) / n);
 }
 
-uint32_t pl_coarse_fuse(negobs_image_s16_t *disp, negobs_image_u8_t *conf,
+/* Is the full-size window of the 2x2 block whose top-left pixel is (x, y)
+ * textured? Its window is centred on that pixel; one test serves the four
+ * pixels the half-size pixel covers. Windows that would leave the image
+ * count as textured: their values are judged by their confidence alone. */
+static int block_textured(const negobs_image_u8_t *left, int32_t noise_med,
+                          int32_t x, int32_t y)
+{
+    if (left == NULL || x < 2 || y < 2 || x > left->width - 3 ||
+        y > left->height - 3) {
+        return 1;
+    }
+    return det_window_textured(left, noise_med, x, y);
+}
+
+/* Pixel (x, y) of the full map takes the half-size value when its own is
+ * weak or measured without texture; returns 1 when it did. */
+static inline uint32_t fuse_pixel(int16_t *d, uint8_t *c, int32_t hd,
+                                  int32_t hc, int textured, int32_t min_conf,
+                                  int32_t dmin_q4, int32_t dmax_q4)
+{
+    /* the half-size pixel x/2 is centred on full-size x 2(x/2) + 0.5,
+     * within half a pixel of x: on a floor whose disparity changes by a
+     * fraction of a pixel per row that is noise, not bias */
+    const int32_t v = 2 * hd;
+    if (((int32_t)*c >= min_conf && textured) || hc < min_conf ||
+        hd == NEGOBS_DISP_INVALID || v < dmin_q4 || v > dmax_q4) {
+        return 0;
+    }
+    *d = (int16_t)v;
+    *c = (uint8_t)hc;
+    return 1;
+}
+
+uint32_t pl_coarse_fuse(const negobs_image_u8_t *left,
+                        negobs_image_s16_t *disp, negobs_image_u8_t *conf,
                         const negobs_image_s16_t *half_disp,
                         const negobs_image_u8_t *half_conf, int32_t y0,
                         int32_t min_conf, int32_t dmin_q4, int32_t dmax_q4)
 {
     uint32_t replaced = 0;
+    const int32_t noise_med = (left != NULL) ? det_noise_median(left) : 0;
     int32_t y1 = 2 * half_disp->height;
     int32_t x1 = 2 * half_disp->width;
-    int32_t x;
-    int32_t y;
+    int32_t bx;
+    int32_t by;
     if (y0 < 0) {
         y0 = 0;
     }
     y1 = (y1 < disp->height) ? y1 : disp->height;
     x1 = (x1 < disp->width) ? x1 : disp->width;
-    for (y = y0; y < y1; y++) {
-        int16_t *d = negobs_image_s16_row(disp, y);
-        uint8_t *c = negobs_image_u8_row(conf, y);
-        const int16_t *hd = negobs_image_s16_row(half_disp, y / 2);
-        const uint8_t *hc = negobs_image_u8_row(half_conf, y / 2);
-        for (x = 0; x < x1; x++) {
-            int32_t v;
-            if ((int32_t)c[x] >= min_conf || (int32_t)hc[x / 2] < min_conf ||
-                hd[x / 2] == NEGOBS_DISP_INVALID) {
+    for (by = y0 / 2; 2 * by < y1; by++) {
+        const int16_t *hd = negobs_image_s16_row(half_disp, by);
+        const uint8_t *hc = negobs_image_u8_row(half_conf, by);
+        for (bx = 0; 2 * bx < x1; bx++) {
+            int textured = -1; /* tested only when a pixel needs it */
+            int32_t k;
+            if (hc[bx] < min_conf || hd[bx] == NEGOBS_DISP_INVALID) {
                 continue;
             }
-            /* the half-size pixel x/2 is centred on full-size x 2(x/2) +
-             * 0.5, within half a pixel of x: on a floor whose disparity
-             * changes by a fraction of a pixel per row that is noise, not
-             * bias */
-            v = 2 * (int32_t)hd[x / 2];
-            if (v < dmin_q4 || v > dmax_q4) {
-                continue;
+            for (k = 0; k < 4; k++) {
+                const int32_t x = 2 * bx + (k & 1);
+                const int32_t y = 2 * by + (k >> 1);
+                uint8_t *c;
+                if (x >= x1 || y < y0 || y >= y1) {
+                    continue;
+                }
+                c = negobs_image_u8_row(conf, y) + x;
+                if ((int32_t)*c >= min_conf && textured < 0) {
+                    textured = block_textured(left, noise_med, 2 * bx, 2 * by);
+                }
+                replaced += fuse_pixel(negobs_image_s16_row(disp, y) + x, c,
+                                       hd[bx], hc[bx], textured != 0, min_conf,
+                                       dmin_q4, dmax_q4);
             }
-            d[x] = (int16_t)v;
-            c[x] = hc[x / 2];
-            replaced++;
         }
     }
     return replaced;

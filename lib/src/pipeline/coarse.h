@@ -29,12 +29,17 @@ void pl_bin2_u8(const negobs_image_u8_t *src, const negobs_image_u8_t *dst);
 int32_t pl_weak_permille(const negobs_image_u8_t *conf, int32_t y0, int32_t x0,
                          int32_t min_conf);
 
-/* For each pixel of rows [y0, height) below min_conf whose half-resolution
- * pixel (x / 2, y / 2) has a value with confidence >= min_conf: that value
+/* For each pixel of rows [y0, height) whose half-resolution pixel
+ * (x / 2, y / 2) has a value with confidence >= min_conf: that value
  * doubled (a half-size disparity is half the full-size one) and its
- * confidence, when the doubled value lies in [dmin_q4, dmax_q4]. Returns
- * the number of pixels replaced. */
-uint32_t pl_coarse_fuse(negobs_image_s16_t *disp, negobs_image_u8_t *conf,
+ * confidence, when the doubled value lies in [dmin_q4, dmax_q4] and the
+ * pixel's own value is weak (confidence below min_conf) or was measured
+ * without texture: the 5x5 window of left centred on the top-left pixel
+ * of its 2x2 block fails det_window_textured against left's noise
+ * (detect/detect_int.h). left NULL: no texture test. Returns the number
+ * of pixels replaced. */
+uint32_t pl_coarse_fuse(const negobs_image_u8_t *left,
+                        negobs_image_s16_t *disp, negobs_image_u8_t *conf,
                         const negobs_image_s16_t *half_disp,
                         const negobs_image_u8_t *half_conf, int32_t y0,
                         int32_t min_conf, int32_t dmin_q4, int32_t dmax_q4);

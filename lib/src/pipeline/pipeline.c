@@ -388,7 +388,7 @@ static void half_pass(negobs_pipeline_priv_t *p, const negobs_image_u8_t *left,
     }
     result->coarse_ran = 1;
     result->coarse_replaced = pl_coarse_fuse(
-        &p->disp_q4, &p->confidence, &p->disp_half, &p->conf_half, y0,
+        left, &p->disp_q4, &p->confidence, &p->disp_half, &p->conf_half, y0,
         d->min_confidence, p->cfg.stereo.min_disp * NEGOBS_DISP_ONE,
         d->max_disp_q4);
 }
