@@ -367,8 +367,10 @@ typedef struct negobs_detect_result {
      *  corridor is vouched clear of a minimum drop (5 cm within 1.5 m,
      *  10 cm beyond) by this frame's measured noise. The vouched stretch
      *  starts at the nearest ground row in view. In HAZARD it is at most
-     *  the nearest hazard's range; in NO_INFO it is still reported
-     *  (possibly 0). See docs/DETECTION.md, "Verdicts". */
+     *  the nearest hazard's range; in NO_INFO it is still reported: 0
+     *  after a gating or ground reason (unverified ground included),
+     *  else what the noise vouched for. See docs/DETECTION.md,
+     *  "Verdicts". */
     int32_t clear_to_mm;
     /** The distance this frame's measured noise, ground support and
      *  texture alone vouch for (mm), before this frame's candidates and

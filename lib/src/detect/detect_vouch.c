@@ -475,8 +475,8 @@ int det_vouch_candidate(const scan_ctx_t *s, const detect_priv_t *p,
  * clear_to_mm is the vouched walk, cut at the nearest candidate of this
  * frame (a suspected drop is not vouched past, confirmed or not), at
  * sight_mm (the recent frames' candidates, det_sight_bound) and at the
- * nearest reported hazard. A gating or ground reason is NO_INFO with
- * clear_to_mm 0 (unverified ground alone keeps the vouched range); a
+ * nearest reported hazard. A gating or ground reason, unverified ground
+ * included, is NO_INFO with clear_to_mm 0; a
  * confirmed or held hazard is HAZARD; a vouched range
  * below near_min_mm is NO_INFO (with the reason the walk stopped) unless
  * the walk reached the foot of an obstacle barring every lane
@@ -503,12 +503,13 @@ void det_verdict(const negobs_detect_config_t *cfg,
     }
     if (reasons != 0u) {
         res->state = NEGOBS_DETECT_NO_INFO;
-        /* Unverified ground (detect_cue.c) is about the floor under the
-         * feet, below the view, which clear_to_mm never covers: the floor
-         * in view was measured as on any frame and is still reported. */
-        if ((reasons & ~(uint32_t)NEGOBS_DEGRADED_GROUND_UNVERIFIED) != 0u) {
-            clear_to = 0;
-        }
+        /* Unverified ground (detect_cue.c) vouches nothing either: the
+         * fit may rest on the lower floor past an edge at the bottom of
+         * the view, where the rule, with no floor in view before the edge,
+         * cannot see it (a 5 cm curb entering a 7 deg camera's bottom
+         * rows at 1.44 m under a vouched 3.3 m). noise_vouch_mm still
+         * reports what the floor in view would vouch for. */
+        clear_to = 0;
     } else if (res->n_hazards > 0u) {
         res->state = NEGOBS_DETECT_HAZARD;
     } else if (clear_to < cfg->near_min_mm && res->blocked_at_mm <= 0) {
