@@ -59,7 +59,8 @@ typedef struct negobs_pipeline_config {
      *  texture: the half-resolution pass"): when the full-size map leaves
      *  more than coarse_weak_permille of the rows it matched below
      *  detect.min_confidence, the same matcher runs on the 2x2-averaged
-     *  pair, and each of those pixels takes the half-size value (doubled)
+     *  pair, and each of those pixels, and each confident one measured in
+     *  a window without texture, takes the half-size value (doubled)
      *  where that one reaches detect.min_confidence. 0: off, 1: on. Off,
      *  or a half frame too small for the matcher, leaves the workspace
      *  and every output as without it. [1] */
