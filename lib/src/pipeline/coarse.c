@@ -21,9 +21,9 @@
  * is high because the window is bland, not because the match is right,
  * and the detector would refuse any deficit read from it; the half-size
  * window, four times the floor with half the noise, holds the texture
- * the full-size one lacks (docs/DETECTION.md gives the figures). The pass runs only when
- * those pixels are a sizeable share of the rows the detector reads, so a
- * textured floor costs nothing more and gives the same output.
+ * the full-size one lacks. The pass runs only when the weak pixels are a
+ * sizeable share of the rows the detector reads, so a textured floor
+ * costs nothing more and gives the same output.
  */
 #include "coarse.h"
 
@@ -134,8 +134,9 @@ static int block_textured(const negobs_image_u8_t *left, int32_t noise_med,
     return det_window_textured(left, noise_med, x, y);
 }
 
-/* Pixel (x, y) of the full map takes the half-size value when its own is
- * weak or measured without texture; returns 1 when it did. */
+/* A full-size pixel (*d, *c) takes the half-size value (hd, hc) when its
+ * own is weak or was measured without texture (textured 0), and the
+ * half-size one is confident and in range; returns 1 when it did. */
 static inline uint32_t fuse_pixel(int16_t *d, uint8_t *c, int32_t hd,
                                   int32_t hc, int textured, int32_t min_conf,
                                   int32_t dmin_q4, int32_t dmax_q4)
