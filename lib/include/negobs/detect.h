@@ -320,22 +320,16 @@ typedef struct negobs_detect_frame {
                               (negobs_stereo_set_first_row); a frame
                               whose warning-range row lies there cannot
                               vouch for it: FEW_GROUND. 0 = all rows  */
-    const negobs_image_u8_t *right;         /**< may be NULL: its rectification
-                                         fill is then not known; with
-                                         left, the fill of both images is
-                                         out of view (DETECTION.md 10.2) */
-    const negobs_image_u8_t *left_half;     /**< may be NULL: the 2x2 average
-                                         of left that a half-resolution
-                                         pass matched (width / 2 x
-                                         height / 2; the pipeline's
-                                         coarse_pass)                   */
-    const negobs_image_s16_t *disp_half_q4; /**< may be NULL: that pass's
-                                         map (same size). With both, a
-                                         candidate whose box holds
-                                         mostly its values is tested
-                                         for texture at that scale
-                                         (DETECTION.md, "Texture under
-                                         a candidate")                  */
+    /** May be NULL: its rectification fill is then not known; with left,
+     *  the fill of both images is out of view (DETECTION.md 10.2). */
+    const negobs_image_u8_t *right;
+    /** May be NULL: the 2x2 average of left that a half-resolution pass
+     *  matched (width / 2 x height / 2; the pipeline's coarse_pass). */
+    const negobs_image_u8_t *left_half;
+    /** May be NULL: that pass's map (same size). With both, a candidate
+     *  whose box holds mostly its values is tested for texture at that
+     *  scale (DETECTION.md, "Texture under a candidate"). */
+    const negobs_image_s16_t *disp_half_q4;
 } negobs_detect_frame_t;
 
 /** Frame result. */
