@@ -268,6 +268,34 @@ static void test_temporal_association_follows_walking(void **state)
     assert_int_equal(report(out, 700), 2);
 }
 
+/* Feed ranges r[0..n) as one trusted sighting a frame; 1 if confirmed. */
+static int confirms(const int32_t *r, int n)
+{
+    negobs_hazard_t c;
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    int i;
+    setup_cfg();
+    for (i = 0; i < n; i++) {
+        c = cand(r[i], 0);
+        temporal_update(&tp, &c, 1, 1, 6000, 100u * (uint32_t)(i + 1));
+    }
+    return report(out, 100u * (uint32_t)n) > 0u;
+}
+
+/* A sighting may lie farther than the track by assoc_range_mm, but by no
+ * more than 20 % of its range: near, 400 mm let matching noise hop from
+ * 1.20 m to 1.59 m and confirm (temporal.c, farther_tol_mm). */
+static void test_temporal_near_sightings_may_not_hop_far(void **state)
+{
+    const int32_t hop[3] = {1400, 1200, 1590};
+    const int32_t near_noise[3] = {1400, 1200, 1420};
+    const int32_t far_noise[3] = {3000, 2900, 3280};
+    (void)state;
+    assert_false(confirms(hop, 3));
+    assert_true(confirms(near_noise, 3));
+    assert_true(confirms(far_noise, 3));
+}
+
 static void test_temporal_missing_ground_policy(void **state)
 {
     negobs_hazard_t c = cand(1200, 0);
@@ -371,6 +399,7 @@ int main(void)
         cmocka_unit_test(test_temporal_hold_when_edge_leaves_image),
         cmocka_unit_test(test_temporal_far_track_lost_is_not_held),
         cmocka_unit_test(test_temporal_association_follows_walking),
+        cmocka_unit_test(test_temporal_near_sightings_may_not_hop_far),
         cmocka_unit_test(test_temporal_missing_ground_policy),
         cmocka_unit_test(test_temporal_bounded_tracks),
         cmocka_unit_test(test_temporal_approach_sequence_end_to_end),

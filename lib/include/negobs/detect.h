@@ -265,7 +265,9 @@ typedef struct negobs_detect_config {
     int32_t hold_ms;            /**< latch after leaving image (3000)   */
     int32_t hold_speed_mm_s;    /**< dead-reckoning speed (1400 mm/s)   */
     int32_t max_speed_mm_s;     /**< association speed (2000 mm/s)      */
-    int32_t assoc_range_mm;     /**< association tolerance (400 mm)     */
+    int32_t assoc_range_mm;     /**< association tolerance (400 mm; a
+                                     sighting farther than its track: also
+                                     at most 20 % of the range)          */
     int32_t assoc_lateral_mm;   /**< association tolerance (600 mm)     */
     int32_t hold_bottom_rows;   /**< edge this close to the bottom row
                                     is held when lost (default 24 rows) */
