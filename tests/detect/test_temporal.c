@@ -296,6 +296,34 @@ static void test_temporal_near_sightings_may_not_hop_far(void **state)
     assert_true(confirms(far_noise, 3));
 }
 
+/* Feed one trusted sighting a frame at 1.8, 1.7, 1.6 m (h_t 40 mm there)
+ * with drops h[0..3); 1 if confirmed. */
+static int confirms_drops(const int32_t *h)
+{
+    negobs_hazard_t c;
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    int i;
+    setup_cfg();
+    for (i = 0; i < 3; i++) {
+        c = cand(1800 - 100 * i, 0);
+        c.drop_mm = h[i];
+        temporal_update(&tp, &c, 1, 1, 6000, 100u * (uint32_t)(i + 1));
+    }
+    return report(out, 300) > 0u;
+}
+
+/* A track confirms only when one of its sightings' drops reached h_t:
+ * below it there is only the rule's rounding to show (temporal.c,
+ * sighting_reaches). */
+static void test_temporal_confirm_needs_a_sighting_at_h_t(void **state)
+{
+    const int32_t low[3] = {34, 30, 38};
+    const int32_t one[3] = {34, 45, 30};
+    (void)state;
+    assert_false(confirms_drops(low));
+    assert_true(confirms_drops(one));
+}
+
 static void test_temporal_missing_ground_policy(void **state)
 {
     negobs_hazard_t c = cand(1200, 0);
@@ -400,6 +428,7 @@ int main(void)
         cmocka_unit_test(test_temporal_far_track_lost_is_not_held),
         cmocka_unit_test(test_temporal_association_follows_walking),
         cmocka_unit_test(test_temporal_near_sightings_may_not_hop_far),
+        cmocka_unit_test(test_temporal_confirm_needs_a_sighting_at_h_t),
         cmocka_unit_test(test_temporal_missing_ground_policy),
         cmocka_unit_test(test_temporal_bounded_tracks),
         cmocka_unit_test(test_temporal_approach_sequence_end_to_end),

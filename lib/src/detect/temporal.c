@@ -116,6 +116,33 @@ static int32_t farther_tol_mm(const negobs_detect_config_t *cfg,
     return geom_min_s32(cfg->assoc_range_mm, rel);
 }
 
+/*
+ * 1 when a sighting's own drop estimate reaches h_t, the drop the rule is
+ * set for at its range (h_thresh_pct of h_min_near within h_near_range,
+ * of h_min_far beyond). The rule counts a pixel whose deficit reaches h_t's,
+ * rounded down to whole 1/16 px; at the 4-8 px of the floor 1.5-3 m ahead
+ * of a 6 cm rig one such step is 13-30 % of it, so noise alone passes rows
+ * with a plateau of 28-35 mm where h_t is 40. A track none of whose
+ * sightings reached h_t has only that rounding to show: it is not
+ * confirmed (30-34 mm "holes" on a textured flat walk, B = 6 cm, pitch
+ * 35 deg, were held IMMINENT to its end). One sighting is enough: a real
+ * 5 cm drop at B = 6 cm reads 36 mm or more a sighting, median 55-76 mm
+ * (the suite and fresh draws), so among three sightings one reaches 40.
+ * Missing ground and the ground-drop cue measure no plateau: they always
+ * reach.
+ */
+static int sighting_reaches(const negobs_detect_config_t *cfg,
+                            const negobs_hazard_t *c)
+{
+    int32_t h_min = (c->range_mm <= cfg->h_near_range_mm) ? cfg->h_min_near_mm
+                                                          : cfg->h_min_far_mm;
+    if (c->type == NEGOBS_HAZARD_UNKNOWN ||
+        (c->flags & NEGOBS_HAZARD_F_GROUND_DROP) != 0u) {
+        return 1;
+    }
+    return c->drop_mm >= (h_min * cfg->h_thresh_pct) / 100;
+}
+
 /* The unassociated track whose gate (the walking geometry of the file
  * comment) holds the candidate, nearest predicted range first; -1 if none. */
 static int32_t assoc_best(const temporal_t *t, const negobs_hazard_t *c,
@@ -318,11 +345,13 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
             track_refresh(cfg, &t->tracks[best], c, now_ms);
         }
         used[best] = 1;
+        t->tracks[best].reached |= sighting_reaches(cfg, c);
         t->tracks[best].hist = (t->tracks[best].hist << 1) | 1u;
         t->tracks[best].misses = 0;
         t->tracks[best].held = 0;
-        if (popcount32(t->tracks[best].hist & window_mask(cfg)) >=
-            (uint32_t)cfg->confirm_k) {
+        if (t->tracks[best].reached &&
+            popcount32(t->tracks[best].hist & window_mask(cfg)) >=
+                (uint32_t)cfg->confirm_k) {
             t->tracks[best].confirmed = 1;
         }
     }

@@ -21,6 +21,8 @@ typedef struct tmp_track {
     int32_t speed_mm_s; /* approach speed estimate, >= 0           */
     int32_t near_mm;    /* nearer of the last sighting and the
                            track's prediction for it (vouch bound)  */
+    int32_t reached;    /* a sighting's drop reached h_t (temporal.c,
+                           sighting_reaches)                        */
     negobs_hazard_t hz; /* latest observation (range as observed)  */
 } tmp_track_t;
 
