@@ -260,7 +260,9 @@ typedef struct negobs_detect_config {
 
     /* Temporal logic. */
     int32_t confirm_k;          /**< confirm when seen k ... (default 3) */
-    int32_t confirm_n;          /**< ... of the last n frames (5, <= 31) */
+    int32_t confirm_n;          /**< ... of the last n frames (5, <= 31),
+                                     once one sighting's drop reached
+                                     h_t (docs/DETECTION.md section 6) */
     int32_t clear_m;            /**< clean frames to clear (default 5)  */
     int32_t hold_ms;            /**< latch after leaving image (3000)   */
     int32_t hold_speed_mm_s;    /**< dead-reckoning speed (1400 mm/s)   */

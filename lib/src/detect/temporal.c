@@ -9,7 +9,8 @@
  * within assoc_lateral_mm.
  *
  * A track is confirmed when it was seen in confirm_k of the last confirm_n
- * frames, and then stays confirmed until clear_m consecutive clean frames.
+ * frames and one of its sightings' drops reached h_t (sighting_reaches),
+ * and then stays confirmed until clear_m consecutive clean frames.
  * Frames that are not "observed" (degraded) never count as clean, and
  * their candidates only refresh tracks that are already confirmed. When a confirmed track is lost close to the bottom of the
  * image it is held: its range is dead-reckoned at hold_speed_mm_s and it
