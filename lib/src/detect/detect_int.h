@@ -80,4 +80,9 @@ negobs_status_t negobs_detect_fill_extent(const negobs_image_u8_t *img,
 int32_t negobs_detect_corridor_half_mm(const negobs_detect_config_t *cfg,
                                        int32_t range_mm);
 
+/* h_t at a floor distance (mm): h_thresh_pct of the minimum drop the rule
+ * looks for there, h_min_near_mm within h_near_range_mm, else
+ * h_min_far_mm (detect_scan.c; docs/DETECTION.md section 5). */
+int32_t det_h_t_at(const negobs_detect_config_t *cfg, int32_t range_mm);
+
 #endif /* NEGOBS_DETECT_INT_H */

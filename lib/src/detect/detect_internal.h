@@ -242,8 +242,6 @@ int32_t det_sigma_at(const scan_ctx_t *s, int32_t v);
 
 void det_band_noise(scan_ctx_t *s, uint32_t *hist, int32_t v_top);
 
-int32_t det_h_min_at(const negobs_detect_config_t *cfg, int32_t range_mm);
-
 void det_model_point(const scan_ctx_t *s, int32_t u, int32_t v, int32_t dg_q4,
                      int32_t *range_mm, int32_t *lat_mm, int32_t *depth_mm);
 

@@ -145,10 +145,11 @@ typedef struct row_stat {
     int64_t sum_r_def;
 } row_stat_t;
 
-int32_t det_h_min_at(const negobs_detect_config_t *cfg, int32_t range_mm)
+int32_t det_h_t_at(const negobs_detect_config_t *cfg, int32_t range_mm)
 {
-    return (range_mm <= cfg->h_near_range_mm) ? cfg->h_min_near_mm
-                                              : cfg->h_min_far_mm;
+    int32_t h_min = (range_mm <= cfg->h_near_range_mm) ? cfg->h_min_near_mm
+                                                       : cfg->h_min_far_mm;
+    return (h_min * cfg->h_thresh_pct) / 100;
 }
 
 /*
@@ -192,7 +193,7 @@ static enum row_class classify_row(const scan_ctx_t *s, int32_t u0, int32_t u1,
     if (st->n * 4 < (u1 - u0) || st->n < 3) {
         return ROW_INVALID;
     }
-    h_t = (det_h_min_at(cfg, range_mm) * cfg->h_thresh_pct) / 100;
+    h_t = det_h_t_at(cfg, range_mm);
     tau_geo = (int32_t)(((int64_t)st->dg * h_t) / (hmm + h_t));
     /* k * 1.25 * sigma / sqrt(n): k_q4*sigma_q4*5 / (4*sqrt(256 n)). */
     tau_noise = (int32_t)(((int64_t)cfg->k_sigma_q4 * det_sigma_at(s, v) * 5) /

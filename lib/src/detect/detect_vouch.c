@@ -174,7 +174,7 @@ static enum vouch_verdict vouch_cell_sees(const scan_ctx_t *s,
     const int32_t b = band_of(s, v);
     const vouch_cell_t *c = p->cells + (size_t)si * NOISE_BANDS + b;
     int32_t h = vouch_h_mm(range_mm);
-    int32_t h_t = (det_h_min_at(cfg, range_mm) * cfg->h_thresh_pct) / 100;
+    int32_t h_t = det_h_t_at(cfg, range_mm);
     int32_t sig_q8 = s->band_strip_q8[b];
     int32_t bias_q8 = geom_max_s32(s->band_bias_q8[b], 0);
     if (sig_q8 <= 0 || c->n <= 0) {

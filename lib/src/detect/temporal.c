@@ -20,6 +20,7 @@
 
 #include <string.h>
 
+#include "detect_int.h"
 #include "geom_internal.h"
 
 static uint32_t popcount32(uint32_t x)
@@ -139,13 +140,11 @@ static int32_t farther_tol_mm(const negobs_detect_config_t *cfg,
 static int sighting_reaches(const negobs_detect_config_t *cfg,
                             const negobs_hazard_t *c)
 {
-    int32_t h_min = (c->range_mm <= cfg->h_near_range_mm) ? cfg->h_min_near_mm
-                                                          : cfg->h_min_far_mm;
     if (c->type == NEGOBS_HAZARD_UNKNOWN ||
         (c->flags & NEGOBS_HAZARD_F_GROUND_DROP) != 0u) {
         return 1;
     }
-    return c->drop_mm >= (h_min * cfg->h_thresh_pct) / 100;
+    return c->drop_mm >= det_h_t_at(cfg, c->range_mm);
 }
 
 /* The unassociated track whose gate (the walking geometry of the file
