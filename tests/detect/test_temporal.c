@@ -268,8 +268,9 @@ static void test_temporal_association_follows_walking(void **state)
     assert_int_equal(report(out, 700), 2);
 }
 
-/* Feed ranges r[0..n) as one trusted sighting a frame; 1 if confirmed. */
-static int confirms(const int32_t *r, int n)
+/* Feed ranges r[0..n) as one trusted sighting a frame, with drops h[0..n)
+ * (NULL: cand()'s 150 mm); 1 if confirmed. */
+static int confirms(const int32_t *r, const int32_t *h, int n)
 {
     negobs_hazard_t c;
     negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
@@ -277,6 +278,9 @@ static int confirms(const int32_t *r, int n)
     setup_cfg();
     for (i = 0; i < n; i++) {
         c = cand(r[i], 0);
+        if (h != NULL) {
+            c.drop_mm = h[i];
+        }
         temporal_update(&tp, &c, 1, 1, 6000, 100u * (uint32_t)(i + 1));
     }
     return report(out, 100u * (uint32_t)n) > 0u;
@@ -291,25 +295,9 @@ static void test_temporal_near_sightings_may_not_hop_far(void **state)
     const int32_t near_noise[3] = {1400, 1200, 1420};
     const int32_t far_noise[3] = {3000, 2900, 3280};
     (void)state;
-    assert_false(confirms(hop, 3));
-    assert_true(confirms(near_noise, 3));
-    assert_true(confirms(far_noise, 3));
-}
-
-/* Feed one trusted sighting a frame at 1.8, 1.7, 1.6 m (h_t 40 mm there)
- * with drops h[0..3); 1 if confirmed. */
-static int confirms_drops(const int32_t *h)
-{
-    negobs_hazard_t c;
-    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
-    int i;
-    setup_cfg();
-    for (i = 0; i < 3; i++) {
-        c = cand(1800 - 100 * i, 0);
-        c.drop_mm = h[i];
-        temporal_update(&tp, &c, 1, 1, 6000, 100u * (uint32_t)(i + 1));
-    }
-    return report(out, 300) > 0u;
+    assert_false(confirms(hop, NULL, 3));
+    assert_true(confirms(near_noise, NULL, 3));
+    assert_true(confirms(far_noise, NULL, 3));
 }
 
 /* A track confirms only when one of its sightings' drops reached h_t:
@@ -317,11 +305,12 @@ static int confirms_drops(const int32_t *h)
  * sighting_reaches). */
 static void test_temporal_confirm_needs_a_sighting_at_h_t(void **state)
 {
+    const int32_t ranges[3] = {1800, 1700, 1600}; /* h_t 40 mm there */
     const int32_t low[3] = {34, 30, 38};
     const int32_t one[3] = {34, 45, 30};
     (void)state;
-    assert_false(confirms_drops(low));
-    assert_true(confirms_drops(one));
+    assert_false(confirms(ranges, low, 3));
+    assert_true(confirms(ranges, one, 3));
 }
 
 static void test_temporal_missing_ground_policy(void **state)
