@@ -231,6 +231,35 @@ static void test_temporal_hold_when_edge_leaves_image(void **state)
     assert_int_equal(report(out, 3700), 0);
 }
 
+/* The hold ends once the floor patches measured the wearer walking half a
+ * metre past the edge's last range (they stand beyond it); without
+ * measured travel (standing at the edge, a bland floor) it lasts hold_ms
+ * as in the test above. */
+static void test_temporal_hold_ends_when_walked_past(void **state)
+{
+    negobs_hazard_t c = cand(2200, 0);
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    uint32_t t;
+    (void)state;
+    setup_cfg();
+    for (t = 1; t <= 5; t++) {
+        c.range_mm = 2200 - (int32_t)t * 140; /* last seen at 1500 mm */
+        temporal_walked(&tp, 140);
+        temporal_update(&tp, &c, 1, 1, 2000, t * 100u);
+    }
+    /* 14 frames of 140 mm: 1960 mm walked since, still on hold */
+    for (t = 6; t <= 19; t++) {
+        temporal_walked(&tp, 140);
+        temporal_update(&tp, NULL, 0, 1, 2000, t * 100u);
+        assert_int_equal(report(out, t * 100u), 1);
+        assert_true(out[0].flags & NEGOBS_HAZARD_F_HELD);
+    }
+    /* 2100 mm >= 1500 + 500: past the edge */
+    temporal_walked(&tp, 140);
+    temporal_update(&tp, NULL, 0, 1, 2000, 2000);
+    assert_int_equal(report(out, 2000), 0);
+}
+
 static void test_temporal_far_track_lost_is_not_held(void **state)
 {
     negobs_hazard_t c = cand(3800, 0);
@@ -414,6 +443,7 @@ int main(void)
         cmocka_unit_test(test_temporal_degraded_frames_refresh_confirmed),
         cmocka_unit_test(test_temporal_unseen_track_is_dead_reckoned),
         cmocka_unit_test(test_temporal_hold_when_edge_leaves_image),
+        cmocka_unit_test(test_temporal_hold_ends_when_walked_past),
         cmocka_unit_test(test_temporal_far_track_lost_is_not_held),
         cmocka_unit_test(test_temporal_association_follows_walking),
         cmocka_unit_test(test_temporal_near_sightings_may_not_hop_far),

@@ -25,6 +25,12 @@ asphalt, sensor noise 2:
    (1660 mm) read the next fits (1731-1737 mm) as a ground drop, IMMINENT
    for 31 frames. The reference is now the mean fit of the walk: no
    alert, and the walk verifies the start.
+5. Walking at 1.2 m/s from 3.5 m down a 1:12 ramp (1.2 m / 30 deg, told
+   so): its start is held IMMINENT once it leaves the view, and the hold
+   ends once the measured travel passed the last range by 500 mm
+   (docs/DETECTION.md section 6, "Hold"), not 3 s later: the wearer is
+   on the ramp by then. Before, it was held to the end of the walk (1.8 m
+   past the start).
 
 usage: test_walk_verify.py NEGOBS_SYNTH NEGOBS_PNG WORKDIR
 """
@@ -133,6 +139,25 @@ def main():
         failed += 1
     if not any(r["state"] == "CLEAR" for r in rows):
         print("FAIL: the walk never verified the start")
+        failed += 1
+    # 5. the hold of a ramp's start ends once walked past
+    gt, rows = run(synth, png, work, "ramp", [
+        "--scene", "ramp", "--grade-pct", "8.33", "--ramp-mm", "1800",
+        "--edge-mm", "3500", "--frames", "45", "--speed", "1.2",
+        "--height-mm", "1200", "--pitch-deg", "30"],
+        ["--height-mm", "1200", "--pitch-deg", "30"])
+    print("walking down a 1:12 ramp:", verdicts(rows))
+    for r in rows:
+        if r["state"] == "CLEAR" and 0 < r["gt"]["edge_range_mm"] <= 1500:
+            print("FAIL: frame %d CLEAR with the ramp's start %d mm ahead" %
+                  (r["frame"], r["gt"]["edge_range_mm"]))
+            failed += 1
+    held_on = [r["gt"]["edge_range_mm"] for r in rows
+               if r["state"] == "HAZARD" and r["gt"]["edge_range_mm"] < 0]
+    print("held on for %d frames past the ramp's start, to %s mm" %
+          (len(held_on), min(held_on) if held_on else "-"))
+    if not held_on or min(held_on) <= -1600:
+        print("FAIL: the hold did not end within 1.6 m past the start")
         failed += 1
     if failed:
         print("FAIL: %d checks" % failed)

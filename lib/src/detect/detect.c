@@ -236,6 +236,7 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
         det_scan_strip(&s, u0, u0 + cfg->strip_px, &p->hits[s_i]);
     }
     det_merge_strips(&s, p, res);
+    det_travel_follow(p, cfg, g, s.left, frame->now_ms);
     /* A hazard already confirmed or held nearer than the view's bottom is
      * this drop: the cue's range (an upper bound) would only pull its
      * dead-reckoned range back. */

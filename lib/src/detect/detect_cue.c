@@ -110,8 +110,7 @@ static void walk_restart(detect_priv_t *p)
 
 static int ground_unverified(detect_priv_t *p,
                              const negobs_detect_config_t *cfg,
-                             const gfit_out_t *g,
-                             const negobs_image_u8_t *left, uint32_t now_ms)
+                             const gfit_out_t *g, uint32_t now_ms)
 {
     /* looking at the feet verifies the start unless the floor in view
      * rose meanwhile; agreeing with the hint always does. A fit of the
@@ -122,17 +121,8 @@ static int ground_unverified(detect_priv_t *p,
     /* So does walking over the floor that was nearer than the view on
      * the first unverified frame (docs/DETECTION.md 6.2): a drop there
      * has been stepped down by then, and the fit would have risen. Only
-     * a fit of the bottom band is walked on. The travel is followed on
-     * every frame before the reference, so that a frame verified by the
-     * hint or the feet but too noisy to take the reference does not
-     * restart the walk. */
-    const int32_t walked = g->wide
-                               ? 0
-                               : travel_step(p->travel, &cfg->rig, &g->plane,
-                                             &g->frame, left, now_ms);
-    if (g->wide) {
-        travel_reset(p->travel);
-    }
+     * a fit of the bottom band is walked on (det_travel_follow). */
+    const int32_t walked = p->travel_mm;
     if (!p->walk_on) {
         p->walk_on = 1;
         p->walk_need_mm = nearest_floor_mm(cfg, g) + WALK_MARGIN_MM;
@@ -213,6 +203,22 @@ void det_near_candidate_note(detect_priv_t *p,
     }
 }
 
+void det_travel_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
+                       const gfit_out_t *g, const negobs_image_u8_t *left,
+                       uint32_t now_ms)
+{
+    /* Only a start to verify and a confirmed track (its hold) use the
+     * travel: on other frames it costs 0.8 M instructions for nothing. */
+    if (g->wide || (p->ref_ok && !temporal_needs_travel(&p->temporal))) {
+        travel_reset(p->travel);
+        p->travel_mm = 0;
+    } else {
+        p->travel_mm = travel_step(p->travel, &cfg->rig, &g->plane, &g->frame,
+                                   left, now_ms);
+    }
+    temporal_walked(&p->temporal, p->travel_mm);
+}
+
 int det_ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
                     const scan_ctx_t *s, const gfit_out_t *g, uint32_t now_ms,
                     negobs_hazard_t *hz, int *unverified)
@@ -229,7 +235,7 @@ int det_ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
     if (!p->ref_ok) {
         /* the reference itself is taken on a clean frame
          * (det_ground_ref_follow) */
-        *unverified = ground_unverified(p, cfg, g, s->left, now_ms);
+        *unverified = ground_unverified(p, cfg, g, now_ms);
         return 0;
     }
     dh = g->pose.height_mm - p->ref_height_mm;

@@ -151,6 +151,7 @@ typedef struct detect_priv {
      * (detect_cue.c) */
     travel_track_t *travel; /* carved: it is 2 KiB, and the carve
                                measures on a descriptor on the stack */
+    int32_t travel_mm;      /* this frame's measured travel, 0: none  */
     int32_t walk_on;
     int32_t walk_verified; /* this frame was verified by the walk */
     int32_t walk_fits;     /* fits of the walk, and their sums          */
@@ -300,6 +301,14 @@ void det_near_candidate_note(detect_priv_t *p,
                              const negobs_detect_config_t *cfg,
                              const negobs_detect_result_t *res,
                              uint32_t now_ms);
+
+/* This frame's travel along the floor (detect_travel.c) into
+ * p->travel_mm, and into the tracks' odometer, while a start is to be
+ * verified or a track is confirmed. Only a fit of the bottom band is
+ * walked on: a wide fit's plane is extrapolated under the view. */
+void det_travel_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
+                       const gfit_out_t *g, const negobs_image_u8_t *left,
+                       uint32_t now_ms);
 
 int det_ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
                     const scan_ctx_t *s, const gfit_out_t *g, uint32_t now_ms,

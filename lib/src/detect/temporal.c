@@ -12,9 +12,11 @@
  * frames and one of its sightings' drops reached h_t (sighting_reaches),
  * and then stays confirmed until clear_m consecutive clean frames.
  * Frames that are not "observed" (degraded) never count as clean, and
- * their candidates only refresh tracks that are already confirmed. When a confirmed track is lost close to the bottom of the
- * image it is held: its range is dead-reckoned at hold_speed_mm_s and it
- * keeps alerting for hold_ms.
+ * their candidates only refresh tracks that are already confirmed. When a
+ * confirmed track is lost close to the bottom of the image it is held: its
+ * range is dead-reckoned at hold_speed_mm_s and it keeps alerting for
+ * hold_ms, or until the floor patches measured the wearer walking
+ * HOLD_PAST_MM past its last range (track_unseen).
  */
 #include "temporal.h"
 
@@ -62,6 +64,24 @@ static int32_t held_range(const negobs_detect_config_t *cfg,
     }
     r = tr->hz.range_mm - ((int64_t)cfg->hold_speed_mm_s * dt) / 1000;
     return (int32_t)((r < 0) ? 0 : r);
+}
+
+void temporal_walked(temporal_t *t, int32_t travel_mm)
+{
+    if (travel_mm > 0) {
+        t->odo_mm += (uint32_t)travel_mm;
+    }
+}
+
+int temporal_needs_travel(const temporal_t *t)
+{
+    int32_t k;
+    for (k = 0; k < NEGOBS_DETECT_MAX_TRACKS; k++) {
+        if (t->tracks[k].active && t->tracks[k].confirmed) {
+            return 1;
+        }
+    }
+    return 0;
 }
 
 void temporal_update(temporal_t *t, const negobs_hazard_t *cands, uint32_t n,
@@ -261,15 +281,31 @@ static void track_refresh(const negobs_detect_config_t *cfg, tmp_track_t *tr,
     tr->last_seen_ms = now_ms;
 }
 
+/*
+ * A held track ends once the measured travel since its last sighting
+ * passed that range by HOLD_PAST_MM: the wearer stands beyond the edge,
+ * on a floor whose patches tracked the walk. Half a metre covers a last
+ * range read up to 15 % short at the hold's 1-1.5 m (p95 range error 7-12
+ * %, docs/DETECTION.md section 12) together with a travel read 14 % long
+ * (patches on a 15 cm step above the floor model, at 1.2 m). Patches
+ * beyond a drop lie below the model and read the travel short: the hold
+ * only lasts longer. Travel that was not measured (a standing wearer, a
+ * bland floor) counts nothing, and hold_ms ends the hold as before.
+ */
+#define HOLD_PAST_MM 500
+
 /* A track without a sighting this frame: held tracks time out, tracks the
  * frame could not vouch for wait, the others count a miss (confirmed ones
  * close by are held instead, since the camera loses them underfoot). */
-static void track_unseen(const negobs_detect_config_t *cfg, tmp_track_t *tr,
-                         int observed, int32_t seen_to_mm,
-                         int32_t hold_range_mm, uint32_t now_ms)
+static void track_unseen(const temporal_t *t, tmp_track_t *tr, int observed,
+                         int32_t seen_to_mm, int32_t hold_range_mm,
+                         uint32_t now_ms)
 {
+    const negobs_detect_config_t *cfg = t->cfg;
     if (tr->held) {
-        if (elapsed_ms(now_ms, tr->hold_start_ms) > cfg->hold_ms) {
+        const int32_t walked = (int32_t)(t->odo_mm - tr->seen_odo_mm);
+        if (elapsed_ms(now_ms, tr->hold_start_ms) > cfg->hold_ms ||
+            (int64_t)walked >= (int64_t)tr->hz.range_mm + HOLD_PAST_MM) {
             tr->active = 0;
         }
         return;
@@ -349,6 +385,7 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
             track_refresh(cfg, &t->tracks[best], c, now_ms);
         }
         used[best] = 1;
+        t->tracks[best].seen_odo_mm = t->odo_mm;
         t->tracks[best].reached |= sighting_reaches(cfg, c);
         t->tracks[best].hist = (t->tracks[best].hist << 1) | 1u;
         t->tracks[best].misses = 0;
@@ -365,7 +402,7 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
         if (!tr->active || used[k]) {
             continue;
         }
-        track_unseen(cfg, tr, observed, seen_to_mm, hold_range_mm, now_ms);
+        track_unseen(t, tr, observed, seen_to_mm, hold_range_mm, now_ms);
     }
     t->last_ms = now_ms;
     t->have_last = 1;

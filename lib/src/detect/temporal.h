@@ -18,12 +18,13 @@ typedef struct tmp_track {
     int32_t misses; /* consecutive observed frames without it  */
     uint32_t last_seen_ms;
     uint32_t hold_start_ms;
-    int32_t speed_mm_s; /* approach speed estimate, >= 0           */
-    int32_t near_mm;    /* nearer of the last sighting and the
+    int32_t speed_mm_s;   /* approach speed estimate, >= 0           */
+    int32_t near_mm;      /* nearer of the last sighting and the
                            track's prediction for it (vouch bound)  */
-    int32_t reached;    /* a sighting's drop reached h_t (temporal.c,
+    int32_t reached;      /* a sighting's drop reached h_t (temporal.c,
                            sighting_reaches)                        */
-    negobs_hazard_t hz; /* latest observation (range as observed)  */
+    uint32_t seen_odo_mm; /* the odometer at the last sighting     */
+    negobs_hazard_t hz;   /* latest observation (range as observed)  */
 } tmp_track_t;
 
 typedef struct temporal {
@@ -32,6 +33,7 @@ typedef struct temporal {
     uint32_t next_id;
     uint32_t last_ms;
     int32_t have_last;
+    uint32_t odo_mm; /* measured travel along the floor, summed (wraps) */
 } temporal_t;
 
 void temporal_reset(temporal_t *t, const negobs_detect_config_t *cfg);
@@ -60,6 +62,17 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
                              const uint8_t *trusted, uint32_t n, int observed,
                              int32_t seen_to_mm, int32_t hold_range_mm,
                              uint32_t now_ms);
+
+/*
+ * The wearer's forward travel along the floor since the last frame, as the
+ * floor patches measured it (detect_travel.c; 0: not measured). Call once
+ * per frame before temporal_update*: the sightings of that update are
+ * placed at the summed travel.
+ */
+void temporal_walked(temporal_t *t, int32_t travel_mm);
+
+/* 1 when a confirmed or held track would use the travel (the hold). */
+int temporal_needs_travel(const temporal_t *t);
 
 /*
  * Confirmed and held tracks as hazards, nearest first, with level and
