@@ -264,7 +264,8 @@ typedef struct negobs_detect_config {
                                      once one sighting's drop reached
                                      h_t (docs/DETECTION.md section 6) */
     int32_t clear_m;            /**< clean frames to clear (default 5)  */
-    int32_t hold_ms;            /**< latch after leaving image (3000)   */
+    int32_t hold_ms;            /**< latch after leaving image (3000);
+                                     sooner once walked 500 mm past it  */
     int32_t hold_speed_mm_s;    /**< dead-reckoning speed (1400 mm/s)   */
     int32_t max_speed_mm_s;     /**< association speed (2000 mm/s)      */
     int32_t assoc_range_mm;     /**< association tolerance (400 mm; a
