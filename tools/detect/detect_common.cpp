@@ -528,7 +528,8 @@ std::string json_line(int frame, const std::string &name, const FrameOut &o,
       << "\",\"nearest_range_mm\":" << d.nearest_range_mm
       << ",\"clear_to_mm\":" << d.clear_to_mm << ",\"short_sight\":" << d.short_sight
       << ",\"noise_vouch_mm\":" << d.noise_vouch_mm
-      << ",\"blocked_at_mm\":" << d.blocked_at_mm << ",\"pattern\":\""
+      << ",\"blocked_at_mm\":" << d.blocked_at_mm
+      << ",\"range_near_mm\":" << d.range_near_mm << ",\"pattern\":\""
       << pattern_name(o.res.motor.pattern) << "\",\"motor_on\":" << o.res.motor.on
       << ",\"duty_permille\":" << o.res.motor.duty_permille << ",\"hazards\":[";
     for (uint32_t k = 0; k < d.n_hazards && k < NEGOBS_DETECT_MAX_HAZARDS; ++k) {

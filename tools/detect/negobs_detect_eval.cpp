@@ -551,8 +551,9 @@ struct Options {
     std::string frames_json;
     bool quick = false;
     SuiteSet set = SuiteSet::All;
-    bool valign = false;   // synthetic suite: run the alignment stage
-    bool rig_hint = false; // --set rigs: tell the detector the rendered mounting
+    bool valign = false;      // synthetic suite: run the alignment stage
+    bool rig_hint = false;    // --set rigs: tell the detector the rendered mounting
+    bool rig_range63 = false; // --set rigs: search 0-63 px on every rig
     // --remembered: each added walk (generic mounting) is walked twice and
     // only the second is scored, told the mounting the first established
     // with evidence (negobs_run's mount_file); nothing kept: the generic hint
@@ -631,7 +632,9 @@ bool run_seq(const Options &opt, const Seq &q, int idx, std::vector<Rec> &out,
         if (!opt.rig_hint) {
             cam.height_mm = 0;
         }
-        cam.max_disp = rig.max_disp;
+        // --rig-range63: the library's default range, as a user who never
+        // sizes it gets (the floor may lie beyond it: DETECTION.md section 4)
+        cam.max_disp = opt.rig_range63 ? -1 : rig.max_disp;
     } else if (q.generic) {
         // The detector is told a generic mounting, not the rendered one.
         cam.height_mm = 1200;
@@ -1083,7 +1086,7 @@ int write_report(const Options &opt, const Report &rep)
 // first confirmed range of its 15 cm approach, and PASS/FAIL for the two
 // safety requirements over all rigs.
 void report_rigs(Report &rep, const std::vector<Seq> &suite,
-                 const std::vector<std::vector<Rec>> &recs, bool hinted)
+                 const std::vector<std::vector<Rec>> &recs, bool hinted, bool range63)
 {
     std::map<int, Fig> fig;
     std::map<int, Approach> app;
@@ -1135,8 +1138,8 @@ void report_rigs(Report &rep, const std::vector<Seq> &suite,
         imm_frames += f.neg_frames;
         rep.both(
             "| " + r.name + " | " +
-            (r.max_disp > 0 ? std::to_string(r.max_disp) : std::string("-")) + " | " +
-            std::to_string(f.frames) + " | " + pct(f.noinfo, f.frames) + " | " +
+            (r.max_disp > 0 && !range63 ? std::to_string(r.max_disp) : std::string("-")) +
+            " | " + std::to_string(f.frames) + " | " + pct(f.noinfo, f.frames) + " | " +
             std::to_string(f.fv) + " (" + std::to_string(f.drop_frames) + ") | " +
             ratio(f.det) + " | " + tex(f, "asphalt") + " / " + tex(f, "paving") + " / " +
             tex(f, "concrete") + " | " +
@@ -1243,7 +1246,7 @@ int evaluate_synth(const Options &opt)
 
     Report rep;
     if (opt.set == SuiteSet::Rigs) {
-        report_rigs(rep, suite, recs, opt.rig_hint);
+        report_rigs(rep, suite, recs, opt.rig_hint, opt.rig_range63);
         return write_report(opt, rep);
     }
     size_t nframes = 0;
@@ -2291,7 +2294,7 @@ void usage(FILE *f)
 {
     std::fprintf(
         f,
-        "usage: negobs_detect_eval --all|--quick [--set all|legacy|generic|rigs] [--rig-hint] [--remembered] [--draw N] [--valign] [-j|--jobs N]\n"
+        "usage: negobs_detect_eval --all|--quick [--set all|legacy|generic|rigs] [--rig-hint] [--rig-range63] [--remembered] [--draw N] [--valign] [-j|--jobs N]\n"
         "                          [--work DIR] [--keep]\n"
         "                          [--synth PATH] [--markdown FILE] [--frames-json FILE]\n"
         "       negobs_detect_eval --surdis [DIR] [--img-dir DIR] [--markdown FILE]\n"
@@ -2319,7 +2322,9 @@ void usage(FILE *f)
         "sets never render, detector told no mounting): one table row per rig and\n"
         "PASS/FAIL for false vouches and false IMMINENT (docs/DETECTION.md, \"The\n"
         "evaluation suite\"); --rig-hint tells the detector each walk's rendered\n"
-        "mounting instead (a start on verified ground).\n"
+        "mounting instead (a start on verified ground); --rig-range63 searches\n"
+        "0-63 px (the library default) on every rig instead of a range sized to\n"
+        "its floor.\n"
         "--draw N (with --set generic or rigs): render another draw of those walks\n"
         "(the same kinds, new random mountings, camera mismatch and textures;\n"
         "seeds shifted by N x 100000): walks nothing was tuned on. 0 = the suite's own.\n"
@@ -2358,6 +2363,7 @@ enum LongOnly {
     O_SET,
     O_VALIGN,
     O_RIG_HINT,
+    O_RIG_RANGE63,
     O_REMEMBERED,
     O_DRAW,
     O_KEEP,
@@ -2389,6 +2395,7 @@ const struct option kLongOpts[] = {
     {"set", required_argument, nullptr, O_SET},
     {"valign", no_argument, nullptr, O_VALIGN},
     {"rig-hint", no_argument, nullptr, O_RIG_HINT},
+    {"rig-range63", no_argument, nullptr, O_RIG_RANGE63},
     {"remembered", no_argument, nullptr, O_REMEMBERED},
     {"draw", required_argument, nullptr, O_DRAW},
     {"keep", no_argument, nullptr, O_KEEP},
@@ -2505,6 +2512,7 @@ int main(int argc, char **argv)
             break;
         case O_VALIGN: opt.valign = true; break;
         case O_RIG_HINT: opt.rig_hint = true; break;
+        case O_RIG_RANGE63: opt.rig_range63 = true; break;
         case O_REMEMBERED: opt.remembered = true; break;
         case O_DRAW: ok = negobs_cli::parse_int(optarg, 0, 1000, opt.draw); break;
         case O_KEEP: opt.keep = true; break;
@@ -2582,6 +2590,11 @@ int main(int argc, char **argv)
     if (opt.remembered && opt.set != SuiteSet::All && opt.set != SuiteSet::Generic) {
         std::fprintf(stderr, "negobs_detect_eval: error: --remembered needs --set all or "
                              "--set generic (the walks told a generic mounting)\n");
+        return 2;
+    }
+    if (opt.rig_range63 && opt.set != SuiteSet::Rigs) {
+        std::fprintf(stderr,
+                     "negobs_detect_eval: error: --rig-range63 needs --set rigs\n");
         return 2;
     }
     if (opt.rig_hint && opt.set != SuiteSet::Rigs) {

@@ -469,6 +469,7 @@ int run(int argc, char **argv)
     runner.set_coarse(coarse);
     int w = 0, h = 0;
     int n = 0, nhaz = 0, nnoinfo = 0, first_conf = -1;
+    int n_beyond = 0, beyond_mm = 0; // floor beyond the disparity range
     int first_conf_range = -1;
     double first_conf_gt = -1;
     double sum_st = 0, sum_dt = 0, sum_tot = 0;
@@ -565,6 +566,10 @@ int run(int argc, char **argv)
         if (d.state == NEGOBS_DETECT_NO_INFO) {
             ++nnoinfo;
         }
+        if (d.range_near_mm > 0) {
+            ++n_beyond;
+            beyond_mm = std::max(beyond_mm, d.range_near_mm);
+        }
         for (uint32_t j = 0; j < d.n_hazards && first_conf < 0; ++j) {
             if (d.hazards[j].flags & NEGOBS_HAZARD_F_CONFIRMED) {
                 first_conf = frame_no;
@@ -604,6 +609,14 @@ int run(int argc, char **argv)
                         sum_st / std::max(1, n), sum_dt / std::max(1, n),
                         sum_st > 0 ? 100.0 * sum_dt / sum_st : 0.0);
         }
+    }
+    if (n_beyond > 0) {
+        // not an error: that floor is out of view, like floor below the image
+        std::fprintf(stderr,
+                     "negobs_png: note: on %d of %d frames the floor nearer than "
+                     "up to %d mm lay beyond the disparity range (--max-disp %d) "
+                     "and was not measured; a larger --max-disp measures it\n",
+                     n_beyond, n, beyond_mm, max_disp_used);
     }
     return 0;
 }

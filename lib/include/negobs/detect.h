@@ -387,6 +387,15 @@ typedef struct negobs_detect_result {
      *  short_sight even when clear_to_mm (= blocked_at_mm) is below the
      *  near-zone minimum. See docs/DETECTION.md 10.2, "Barred lanes". */
     int32_t blocked_at_mm;
+    /** Forward floor distance (mm) of the nearest floor the matcher can
+     *  measure, when the floor nearer than that lies beyond its disparity
+     *  range (a ground disparity of max_disp_q4 - 1 px or more at the
+     *  centre column); 0 when the bottom row is within the range. That
+     *  floor is out of view, like floor below the image. Reported on
+     *  every frame, it says stereo.max_disp is too small for this camera
+     *  and mounting. See docs/DETECTION.md section 4, "Beyond the
+     *  matcher's range". */
+    int32_t range_near_mm;
     negobs_mount_t mount; /**< camera mounting used this frame */
     /** The ground under the feet as the detector holds it after this
      *  frame: how it was established (negobs_ground_ref_by_t) and the

@@ -170,19 +170,19 @@ static void warn_diagnostics(const scan_ctx_t *s, negobs_detect_result_t *res)
                                                   &res->offset_strip_warn_q8);
 }
 
-/* Hold zone: an edge lost within the bottom rows, or so near that the
- * support requirement can no longer be met below it. */
-static int32_t hold_zone(const scan_ctx_t *s)
+/* Hold zone: an edge lost within the bottom rows in view (v_near: above
+ * the floor beyond the matcher's range), or so near that the support
+ * requirement can no longer be met below it. */
+static int32_t hold_zone(const scan_ctx_t *s, int32_t v_near)
 {
     const negobs_detect_config_t *cfg = s->cfg;
     int32_t uc = cfg->rig.width / 2;
-    int32_t vb = geom_max_s32(cfg->rig.height - 1 - cfg->hold_bottom_rows, 0);
+    int32_t vb = geom_max_s32(v_near - cfg->hold_bottom_rows, 0);
     int32_t rb = 0;
     int32_t rn = 0;
     det_model_point(s, uc, vb, negobs_ground_disp_q4(s->plane, uc, vb), &rb,
                     NULL, NULL);
-    det_model_point(s, uc, cfg->rig.height - 1,
-                    negobs_ground_disp_q4(s->plane, uc, cfg->rig.height - 1),
+    det_model_point(s, uc, v_near, negobs_ground_disp_q4(s->plane, uc, v_near),
                     &rn, NULL, NULL);
     return geom_max_s32(rb, rn + cfg->min_support_mm + cfg->assoc_range_mm);
 }
@@ -221,6 +221,7 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
     s.frame = &g->frame;
     s.sigma_q4 = g->sigma_q4;
     s.d_min_q4 = negobs_disp_q4_from_depth_mm(&cfg->rig, cfg->range_max_mm);
+    s.d_top_q4 = cfg->max_disp_q4 - 2 * NEGOBS_DISP_ONE;
 
     /* Noise per band of rows over the scanned part of the image (from the
      * row where the ground reaches range_max down to the bottom). */
@@ -228,7 +229,7 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
                                               v_top - 1) >= s.d_min_q4) {
         v_top--;
     }
-    det_band_noise(&s, p->band_hist, v_top);
+    det_band_noise(&s, p->band_hist, v_top, g->v_near + 1);
 
     /* Step 2-3: per-strip scan, merge. */
     for (s_i = 0; s_i < p->n_strips; s_i++) {
@@ -305,7 +306,7 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
         fw->n_trusted += fw->trusted[i];
     }
     canny_support(p, cfg, frame, res);
-    fw->hold_range = hold_zone(&s);
+    fw->hold_range = hold_zone(&s, g->v_near);
 }
 
 negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
@@ -365,6 +366,12 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
         res->plane = g.plane;
         res->pose = g.pose;
         res->sigma_q4 = g.sigma_q4;
+        if (g.v_near < cfg->rig.height - 1) {
+            /* the nearer floor lies beyond the matcher's range */
+            (void)mount_floor_point(&cfg->rig, &g.plane, &g.frame,
+                                    cfg->rig.width / 2, g.v_near,
+                                    &res->range_near_mm, NULL);
+        }
         scan_frame(p, cfg, frame, &g, res, &fw);
     } else {
         /* No ground model: use the nominal geometry for the hold zone. */

@@ -87,13 +87,14 @@ static int ground_risen(detect_priv_t *p, const negobs_detect_config_t *cfg,
 #define WALK_FITS_MAX 64
 
 /* Forward distance along the floor to the nearest floor in view: the
- * bottom row's middle column on the fitted plane (0: none). */
+ * bottom row's middle column on the fitted plane, or the nearest row within
+ * the matcher's range (v_near; 0: none). */
 static int32_t nearest_floor_mm(const negobs_detect_config_t *cfg,
                                 const gfit_out_t *g)
 {
     int32_t fwd = 0;
     if (!mount_floor_point(&cfg->rig, &g->plane, &g->frame, cfg->rig.width / 2,
-                           cfg->rig.height - 1, &fwd, NULL)) {
+                           g->v_near, &fwd, NULL)) {
         return 0;
     }
     return geom_max_s32(fwd, 0);
@@ -143,7 +144,8 @@ static int ground_unverified(detect_priv_t *p,
         p->verify_by = NEGOBS_GROUND_REF_HINT;
         return 0;
     }
-    if (!risen && !g->wide && mount_sees_feet(cfg, &g->plane, &g->frame)) {
+    if (!risen && !g->wide &&
+        mount_sees_feet(cfg, &g->plane, &g->frame, g->v_near)) {
         p->unverified_on = 0;
         p->verify_by = NEGOBS_GROUND_REF_FEET;
         return 0;
@@ -225,7 +227,7 @@ int det_ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
 {
     int32_t dh;
     int32_t dp;
-    int32_t vb = cfg->rig.height - 1;
+    int32_t vb = g->v_near; /* the nearest floor in view */
     int32_t dg;
     int32_t range = 0;
     int32_t depth = 0;

@@ -216,6 +216,7 @@ typedef struct scan_ctx {
     const negobs_ground_frame_t *frame;
     int32_t sigma_q4;
     int32_t d_min_q4;  /* ground disparity at range_max */
+    int32_t d_top_q4;  /* largest disparity measured: max_disp - 1 px */
     int32_t band_v0;   /* first row of the noise bands    */
     int32_t band_rows; /* rows per band (>= 1)            */
     int32_t band_sigma_q4[NOISE_BANDS];
@@ -241,7 +242,10 @@ uint32_t det_photo_reasons(const negobs_detect_config_t *cfg,
 
 int32_t det_sigma_at(const scan_ctx_t *s, int32_t v);
 
-void det_band_noise(scan_ctx_t *s, uint32_t *hist, int32_t v_top);
+/* Rows v_top.. v_end - 1 are read (v_end: below them the floor lies
+ * beyond the matcher's range); the bands span v_top to the bottom row. */
+void det_band_noise(scan_ctx_t *s, uint32_t *hist, int32_t v_top,
+                    int32_t v_end);
 
 void det_model_point(const scan_ctx_t *s, int32_t u, int32_t v, int32_t dg_q4,
                      int32_t *range_mm, int32_t *lat_mm, int32_t *depth_mm);
@@ -249,6 +253,7 @@ void det_model_point(const scan_ctx_t *s, int32_t u, int32_t v, int32_t dg_q4,
 int det_in_corridor(const scan_ctx_t *s, int32_t uc, int32_t dg_q4);
 
 int det_in_view(const scan_ctx_t *s, int32_t uc, int32_t v, int32_t dg_q4);
+int32_t det_range_row(const scan_ctx_t *s, int32_t uc);
 
 int32_t det_strip_u0(const negobs_detect_config_t *cfg, int32_t n_strips,
                      int32_t si);

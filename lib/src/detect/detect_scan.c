@@ -73,7 +73,8 @@ enum {
  * this an underestimate, which is why it only ever raises the ground
  * estimate (det_sigma_at). Every 2nd row, all columns.
  */
-void det_band_noise(scan_ctx_t *s, uint32_t *hist, int32_t v_top)
+void det_band_noise(scan_ctx_t *s, uint32_t *hist, int32_t v_top,
+                    int32_t v_end)
 {
     const negobs_image_s16_t *d = s->disp;
     int32_t h = s->cfg->rig.height;
@@ -90,7 +91,7 @@ void det_band_noise(scan_ctx_t *s, uint32_t *hist, int32_t v_top)
     s->band_rows = geom_max_s32((h - v_top + NOISE_BANDS - 1) / NOISE_BANDS,
                                 1);
     memset(hist, 0, (size_t)NOISE_BANDS * NOISE_BINS * sizeof(uint32_t));
-    for (v = v_top; v < h; v += 2) {
+    for (v = v_top; v < v_end; v += 2) {
         const int16_t *row = negobs_image_s16_row(d, v);
         uint32_t *hb = hist + (size_t)(geom_min_s32((v - v_top) / s->band_rows,
                                                     NOISE_BANDS - 1)) *
@@ -281,6 +282,21 @@ int det_in_view(const scan_ctx_t *s, int32_t uc, int32_t v, int32_t dg_q4)
     }
     return s->view_r_u0 == NULL ||
            (ur_q4 >= s->view_r_u0[v] * 16 && ur_q4 < s->view_r_u1[v] * 16);
+}
+
+/* First row of column uc whose floor, and that of every row below it,
+ * lies beyond the matcher's range (the ground disparity reaches d_top_q4:
+ * docs/DETECTION.md section 4, "Beyond the matcher's range"); the image's
+ * height when the bottom row is within it. No frame measures that floor:
+ * it is out of view, like floor below the image. */
+int32_t det_range_row(const scan_ctx_t *s, int32_t uc)
+{
+    int32_t v = s->cfg->rig.height;
+    while (v > 0 &&
+           negobs_ground_disp_q4(s->plane, uc, v - 1) >= s->d_top_q4) {
+        v--;
+    }
+    return v;
 }
 
 /* tan 20 deg x 1000: the heading a straight walker's path may take off
@@ -741,9 +757,11 @@ void det_scan_strip(const scan_ctx_t *s, int32_t u0, int32_t u1,
     memset(hit, 0, sizeof *hit);
     hit->u0 = u0;
     hit->u1 = u1;
-    /* rows covered by a near occluder are out of view, like rows below
-     * the image: the scan starts above it */
-    hit->occl_v = det_strip_occluder(s, u0, u1);
+    /* rows covered by a near occluder, or whose floor lies beyond the
+     * matcher's range, are out of view, like rows below the image: the
+     * scan starts above them */
+    hit->occl_v = geom_min_s32(det_strip_occluder(s, u0, u1),
+                               det_range_row(s, uc));
     for (v = hit->occl_v - 1; v >= 0; v--) {
         enum row_class rc;
         enum scan_step step;

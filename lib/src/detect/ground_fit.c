@@ -170,6 +170,10 @@ negobs_status_t gfit_carve(gfit_t *g, negobs_arena_t *ar,
     g->col_w = (rig->width + GFIT_COLS - 1) / GFIT_COLS;
     g->band_v_lo = g->v_lo;
     g->band_step = g->step;
+    g->v_hi = rig->height - 1;
+    /* a floor point nearer than 1 px below the matcher's last disparity
+     * has no disparity above it to make a sub-pixel peak */
+    g->d_top_q4 = cfg->max_disp_q4 - 2 * NEGOBS_DISP_ONE;
 
     g->vhist = negobs_arena_take(ar, (size_t)(rig->height - g->wide_v_lo) *
                                          (size_t)g->nbins * sizeof(uint16_t));
@@ -305,7 +309,7 @@ static int32_t refine_step(const gfit_t *g, const negobs_image_s16_t *disp,
     int32_t u;
     int sh = 0;
 
-    for (v = rig->height - 1; v >= v_top; v -= g->step) {
+    for (v = g->v_hi; v >= v_top; v -= g->step) {
         const int16_t *row = negobs_image_s16_row(disp, v);
         int64_t base = (int64_t)plane->b_q20 * v + plane->c_q20;
         for (u = g->step / 2; u < rig->width; u += g->step) {
@@ -464,7 +468,7 @@ static int32_t noise_sigma(gfit_t *g, const negobs_image_s16_t *disp,
      * feet is almost always there, so a drop farther up the fit region
      * does not inflate the estimate. */
     memset(g->absres, 0, GFIT_ABS_BINS * sizeof(uint32_t));
-    for (v = rig->height - 1; v >= g->v_lo + g->near_rows / 2; v -= g->step) {
+    for (v = g->v_hi; v >= g->v_lo + g->near_rows / 2; v -= g->step) {
         const int16_t *row = negobs_image_s16_row(disp, v);
         int64_t base = (int64_t)plane->b_q20 * v + plane->c_q20;
         for (u = g->step / 2; u < rig->width; u += g->step) {
@@ -634,6 +638,32 @@ static void set_band(gfit_t *g, int wide)
     g->rows = g->cfg->rig.height - g->v_lo;
 }
 
+/* fit_band on the rows within the matcher's range: above the rows that
+ * read its top, then (at most twice) above where the fitted plane itself
+ * leaves it, since rows of garbage need not read the range's top. */
+static int fit_in_range(gfit_t *g, const negobs_image_s16_t *disp,
+                        const negobs_image_u8_t *conf, const int16_t *view_u0,
+                        const int16_t *view_u1, gfit_out_t *out,
+                        negobs_ground_plane_t *fit, int32_t *sigma)
+{
+    int i;
+    gfit_range_cut(g, gfit_range_rows_hi(g, disp, conf));
+    if (!fit_band(g, disp, conf, view_u0, view_u1, out, fit, sigma)) {
+        return 0;
+    }
+    for (i = 0; i < 2; i++) {
+        int32_t hi = gfit_plane_rows_hi(g, fit, g->v_hi);
+        if (hi == g->v_hi) {
+            break;
+        }
+        gfit_range_cut(g, hi);
+        if (!fit_band(g, disp, conf, view_u0, view_u1, out, fit, sigma)) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
 void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
                   const negobs_image_u8_t *conf, const int16_t *view_u0,
                   const int16_t *view_u1, gfit_out_t *out)
@@ -646,7 +676,7 @@ void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
 
     memset(out, 0, sizeof *out);
     set_band(g, 0);
-    ok = fit_band(g, disp, conf, view_u0, view_u1, out, &fit, &sigma);
+    ok = fit_in_range(g, disp, conf, view_u0, view_u1, out, &fit, &sigma);
     if (!ok && g->wide_v_lo < g->band_v_lo) {
         /* No floor in the bottom band (hands, furniture or an unmatched
          * surface over it): look for it in every row where the floor of a
@@ -654,13 +684,15 @@ void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
         gfit_out_t wide;
         memset(&wide, 0, sizeof wide);
         set_band(g, 1);
-        if (fit_band(g, disp, conf, view_u0, view_u1, &wide, &fit, &sigma)) {
+        if (fit_in_range(g, disp, conf, view_u0, view_u1, &wide, &fit,
+                         &sigma)) {
             *out = wide;
             out->wide = 1;
             ok = 1;
         }
         set_band(g, 0);
     }
+    out->v_near = g->cfg->rig.height - 1;
     if (!ok) {
         if (++g->fails > 3) {
             g->tracked = 0;
@@ -693,6 +725,7 @@ void gfit_process(gfit_t *g, const negobs_image_s16_t *disp,
         g->sigma_q4 = blend(g->sigma_q4, sigma, cfg->track_gain_q15);
     }
     out->plane = g->plane;
+    out->v_near = gfit_near_row(g, &g->plane);
     out->sigma_q4 = geom_max_s32(g->sigma_q4, cfg->sigma_min_q4);
     if (negobs_ground_pose_from_plane(rig, &g->plane, &out->pose,
                                       &out->frame) != NEGOBS_OK) {

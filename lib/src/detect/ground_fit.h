@@ -22,11 +22,16 @@
 
 typedef struct gfit {
     const negobs_detect_config_t *cfg;
-    uint16_t *vhist;   /* rows x nbins v-disparity histogram           */
-    uint32_t *acc;     /* GFIT_N_SLOPES x GFIT_N_K Hough accumulator   */
-    uint32_t *absres;  /* GFIT_ABS_BINS |residual| histogram (q4)      */
-    int32_t v_lo;      /* first fit row of the band being fitted       */
-    int32_t rows;      /* fit rows (v_lo .. height-1)                  */
+    uint16_t *vhist;  /* rows x nbins v-disparity histogram           */
+    uint32_t *acc;    /* GFIT_N_SLOPES x GFIT_N_K Hough accumulator   */
+    uint32_t *absres; /* GFIT_ABS_BINS |residual| histogram (q4)      */
+    int32_t v_lo;     /* first fit row of the band being fitted       */
+    int32_t rows;     /* fit rows (v_lo .. height-1)                  */
+    /* Nearest fit row read: height-1, or a row above the floor that lies
+     * beyond the matcher's disparity range (gfit_process, "Beyond the
+     * matcher's range"). */
+    int32_t v_hi;
+    int32_t d_top_q4;  /* the largest disparity measured: max_disp - 1 px */
     int32_t band_v_lo; /* the bottom band: fit_rows_pct              */
     int32_t band_step;
     int32_t wide_v_lo; /* the wide band: up to the lowest horizon    */
@@ -66,6 +71,9 @@ typedef struct gfit_out {
     int32_t support_permille; /* share of them in the support strips */
     int32_t wide;             /* 1: fitted on the wide band           */
     int32_t inliers;
+    /* Nearest row of floor the matcher can measure: height-1, or the row
+     * above where the plane's disparity passes d_top_q4. */
+    int32_t v_near;
 } gfit_out_t;
 
 /* A sample with a disparity the fit may read: valid and, with a
@@ -116,6 +124,21 @@ uint32_t gfit_line_support(gfit_t *g, const negobs_image_s16_t *disp,
                            const negobs_image_u8_t *conf,
                            const negobs_ground_plane_t *plane,
                            const gfit_support_t *sup, uint32_t *valid_out);
+
+/* The matcher's range (ground_range.c). The fit row just above the
+ * topmost row of the band (g->v_lo ..) where a quarter of the usable
+ * samples, 4 at least, lie at the range's top; height-1 when none. */
+int32_t gfit_range_rows_hi(const gfit_t *g, const negobs_image_s16_t *disp,
+                           const negobs_image_u8_t *conf);
+/* The nearest fit row at or above hi whose floor on plane pl lies within
+ * the range at both image borders. */
+int32_t gfit_plane_rows_hi(const gfit_t *g, const negobs_ground_plane_t *pl,
+                           int32_t hi);
+/* Read rows up to hi; the bottom band moves up by the rows cut. */
+void gfit_range_cut(gfit_t *g, int32_t hi);
+/* The nearest row (<= g->v_hi) whose floor on pl the matcher measures at
+ * the centre column. */
+int32_t gfit_near_row(const gfit_t *g, const negobs_ground_plane_t *pl);
 
 /* Carve buffers (measure mode when the arena has no base) and precompute
  * the Hough grid. cfg must be valid and outlive g. */

@@ -33,7 +33,7 @@ void gfit_support(gfit_t *g, const negobs_image_s16_t *disp,
 
     memset(sup, 0, sizeof *sup);
     memset(g->vhist, 0, (size_t)g->rows * (size_t)g->nbins * sizeof(uint16_t));
-    for (v = rig->height - 1; v >= g->v_lo; v -= g->step) {
+    for (v = g->v_hi; v >= g->v_lo; v -= g->step) {
         const int16_t *row = negobs_image_s16_row(disp, v);
         for (u = g->step / 2; u < rig->width; u += g->step) {
             if (view_u0 != NULL && (u < view_u0[v] || u >= view_u1[v])) {
@@ -61,7 +61,7 @@ void gfit_support(gfit_t *g, const negobs_image_s16_t *disp,
         g->support_cols += g->col_ok[u / g->col_w];
     }
     g->v_bot = -1;
-    for (v = rig->height - 1; v >= g->v_lo; v -= g->step) {
+    for (v = g->v_hi; v >= g->v_lo; v -= g->step) {
         const int16_t *row = negobs_image_s16_row(disp, v);
         uint16_t *h = g->vhist + (size_t)(v - g->v_lo) * (size_t)g->nbins;
         int32_t n_row = 0;
@@ -108,7 +108,7 @@ uint32_t gfit_line_support(gfit_t *g, const negobs_image_s16_t *disp,
     int32_t i;
     memset(n, 0, sizeof n);
     memset(agree, 0, sizeof agree);
-    for (v = rig->height - 1; v >= g->v_lo + g->near_rows / 2; v -= g->step) {
+    for (v = g->v_hi; v >= g->v_lo + g->near_rows / 2; v -= g->step) {
         const int16_t *row = negobs_image_s16_row(disp, v);
         int64_t base = (int64_t)plane->b_q20 * v + plane->c_q20;
         for (u = g->step / 2; u < rig->width; u += g->step) {

@@ -109,13 +109,13 @@ int mount_floor_point(const negobs_rig_t *rig,
 
 int mount_sees_feet(const negobs_detect_config_t *cfg,
                     const negobs_ground_plane_t *plane,
-                    const negobs_ground_frame_t *frame)
+                    const negobs_ground_frame_t *frame, int32_t v_near)
 {
     const negobs_rig_t *rig = &cfg->rig;
     int32_t fwd = 0;
     if (cfg->mount_verify_near_mm <= 0 ||
-        !mount_floor_point(rig, plane, frame, rig->width / 2, rig->height - 1,
-                           &fwd, NULL)) {
+        !mount_floor_point(rig, plane, frame, rig->width / 2, v_near, &fwd,
+                           NULL)) {
         return 0;
     }
     return fwd <= cfg->mount_verify_near_mm;

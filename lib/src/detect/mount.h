@@ -60,7 +60,8 @@ int mount_floor_point(const negobs_rig_t *rig,
 
 /*
  * 1 if the fitted floor reaches within mount_verify_near_mm of the feet at
- * the bottom row's centre. Such a fit's near rows are the floor under the
+ * the centre of row v_near: the bottom row, or the nearest row whose floor
+ * lies within the matcher's range (gfit_out_t.v_near). Such a fit's near rows are the floor under the
  * feet, so its height needs no hint: a drop farther ahead lies in the
  * upper fit rows, which the fit discounts (section 4), and one nearer is
  * within the cane's reach. Computed with the fitted height: a fit of a
@@ -68,7 +69,7 @@ int mount_floor_point(const negobs_rig_t *rig,
  */
 int mount_sees_feet(const negobs_detect_config_t *cfg,
                     const negobs_ground_plane_t *plane,
-                    const negobs_ground_frame_t *frame);
+                    const negobs_ground_frame_t *frame, int32_t v_near);
 
 void mount_reset(mount_track_t *m);
 
