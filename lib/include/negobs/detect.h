@@ -203,7 +203,12 @@ typedef struct negobs_detect_config {
                                     ground under them: it verifies the
                                     start ("look at your feet"; default
                                     600 mm; 0 = off)                    */
-    int32_t max_disp_q4;           /**< largest disparity (default 64*16)  */
+    int32_t max_disp_q4;           /**< one past the matcher's last
+                                    disparity, (stereo.max_disp + 1) x
+                                    16, as the pipeline sets it (default
+                                    64*16): floor at max_disp_q4 - 2 px
+                                    and up is beyond the matcher's
+                                    range (DETECTION.md section 4)     */
     int32_t min_confidence;        /**< deficit test: confidence below is
                                     not a vote (def. 120, i.e. grown
                                     pixels with NCC >= 0.47)           */
@@ -389,12 +394,12 @@ typedef struct negobs_detect_result {
     int32_t blocked_at_mm;
     /** Forward floor distance (mm) of the nearest floor the matcher can
      *  measure, when the floor nearer than that lies beyond its disparity
-     *  range (a ground disparity of max_disp_q4 - 1 px or more at the
-     *  centre column); 0 when the bottom row is within the range. That
-     *  floor is out of view, like floor below the image. Reported on
-     *  every frame, it says stereo.max_disp is too small for this camera
-     *  and mounting. See docs/DETECTION.md section 4, "Beyond the
-     *  matcher's range". */
+     *  range (a ground disparity of max_disp_q4 - 2 px or more, within
+     *  1 px of the matcher's last, at the centre column); 0 when the
+     *  bottom row is within the range. That floor is out of view, like
+     *  floor below the image. Reported on every frame, it says
+     *  stereo.max_disp is too small for this camera and mounting. See
+     *  docs/DETECTION.md section 4, "Beyond the matcher's range". */
     int32_t range_near_mm;
     negobs_mount_t mount; /**< camera mounting used this frame */
     /** The ground under the feet as the detector holds it after this

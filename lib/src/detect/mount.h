@@ -61,8 +61,9 @@ int mount_floor_point(const negobs_rig_t *rig,
 /*
  * 1 if the fitted floor reaches within mount_verify_near_mm of the feet at
  * the centre of row v_near: the bottom row, or the nearest row whose floor
- * lies within the matcher's range (gfit_out_t.v_near). Such a fit's near rows are the floor under the
- * feet, so its height needs no hint: a drop farther ahead lies in the
+ * lies within the matcher's range (gfit_out_t.v_near). Such a fit's near
+ * rows are the floor under the feet, so its height needs no hint: a drop
+ * farther ahead lies in the
  * upper fit rows, which the fit discounts (section 4), and one nearer is
  * within the cane's reach. Computed with the fitted height: a fit of a
  * lower floor reads the distance long, never short.
