@@ -67,6 +67,43 @@ static void test_temporal_sparse_hits_never_confirm(void **state)
     }
 }
 
+/* A confirmed edge, unseen, whose range dead-reckoned at hold_speed_mm_s
+ * passes below the view's nearest floor: the camera lost it underfoot, so
+ * it is held (IMMINENT) from that frame for hold_ms, whatever later frames
+ * vouch. Here: confirmed at 3600 mm (0.3 s), the view starting at
+ * 2300 mm, frames vouching nothing until 1.4 s, then 2.3-4.6 m; the hold
+ * zone 3300 mm. Counted at its last range as a miss by the vouching
+ * frames, it was dropped after clear_m of them (a 15 cm curb, CLEAR 1.6 m
+ * before it). */
+static void test_temporal_edge_below_the_view_is_held(void **state)
+{
+    negobs_hazard_t c = cand(3600, 0);
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    uint32_t t;
+    (void)state;
+    setup_cfg();
+    for (t = 1; t <= 3; t++) {
+        temporal_update_vouched(&tp, &c, NULL, 1, 1, 2300, 4600, 3300,
+                                t * 100u);
+    }
+    assert_int_equal(report(out, 300), 1);
+    for (t = 4; t <= 14; t++) { /* observed, vouching nothing: held at
+                                   1.3 s (predicted 2200 mm) */
+        temporal_update_vouched(&tp, NULL, NULL, 0, 1, 2300, 0, 3300,
+                                t * 100u);
+    }
+    for (t = 15; t <= 43; t++) { /* vouching 2.3-4.6 m, nothing seen */
+        temporal_update_vouched(&tp, NULL, NULL, 0, 1, 2300, 4600, 3300,
+                                t * 100u);
+        assert_int_equal(report(out, t * 100u), 1);
+        assert_true(out[0].flags & NEGOBS_HAZARD_F_HELD);
+        assert_int_equal(out[0].level, NEGOBS_LEVEL_IMMINENT);
+    }
+    /* more than hold_ms (3 s) after the hold began (1.3 s) it ends */
+    temporal_update_vouched(&tp, NULL, NULL, 0, 1, 2300, 4600, 3300, 4400);
+    assert_int_equal(report(out, 4400), 0);
+}
+
 /* Sightings spread over frames that could not look at the track's place
  * (observed frames vouching 0 mm, or degraded ones) are not 3 of 5: the
  * window moves with time. Frozen, one hit every third frame confirmed on
@@ -81,14 +118,14 @@ static void test_temporal_unseen_frames_move_the_window(void **state)
     for (t = 1; t <= 30; t++) {
         int hit = (t % 3u == 0u);
         temporal_update_vouched(&tp, hit ? &c : NULL, NULL, hit ? 1u : 0u, 1,
-                                hit ? INT32_MAX : 0, 2000, t * 100u);
+                                0, hit ? INT32_MAX : 0, 2000, t * 100u);
         assert_int_equal(report(out, t * 100u), 0);
     }
     setup_cfg();
     for (t = 1; t <= 30; t++) {
         int hit = (t % 3u == 0u);
         temporal_update_vouched(&tp, hit ? &c : NULL, NULL, hit ? 1u : 0u, hit,
-                                INT32_MAX, 2000, t * 100u);
+                                0, INT32_MAX, 2000, t * 100u);
         assert_int_equal(report(out, t * 100u), 0);
     }
     /* Three sightings in five frames still confirm, looked at or not. */
@@ -96,7 +133,7 @@ static void test_temporal_unseen_frames_move_the_window(void **state)
     for (t = 1; t <= 5; t++) {
         int hit = (t % 2u == 1u);
         temporal_update_vouched(&tp, hit ? &c : NULL, NULL, hit ? 1u : 0u, 1,
-                                hit ? INT32_MAX : 0, 2000, t * 100u);
+                                0, hit ? INT32_MAX : 0, 2000, t * 100u);
     }
     assert_int_equal(report(out, 500), 1);
 }
@@ -437,6 +474,7 @@ int main(void)
         cmocka_unit_test(test_temporal_confirms_on_k_of_n),
         cmocka_unit_test(test_temporal_sparse_hits_never_confirm),
         cmocka_unit_test(test_temporal_unseen_frames_move_the_window),
+        cmocka_unit_test(test_temporal_edge_below_the_view_is_held),
         cmocka_unit_test(test_temporal_clears_after_m_clean_frames),
         cmocka_unit_test(test_temporal_degraded_frames_do_not_clear),
         cmocka_unit_test(test_temporal_degraded_frames_never_confirm),

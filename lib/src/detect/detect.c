@@ -15,6 +15,7 @@ typedef struct frame_work {
     uint8_t trusted[NEGOBS_DETECT_MAX_HAZARDS];
     int32_t n_trusted;
     int32_t hold_range;
+    int32_t seen_from; /* floor distance of the nearest row in view (mm) */
 } frame_work_t;
 
 static void fill_no_info(negobs_detect_result_t *res, uint32_t reasons)
@@ -307,6 +308,10 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
     }
     canny_support(p, cfg, frame, res);
     fw->hold_range = hold_zone(&s, g->v_near);
+    det_model_point(
+        &s, cfg->rig.width / 2, g->v_near,
+        negobs_ground_disp_q4(s.plane, cfg->rig.width / 2, g->v_near),
+        &fw->seen_from, NULL, NULL);
 }
 
 negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
@@ -382,8 +387,8 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
      * a gating or ground reason is observed; tracks beyond the vouched
      * range are not counted as missed by it. */
     temporal_update_vouched(&p->temporal, res->candidates, fw.trusted,
-                            res->n_candidates, reasons == 0u, fw.walk_to,
-                            fw.hold_range, frame->now_ms);
+                            res->n_candidates, reasons == 0u, fw.seen_from,
+                            fw.walk_to, fw.hold_range, frame->now_ms);
     res->n_hazards = temporal_report(&p->temporal, res->hazards,
                                      NEGOBS_DETECT_MAX_HAZARDS, frame->now_ms);
     for (i = 0; i < res->n_hazards; i++) {

@@ -87,7 +87,7 @@ int temporal_needs_travel(const temporal_t *t)
 void temporal_update(temporal_t *t, const negobs_hazard_t *cands, uint32_t n,
                      int observed, int32_t hold_range_mm, uint32_t now_ms)
 {
-    temporal_update_vouched(t, cands, NULL, n, observed, INT32_MAX,
+    temporal_update_vouched(t, cands, NULL, n, observed, 0, INT32_MAX,
                             hold_range_mm, now_ms);
 }
 
@@ -294,12 +294,13 @@ static void track_refresh(const negobs_detect_config_t *cfg, tmp_track_t *tr,
  */
 #define HOLD_PAST_MM 500
 
-/* A track without a sighting this frame: held tracks time out, tracks the
- * frame could not vouch for wait, the others count a miss (confirmed ones
- * close by are held instead, since the camera loses them underfoot). */
+/* A track without a sighting this frame: held tracks time out, confirmed
+ * ones whose edge has gone below the view are held, tracks the frame
+ * could not vouch for wait, the others count a miss (confirmed ones close
+ * by are held instead, since the camera loses them underfoot). */
 static void track_unseen(const temporal_t *t, tmp_track_t *tr, int observed,
-                         int32_t seen_to_mm, int32_t hold_range_mm,
-                         uint32_t now_ms)
+                         int32_t seen_from_mm, int32_t seen_to_mm,
+                         int32_t hold_range_mm, uint32_t now_ms)
 {
     const negobs_detect_config_t *cfg = t->cfg;
     if (tr->held) {
@@ -308,6 +309,19 @@ static void track_unseen(const temporal_t *t, tmp_track_t *tr, int observed,
             (int64_t)walked >= (int64_t)tr->hz.range_mm + HOLD_PAST_MM) {
             tr->active = 0;
         }
+        return;
+    }
+    if (observed && tr->confirmed &&
+        held_range(cfg, tr, now_ms) < seen_from_mm) {
+        /* The edge, dead-reckoned from its last sighting as the report
+         * places it, now lies nearer than the view's nearest floor: the
+         * camera has lost it underfoot, so it is held, whatever its last
+         * range. (Counted as missed at that range by frames that vouched
+         * from the view's nearest floor on, a 15 cm curb confirmed 3.6 m
+         * ahead of a camera pitched 5 deg, whose view starts 2.3 m ahead,
+         * was dropped 1.6 m before the edge: CLEAR.) */
+        tr->held = 1;
+        tr->hold_start_ms = now_ms;
         return;
     }
     if (!observed || (tr->hz.range_mm > seen_to_mm &&
@@ -350,8 +364,8 @@ static void track_unseen(const temporal_t *t, tmp_track_t *tr, int observed,
 
 void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
                              const uint8_t *trusted, uint32_t n, int observed,
-                             int32_t seen_to_mm, int32_t hold_range_mm,
-                             uint32_t now_ms)
+                             int32_t seen_from_mm, int32_t seen_to_mm,
+                             int32_t hold_range_mm, uint32_t now_ms)
 {
     const negobs_detect_config_t *cfg = t->cfg;
     int32_t used[NEGOBS_DETECT_MAX_TRACKS];
@@ -402,7 +416,8 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
         if (!tr->active || used[k]) {
             continue;
         }
-        track_unseen(t, tr, observed, seen_to_mm, hold_range_mm, now_ms);
+        track_unseen(t, tr, observed, seen_from_mm, seen_to_mm, hold_range_mm,
+                     now_ms);
     }
     t->last_ms = now_ms;
     t->have_last = 1;

@@ -54,14 +54,16 @@ void temporal_update(temporal_t *t, const negobs_hazard_t *cands, uint32_t n,
  * frame (its own strips failed the local noise check); a track farther
  * than seen_to_mm that this frame did not see is not counted as a clean
  * miss (the frame did not vouch for its place), unless it is confirmed
- * within hold_range_mm (then it is held as usual). An unconfirmed track's
+ * within hold_range_mm (then it is held as usual). A confirmed track
+ * whose dead-reckoned range lies nearer than seen_from_mm, the nearest
+ * floor in view (0: all of it in view), is held on an observed frame. An unconfirmed track's
  * confirm_n window moves on every frame, seen or not (on degraded frames
  * too): confirmation is confirm_k sightings within confirm_n frames.
  */
 void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
                              const uint8_t *trusted, uint32_t n, int observed,
-                             int32_t seen_to_mm, int32_t hold_range_mm,
-                             uint32_t now_ms);
+                             int32_t seen_from_mm, int32_t seen_to_mm,
+                             int32_t hold_range_mm, uint32_t now_ms);
 
 /*
  * The wearer's forward travel along the floor since the last frame, as the
