@@ -173,10 +173,21 @@ static enum vouch_verdict vouch_cell_sees(const scan_ctx_t *s,
     const negobs_detect_config_t *cfg = s->cfg;
     const int32_t b = band_of(s, v);
     const vouch_cell_t *c = p->cells + (size_t)si * NOISE_BANDS + b;
+    /* The band whose spread and offset stand for this one: every band is
+     * pooled with its nearer neighbour (det_strip_noise), the nearest has
+     * none. Its rows are what is left after the others' rounded-up share
+     * (3 rows of a 73-row scan), and the image's last two are never
+     * matched (the 5x5 window), so it may hold too few strip rows for a
+     * spread: it then takes the next farther band's, which is pooled
+     * with it. (Unmeasured, it ended the walk at the bottom row on 4 of
+     * 45 frames of a flat walk at 3 deg of pitch: NO_INFO, FEW_GROUND.) */
+    const int32_t bs = (s->band_strip_q8[b] <= 0 && b == NOISE_BANDS - 1)
+                           ? b - 1
+                           : b;
     int32_t h = vouch_h_mm(range_mm);
     int32_t h_t = det_h_t_at(cfg, range_mm);
-    int32_t sig_q8 = s->band_strip_q8[b];
-    int32_t bias_q8 = geom_max_s32(s->band_bias_q8[b], 0);
+    int32_t sig_q8 = s->band_strip_q8[bs];
+    int32_t bias_q8 = geom_max_s32(s->band_bias_q8[bs], 0);
     if (sig_q8 <= 0 || c->n <= 0) {
         return VOUCH_UNSEEN; /* the band or the cell holds no measurement */
     }
