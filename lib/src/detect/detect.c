@@ -172,20 +172,17 @@ static void warn_diagnostics(const scan_ctx_t *s, negobs_detect_result_t *res)
 }
 
 /* Hold zone: an edge lost within the bottom rows in view (v_near: above
- * the floor beyond the matcher's range), or so near that the support
- * requirement can no longer be met below it. */
-static int32_t hold_zone(const scan_ctx_t *s, int32_t v_near)
+ * the floor beyond the matcher's range; rn_mm its floor distance), or so
+ * near that the support requirement can no longer be met below it. */
+static int32_t hold_zone(const scan_ctx_t *s, int32_t v_near, int32_t rn_mm)
 {
     const negobs_detect_config_t *cfg = s->cfg;
     int32_t uc = cfg->rig.width / 2;
     int32_t vb = geom_max_s32(v_near - cfg->hold_bottom_rows, 0);
     int32_t rb = 0;
-    int32_t rn = 0;
     det_model_point(s, uc, vb, negobs_ground_disp_q4(s->plane, uc, vb), &rb,
                     NULL, NULL);
-    det_model_point(s, uc, v_near, negobs_ground_disp_q4(s->plane, uc, v_near),
-                    &rn, NULL, NULL);
-    return geom_max_s32(rb, rn + cfg->min_support_mm + cfg->assoc_range_mm);
+    return geom_max_s32(rb, rn_mm + cfg->min_support_mm + cfg->assoc_range_mm);
 }
 
 /*
@@ -222,7 +219,7 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
     s.frame = &g->frame;
     s.sigma_q4 = g->sigma_q4;
     s.d_min_q4 = negobs_disp_q4_from_depth_mm(&cfg->rig, cfg->range_max_mm);
-    s.d_top_q4 = cfg->max_disp_q4 - 2 * NEGOBS_DISP_ONE;
+    s.d_top_q4 = gfit_range_top_q4(cfg);
 
     /* Noise per band of rows over the scanned part of the image (from the
      * row where the ground reaches range_max down to the bottom). */
@@ -307,11 +304,15 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
         fw->n_trusted += fw->trusted[i];
     }
     canny_support(p, cfg, frame, res);
-    fw->hold_range = hold_zone(&s, g->v_near);
     det_model_point(
         &s, cfg->rig.width / 2, g->v_near,
         negobs_ground_disp_q4(s.plane, cfg->rig.width / 2, g->v_near),
         &fw->seen_from, NULL, NULL);
+    fw->hold_range = hold_zone(&s, g->v_near, fw->seen_from);
+    if (g->v_near < cfg->rig.height - 1) {
+        /* the nearer floor lies beyond the matcher's range */
+        res->range_near_mm = fw->seen_from;
+    }
 }
 
 negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
@@ -371,12 +372,6 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
         res->plane = g.plane;
         res->pose = g.pose;
         res->sigma_q4 = g.sigma_q4;
-        if (g.v_near < cfg->rig.height - 1) {
-            /* the nearer floor lies beyond the matcher's range */
-            (void)mount_floor_point(&cfg->rig, &g.plane, &g.frame,
-                                    cfg->rig.width / 2, g.v_near,
-                                    &res->range_near_mm, NULL);
-        }
         scan_frame(p, cfg, frame, &g, res, &fw);
     } else {
         /* No ground model: use the nominal geometry for the hold zone. */

@@ -291,12 +291,9 @@ int det_in_view(const scan_ctx_t *s, int32_t uc, int32_t v, int32_t dg_q4)
  * it is out of view, like floor below the image. */
 int32_t det_range_row(const scan_ctx_t *s, int32_t uc)
 {
-    int32_t v = s->cfg->rig.height;
-    while (v > 0 &&
-           negobs_ground_disp_q4(s->plane, uc, v - 1) >= s->d_top_q4) {
-        v--;
-    }
-    return v;
+    return gfit_row_in_range(s->plane, uc, s->cfg->rig.height - 1,
+                             s->d_top_q4) +
+           1;
 }
 
 /* tan 20 deg x 1000: the heading a straight walker's path may take off

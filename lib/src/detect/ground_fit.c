@@ -171,9 +171,7 @@ negobs_status_t gfit_carve(gfit_t *g, negobs_arena_t *ar,
     g->band_v_lo = g->v_lo;
     g->band_step = g->step;
     g->v_hi = rig->height - 1;
-    /* a floor point nearer than 1 px below the matcher's last disparity
-     * has no disparity above it to make a sub-pixel peak */
-    g->d_top_q4 = cfg->max_disp_q4 - 2 * NEGOBS_DISP_ONE;
+    g->d_top_q4 = gfit_range_top_q4(cfg);
 
     g->vhist = negobs_arena_take(ar, (size_t)(rig->height - g->wide_v_lo) *
                                          (size_t)g->nbins * sizeof(uint16_t));

@@ -125,6 +125,26 @@ uint32_t gfit_line_support(gfit_t *g, const negobs_image_s16_t *disp,
                            const negobs_ground_plane_t *plane,
                            const gfit_support_t *sup, uint32_t *valid_out);
 
+/* The largest ground disparity the matcher measures: a floor point
+ * nearer than 1 px below its last disparity (max_disp_q4 is one past it)
+ * has no disparity above it to make a sub-pixel peak. */
+static inline int32_t gfit_range_top_q4(const negobs_detect_config_t *cfg)
+{
+    return cfg->max_disp_q4 - 2 * NEGOBS_DISP_ONE;
+}
+
+/* The nearest row at or above v whose floor on plane pl, at column u,
+ * lies within the matcher's range (ground disparity below d_top_q4);
+ * -1 when none down to row 0. */
+static inline int32_t gfit_row_in_range(const negobs_ground_plane_t *pl,
+                                        int32_t u, int32_t v, int32_t d_top_q4)
+{
+    while (v >= 0 && negobs_ground_disp_q4(pl, u, v) >= d_top_q4) {
+        v--;
+    }
+    return v;
+}
+
 /* The matcher's range (ground_range.c). The fit row just above the
  * topmost row of the band (g->v_lo ..) where a quarter of the usable
  * samples, 4 at least, lie at the range's top; height-1 when none. */

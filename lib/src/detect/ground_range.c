@@ -75,10 +75,6 @@ void gfit_range_cut(gfit_t *g, int32_t hi)
  * range; never below the rows the fit read. */
 int32_t gfit_near_row(const gfit_t *g, const negobs_ground_plane_t *pl)
 {
-    const int32_t uc = g->cfg->rig.width / 2;
-    int32_t v = g->v_hi;
-    while (v > 0 && negobs_ground_disp_q4(pl, uc, v) >= g->d_top_q4) {
-        v--;
-    }
-    return v;
+    return geom_max_s32(
+        gfit_row_in_range(pl, g->cfg->rig.width / 2, g->v_hi, g->d_top_q4), 0);
 }
