@@ -47,6 +47,7 @@ struct Options {
     double bob_hz = 1.8;   // step frequency
     double sway_deg = 1.0; // pitch sway amplitude
     double roll_sway_deg = 0.5;
+    double yaw_sway_deg = 0.0; // heading sway of the head or trunk
     uint64_t seed = 1;
     bool texture_seed_set = false;
     uint64_t texture_seed = 1;
@@ -120,6 +121,8 @@ void usage(FILE *fp, const char *argv0)
                  "  --bob-hz F           bobbing (step) frequency (default 1.8)\n"
                  "  --sway-deg A         pitch sway amplitude (default 1.0)\n"
                  "  --roll-sway-deg A    roll sway amplitude, half step frequency (0.5)\n"
+                 "  --yaw-sway-deg A     heading sway amplitude, half step frequency (0):\n"
+                 "                       the camera turns, the walk keeps its heading\n"
                  "  --seed N             seed for motion phases, texture and noise (default 1)\n"
                  "Sensor:\n"
                  "  --noise S            Gaussian noise sigma in grey levels (default 0)\n"
@@ -235,6 +238,7 @@ const char *const kValued[] = {"scene",
                                "bob-hz",
                                "sway-deg",
                                "roll-sway-deg",
+                               "yaw-sway-deg",
                                "seed",
                                "noise",
                                "gain-right",
@@ -432,6 +436,8 @@ int parse(int argc, char **argv, Options &o)
             rc = num(o.sway_deg, 0.0, 30.0);
         } else if (arg == "--roll-sway-deg") {
             rc = num(o.roll_sway_deg, 0.0, 30.0);
+        } else if (arg == "--yaw-sway-deg") {
+            rc = num(o.yaw_sway_deg, 0.0, 30.0);
         } else if (arg == "--seed") {
             if (!parse_u64(v, o.seed))
                 return fail(a0, "option --seed: '" + val + "' is not a non-negative integer");
@@ -482,6 +488,7 @@ int parse(int argc, char **argv, Options &o)
         o.bob_mm = 0.0;
         o.sway_deg = 0.0;
         o.roll_sway_deg = 0.0;
+        o.yaw_sway_deg = 0.0;
     }
     if (o.height_mm * 1e-3 <= 0.0)
         return fail(a0, "--height-mm must be positive");
@@ -594,6 +601,7 @@ int run(int argc, char **argv)
     const double ph_bob = 2.0 * kPi * mrng.uniform();
     const double ph_pitch = 2.0 * kPi * mrng.uniform();
     const double ph_roll = 2.0 * kPi * mrng.uniform();
+    const double ph_yaw = 2.0 * kPi * mrng.uniform(); // drawn last: older phases keep
     const double yaw = o.yaw_deg * kPi / 180.0;
     const std::vector<double> exposure = exposure_schedule(o);
 
@@ -645,15 +653,16 @@ int run(int argc, char **argv)
                  "\"render\": {\"supersample\": %d, \"noise\": %.6g, \"gain_right\": %.6g, "
                  "\"offset_right\": %.6g, \"brightness\": %.6g, \"blur\": %.6g, \"seed\": %llu, "
                  "\"speed_mps\": %.6g, \"fps\": %.6g, \"bob_mm\": %.6g, \"bob_hz\": %.6g, "
-                 "\"sway_deg\": %.6g, \"roll_sway_deg\": %.6g, \"gt_disparity\": %s, "
+                 "\"sway_deg\": %.6g, \"roll_sway_deg\": %.6g, \"yaw_sway_deg\": %.6g, "
+                 "\"gt_disparity\": %s, "
                  "\"gt_disparity_right\": %s, \"exposure_pct\": %.6g, \"exposure_every\": %d, "
                  "\"exposure_lag_right\": %d},\n",
                  o.render.supersample, o.sensor.noise_sigma, o.sensor.gain_right,
                  o.sensor.offset_right, o.sensor.brightness, o.sensor.blur,
                  static_cast<unsigned long long>(o.seed), sequence ? o.speed : 0.0, o.fps, o.bob_mm,
-                 o.bob_hz, o.sway_deg, o.roll_sway_deg, o.gt_disparity ? "true" : "false",
-                 o.gt_disparity_right ? "true" : "false", o.exposure_pct, o.exposure_every,
-                 o.exposure_lag);
+                 o.bob_hz, o.sway_deg, o.roll_sway_deg, o.yaw_sway_deg,
+                 o.gt_disparity ? "true" : "false", o.gt_disparity_right ? "true" : "false",
+                 o.exposure_pct, o.exposure_every, o.exposure_lag);
     std::fprintf(gt, "\"frames\": [\n");
 
     double render_ms = 0.0;
@@ -670,7 +679,7 @@ int run(int argc, char **argv)
         pose.y = o.height_mm * 1e-3 + o.bob_mm * 1e-3 * std::sin(w + ph_bob) + ground_y;
         pose.pitch = o.pitch_deg + o.sway_deg * std::sin(w + ph_pitch);
         pose.roll = o.roll_deg + o.roll_sway_deg * std::sin(0.5 * w + ph_roll);
-        pose.yaw = o.yaw_deg;
+        pose.yaw = o.yaw_deg + o.yaw_sway_deg * std::sin(0.5 * w + ph_yaw);
 
         const auto t0 = std::chrono::steady_clock::now();
         cv::Mat lf, rf, disp;
