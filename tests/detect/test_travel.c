@@ -33,10 +33,13 @@ static double floor_grey(double fwd, double lat)
            15.0 * cos(fwd / 11.0 - lat / 17.0);
 }
 
-/* The camera `walked_mm` along the floor, pitch down PITCH_DEG, no roll;
- * sensor noise of sigma `noise` grey levels. Above the horizon: 200. */
-static void render(double walked_mm, double noise)
+/* The camera `walked_mm` along the floor, pitch down PITCH_DEG, no roll,
+ * turned by `yaw_deg` about the floor's normal (the walk keeps its
+ * heading); sensor noise of sigma `noise` grey levels. Above the horizon:
+ * 200. */
+static void render_turned(double walked_mm, double yaw_deg, double noise)
 {
+    const double psi = yaw_deg * 3.14159265358979323846 / 180.0;
     const double p = PITCH_DEG * 3.14159265358979323846 / 180.0;
     const double ny = cos(p);
     const double nz = sin(p);
@@ -53,12 +56,18 @@ static void render(double walked_mm, double noise)
                 /* fwd = (0, -sin p, cos p), right = (1, 0, 0) */
                 double fwd = t * (-ry * nz + ny);
                 double lat = t * rx;
-                g = floor_grey(fwd + walked_mm, lat);
+                g = floor_grey(fwd * cos(psi) - lat * sin(psi) + walked_mm,
+                               fwd * sin(psi) + lat * cos(psi));
             }
             g += noise * gauss();
             px[v * W + u] = (uint8_t)(g < 0 ? 0 : (g > 255 ? 255 : g + 0.5));
         }
     }
+}
+
+static void render(double walked_mm, double noise)
+{
+    render_turned(walked_mm, 0.0, noise);
 }
 
 typedef struct geo {
@@ -150,12 +159,63 @@ static void test_travel_counts_nothing_it_cannot_see(void **state)
                      0);
 }
 
+/* Walking 120 mm a frame while the camera turns to and fro by 1.5 and
+ * 2.5 deg between frames (the trunk's sway at the stride's rate): the
+ * turn spoils the search without one, and the search with one reads the
+ * walk as in test_travel_reads_a_walk. */
+static void test_travel_reads_a_walk_while_turning(void **state)
+{
+    static travel_track_t t;
+    static const double yaw_deg[] = {0.0, 1.5, 0.0, -2.5, 0.0, 2.5, 1.0};
+    geo_t g;
+    int k;
+    (void)state;
+    geo_init(&g);
+    travel_reset(&t);
+    render_turned(0.0, yaw_deg[0], 2.0);
+    (void)travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 1000u);
+    for (k = 1; k < (int)(sizeof yaw_deg / sizeof yaw_deg[0]); k++) {
+        int32_t mm;
+        render_turned(120.0 * k, yaw_deg[k], 2.0);
+        mm = travel_step(&t, &g.rig, &g.plane, &g.frame, &img,
+                         1000u + 100u * (uint32_t)k);
+        assert_in_range(mm, 104, 136);
+    }
+}
+
+/* Standing still while the head turns by 2 deg a frame reads no travel,
+ * and a turn faster than the search (5 deg between frames, looking aside)
+ * counts nothing while walking. */
+static void test_travel_turning_in_place_reads_nothing(void **state)
+{
+    static travel_track_t t;
+    geo_t g;
+    int k;
+    (void)state;
+    geo_init(&g);
+    travel_reset(&t);
+    for (k = 0; k < 6; k++) {
+        render_turned(0.0, (k % 2 == 0) ? 0.0 : 2.0, 3.0);
+        assert_int_equal(travel_step(&t, &g.rig, &g.plane, &g.frame, &img,
+                                     1000u + 100u * (uint32_t)k),
+                         0);
+    }
+    travel_reset(&t);
+    render_turned(0.0, 0.0, 2.0);
+    (void)travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 2000u);
+    render_turned(120.0, 5.0, 2.0);
+    assert_int_equal(travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 2100u),
+                     0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_travel_reads_a_walk),
         cmocka_unit_test(test_travel_standing_still_reads_nothing),
         cmocka_unit_test(test_travel_counts_nothing_it_cannot_see),
+        cmocka_unit_test(test_travel_reads_a_walk_while_turning),
+        cmocka_unit_test(test_travel_turning_in_place_reads_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

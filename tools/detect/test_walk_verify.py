@@ -31,6 +31,13 @@ asphalt, sensor noise 2:
    (docs/DETECTION.md section 6, "Hold"), not 3 s later: the wearer is
    on the ramp by then. Before, it was held to the end of the walk (1.8 m
    past the start).
+6. Walk 1 with the camera's heading swaying by +-4 deg at half the step
+   rate (the trunk's turn while walking; the walk keeps its heading): the
+   travel is measured with a turn between frames (detect_travel.c), so the
+   start verifies as without the sway. Searched without a turn, the sway
+   spoiled the match and the 3 s walk never said CLEAR.
+7. Walk 2's standing start, the head turning by +-6 deg: turning in place
+   is no travel, so no frame may say CLEAR.
 
 usage: test_walk_verify.py NEGOBS_SYNTH NEGOBS_PNG WORKDIR
 """
@@ -65,19 +72,16 @@ def verdicts(rows):
                     for r in rows)
 
 
-def main():
-    args = walk_test.setup(__doc__)
-    if args is None:
-        return 2
-    synth, png, work = args
+def wrong_hint_walk(synth, png, work, name, extra):
+    """Walk 1 (and 6): told 1.2 m, the camera at 1.45 m, walking over flat
+    ground. Returns the number of failed checks."""
     failed = 0
-
-    # 1. wrong hint, walking over flat ground
-    gt, rows = run(synth, png, work, "hint", [
+    gt, rows = run(synth, png, work, name, [
         "--scene", "flat", "--frames", "30", "--speed", "1.2",
-        "--height-mm", "1450", "--pitch-deg", "20"],
+        "--height-mm", "1450", "--pitch-deg", "20"] + extra,
         ["--height-mm", "1200", "--pitch-deg", "20"])
-    print("wrong hint, walking:", verdicts(rows))
+    print("wrong hint, walking%s:" % (" (heading sway)" if extra else ""),
+          verdicts(rows))
     cam = gt["camera"]
     # the floor nearest the view on the first frame: the bottom row's ray
     half_fov = math.atan((cam["height"] / 2.0) / cam["f"])
@@ -104,7 +108,20 @@ def main():
             failed += 1
     if sum(r["state"] == "NO_INFO" for r in rows) == len(rows):
         failed += 1
+    return failed
 
+
+def main():
+    args = walk_test.setup(__doc__)
+    if args is None:
+        return 2
+    synth, png, work = args
+    failed = 0
+
+    # 1. wrong hint, walking over flat ground; 6. the same with a swaying
+    # heading
+    for name, sway in (("hint", []), ("hint_turning", ["--yaw-sway-deg", "4"])):
+        failed += wrong_hint_walk(synth, png, work, name, sway)
     # 2. standing still before a drop nearer than the view
     gt, rows = run(synth, png, work, "still", [
         "--scene", "curb", "--drop-mm", "150", "--edge-mm", "700",
@@ -116,6 +133,18 @@ def main():
         failed += 1
     if any(r["ground_ref"]["by"] != "none" for r in rows):
         print("FAIL: a ground under the feet while standing before the drop")
+        failed += 1
+
+    # 7. the same start, the head turning
+    gt, rows = run(synth, png, work, "still_turning", [
+        "--scene", "curb", "--drop-mm", "150", "--edge-mm", "700",
+        "--frames", "40", "--speed", "0", "--height-mm", "1200",
+        "--pitch-deg", "20", "--yaw-sway-deg", "6"],
+        ["--height-mm", "1200", "--pitch-deg", "20"])
+    print("standing 0.7 m before a 15 cm drop, turning the head:",
+          verdicts(rows))
+    if any(r["state"] == "CLEAR" for r in rows):
+        print("FAIL: CLEAR while turning in place before the drop")
         failed += 1
 
     # 3. walking towards it

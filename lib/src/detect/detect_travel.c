@@ -15,8 +15,15 @@
  * the grid (a faster motion is not measured), away from standing still,
  * and its cost at most TRAVEL_CLEAR_NUM / TRAVEL_CLEAR_DEN of the cost of
  * standing still. A standing wearer, a bland floor, sensor noise alone or a
- * repeated frame therefore count nothing. Yaw between frames is not
- * modelled: a turning head spoils the match and counts nothing too.
+ * repeated frame therefore count nothing.
+ *
+ * The head and the trunk turn to and fro at the stride's rate while the
+ * walk keeps its heading: a few degrees between frames, which moves the
+ * floor by several pixels sideways. Searched for T alone, such a turn
+ * spoils the match or, worse, finds a wrong T: a camera turning by 2 deg
+ * in place read 83 mm of travel. So the search also turns the camera about
+ * the floor's normal (turn_search()), and standing still is taken at the
+ * turn that explains it best.
  *
  * Fixed point: the floor's unit vectors are Q30; a camera-frame point
  * (mm, Q30) is at most 2^14 * 2^30 * 3 < 2^46, and the focal length in
@@ -107,6 +114,32 @@ static int project(const negobs_rig_t *rig, const floor_axes_t *a,
     return 1;
 }
 
+/* A turn of the camera about the floor's normal between frames, as sine
+ * and cosine (Q30) of the angle. */
+typedef struct travel_turn {
+    int64_t sin_q30;
+    int64_t cos_q30;
+} travel_turn_t;
+
+/* Pixel of the stored floor point (fwd, lat) after a forward travel of
+ * t_mm and the turn: the point moves back by t_mm along the old heading,
+ * then the floor frame turns about the camera's foot. Products stay below
+ * 2^14 * 2^30 * 2. */
+static int project_turned(const negobs_rig_t *rig, const floor_axes_t *a,
+                          int32_t fwd_mm, int32_t lat_mm, int32_t t_mm,
+                          const travel_turn_t *turn, int32_t *u, int32_t *v)
+{
+    const int64_t f = (int64_t)fwd_mm - t_mm;
+    const int64_t half = (int64_t)1 << 29;
+    const int32_t f2 = (int32_t)((f * turn->cos_q30 +
+                                  (int64_t)lat_mm * turn->sin_q30 + half) >>
+                                 30);
+    const int32_t l2 = (int32_t)((-f * turn->sin_q30 +
+                                  (int64_t)lat_mm * turn->cos_q30 + half) >>
+                                 30);
+    return project(rig, a, f2, l2, u, v);
+}
+
 static inline int patch_inside(const negobs_image_u8_t *im, int32_t u,
                                int32_t v)
 {
@@ -143,23 +176,182 @@ static int32_t patch_cost(const uint8_t *stored, const negobs_image_u8_t *im,
     return c;
 }
 
+/* The largest turn searched between two frames: 3 deg. The trunk and the
+ * head sway by a few degrees at the stride's rate (about 0.9 Hz), which
+ * turns a camera by up to about 2.3 deg in 100 ms at 4 deg of sway; a
+ * faster turn (looking aside) is not measured and counts nothing. Q30
+ * radians. */
+#define TRAVEL_TURN_MAX_Q30 56220990 /* 3 deg = 0.0523599 rad */
+/* The turn's grid: 1.5 px at the image centre (1.5 / f rad). The match
+ * holds within about a pixel either way (5 x 5 samples 2 px apart). */
+#define TRAVEL_TURN_STEP_NUM 3
+#define TRAVEL_TURN_STEP_DEN 2
+/* The whole grid is scored on every TRAVEL_TURN_COARSE-th patch first
+ * (the cost of a search over turns), the best turn and its neighbours
+ * then on all of them. */
+#define TRAVEL_TURN_COARSE 4
+/* A bound on the grid's cost: 40 steps of 1.5 px reach 3 deg up to
+ * f = 1146 px; a longer lens searches a smaller turn. */
+#define TRAVEL_TURN_MAX_STEPS 40
+/* T steps either side of the coarse best scored on every patch: the coarse
+ * and the fine minimum differ by a step now and then. */
+#define TRAVEL_FINE_K 2
+
+/* Sine and cosine (Q30) of j turn steps of step_q30 rad: third and second
+ * order terms, exact to 1e-6 within 3 deg. */
+static travel_turn_t turn_of(int32_t j, int64_t step_q30)
+{
+    travel_turn_t t;
+    const int64_t x = (int64_t)j * step_q30;
+    const int64_t x2 = (x * x) >> 30;
+    t.sin_q30 = x - ((x2 * x) >> 30) / 6;
+    t.cos_q30 = ((int64_t)1 << 30) - x2 / 2;
+    return t;
+}
+
+/* Cost of travel t_mm and turn over the patches idx[0 .. n-1]. */
+static int64_t turned_cost(const travel_track_t *t, const negobs_rig_t *rig,
+                           const floor_axes_t *a,
+                           const negobs_image_u8_t *left, const int32_t *idx,
+                           int32_t n, int32_t t_mm, const travel_turn_t *turn)
+{
+    int64_t c = 0;
+    int32_t i;
+    for (i = 0; i < n; i++) {
+        const int32_t s = idx[i];
+        int32_t u = 0;
+        int32_t v = 0;
+        if (!project_turned(rig, a, t->fwd_mm[s], t->lat_mm[s], t_mm, turn, &u,
+                            &v) ||
+            !patch_inside(left, u, v)) {
+            c += TRAVEL_WORST_COST; /* left the view at this candidate */
+            continue;
+        }
+        c += patch_cost(t->px[s], left, u, v);
+    }
+    return c;
+}
+
+/* Best travel step within [k_lo, k_hi] of the T grid at one turn; cost[0]
+ * (standing still) and cost[k_lo .. k_hi] filled. */
+static int32_t best_travel(const travel_track_t *t, const negobs_rig_t *rig,
+                           const floor_axes_t *a,
+                           const negobs_image_u8_t *left, const int32_t *idx,
+                           int32_t n, int32_t t_max, const travel_turn_t *turn,
+                           int32_t k_lo, int32_t k_hi, int64_t *cost)
+{
+    int32_t k;
+    int32_t best = 0;
+    cost[0] = turned_cost(t, rig, a, left, idx, n, 0, turn);
+    for (k = (k_lo > 1) ? k_lo : 1; k <= k_hi; k++) {
+        cost[k] = turned_cost(t, rig, a, left, idx, n,
+                              t_max * k / TRAVEL_STEPS, turn);
+        if (cost[k] < cost[best]) {
+            best = k;
+        }
+    }
+    return best;
+}
+
+/* The travel over the (T, turn) grid: the whole grid on every
+ * TRAVEL_TURN_COARSE-th patch, then the best turn and its two neighbours
+ * on every patch. Counted only when the images show it, on both stages:
+ * the best T inside the grid and away from standing still, the best turn
+ * away from the turn grid's ends (a faster turn is not measured), and a
+ * cost at most TRAVEL_CLEAR_NUM / TRAVEL_CLEAR_DEN of standing still at
+ * the turn that explains standing still best (a head turning while the
+ * wearer stands still then counts nothing). 0 otherwise. */
+static int32_t turn_search(const travel_track_t *t, const negobs_rig_t *rig,
+                           const floor_axes_t *a,
+                           const negobs_image_u8_t *left, const int32_t *use,
+                           int32_t n_use, int32_t t_max)
+{
+    int64_t cost[TRAVEL_STEPS + 1];
+    int32_t coarse[TRAVEL_SAMPLES];
+    const int64_t step_q30 = ((int64_t)TRAVEL_TURN_STEP_NUM * 16 << 30) /
+                             ((int64_t)TRAVEL_TURN_STEP_DEN *
+                              (rig->focal_q4 > 0 ? rig->focal_q4 : 1));
+    int32_t n_steps;
+    int32_t n_coarse = 0;
+    int32_t i;
+    int32_t j;
+    int32_t j0 = 0;
+    int32_t k0 = 0;
+    int32_t k_lo;
+    int32_t k_hi;
+    int64_t best_c = -1;
+    int64_t still = -1;
+    if (step_q30 <= 0) {
+        return 0;
+    }
+    n_steps = (int32_t)((TRAVEL_TURN_MAX_Q30 + step_q30 - 1) / step_q30);
+    if (n_steps > TRAVEL_TURN_MAX_STEPS) {
+        n_steps = TRAVEL_TURN_MAX_STEPS;
+    }
+    for (i = 0; i < n_use; i += TRAVEL_TURN_COARSE) {
+        coarse[n_coarse++] = use[i];
+    }
+    for (j = -n_steps; j <= n_steps; j++) {
+        const travel_turn_t turn = turn_of(j, step_q30);
+        const int32_t k = best_travel(t, rig, a, left, coarse, n_coarse, t_max,
+                                      &turn, 1, TRAVEL_STEPS, cost);
+        if (best_c < 0 || cost[k] < best_c) {
+            best_c = cost[k];
+            j0 = j;
+            k0 = k;
+        }
+        if (still < 0 || cost[0] < still) {
+            still = cost[0];
+        }
+    }
+    if (k0 < 2 || k0 >= TRAVEL_STEPS || j0 <= -n_steps || j0 >= n_steps ||
+        best_c * TRAVEL_CLEAR_DEN > still * TRAVEL_CLEAR_NUM) {
+        return 0;
+    }
+    /* on every patch: the coarse best T and its neighbours suffice, the
+     * grid's ends are rejected anyway */
+    k_lo = k0 - TRAVEL_FINE_K;
+    k_hi = k0 + TRAVEL_FINE_K;
+    if (k_hi > TRAVEL_STEPS) {
+        k_hi = TRAVEL_STEPS;
+    }
+    best_c = -1;
+    still = -1;
+    k0 = 0;
+    for (j = j0 - 1; j <= j0 + 1; j++) {
+        const travel_turn_t turn = turn_of(j, step_q30);
+        const int32_t k = best_travel(t, rig, a, left, use, n_use, t_max,
+                                      &turn, k_lo, k_hi, cost);
+        if (best_c < 0 || cost[k] < best_c) {
+            best_c = cost[k];
+            k0 = k;
+        }
+        if (still < 0 || cost[0] < still) {
+            still = cost[0];
+        }
+    }
+    if (k0 < 2 || k0 >= TRAVEL_STEPS ||
+        best_c * TRAVEL_CLEAR_DEN > still * TRAVEL_CLEAR_NUM) {
+        return 0;
+    }
+    return t_max * k0 / TRAVEL_STEPS;
+}
+
 /* The travel the held patches show on this frame, or 0. */
 static int32_t measure(const travel_track_t *t, const negobs_rig_t *rig,
                        const floor_axes_t *a, const negobs_image_u8_t *left,
                        int32_t dt_ms)
 {
-    int64_t cost[TRAVEL_STEPS + 1];
     int32_t use[TRAVEL_SAMPLES];
     const int32_t t_max = TRAVEL_MAX_MM_PER_S * dt_ms / 1000;
     int32_t n_use = 0;
-    int32_t k;
     int32_t i;
-    int32_t best = 0;
     if (t_max < TRAVEL_STEPS) {
         return 0;
     }
     /* the patches in view at both ends of the grid are in view at every
-     * candidate between them (a floor point moves monotonically) */
+     * candidate between them (a floor point moves monotonically); a turn
+     * moves them by at most a few pixels more */
     for (i = 0; i < t->n; i++) {
         int32_t u;
         int32_t v;
@@ -173,30 +365,7 @@ static int32_t measure(const travel_track_t *t, const negobs_rig_t *rig,
     if (n_use < TRAVEL_MIN_PATCHES) {
         return 0;
     }
-    for (k = 0; k <= TRAVEL_STEPS; k++) {
-        const int32_t tk = t_max * k / TRAVEL_STEPS;
-        cost[k] = 0;
-        for (i = 0; i < n_use; i++) {
-            const int32_t s = use[i];
-            int32_t u = 0;
-            int32_t v = 0;
-            (void)project(rig, a, t->fwd_mm[s] - tk, t->lat_mm[s], &u, &v);
-            if (!patch_inside(left, u, v)) {
-                /* rounding at the border: count the worst difference */
-                cost[k] += TRAVEL_WORST_COST;
-                continue;
-            }
-            cost[k] += patch_cost(t->px[s], left, u, v);
-        }
-        if (cost[k] < cost[best]) {
-            best = k;
-        }
-    }
-    if (best < 2 || best >= TRAVEL_STEPS ||
-        cost[best] * TRAVEL_CLEAR_DEN > cost[0] * TRAVEL_CLEAR_NUM) {
-        return 0;
-    }
-    return t_max * best / TRAVEL_STEPS;
+    return turn_search(t, rig, a, left, use, n_use, t_max);
 }
 
 /* Floor distance (forward, mm) of pixel (u, v) on the plane; -1: none. */
