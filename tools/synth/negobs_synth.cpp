@@ -48,6 +48,7 @@ struct Options {
     double sway_deg = 1.0; // pitch sway amplitude
     double roll_sway_deg = 0.5;
     double yaw_sway_deg = 0.0; // heading sway of the head or trunk
+    double side_sway_mm = 0.0; // sideways sway of the body
     uint64_t seed = 1;
     bool texture_seed_set = false;
     uint64_t texture_seed = 1;
@@ -123,6 +124,7 @@ void usage(FILE *fp, const char *argv0)
                  "  --roll-sway-deg A    roll sway amplitude, half step frequency (0.5)\n"
                  "  --yaw-sway-deg A     heading sway amplitude, half step frequency (0):\n"
                  "                       the camera turns, the walk keeps its heading\n"
+                 "  --side-sway-mm A     sideways sway amplitude, half step frequency (0)\n"
                  "  --seed N             seed for motion phases, texture and noise (default 1)\n"
                  "Sensor:\n"
                  "  --noise S            Gaussian noise sigma in grey levels (default 0)\n"
@@ -239,6 +241,7 @@ const char *const kValued[] = {"scene",
                                "sway-deg",
                                "roll-sway-deg",
                                "yaw-sway-deg",
+                               "side-sway-mm",
                                "seed",
                                "noise",
                                "gain-right",
@@ -438,6 +441,8 @@ int parse(int argc, char **argv, Options &o)
             rc = num(o.roll_sway_deg, 0.0, 30.0);
         } else if (arg == "--yaw-sway-deg") {
             rc = num(o.yaw_sway_deg, 0.0, 30.0);
+        } else if (arg == "--side-sway-mm") {
+            rc = num(o.side_sway_mm, 0.0, 500.0);
         } else if (arg == "--seed") {
             if (!parse_u64(v, o.seed))
                 return fail(a0, "option --seed: '" + val + "' is not a non-negative integer");
@@ -489,6 +494,7 @@ int parse(int argc, char **argv, Options &o)
         o.sway_deg = 0.0;
         o.roll_sway_deg = 0.0;
         o.yaw_sway_deg = 0.0;
+        o.side_sway_mm = 0.0;
     }
     if (o.height_mm * 1e-3 <= 0.0)
         return fail(a0, "--height-mm must be positive");
@@ -602,6 +608,7 @@ int run(int argc, char **argv)
     const double ph_pitch = 2.0 * kPi * mrng.uniform();
     const double ph_roll = 2.0 * kPi * mrng.uniform();
     const double ph_yaw = 2.0 * kPi * mrng.uniform(); // drawn last: older phases keep
+    const double ph_side = 2.0 * kPi * mrng.uniform();
     const double yaw = o.yaw_deg * kPi / 180.0;
     const std::vector<double> exposure = exposure_schedule(o);
 
@@ -649,20 +656,20 @@ int run(int argc, char **argv)
         std::isfinite(sp.ramp_length) ? fmt("%.6g", sp.ramp_length * 1e3).c_str() : "null",
         negobs_cli::json_escape(o.texture_file.empty() ? o.texture_kind : o.texture_file).c_str(),
         static_cast<unsigned long long>(o.texture_seed), dlist.c_str());
-    std::fprintf(gt,
-                 "\"render\": {\"supersample\": %d, \"noise\": %.6g, \"gain_right\": %.6g, "
-                 "\"offset_right\": %.6g, \"brightness\": %.6g, \"blur\": %.6g, \"seed\": %llu, "
-                 "\"speed_mps\": %.6g, \"fps\": %.6g, \"bob_mm\": %.6g, \"bob_hz\": %.6g, "
-                 "\"sway_deg\": %.6g, \"roll_sway_deg\": %.6g, \"yaw_sway_deg\": %.6g, "
-                 "\"gt_disparity\": %s, "
-                 "\"gt_disparity_right\": %s, \"exposure_pct\": %.6g, \"exposure_every\": %d, "
-                 "\"exposure_lag_right\": %d},\n",
-                 o.render.supersample, o.sensor.noise_sigma, o.sensor.gain_right,
-                 o.sensor.offset_right, o.sensor.brightness, o.sensor.blur,
-                 static_cast<unsigned long long>(o.seed), sequence ? o.speed : 0.0, o.fps, o.bob_mm,
-                 o.bob_hz, o.sway_deg, o.roll_sway_deg, o.yaw_sway_deg,
-                 o.gt_disparity ? "true" : "false", o.gt_disparity_right ? "true" : "false",
-                 o.exposure_pct, o.exposure_every, o.exposure_lag);
+    std::fprintf(
+        gt,
+        "\"render\": {\"supersample\": %d, \"noise\": %.6g, \"gain_right\": %.6g, "
+        "\"offset_right\": %.6g, \"brightness\": %.6g, \"blur\": %.6g, \"seed\": %llu, "
+        "\"speed_mps\": %.6g, \"fps\": %.6g, \"bob_mm\": %.6g, \"bob_hz\": %.6g, "
+        "\"sway_deg\": %.6g, \"roll_sway_deg\": %.6g, \"yaw_sway_deg\": %.6g, \"side_sway_mm\": %.6g, "
+        "\"gt_disparity\": %s, "
+        "\"gt_disparity_right\": %s, \"exposure_pct\": %.6g, \"exposure_every\": %d, "
+        "\"exposure_lag_right\": %d},\n",
+        o.render.supersample, o.sensor.noise_sigma, o.sensor.gain_right, o.sensor.offset_right,
+        o.sensor.brightness, o.sensor.blur, static_cast<unsigned long long>(o.seed),
+        sequence ? o.speed : 0.0, o.fps, o.bob_mm, o.bob_hz, o.sway_deg, o.roll_sway_deg,
+        o.yaw_sway_deg, o.side_sway_mm, o.gt_disparity ? "true" : "false",
+        o.gt_disparity_right ? "true" : "false", o.exposure_pct, o.exposure_every, o.exposure_lag);
     std::fprintf(gt, "\"frames\": [\n");
 
     double render_ms = 0.0;
@@ -672,8 +679,9 @@ int run(int argc, char **argv)
         const double dist = sequence ? o.speed * t : 0.0;
         const double w = 2.0 * kPi * o.bob_hz * t;
         synth::Pose pose;
-        pose.x = dist * std::sin(yaw);
-        pose.z = dist * std::cos(yaw);
+        const double side = o.side_sway_mm * 1e-3 * std::sin(0.5 * w + ph_side);
+        pose.x = dist * std::sin(yaw) + side * std::cos(yaw);
+        pose.z = dist * std::cos(yaw) - side * std::sin(yaw);
         // On a ramp the walker follows the surface under the camera.
         const double ground_y = scene.ground_y(pose.z);
         pose.y = o.height_mm * 1e-3 + o.bob_mm * 1e-3 * std::sin(w + ph_bob) + ground_y;

@@ -208,29 +208,36 @@ int test_flat_gt()
           "flat_gt: bobbing within +-40 mm");
     fs::remove_all(seq);
 
-    // Heading sway: the camera turns to and fro within the amplitude while
-    // the walk keeps its heading (the range still follows speed and fps).
+    // Heading and sideways sway: the camera turns and the body sways to and
+    // fro within the amplitudes while the walk keeps its heading (the range
+    // still follows speed and fps).
     const fs::path ys = scratch("yaw_sway");
     check(run("--scene curb --edge-mm 6000 --frames 12 --speed 1.5 --fps 5 --yaw-sway-deg 3 "
+              "--side-sway-mm 30 "
               "--seed 4 --quiet --out '" +
               ys.string() + "'") == 0,
           "flat_gt: yaw sway run");
     std::ifstream fy(ys / "gt.json");
-    double yaw_min = 1e9, yaw_max = -1e9;
+    double yaw_min = 1e9, yaw_max = -1e9, x_min = 1e9, x_max = -1e9;
     int yaw_frames = 0;
     while (std::getline(fy, line)) {
-        double i = 0, range = 0, yaw = 0;
+        double i = 0, range = 0, yaw = 0, x = 0;
         if (line.rfind("{\"i\": ", 0) != 0 || !json_number(line, "i", i) ||
-            !json_number(line, "edge_range_mm", range) || !json_number(line, "yaw", yaw))
+            !json_number(line, "edge_range_mm", range) || !json_number(line, "yaw", yaw) ||
+            !json_number(line, "cam_x_mm", x))
             continue;
         check(std::fabs(range - (6000.0 - 1500.0 * i / 5.0)) < 0.06,
               "flat_gt: yaw sway keeps the walk's heading");
         yaw_min = std::min(yaw_min, yaw);
         yaw_max = std::max(yaw_max, yaw);
+        x_min = std::min(x_min, x);
+        x_max = std::max(x_max, x);
         ++yaw_frames;
     }
     check(yaw_frames == 12 && yaw_max - yaw_min > 2.0 && yaw_max <= 3.0001 && yaw_min >= -3.0001,
           "flat_gt: heading sways within +-3 deg");
+    check(x_max - x_min > 20.0 && x_max <= 30.01 && x_min >= -30.01,
+          "flat_gt: the body sways sideways within +-30 mm");
     fs::remove_all(ys);
 
     // Under roll and yaw the edge is a slanted straight line; its row at
