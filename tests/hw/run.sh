@@ -135,7 +135,11 @@ need_tools() {
     return 1
   fi
   step "apt-get install ${missing[*]}"
-  apt_retry apt-get update -qq || return 1
+  # A mirror mid-sync fails one index ("Hashes of expected file") while
+  # the others, and the lists of an earlier update, still serve the
+  # packages: try the install with them; it fails by itself if they do not.
+  apt_retry apt-get update -qq ||
+    step "apt-get update failed; installing from the lists at hand"
   quiet env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
     "${missing[@]}"
 }
