@@ -120,6 +120,8 @@ struct Seq {
     double gain_right = 1.0, offset_right = 0.0;
     double exposure_pct = 0.0;
     int exposure_lag = 0;
+    // --sway: the camera's heading and the body sway while walking
+    double yaw_sway_deg = 0.0, side_sway_mm = 0.0;
     bool no_hint = false; // --set rigs: the detector is told no mounting
 };
 
@@ -207,7 +209,8 @@ const char *const kTextures[] = {"asphalt", "paving", "concrete", "worn"};
 // (on every fourth the right camera follows one frame late). Weak
 // textures (concrete, worn asphalt) also have the same brightness on both
 // levels. Appended after the other walks, so their seeds stay.
-void add_generic_walks(std::vector<Seq> &s, int &seed, int app_frames, int draw)
+void add_generic_walks(std::vector<Seq> &s, int &seed, int app_frames, int draw,
+                       bool sway)
 {
     int n = 0;
     auto add = [&](int rig, const std::string &scene, int drop, double start, int frames,
@@ -224,6 +227,12 @@ void add_generic_walks(std::vector<Seq> &s, int &seed, int app_frames, int draw)
         q.offset_right = std::round(-10 + 20 * rng.uniform());
         q.exposure_pct = n % 2 == 1 ? 25 : 0;
         q.exposure_lag = n % 4 == 3 ? 1 : 0;
+        if (sway) {
+            // drawn from their own stream: the walk is the same one, swaying
+            SplitMix srng{static_cast<uint64_t>(sd) * 0x9E3779B97F4A7C15ull + 11};
+            q.yaw_sway_deg = std::round(10 * 4 * srng.uniform()) / 10;
+            q.side_sway_mm = std::round(40 * srng.uniform());
+        }
         ++n;
         q.generic = true;
         q.texture = texture;
@@ -233,6 +242,9 @@ void add_generic_walks(std::vector<Seq> &s, int &seed, int app_frames, int draw)
                       scene.c_str(), drop, texture.c_str(), start / 1000.0, q.H_mm,
                       q.pitch_deg, q.roll_deg, sd, approach ? "_appr" : "");
         q.name = nm;
+        if (sway) {
+            q.name += "_sw";
+        }
         q.rig = rig;
         q.scene = scene;
         q.drop_mm = drop;
@@ -317,7 +329,7 @@ void add_rig_walks(std::vector<Seq> &s, int &seed, int draw)
     }
 }
 
-std::vector<Seq> build_suite(bool quick, SuiteSet set, int draw)
+std::vector<Seq> build_suite(bool quick, SuiteSet set, int draw, bool sway)
 {
     std::vector<Seq> s;
     int seed = 100;
@@ -428,7 +440,7 @@ std::vector<Seq> build_suite(bool quick, SuiteSet set, int draw)
         }
     }
     if (set != SuiteSet::Legacy) {
-        add_generic_walks(s, seed, app_frames, draw);
+        add_generic_walks(s, seed, app_frames, draw, sway);
     }
     if (set == SuiteSet::Generic) {
         s.erase(
@@ -558,6 +570,8 @@ struct Options {
     // only the second is scored, told the mounting the first established
     // with evidence (negobs_run's mount_file); nothing kept: the generic hint
     bool remembered = false;
+    // --sway: the added walks sway (heading 0-4 deg, sideways 0-40 mm)
+    bool sway = false;
     bool keep = false;
     int jobs = 2;
     int draw = 0; // --draw N: another draw of the generic / rigs walks
@@ -611,6 +625,10 @@ bool run_seq(const Options &opt, const Seq &q, int idx, std::vector<Rec> &out,
             if (q.exposure_pct > 0) {
                 cmd << " --exposure-pct " << q.exposure_pct << " --exposure-every 8"
                     << " --exposure-lag-right " << q.exposure_lag;
+            }
+            if (q.yaw_sway_deg > 0 || q.side_sway_mm > 0) {
+                cmd << " --yaw-sway-deg " << q.yaw_sway_deg << " --side-sway-mm "
+                    << q.side_sway_mm;
             }
         }
         cmd << " --out " << shell_quote(dir) << " > " << shell_quote(dir + ".log")
@@ -1164,7 +1182,7 @@ void report_rigs(Report &rep, const std::vector<Seq> &suite,
 
 int evaluate_synth(const Options &opt)
 {
-    const std::vector<Seq> suite = build_suite(opt.quick, opt.set, opt.draw);
+    const std::vector<Seq> suite = build_suite(opt.quick, opt.set, opt.draw, opt.sway);
     std::error_code ec;
     fs::create_directories(opt.work, ec);
     if (ec) {
@@ -2294,7 +2312,7 @@ void usage(FILE *f)
 {
     std::fprintf(
         f,
-        "usage: negobs_detect_eval --all|--quick [--set all|legacy|generic|rigs] [--rig-hint] [--rig-range63] [--remembered] [--draw N] [--valign] [-j|--jobs N]\n"
+        "usage: negobs_detect_eval --all|--quick [--set all|legacy|generic|rigs] [--rig-hint] [--rig-range63] [--remembered] [--sway] [--draw N] [--valign] [-j|--jobs N]\n"
         "                          [--work DIR] [--keep]\n"
         "                          [--synth PATH] [--markdown FILE] [--frames-json FILE]\n"
         "       negobs_detect_eval --surdis [DIR] [--img-dir DIR] [--markdown FILE]\n"
@@ -2332,6 +2350,9 @@ void usage(FILE *f)
         "and only the second is scored, told the mounting the first established\n"
         "with evidence (ground_ref_by hint, feet or walk), as negobs_run's mount_file\n"
         "does on the next switch-on; the generic hint when nothing was kept.\n"
+        "--sway (with --set all or generic): the added walks also sway as a worn\n"
+        "camera does: heading +-0-4 deg and sideways +-0-40 mm at half the step\n"
+        "rate (negobs_synth --yaw-sway-deg, --side-sway-mm); names end in _sw.\n"
         "--valign: the synthetic suite runs the alignment stage (valign.h).\n"
         "--surdis: SurDis sequence 21 from DIR (default $NEGOBS_DATA/surdis,\n"
         "else <repo>/../shared/data/surdis); exit 77 if absent. --surdis-vshift:\n"
@@ -2365,6 +2386,7 @@ enum LongOnly {
     O_RIG_HINT,
     O_RIG_RANGE63,
     O_REMEMBERED,
+    O_SWAY,
     O_DRAW,
     O_KEEP,
     O_WORK,
@@ -2397,6 +2419,7 @@ const struct option kLongOpts[] = {
     {"rig-hint", no_argument, nullptr, O_RIG_HINT},
     {"rig-range63", no_argument, nullptr, O_RIG_RANGE63},
     {"remembered", no_argument, nullptr, O_REMEMBERED},
+    {"sway", no_argument, nullptr, O_SWAY},
     {"draw", required_argument, nullptr, O_DRAW},
     {"keep", no_argument, nullptr, O_KEEP},
     {"jobs", required_argument, nullptr, 'j'},
@@ -2514,6 +2537,7 @@ int main(int argc, char **argv)
         case O_RIG_HINT: opt.rig_hint = true; break;
         case O_RIG_RANGE63: opt.rig_range63 = true; break;
         case O_REMEMBERED: opt.remembered = true; break;
+        case O_SWAY: opt.sway = true; break;
         case O_DRAW: ok = negobs_cli::parse_int(optarg, 0, 1000, opt.draw); break;
         case O_KEEP: opt.keep = true; break;
         case 'j': ok = negobs_cli::parse_int(optarg, 1, 64, opt.jobs); break;
@@ -2590,6 +2614,11 @@ int main(int argc, char **argv)
     if (opt.remembered && opt.set != SuiteSet::All && opt.set != SuiteSet::Generic) {
         std::fprintf(stderr, "negobs_detect_eval: error: --remembered needs --set all or "
                              "--set generic (the walks told a generic mounting)\n");
+        return 2;
+    }
+    if (opt.sway && opt.set != SuiteSet::All && opt.set != SuiteSet::Generic) {
+        std::fprintf(stderr, "negobs_detect_eval: error: --sway needs --set all or "
+                             "--set generic (the added walks)\n");
         return 2;
     }
     if (opt.rig_range63 && opt.set != SuiteSet::Rigs) {
