@@ -88,43 +88,58 @@ static void geo_init(geo_t *g)
         NEGOBS_OK);
 }
 
-/* Walking 120 mm between frames 100 ms apart (1.2 m/s) reads 120 mm within
- * one candidate step of the grid (200 mm / 24 = 8 mm) plus rounding. */
-static void test_travel_reads_a_walk(void **state)
+/* Walks 120 mm between frames 100 ms apart (1.2 m/s), the camera turned
+ * by yaw_deg[k] on frame k (NULL: no turn), and checks that every frame
+ * after the first reads 120 mm within one candidate step of the grid
+ * (200 mm / 24 = 8 mm) plus rounding. */
+static void assert_walk_reads(const double *yaw_deg, int frames)
 {
     static travel_track_t t;
     geo_t g;
     int k;
-    (void)state;
     geo_init(&g);
     travel_reset(&t);
-    render(0.0, 2.0);
-    assert_int_equal(travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 1000u),
-                     0);
-    for (k = 1; k <= 4; k++) {
+    for (k = 0; k < frames; k++) {
         int32_t mm;
-        render(120.0 * k, 2.0);
+        render_turned(120.0 * k, (yaw_deg != NULL) ? yaw_deg[k] : 0.0, 2.0);
         mm = travel_step(&t, &g.rig, &g.plane, &g.frame, &img,
                          1000u + 100u * (uint32_t)k);
-        assert_in_range(mm, 104, 136);
+        if (k == 0) {
+            assert_int_equal(mm, 0); /* nothing held yet */
+        } else {
+            assert_in_range(mm, 104, 136);
+        }
     }
+}
+
+/* Standing still for six frames with fresh noise, the camera turning by
+ * turn_deg and back on every other frame: no travel. */
+static void assert_standing_reads_nothing(double turn_deg)
+{
+    static travel_track_t t;
+    geo_t g;
+    int k;
+    geo_init(&g);
+    travel_reset(&t);
+    for (k = 0; k < 6; k++) {
+        render_turned(0.0, (k % 2 == 0) ? 0.0 : turn_deg, 3.0);
+        assert_int_equal(travel_step(&t, &g.rig, &g.plane, &g.frame, &img,
+                                     1000u + 100u * (uint32_t)k),
+                         0);
+    }
+}
+
+static void test_travel_reads_a_walk(void **state)
+{
+    (void)state;
+    assert_walk_reads(NULL, 5);
 }
 
 /* Standing still: the same floor with fresh noise reads no travel. */
 static void test_travel_standing_still_reads_nothing(void **state)
 {
-    static travel_track_t t;
-    geo_t g;
-    int k;
     (void)state;
-    geo_init(&g);
-    travel_reset(&t);
-    for (k = 0; k < 6; k++) {
-        render(0.0, 3.0);
-        assert_int_equal(travel_step(&t, &g.rig, &g.plane, &g.frame, &img,
-                                     1000u + 100u * (uint32_t)k),
-                         0);
-    }
+    assert_standing_reads_nothing(0.0);
 }
 
 /* Faster than the grid (3.5 m/s), a gap longer than 500 ms, no image, an
@@ -160,46 +175,25 @@ static void test_travel_counts_nothing_it_cannot_see(void **state)
 }
 
 /* Walking 120 mm a frame while the camera turns to and fro by 1.5 and
- * 2.5 deg between frames (the trunk's sway at the stride's rate): the
- * turn spoils the search without one, and the search with one reads the
- * walk as in test_travel_reads_a_walk. */
+ * 2.5 deg between frames (the trunk's sway at the stride's rate): read as
+ * without the turn. Searched for T alone, the first step read 166 mm. */
 static void test_travel_reads_a_walk_while_turning(void **state)
 {
-    static travel_track_t t;
     static const double yaw_deg[] = {0.0, 1.5, 0.0, -2.5, 0.0, 2.5, 1.0};
-    geo_t g;
-    int k;
     (void)state;
-    geo_init(&g);
-    travel_reset(&t);
-    render_turned(0.0, yaw_deg[0], 2.0);
-    (void)travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 1000u);
-    for (k = 1; k < (int)(sizeof yaw_deg / sizeof yaw_deg[0]); k++) {
-        int32_t mm;
-        render_turned(120.0 * k, yaw_deg[k], 2.0);
-        mm = travel_step(&t, &g.rig, &g.plane, &g.frame, &img,
-                         1000u + 100u * (uint32_t)k);
-        assert_in_range(mm, 104, 136);
-    }
+    assert_walk_reads(yaw_deg, (int)(sizeof yaw_deg / sizeof yaw_deg[0]));
 }
 
-/* Standing still while the head turns by 2 deg a frame reads no travel,
- * and a turn faster than the search (5 deg between frames, looking aside)
- * counts nothing while walking. */
+/* Standing still while the head turns by 2 deg a frame reads no travel
+ * (searched for T alone: 83 mm), and a turn faster than the search (5 deg
+ * between frames, looking aside) counts nothing while walking. */
 static void test_travel_turning_in_place_reads_nothing(void **state)
 {
     static travel_track_t t;
     geo_t g;
-    int k;
     (void)state;
+    assert_standing_reads_nothing(2.0);
     geo_init(&g);
-    travel_reset(&t);
-    for (k = 0; k < 6; k++) {
-        render_turned(0.0, (k % 2 == 0) ? 0.0 : 2.0, 3.0);
-        assert_int_equal(travel_step(&t, &g.rig, &g.plane, &g.frame, &img,
-                                     1000u + 100u * (uint32_t)k),
-                         0);
-    }
     travel_reset(&t);
     render_turned(0.0, 0.0, 2.0);
     (void)travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 2000u);
