@@ -253,88 +253,90 @@ static int32_t best_travel(const travel_track_t *t, const negobs_rig_t *rig,
     return best;
 }
 
+/* The best (turn, T) of one stage of the search, and standing still's
+ * least cost over the same turns. */
+typedef struct turn_best {
+    int64_t cost;
+    int64_t still;
+    int32_t j; /* turn steps */
+    int32_t k; /* T steps    */
+} turn_best_t;
+
+/* Turns j_lo .. j_hi, T steps k_lo .. k_hi (and 0), on the patches idx. */
+static turn_best_t scan_turns(const travel_track_t *t, const negobs_rig_t *rig,
+                              const floor_axes_t *a,
+                              const negobs_image_u8_t *left,
+                              const int32_t *idx, int32_t n, int32_t t_max,
+                              int64_t step_q30, int32_t j_lo, int32_t j_hi,
+                              int32_t k_lo, int32_t k_hi)
+{
+    int64_t cost[TRAVEL_STEPS + 1];
+    turn_best_t b = {-1, -1, 0, 0};
+    int32_t j;
+    for (j = j_lo; j <= j_hi; j++) {
+        const travel_turn_t turn = turn_of(j, step_q30);
+        const int32_t k = best_travel(t, rig, a, left, idx, n, t_max, &turn,
+                                      k_lo, k_hi, cost);
+        if (b.cost < 0 || cost[k] < b.cost) {
+            b.cost = cost[k];
+            b.j = j;
+            b.k = k;
+        }
+        if (b.still < 0 || cost[0] < b.still) {
+            b.still = cost[0];
+        }
+    }
+    return b;
+}
+
+/* measure()'s conditions: the best T inside the grid and away from
+ * standing still, at most TRAVEL_CLEAR_NUM / TRAVEL_CLEAR_DEN of standing
+ * still's cost. */
+static int travel_clear(const turn_best_t *b)
+{
+    return b->k >= 2 && b->k < TRAVEL_STEPS &&
+           b->cost * TRAVEL_CLEAR_DEN <= b->still * TRAVEL_CLEAR_NUM;
+}
+
 /* The travel over the (T, turn) grid: the whole grid on every
  * TRAVEL_TURN_COARSE-th patch, then the best turn and its two neighbours
- * on every patch. Counted only when the images show it, on both stages:
- * the best T inside the grid and away from standing still, the best turn
- * away from the turn grid's ends (a faster turn is not measured), and a
- * cost at most TRAVEL_CLEAR_NUM / TRAVEL_CLEAR_DEN of standing still at
- * the turn that explains standing still best (a head turning while the
- * wearer stands still then counts nothing). 0 otherwise. */
+ * on every patch, within TRAVEL_FINE_K steps of the coarse best T.
+ * Counted only when the images show it, on both stages (travel_clear(),
+ * standing still taken at the turn that explains it best, so a head
+ * turning while the wearer stands still counts nothing), and with the
+ * coarse best turn away from the grid's ends (a faster turn is not
+ * measured). 0 otherwise. */
 static int32_t turn_search(const travel_track_t *t, const negobs_rig_t *rig,
                            const floor_axes_t *a,
                            const negobs_image_u8_t *left, const int32_t *use,
                            int32_t n_use, int32_t t_max)
 {
-    int64_t cost[TRAVEL_STEPS + 1];
     int32_t coarse[TRAVEL_SAMPLES];
+    /* positive: focal_q4 < 2^31 */
     const int64_t step_q30 = ((int64_t)TRAVEL_TURN_STEP_NUM * 16 << 30) /
                              ((int64_t)TRAVEL_TURN_STEP_DEN *
                               (rig->focal_q4 > 0 ? rig->focal_q4 : 1));
-    int32_t n_steps;
+    int32_t n_steps = (int32_t)((TRAVEL_TURN_MAX_Q30 + step_q30 - 1) /
+                                step_q30);
     int32_t n_coarse = 0;
     int32_t i;
-    int32_t j;
-    int32_t j0 = 0;
-    int32_t k0 = 0;
-    int32_t k_lo;
-    int32_t k_hi;
-    int64_t best_c = -1;
-    int64_t still = -1;
-    if (step_q30 <= 0) {
-        return 0;
-    }
-    n_steps = (int32_t)((TRAVEL_TURN_MAX_Q30 + step_q30 - 1) / step_q30);
+    turn_best_t b;
     if (n_steps > TRAVEL_TURN_MAX_STEPS) {
         n_steps = TRAVEL_TURN_MAX_STEPS;
     }
     for (i = 0; i < n_use; i += TRAVEL_TURN_COARSE) {
         coarse[n_coarse++] = use[i];
     }
-    for (j = -n_steps; j <= n_steps; j++) {
-        const travel_turn_t turn = turn_of(j, step_q30);
-        const int32_t k = best_travel(t, rig, a, left, coarse, n_coarse, t_max,
-                                      &turn, 1, TRAVEL_STEPS, cost);
-        if (best_c < 0 || cost[k] < best_c) {
-            best_c = cost[k];
-            j0 = j;
-            k0 = k;
-        }
-        if (still < 0 || cost[0] < still) {
-            still = cost[0];
-        }
-    }
-    if (k0 < 2 || k0 >= TRAVEL_STEPS || j0 <= -n_steps || j0 >= n_steps ||
-        best_c * TRAVEL_CLEAR_DEN > still * TRAVEL_CLEAR_NUM) {
+    b = scan_turns(t, rig, a, left, coarse, n_coarse, t_max, step_q30,
+                   -n_steps, n_steps, 1, TRAVEL_STEPS);
+    if (!travel_clear(&b) || b.j <= -n_steps || b.j >= n_steps) {
         return 0;
     }
-    /* on every patch: the coarse best T and its neighbours suffice, the
-     * grid's ends are rejected anyway */
-    k_lo = k0 - TRAVEL_FINE_K;
-    k_hi = k0 + TRAVEL_FINE_K;
-    if (k_hi > TRAVEL_STEPS) {
-        k_hi = TRAVEL_STEPS;
-    }
-    best_c = -1;
-    still = -1;
-    k0 = 0;
-    for (j = j0 - 1; j <= j0 + 1; j++) {
-        const travel_turn_t turn = turn_of(j, step_q30);
-        const int32_t k = best_travel(t, rig, a, left, use, n_use, t_max,
-                                      &turn, k_lo, k_hi, cost);
-        if (best_c < 0 || cost[k] < best_c) {
-            best_c = cost[k];
-            k0 = k;
-        }
-        if (still < 0 || cost[0] < still) {
-            still = cost[0];
-        }
-    }
-    if (k0 < 2 || k0 >= TRAVEL_STEPS ||
-        best_c * TRAVEL_CLEAR_DEN > still * TRAVEL_CLEAR_NUM) {
-        return 0;
-    }
-    return t_max * k0 / TRAVEL_STEPS;
+    b = scan_turns(t, rig, a, left, use, n_use, t_max, step_q30, b.j - 1,
+                   b.j + 1, b.k - TRAVEL_FINE_K,
+                   (b.k + TRAVEL_FINE_K < TRAVEL_STEPS) ? b.k + TRAVEL_FINE_K
+                                                        : TRAVEL_STEPS);
+    return travel_clear(&b) ? t_max * b.k / TRAVEL_STEPS : 0;
 }
 
 /* The travel the held patches show on this frame, or 0. */
