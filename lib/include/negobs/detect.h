@@ -269,6 +269,14 @@ typedef struct negobs_detect_config {
                                      once one sighting's drop reached
                                      h_t (docs/DETECTION.md section 6) */
     int32_t clear_m;            /**< clean frames to clear (default 5)  */
+    int32_t frame_interval_ms;  /**< the frame interval the frame counts
+                                     (confirm_k/n, clear_m, the slow
+                                     tracks' gains) are set for (100:
+                                     10 fps). Frames that come faster
+                                     multiply them by the whole number
+                                     of frames per interval (at most 6);
+                                     0: count frames as given
+                                     (docs/DETECTION.md section 6)      */
     int32_t hold_ms;            /**< latch after leaving image (3000);
                                      sooner once walked 500 mm past it  */
     int32_t hold_speed_mm_s;    /**< dead-reckoning speed (1400 mm/s)   */

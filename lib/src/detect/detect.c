@@ -409,10 +409,11 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
         det_ground_ref_follow(p, cfg, &g, fw.unverified);
         det_near_candidate_note(p, cfg, res, frame->now_ms);
     }
-    /* height and roll follow only a view of the ground under the feet */
+    /* height and roll follow only a view of the ground under the feet,
+     * on ticks (temporal.h: a gain per tick holds its time at any rate) */
     mount_update(&p->mount, cfg, g.ok ? &g.pose : NULL,
-                 g.ok && !fw.unverified && !p->drop_on, frame->now_ms,
-                 &res->mount);
+                 g.ok && !fw.unverified && !p->drop_on && p->temporal.tick,
+                 frame->now_ms, &res->mount);
     if (p->ref_ok) {
         res->ground_ref_by = p->ref_by;
         res->ground_ref_height_mm = p->ref_height_mm;

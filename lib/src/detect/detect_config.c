@@ -68,6 +68,8 @@ void negobs_detect_config_default(negobs_detect_config_t *cfg, int32_t width,
     cfg->confirm_k = 3;
     cfg->confirm_n = 5;
     cfg->clear_m = 5;
+    /* The rate every frame count here was set and evaluated at. */
+    cfg->frame_interval_ms = 100;
     cfg->hold_ms = 3000;
     cfg->hold_speed_mm_s = 1400;
     cfg->max_speed_mm_s = 2000;
@@ -170,6 +172,7 @@ static negobs_status_t config_check(const negobs_detect_config_t *c)
     if (!in_range(c->confirm_n, 1, 31) ||
         !in_range(c->confirm_k, 1, c->confirm_n) ||
         !in_range(c->clear_m, 1, 1000) || !in_range(c->hold_ms, 0, 60000) ||
+        !in_range(c->frame_interval_ms, 0, 1000) ||
         !in_range(c->hold_speed_mm_s, 0, 5000) ||
         !in_range(c->max_speed_mm_s, 0, 10000) ||
         !in_range(c->assoc_range_mm, 0, 5000) ||

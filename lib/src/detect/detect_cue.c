@@ -302,8 +302,10 @@ void det_ground_ref_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
     if (p->drop_on || 2 * negobs_abs_s32(dh) >= cfg->ground_drop_mm) {
         return;
     }
-    p->ref_height_mm += dh / 4;
-    p->ref_pitch_mdeg += (g->pose.pitch_mdeg - p->ref_pitch_mdeg) / 4;
+    if (p->temporal.tick) {
+        p->ref_height_mm += dh / 4;
+        p->ref_pitch_mdeg += (g->pose.pitch_mdeg - p->ref_pitch_mdeg) / 4;
+    }
 }
 
 /* The walking pitch sway of a worn camera is 1-3 deg either way; a fit
@@ -433,11 +435,14 @@ int det_fit_fell(detect_priv_t *p, const negobs_detect_config_t *cfg,
         pitch_fell = 0;
     } else {
         const int32_t ref_p = p->slow_fit_pitch_mdeg;
-        p->slow_fit_height_mm = ref +
-                                ((h > ref) ? (h - ref) / 4 : (h - ref) / 16);
-        p->slow_fit_pitch_mdeg = ref_p + ((pitch > ref_p)
-                                              ? (pitch - ref_p) / 4
-                                              : (pitch - ref_p) / 16);
+        /* followed on ticks (temporal.h): the same time at any rate */
+        if (p->temporal.tick) {
+            p->slow_fit_height_mm = ref + ((h > ref) ? (h - ref) / 4
+                                                     : (h - ref) / 16);
+            p->slow_fit_pitch_mdeg = ref_p + ((pitch > ref_p)
+                                                  ? (pitch - ref_p) / 4
+                                                  : (pitch - ref_p) / 16);
+        }
         /* Without an image (or a profile to compare) a turn cannot be told
          * from a tilted fit, and the pitch is not judged. */
         pitch_fell = have_image && p->row_prof_ok &&

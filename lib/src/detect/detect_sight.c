@@ -4,7 +4,8 @@
 
 /*
  * The vouched range of this frame, as far as the candidates of the last
- * confirm_n - 1 frames allow: each sighting at range r, t ms ago, bounds
+ * confirm_n - 1 frame intervals (frame_interval_ms; frames when it is 0)
+ * allow: each sighting at range r, t ms ago, bounds
  * it at r - hold_speed_mm_s * t (the walker may have come that much
  * nearer), at least 0. INT32_MAX when there is none.
  *
@@ -25,12 +26,19 @@ int32_t det_sight_bound(const detect_priv_t *p,
 {
     int32_t bound = INT32_MAX;
     int32_t i;
-    int32_t n = geom_min_s32(p->sight_n, cfg->confirm_n - 1);
+    /* the window in time at the configured frame interval (to its middle
+     * beyond the last one), else in frames */
+    const int32_t iv = cfg->frame_interval_ms;
+    const int64_t span_ms = (iv > 0)
+                                ? (int64_t)(cfg->confirm_n - 1) * iv + iv / 2
+                                : (int64_t)cfg->hold_ms;
+    int32_t n = (iv > 0) ? p->sight_n
+                         : geom_min_s32(p->sight_n, cfg->confirm_n - 1);
     for (i = 0; i < n; i++) {
         int32_t k = (p->sight_head - 1 - i + SIGHT_FRAMES) % SIGHT_FRAMES;
         int64_t dt = (int64_t)(int32_t)(now_ms - p->sight_ms[k]);
         int64_t r;
-        if (dt < 0 || dt > cfg->hold_ms) {
+        if (dt < 0 || dt > cfg->hold_ms || dt > span_ms) {
             break; /* older entries are older still */
         }
         if (p->sight_range_mm[k] == INT32_MAX) {

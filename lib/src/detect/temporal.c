@@ -54,6 +54,20 @@ static uint32_t window_mask(const negobs_detect_config_t *cfg)
                                   : (((uint32_t)1 << cfg->confirm_n) - 1u);
 }
 
+/* Is this frame a tick (temporal_t.tick)? */
+static void frame_clock(temporal_t *t, uint32_t now_ms)
+{
+    const int32_t iv = t->cfg->frame_interval_ms;
+    const int32_t dt = elapsed_ms(now_ms, t->tick_ms);
+    /* 3/4 of the interval: a 10 fps camera's jitter never skips a tick,
+     * 30 fps ticks on every third frame, 15 fps on every other one */
+    t->tick = iv <= 0 || !t->tick_have || dt < 0 || 4 * dt >= 3 * iv;
+    if (t->tick) {
+        t->tick_ms = now_ms;
+        t->tick_have = 1;
+    }
+}
+
 static int32_t held_range(const negobs_detect_config_t *cfg,
                           const tmp_track_t *tr, uint32_t now_ms)
 {
@@ -373,6 +387,12 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
     uint32_t i;
     int32_t k;
 
+    frame_clock(t, now_ms);
+    if (!t->tick) {
+        /* between ticks the tracks stand still: held ranges are
+         * dead-reckoned in time by temporal_report() all the same */
+        return;
+    }
     if (n > NEGOBS_DETECT_MAX_HAZARDS) {
         n = NEGOBS_DETECT_MAX_HAZARDS;
     }
