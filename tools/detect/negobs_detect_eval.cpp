@@ -129,6 +129,7 @@ struct Seq {
 struct Rec {
     int seq;
     int i;
+    double i10; // the frame's time in 10 fps frames (--fps)
     bool gt_range;
     double gt_mm;
     double gt_drop;
@@ -562,6 +563,7 @@ struct Options {
     std::string markdown;
     std::string frames_json;
     bool quick = false;
+    int fps = 10; // --fps: the synthetic walks' frame rate
     SuiteSet set = SuiteSet::All;
     bool valign = false;      // synthetic suite: run the alignment stage
     bool rig_hint = false;    // --set rigs: tell the detector the rendered mounting
@@ -600,21 +602,26 @@ bool run_seq(const Options &opt, const Seq &q, int idx, std::vector<Rec> &out,
              std::string &err)
 {
     const Rig &rig = kRigs[q.rig];
-    const std::string dir = (fs::path(opt.work) / q.name).string();
+    // --fps: the same walk in time, F/10 times the frames
+    const int frames = q.frames * opt.fps / 10;
+    const std::string dir = (fs::path(opt.work) /
+                             (opt.fps == 10 ? q.name
+                                            : q.name + "_f" + std::to_string(opt.fps)))
+                                .string();
     const std::string gtp = (fs::path(dir) / "gt.json").string();
     GtSeq gt;
     std::string e2;
     bool have = fs::exists(gtp) && read_gt(gtp, gt, e2) &&
-                static_cast<int>(gt.frames.size()) == q.frames;
+                static_cast<int>(gt.frames.size()) == frames;
     if (!have) {
         std::ostringstream cmd;
         cmd << shell_quote(opt.synth) << " --scene " << q.scene << " --drop-mm "
             << (q.drop_mm > 0 ? q.drop_mm : 150) << " --edge-mm " << q.start_mm
-            << " --frames " << q.frames << " --fps 10 --speed " << kSpeed << " --yaw-deg "
-            << q.yaw << " --seed " << q.seed << " --noise 2 --blur 0.5 --width " << rig.w
-            << " --height " << rig.h << " --f " << rig.f << " --baseline-mm " << rig.B
-            << " --height-mm " << q.H_mm << " --pitch-deg " << q.pitch_deg
-            << " --threads 1 --quiet " << q.extra;
+            << " --frames " << frames << " --fps " << opt.fps << " --speed " << kSpeed
+            << " --yaw-deg " << q.yaw << " --seed " << q.seed
+            << " --noise 2 --blur 0.5 --width " << rig.w << " --height " << rig.h
+            << " --f " << rig.f << " --baseline-mm " << rig.B << " --height-mm " << q.H_mm
+            << " --pitch-deg " << q.pitch_deg << " --threads 1 --quiet " << q.extra;
         if (q.generic) {
             cmd << " --roll-deg " << q.roll_deg << " --texture-kind " << q.texture
                 << " --gain-right " << q.gain_right << " --offset-right "
@@ -672,7 +679,8 @@ bool run_seq(const Options &opt, const Seq &q, int idx, std::vector<Rec> &out,
             FrameOut o;
             if (!load_grey((fs::path(dir) / gt.frames[k].left).string(), L, err) ||
                 !load_grey((fs::path(dir) / gt.frames[k].right).string(), R, err) ||
-                !first.process(L, R, 1000u + static_cast<uint32_t>(100 * k), o, err)) {
+                !first.process(L, R, 1000u + static_cast<uint32_t>(1000 * k / opt.fps), o,
+                               err)) {
                 return false;
             }
             last = o.res.detect;
@@ -696,13 +704,14 @@ bool run_seq(const Options &opt, const Seq &q, int idx, std::vector<Rec> &out,
             return false;
         }
         FrameOut o;
-        const uint32_t t = 1000u + static_cast<uint32_t>(100 * k);
+        const uint32_t t = 1000u + static_cast<uint32_t>(1000 * k / opt.fps);
         if (!runner.process(L, R, t, o, err)) {
             return false;
         }
         Rec r{};
         r.seq = idx;
         r.i = g.i;
+        r.i10 = g.i * 10.0 / opt.fps;
         r.gt_range = g.has_range;
         r.gt_mm = g.edge_range_mm;
         r.gt_drop = g.drop_mm;
@@ -825,7 +834,7 @@ void accumulate(const Seq &q, const std::vector<Rec> &rs, Fig &f)
                 f.fv += clear_near || vouched_mm(r) > 1.1 * d;
             }
         }
-        if (neg && q.drop_mm >= 100 && r.i >= kWarmFrames && r.gt_range && r.in_view &&
+        if (neg && q.drop_mm >= 100 && r.i10 >= kWarmFrames && r.gt_range && r.in_view &&
             r.gt_mm >= 1500 && r.gt_mm <= 3000) {
             for (auto *p :
                  {&f.det, &f.by_type[type_label(q.scene)], &f.by_tex[q.texture]}) {
@@ -1305,7 +1314,7 @@ int evaluate_synth(const Options &opt)
                     continue;
                 }
                 for (const Rec &r : recs[k]) {
-                    if (r.i < kWarmFrames || !r.gt_range || !r.visible) {
+                    if (r.i10 < kWarmFrames || !r.gt_range || !r.visible) {
                         continue;
                     }
                     for (int b = 0; b < nb; ++b) {
@@ -1343,7 +1352,7 @@ int evaluate_synth(const Options &opt)
                                                    " cm, yaw 30 deg"
                                              : "");
             for (const Rec &r : recs[k]) {
-                if (r.i < kWarmFrames || !r.gt_range || !r.visible || r.gt_mm < 1000 ||
+                if (r.i10 < kWarmFrames || !r.gt_range || !r.visible || r.gt_mm < 1000 ||
                     r.gt_mm >= 6000) {
                     continue;
                 }
@@ -1611,7 +1620,7 @@ int evaluate_synth(const Options &opt)
             continue;
         }
         for (const Rec &r : recs[k]) {
-            if (r.i < kWarmFrames || !r.gt_range || !r.visible || r.gt_mm < 1500 ||
+            if (r.i10 < kWarmFrames || !r.gt_range || !r.visible || r.gt_mm < 1500 ||
                 r.gt_mm > 3000) {
                 continue;
             }
@@ -2312,7 +2321,7 @@ void usage(FILE *f)
 {
     std::fprintf(
         f,
-        "usage: negobs_detect_eval --all|--quick [--set all|legacy|generic|rigs] [--rig-hint] [--rig-range63] [--remembered] [--sway] [--draw N] [--valign] [-j|--jobs N]\n"
+        "usage: negobs_detect_eval --all|--quick [--set all|legacy|generic|rigs] [--rig-hint] [--rig-range63] [--remembered] [--sway] [--fps F] [--draw N] [--valign] [-j|--jobs N]\n"
         "                          [--work DIR] [--keep]\n"
         "                          [--synth PATH] [--markdown FILE] [--frames-json FILE]\n"
         "       negobs_detect_eval --surdis [DIR] [--img-dir DIR] [--markdown FILE]\n"
@@ -2353,6 +2362,9 @@ void usage(FILE *f)
         "--sway (with --set all or generic): the added walks also sway as a worn\n"
         "camera does: heading +-0-4 deg and sideways +-0-40 mm at half the step\n"
         "rate (negobs_synth --yaw-sway-deg, --side-sway-mm); names end in _sw.\n"
+        "--fps F (5-60, default 10): the synthetic walks are rendered and fed at F\n"
+        "frames a second, the same walks in time (F/10 times the frames); names\n"
+        "end in _fF. Frame counts and rates in the report are of these frames.\n"
         "--valign: the synthetic suite runs the alignment stage (valign.h).\n"
         "--surdis: SurDis sequence 21 from DIR (default $NEGOBS_DATA/surdis,\n"
         "else <repo>/../shared/data/surdis); exit 77 if absent. --surdis-vshift:\n"
@@ -2387,6 +2399,7 @@ enum LongOnly {
     O_RIG_RANGE63,
     O_REMEMBERED,
     O_SWAY,
+    O_FPS,
     O_DRAW,
     O_KEEP,
     O_WORK,
@@ -2420,6 +2433,7 @@ const struct option kLongOpts[] = {
     {"rig-range63", no_argument, nullptr, O_RIG_RANGE63},
     {"remembered", no_argument, nullptr, O_REMEMBERED},
     {"sway", no_argument, nullptr, O_SWAY},
+    {"fps", required_argument, nullptr, O_FPS},
     {"draw", required_argument, nullptr, O_DRAW},
     {"keep", no_argument, nullptr, O_KEEP},
     {"jobs", required_argument, nullptr, 'j'},
@@ -2538,6 +2552,7 @@ int main(int argc, char **argv)
         case O_RIG_RANGE63: opt.rig_range63 = true; break;
         case O_REMEMBERED: opt.remembered = true; break;
         case O_SWAY: opt.sway = true; break;
+        case O_FPS: ok = negobs_cli::parse_int(optarg, 5, 60, opt.fps); break;
         case O_DRAW: ok = negobs_cli::parse_int(optarg, 0, 1000, opt.draw); break;
         case O_KEEP: opt.keep = true; break;
         case 'j': ok = negobs_cli::parse_int(optarg, 1, 64, opt.jobs); break;
