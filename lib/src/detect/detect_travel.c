@@ -209,15 +209,18 @@ static travel_turn_t turn_of(int32_t j, int64_t step_q30)
     return t;
 }
 
-/* Cost of travel t_mm and turn over the patches idx[0 .. n-1]. */
+/* Cost of travel t_mm and turn over the patches idx[0 .. n-1]; the sum
+ * stops once it reaches bound (a candidate that costs that much already
+ * cannot be the best: the search keeps the first strict minimum). */
 static int64_t turned_cost(const travel_track_t *t, const negobs_rig_t *rig,
                            const floor_axes_t *a,
                            const negobs_image_u8_t *left, const int32_t *idx,
-                           int32_t n, int32_t t_mm, const travel_turn_t *turn)
+                           int32_t n, int32_t t_mm, const travel_turn_t *turn,
+                           int64_t bound)
 {
     int64_t c = 0;
     int32_t i;
-    for (i = 0; i < n; i++) {
+    for (i = 0; i < n && c < bound; i++) {
         const int32_t s = idx[i];
         int32_t u = 0;
         int32_t v = 0;
@@ -233,19 +236,25 @@ static int64_t turned_cost(const travel_track_t *t, const negobs_rig_t *rig,
 }
 
 /* Best travel step within [k_lo, k_hi] of the T grid at one turn; cost[0]
- * (standing still) and cost[k_lo .. k_hi] filled. */
+ * (standing still) is exact, cost[k_lo .. k_hi] exact for the best and at
+ * least min(cost[best], beat) for the others: beat is the best cost of the
+ * turns scanned before (-1: none), which a candidate must undercut to
+ * matter. */
 static int32_t best_travel(const travel_track_t *t, const negobs_rig_t *rig,
                            const floor_axes_t *a,
                            const negobs_image_u8_t *left, const int32_t *idx,
                            int32_t n, int32_t t_max, const travel_turn_t *turn,
-                           int32_t k_lo, int32_t k_hi, int64_t *cost)
+                           int32_t k_lo, int32_t k_hi, int64_t beat,
+                           int64_t *cost)
 {
     int32_t k;
     int32_t best = 0;
-    cost[0] = turned_cost(t, rig, a, left, idx, n, 0, turn);
+    cost[0] = turned_cost(t, rig, a, left, idx, n, 0, turn, INT64_MAX);
     for (k = (k_lo > 1) ? k_lo : 1; k <= k_hi; k++) {
+        const int64_t bound = (beat >= 0 && beat < cost[best]) ? beat
+                                                               : cost[best];
         cost[k] = turned_cost(t, rig, a, left, idx, n,
-                              t_max * k / TRAVEL_STEPS, turn);
+                              t_max * k / TRAVEL_STEPS, turn, bound);
         if (cost[k] < cost[best]) {
             best = k;
         }
@@ -276,7 +285,7 @@ static turn_best_t scan_turns(const travel_track_t *t, const negobs_rig_t *rig,
     for (j = j_lo; j <= j_hi; j++) {
         const travel_turn_t turn = turn_of(j, step_q30);
         const int32_t k = best_travel(t, rig, a, left, idx, n, t_max, &turn,
-                                      k_lo, k_hi, cost);
+                                      k_lo, k_hi, b.cost, cost);
         if (b.cost < 0 || cost[k] < b.cost) {
             b.cost = cost[k];
             b.j = j;
