@@ -336,6 +336,10 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
     }
     p = (detect_priv_t *)ctx->priv;
     cfg = &ctx->cfg;
+    if (frame != NULL) {
+        /* whether the tracks and the slow tracks move on this frame */
+        temporal_clock(&p->temporal, frame->now_ms);
+    }
     if (frame_malformed(cfg, frame)) {
         fill_no_info(res, NEGOBS_DEGRADED_BAD_INPUT);
         mount_report(&p->mount, cfg, &res->mount);

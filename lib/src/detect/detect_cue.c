@@ -214,6 +214,10 @@ void det_travel_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
     if (g->wide || (p->ref_ok && !temporal_needs_travel(&p->temporal))) {
         travel_reset(p->travel);
         p->travel_mm = 0;
+    } else if (!p->temporal.tick) {
+        /* measured from tick to tick, over the interval it was set for:
+         * a faster camera's floor moves less than the patches resolve */
+        p->travel_mm = 0;
     } else {
         p->travel_mm = travel_step(p->travel, &cfg->rig, &g->plane, &g->frame,
                                    left, now_ms);

@@ -54,8 +54,7 @@ static uint32_t window_mask(const negobs_detect_config_t *cfg)
                                   : (((uint32_t)1 << cfg->confirm_n) - 1u);
 }
 
-/* Is this frame a tick (temporal_t.tick)? */
-static void frame_clock(temporal_t *t, uint32_t now_ms)
+void temporal_clock(temporal_t *t, uint32_t now_ms)
 {
     const int32_t iv = t->cfg->frame_interval_ms;
     const int32_t dt = elapsed_ms(now_ms, t->tick_ms);
@@ -66,6 +65,7 @@ static void frame_clock(temporal_t *t, uint32_t now_ms)
         t->tick_ms = now_ms;
         t->tick_have = 1;
     }
+    t->clocked = 1;
 }
 
 static int32_t held_range(const negobs_detect_config_t *cfg,
@@ -387,7 +387,10 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
     uint32_t i;
     int32_t k;
 
-    frame_clock(t, now_ms);
+    if (!t->clocked) {
+        temporal_clock(t, now_ms);
+    }
+    t->clocked = 0; /* the next frame is clocked afresh */
     if (!t->tick) {
         /* between ticks the tracks stand still: held ranges are
          * dead-reckoned in time by temporal_report() all the same */

@@ -40,10 +40,18 @@ typedef struct temporal {
     /* The frames the tracks count (cfg->frame_interval_ms): */
     uint32_t tick_ms; /* the last tick                              */
     int32_t tick_have;
-    int32_t tick; /* this frame is one                             */
+    int32_t tick;    /* this frame is one                          */
+    int32_t clocked; /* temporal_clock() ran for this frame        */
 } temporal_t;
 
 void temporal_reset(temporal_t *t, const negobs_detect_config_t *cfg);
+
+/*
+ * Is the frame at now_ms a tick (t->tick)? Once per frame, before anything
+ * reads t->tick; temporal_update*() calls it when the frame was not
+ * clocked yet.
+ */
+void temporal_clock(temporal_t *t, uint32_t now_ms);
 
 /*
  * Feed one frame's candidates (any order). observed != 0 means the frame
