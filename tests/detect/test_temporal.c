@@ -158,17 +158,16 @@ static void test_temporal_clears_after_m_clean_frames(void **state)
 }
 
 /* A 30 fps camera (frames 33-34 ms apart) against the 100 ms interval
- * the counts are set for: a sighting on three frames in a row is 67 ms of
- * evidence, not the three ticks that confirm; a hazard seen for 200 ms
- * confirms on the third tick; once seen no more it stays until clear_m
- * ticks (400 ms and more) have passed, not five frames. frame_interval_ms
- * = 0 counts frames as given. */
+ * the clearing is set for: every frame's sighting counts towards
+ * confirmation (three in a row confirm), but once the hazard is seen no
+ * more it stays until clear_m ticks (400 ms and more) have passed, not
+ * five frames (167 ms). frame_interval_ms = 0 counts frames as given. */
 static uint32_t ms_30fps(uint32_t i)
 {
     return i * 100u / 3u;
 }
 
-static void test_temporal_counts_ticks_not_frames(void **state)
+static void test_temporal_clears_after_ticks_not_frames(void **state)
 {
     negobs_hazard_t c = cand(3000, 0);
     negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
@@ -179,35 +178,28 @@ static void test_temporal_counts_ticks_not_frames(void **state)
     for (i = 0; i < 3; i++) {
         temporal_update(&tp, &c, 1, 1, 2000, ms_30fps(i));
     }
-    for (; i < 30; i++) {
-        temporal_update(&tp, NULL, 0, 1, 2000, ms_30fps(i));
-        assert_int_equal(report(out, ms_30fps(i)), 0);
-    }
-    /* seen on every frame: ticks at 1000, 1100 and 1200 ms */
-    for (; ms_30fps(i) < 1200; i++) {
-        temporal_update(&tp, &c, 1, 1, 2000, ms_30fps(i));
-        assert_int_equal(report(out, ms_30fps(i)), 0);
-    }
-    temporal_update(&tp, &c, 1, 1, 2000, ms_30fps(i));
-    assert_int_equal(ms_30fps(i), 1200);
-    assert_int_equal(report(out, 1200), 1);
-    /* unseen: five frames are not five ticks */
-    for (i++; ms_30fps(i) < 1600; i++) {
+    assert_int_equal(report(out, ms_30fps(2)), 1);
+    /* unseen from 100 ms on: ticks at 100, 200, 300, 400 and 500 ms */
+    for (; ms_30fps(i) < 500; i++) {
         temporal_update(&tp, NULL, 0, 1, 2000, ms_30fps(i));
         assert_int_equal(report(out, ms_30fps(i)), 1);
     }
-    for (; ms_30fps(i) <= 1800; i++) {
-        temporal_update(&tp, NULL, 0, 1, 2000, ms_30fps(i));
-    }
-    assert_int_equal(report(out, ms_30fps(i - 1)), 0);
+    temporal_update(&tp, NULL, 0, 1, 2000, ms_30fps(i));
+    assert_int_equal(ms_30fps(i), 500);
+    assert_int_equal(report(out, 500), 0);
 
-    /* counted as frames: three sightings at 30 fps confirm */
+    /* counted as frames: five unseen frames clear it */
     setup_cfg();
     cfg.frame_interval_ms = 0;
     for (i = 0; i < 3; i++) {
         temporal_update(&tp, &c, 1, 1, 2000, ms_30fps(i));
     }
-    assert_int_equal(report(out, ms_30fps(2)), 1);
+    for (; i < 7; i++) {
+        temporal_update(&tp, NULL, 0, 1, 2000, ms_30fps(i));
+        assert_int_equal(report(out, ms_30fps(i)), 1);
+    }
+    temporal_update(&tp, NULL, 0, 1, 2000, ms_30fps(i));
+    assert_int_equal(report(out, ms_30fps(i)), 0);
 }
 
 static void test_temporal_degraded_frames_do_not_clear(void **state)
@@ -541,7 +533,7 @@ int main(void)
         cmocka_unit_test(test_temporal_confirm_needs_a_sighting_at_h_t),
         cmocka_unit_test(test_temporal_missing_ground_policy),
         cmocka_unit_test(test_temporal_bounded_tracks),
-        cmocka_unit_test(test_temporal_counts_ticks_not_frames),
+        cmocka_unit_test(test_temporal_clears_after_ticks_not_frames),
         cmocka_unit_test(test_temporal_approach_sequence_end_to_end),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

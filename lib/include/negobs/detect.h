@@ -268,14 +268,13 @@ typedef struct negobs_detect_config {
     int32_t confirm_n;          /**< ... of the last n frames (5, <= 31),
                                      once one sighting's drop reached
                                      h_t (docs/DETECTION.md section 6) */
-    int32_t clear_m;            /**< clean frames to clear (default 5)  */
-    int32_t frame_interval_ms;  /**< the frame interval the frame counts
-                                     (confirm_k/n, clear_m, the slow
-                                     tracks' gains) are set for (100:
-                                     10 fps). Frames that come faster
-                                     multiply them by the whole number
-                                     of frames per interval (at most 6);
-                                     0: count frames as given
+    int32_t clear_m;            /**< clean ticks to clear (default 5)   */
+    int32_t frame_interval_ms;  /**< a tick is a frame at least 3/4 of
+                                     this after the last tick (100 ms:
+                                     the 10 fps the counts were set at;
+                                     0: every frame). clear_m, the slow
+                                     tracks' gains and the travel count
+                                     ticks; confirm_k/n count frames
                                      (docs/DETECTION.md section 6)      */
     int32_t hold_ms;            /**< latch after leaving image (3000);
                                      sooner once walked 500 mm past it  */

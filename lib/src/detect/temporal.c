@@ -10,7 +10,8 @@
  *
  * A track is confirmed when it was seen in confirm_k of the last confirm_n
  * frames and one of its sightings' drops reached h_t (sighting_reaches),
- * and then stays confirmed until clear_m consecutive clean frames.
+ * and then stays confirmed until clear_m consecutive clean ticks (frames
+ * at least 3/4 of frame_interval_ms apart: temporal_clock()).
  * Frames that are not "observed" (degraded) never count as clean, and
  * their candidates only refresh tracks that are already confirmed. When a
  * confirmed track is lost close to the bottom of the image it is held: its
@@ -363,7 +364,9 @@ static void track_unseen(const temporal_t *t, tmp_track_t *tr, int observed,
         return;
     }
     tr->hist <<= 1;
-    tr->misses++;
+    if (t->tick) {
+        tr->misses++; /* clean time, counted in ticks */
+    }
     if (tr->confirmed) {
         if (tr->hz.range_mm <= hold_range_mm) {
             tr->held = 1;
@@ -391,11 +394,6 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
         temporal_clock(t, now_ms);
     }
     t->clocked = 0; /* the next frame is clocked afresh */
-    if (!t->tick) {
-        /* between ticks the tracks stand still: held ranges are
-         * dead-reckoned in time by temporal_report() all the same */
-        return;
-    }
     if (n > NEGOBS_DETECT_MAX_HAZARDS) {
         n = NEGOBS_DETECT_MAX_HAZARDS;
     }

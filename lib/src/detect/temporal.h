@@ -1,10 +1,10 @@
 /*
  * Temporal logic for hazards (internal): k-of-n confirmation, clearing
  * after m clean frames, and the hold when a confirmed edge leaves the
- * bottom of the image (it is then closer, not gone). The counts are of
- * ticks: frames at least 3/4 of cfg->frame_interval_ms apart. A faster
- * camera's frames in between leave the tracks as they are, so a count
- * means the same time, and the same evidence, at any frame rate.
+ * bottom of the image (it is then closer, not gone). Confirmation
+ * counts frames (every sighting is evidence); clearing counts ticks,
+ * frames at least 3/4 of cfg->frame_interval_ms apart, so that a clean
+ * stretch means the same time at any frame rate.
  */
 #ifndef NEGOBS_DETECT_TEMPORAL_H
 #define NEGOBS_DETECT_TEMPORAL_H
@@ -37,7 +37,7 @@ typedef struct temporal {
     uint32_t last_ms;
     int32_t have_last;
     uint32_t odo_mm; /* measured travel along the floor, summed (wraps) */
-    /* The frames the tracks count (cfg->frame_interval_ms): */
+    /* Ticks (cfg->frame_interval_ms): what clearing counts */
     uint32_t tick_ms; /* the last tick                              */
     int32_t tick_have;
     int32_t tick;    /* this frame is one                          */
