@@ -337,7 +337,8 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
     p = (detect_priv_t *)ctx->priv;
     cfg = &ctx->cfg;
     if (frame != NULL) {
-        /* whether the tracks and the slow tracks move on this frame */
+        /* is it a tick: do clearing, the slow tracks and the travel
+         * count this frame (temporal.h) */
         temporal_clock(&p->temporal, frame->now_ms);
     }
     if (frame_malformed(cfg, frame)) {
@@ -414,7 +415,7 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
         det_near_candidate_note(p, cfg, res, frame->now_ms);
     }
     /* height and roll follow only a view of the ground under the feet,
-     * on ticks (temporal.h: a gain per tick holds its time at any rate) */
+     * on ticks (temporal.h: a gain per tick keeps its time at any rate) */
     mount_update(&p->mount, cfg, g.ok ? &g.pose : NULL,
                  g.ok && !fw.unverified && !p->drop_on && p->temporal.tick,
                  frame->now_ms, &res->mount);

@@ -1,6 +1,6 @@
 /*
  * Temporal logic for hazards (internal): k-of-n confirmation, clearing
- * after m clean frames, and the hold when a confirmed edge leaves the
+ * after m clean ticks, and the hold when a confirmed edge leaves the
  * bottom of the image (it is then closer, not gone). Confirmation
  * counts frames (every sighting is evidence); clearing counts ticks,
  * frames at least 3/4 of cfg->frame_interval_ms apart, so that a clean
