@@ -125,6 +125,13 @@ struct Seq {
     bool no_hint = false; // --set rigs: the detector is told no mounting
 };
 
+// Time (ms) of a synthetic walk's frame k at fps frames a second; the
+// walk starts at 1 s.
+uint32_t walk_ms(size_t k, int fps)
+{
+    return 1000u + static_cast<uint32_t>(1000 * k / static_cast<size_t>(fps));
+}
+
 // Frame record.
 struct Rec {
     int seq;
@@ -679,8 +686,7 @@ bool run_seq(const Options &opt, const Seq &q, int idx, std::vector<Rec> &out,
             FrameOut o;
             if (!load_grey((fs::path(dir) / gt.frames[k].left).string(), L, err) ||
                 !load_grey((fs::path(dir) / gt.frames[k].right).string(), R, err) ||
-                !first.process(L, R, 1000u + static_cast<uint32_t>(1000 * k / opt.fps), o,
-                               err)) {
+                !first.process(L, R, walk_ms(k, opt.fps), o, err)) {
                 return false;
             }
             last = o.res.detect;
@@ -704,7 +710,7 @@ bool run_seq(const Options &opt, const Seq &q, int idx, std::vector<Rec> &out,
             return false;
         }
         FrameOut o;
-        const uint32_t t = 1000u + static_cast<uint32_t>(1000 * k / opt.fps);
+        const uint32_t t = walk_ms(k, opt.fps);
         if (!runner.process(L, R, t, o, err)) {
             return false;
         }
