@@ -147,10 +147,10 @@ static void bit_names(FILE *f, uint32_t bits, const char *const *names,
 static void reasons_json(FILE *f, uint32_t reasons)
 {
     static const char *const names[] = {
-        "TOO_DARK",         "SATURATED",       "LOW_TEXTURE",
-        "FEW_GROUND",       "GROUND_REJECTED", "STALE",
-        "UNSYNCED",         "NOISY",           "BAD_INPUT",
-        "GROUND_UNVERIFIED"};
+        "TOO_DARK",          "SATURATED",       "LOW_TEXTURE",
+        "FEW_GROUND",        "GROUND_REJECTED", "STALE",
+        "UNSYNCED",          "NOISY",           "BAD_INPUT",
+        "GROUND_UNVERIFIED", "NEAR_UNSEEN"};
     bit_names(f, reasons, names, sizeof names / sizeof names[0]);
 }
 

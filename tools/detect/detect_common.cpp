@@ -449,8 +449,9 @@ const char *ground_ref_name(int by)
 std::string reasons_string(uint32_t reasons, const char *sep)
 {
     static const char *const names[] = {
-        "TOO_DARK", "SATURATED", "LOW_TEXTURE", "FEW_GROUND", "GROUND_REJECTED",
-        "STALE",    "UNSYNCED",  "NOISY",       "BAD_INPUT",  "GROUND_UNVERIFIED"};
+        "TOO_DARK",   "SATURATED", "LOW_TEXTURE", "FEW_GROUND", "GROUND_REJECTED",
+        "STALE",      "UNSYNCED",  "NOISY",       "BAD_INPUT",  "GROUND_UNVERIFIED",
+        "NEAR_UNSEEN"};
     std::string s;
     for (unsigned b = 0; b < sizeof names / sizeof names[0]; ++b) {
         if (reasons & (1u << b)) {

@@ -38,6 +38,12 @@ def _render_and_run(synth, png, work, name, synth_args, png_args):
         return [json.loads(line) for line in fh]
 
 
+def render_and_run(synth, png, work, name, synth_args, png_args):
+    """Any generated walk: synth_args follow (and override) the common
+    flat-walk ones of _render_and_run."""
+    return _render_and_run(synth, png, work, name, synth_args, png_args)
+
+
 def wearable_flat_walk(synth, png, work, name, frames, seed, height_mm,
                        pitch_deg):
     """Render a flat asphalt walk of the 3 cm wearable rig as

@@ -77,7 +77,12 @@ typedef enum negobs_degraded_reason {
      *  by ground_verify_mm or more (or there is no hint): an edge nearer
      *  than the view, or a wrong hint (at most ground_drop_max_ms after
      *  the first ground model) */
-    NEGOBS_DEGRADED_GROUND_UNVERIFIED = 1u << 9
+    NEGOBS_DEGRADED_GROUND_UNVERIFIED = 1u << 9,
+    /** Floor now nearer than the view was never vouched while it was in
+     *  view (an unconfirmed drop, a dark or untextured stretch) and has
+     *  not been walked over yet: nothing is vouched from the feet
+     *  (docs/DETECTION.md, "The floor under the view") */
+    NEGOBS_DEGRADED_NEAR_UNSEEN = 1u << 10
 } negobs_degraded_reason_t;
 
 typedef enum negobs_hazard_type {

@@ -437,5 +437,20 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
      * no farther than its track's own prediction either */
     res->clear_to_mm = geom_min_s32(
         res->clear_to_mm, temporal_vouch_bound(&p->temporal, frame->now_ms));
+    /* the floor nearer than the view must have been vouched while it was
+     * in view: else nothing is vouched from the feet (a hazard is still
+     * reported) */
+    if (!det_near_follow(p, cfg, fw.seen_from, res->clear_to_mm,
+                         g.ok ? p->travel_mm : 0, frame->now_ms)) {
+        res->clear_to_mm = 0;
+        res->short_sight = 0;
+        res->blocked_at_mm = 0;
+        if (res->state != NEGOBS_DETECT_HAZARD) {
+            res->reasons = (res->state == NEGOBS_DETECT_CLEAR)
+                               ? NEGOBS_DEGRADED_NEAR_UNSEEN
+                               : res->reasons | NEGOBS_DEGRADED_NEAR_UNSEEN;
+            res->state = NEGOBS_DETECT_NO_INFO;
+        }
+    }
     return NEGOBS_OK;
 }

@@ -209,9 +209,11 @@ void det_travel_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
                        const gfit_out_t *g, const negobs_image_u8_t *left,
                        uint32_t now_ms)
 {
-    /* Only a start to verify and a confirmed track (its hold) use the
-     * travel: on other frames it costs 0.8 M instructions for nothing. */
-    if (g->wide || (p->ref_ok && !temporal_needs_travel(&p->temporal))) {
+    /* Only a start to verify, a confirmed track (its hold) and unvouched
+     * floor ahead (detect_near.c) use the travel: on other frames it
+     * costs 0.8 M instructions for nothing. */
+    if (g->wide || (p->ref_ok && !temporal_needs_travel(&p->temporal) &&
+                    !det_near_gap(p))) {
         travel_reset(p->travel);
         p->travel_mm = 0;
     } else if (!p->temporal.tick) {

@@ -12,6 +12,8 @@
  *   detect_merge.c   strips -> hazards
  *   detect_cue.c     ground-drop cue (section 6.1)
  *   detect_travel.c  travel along the floor: a start verified by walking
+ *   detect_sight.c   recent candidates bound the vouched range
+ *   detect_near.c    the floor nearer than the view, vouched earlier
  *   detect.c         negobs_detect_process: the sequence of the above
  */
 #ifndef NEGOBS_DETECT_INTERNAL_H
@@ -198,6 +200,16 @@ typedef struct detect_priv {
     uint32_t sight_ms[SIGHT_FRAMES];
     int32_t sight_head;
     int32_t sight_n;
+    /* the floor nearer than the view (detect_near.c): state, the last
+     * frame's time, the vouched floor ahead of the feet (lower bound),
+     * the far end of unvouched floor (upper bound) and the floor vouched
+     * beyond it (lower bound), in mm ahead of the feet */
+    int32_t near_on;
+    int32_t near_state;
+    uint32_t near_ms;
+    int32_t near_ahead_mm;
+    int32_t near_gap_mm;
+    int32_t near_beyond_mm;
 } detect_priv_t;
 
 /* Scan context shared by the strips of one frame. */
@@ -301,6 +313,18 @@ int32_t det_sight_bound(const detect_priv_t *p,
 
 void det_sight_note(detect_priv_t *p, const negobs_detect_result_t *res,
                     uint32_t now_ms);
+
+/* Follow the floor nearer than the view (detect_near.c) with this
+ * frame's nearest floor in view (seen_mm, 0: no ground model), its
+ * vouched range and its measured travel; 0 when some of that floor was
+ * never vouched while in view and has not been walked over. */
+int det_near_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
+                    int32_t seen_mm, int32_t vouched_mm, int32_t travel_mm,
+                    uint32_t now_ms);
+
+/* 1 while det_near_follow holds unvouched floor ahead: the travel is
+ * measured to know when it has been walked over. */
+int det_near_gap(const detect_priv_t *p);
 
 void det_near_candidate_note(detect_priv_t *p,
                              const negobs_detect_config_t *cfg,

@@ -1,0 +1,135 @@
+/* The floor nearer than the view: vouched by earlier frames, or not
+ * (docs/DETECTION.md, "Verdicts and the vouched range": "The floor under
+ * the view"). */
+#include "detect_internal.h"
+
+/*
+ * A frame vouches for the floor it sees, from its nearest floor row
+ * (seen_mm) to its vouched range (vouched_mm). The floor between the feet
+ * and seen_mm is out of view; clear_to_mm speaks for it too, so it must
+ * have been vouched by earlier frames while it was in view. This follows
+ * that floor along the walk, in distances ahead of the feet:
+ *
+ *  - NEAR_OK: the floor is vouched from the feet to ahead_mm, a lower
+ *    bound: each frame it shrinks by the farthest the walker can have
+ *    come (hold_speed_mm_s x the time since the last frame) and grows to
+ *    the frame's vouched range when the frame's view starts inside it.
+ *  - NEAR_GAP: ahead_mm fell short of the view's nearest floor, so some
+ *    floor that is now out of view was never vouched (an unconfirmed drop
+ *    with a dark or untextured bottom, a noisy stretch). gap_mm, an upper
+ *    bound of the distance to the far end of that floor, shrinks only by
+ *    the travel the images show (travel_step: 0 when unmeasured); the
+ *    floor vouched beyond it, from gap_mm to beyond_mm, is followed like
+ *    ahead_mm. Once gap_mm + NEAR_MARGIN_MM has been walked, the walker
+ *    has stepped over that floor with both feet and NEAR_OK resumes with
+ *    ahead_mm = beyond_mm. Until then no frame vouches from the feet.
+ *  - NEAR_START: nothing vouched yet. The first vouched frame starts
+ *    NEAR_OK: the floor nearer than the first view is the start check's
+ *    business (GROUND_UNVERIFIED, docs/DETECTION.md 6.1-6.2), as is a
+ *    frame gap longer than hold_ms, after which the camera may be
+ *    anywhere.
+ *
+ * The walk is one-dimensional, along the heading, as the tracks' hold is.
+ */
+enum { NEAR_START = 0, NEAR_OK = 1, NEAR_GAP = 2 };
+
+/* Walked beyond the far end of unvouched floor before it is behind both
+ * feet: half a stride (about 350 mm) for the trailing foot, and 150 mm
+ * for the travel's own error, as for a start verified by walking
+ * (detect_cue.c). */
+#define NEAR_MARGIN_MM 500
+/* Unvouched floor narrower than this between the vouched floor and the
+ * view is let pass, as the walk lets a shorter unseen run pass
+ * (detect_vouch.c, VOUCH_GAP_MM): it cannot take a foot. Without it a
+ * walker faster than the last frame's vouch shrank for would open a gap
+ * of a few centimetres whenever a frame vouched only up to its view. */
+#define NEAR_SLIVER_MM 100
+#define NEAR_NONE (-1)
+
+/* Does floor vouched up to to_mm reach a view that starts at seen_mm? */
+static inline int near_reaches(int32_t to_mm, int32_t seen_mm)
+{
+    return to_mm + NEAR_SLIVER_MM >= seen_mm;
+}
+
+/* Grow a vouched stretch that reaches the view: 1 when it did. */
+static inline int near_extend(int32_t *to_mm, int32_t seen_mm,
+                              int32_t vouched_mm)
+{
+    if (!near_reaches(*to_mm, seen_mm)) {
+        return 0;
+    }
+    *to_mm = geom_max_s32(*to_mm, vouched_mm);
+    return 1;
+}
+
+int det_near_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
+                    int32_t seen_mm, int32_t vouched_mm, int32_t travel_mm,
+                    uint32_t now_ms)
+{
+    /* a frame vouches only a stretch that starts at its nearest floor */
+    const int vouched = seen_mm > 0 && vouched_mm > seen_mm;
+    const int32_t dt = (int32_t)(now_ms - p->near_ms);
+    int32_t came_mm;
+    if (!p->near_on || dt < 0 || dt > cfg->hold_ms) {
+        p->near_state = NEAR_START;
+    }
+    p->near_on = 1;
+    p->near_ms = now_ms;
+    /* dt <= hold_ms <= 60 s and hold_speed <= 5 m/s: at most 3e5 mm */
+    came_mm = (p->near_state == NEAR_START)
+                  ? 0
+                  : (int32_t)(((int64_t)cfg->hold_speed_mm_s * dt) / 1000);
+    if (p->near_state == NEAR_START) {
+        if (vouched) {
+            p->near_state = NEAR_OK;
+            p->near_ahead_mm = vouched_mm;
+        }
+        return 1;
+    }
+    if (p->near_state == NEAR_GAP) {
+        if (p->near_beyond_mm == NEAR_NONE) {
+            /* nothing vouched since the gap opened: it reaches the first
+             * view that vouches again */
+            if (vouched) {
+                p->near_gap_mm = seen_mm;
+                p->near_beyond_mm = vouched_mm;
+            }
+            return 0;
+        }
+        p->near_gap_mm -= geom_max_s32(travel_mm, 0);
+        p->near_beyond_mm = geom_max_s32(p->near_beyond_mm - came_mm, 0);
+        if (p->near_gap_mm + NEAR_MARGIN_MM > 0) {
+            if (vouched &&
+                !near_extend(&p->near_beyond_mm, seen_mm, vouched_mm)) {
+                /* the unvouched floor reaches this frame's view */
+                p->near_gap_mm = geom_max_s32(p->near_gap_mm, seen_mm);
+                p->near_beyond_mm = vouched_mm;
+            }
+            return 0;
+        }
+        /* stepped over: the floor behind the gap was vouched up to
+         * beyond_mm (0 if nothing was) */
+        p->near_state = NEAR_OK;
+        p->near_ahead_mm = geom_max_s32(p->near_beyond_mm, 0);
+        came_mm = 0; /* beyond_mm has aged this frame already */
+    }
+    p->near_ahead_mm = geom_max_s32(p->near_ahead_mm - came_mm, 0);
+    if (!vouched || near_extend(&p->near_ahead_mm, seen_mm, vouched_mm)) {
+        /* a frame that vouches nothing says NO_INFO on its own; the
+         * floor vouched earlier keeps shrinking until a frame does */
+        if (vouched || seen_mm <= 0 ||
+            near_reaches(p->near_ahead_mm, seen_mm)) {
+            return 1;
+        }
+    }
+    p->near_state = NEAR_GAP;
+    p->near_gap_mm = seen_mm;
+    p->near_beyond_mm = vouched ? vouched_mm : NEAR_NONE;
+    return 0;
+}
+
+int det_near_gap(const detect_priv_t *p)
+{
+    return p->near_state == NEAR_GAP;
+}

@@ -1,0 +1,177 @@
+/*
+ * The floor nearer than the view (detect/detect_near.c): a frame may vouch
+ * from the feet only when the floor it cannot see was vouched while it was
+ * in view, or has been walked over since. Each case feeds the tracker the
+ * nearest floor in view, the vouched range and the measured travel of a
+ * walk at 10 frames a second, as negobs_detect_process does.
+ */
+#include "cmocka_all.h"
+#include "detect/detect_internal.h"
+
+#define SEEN_MM 1200 /* nearest floor in view: 1.2 m / 20 deg, f = 250 */
+#define STEP_MM 120  /* 1.2 m/s at 10 fps */
+
+typedef struct near_walk {
+    negobs_detect_config_t cfg;
+    detect_priv_t p;
+    uint32_t now_ms;
+} near_walk_t;
+
+static void walk_setup(near_walk_t *w)
+{
+    memset(w, 0, sizeof *w);
+    negobs_detect_config_default(&w->cfg, 320, 240);
+    w->now_ms = 1000u;
+}
+
+static int frame(near_walk_t *w, int32_t seen_mm, int32_t vouched_mm,
+                 int32_t travel_mm)
+{
+    w->now_ms += 100u;
+    return det_near_follow(&w->p, &w->cfg, seen_mm, vouched_mm, travel_mm,
+                           w->now_ms);
+}
+
+/* A walk over vouched floor, with single frames that vouch nothing (noise)
+ * or only the first metres: the floor vouched earlier still covers the
+ * view's near edge, so the frames keep their verdicts. */
+static void test_near_vouched_walk_stays_vouched(void **state)
+{
+    near_walk_t w;
+    int i;
+    (void)state;
+    walk_setup(&w);
+    for (i = 0; i < 30; i++) {
+        int32_t vouched = (i % 7 == 3) ? 0 : (i % 5 == 2) ? 1600 : 4000;
+        assert_true(frame(&w, SEEN_MM, vouched, STEP_MM));
+        assert_false(det_near_gap(&w.p));
+    }
+}
+
+/* Standing before an obstacle that bars the path at 1.4 m: each frame
+ * vouches 1.2-1.4 m; with no travel the vouched floor ahead is renewed
+ * before the walker could have come 200 mm nearer. */
+static void test_near_standing_short_view_stays_vouched(void **state)
+{
+    near_walk_t w;
+    int i;
+    (void)state;
+    walk_setup(&w);
+    for (i = 0; i < 20; i++) {
+        assert_true(frame(&w, SEEN_MM, 1400, 0));
+    }
+}
+
+/* Walking up to a drop the detector never confirms (a pit with a dark
+ * bottom): the frames vouch up to its near edge, then nothing while it
+ * crosses the near rows, then the floor beyond it once it is below the
+ * view. Those frames must not vouch from the feet until the walker has
+ * measurably passed the unvouched floor and half a stride more; pit_mm
+ * is where the unvouched floor ended on the first frame that vouched
+ * again (its nearest floor in view). */
+static void test_near_unvouched_floor_until_walked_over(void **state)
+{
+    near_walk_t w;
+    int32_t edge_mm = 3000;
+    int32_t walked_mm = 0;
+    int i;
+    (void)state;
+    walk_setup(&w);
+    assert_true(frame(&w, SEEN_MM, 4000, STEP_MM));
+    while (edge_mm > SEEN_MM + STEP_MM) {
+        edge_mm -= STEP_MM;
+        assert_true(frame(&w, SEEN_MM, edge_mm, STEP_MM));
+    }
+    for (i = 0; i < 8; i++) { /* the pit fills the near rows */
+        edge_mm -= STEP_MM;
+        (void)frame(&w, SEEN_MM, 0, STEP_MM);
+    }
+    assert_true(det_near_gap(&w.p));
+    /* below the view: every frame vouches 1.2-4.5 m */
+    assert_false(frame(&w, SEEN_MM, 4500, STEP_MM));
+    for (i = 0; i < 40; i++) {
+        int ok;
+        walked_mm += STEP_MM;
+        ok = frame(&w, SEEN_MM, 4500, STEP_MM);
+        print_message("walked %d mm: %s\n", (int)walked_mm,
+                      ok ? "vouched" : "unseen");
+        assert_int_equal(ok, walked_mm >= SEEN_MM + 500);
+        if (ok) {
+            break;
+        }
+    }
+    assert_false(det_near_gap(&w.p));
+}
+
+/* The same without a measured travel (a floor the travel cannot read, or
+ * standing still): the unvouched floor may still be just ahead, so no
+ * frame vouches from the feet, however long. */
+static void test_near_unmeasured_travel_never_passes(void **state)
+{
+    near_walk_t w;
+    int i;
+    (void)state;
+    walk_setup(&w);
+    assert_true(frame(&w, SEEN_MM, 4000, STEP_MM));
+    for (i = 0; i < 25; i++) {
+        (void)frame(&w, SEEN_MM, 0, 0);
+    }
+    for (i = 0; i < 50; i++) {
+        assert_false(frame(&w, SEEN_MM, 4500, 0));
+    }
+}
+
+/* Unvouched floor that reaches a later view extends the gap: a second
+ * noisy stretch after the first re-opens it to that view's near edge. */
+static void test_near_second_gap_extends_the_first(void **state)
+{
+    near_walk_t w;
+    int i;
+    (void)state;
+    walk_setup(&w);
+    assert_true(frame(&w, SEEN_MM, 4000, STEP_MM));
+    for (i = 0; i < 25; i++) {
+        (void)frame(&w, SEEN_MM, 0, STEP_MM);
+    }
+    assert_false(frame(&w, SEEN_MM, 1500, STEP_MM));
+    /* 1.5 m vouched, then 3 frames of nothing: the floor vouched beyond
+     * the gap no longer reaches the view, so the gap grows to it */
+    for (i = 0; i < 3; i++) {
+        assert_false(frame(&w, SEEN_MM, 0, STEP_MM));
+    }
+    for (i = 0; i < 5; i++) {
+        assert_false(frame(&w, SEEN_MM, 4000, STEP_MM));
+    }
+    assert_int_equal(w.p.near_gap_mm, SEEN_MM - 4 * STEP_MM);
+}
+
+/* A frame gap longer than hold_ms: the camera may be anywhere, and the
+ * floor under the view is the start check's business again. */
+static void test_near_long_frame_gap_restarts(void **state)
+{
+    near_walk_t w;
+    int i;
+    (void)state;
+    walk_setup(&w);
+    assert_true(frame(&w, SEEN_MM, 4000, STEP_MM));
+    for (i = 0; i < 25; i++) {
+        (void)frame(&w, SEEN_MM, 0, 0);
+    }
+    assert_false(frame(&w, SEEN_MM, 4000, 0));
+    w.now_ms += (uint32_t)w.cfg.hold_ms + 1u;
+    assert_true(frame(&w, SEEN_MM, 4000, 0));
+    assert_true(frame(&w, SEEN_MM, 4000, 0));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_near_vouched_walk_stays_vouched),
+        cmocka_unit_test(test_near_standing_short_view_stays_vouched),
+        cmocka_unit_test(test_near_unvouched_floor_until_walked_over),
+        cmocka_unit_test(test_near_unmeasured_travel_never_passes),
+        cmocka_unit_test(test_near_second_gap_extends_the_first),
+        cmocka_unit_test(test_near_long_frame_gap_restarts),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
