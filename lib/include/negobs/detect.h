@@ -382,11 +382,12 @@ typedef struct negobs_detect_result {
     /** Farthest forward floor distance (mm) up to which the walking
      *  corridor is vouched clear of a minimum drop (5 cm within 1.5 m,
      *  10 cm beyond) by this frame's measured noise. The vouched stretch
-     *  starts at the nearest ground row in view. In HAZARD it is at most
-     *  the nearest hazard's range; in NO_INFO it is still reported: 0
-     *  after a gating or ground reason (unverified ground included),
-     *  else what the noise vouched for. See docs/DETECTION.md,
-     *  "Verdicts". */
+     *  starts at the nearest ground row in view; the floor nearer than
+     *  that must have been vouched by earlier frames, else it is 0
+     *  (NEGOBS_DEGRADED_NEAR_UNSEEN). In HAZARD it is at most the nearest
+     *  hazard's range; in NO_INFO it is still reported: 0 after a gating
+     *  or ground reason (unverified ground included), else what the noise
+     *  vouched for. See docs/DETECTION.md, "Verdicts". */
     int32_t clear_to_mm;
     /** The distance this frame's measured noise, ground support and
      *  texture alone vouch for (mm), before this frame's candidates and

@@ -40,9 +40,9 @@ enum { NEAR_START = 0, NEAR_OK = 1, NEAR_GAP = 2 };
 #define NEAR_MARGIN_MM 500
 /* Unvouched floor narrower than this between the vouched floor and the
  * view is let pass, as the walk lets a shorter unseen run pass
- * (detect_vouch.c, VOUCH_GAP_MM): it cannot take a foot. Without it a
- * walker faster than the last frame's vouch shrank for would open a gap
- * of a few centimetres whenever a frame vouched only up to its view. */
+ * (detect_vouch.c, VOUCH_GAP_MM): it cannot take a foot. Without it the
+ * ageing at the fastest walk, faster than most wearers go, opened gaps of
+ * a few centimetres whenever frames vouched little beyond their view. */
 #define NEAR_SLIVER_MM 100
 #define NEAR_NONE (-1)
 
