@@ -32,6 +32,19 @@ static int frame(near_walk_t *w, int32_t seen_mm, int32_t vouched_mm,
                            w->now_ms);
 }
 
+/* A vouched frame, then 25 frames (2.5 s) that vouch nothing, with
+ * travel_mm measured on each: the floor vouched first has aged below the
+ * view, a gap is open. */
+static void open_gap(near_walk_t *w, int32_t travel_mm)
+{
+    int i;
+    assert_true(frame(w, SEEN_MM, 4000, travel_mm));
+    for (i = 0; i < 25; i++) {
+        (void)frame(w, SEEN_MM, 0, travel_mm);
+    }
+    assert_true(det_near_gap(&w->p));
+}
+
 /* A walk over vouched floor, with single frames that vouch nothing (noise)
  * or only the first metres: the floor vouched earlier still covers the
  * view's near edge, so the frames keep their verdicts. */
@@ -112,10 +125,7 @@ static void test_near_unmeasured_travel_never_passes(void **state)
     int i;
     (void)state;
     walk_setup(&w);
-    assert_true(frame(&w, SEEN_MM, 4000, STEP_MM));
-    for (i = 0; i < 25; i++) {
-        (void)frame(&w, SEEN_MM, 0, 0);
-    }
+    open_gap(&w, 0);
     for (i = 0; i < 50; i++) {
         assert_false(frame(&w, SEEN_MM, 4500, 0));
     }
@@ -129,10 +139,7 @@ static void test_near_second_gap_extends_the_first(void **state)
     int i;
     (void)state;
     walk_setup(&w);
-    assert_true(frame(&w, SEEN_MM, 4000, STEP_MM));
-    for (i = 0; i < 25; i++) {
-        (void)frame(&w, SEEN_MM, 0, STEP_MM);
-    }
+    open_gap(&w, STEP_MM);
     assert_false(frame(&w, SEEN_MM, 1500, STEP_MM));
     /* 1.5 m vouched, then 3 frames of nothing: the floor vouched beyond
      * the gap no longer reaches the view, so the gap grows to it */
@@ -150,13 +157,9 @@ static void test_near_second_gap_extends_the_first(void **state)
 static void test_near_long_frame_gap_restarts(void **state)
 {
     near_walk_t w;
-    int i;
     (void)state;
     walk_setup(&w);
-    assert_true(frame(&w, SEEN_MM, 4000, STEP_MM));
-    for (i = 0; i < 25; i++) {
-        (void)frame(&w, SEEN_MM, 0, 0);
-    }
+    open_gap(&w, 0);
     assert_false(frame(&w, SEEN_MM, 4000, 0));
     w.now_ms += (uint32_t)w.cfg.hold_ms + 1u;
     assert_true(frame(&w, SEEN_MM, 4000, 0));
