@@ -20,11 +20,15 @@ the view, or it tests nothing.
 
 usage: test_dark_pit.py NEGOBS_SYNTH NEGOBS_PNG WORKDIR
 """
+import math
 import sys
 
 import walk_test
 
 HOLE_LENGTH_MM = 800
+# The floor distance of the bottom row: 1.1 m / tan(25 deg + atan(119.5 /
+# 250)) = 0.91 m; nearer, the pit's edge is below the view.
+BOTTOM_OF_VIEW_MM = 1100 / math.tan(math.radians(25) + math.atan(119.5 / 250))
 
 
 def main():
@@ -52,7 +56,7 @@ def main():
             continue
         if r["state"] == "CLEAR" and edge > 1500 and ct >= 1500:
             vouched_before += 1
-        if edge < 0 or r["range_near_mm"] <= 0 and edge < 600:
+        if edge < BOTTOM_OF_VIEW_MM:
             under_view += 1
         if ct > 1.1 * max(edge, 0) or (r["state"] == "CLEAR" and
                                        edge <= 1500):
