@@ -19,11 +19,11 @@ def setup(doc):
     return synth, png, work
 
 
-def _render_and_run(synth, png, work, name, synth_args, png_args):
-    """Render a walk with negobs_synth (synth_args after the common
-    --fps 10 --speed 1.2 --noise 2 --blur 0.5 ones), run negobs_png on it
-    (png_args: the mounting hint) and return its JSON lines, one dict per
-    frame."""
+def render_and_run(synth, png, work, name, synth_args, png_args):
+    """Render a walk with negobs_synth (synth_args after, and overriding,
+    the common flat-walk ones: --fps 10 --speed 1.2 --noise 2 --blur 0.5,
+    6 distractors), run negobs_png on it (png_args: the mounting hint) and
+    return its JSON lines, one dict per frame."""
     seq = os.path.join(work, name)
     jsonl = os.path.join(work, name + ".jsonl")
     subprocess.run([synth, "--scene", "flat", "--drop-mm", "150",
@@ -38,12 +38,6 @@ def _render_and_run(synth, png, work, name, synth_args, png_args):
         return [json.loads(line) for line in fh]
 
 
-def render_and_run(synth, png, work, name, synth_args, png_args):
-    """Any generated walk: synth_args follow (and override) the common
-    flat-walk ones of _render_and_run."""
-    return _render_and_run(synth, png, work, name, synth_args, png_args)
-
-
 def wearable_flat_walk(synth, png, work, name, frames, seed, height_mm,
                        pitch_deg):
     """Render a flat asphalt walk of the 3 cm wearable rig as
@@ -51,7 +45,7 @@ def wearable_flat_walk(synth, png, work, name, frames, seed, height_mm,
     B = 30 mm, 6 distractors, right camera gain 1.04 and offset -4; seed
     and mounting given), run negobs_png on it without a mounting hint and
     return its JSON lines, one dict per frame."""
-    return _render_and_run(
+    return render_and_run(
         synth, png, work, name,
         ["--frames", str(frames), "--seed", str(seed), "--width", "752",
          "--height", "480", "--f", "380", "--baseline-mm", "30",
@@ -72,7 +66,7 @@ def generic_flat_walk(synth, png, work, name, frames, seed, mount, camera):
     frame."""
     height_mm, pitch_deg, roll_deg = mount
     texture, gain, offset = camera
-    return _render_and_run(
+    return render_and_run(
         synth, png, work, name,
         ["--frames", str(frames), "--seed", str(seed), "--width", "320",
          "--height", "240", "--f", "250", "--baseline-mm", "60",

@@ -76,10 +76,6 @@ int det_near_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
     }
     p->near_on = 1;
     p->near_ms = now_ms;
-    /* dt <= hold_ms <= 60 s and hold_speed <= 5 m/s: at most 3e5 mm */
-    came_mm = (p->near_state == NEAR_START)
-                  ? 0
-                  : (int32_t)(((int64_t)cfg->hold_speed_mm_s * dt) / 1000);
     if (p->near_state == NEAR_START) {
         if (vouched) {
             p->near_state = NEAR_OK;
@@ -87,6 +83,8 @@ int det_near_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
         }
         return 1;
     }
+    /* dt <= hold_ms <= 60 s and hold_speed <= 5 m/s: at most 3e5 mm */
+    came_mm = (int32_t)(((int64_t)cfg->hold_speed_mm_s * dt) / 1000);
     if (p->near_state == NEAR_GAP) {
         if (p->near_beyond_mm == NEAR_NONE) {
             /* nothing vouched since the gap opened: it reaches the first
@@ -115,13 +113,11 @@ int det_near_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
         came_mm = 0; /* beyond_mm has aged this frame already */
     }
     p->near_ahead_mm = geom_max_s32(p->near_ahead_mm - came_mm, 0);
-    if (!vouched || near_extend(&p->near_ahead_mm, seen_mm, vouched_mm)) {
-        /* a frame that vouches nothing says NO_INFO on its own; the
-         * floor vouched earlier keeps shrinking until a frame does */
-        if (vouched || seen_mm <= 0 ||
-            near_reaches(p->near_ahead_mm, seen_mm)) {
-            return 1;
-        }
+    /* a frame that vouches nothing says NO_INFO on its own; the floor
+     * vouched earlier keeps shrinking until a frame does */
+    if (vouched ? near_extend(&p->near_ahead_mm, seen_mm, vouched_mm)
+                : (seen_mm <= 0 || near_reaches(p->near_ahead_mm, seen_mm))) {
+        return 1;
     }
     p->near_state = NEAR_GAP;
     p->near_gap_mm = seen_mm;
