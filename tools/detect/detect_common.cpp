@@ -275,6 +275,9 @@ bool Runner::init(int width, int height, const CamParams &cam, std::string &err,
     if (cam.range_max_mm > 0) {
         cfg_.detect.range_max_mm = cam.range_max_mm;
     }
+    if (cam.pool_frames > 0) {
+        cfg_.detect.pool_frames = cam.pool_frames;
+    }
     if (cam.vshift_set) {
         cfg_.stereo.vertical_search = 0;
         cfg_.stereo.vertical_offset = cam.vshift;

@@ -35,6 +35,7 @@ struct CamParams {
     bool valign = false;     // true: sub-pixel alignment stage (valign.h)
     int range_warn_mm = -1;  // alert zones; < 0: library default
     int range_max_mm = -1;
+    int pool_frames = -1; // detector's pool_frames; < 0: library default
 };
 
 // One frame of negobs_synth's gt.json (docs/SYNTH.md).

@@ -583,7 +583,8 @@ struct Options {
     bool sway = false;
     bool keep = false;
     int jobs = 2;
-    int draw = 0; // --draw N: another draw of the generic / rigs walks
+    int pool = -1; // --pool N: the detector's pool_frames (< 0: its default)
+    int draw = 0;  // --draw N: another draw of the generic / rigs walks
     bool surdis = false;
     std::string surdis_dir;
     bool oakd = false; // --oakd: the OAK-D pairs table
@@ -658,6 +659,7 @@ bool run_seq(const Options &opt, const Seq &q, int idx, std::vector<Rec> &out,
     }
     CamParams cam = gt.cam;
     cam.valign = opt.valign;
+    cam.pool_frames = opt.pool;
     if (q.no_hint) {
         // no hint: the detector measures the mounting; --rig-hint keeps
         // gt.json's camera, the rendered mounting (a start on verified ground)
@@ -2327,7 +2329,7 @@ void usage(FILE *f)
 {
     std::fprintf(
         f,
-        "usage: negobs_detect_eval --all|--quick [--set all|legacy|generic|rigs] [--rig-hint] [--rig-range63] [--remembered] [--sway] [--fps F] [--draw N] [--valign] [-j|--jobs N]\n"
+        "usage: negobs_detect_eval --all|--quick [--set all|legacy|generic|rigs] [--rig-hint] [--rig-range63] [--remembered] [--sway] [--fps F] [--draw N] [--pool N] [--valign] [-j|--jobs N]\n"
         "                          [--work DIR] [--keep]\n"
         "                          [--synth PATH] [--markdown FILE] [--frames-json FILE]\n"
         "       negobs_detect_eval --surdis [DIR] [--img-dir DIR] [--markdown FILE]\n"
@@ -2372,6 +2374,8 @@ void usage(FILE *f)
         "frames a second, the same walks in time (F/10 times the frames); names\n"
         "end in _fF. Frame counts and rates in the report are of these frames.\n"
         "--valign: the synthetic suite runs the alignment stage (valign.h).\n"
+        "--pool N: the detector pools N frames along the measured travel\n"
+        "(pool_frames, 1..4; docs/DETECTION.md \"Pooled frames\").\n"
         "--surdis: SurDis sequence 21 from DIR (default $NEGOBS_DATA/surdis,\n"
         "else <repo>/../shared/data/surdis); exit 77 if absent. --surdis-vshift:\n"
         "model (default) runs the sub-pixel alignment stage; ROWS fixes an integer\n"
@@ -2407,6 +2411,7 @@ enum LongOnly {
     O_SWAY,
     O_FPS,
     O_DRAW,
+    O_POOL,
     O_KEEP,
     O_WORK,
     O_SYNTH,
@@ -2441,6 +2446,7 @@ const struct option kLongOpts[] = {
     {"sway", no_argument, nullptr, O_SWAY},
     {"fps", required_argument, nullptr, O_FPS},
     {"draw", required_argument, nullptr, O_DRAW},
+    {"pool", required_argument, nullptr, O_POOL},
     {"keep", no_argument, nullptr, O_KEEP},
     {"jobs", required_argument, nullptr, 'j'},
     {"work", required_argument, nullptr, O_WORK},
@@ -2560,6 +2566,7 @@ int main(int argc, char **argv)
         case O_SWAY: opt.sway = true; break;
         case O_FPS: ok = negobs_cli::parse_int(optarg, 5, 60, opt.fps); break;
         case O_DRAW: ok = negobs_cli::parse_int(optarg, 0, 1000, opt.draw); break;
+        case O_POOL: ok = negobs_cli::parse_int(optarg, 1, 4, opt.pool); break;
         case O_KEEP: opt.keep = true; break;
         case 'j': ok = negobs_cli::parse_int(optarg, 1, 64, opt.jobs); break;
         case O_WORK: opt.work = v; break;

@@ -89,6 +89,8 @@ void usage(FILE *f)
            "  --coarse on|off   the half-resolution pass for weakly textured\n"
            "                    floors (on, the library's default;\n"
            "                    docs/DETECTION.md)\n"
+           "  --pool N          pool N frames along the measured travel (1..4;\n"
+           "                    the detector's pool_frames; docs/DETECTION.md)\n"
            "  --summary         one summary line at the end (stdout)\n"
            "  -q, --quiet       no JSON lines on stdout\n"
            "  -h, --help        this text\n"
@@ -184,6 +186,7 @@ int run(int argc, char **argv)
     int threads = 1; // the times stay one thread's CPU time
     int profile = NEGOBS_STEREO_PROFILE_DEFAULT;
     int coarse = 1;
+    int pool = -1; // the detector's pool_frames; < 0: its default
     int max_disp = -1, vshift = 0, repeat = 1, first = 0, count = -1, bin = 1;
     bool valign = false;
     bool vshift_set = false, overlay_on = true, summary = false, quiet = false,
@@ -211,6 +214,7 @@ int run(int argc, char **argv)
         O_THREADS,
         O_PROFILE,
         O_COARSE,
+        O_POOL,
         O_BIN,
         O_DISP
     };
@@ -241,6 +245,7 @@ int run(int argc, char **argv)
         {"threads", required_argument, nullptr, O_THREADS},
         {"profile", required_argument, nullptr, O_PROFILE},
         {"coarse", required_argument, nullptr, O_COARSE},
+        {"pool", required_argument, nullptr, O_POOL},
         {"bin", required_argument, nullptr, O_BIN},
         {"disparity", no_argument, nullptr, O_DISP},
         {nullptr, 0, nullptr, 0},
@@ -300,6 +305,7 @@ int run(int argc, char **argv)
             ok = (v != nullptr && (std::string(v) == "on" || std::string(v) == "off"));
             coarse = (ok && std::string(v) == "on") ? 1 : 0;
             break;
+        case O_POOL: ok = negobs_cli::parse_int(v, 1, 4, pool); break;
         case ':': return bad("option " + a + " needs a value");
         default: return bad("unknown option " + a);
         }
@@ -439,6 +445,7 @@ int run(int argc, char **argv)
     if (pitch > -1e8)
         cam.pitch_deg = pitch;
     cam.max_disp = max_disp;
+    cam.pool_frames = pool;
     cam.vshift_set = vshift_set;
     cam.vshift = vshift;
     cam.valign = valign;

@@ -281,6 +281,12 @@ typedef struct negobs_detect_config {
                                      tracks' gains and the travel count
                                      ticks; confirm_k/n count frames
                                      (docs/DETECTION.md section 6)      */
+    int32_t pool_frames;        /**< frames whose values of the same
+                                     floor point are pooled, along the
+                                     measured travel, before the scan
+                                     (1: off, 2..4; docs/DETECTION.md,
+                                     "Pooled frames"; the workspace
+                                     grows by 6 bytes a pixel)          */
     int32_t hold_ms;            /**< latch after leaving image (3000);
                                      sooner once walked 500 mm past it  */
     int32_t hold_speed_mm_s;    /**< dead-reckoning speed (1400 mm/s)   */

@@ -204,9 +204,11 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
 
     memset(&s, 0, sizeof s); /* every field defined before use */
     s.cfg = cfg;
-    s.disp = frame->disp_q4;
-    s.conf = frame->confidence;
     s.left = same_size(cfg, frame->left) ? frame->left : NULL;
+    det_travel_follow(p, cfg, g, s.left, frame->now_ms);
+    s.disp = det_pool_frame(p, cfg, frame->disp_q4, g, p->temporal.tick,
+                            p->pool_travel_mm);
+    s.conf = frame->confidence;
     if (p->view_l_held) {
         s.view_l_u0 = p->view_l_u0;
         s.view_l_u1 = p->view_l_u1;
@@ -235,7 +237,6 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
         det_scan_strip(&s, u0, u0 + cfg->strip_px, &p->hits[s_i]);
     }
     det_merge_strips(&s, p, res);
-    det_travel_follow(p, cfg, g, s.left, frame->now_ms);
     /* A hazard already confirmed or held nearer than the view's bottom is
      * this drop: the cue's range (an upper bound) would only pull its
      * dead-reckoned range back. */
@@ -381,6 +382,7 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
     } else {
         /* No ground model: use the nominal geometry for the hold zone. */
         fw.hold_range = cfg->range_imminent_mm + cfg->assoc_range_mm;
+        det_pool_distrust(p);
     }
 
     /* Steps 4-5: temporal confirmation, clearing and hold. A frame without
@@ -427,6 +429,7 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
     if (det_fit_fell(p, cfg, &g, frame->left)) {
         /* the fit dropped onto a lower level, not the camera: no vouch */
         fw.walk_to = 0;
+        det_pool_distrust(p);
         fw.walk_cause = NEGOBS_DEGRADED_GROUND_REJECTED;
         res->blocked_at_mm = 0;
     }

@@ -70,6 +70,7 @@ void negobs_detect_config_default(negobs_detect_config_t *cfg, int32_t width,
     cfg->clear_m = 5;
     /* The rate every frame count here was set and evaluated at. */
     cfg->frame_interval_ms = 100;
+    cfg->pool_frames = 1;
     cfg->hold_ms = 3000;
     cfg->hold_speed_mm_s = 1400;
     cfg->max_speed_mm_s = 2000;
@@ -174,6 +175,7 @@ static negobs_status_t config_check(const negobs_detect_config_t *c)
         !in_range(c->clear_m, 1, 1000) || !in_range(c->hold_ms, 0, 60000) ||
         !in_range(c->frame_interval_ms, 0, 1000) ||
         !in_range(c->hold_speed_mm_s, 0, 5000) ||
+        !in_range(c->pool_frames, 1, 4) ||
         !in_range(c->max_speed_mm_s, 0, 10000) ||
         !in_range(c->assoc_range_mm, 0, 5000) ||
         !in_range(c->assoc_lateral_mm, 0, 5000) ||
@@ -240,6 +242,14 @@ static negobs_status_t carve(negobs_arena_t *ar,
                                     (size_t)cfg->rig.height * sizeof(int32_t));
     p->row_prof_cur = negobs_arena_take(ar, (size_t)cfg->rig.height *
                                                 sizeof(int32_t));
+    if (cfg->pool_frames > 1) {
+        const size_t px = (size_t)cfg->rig.width * (size_t)cfg->rig.height;
+        p->pool_hist[0] = negobs_arena_take(ar, px * sizeof(int16_t));
+        p->pool_hist[1] = negobs_arena_take(ar, px * sizeof(int16_t));
+        p->pool_out = negobs_arena_take(ar, px * sizeof(int16_t));
+        p->pool_node = negobs_arena_take(
+            ar, (size_t)det_pool_nodes(cfg->rig.width) * 2 * sizeof(int32_t));
+    }
     *out = (p == &tmp) ? NULL : p;
     return negobs_arena_status(ar);
 }

@@ -209,21 +209,26 @@ void det_travel_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
                        const gfit_out_t *g, const negobs_image_u8_t *left,
                        uint32_t now_ms)
 {
-    /* Only a start to verify, a confirmed track (its hold) and unvouched
-     * floor ahead (detect_near.c) use the travel: on other frames it
-     * costs 0.8 M instructions for nothing. */
-    if (g->wide || (p->ref_ok && !temporal_needs_travel(&p->temporal) &&
-                    !det_near_gap(p))) {
+    /* Only a start to verify, a confirmed track (its hold), unvouched
+     * floor ahead (detect_near.c) and pooled frames (detect_pool.c) use
+     * the travel: on other frames it costs 0.8 M instructions for
+     * nothing. */
+    const int needed = !(p->ref_ok && !temporal_needs_travel(&p->temporal) &&
+                         !det_near_gap(p));
+    if (g->wide || (!needed && cfg->pool_frames <= 1)) {
         travel_reset(p->travel);
-        p->travel_mm = 0;
+        p->pool_travel_mm = 0;
     } else if (!p->temporal.tick) {
         /* measured from tick to tick, over the interval it was set for:
          * a faster camera's floor moves less than the patches resolve */
-        p->travel_mm = 0;
+        p->pool_travel_mm = 0;
     } else {
-        p->travel_mm = travel_step(p->travel, &cfg->rig, &g->plane, &g->frame,
-                                   left, now_ms);
+        p->pool_travel_mm = travel_step(p->travel, &cfg->rig, &g->plane,
+                                        &g->frame, left, now_ms);
     }
+    /* the start, the tracks and the floor under the view count the travel
+     * only while they need it, as without pooling */
+    p->travel_mm = (needed && !g->wide) ? p->pool_travel_mm : 0;
     temporal_walked(&p->temporal, p->travel_mm);
 }
 

@@ -14,6 +14,7 @@
  *   detect_travel.c  travel along the floor: a start verified by walking
  *   detect_sight.c   recent candidates bound the vouched range
  *   detect_near.c    the floor nearer than the view, vouched earlier
+ *   detect_pool.c    frames pooled along the measured travel
  *   detect.c         negobs_detect_process: the sequence of the above
  */
 #ifndef NEGOBS_DETECT_INTERNAL_H
@@ -154,6 +155,7 @@ typedef struct detect_priv {
     travel_track_t *travel; /* carved: it is 2 KiB, and the carve
                                measures on a descriptor on the stack */
     int32_t travel_mm;      /* this frame's measured travel, 0: none  */
+    int32_t pool_travel_mm; /* the same, also measured for the pooling */
     int32_t walk_on;
     int32_t walk_verified; /* this frame was verified by the walk */
     int32_t walk_fits;     /* fits of the walk, and their sums          */
@@ -210,6 +212,19 @@ typedef struct detect_priv {
     int32_t near_ahead_mm;
     int32_t near_gap_mm;
     int32_t near_beyond_mm;
+    /* frames pooled along the travel (detect_pool.c); pool_out NULL when
+     * pool_frames is 1. Two histories, width x height each (rho Q14 with
+     * the count in its low bits; pool_cur: this frame's), the pooled
+     * map's pixels, per row the nodes' previous-frame pixels (q4, u and
+     * v), the last pooled frame's floor and whether there is one. */
+    int16_t *pool_hist[2];
+    int16_t *pool_out;
+    int32_t *pool_node;
+    negobs_image_s16_t pool_img;
+    int32_t pool_cur;
+    int32_t pool_have;
+    negobs_ground_frame_t pool_frame;
+    negobs_ground_pose_t pool_pose;
 } detect_priv_t;
 
 /* Scan context shared by the strips of one frame. */
@@ -338,6 +353,22 @@ void det_near_candidate_note(detect_priv_t *p,
 void det_travel_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
                        const gfit_out_t *g, const negobs_image_u8_t *left,
                        uint32_t now_ms);
+
+/* Nodes per row of the pooling's floor mapping (detect_pool.c). */
+int32_t det_pool_nodes(int32_t width);
+
+/* This frame's map pooled with the last pooled frame's (detect_pool.c)
+ * on ticks with a measured travel, the map itself otherwise (and when
+ * pool_frames is 1). The result is valid until the next call. */
+const negobs_image_s16_t *det_pool_frame(detect_priv_t *p,
+                                         const negobs_detect_config_t *cfg,
+                                         const negobs_image_s16_t *disp,
+                                         const gfit_out_t *g, int tick,
+                                         int32_t travel_mm);
+
+/* This frame's fit was found wrong after the scan (no fit, or one that
+ * fell onto a lower level): the next frame pools nothing with it. */
+void det_pool_distrust(detect_priv_t *p);
 
 int det_ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
                     const scan_ctx_t *s, const gfit_out_t *g, uint32_t now_ms,

@@ -61,18 +61,7 @@
 /* patch_cost()'s largest value, 25 x 25 x 255 */
 #define TRAVEL_WORST_COST 159375
 
-/* The floor's axes in camera coordinates, Q30: n (down to the floor),
- * fwd (along the floor in the heading), right (along the floor, to the
- * right). With n = (cos p sin r, cos p cos r, sin p):
- * fwd = (-sin p sin r, -sin p cos r, cos p), right = (cos r, -sin r, 0). */
-typedef struct floor_axes {
-    int64_t n[3];
-    int64_t f[3];
-    int64_t r[3];
-    int64_t h_mm;
-} floor_axes_t;
-
-static int axes_of(const negobs_ground_frame_t *fr, floor_axes_t *a)
+int travel_axes_of(const negobs_ground_frame_t *fr, floor_axes_t *a)
 {
     const int64_t cp = fr->cos_pitch_q30;
     if (cp <= 0 || fr->height_mm <= 0) {
@@ -91,10 +80,9 @@ static int axes_of(const negobs_ground_frame_t *fr, floor_axes_t *a)
     return 1;
 }
 
-/* Pixel (rounded) of the floor point (fwd, lat); 0 when behind or too
- * near the camera. */
-static int project(const negobs_rig_t *rig, const floor_axes_t *a,
-                   int32_t fwd_mm, int32_t lat_mm, int32_t *u, int32_t *v)
+int travel_pixel_q4(const negobs_rig_t *rig, const floor_axes_t *a,
+                    int32_t fwd_mm, int32_t lat_mm, int32_t *u_q4,
+                    int32_t *v_q4)
 {
     int64_t p[3];
     int i;
@@ -105,12 +93,25 @@ static int project(const negobs_rig_t *rig, const floor_axes_t *a,
     if (p[2] < ((int64_t)TRAVEL_MIN_DEPTH_MM << 30)) {
         return 0;
     }
-    *u = (int32_t)((rig->cx_q4 +
-                    negobs_div_round_s64(rig->focal_q4 * p[0], p[2]) + 8) >>
-                   4);
-    *v = (int32_t)((rig->cy_q4 +
-                    negobs_div_round_s64(rig->focal_q4 * p[1], p[2]) + 8) >>
-                   4);
+    *u_q4 = (int32_t)(rig->cx_q4 +
+                      negobs_div_round_s64(rig->focal_q4 * p[0], p[2]));
+    *v_q4 = (int32_t)(rig->cy_q4 +
+                      negobs_div_round_s64(rig->focal_q4 * p[1], p[2]));
+    return 1;
+}
+
+/* Pixel (rounded) of the floor point (fwd, lat); 0 when behind or too
+ * near the camera. */
+static int project(const negobs_rig_t *rig, const floor_axes_t *a,
+                   int32_t fwd_mm, int32_t lat_mm, int32_t *u, int32_t *v)
+{
+    int32_t uq = 0;
+    int32_t vq = 0;
+    if (!travel_pixel_q4(rig, a, fwd_mm, lat_mm, &uq, &vq)) {
+        return 0;
+    }
+    *u = (uq + 8) >> 4;
+    *v = (vq + 8) >> 4;
     return 1;
 }
 
@@ -460,7 +461,7 @@ int32_t travel_step(travel_track_t *t, const negobs_rig_t *rig,
     int32_t walked = 0;
     int32_t dt;
     if (left == NULL || left->width != rig->width ||
-        left->height != rig->height || !axes_of(frame, &a)) {
+        left->height != rig->height || !travel_axes_of(frame, &a)) {
         travel_reset(t);
         return 0;
     }

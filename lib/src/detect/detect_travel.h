@@ -28,6 +28,29 @@ typedef struct travel_track {
     uint8_t px[TRAVEL_SAMPLES][TRAVEL_PATCH * TRAVEL_PATCH];
 } travel_track_t;
 
+/* The floor's axes in camera coordinates, Q30: n (down to the floor),
+ * f (along the floor in the heading), r (along the floor, to the right).
+ * With n = (cos p sin r, cos p cos r, sin p):
+ * f = (-sin p sin r, -sin p cos r, cos p), r = (cos r, -sin r, 0). */
+typedef struct floor_axes {
+    int64_t n[3];
+    int64_t f[3];
+    int64_t r[3];
+    int64_t h_mm;
+} floor_axes_t;
+
+/* The axes of a fitted floor; 0 when it has none (no pitch or height). */
+int travel_axes_of(const negobs_ground_frame_t *fr, floor_axes_t *a);
+
+/* Pixel, 1/16 px, of the floor point fwd_mm ahead of the camera's foot
+ * and lat_mm to the right; 0 when it lies behind or within 200 mm of the
+ * camera. A camera-frame point (mm, Q30) is at most 2^14 * 2^30 * 3 <
+ * 2^46, and the focal length in 1/16 px (< 2^17) times it stays below
+ * 2^63. */
+int travel_pixel_q4(const negobs_rig_t *rig, const floor_axes_t *a,
+                    int32_t fwd_mm, int32_t lat_mm, int32_t *u_q4,
+                    int32_t *v_q4);
+
 /* Forget the patches (the next frame measures nothing). */
 static inline void travel_reset(travel_track_t *t)
 {

@@ -1,0 +1,239 @@
+/* Frames pooled along the measured travel (docs/DETECTION.md, "Pooled
+ * frames"). */
+#include "detect_internal.h"
+
+/*
+ * Each pixel's value is pooled with the same floor point's value of the
+ * last pooled frame, found through the travel measured between the two
+ * (detect_travel.c). The quantity pooled is the relative residual
+ * rho = (d - d_g) / d_g against each frame's own ground model: a drop of
+ * h below a floor seen from height H gives rho = -h / (H + h) wherever
+ * the ray meets its lower level, the same number in every frame, while
+ * the disparity itself grows as the wearer comes nearer. Each frame's
+ * own fit (the bob of the head) is taken out the same way.
+ *
+ * Why: a floor patch's matching error is nearly independent from one
+ * frame to the next (docs/journal/2026-12-03-pooling-frames.md measured
+ * frame-to-frame correlations of 0.0-0.2 on every texture), so the mean
+ * of n frames scatters about 1 / sqrt(n) as much, and on weak textures
+ * and narrow baselines one frame's noise is as large as a minimum drop's
+ * deficit. The detector measures its noise on the pooled map as on any
+ * other: nothing assumes the 1 / sqrt(n).
+ *
+ * A pixel is pooled only when
+ * - the travel was measured this tick (a standing wearer or a floor the
+ *   patches cannot follow measures nothing: a wrong alignment would pull
+ *   the edge of a drop by the unmeasured travel, away from the walker);
+ * - the two frames' fits agree within what a walking head moves between
+ *   two ticks (POOL_FIT_MM, POOL_FIT_MDEG), and the last one was not
+ *   rejected afterwards (det_pool_distrust): a fit that jumped may have
+ *   moved onto a lower level or a blend of two, and each frame's floor is
+ *   what places its samples; misplaced, they would smooth away the very
+ *   edge that shows the fit to be wrong;
+ * - its floor point was in the last pooled frame's view with a value;
+ * - the two agree within 3 sigmas of their difference (the fit's per-pixel
+ *   sigma times sqrt(2))
+ *   (at least POOL_GATE_MIN_Q4, at most POOL_GATE_MAX_Q4): anything else
+ *   is another surface (a moving object, an occlusion boundary, a wall
+ *   whose relative residual changes with the range), kept as measured.
+ * The weight of the past is at most pool_frames - 1 frames (a running
+ * mean up to pool_frames, an exponential one after).
+ *
+ * Fixed point: rho is Q14, kept in the history with its count in the two
+ * low bits (Q12 precision, 1/4096 of the ground disparity: 0.04 q4 at
+ * 10 px); POOL_NONE marks no value. A pixel's pooled disparity is
+ * d_g + rho * d_g / 2^14, rounded.
+ */
+
+#define POOL_NONE INT16_MIN
+/* Node spacing of the floor mapping (columns): the mapping is smooth, and
+ * linear between nodes 8 px apart it is off by far less than a pixel
+ * below the horizon's last rows, which the scan never reads. */
+#define POOL_NODE_PX 8
+/* A head bobs by 30-50 mm and pitches by a few degrees over a stride of
+ * about half a second: between two ticks (100 ms) the rendered gait of
+ * the evaluation suite moves by at most 27 mm and 1.1 deg. 50 mm is also
+ * the smallest drop to tell apart (ground_verify_mm's default). */
+#define POOL_FIT_MM 50
+#define POOL_FIT_MDEG 3000
+/* 3 sigmas of the difference of two samples (sqrt(2) x the per-pixel
+ * sigma, 3 x 1.414 ~= 17/4): two samples of the same floor disagree by
+ * more 0.3 % of the time. A tighter gate would drop the noisiest samples
+ * from the pool and keep exactly those as measured. */
+#define POOL_GATE_NUM 17
+#define POOL_GATE_DEN 4
+/* 0.5 px: on a textured floor (sigma 0.1 px) a sub-pixel misalignment of
+ * a sloping surface must not split the pool; 2 px: beyond it the samples
+ * are of different surfaces whatever the noise. */
+#define POOL_GATE_MIN_Q4 8
+#define POOL_GATE_MAX_Q4 32
+
+static inline int32_t hist_rho(int16_t h)
+{
+    return (int32_t)h & ~3;
+}
+
+static inline int32_t hist_n(int16_t h)
+{
+    return ((int32_t)h & 3) + 1;
+}
+
+static inline int16_t hist_pack(int32_t rho_q14, int32_t n)
+{
+    return (int16_t)((rho_q14 & ~3) | (n - 1));
+}
+
+int32_t det_pool_nodes(int32_t width)
+{
+    return (width + POOL_NODE_PX - 1) / POOL_NODE_PX + 1;
+}
+
+/* Previous-frame pixel (q4) of each node of row v: INT32_MIN when the
+ * node's floor point is not on the floor of both frames. */
+static void map_row(const negobs_rig_t *rig,
+                    const negobs_ground_plane_t *plane,
+                    const negobs_ground_frame_t *fr, const floor_axes_t *prev,
+                    int32_t travel_mm, int32_t v, int32_t *node_uv)
+{
+    const int32_t nn = det_pool_nodes(rig->width);
+    int32_t k;
+    for (k = 0; k < nn; k++) {
+        int32_t u = geom_min_s32(k * POOL_NODE_PX, rig->width - 1);
+        int32_t fwd = 0;
+        int32_t lat = 0;
+        node_uv[2 * k] = INT32_MIN;
+        if (!mount_floor_point(rig, plane, fr, u, v, &fwd, &lat) ||
+            !travel_pixel_q4(rig, prev, fwd + travel_mm, lat, &node_uv[2 * k],
+                             &node_uv[2 * k + 1])) {
+            node_uv[2 * k] = INT32_MIN;
+        }
+    }
+}
+
+/* The last pooled frame's history at the previous-frame pixel of (u, v)
+ * (linear between the row's nodes), or POOL_NONE. */
+static int16_t prev_at(const detect_priv_t *p, const negobs_rig_t *rig,
+                       const int32_t *node_uv, int32_t u)
+{
+    const int32_t k = u / POOL_NODE_PX;
+    const int32_t x0 = k * POOL_NODE_PX;
+    const int32_t x1 = geom_min_s32(x0 + POOL_NODE_PX, rig->width - 1);
+    int32_t uq;
+    int32_t vq;
+    int32_t pu;
+    int32_t pv;
+    if (node_uv[2 * k] == INT32_MIN || node_uv[2 * k + 2] == INT32_MIN) {
+        return POOL_NONE;
+    }
+    if (x1 > x0) {
+        uq = node_uv[2 * k] +
+             (node_uv[2 * k + 2] - node_uv[2 * k]) * (u - x0) / (x1 - x0);
+        vq = node_uv[2 * k + 1] +
+             (node_uv[2 * k + 3] - node_uv[2 * k + 1]) * (u - x0) / (x1 - x0);
+    } else {
+        uq = node_uv[2 * k];
+        vq = node_uv[2 * k + 1];
+    }
+    pu = (uq + 8) >> 4;
+    pv = (vq + 8) >> 4;
+    if (pu < 0 || pv < 0 || pu >= rig->width || pv >= rig->height) {
+        return POOL_NONE;
+    }
+    return p->pool_hist[p->pool_cur ^ 1]
+                       [(size_t)pv * (size_t)rig->width + (size_t)pu];
+}
+
+/* One row: rho of each valid pixel below the horizon, pooled with the
+ * previous frame where allowed (node_uv NULL: not at all). */
+static void pool_row(detect_priv_t *p, const negobs_detect_config_t *cfg,
+                     const negobs_image_s16_t *disp,
+                     const negobs_ground_plane_t *plane, int32_t v,
+                     const int32_t *node_uv, int32_t gate_q4)
+{
+    const int32_t w = cfg->rig.width;
+    const int16_t *in = negobs_image_s16_row(disp, v);
+    int16_t *out = p->pool_out + (size_t)v * (size_t)w;
+    int16_t *hist = p->pool_hist[p->pool_cur] + (size_t)v * (size_t)w;
+    int64_t acc = (int64_t)plane->b_q20 * v + plane->c_q20;
+    int32_t u;
+    for (u = 0; u < w; u++, acc += plane->a_q20) {
+        const int32_t d = in[u];
+        const int32_t dg = (int32_t)geom_rshift_round_s64(acc, 16);
+        int32_t rho;
+        int32_t n = 1;
+        int16_t h;
+        out[u] = (int16_t)d;
+        hist[u] = POOL_NONE;
+        if (d == NEGOBS_DISP_INVALID || d < 0 || dg <= 0) {
+            continue;
+        }
+        rho = (int32_t)(((int64_t)(d - dg) << 14) / dg);
+        if (rho < -16384 || rho >= 16384) {
+            continue; /* nearer than twice the floor's disparity: not
+                         pooled, as measured */
+        }
+        h = (node_uv != NULL) ? prev_at(p, &cfg->rig, node_uv, u) : POOL_NONE;
+        if (h != POOL_NONE &&
+            negobs_abs_s32((int32_t)(((int64_t)(rho - hist_rho(h)) * dg) >>
+                                     14)) <= gate_q4) {
+            const int32_t np = geom_min_s32(hist_n(h), cfg->pool_frames - 1);
+            rho = (int32_t)negobs_div_round_s64(
+                (int64_t)rho + (int64_t)np * hist_rho(h), np + 1);
+            n = np + 1;
+            out[u] = (int16_t)(dg + (int32_t)geom_rshift_round_s64(
+                                        (int64_t)rho * dg, 14));
+        }
+        hist[u] = hist_pack(rho, n);
+    }
+}
+
+const negobs_image_s16_t *det_pool_frame(detect_priv_t *p,
+                                         const negobs_detect_config_t *cfg,
+                                         const negobs_image_s16_t *disp,
+                                         const gfit_out_t *g, int tick,
+                                         int32_t travel_mm)
+{
+    const int32_t hgt = cfg->rig.height;
+    floor_axes_t prev;
+    int use_prev;
+    int32_t gate_q4;
+    int32_t v;
+    if (p->pool_out == NULL) {
+        return disp;
+    }
+    if (!tick) {
+        /* the travel is measured from tick to tick: between ticks the map
+         * is used as measured and the history waits for the next tick */
+        return disp;
+    }
+    use_prev = p->pool_have && travel_mm > 0 &&
+               negobs_abs_s32(g->pose.height_mm - p->pool_pose.height_mm) <=
+                   POOL_FIT_MM &&
+               negobs_abs_s32(g->pose.pitch_mdeg - p->pool_pose.pitch_mdeg) <=
+                   POOL_FIT_MDEG &&
+               travel_axes_of(&p->pool_frame, &prev);
+    gate_q4 = negobs_clamp_s32(POOL_GATE_NUM * g->sigma_q4 / POOL_GATE_DEN,
+                               POOL_GATE_MIN_Q4, POOL_GATE_MAX_Q4);
+    p->pool_cur ^= 1;
+    for (v = 0; v < hgt; v++) {
+        if (use_prev) {
+            map_row(&cfg->rig, &g->plane, &g->frame, &prev, travel_mm, v,
+                    p->pool_node);
+        }
+        pool_row(p, cfg, disp, &g->plane, v, use_prev ? p->pool_node : NULL,
+                 gate_q4);
+    }
+    p->pool_frame = g->frame;
+    p->pool_pose = g->pose;
+    p->pool_have = 1;
+    p->pool_img.data = p->pool_out;
+    p->pool_img.width = cfg->rig.width;
+    p->pool_img.height = hgt;
+    p->pool_img.stride = cfg->rig.width;
+    return &p->pool_img;
+}
+
+void det_pool_distrust(detect_priv_t *p)
+{
+    p->pool_have = 0;
+}
