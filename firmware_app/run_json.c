@@ -8,7 +8,8 @@
  *
  * The JSON lines carry negobs_png's fields (tools/detect: frame, file,
  * stereo_status, state, reasons, level, nearest_range_mm, clear_to_mm,
- * short_sight, noise_vouch_mm, range_near_mm, pattern, motor_on,
+ * short_sight, noise_vouch_mm, range_near_mm, pooled_permille, pattern,
+ * motor_on,
  * duty_permille, hazards,
  * candidates, stereo, ground, mount, ms) so that one reader serves both,
  * plus what only the device knows (timestamps, the app's verdict and
@@ -208,10 +209,12 @@ static void library_json(FILE *f, const negobs_pipeline_result_t *r, int32_t w,
     reasons_json(f, d->reasons);
     fprintf(f,
             ",\"level\":\"%s\",\"nearest_range_mm\":%ld,\"clear_to_mm\":%ld,"
-            "\"short_sight\":%ld,\"noise_vouch_mm\":%ld,\"range_near_mm\":%ld",
+            "\"short_sight\":%ld,\"noise_vouch_mm\":%ld,\"range_near_mm\":%ld,"
+            "\"pooled_permille\":%ld",
             level_name(d->level), (long)d->nearest_range_mm,
             (long)d->clear_to_mm, (long)d->short_sight,
-            (long)d->noise_vouch_mm, (long)d->range_near_mm);
+            (long)d->noise_vouch_mm, (long)d->range_near_mm,
+            (long)d->pooled_permille);
     fprintf(f, ",\"motor_on\":%ld,\"duty_permille\":%ld", (long)r->motor.on,
             (long)r->motor.duty_permille);
     hazards_json(f, "hazards", d->hazards, d->n_hazards);
@@ -272,7 +275,7 @@ void json_log_pair(uint32_t index, uint64_t ts_left_ns, uint64_t ts_right_ns,
         fprintf(f, ",\"stereo_status\":\"not run\",\"state\":\"NO_INFO\","
                    "\"reasons\":[],\"level\":\"NONE\",\"nearest_range_mm\":-1,"
                    "\"clear_to_mm\":0,\"short_sight\":0,\"noise_vouch_mm\":0,"
-                   "\"range_near_mm\":0,"
+                   "\"range_near_mm\":0,\"pooled_permille\":0,"
                    "\"motor_on\":0,\"duty_permille\":0,\"hazards\":[],"
                    "\"candidates\":[]");
     }

@@ -27,6 +27,7 @@ typedef struct pool_rig {
     int16_t disp[W * H];
     negobs_image_s16_t img;
     gfit_out_t g;
+    int32_t pooled; /* the last call's pooled share, per mille */
 } pool_rig_t;
 
 static pool_rig_t *rig_new(void)
@@ -133,9 +134,10 @@ static void test_pool_halves_floor_noise(void **state)
     for (i = 0; i < 4; i++) {
         render(r, 0.0, 0.3, 11u + (uint32_t)i);
         m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1,
-                           (i > 0) ? STEP_MM : 0);
+                           (i > 0) ? STEP_MM : 0, &r->pooled);
     }
     assert_ptr_not_equal(m, &r->img);
+    assert_true(r->pooled > 900); /* all but the newly seen floor */
     raw = scatter_px(r, r->disp, 140, 230);
     pooled = scatter_px(r, m->data, 140, 230);
     assert_true(raw > 0.25);
@@ -157,7 +159,7 @@ static void test_pool_keeps_the_edge_in_place(void **state)
     for (i = 0; i < 4; i++) {
         render(r, 3.0 - 0.12 * i, 0.2, 21u + (uint32_t)i);
         m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1,
-                           (i > 0) ? STEP_MM : 0);
+                           (i > 0) ? STEP_MM : 0, &r->pooled);
     }
     render(r, 3.0 - 0.12 * 3, 0.0, 1u);
     for (k = 0; k < 3; k++) {
@@ -192,24 +194,27 @@ static void test_pool_needs_travel_and_steady_fits(void **state)
     const negobs_image_s16_t *m;
     (void)state;
     render(r, 0.0, 0.3, 31u);
-    (void)det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, 0);
+    (void)det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, 0, &r->pooled);
     render(r, 0.0, 0.3, 32u);
-    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, 0);
+    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, 0, &r->pooled);
     assert_true(same_as_frame(r, m));
+    assert_int_equal(r->pooled, 0);
 
     render(r, 0.0, 0.3, 33u);
     fit_of(r, 1280, 20.0); /* 80 mm higher than the last tick's */
-    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM);
+    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM, &r->pooled);
     assert_true(same_as_frame(r, m));
+    assert_int_equal(r->pooled, 0);
 
     render(r, 0.0, 0.3, 34u);
     fit_of(r, 1280, 20.0); /* the same fit again: steady */
-    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM);
+    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM, &r->pooled);
     assert_false(same_as_frame(r, m)); /* steady again: pooled */
     det_pool_distrust(&r->p);
     render(r, 0.0, 0.3, 35u);
-    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM);
+    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM, &r->pooled);
     assert_true(same_as_frame(r, m));
+    assert_int_equal(r->pooled, 0);
     free(r);
 }
 
@@ -220,11 +225,13 @@ static void test_pool_off_between_ticks(void **state)
     pool_rig_t *r = rig_new();
     (void)state;
     render(r, 0.0, 0.3, 41u);
-    assert_ptr_equal(det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 0, 0),
-                     &r->img);
+    assert_ptr_equal(
+        det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 0, 0, &r->pooled),
+        &r->img);
     r->p.pool_out = NULL;
     assert_ptr_equal(
-        det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM), &r->img);
+        det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM, &r->pooled),
+        &r->img);
     free(r);
 }
 
@@ -239,12 +246,12 @@ static void test_pool_gate_keeps_another_surface(void **state)
     for (i = 0; i < 3; i++) {
         render(r, 0.0, 0.1, 51u + (uint32_t)i);
         m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1,
-                           (i > 0) ? STEP_MM : 0);
+                           (i > 0) ? STEP_MM : 0, &r->pooled);
     }
     render(r, 0.0, 0.1, 54u);
     r->disp[200 * W + 160] = (int16_t)(r->disp[200 * W + 160] +
                                        3 * NEGOBS_DISP_ONE);
-    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM);
+    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM, &r->pooled);
     assert_int_equal(m->data[200 * W + 160], r->disp[200 * W + 160]);
     free(r);
 }

@@ -533,7 +533,8 @@ std::string json_line(int frame, const std::string &name, const FrameOut &o,
       << ",\"clear_to_mm\":" << d.clear_to_mm << ",\"short_sight\":" << d.short_sight
       << ",\"noise_vouch_mm\":" << d.noise_vouch_mm
       << ",\"blocked_at_mm\":" << d.blocked_at_mm
-      << ",\"range_near_mm\":" << d.range_near_mm << ",\"pattern\":\""
+      << ",\"range_near_mm\":" << d.range_near_mm
+      << ",\"pooled_permille\":" << d.pooled_permille << ",\"pattern\":\""
       << pattern_name(o.res.motor.pattern) << "\",\"motor_on\":" << o.res.motor.on
       << ",\"duty_permille\":" << o.res.motor.duty_permille << ",\"hazards\":[";
     for (uint32_t k = 0; k < d.n_hazards && k < NEGOBS_DETECT_MAX_HAZARDS; ++k) {

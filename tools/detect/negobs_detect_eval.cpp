@@ -154,8 +154,9 @@ struct Rec {
     bool in_view; // edge visible in the corridor (middle half of the columns)
     int clear_to_mm;
     int short_sight;
-    int weak_permille = 0; // the pipeline's half-resolution pass:
-    int coarse = 0;        // weak share, whether it ran
+    int weak_permille = 0;   // the pipeline's half-resolution pass:
+    int coarse = 0;          // weak share, whether it ran
+    int pooled_permille = 0; // the detector's pooled share (pool_frames)
     negobs_mount_t mount;
     double gt_H_mm, gt_pitch, gt_roll; // true pose of the frame
     int range_warn_mm;                 // the detector's warning range (config)
@@ -733,6 +734,7 @@ bool run_seq(const Options &opt, const Seq &q, int idx, std::vector<Rec> &out,
         r.short_sight = o.res.detect.short_sight;
         r.weak_permille = o.res.weak_permille;
         r.coarse = o.res.coarse_ran;
+        r.pooled_permille = o.res.detect.pooled_permille;
         r.mount = o.res.detect.mount;
         r.gt_H_mm = k < poses.size() ? poses[k].H_mm : NAN;
         r.gt_pitch = k < poses.size() ? poses[k].pitch : NAN;
@@ -1264,7 +1266,7 @@ int evaluate_synth(const Options &opt)
                         "\"stereo_ms\":%.2f,\"detect_ms\":%.3f,\"in_view\":%d,"
                         "\"clear_to_mm\":%d,\"short_sight\":%d,\"mount\":[%d,%d,%d,%d],"
                         "\"gt_pose\":[%.0f,%.2f,%.2f],\"weak_permille\":%d,"
-                        "\"coarse\":%d}\n",
+                        "\"coarse\":%d,\"pooled\":%d}\n",
                         suite[k].name.c_str(), r.i, r.gt_range ? r.gt_mm : -1.0,
                         state_name(r.state), reasons_string(r.reasons, "|").c_str(),
                         level_name(r.level), r.matched ? 1 : 0,
@@ -1272,7 +1274,8 @@ int evaluate_synth(const Options &opt)
                         r.n_unmatched, r.stereo_ms, r.detect_ms, r.in_view ? 1 : 0,
                         r.clear_to_mm, r.short_sight, r.mount.height_mm,
                         r.mount.pitch_mdeg, r.mount.roll_mdeg, r.mount.source, r.gt_H_mm,
-                        r.gt_pitch, r.gt_roll, r.weak_permille, r.coarse);
+                        r.gt_pitch, r.gt_roll, r.weak_permille, r.coarse,
+                        r.pooled_permille);
                 }
             }
             std::fclose(f);
@@ -1815,6 +1818,7 @@ int evaluate_surdis(const Options &opt)
     }
     cam.valign = opt.surdis_vshift == -200;
     cam.max_disp = opt.surdis_max_disp;
+    cam.pool_frames = opt.pool;
     Runner runner;
     bool inited = false;
     Report rep;
@@ -2212,6 +2216,7 @@ int evaluate_oakd(const Options &opt)
     }
     cam.baseline_mm = b_m * 1000.0;
     cam.height_mm = 0; // no hint: the detector measures the mounting
+    cam.pool_frames = opt.pool;
     std::vector<std::string> names;
     for (const auto &e : fs::directory_iterator(root)) {
         const std::string fn = e.path().filename().string();

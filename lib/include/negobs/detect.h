@@ -420,6 +420,11 @@ typedef struct negobs_detect_result {
      *  stereo.max_disp is too small for this camera and mounting. See
      *  docs/DETECTION.md section 4, "Beyond the matcher's range". */
     int32_t range_near_mm;
+    /** Share (per mille) of this frame's valid disparities below the
+     *  horizon that were pooled with earlier frames (pool_frames > 1; 0
+     *  when off, between ticks, or without a measured travel). See
+     *  docs/DETECTION.md, "Pooled frames". */
+    int32_t pooled_permille;
     negobs_mount_t mount; /**< camera mounting used this frame */
     /** The ground under the feet as the detector holds it after this
      *  frame: how it was established (negobs_ground_ref_by_t) and the

@@ -200,6 +200,7 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
     int32_t v_top = cfg->rig.height - 1;
     int32_t noise_med = -1;  /* det_noise_median, measured when needed */
     int32_t noise_half = -1; /* the same, of frame->left_half */
+    int32_t fit_far_mm = 0;  /* floor distance of the top fit row */
     uint32_t i;
 
     memset(&s, 0, sizeof s); /* every field defined before use */
@@ -207,7 +208,7 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
     s.left = same_size(cfg, frame->left) ? frame->left : NULL;
     det_travel_follow(p, cfg, g, s.left, frame->now_ms);
     s.disp = det_pool_frame(p, cfg, frame->disp_q4, g, p->temporal.tick,
-                            p->pool_travel_mm);
+                            p->pool_travel_mm, &res->pooled_permille);
     s.conf = frame->confidence;
     if (p->view_l_held) {
         s.view_l_u0 = p->view_l_u0;
@@ -262,15 +263,23 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
      * reported whatever the noise elsewhere. A candidate in strips that
      * fail it is as likely matching noise: it only refreshes a confirmed
      * track (section 6). The ground-drop cue has no strips: it comes from
-     * the fit rows, so it needs the frame to vouch for the near zone (a
-     * wall at 3 m ends the walk there and leaves the cue intact). */
+     * the plane of the fit rows, so it needs the frame to vouch for the
+     * near zone and for the fit rows' floor: a plane those rows do not
+     * follow as a floor is not a lower level (a wall standing in the fit
+     * rows of a camera pitched 7 deg tilted the fit up by 3 deg and
+     * 150 mm). */
+    det_model_point(
+        &s, cfg->rig.width / 2, p->gfit.v_lo,
+        negobs_ground_disp_q4(s.plane, cfg->rig.width / 2, p->gfit.v_lo),
+        &fit_far_mm, NULL, NULL);
     for (i = 0; i < res->n_candidates && i < NEGOBS_DETECT_MAX_HAZARDS; i++) {
         const negobs_hazard_t *c = &res->candidates[i];
-        fw->trusted[i] = (uint8_t)((c->flags & NEGOBS_HAZARD_F_GROUND_DROP) !=
-                                           0u
-                                       ? fw->walk_to >= cfg->near_min_mm
-                                       : (fw->walk_to >= cfg->range_warn_mm ||
-                                          det_vouch_candidate(&s, p, c)));
+        fw->trusted[i] =
+            (uint8_t)((c->flags & NEGOBS_HAZARD_F_GROUND_DROP) != 0u
+                          ? fw->walk_to >=
+                                geom_max_s32(cfg->near_min_mm, fit_far_mm)
+                          : (fw->walk_to >= cfg->range_warn_mm ||
+                             det_vouch_candidate(&s, p, c)));
         /* A deficit read in a box without texture (flat paint, a smooth
          * slab) is the matcher wandering, not a drop: it may refresh a
          * confirmed track but not start or confirm one. Missing ground

@@ -359,12 +359,14 @@ int32_t det_pool_nodes(int32_t width);
 
 /* This frame's map pooled with the last pooled frame's (detect_pool.c)
  * on ticks with a measured travel, the map itself otherwise (and when
- * pool_frames is 1). The result is valid until the next call. */
+ * pool_frames is 1), and the share of its values pooled. The result is
+ * valid until the next call. */
 const negobs_image_s16_t *det_pool_frame(detect_priv_t *p,
                                          const negobs_detect_config_t *cfg,
                                          const negobs_image_s16_t *disp,
                                          const gfit_out_t *g, int tick,
-                                         int32_t travel_mm);
+                                         int32_t travel_mm,
+                                         int32_t *pooled_permille);
 
 /* This frame's fit was found wrong after the scan (no fit, or one that
  * fell onto a lower level): the next frame pools nothing with it. */

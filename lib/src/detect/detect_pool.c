@@ -46,9 +46,10 @@
  */
 
 #define POOL_NONE INT16_MIN
-/* Node spacing of the floor mapping (columns): the mapping is smooth, and
- * linear between nodes 8 px apart it is off by far less than a pixel
- * below the horizon's last rows, which the scan never reads. */
+/* Node spacing of the floor mapping (columns; prev_at shifts by 3): the
+ * mapping is smooth, and linear between nodes 8 px apart it is off by far
+ * less than a pixel below the horizon's last rows, which the scan never
+ * reads. */
 #define POOL_NODE_PX 8
 /* A head bobs by 30-50 mm and pitches by a few degrees over a stride of
  * about half a second: between two ticks (100 ms) the rendered gait of
@@ -85,11 +86,14 @@ static inline int16_t hist_pack(int32_t rho_q14, int32_t n)
 
 int32_t det_pool_nodes(int32_t width)
 {
-    return (width + POOL_NODE_PX - 1) / POOL_NODE_PX + 1;
+    /* nodes at u = 0, 8, ...: the last one at or beyond the last column,
+     * so every column lies in a whole span (shifts, no division) */
+    return (width - 1) / POOL_NODE_PX + 2;
 }
 
 /* Previous-frame pixel (q4) of each node of row v: INT32_MIN when the
- * node's floor point is not on the floor of both frames. */
+ * node's floor point is not on the floor of both frames (a node past the
+ * last column is projected like any other). */
 static void map_row(const negobs_rig_t *rig,
                     const negobs_ground_plane_t *plane,
                     const negobs_ground_frame_t *fr, const floor_axes_t *prev,
@@ -98,11 +102,10 @@ static void map_row(const negobs_rig_t *rig,
     const int32_t nn = det_pool_nodes(rig->width);
     int32_t k;
     for (k = 0; k < nn; k++) {
-        int32_t u = geom_min_s32(k * POOL_NODE_PX, rig->width - 1);
         int32_t fwd = 0;
         int32_t lat = 0;
-        node_uv[2 * k] = INT32_MIN;
-        if (!mount_floor_point(rig, plane, fr, u, v, &fwd, &lat) ||
+        if (!mount_floor_point(rig, plane, fr, k * POOL_NODE_PX, v, &fwd,
+                               &lat) ||
             !travel_pixel_q4(rig, prev, fwd + travel_mm, lat, &node_uv[2 * k],
                              &node_uv[2 * k + 1])) {
             node_uv[2 * k] = INT32_MIN;
@@ -111,49 +114,40 @@ static void map_row(const negobs_rig_t *rig,
 }
 
 /* The last pooled frame's history at the previous-frame pixel of (u, v)
- * (linear between the row's nodes), or POOL_NONE. */
-static int16_t prev_at(const detect_priv_t *p, const negobs_rig_t *rig,
-                       const int32_t *node_uv, int32_t u)
+ * (linear between the row's nodes, rounded down to 1/16 px), or
+ * POOL_NONE. */
+static inline int16_t prev_at(const int16_t *prev_hist,
+                              const negobs_rig_t *rig, const int32_t *node_uv,
+                              int32_t u)
 {
-    const int32_t k = u / POOL_NODE_PX;
-    const int32_t x0 = k * POOL_NODE_PX;
-    const int32_t x1 = geom_min_s32(x0 + POOL_NODE_PX, rig->width - 1);
-    int32_t uq;
-    int32_t vq;
+    const int32_t *a = node_uv + 2 * (u / POOL_NODE_PX);
+    const int32_t t = u % POOL_NODE_PX;
     int32_t pu;
     int32_t pv;
-    if (node_uv[2 * k] == INT32_MIN || node_uv[2 * k + 2] == INT32_MIN) {
+    if (a[0] == INT32_MIN || a[2] == INT32_MIN) {
         return POOL_NONE;
     }
-    if (x1 > x0) {
-        uq = node_uv[2 * k] +
-             (node_uv[2 * k + 2] - node_uv[2 * k]) * (u - x0) / (x1 - x0);
-        vq = node_uv[2 * k + 1] +
-             (node_uv[2 * k + 3] - node_uv[2 * k + 1]) * (u - x0) / (x1 - x0);
-    } else {
-        uq = node_uv[2 * k];
-        vq = node_uv[2 * k + 1];
-    }
-    pu = (uq + 8) >> 4;
-    pv = (vq + 8) >> 4;
+    pu = (a[0] + (((a[2] - a[0]) * t) >> 3) + 8) >> 4;
+    pv = (a[1] + (((a[3] - a[1]) * t) >> 3) + 8) >> 4;
     if (pu < 0 || pv < 0 || pu >= rig->width || pv >= rig->height) {
         return POOL_NONE;
     }
-    return p->pool_hist[p->pool_cur ^ 1]
-                       [(size_t)pv * (size_t)rig->width + (size_t)pu];
+    return prev_hist[(size_t)pv * (size_t)rig->width + (size_t)pu];
 }
 
 /* One row: rho of each valid pixel below the horizon, pooled with the
- * previous frame where allowed (node_uv NULL: not at all). */
+ * previous frame where allowed (node_uv NULL: not at all). Counts the
+ * row's valid pixels below the horizon and the pooled ones into cnt. */
 static void pool_row(detect_priv_t *p, const negobs_detect_config_t *cfg,
                      const negobs_image_s16_t *disp,
                      const negobs_ground_plane_t *plane, int32_t v,
-                     const int32_t *node_uv, int32_t gate_q4)
+                     const int32_t *node_uv, int32_t gate_q4, int32_t cnt[2])
 {
     const int32_t w = cfg->rig.width;
     const int16_t *in = negobs_image_s16_row(disp, v);
     int16_t *out = p->pool_out + (size_t)v * (size_t)w;
     int16_t *hist = p->pool_hist[p->pool_cur] + (size_t)v * (size_t)w;
+    const int16_t *prev_hist = p->pool_hist[p->pool_cur ^ 1];
     int64_t acc = (int64_t)plane->b_q20 * v + plane->c_q20;
     int32_t u;
     for (u = 0; u < w; u++, acc += plane->a_q20) {
@@ -167,19 +161,24 @@ static void pool_row(detect_priv_t *p, const negobs_detect_config_t *cfg,
         if (d == NEGOBS_DISP_INVALID || d < 0 || dg <= 0) {
             continue;
         }
+        cnt[0]++;
         rho = (int32_t)(((int64_t)(d - dg) << 14) / dg);
         if (rho < -16384 || rho >= 16384) {
             continue; /* nearer than twice the floor's disparity: not
                          pooled, as measured */
         }
-        h = (node_uv != NULL) ? prev_at(p, &cfg->rig, node_uv, u) : POOL_NONE;
+        h = (node_uv != NULL) ? prev_at(prev_hist, &cfg->rig, node_uv, u)
+                              : POOL_NONE;
         if (h != POOL_NONE &&
             negobs_abs_s32((int32_t)(((int64_t)(rho - hist_rho(h)) * dg) >>
                                      14)) <= gate_q4) {
             const int32_t np = geom_min_s32(hist_n(h), cfg->pool_frames - 1);
-            rho = (int32_t)negobs_div_round_s64(
-                (int64_t)rho + (int64_t)np * hist_rho(h), np + 1);
+            /* |sum| <= 4 x 2^14: an int32 division, rounded half away */
+            const int32_t sum = rho + np * hist_rho(h);
+            rho = (sum >= 0) ? (sum + (np + 1) / 2) / (np + 1)
+                             : -((-sum + (np + 1) / 2) / (np + 1));
             n = np + 1;
+            cnt[1]++;
             out[u] = (int16_t)(dg + (int32_t)geom_rshift_round_s64(
                                         (int64_t)rho * dg, 14));
         }
@@ -191,13 +190,16 @@ const negobs_image_s16_t *det_pool_frame(detect_priv_t *p,
                                          const negobs_detect_config_t *cfg,
                                          const negobs_image_s16_t *disp,
                                          const gfit_out_t *g, int tick,
-                                         int32_t travel_mm)
+                                         int32_t travel_mm,
+                                         int32_t *pooled_permille)
 {
+    int32_t cnt[2] = {0, 0};
     const int32_t hgt = cfg->rig.height;
     floor_axes_t prev;
     int use_prev;
     int32_t gate_q4;
     int32_t v;
+    *pooled_permille = 0;
     if (p->pool_out == NULL) {
         return disp;
     }
@@ -216,13 +218,21 @@ const negobs_image_s16_t *det_pool_frame(detect_priv_t *p,
                                POOL_GATE_MIN_Q4, POOL_GATE_MAX_Q4);
     p->pool_cur ^= 1;
     for (v = 0; v < hgt; v++) {
-        if (use_prev) {
+        /* a row with floor at either end (the plane is linear along it) */
+        const int row_prev = use_prev &&
+                             (negobs_ground_disp_q4(&g->plane, 0, v) > 0 ||
+                              negobs_ground_disp_q4(
+                                  &g->plane, cfg->rig.width - 1, v) > 0);
+        if (row_prev) {
             map_row(&cfg->rig, &g->plane, &g->frame, &prev, travel_mm, v,
                     p->pool_node);
         }
-        pool_row(p, cfg, disp, &g->plane, v, use_prev ? p->pool_node : NULL,
-                 gate_q4);
+        pool_row(p, cfg, disp, &g->plane, v, row_prev ? p->pool_node : NULL,
+                 gate_q4, cnt);
     }
+    *pooled_permille = (cnt[0] > 0)
+                           ? (int32_t)((int64_t)cnt[1] * 1000 / cnt[0])
+                           : 0;
     p->pool_frame = g->frame;
     p->pool_pose = g->pose;
     p->pool_have = 1;
