@@ -84,7 +84,12 @@ static void test_detect_workspace_scales_with_size(void **state)
     negobs_detect_config_default(&cfg, 640, 480);
     assert_int_equal(negobs_detect_workspace_size(&cfg, &big), NEGOBS_OK);
     assert_true(big > small);
-    /* O(rows * disparity bins): 640x480 stays well under 256 KiB. */
+    /* O(w * h) with the pooled frames (6 bytes a pixel): 640x480 stays
+     * under 2 MiB; without them O(rows * disparity bins), well under
+     * 256 KiB. */
+    assert_true(big < 2048u * 1024u);
+    cfg.pool_frames = 1;
+    assert_int_equal(negobs_detect_workspace_size(&cfg, &big), NEGOBS_OK);
     assert_true(big < 256u * 1024u);
 }
 

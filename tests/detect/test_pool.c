@@ -265,7 +265,8 @@ static void test_pool_config_and_workspace(void **state)
     size_t on = 0;
     (void)state;
     negobs_detect_config_default(&cfg, W, H);
-    assert_int_equal(cfg.pool_frames, 1);
+    assert_int_equal(cfg.pool_frames, 4);
+    cfg.pool_frames = 1;
     assert_int_equal(negobs_detect_workspace_size(&cfg, &off), NEGOBS_OK);
     cfg.pool_frames = 4;
     assert_int_equal(negobs_detect_workspace_size(&cfg, &on), NEGOBS_OK);

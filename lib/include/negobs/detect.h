@@ -47,13 +47,15 @@ extern "C" {
  * strips <= w/4 x (64 + 112) bytes (scan state, local-noise cells),
  * their row medians' memo <= w/4 x h x 2 bytes, noise bands 2 + 2 KiB,
  * the disparity Canny window 3 x w x 2 + 16 x w bytes, two row profiles
- * h x 8 bytes, plus arena guards.)
+ * h x 8 bytes, pooled frames (pool_frames > 1) w x h x 6 bytes and
+ * (w / 8 + 2) x 8 bytes of nodes, plus arena guards.)
  */
 #define NEGOBS_DETECT_WORKSPACE_MAX(w, h, max_disp_px)                        \
     ((size_t)8192u +                                                          \
      (size_t)(h) * ((size_t)(max_disp_px)*2u + 2u + 4u) * 2u +                \
      (size_t)16640u + ((size_t)(w) / 4u + 1u) * (176u + (size_t)(h)*2u) +     \
-     (size_t)(w)*22u + (size_t)4608u)
+     (size_t)(w)*22u + (size_t)(w) * (size_t)(h)*6u +                         \
+     ((size_t)(w) / 8u + 2u) * 8u + (size_t)4608u + (size_t)256u)
 
 /** Why the detector cannot vouch for "no hazard" (bitmask). */
 typedef enum negobs_degraded_reason {

@@ -70,7 +70,7 @@ void negobs_detect_config_default(negobs_detect_config_t *cfg, int32_t width,
     cfg->clear_m = 5;
     /* The rate every frame count here was set and evaluated at. */
     cfg->frame_interval_ms = 100;
-    cfg->pool_frames = 1;
+    cfg->pool_frames = 4;
     cfg->hold_ms = 3000;
     cfg->hold_speed_mm_s = 1400;
     cfg->max_speed_mm_s = 2000;
