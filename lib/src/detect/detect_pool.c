@@ -179,8 +179,11 @@ static void pool_row(detect_priv_t *p, const negobs_detect_config_t *cfg,
                              : -((-sum + (np + 1) / 2) / (np + 1));
             n = np + 1;
             cnt[1]++;
-            out[u] = (int16_t)(dg + (int32_t)geom_rshift_round_s64(
-                                        (int64_t)rho * dg, 14));
+            /* 0 <= d_g (1 + rho) < 2 d_g: saturated like the ground
+             * disparity itself, for a plane that steep */
+            out[u] = (int16_t)negobs_clamp_s32(
+                dg + (int32_t)geom_rshift_round_s64((int64_t)rho * dg, 14), 0,
+                INT16_MAX);
         }
         hist[u] = hist_pack(rho, n);
     }
