@@ -121,21 +121,33 @@ static int edge_row(const pool_rig_t *r, const int16_t *m, int u)
     return -1;
 }
 
+/* n ticks 120 mm apart from a fresh start, each with fresh noise (seed
+ * seed0 + i); drop0_m > 0: a 15 cm drop that far ahead at the first
+ * tick. The last pooled map. */
+static const negobs_image_s16_t *walk_ticks(pool_rig_t *r, int n,
+                                            double drop0_m, double noise_px,
+                                            uint32_t seed0)
+{
+    const negobs_image_s16_t *m = NULL;
+    int i;
+    for (i = 0; i < n; i++) {
+        render(r, (drop0_m > 0.0) ? drop0_m - 0.12 * i : 0.0, noise_px,
+               seed0 + (uint32_t)i);
+        m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1,
+                           (i > 0) ? STEP_MM : 0, &r->pooled);
+    }
+    return m;
+}
+
 /* Four ticks over level ground with fresh noise each: the pooled map
  * scatters about half as much as the frame's own. */
 static void test_pool_halves_floor_noise(void **state)
 {
     pool_rig_t *r = rig_new();
-    const negobs_image_s16_t *m = NULL;
+    const negobs_image_s16_t *m = walk_ticks(r, 4, 0.0, 0.3, 11u);
     double raw;
     double pooled;
-    int i;
     (void)state;
-    for (i = 0; i < 4; i++) {
-        render(r, 0.0, 0.3, 11u + (uint32_t)i);
-        m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1,
-                           (i > 0) ? STEP_MM : 0, &r->pooled);
-    }
     assert_ptr_not_equal(m, &r->img);
     assert_true(r->pooled > 900); /* all but the newly seen floor */
     raw = scatter_px(r, r->disp, 140, 230);
@@ -151,16 +163,10 @@ static void test_pool_halves_floor_noise(void **state)
 static void test_pool_keeps_the_edge_in_place(void **state)
 {
     pool_rig_t *r = rig_new();
-    const negobs_image_s16_t *m = NULL;
+    const negobs_image_s16_t *m = walk_ticks(r, 4, 3.0, 0.2, 21u);
     int truth[3];
-    int i;
     int k;
     (void)state;
-    for (i = 0; i < 4; i++) {
-        render(r, 3.0 - 0.12 * i, 0.2, 21u + (uint32_t)i);
-        m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1,
-                           (i > 0) ? STEP_MM : 0, &r->pooled);
-    }
     render(r, 3.0 - 0.12 * 3, 0.0, 1u);
     for (k = 0; k < 3; k++) {
         truth[k] = edge_row(r, r->disp, 100 + 60 * k);
@@ -240,14 +246,9 @@ static void test_pool_off_between_ticks(void **state)
 static void test_pool_gate_keeps_another_surface(void **state)
 {
     pool_rig_t *r = rig_new();
-    const negobs_image_s16_t *m = NULL;
-    int i;
+    const negobs_image_s16_t *m;
     (void)state;
-    for (i = 0; i < 3; i++) {
-        render(r, 0.0, 0.1, 51u + (uint32_t)i);
-        m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1,
-                           (i > 0) ? STEP_MM : 0, &r->pooled);
-    }
+    (void)walk_ticks(r, 3, 0.0, 0.1, 51u);
     render(r, 0.0, 0.1, 54u);
     r->disp[200 * W + 160] = (int16_t)(r->disp[200 * W + 160] +
                                        3 * NEGOBS_DISP_ONE);
