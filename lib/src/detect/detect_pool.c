@@ -31,11 +31,11 @@
  *   what places its samples; misplaced, they would smooth away the very
  *   edge that shows the fit to be wrong;
  * - its floor point was in the last pooled frame's view with a value;
- * - the two agree within 3 sigmas of their difference (the fit's per-pixel
- *   sigma times sqrt(2))
- *   (at least POOL_GATE_MIN_Q4, at most POOL_GATE_MAX_Q4): anything else
- *   is another surface (a moving object, an occlusion boundary, a wall
- *   whose relative residual changes with the range), kept as measured.
+ * - the two agree within 3 sigmas of their difference (the fit's
+ *   per-pixel sigma times sqrt(2); at least POOL_GATE_MIN_Q4, at most
+ *   POOL_GATE_MAX_Q4): anything else is another surface (a moving object,
+ *   an occlusion boundary, a wall whose relative residual changes with
+ *   the range), kept as measured.
  * The weight of the past is at most pool_frames - 1 frames (a running
  * mean up to pool_frames, an exponential one after).
  *
@@ -59,7 +59,7 @@
 #define POOL_FIT_MDEG 3000
 /* 3 sigmas of the difference of two samples (sqrt(2) x the per-pixel
  * sigma, 3 x 1.414 ~= 17/4): two samples of the same floor disagree by
- * more 0.3 % of the time. A tighter gate would drop the noisiest samples
+ * more than that 0.3 % of the time. A tighter gate would drop the noisiest samples
  * from the pool and keep exactly those as measured. */
 #define POOL_GATE_NUM 17
 #define POOL_GATE_DEN 4
