@@ -102,13 +102,14 @@ static void map_row(const negobs_rig_t *rig,
     const int32_t nn = det_pool_nodes(rig->width);
     int32_t k;
     for (k = 0; k < nn; k++) {
+        int32_t *node = node_uv + (ptrdiff_t)2 * k;
         int32_t fwd = 0;
         int32_t lat = 0;
         if (!mount_floor_point(rig, plane, fr, k * POOL_NODE_PX, v, &fwd,
                                &lat) ||
-            !travel_pixel_q4(rig, prev, fwd + travel_mm, lat, &node_uv[2 * k],
-                             &node_uv[2 * k + 1])) {
-            node_uv[2 * k] = INT32_MIN;
+            !travel_pixel_q4(rig, prev, fwd + travel_mm, lat, &node[0],
+                             &node[1])) {
+            node[0] = INT32_MIN;
         }
     }
 }
@@ -120,7 +121,7 @@ static inline int16_t prev_at(const int16_t *prev_hist,
                               const negobs_rig_t *rig, const int32_t *node_uv,
                               int32_t u)
 {
-    const int32_t *a = node_uv + 2 * (u / POOL_NODE_PX);
+    const int32_t *a = node_uv + (ptrdiff_t)2 * (u / POOL_NODE_PX);
     const int32_t t = u % POOL_NODE_PX;
     int32_t pu;
     int32_t pv;
@@ -157,7 +158,7 @@ static void pool_row(detect_priv_t *p, const negobs_detect_config_t *cfg,
         int32_t n = 1;
         int16_t h;
         out[u] = (int16_t)d;
-        hist[u] = POOL_NONE;
+        hist[u] = (int16_t)POOL_NONE;
         if (d == NEGOBS_DISP_INVALID || d < 0 || dg <= 0) {
             continue;
         }
@@ -167,8 +168,10 @@ static void pool_row(detect_priv_t *p, const negobs_detect_config_t *cfg,
             continue; /* nearer than twice the floor's disparity: not
                          pooled, as measured */
         }
-        h = (node_uv != NULL) ? prev_at(prev_hist, &cfg->rig, node_uv, u)
-                              : POOL_NONE;
+        h = (int16_t)POOL_NONE;
+        if (node_uv != NULL) {
+            h = prev_at(prev_hist, &cfg->rig, node_uv, u);
+        }
         if (h != POOL_NONE &&
             negobs_abs_s32((int32_t)(((int64_t)(rho - hist_rho(h)) * dg) >>
                                      14)) <= gate_q4) {
