@@ -382,11 +382,13 @@ typedef struct pass_sim {
 } pass_sim_t;
 
 /* Runs in the order frame 0 (which searches the vertical offset) makes
- * them with the default configuration. */
+ * them with the default configuration: the matcher's, then the
+ * detector's. */
 static const char *const pass_names[] = {
     "vertical search", "low-res means", "low-res match", "grow (GCS)",
     "DP stage 1",      "back-track",    "LR check",      "speckle marks",
-    "speckle clears",  "gap fill",      "mean rows",     "mean columns"};
+    "speckle clears",  "gap fill",      "mean rows",     "mean columns",
+    "pooled frames"};
 
 static void pass_run(void *user, int32_t n_jobs, negobs_job_fn fn, void *arg)
 {
@@ -496,7 +498,7 @@ static int walk_project(int32_t threads, int table, double *proj)
             "time before the run; band jobs in dispatch order, costliest first):\n");
         for (k = 0; k < ps.passes; k++) {
             int32_t b;
-            const char *name = (ps.passes == 12) ? pass_names[k] : "run";
+            const char *name = (ps.passes == 13) ? pass_names[k] : "run";
             double sum = 0.0;
             for (b = 0; b < PASS_BANDS; b++) {
                 sum += ps.band_ms[k][b];
@@ -512,7 +514,8 @@ static int walk_project(int32_t threads, int table, double *proj)
             }
             printf("\n");
         }
-        printf("      after the last run (output count, detector, alert) "
+        printf("      after the last run (the detector after its pooled "
+               "frames, alert) "
                "%5.2f; all band jobs %5.2f\n",
                after / WALK_FRAMES, jobs / WALK_FRAMES);
         printf("      pipeline stages (thread CPU ms per frame, band jobs "

@@ -53,6 +53,19 @@ static void test_detect_workspace_exact_and_nospace(void **state)
     assert_int_equal(negobs_detect_init(&det, &cfg, ws + 1, bytes),
                      NEGOBS_ERR_ALIGN);
     assert_int_equal(negobs_detect_init(&det, &cfg, ws, bytes), NEGOBS_OK);
+    {
+        /* an executor needs a run() and a worker; NULL runs the bands
+         * here; an uninitialised detector has none to take */
+        negobs_executor_t e = {0, NULL, NULL};
+        negobs_detect_t fresh = {0};
+        assert_int_equal(negobs_detect_set_executor(&det, &e),
+                         NEGOBS_ERR_INVAL);
+        assert_int_equal(negobs_detect_set_executor(&det, NULL), NEGOBS_OK);
+        assert_int_equal(negobs_detect_set_executor(NULL, NULL),
+                         NEGOBS_ERR_STATE);
+        assert_int_equal(negobs_detect_set_executor(&fresh, NULL),
+                         NEGOBS_ERR_STATE);
+    }
     assert_int_equal(negobs_detect_init(NULL, &cfg, ws, bytes),
                      NEGOBS_ERR_INVAL);
     assert_int_equal(negobs_detect_init(&det, NULL, ws, bytes),

@@ -23,7 +23,7 @@ typedef struct pool_rig {
     detect_priv_t p;
     int16_t hist[2][W * H];
     int16_t out[W * H];
-    int32_t node[2 * 64];
+    int32_t node[NEGOBS_DETECT_POOL_BANDS * 2 * 64];
     int16_t disp[W * H];
     negobs_image_s16_t img;
     gfit_out_t g;
@@ -257,6 +257,57 @@ static void test_pool_gate_keeps_another_surface(void **state)
     free(r);
 }
 
+/* An executor that runs the jobs last first, on worker (job mod 3), and
+ * counts them: the layout is the library's, not the executor's. */
+typedef struct rev_exec {
+    int32_t runs;
+    int32_t jobs;
+} rev_exec_t;
+
+static void rev_run(void *user, int32_t n_jobs, negobs_job_fn fn, void *arg)
+{
+    rev_exec_t *x = (rev_exec_t *)user;
+    int32_t j;
+    x->runs++;
+    for (j = n_jobs - 1; j >= 0; j--) {
+        fn(arg, j, j % 3);
+        x->jobs++;
+    }
+}
+
+/* The pass runs in NEGOBS_DETECT_POOL_BANDS row bands on an executor:
+ * walking toward a drop, run last band first on three workers, every
+ * pooled map, history and pooled share equals the one run in order. */
+static void test_pool_bands_on_an_executor(void **state)
+{
+    pool_rig_t *a = rig_new();
+    pool_rig_t *b = rig_new();
+    rev_exec_t x = {0, 0};
+    int i;
+    (void)state;
+    b->p.exec.workers = 3;
+    b->p.exec.run = rev_run;
+    b->p.exec.user = &x;
+    for (i = 0; i < 5; i++) {
+        const negobs_image_s16_t *ma;
+        const negobs_image_s16_t *mb;
+        render(a, 3.0 - 0.12 * i, 0.2, 61u + (uint32_t)i);
+        render(b, 3.0 - 0.12 * i, 0.2, 61u + (uint32_t)i);
+        ma = det_pool_frame(&a->p, &a->cfg, &a->img, &a->g, 1,
+                            (i > 0) ? STEP_MM : 0, &a->pooled);
+        mb = det_pool_frame(&b->p, &b->cfg, &b->img, &b->g, 1,
+                            (i > 0) ? STEP_MM : 0, &b->pooled);
+        assert_memory_equal(ma->data, mb->data, sizeof(int16_t) * W * H);
+        assert_memory_equal(a->hist, b->hist, sizeof a->hist);
+        assert_int_equal(a->pooled, b->pooled);
+    }
+    assert_true(a->pooled > 900); /* the walk did pool */
+    assert_int_equal(x.runs, 5);
+    assert_int_equal(x.jobs, 5 * NEGOBS_DETECT_POOL_BANDS);
+    free(a);
+    free(b);
+}
+
 /* The workspace grows by the pooling's buffers only when it is on, and
  * a pool_frames outside 1..4 is refused. */
 static void test_pool_config_and_workspace(void **state)
@@ -289,6 +340,7 @@ int main(void)
         cmocka_unit_test(test_pool_off_between_ticks),
         cmocka_unit_test(test_pool_gate_keeps_another_surface),
         cmocka_unit_test(test_pool_config_and_workspace),
+        cmocka_unit_test(test_pool_bands_on_an_executor),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -22,7 +22,7 @@
 static int16_t p_disp[PW * PH];
 static int16_t p_hist[2][PW * PH];
 static int16_t p_out[PW * PH];
-static int32_t p_node[2 * (PW / 8 + 2)];
+static int32_t p_node[NEGOBS_DETECT_POOL_BANDS * 2 * (PW / 8 + 2)];
 static detect_priv_t p_priv;
 
 static uint64_t fnv_byte(uint64_t h, uint8_t b)

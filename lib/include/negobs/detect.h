@@ -19,6 +19,7 @@
 #include <stdint.h>
 
 #include "negobs/depth.h"
+#include "negobs/executor.h"
 #include "negobs/fixed.h"
 #include "negobs/ground.h"
 #include "negobs/image.h"
@@ -38,6 +39,10 @@ extern "C" {
 #define NEGOBS_DETECT_MAX_TRACKS 8
 #endif
 
+/** Row bands of the pooled frames' pass (negobs_detect_set_executor):
+ * a fixed layout, bottom band first (the most floor, the costliest). */
+#define NEGOBS_DETECT_POOL_BANDS 8
+
 /**
  * Upper bound of negobs_detect_workspace_size() as a constant expression,
  * for static buffers: any valid config with this width, height and
@@ -48,14 +53,16 @@ extern "C" {
  * their row medians' memo <= w/4 x h x 2 bytes, noise bands 2 + 2 KiB,
  * the disparity Canny window 3 x w x 2 + 16 x w bytes, two row profiles
  * h x 8 bytes, pooled frames (pool_frames > 1) w x h x 6 bytes and
- * (w / 8 + 2) x 8 bytes of nodes, plus arena guards.)
+ * (w / 8 + 2) x 8 bytes of nodes for each of its
+ * NEGOBS_DETECT_POOL_BANDS row bands, plus arena guards.)
  */
 #define NEGOBS_DETECT_WORKSPACE_MAX(w, h, max_disp_px)                        \
     ((size_t)8192u +                                                          \
      (size_t)(h) * ((size_t)(max_disp_px)*2u + 2u + 4u) * 2u +                \
      (size_t)16640u + ((size_t)(w) / 4u + 1u) * (176u + (size_t)(h)*2u) +     \
      (size_t)(w)*22u + (size_t)(w) * (size_t)(h)*6u +                         \
-     ((size_t)(w) / 8u + 2u) * 8u + (size_t)4608u + (size_t)256u)
+     ((size_t)(w) / 8u + 2u) * 8u * (size_t)NEGOBS_DETECT_POOL_BANDS +        \
+     (size_t)4608u + (size_t)256u)
 
 /** Why the detector cannot vouch for "no hazard" (bitmask). */
 typedef enum negobs_degraded_reason {
@@ -473,6 +480,19 @@ negobs_status_t negobs_detect_workspace_size(const negobs_detect_config_t *cfg,
 negobs_status_t negobs_detect_init(negobs_detect_t *ctx,
                                    const negobs_detect_config_t *cfg,
                                    void *workspace, size_t workspace_bytes);
+
+/**
+ * @brief Run the detector's row bands on the caller's executor from the
+ * next frame on: the pooled frames' pass (pool_frames > 1,
+ * docs/DETECTION.md 6.4), in NEGOBS_DETECT_POOL_BANDS bands of rows. Each
+ * band keeps its own scratch and the layout is fixed, so the result does
+ * not depend on the executor, its order or its number of workers. NULL
+ * runs them in order on the calling thread (the default).
+ * @return NEGOBS_OK, NEGOBS_ERR_INVAL (run NULL or workers < 1),
+ *         NEGOBS_ERR_STATE (not initialised).
+ */
+negobs_status_t negobs_detect_set_executor(negobs_detect_t *ctx,
+                                           const negobs_executor_t *exec);
 
 /**
  * @brief Process one frame.

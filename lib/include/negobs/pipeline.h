@@ -232,9 +232,10 @@ negobs_status_t negobs_pipeline_set_clock(negobs_pipeline_t *ctx,
                                           void *user);
 
 /**
- * @brief Run the matcher's row bands on the caller's executor from the
- * next frame on (negobs_stereo_set_executor: stereo.bands shapes the
- * output, the executor only the time; exec->workers <= stereo.band_workers).
+ * @brief Run the matcher's row bands and the detector's
+ * (negobs_detect_set_executor) on the caller's executor from the next
+ * frame on (negobs_stereo_set_executor: stereo.bands shapes the output,
+ * the executor only the time; exec->workers <= stereo.band_workers).
  * NULL (the state after init) runs them on the calling thread.
  * @return NEGOBS_OK, NEGOBS_ERR_INVAL (NULL ctx, bad executor),
  *         NEGOBS_ERR_STATE (not initialised).

@@ -248,7 +248,9 @@ static negobs_status_t carve(negobs_arena_t *ar,
         p->pool_hist[1] = negobs_arena_take(ar, px * sizeof(int16_t));
         p->pool_out = negobs_arena_take(ar, px * sizeof(int16_t));
         p->pool_node = negobs_arena_take(
-            ar, (size_t)det_pool_nodes(cfg->rig.width) * 2 * sizeof(int32_t));
+            ar, (size_t)NEGOBS_DETECT_POOL_BANDS *
+                    (size_t)det_pool_nodes(cfg->rig.width) * 2 *
+                    sizeof(int32_t));
     }
     *out = (p == &tmp) ? NULL : p;
     return negobs_arena_status(ar);
@@ -296,7 +298,30 @@ negobs_status_t negobs_detect_init(negobs_detect_t *ctx,
     temporal_reset(&p->temporal, &ctx->cfg);
     mount_reset(&p->mount);
     travel_reset(p->travel); /* carved memory is not zeroed */
+    memset(&p->exec, 0, sizeof p->exec);
     p->magic = DETECT_MAGIC;
     ctx->priv = p;
+    return NEGOBS_OK;
+}
+
+negobs_status_t negobs_detect_set_executor(negobs_detect_t *ctx,
+                                           const negobs_executor_t *exec)
+{
+    detect_priv_t *p;
+    if (ctx == NULL || ctx->priv == NULL) {
+        return NEGOBS_ERR_STATE;
+    }
+    p = (detect_priv_t *)ctx->priv;
+    if (p->magic != DETECT_MAGIC) {
+        return NEGOBS_ERR_STATE;
+    }
+    if (exec == NULL) {
+        memset(&p->exec, 0, sizeof p->exec);
+        return NEGOBS_OK;
+    }
+    if (exec->run == NULL || exec->workers < 1) {
+        return NEGOBS_ERR_INVAL;
+    }
+    p->exec = *exec;
     return NEGOBS_OK;
 }

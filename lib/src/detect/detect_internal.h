@@ -219,7 +219,9 @@ typedef struct detect_priv {
      * v), the last pooled frame's floor and whether there is one. */
     int16_t *pool_hist[2];
     int16_t *pool_out;
-    int32_t *pool_node;
+    int32_t *pool_node; /* NEGOBS_DETECT_POOL_BANDS rows of nodes */
+    int32_t pool_cnt[NEGOBS_DETECT_POOL_BANDS][2]; /* valid, pooled */
+    negobs_executor_t exec; /* run NULL: the bands in order, here */
     negobs_image_s16_t pool_img;
     int32_t pool_cur;
     int32_t pool_have;

@@ -192,6 +192,50 @@ static void pool_row(detect_priv_t *p, const negobs_detect_config_t *cfg,
     }
 }
 
+/* One frame's pass, shared by its row bands. */
+typedef struct pool_pass {
+    detect_priv_t *p;
+    const negobs_detect_config_t *cfg;
+    const negobs_image_s16_t *disp;
+    const gfit_out_t *g;
+    floor_axes_t prev;
+    int use_prev;
+    int32_t travel_mm;
+    int32_t gate_q4;
+} pool_pass_t;
+
+/* Band `job` of NEGOBS_DETECT_POOL_BANDS, counted from the bottom (the
+ * most floor first: the costliest first, as the executor asks): its rows,
+ * its own nodes and counts, so bands may run at once in any order. */
+static void pool_band(void *arg, int32_t job, int32_t worker)
+{
+    const pool_pass_t *pp = (const pool_pass_t *)arg;
+    detect_priv_t *p = pp->p;
+    const negobs_detect_config_t *cfg = pp->cfg;
+    const int32_t hgt = cfg->rig.height;
+    const int32_t v1 = hgt - hgt * job / NEGOBS_DETECT_POOL_BANDS;
+    int32_t *node = p->pool_node +
+                    (ptrdiff_t)job * 2 * det_pool_nodes(cfg->rig.width);
+    int32_t *cnt = p->pool_cnt[job];
+    int32_t v;
+    (void)worker;
+    cnt[0] = 0;
+    cnt[1] = 0;
+    for (v = hgt - hgt * (job + 1) / NEGOBS_DETECT_POOL_BANDS; v < v1; v++) {
+        /* a row with floor at either end (the plane is linear along it) */
+        const int row_prev = pp->use_prev &&
+                             (negobs_ground_disp_q4(&pp->g->plane, 0, v) > 0 ||
+                              negobs_ground_disp_q4(
+                                  &pp->g->plane, cfg->rig.width - 1, v) > 0);
+        if (row_prev) {
+            map_row(&cfg->rig, &pp->g->plane, &pp->g->frame, &pp->prev,
+                    pp->travel_mm, v, node);
+        }
+        pool_row(p, cfg, pp->disp, &pp->g->plane, v, row_prev ? node : NULL,
+                 pp->gate_q4, cnt);
+    }
+}
+
 const negobs_image_s16_t *det_pool_frame(detect_priv_t *p,
                                          const negobs_detect_config_t *cfg,
                                          const negobs_image_s16_t *disp,
@@ -200,11 +244,8 @@ const negobs_image_s16_t *det_pool_frame(detect_priv_t *p,
                                          int32_t *pooled_permille)
 {
     int32_t cnt[2] = {0, 0};
-    const int32_t hgt = cfg->rig.height;
-    floor_axes_t prev;
-    int use_prev;
-    int32_t gate_q4;
-    int32_t v;
+    pool_pass_t pp;
+    int32_t j;
     *pooled_permille = 0;
     if (p->pool_out == NULL) {
         return disp;
@@ -214,27 +255,30 @@ const negobs_image_s16_t *det_pool_frame(detect_priv_t *p,
          * is used as measured and the history waits for the next tick */
         return disp;
     }
-    use_prev = p->pool_have && travel_mm > 0 &&
-               negobs_abs_s32(g->pose.height_mm - p->pool_pose.height_mm) <=
-                   POOL_FIT_MM &&
-               negobs_abs_s32(g->pose.pitch_mdeg - p->pool_pose.pitch_mdeg) <=
-                   POOL_FIT_MDEG &&
-               travel_axes_of(&p->pool_frame, &prev);
-    gate_q4 = negobs_clamp_s32(POOL_GATE_NUM * g->sigma_q4 / POOL_GATE_DEN,
-                               POOL_GATE_MIN_Q4, POOL_GATE_MAX_Q4);
+    pp.p = p;
+    pp.cfg = cfg;
+    pp.disp = disp;
+    pp.g = g;
+    pp.travel_mm = travel_mm;
+    pp.use_prev = p->pool_have && travel_mm > 0 &&
+                  negobs_abs_s32(g->pose.height_mm - p->pool_pose.height_mm) <=
+                      POOL_FIT_MM &&
+                  negobs_abs_s32(g->pose.pitch_mdeg -
+                                 p->pool_pose.pitch_mdeg) <= POOL_FIT_MDEG &&
+                  travel_axes_of(&p->pool_frame, &pp.prev);
+    pp.gate_q4 = negobs_clamp_s32(POOL_GATE_NUM * g->sigma_q4 / POOL_GATE_DEN,
+                                  POOL_GATE_MIN_Q4, POOL_GATE_MAX_Q4);
     p->pool_cur ^= 1;
-    for (v = 0; v < hgt; v++) {
-        /* a row with floor at either end (the plane is linear along it) */
-        const int row_prev = use_prev &&
-                             (negobs_ground_disp_q4(&g->plane, 0, v) > 0 ||
-                              negobs_ground_disp_q4(
-                                  &g->plane, cfg->rig.width - 1, v) > 0);
-        if (row_prev) {
-            map_row(&cfg->rig, &g->plane, &g->frame, &prev, travel_mm, v,
-                    p->pool_node);
+    if (p->exec.run != NULL) {
+        p->exec.run(p->exec.user, NEGOBS_DETECT_POOL_BANDS, pool_band, &pp);
+    } else {
+        for (j = 0; j < NEGOBS_DETECT_POOL_BANDS; j++) {
+            pool_band(&pp, j, 0);
         }
-        pool_row(p, cfg, disp, &g->plane, v, row_prev ? p->pool_node : NULL,
-                 gate_q4, cnt);
+    }
+    for (j = 0; j < NEGOBS_DETECT_POOL_BANDS; j++) {
+        cnt[0] += p->pool_cnt[j][0];
+        cnt[1] += p->pool_cnt[j][1];
     }
     *pooled_permille = (cnt[0] > 0)
                            ? (int32_t)((int64_t)cnt[1] * 1000 / cnt[0])
@@ -244,7 +288,7 @@ const negobs_image_s16_t *det_pool_frame(detect_priv_t *p,
     p->pool_have = 1;
     p->pool_img.data = p->pool_out;
     p->pool_img.width = cfg->rig.width;
-    p->pool_img.height = hgt;
+    p->pool_img.height = cfg->rig.height;
     p->pool_img.stride = cfg->rig.width;
     return &p->pool_img;
 }

@@ -532,7 +532,16 @@ negobs_status_t negobs_pipeline_set_executor(negobs_pipeline_t *ctx,
             return st;
         }
     }
-    return negobs_stereo_set_executor(&p->stereo, exec);
+    {
+        const negobs_status_t st = negobs_stereo_set_executor(&p->stereo,
+                                                              exec);
+        if (st != NEGOBS_OK) {
+            return st;
+        }
+    }
+    /* the detector's row bands (the pooled frames' pass) on the same
+     * threads: its bands keep their own scratch, any worker count fits */
+    return negobs_detect_set_executor(&p->detect, exec);
 }
 
 negobs_status_t negobs_pipeline_tick(negobs_pipeline_t *ctx, uint32_t now_ms,
