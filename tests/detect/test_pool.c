@@ -308,6 +308,44 @@ static void test_pool_bands_on_an_executor(void **state)
     free(b);
 }
 
+/* A faulty executor: skips the first job and hands a job index past the
+ * last one instead of the second. */
+static void skip_run(void *user, int32_t n_jobs, negobs_job_fn fn, void *arg)
+{
+    int32_t j;
+    (void)user;
+    for (j = 1; j < n_jobs; j++) {
+        fn(arg, (j == 1) ? n_jobs + 5 : j, 0);
+    }
+}
+
+/* The bands such an executor skipped run on the calling thread, and the
+ * index past the last is ignored: the maps equal the serial ones (a
+ * skipped band would keep the last frame's rows). */
+static void test_pool_faulty_executor_changes_nothing(void **state)
+{
+    pool_rig_t *a = rig_new();
+    pool_rig_t *b = rig_new();
+    int i;
+    (void)state;
+    b->p.exec.workers = 1;
+    b->p.exec.run = skip_run;
+    for (i = 0; i < 3; i++) {
+        const negobs_image_s16_t *ma;
+        const negobs_image_s16_t *mb;
+        render(a, 2.5 - 0.12 * i, 0.2, 71u + (uint32_t)i);
+        render(b, 2.5 - 0.12 * i, 0.2, 71u + (uint32_t)i);
+        ma = det_pool_frame(&a->p, &a->cfg, &a->img, &a->g, 1,
+                            (i > 0) ? STEP_MM : 0, &a->pooled);
+        mb = det_pool_frame(&b->p, &b->cfg, &b->img, &b->g, 1,
+                            (i > 0) ? STEP_MM : 0, &b->pooled);
+        assert_memory_equal(ma->data, mb->data, sizeof(int16_t) * W * H);
+        assert_int_equal(a->pooled, b->pooled);
+    }
+    free(a);
+    free(b);
+}
+
 /* The workspace grows by the pooling's buffers only when it is on, and
  * a pool_frames outside 1..4 is refused. */
 static void test_pool_config_and_workspace(void **state)
@@ -341,6 +379,7 @@ int main(void)
         cmocka_unit_test(test_pool_gate_keeps_another_surface),
         cmocka_unit_test(test_pool_config_and_workspace),
         cmocka_unit_test(test_pool_bands_on_an_executor),
+        cmocka_unit_test(test_pool_faulty_executor_changes_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

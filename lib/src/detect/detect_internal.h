@@ -221,6 +221,7 @@ typedef struct detect_priv {
     int16_t *pool_out;
     int32_t *pool_node; /* NEGOBS_DETECT_POOL_BANDS rows of nodes */
     int32_t pool_cnt[NEGOBS_DETECT_POOL_BANDS][2]; /* valid, pooled */
+    uint8_t pool_done[NEGOBS_DETECT_POOL_BANDS];   /* this frame's */
     negobs_executor_t exec; /* run NULL: the bands in order, here */
     negobs_image_s16_t pool_img;
     int32_t pool_cur;

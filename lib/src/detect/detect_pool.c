@@ -206,19 +206,26 @@ typedef struct pool_pass {
 
 /* Band `job` of NEGOBS_DETECT_POOL_BANDS, counted from the bottom (the
  * most floor first: the costliest first, as the executor asks): its rows,
- * its own nodes and counts, so bands may run at once in any order. */
+ * its own nodes and counts, so bands may run at once in any order. A band
+ * run twice gives the same rows (it reads only the last frame's history);
+ * a job index outside the bands is ignored. */
 static void pool_band(void *arg, int32_t job, int32_t worker)
 {
     const pool_pass_t *pp = (const pool_pass_t *)arg;
     detect_priv_t *p = pp->p;
     const negobs_detect_config_t *cfg = pp->cfg;
     const int32_t hgt = cfg->rig.height;
-    const int32_t v1 = hgt - hgt * job / NEGOBS_DETECT_POOL_BANDS;
-    int32_t *node = p->pool_node +
-                    (ptrdiff_t)job * 2 * det_pool_nodes(cfg->rig.width);
-    int32_t *cnt = p->pool_cnt[job];
+    int32_t *node;
+    int32_t *cnt;
+    int32_t v1;
     int32_t v;
     (void)worker;
+    if (job < 0 || job >= NEGOBS_DETECT_POOL_BANDS) {
+        return;
+    }
+    v1 = hgt - hgt * job / NEGOBS_DETECT_POOL_BANDS;
+    node = p->pool_node + (ptrdiff_t)job * 2 * det_pool_nodes(cfg->rig.width);
+    cnt = p->pool_cnt[job];
     cnt[0] = 0;
     cnt[1] = 0;
     for (v = hgt - hgt * (job + 1) / NEGOBS_DETECT_POOL_BANDS; v < v1; v++) {
@@ -234,6 +241,7 @@ static void pool_band(void *arg, int32_t job, int32_t worker)
         pool_row(p, cfg, pp->disp, &pp->g->plane, v, row_prev ? node : NULL,
                  pp->gate_q4, cnt);
     }
+    p->pool_done[job] = 1;
 }
 
 const negobs_image_s16_t *det_pool_frame(detect_priv_t *p,
@@ -269,10 +277,14 @@ const negobs_image_s16_t *det_pool_frame(detect_priv_t *p,
     pp.gate_q4 = negobs_clamp_s32(POOL_GATE_NUM * g->sigma_q4 / POOL_GATE_DEN,
                                   POOL_GATE_MIN_Q4, POOL_GATE_MAX_Q4);
     p->pool_cur ^= 1;
+    memset(p->pool_done, 0, sizeof p->pool_done);
     if (p->exec.run != NULL) {
         p->exec.run(p->exec.user, NEGOBS_DETECT_POOL_BANDS, pool_band, &pp);
-    } else {
-        for (j = 0; j < NEGOBS_DETECT_POOL_BANDS; j++) {
+    }
+    /* without an executor, and any band a faulty executor skipped: here (a
+     * skipped band would leave the last frame's rows in the map) */
+    for (j = 0; j < NEGOBS_DETECT_POOL_BANDS; j++) {
+        if (!p->pool_done[j]) {
             pool_band(&pp, j, 0);
         }
     }
