@@ -275,24 +275,18 @@ static void rev_run(void *user, int32_t n_jobs, negobs_job_fn fn, void *arg)
     }
 }
 
-/* The pass runs in NEGOBS_DETECT_POOL_BANDS row bands on an executor:
- * walking toward a drop, run last band first on three workers, every
- * pooled map, history and pooled share equals the one run in order. */
-static void test_pool_bands_on_an_executor(void **state)
+/* n ticks toward a 15 cm drop drop0_m ahead, the same frames through a
+ * (bands in order, here) and b (on b's executor): every pooled map,
+ * history and pooled share must be equal. */
+static void assert_pooled_alike(pool_rig_t *a, pool_rig_t *b, int n,
+                                double drop0_m, uint32_t seed0)
 {
-    pool_rig_t *a = rig_new();
-    pool_rig_t *b = rig_new();
-    rev_exec_t x = {0, 0};
     int i;
-    (void)state;
-    b->p.exec.workers = 3;
-    b->p.exec.run = rev_run;
-    b->p.exec.user = &x;
-    for (i = 0; i < 5; i++) {
+    for (i = 0; i < n; i++) {
         const negobs_image_s16_t *ma;
         const negobs_image_s16_t *mb;
-        render(a, 3.0 - 0.12 * i, 0.2, 61u + (uint32_t)i);
-        render(b, 3.0 - 0.12 * i, 0.2, 61u + (uint32_t)i);
+        render(a, drop0_m - 0.12 * i, 0.2, seed0 + (uint32_t)i);
+        render(b, drop0_m - 0.12 * i, 0.2, seed0 + (uint32_t)i);
         ma = det_pool_frame(&a->p, &a->cfg, &a->img, &a->g, 1,
                             (i > 0) ? STEP_MM : 0, &a->pooled);
         mb = det_pool_frame(&b->p, &b->cfg, &b->img, &b->g, 1,
@@ -302,6 +296,21 @@ static void test_pool_bands_on_an_executor(void **state)
         assert_int_equal(a->pooled, b->pooled);
     }
     assert_true(a->pooled > 900); /* the walk did pool */
+}
+
+/* The pass runs in NEGOBS_DETECT_POOL_BANDS row bands on an executor:
+ * walking toward a drop, run last band first on three workers, it equals
+ * the pass run in order. */
+static void test_pool_bands_on_an_executor(void **state)
+{
+    pool_rig_t *a = rig_new();
+    pool_rig_t *b = rig_new();
+    rev_exec_t x = {0, 0};
+    (void)state;
+    b->p.exec.workers = 3;
+    b->p.exec.run = rev_run;
+    b->p.exec.user = &x;
+    assert_pooled_alike(a, b, 5, 3.0, 61u);
     assert_int_equal(x.runs, 5);
     assert_int_equal(x.jobs, 5 * NEGOBS_DETECT_POOL_BANDS);
     free(a);
@@ -326,22 +335,10 @@ static void test_pool_faulty_executor_changes_nothing(void **state)
 {
     pool_rig_t *a = rig_new();
     pool_rig_t *b = rig_new();
-    int i;
     (void)state;
     b->p.exec.workers = 1;
     b->p.exec.run = skip_run;
-    for (i = 0; i < 3; i++) {
-        const negobs_image_s16_t *ma;
-        const negobs_image_s16_t *mb;
-        render(a, 2.5 - 0.12 * i, 0.2, 71u + (uint32_t)i);
-        render(b, 2.5 - 0.12 * i, 0.2, 71u + (uint32_t)i);
-        ma = det_pool_frame(&a->p, &a->cfg, &a->img, &a->g, 1,
-                            (i > 0) ? STEP_MM : 0, &a->pooled);
-        mb = det_pool_frame(&b->p, &b->cfg, &b->img, &b->g, 1,
-                            (i > 0) ? STEP_MM : 0, &b->pooled);
-        assert_memory_equal(ma->data, mb->data, sizeof(int16_t) * W * H);
-        assert_int_equal(a->pooled, b->pooled);
-    }
+    assert_pooled_alike(a, b, 3, 2.5, 71u);
     free(a);
     free(b);
 }
