@@ -59,8 +59,8 @@
 #define POOL_FIT_MDEG 3000
 /* 3 sigmas of the difference of two samples (sqrt(2) x the per-pixel
  * sigma, 3 x 1.414 ~= 17/4): two samples of the same floor disagree by
- * more than that 0.3 % of the time. A tighter gate would drop the noisiest samples
- * from the pool and keep exactly those as measured. */
+ * more than that 0.3 % of the time. A tighter gate would drop the
+ * noisiest samples from the pool and keep exactly those as measured. */
 #define POOL_GATE_NUM 17
 #define POOL_GATE_DEN 4
 /* 0.5 px: on a textured floor (sigma 0.1 px) a sub-pixel misalignment of
