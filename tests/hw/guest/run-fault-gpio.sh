@@ -30,7 +30,7 @@ else
     hw_sleep 2
     TF=$(now); echo 0 > "$G/live" || fail "cannot take the chip down"
     say "gpio chip removed at boot $TF (negobs_run $(sec_of $TF)s); /dev: $(ls /dev | grep gpiochip | tr '\n' ' ')"
-    TL=$(wait_log 'motor: output failing' "$(sec_of $TF)" $FAIL_LIMIT_S)
+    TL=$(wait_log 'motor: output failing' "$(fault_after $TF)" $FAIL_LIMIT_S)
     hw_sleep $HOLD_S
     # the observer follows the new chip's simulated pin (same edge file);
     # it runs before the chip returns, because the line plays the 2 s

@@ -65,6 +65,15 @@ back_after() {
         'BEGIN { a = b - 0.5; if (a < l) a = l; printf "%.3f", a }'
 }
 
+# fault_after TF: where to look for the failure line (negobs seconds). The
+# same start-up offset as back_after: a failure logged at once reads
+# "before" the fault (run-fault-gpio saw 3.174 s against 3.178 s and
+# waited in vain). 0.5 s of slack, never before the first clear TC.
+fault_after() {
+    awk -v b="$(sec_of "$1")" -v c="${TC:-0}" \
+        'BEGIN { a = b - 0.5; if (a < c) a = c; printf "%.3f", a }'
+}
+
 # wait_clear AFTER LIMIT_S: a clear verdict after AFTER (negobs seconds)
 wait_clear() { wait_log 'verdict .* -> clear' "$1" "$2"; }
 

@@ -38,7 +38,7 @@ else
     hw_sleep 2
     TF=$(now); echo 1 > $KNOB
     say "PWM writes failing from boot $TF (negobs_run $(sec_of $TF)s)"
-    TL=$(wait_log 'motor: output failing' "$(sec_of $TF)" $FAIL_LIMIT_S)
+    TL=$(wait_log 'motor: output failing' "$(fault_after $TF)" $FAIL_LIMIT_S)
     hw_sleep $HOLD_S
     TB=$(now); echo 0 > $KNOB
     say "PWM writes work again from boot $TB (negobs_run $(sec_of $TB)s)"
