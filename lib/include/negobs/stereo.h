@@ -79,6 +79,14 @@ typedef struct negobs_stereo_config {
     int32_t dp_rescore;     /**< 1: score every band cell with MNCC, 0: only
                                the GCS cell (1.0), the rest neutral (0)  */
 
+    /* sub-pixel (stage 5a) */
+    int32_t subpixel_halfshift; /**< 1: average the parabola's offset with
+                               a second one on the right image shifted by
+                               half a pixel, which cancels the first
+                               one's pull towards whole pixels (0; the
+                               pipeline's half-size pass sets 1:
+                               docs/DISPARITY.md, stage 5)              */
+
     /* refinement (stage 5) */
     int32_t lr_check; /**< 1: drop pixels occluded in the right view (1) */
     int32_t

@@ -70,6 +70,12 @@ int pl_coarse_config(const negobs_pipeline_config_t *cfg,
      * fraction of the memory, which on a wearable goes to the full-size
      * matcher's threads first. */
     out->memory_profile = NEGOBS_STEREO_PROFILE_COMPACT;
+    /* Its disparities are doubled, and the 2x2 averages make a texture's
+     * correlation peak half as wide in pixels, so the parabola's pull
+     * towards whole pixels, doubled, would ripple the floor by about
+     * +-0.1 px with a period of 2 px of disparity (a worn-asphalt floor
+     * measured: docs/DISPARITY.md, stage 5): cancel it. */
+    out->subpixel_halfshift = 1;
     /* a fixed offset halves like every length; a searched one is held at
      * the full-size result each frame (pipeline.c) */
     off = f->vertical_offset;

@@ -37,6 +37,7 @@ void negobs_stereo_config_default(negobs_stereo_config_t *cfg, int32_t width,
     cfg->dp_neutral_q14 = 0;
     cfg->dp_jump_q14 = 8192; /* 0.5 */
     cfg->dp_rescore = 0;
+    cfg->subpixel_halfshift = 0;
     cfg->lr_check = 1;
     cfg->speckle_size = 100;
     cfg->speckle_diff_q4 = 12;
@@ -89,7 +90,8 @@ static negobs_status_t check_config(const negobs_stereo_config_t *c)
     if (c->band < 1 || c->band > NEGOBS_STEREO_MAX_BAND ||
         c->dp_neutral_q14 < -STX_ONE_Q14 || c->dp_neutral_q14 > STX_ONE_Q14 ||
         c->dp_jump_q14 < 0 || c->dp_jump_q14 > 2 * STX_ONE_Q14 ||
-        c->dp_rescore < 0 || c->dp_rescore > 1) {
+        c->dp_rescore < 0 || c->dp_rescore > 1 || c->subpixel_halfshift < 0 ||
+        c->subpixel_halfshift > 1) {
         return NEGOBS_ERR_INVAL;
     }
     if (c->speckle_size < 0 || c->speckle_size > 65536 ||

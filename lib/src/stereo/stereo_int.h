@@ -110,6 +110,16 @@ void stx_memo_clear(stx_t *s);
 void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
                 int16_t *outrow, uint8_t *confrow);
 
+/* ---- subpix.c --------------------------------------------------------- */
+/* Sub-pixel offset (Q4) of the integer disparity d at (x, y) whose scores
+ * at d - 1, d, d + 1 are c3 (Q14, none STX_FLAT): the mean of the
+ * parabola's vertex and the vertex on the right image shifted by half a
+ * pixel (subpixel_halfshift). Returns off_q4 (the parabola's rounded
+ * offset) where either is no peak or a window leaves an image. */
+int32_t stx_subpix_halfshift_q4(const stx_t *s, int32_t x, int32_t y,
+                                int32_t d, const int32_t c3[3],
+                                int32_t off_q4);
+
 /* ---- dp_store.c ------------------------------------------------------- */
 /* The pointer store: rows [y0, y1) take records from their part of it,
  * at most `limit` bytes (pass 0: all of it; pass 1: what pass 0 used,
