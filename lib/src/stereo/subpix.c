@@ -60,8 +60,8 @@ static int halfshift_load(const stx_t *s, int32_t x, int32_t y, int32_t d,
         w->cq[i] = 0;
     }
     for (j = 0; j <= 2 * STX_WIN_R; j++) {
-        const uint8_t *la =
-            negobs_image_u8_row(l, y + j - STX_WIN_R) + x - STX_WIN_R;
+        const uint8_t *la = negobs_image_u8_row(l, y + j - STX_WIN_R) + x -
+                            STX_WIN_R;
         const uint8_t *rb = negobs_image_u8_row(r, yr + j - STX_WIN_R) + x0;
         w->l[j] = la;
         for (i = 0; i <= 2 * STX_WIN_R; i++) {
@@ -109,8 +109,7 @@ static int32_t halfshift_mncc(const stx_t *s, const halfshift_win_t *w,
     }
     /* both values doubled (2 L against b): the cross sum is 2 slb, and
      * the texture floor in n^2 variance scales by 4 */
-    if (!stx_mncc_num_den(2u * slb, w->sa, w->va, sb,
-                          STX_WIN_N * qb - sb * sb,
+    if (!stx_mncc_num_den(2u * slb, w->sa, w->va, sb, STX_WIN_N * qb - sb * sb,
                           4u * (uint32_t)s->cfg.texture_min, &n2, &den)) {
         return STX_FLAT;
     }
@@ -137,8 +136,7 @@ static int32_t parabola_q8(int32_t m, int32_t c, int32_t p, int *ok)
 }
 
 int32_t stx_subpix_halfshift_q4(const stx_t *s, int32_t x, int32_t y,
-                                int32_t d, const int32_t c3[3],
-                                int32_t off_q4)
+                                int32_t d, const int32_t c3[3], int32_t off_q4)
 {
     halfshift_win_t w;
     int32_t lo;
