@@ -49,7 +49,8 @@ enum Exit {
 const char *const kHelp =
     "usage: negobs_stereo LEFT RIGHT OUT [-D|--max-disp N] [-d|--min-disp N]\n"
     "                     [-f|--format png16|kitti|pfm] [-c|--color PICTURE]\n"
-    "                     [--confidence CONF.png] [--align] [-s|--stats] [--threads N]\n"
+    "                     [--confidence CONF.png] [--align] [--halfshift]\n"
+    "                     [-s|--stats] [--threads N]\n"
     "\n"
     "Computes the disparity of the rectified pair LEFT (reference) / RIGHT\n"
     "with the negobs fixed-point engine and writes OUT.\n"
@@ -93,6 +94,11 @@ const char *const kHelp =
     "                 library's remap, as negobs_run --calib); the images must\n"
     "                 have the table's size (exit 3 otherwise, 2 for an\n"
     "                 unreadable or corrupt table)\n"
+    "  --halfshift    average each sub-pixel offset with the one on the\n"
+    "                 right image shifted by half a pixel, which cancels\n"
+    "                 the parabola's pull towards whole pixels (the\n"
+    "                 library's subpixel_halfshift; off by default, the\n"
+    "                 pipeline's half-size pass turns it on)\n"
     "  --dense        keep the values whose match falls left of the right\n"
     "                 image (the library's default); without it they get\n"
     "                 no value: the right camera never saw those points\n"
@@ -286,6 +292,7 @@ const struct option kLongOpts[] = {
     {"stats", no_argument, nullptr, 's'},
     {"align", no_argument, nullptr, 'a'},
     {"dense", no_argument, nullptr, 'e'},
+    {"halfshift", no_argument, nullptr, 'H'},
     {"calib", required_argument, nullptr, 'K'},
     {"threads", required_argument, nullptr, 'T'},
     {nullptr, 0, nullptr, 0},
@@ -303,6 +310,7 @@ int run(int argc, char **argv)
     bool stats = false;
     bool align = false;
     bool dense = false;
+    bool halfshift = false;
     int threads = 1; // the times of --stats stay one thread's CPU time
     if (argc < 2) {
         std::fputs(kHelp, stderr);
@@ -334,6 +342,7 @@ int run(int argc, char **argv)
         case 's': stats = true; break;
         case 'a': align = true; break;
         case 'e': dense = true; break;
+        case 'H': halfshift = true; break;
         case 'K': calib_path = optarg; break;
         case 'T':
             threads = negobs_cli::int_arg("--threads", optarg, 1,
@@ -448,6 +457,7 @@ int run(int argc, char **argv)
 
     negobs_tools::NegobsMatcher m;
     m.set_threads(threads);
+    m.set_subpixel_halfshift(halfshift);
     if (!m.init(left.cols, left.rows, range, err, -1, dense ? 1 : 0)) {
         std::fprintf(stderr, "negobs_stereo: %s (size %dx%d, range %d..%d)\n",
                      err.c_str(), left.cols, left.rows, range.min_disp,

@@ -139,6 +139,7 @@ bool NegobsMatcher::init(int width, int height, const Range &r,
         cfg.keep_out_of_view = keep_out_of_view;
     }
     cfg.band_workers = threads_;
+    cfg.subpixel_halfshift = halfshift_ ? 1 : 0;
     size_t bytes = 0;
     negobs_status_t st = negobs_stereo_workspace_size(&cfg, &bytes);
     if (st != NEGOBS_OK) {

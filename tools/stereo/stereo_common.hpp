@@ -60,6 +60,8 @@ public:
     // negobs_port pool; 1 = the calling thread only, the default). The
     // disparities do not depend on it.
     void set_threads(int threads) { threads_ = threads < 1 ? 1 : threads; }
+    // negobs_stereo_config_t.subpixel_halfshift for the next init()
+    void set_subpixel_halfshift(bool on) { halfshift_ = on; }
 
     // Runs the engine. disp_q4 becomes CV_16SC1 (disparity * 16 or
     // NEGOBS_DISP_INVALID), confidence CV_8UC1. Both inputs 8-bit grey of
@@ -94,6 +96,7 @@ private:
     std::string stats_text_;
     bool profile_ = false;
     int threads_ = 1;
+    bool halfshift_ = false;
 };
 
 // negobs disp_q4 (CV_16S, INT16_MIN = none) -> OpenCV's 16-bit PNG
