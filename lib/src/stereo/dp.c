@@ -721,11 +721,8 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
                                                  (int64_t)2 * den);
                 off = (int32_t)((o > 8) ? 8 : ((o < -8) ? -8 : o));
                 if (s->cfg.subpixel_halfshift) {
-                    int32_t c3[3];
-                    c3[0] = cm;
-                    c3[1] = c0;
-                    c3[2] = cp;
-                    off = stx_subpix_halfshift_q4(s, x, y, di, c3, off);
+                    off = stx_subpix_halfshift_q4(s, x, y, di, cm, c0, cp,
+                                                  off);
                 }
             }
         }

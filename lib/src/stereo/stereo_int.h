@@ -112,12 +112,12 @@ void stx_dp_row(stx_t *s, int32_t y, const int16_t *gcsrow, int pass,
 
 /* ---- subpix.c --------------------------------------------------------- */
 /* Sub-pixel offset (Q4) of the integer disparity d at (x, y) whose scores
- * at d - 1, d, d + 1 are c3 (Q14, none STX_FLAT): the mean of the
+ * at d - 1, d, d + 1 are cm, c0, cp (Q14, none STX_FLAT): the mean of the
  * parabola's vertex and the vertex on the right image shifted by half a
  * pixel (subpixel_halfshift). Returns off_q4 (the parabola's rounded
  * offset) where either is no peak or a window leaves an image. */
 int32_t stx_subpix_halfshift_q4(const stx_t *s, int32_t x, int32_t y,
-                                int32_t d, const int32_t c3[3],
+                                int32_t d, int32_t cm, int32_t c0, int32_t cp,
                                 int32_t off_q4);
 
 /* ---- dp_store.c ------------------------------------------------------- */

@@ -136,7 +136,8 @@ static int32_t parabola_q8(int32_t m, int32_t c, int32_t p, int *ok)
 }
 
 int32_t stx_subpix_halfshift_q4(const stx_t *s, int32_t x, int32_t y,
-                                int32_t d, const int32_t c3[3], int32_t off_q4)
+                                int32_t d, int32_t cm, int32_t c0, int32_t cp,
+                                int32_t off_q4)
 {
     halfshift_win_t w;
     int32_t lo;
@@ -146,7 +147,7 @@ int32_t stx_subpix_halfshift_q4(const stx_t *s, int32_t x, int32_t y,
     int32_t e2;
     int32_t sum;
     int ok;
-    e1 = parabola_q8(c3[0], c3[1], c3[2], &ok);
+    e1 = parabola_q8(cm, c0, cp, &ok);
     if (!ok || !halfshift_load(s, x, y, d, &w)) {
         return off_q4;
     }

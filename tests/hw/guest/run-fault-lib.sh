@@ -53,26 +53,24 @@ check_noinfo_only() {
     [ "$HZ" -eq 0 ] || fail "$HZ hazard patterns on the line $what"
 }
 
-# back_after TB: where to look for the recovery line (negobs seconds).
-# T_START is taken just before negobs_run is started, so a boot time
-# converted with sec_of reads late by negobs_run's start-up time (tens to
-# hundreds of ms under TCG);
-# a write that works at once is then logged "before" the knob (run-fault-pwm
-# saw 7.604 s against 7.609 s and waited in vain). 0.5 s of slack, never
-# before the failure line TL: there is no "back" without a failure.
-back_after() {
-    awk -v b="$(sec_of "$1")" -v l="${TL:-0}" \
+# slack_after T FLOOR: where to look for a line logged on an event at
+# boot time T (negobs seconds). T_START is taken just before negobs_run is
+# started, so a boot time converted with sec_of reads late by negobs_run's
+# start-up time (tens to hundreds of ms under TCG): a line logged at once
+# then reads "before" the event (run-fault-pwm saw 7.604 s against 7.609 s,
+# run-fault-gpio 3.174 s against 3.178 s, and waited in vain). 0.5 s of
+# slack, never before FLOOR.
+slack_after() {
+    awk -v b="$(sec_of "$1")" -v l="$2" \
         'BEGIN { a = b - 0.5; if (a < l) a = l; printf "%.3f", a }'
 }
 
-# fault_after TF: where to look for the failure line (negobs seconds). The
-# same start-up offset as back_after: a failure logged at once reads
-# "before" the fault (run-fault-gpio saw 3.174 s against 3.178 s and
-# waited in vain). 0.5 s of slack, never before the first clear TC.
-fault_after() {
-    awk -v b="$(sec_of "$1")" -v c="${TC:-0}" \
-        'BEGIN { a = b - 0.5; if (a < c) a = c; printf "%.3f", a }'
-}
+# back_after TB: the recovery line, never before the failure line TL:
+# there is no "back" without a failure.
+back_after() { slack_after "$1" "${TL:-0}"; }
+
+# fault_after TF: the failure line, never before the first clear TC.
+fault_after() { slack_after "$1" "${TC:-0}"; }
 
 # wait_clear AFTER LIMIT_S: a clear verdict after AFTER (negobs seconds)
 wait_clear() { wait_log 'verdict .* -> clear' "$1" "$2"; }
