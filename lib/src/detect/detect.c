@@ -68,6 +68,23 @@ static int same_size(const negobs_detect_config_t *cfg,
  * view on the next frame. */
 #define FILL_GROW_PX 8
 
+/* Reasons that keep a frame's ground from starting the following of the
+ * floor nearer than the view (det_near_follow's start_ok): an image gated
+ * as unusable (dark, blown out, blank: a covered lens), or a fit that is
+ * not, or not yet, the floor under the feet. A noisy frame with a
+ * verified fit starts it: it vouches nothing, so the floor walked towards
+ * is followed from its view and must be vouched before it leaves the
+ * view. */
+static const uint32_t NEAR_START_BLOCKING = NEGOBS_DEGRADED_TOO_DARK |
+                                            NEGOBS_DEGRADED_SATURATED |
+                                            NEGOBS_DEGRADED_LOW_TEXTURE |
+                                            NEGOBS_DEGRADED_FEW_GROUND |
+                                            NEGOBS_DEGRADED_GROUND_REJECTED |
+                                            NEGOBS_DEGRADED_STALE |
+                                            NEGOBS_DEGRADED_UNSYNCED |
+                                            NEGOBS_DEGRADED_BAD_INPUT |
+                                            NEGOBS_DEGRADED_GROUND_UNVERIFIED;
+
 /* Follow one image's columns in view [u0, u1) per row: this frame's fill
  * (fill_u0 / fill_u1), its growth limited to FILL_GROW_PX per frame. */
 static void view_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
@@ -453,7 +470,10 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
      * in view: else nothing is vouched from the feet (a hazard is still
      * reported) */
     if (!det_near_follow(p, cfg, fw.seen_from, res->clear_to_mm,
-                         g.ok ? p->travel_mm : 0, frame->now_ms)) {
+                         g.ok ? p->travel_mm : 0,
+                         g.ok && !fw.unverified &&
+                             (res->reasons & NEAR_START_BLOCKING) == 0u,
+                         frame->now_ms)) {
         res->clear_to_mm = 0;
         res->short_sight = 0;
         res->blocked_at_mm = 0;

@@ -334,11 +334,13 @@ void det_sight_note(detect_priv_t *p, const negobs_detect_result_t *res,
 
 /* Follow the floor nearer than the view (detect_near.c) with this
  * frame's nearest floor in view (seen_mm, 0: no ground model), its
- * vouched range and its measured travel; 0 when some of that floor was
- * never vouched while in view and has not been walked over. */
+ * vouched range, its measured travel, and whether its ground passed the
+ * start check (start_ok: a model, verified, the image usable); 0 when
+ * some of that floor was never vouched while in view and has not been
+ * walked over. */
 int det_near_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
                     int32_t seen_mm, int32_t vouched_mm, int32_t travel_mm,
-                    uint32_t now_ms);
+                    int start_ok, uint32_t now_ms);
 
 /* 1 while det_near_follow holds unvouched floor ahead: the travel is
  * measured to know when it has been walked over. */

@@ -23,11 +23,17 @@
  *    ahead_mm. Once gap_mm + NEAR_MARGIN_MM has been walked, the walker
  *    has stepped over that floor with both feet and NEAR_OK resumes with
  *    ahead_mm = beyond_mm. Until then no frame vouches from the feet.
- *  - NEAR_START: nothing vouched yet. The first vouched frame starts
- *    NEAR_OK: the floor nearer than the first view is the start check's
- *    business (GROUND_UNVERIFIED, docs/DETECTION.md 6.1-6.2), as is a
- *    frame gap longer than hold_ms, after which the camera may be
- *    anywhere.
+ *  - NEAR_START: nothing followed yet (switch-on, or a frame gap longer
+ *    than hold_ms, after which the camera may be anywhere). The floor
+ *    nearer than the first view is the start check's business
+ *    (GROUND_UNVERIFIED, docs/DETECTION.md 6.1-6.2), so the first frame
+ *    whose ground passed it (start_ok) starts NEAR_OK with its own view:
+ *    ahead_mm is its vouched range, or its nearest floor when it vouches
+ *    nothing. Not the first frame that vouches: the wearer may walk far
+ *    over noisy floor before one does, and the floor walked towards in
+ *    between was in view but never vouched (a 10 cm curb on smooth
+ *    concrete, never confirmed, was left under the view and the next
+ *    vouching frame said CLEAR to 1.5 m, 0.3 m beyond it).
  *
  * The walk is one-dimensional, along the heading, as the tracks' hold is.
  */
@@ -65,7 +71,7 @@ static inline int near_extend(int32_t *to_mm, int32_t seen_mm,
 
 int det_near_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
                     int32_t seen_mm, int32_t vouched_mm, int32_t travel_mm,
-                    uint32_t now_ms)
+                    int start_ok, uint32_t now_ms)
 {
     /* a frame vouches only a stretch that starts at its nearest floor */
     const int vouched = seen_mm > 0 && vouched_mm > seen_mm;
@@ -77,9 +83,9 @@ int det_near_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
     p->near_on = 1;
     p->near_ms = now_ms;
     if (p->near_state == NEAR_START) {
-        if (vouched) {
+        if (vouched || (start_ok && seen_mm > 0)) {
             p->near_state = NEAR_OK;
-            p->near_ahead_mm = vouched_mm;
+            p->near_ahead_mm = vouched ? vouched_mm : seen_mm;
         }
         return 1;
     }
