@@ -813,7 +813,8 @@ const char *type_label(const std::string &scene)
 struct Fig {
     int frames = 0, noinfo = 0;
     int drop_frames = 0, fv = 0, fv_clear_near = 0; // minimum drop in view
-    // a minimum drop that was in view and is now below the bottom row
+    // a minimum drop that was in the corridor's view and no longer is
+    // (below the bottom row, or for a hole, beside the corridor)
     int under_frames = 0, fv_under = 0;
     std::vector<double> flat_clear;
     std::pair<int, int> det{0, 0};
@@ -964,7 +965,10 @@ void report_generic(Report &rep, const std::vector<Seq> &suite,
         "the corridor distance of a minimum drop in view (5 cm within 1.5 m, 10 cm "
         "beyond), or a CLEAR frame with one in view within 1.5 m; a CLEAR frame "
         "vouches at least the warning range (short sight: 1.5 m) even if "
-        "clear_to_mm is 0. False alerts: flat, up-step and wall walks.");
+        "clear_to_mm is 0. Vouches over a minimum drop below the view: the same "
+        "test on frames whose edge was in view in the corridor on an earlier frame "
+        "and, still ahead of the feet, no longer is (the false vouch leaves these "
+        "to the hold). False alerts: flat, up-step and wall walks.");
     rep.both("");
     rep.both(
         "| figure | B = 12 cm, whole suite | B = 12 cm, added walks | B = 6 cm, whole "
