@@ -52,6 +52,30 @@ static void open_gap(near_walk_t *w, int32_t travel_mm)
     assert_true(det_near_gap(&w->p));
 }
 
+/* With a gap open, frames that vouch vouched_mm beyond the view while the
+ * walker goes on at STEP_MM a frame: the first does not vouch from the
+ * feet, and each later one does exactly once the walk has passed the
+ * unvouched floor (the view's nearest floor) and half a stride more.
+ * Returns the distance walked when it first does. */
+static int32_t walk_over_gap(near_walk_t *w, int32_t vouched_mm)
+{
+    int32_t walked_mm = 0;
+    int i;
+    assert_false(frame(w, SEEN_MM, vouched_mm, STEP_MM));
+    for (i = 0; i < 40; i++) {
+        int ok;
+        walked_mm += STEP_MM;
+        ok = frame(w, SEEN_MM, vouched_mm, STEP_MM);
+        print_message("walked %d mm: %s\n", (int)walked_mm,
+                      ok ? "vouched" : "unseen");
+        assert_int_equal(ok, walked_mm >= SEEN_MM + 500);
+        if (ok) {
+            break;
+        }
+    }
+    return walked_mm;
+}
+
 /* A walk over vouched floor, with single frames that vouch nothing (noise)
  * or only the first metres: the floor vouched earlier still covers the
  * view's near edge, so the frames keep their verdicts. */
@@ -93,7 +117,6 @@ static void test_near_unvouched_floor_until_walked_over(void **state)
 {
     near_walk_t w;
     int32_t edge_mm = 3000;
-    int32_t walked_mm = 0;
     int i;
     (void)state;
     walk_setup(&w);
@@ -108,18 +131,7 @@ static void test_near_unvouched_floor_until_walked_over(void **state)
     }
     assert_true(det_near_gap(&w.p));
     /* below the view: every frame vouches 1.2-4.5 m */
-    assert_false(frame(&w, SEEN_MM, 4500, STEP_MM));
-    for (i = 0; i < 40; i++) {
-        int ok;
-        walked_mm += STEP_MM;
-        ok = frame(&w, SEEN_MM, 4500, STEP_MM);
-        print_message("walked %d mm: %s\n", (int)walked_mm,
-                      ok ? "vouched" : "unseen");
-        assert_int_equal(ok, walked_mm >= SEEN_MM + 500);
-        if (ok) {
-            break;
-        }
-    }
+    (void)walk_over_gap(&w, 4500);
     assert_false(det_near_gap(&w.p));
 }
 
@@ -184,7 +196,6 @@ static void test_near_noisy_start_does_not_vouch_the_floor_walked_to(
     void **state)
 {
     near_walk_t w;
-    int32_t walked_mm = 0;
     int i;
     (void)state;
     walk_setup(&w);
@@ -193,17 +204,8 @@ static void test_near_noisy_start_does_not_vouch_the_floor_walked_to(
         (void)frame(&w, SEEN_MM, 0, STEP_MM);
     }
     assert_true(det_near_gap(&w.p));
-    assert_false(frame(&w, SEEN_MM, 1600, STEP_MM));
-    for (i = 0; i < 40; i++) {
-        int ok;
-        walked_mm += STEP_MM;
-        ok = frame(&w, SEEN_MM, 1600, STEP_MM);
-        assert_int_equal(ok, walked_mm >= SEEN_MM + 500);
-        if (ok) {
-            break;
-        }
-    }
-    assert_int_equal(walked_mm, 1800); /* 1.7 m and the last 120 mm step */
+    /* 1.7 m and the last 120 mm step */
+    assert_int_equal(walk_over_gap(&w, 1600), 1800);
 }
 
 /* Frames whose ground has not passed the start check (unverified, or no
