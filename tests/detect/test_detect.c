@@ -1640,6 +1640,62 @@ static void test_detect_start_near_shallow_drop_is_not_clear(void **state)
     }
 }
 
+/* Switched on 3 m from a 100 mm drop over a floor too noisy to vouch
+ * for: the start check passes (the fit agrees with the hint), no frame
+ * vouches and the drop is never confirmed while it is in view; once it
+ * is below the view the noise falls, and the frames see only clean floor
+ * beyond it. They must not vouch from the feet: the floor they walked
+ * towards was in view and never vouched (detect_near.c, "The start").
+ * Before the following started on the first verified frame, the first
+ * vouching frame took that floor as the start check's: 9 CLEAR frames
+ * to 4.6 m with the edge 1.08 m to 0.12 m ahead. Returns the CLEAR
+ * frames with the edge ahead. */
+static int noisy_start_clear_over_drop(double noisy_px, int *n_unseen)
+{
+    synth_scene_t s;
+    negobs_detect_config_t c;
+    double edge = 3.0;
+    int clear_over = 0;
+    int i;
+    negobs_detect_config_default(&c, RIG_W, RIG_H);
+    /* the start check would catch the drop below the view on its own (the
+     * fit reads the camera about 100 mm high): let it pass, so the walk
+     * tests the following of the floor alone */
+    c.ground_verify_mm = 150;
+    rig_setup(&rig, &c);
+    scene(&s, noisy_px, 1);
+    *n_unseen = 0;
+    for (i = 0; i < 28 && edge > 0.1; i++) {
+        s.nseg = 0;
+        synth_step(&s, edge, -0.1);
+        s.seed = (uint32_t)i + 31u;
+        /* clean once the edge has left the view (1.3 m at 20 deg) */
+        s.noise_px = (edge > 1.2) ? noisy_px : 0.25;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        print_message("edge %.2f m: state %d, reasons 0x%x, clear_to %d, "
+                      "hazards %u\n",
+                      edge, (int)rig.res.state, (unsigned)rig.res.reasons,
+                      (int)rig.res.clear_to_mm, (unsigned)rig.res.n_hazards);
+        clear_over += rig.res.state == NEGOBS_DETECT_CLEAR;
+        *n_unseen += (rig.res.reasons & NEGOBS_DEGRADED_NEAR_UNSEEN) != 0u;
+        edge -= 0.12;
+    }
+    rig_teardown(&rig);
+    return clear_over;
+}
+
+static void test_detect_noisy_start_is_not_clear_over_a_drop(void **state)
+{
+    int unseen = 0;
+    int clear_over;
+    (void)state;
+    clear_over = noisy_start_clear_over_drop(1.6, &unseen);
+    print_message("noisy start: %d CLEAR frames, %d NEAR_UNSEEN\n", clear_over,
+                  unseen);
+    assert_int_equal(clear_over, 0);
+    assert_true(unseen > 0);
+}
+
 /* A camera configured 150 mm too low on flat ground: NO_INFO, never a
  * hazard, for ground_drop_max_ms; then the view is the reference and the
  * way is CLEAR. Configured right, the first frame is CLEAR. */
@@ -1811,6 +1867,7 @@ int main(void)
             test_detect_shallow_drop_first_seen_near_corroborated),
         cmocka_unit_test(test_detect_start_near_drop_is_not_clear),
         cmocka_unit_test(test_detect_start_near_shallow_drop_is_not_clear),
+        cmocka_unit_test(test_detect_noisy_start_is_not_clear_over_a_drop),
         cmocka_unit_test(test_detect_wrong_height_is_unverified_then_accepted),
         cmocka_unit_test(test_detect_camera_raised_becomes_the_reference),
         cmocka_unit_test(test_detect_near_rows_are_checked_too),
