@@ -103,7 +103,7 @@ static void assert_walk_reads(const double *yaw_deg, int frames)
         int32_t mm;
         render_turned(120.0 * k, (yaw_deg != NULL) ? yaw_deg[k] : 0.0, 2.0);
         mm = travel_step(&t, &g.rig, &g.plane, &g.frame, &img,
-                         1000u + 100u * (uint32_t)k);
+                         1000u + 100u * (uint32_t)k, NULL);
         if (k == 0) {
             assert_int_equal(mm, 0); /* nothing held yet */
         } else {
@@ -124,7 +124,7 @@ static void assert_standing_reads_nothing(double turn_deg)
     for (k = 0; k < 6; k++) {
         render_turned(0.0, (k % 2 == 0) ? 0.0 : turn_deg, 3.0);
         assert_int_equal(travel_step(&t, &g.rig, &g.plane, &g.frame, &img,
-                                     1000u + 100u * (uint32_t)k),
+                                     1000u + 100u * (uint32_t)k, NULL),
                          0);
     }
 }
@@ -155,23 +155,23 @@ static void test_travel_counts_nothing_it_cannot_see(void **state)
     geo_init(&g);
     travel_reset(&t);
     render(0.0, 2.0);
-    (void)travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 1000u);
+    (void)travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 1000u, NULL);
     render(350.0, 2.0);
-    assert_int_equal(travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 1100u),
-                     0);
-    render(470.0, 2.0);
-    assert_int_equal(travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 1700u),
-                     0);
-    assert_int_equal(travel_step(&t, &g.rig, &g.plane, &g.frame, NULL, 1800u),
-                     0);
     assert_int_equal(
-        travel_step(&t, &g.rig, &g.plane, &g.frame, &small, 1900u), 0);
+        travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 1100u, NULL), 0);
+    render(470.0, 2.0);
+    assert_int_equal(
+        travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 1700u, NULL), 0);
+    assert_int_equal(
+        travel_step(&t, &g.rig, &g.plane, &g.frame, NULL, 1800u, NULL), 0);
+    assert_int_equal(
+        travel_step(&t, &g.rig, &g.plane, &g.frame, &small, 1900u, NULL), 0);
     for (i = 0; i < W * H; i++) {
         px[i] = 128;
     }
-    (void)travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 2000u);
-    assert_int_equal(travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 2100u),
-                     0);
+    (void)travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 2000u, NULL);
+    assert_int_equal(
+        travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 2100u, NULL), 0);
 }
 
 /* Walking 120 mm a frame while the camera turns to and fro by 1.5 and
@@ -196,10 +196,75 @@ static void test_travel_turning_in_place_reads_nothing(void **state)
     geo_init(&g);
     travel_reset(&t);
     render_turned(0.0, 0.0, 2.0);
-    (void)travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 2000u);
+    (void)travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 2000u, NULL);
     render_turned(120.0, 5.0, 2.0);
-    assert_int_equal(travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 2100u),
-                     0);
+    assert_int_equal(
+        travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 2100u, NULL), 0);
+}
+
+/* Executors for the search's jobs: the last job first, on two
+ * "workers"; and a faulty one that skips job 1. */
+static void run_reversed(void *user, int32_t n_jobs, negobs_job_fn fn,
+                         void *arg)
+{
+    int32_t j;
+    (void)user;
+    for (j = n_jobs - 1; j >= 0; j--) {
+        fn(arg, j, (n_jobs - 1 - j) % 2);
+    }
+}
+
+static void run_skipping(void *user, int32_t n_jobs, negobs_job_fn fn,
+                         void *arg)
+{
+    int32_t j;
+    (void)user;
+    for (j = 0; j < n_jobs; j++) {
+        if (j != 1) {
+            fn(arg, j, 0);
+        }
+    }
+}
+
+/* The turn search's coarse stage runs as jobs (each with its own pruning
+ * bound, merged in turn order): in any order, or with a job the executor
+ * skipped (run here), every frame reads what the search without an
+ * executor reads, on a walk that turns both ways and on one that stands
+ * turning. */
+static void test_travel_jobs_in_any_order_read_the_same(void **state)
+{
+    static travel_track_t t0;
+    static travel_track_t t1;
+    static travel_track_t t2;
+    static const double yaw_deg[] = {0.0, 1.5,  0.0, -2.5, 0.0,  2.5,
+                                     1.0, -1.0, 2.0, 0.5,  -2.0, 0.0};
+    const negobs_executor_t rev = {2, run_reversed, NULL};
+    const negobs_executor_t skip = {1, run_skipping, NULL};
+    const int n = (int)(sizeof yaw_deg / sizeof yaw_deg[0]);
+    geo_t g;
+    int moved = 0;
+    int k;
+    (void)state;
+    geo_init(&g);
+    travel_reset(&t0);
+    travel_reset(&t1);
+    travel_reset(&t2);
+    for (k = 0; k < 2 * n; k++) {
+        /* walking for n frames, then standing while turning */
+        const double walked = 120.0 * ((k < n) ? k : n);
+        const uint32_t now = 1000u + 100u * (uint32_t)k;
+        int32_t mm0;
+        render_turned(walked, yaw_deg[k % n], 2.5);
+        mm0 = travel_step(&t0, &g.rig, &g.plane, &g.frame, &img, now, NULL);
+        assert_int_equal(
+            travel_step(&t1, &g.rig, &g.plane, &g.frame, &img, now, &rev),
+            mm0);
+        assert_int_equal(
+            travel_step(&t2, &g.rig, &g.plane, &g.frame, &img, now, &skip),
+            mm0);
+        moved += mm0 > 0;
+    }
+    assert_true(moved >= n - 2); /* the walk reads, so the search ran */
 }
 
 int main(void)
@@ -210,6 +275,7 @@ int main(void)
         cmocka_unit_test(test_travel_counts_nothing_it_cannot_see),
         cmocka_unit_test(test_travel_reads_a_walk_while_turning),
         cmocka_unit_test(test_travel_turning_in_place_reads_nothing),
+        cmocka_unit_test(test_travel_jobs_in_any_order_read_the_same),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

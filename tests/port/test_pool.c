@@ -261,7 +261,40 @@ typedef struct walk_out {
     negobs_stereo_stats_t st[WALK_FRAMES];
     int32_t state[WALK_FRAMES];
     int32_t level[WALK_FRAMES];
+    /* the detector's own work (its strip scans and pooled frames run on
+     * the executor too): reasons, vouched range, and every candidate */
+    uint32_t reasons[WALK_FRAMES];
+    int32_t clear_to_mm[WALK_FRAMES];
+    int32_t noise_vouch_mm[WALK_FRAMES];
+    uint32_t candidates[WALK_FRAMES];
 } walk_out_t;
+
+/* FNV-1a over the candidates' fields (not their padding). */
+static uint32_t candidates_hash(const negobs_detect_result_t *r)
+{
+    uint32_t h = 2166136261u;
+    uint32_t i;
+    for (i = 0; i < r->n_candidates && i < NEGOBS_DETECT_MAX_HAZARDS; i++) {
+        const negobs_hazard_t *c = &r->candidates[i];
+        const int32_t v[12] = {(int32_t)c->type,
+                               (int32_t)c->flags,
+                               c->range_mm,
+                               c->lateral_mm,
+                               c->depth_mm,
+                               c->drop_mm,
+                               c->u0,
+                               c->v0,
+                               c->u1,
+                               c->v1,
+                               c->conf_q15,
+                               c->strips};
+        int32_t k;
+        for (k = 0; k < 12; k++) {
+            h = (h ^ (uint32_t)v[k]) * 16777619u;
+        }
+    }
+    return (h ^ r->n_candidates) * 16777619u;
+}
 
 /* The walk through one pipeline on `threads` pool threads (1: no
  * executor, the bands in order on this thread). */
@@ -308,6 +341,10 @@ static void walk_pipeline(int32_t threads, walk_out_t *out)
         out->st[f] = res.stereo;
         out->state[f] = (int32_t)res.detect.state;
         out->level[f] = (int32_t)res.detect.level;
+        out->reasons[f] = res.detect.reasons;
+        out->clear_to_mm[f] = res.detect.clear_to_mm;
+        out->noise_vouch_mm[f] = res.detect.noise_vouch_mm;
+        out->candidates[f] = candidates_hash(&res.detect);
     }
     negobs_pool_destroy(pool);
     free(raw);
@@ -338,6 +375,10 @@ static void test_pipeline_walk(void **state)
             assert_memory_equal(&one.st[f], &many.st[f], sizeof one.st[f]);
             assert_int_equal(one.state[f], many.state[f]);
             assert_int_equal(one.level[f], many.level[f]);
+            assert_int_equal(one.reasons[f], many.reasons[f]);
+            assert_int_equal(one.clear_to_mm[f], many.clear_to_mm[f]);
+            assert_int_equal(one.noise_vouch_mm[f], many.noise_vouch_mm[f]);
+            assert_int_equal(one.candidates[f], many.candidates[f]);
         }
     }
 }

@@ -207,13 +207,57 @@ static int32_t hold_zone(const scan_ctx_t *s, int32_t v_near, int32_t rn_mm)
  * the ground-drop cue, the measured noise and the vouched range, which
  * candidates are trusted, disparity-edge support and the hold zone.
  */
+/* The strips' scans of one frame as executor jobs (job = strip): each
+ * reads the frame and writes its own hit, so they may run at once in any
+ * order and give the same hits. */
+typedef struct scan_pass {
+    const scan_ctx_t *s;
+    detect_priv_t *p;
+} scan_pass_t;
+
+/* Marks a hit whose strip no job has scanned yet: det_scan_strip clears
+ * the hit first, so any scan overwrites it. */
+#define SCAN_NOT_RUN (-1)
+
+static void scan_job(void *arg, int32_t job, int32_t worker)
+{
+    const scan_pass_t *sp = (const scan_pass_t *)arg;
+    const negobs_detect_config_t *cfg = sp->s->cfg;
+    int32_t u0;
+    (void)worker;
+    if (job < 0 || job >= sp->p->n_strips) {
+        return;
+    }
+    u0 = det_strip_u0(cfg, sp->p->n_strips, job);
+    det_scan_strip(sp->s, u0, u0 + cfg->strip_px, &sp->p->hits[job]);
+}
+
+static void scan_strips(detect_priv_t *p, const scan_ctx_t *s)
+{
+    scan_pass_t sp;
+    int32_t i;
+    sp.s = s;
+    sp.p = p;
+    for (i = 0; i < p->n_strips; i++) {
+        p->hits[i].found = SCAN_NOT_RUN;
+    }
+    if (p->exec.run != NULL) {
+        p->exec.run(p->exec.user, p->n_strips, scan_job, &sp);
+    }
+    /* without an executor, and any strip a faulty executor skipped */
+    for (i = 0; i < p->n_strips; i++) {
+        if (p->hits[i].found == SCAN_NOT_RUN) {
+            scan_job(&sp, i, 0);
+        }
+    }
+}
+
 static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
                        const negobs_detect_frame_t *frame, const gfit_out_t *g,
                        negobs_detect_result_t *res, frame_work_t *fw)
 {
     scan_ctx_t s;
     negobs_hazard_t hz;
-    int32_t s_i;
     int32_t v_top = cfg->rig.height - 1;
     int32_t noise_med = -1;  /* det_noise_median, measured when needed */
     int32_t noise_half = -1; /* the same, of frame->left_half */
@@ -249,11 +293,8 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
     }
     det_band_noise(&s, p->band_hist, v_top, g->v_near + 1);
 
-    /* Step 2-3: per-strip scan, merge. */
-    for (s_i = 0; s_i < p->n_strips; s_i++) {
-        int32_t u0 = det_strip_u0(cfg, p->n_strips, s_i);
-        det_scan_strip(&s, u0, u0 + cfg->strip_px, &p->hits[s_i]);
-    }
+    /* Step 2-3: per-strip scan (on the executor), merge. */
+    scan_strips(p, &s);
     det_merge_strips(&s, p, res);
     /* A hazard already confirmed or held nearer than the view's bottom is
      * this drop: the cue's range (an upper bound) would only pull its

@@ -224,7 +224,7 @@ void det_travel_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
         p->pool_travel_mm = 0;
     } else {
         p->pool_travel_mm = travel_step(p->travel, &cfg->rig, &g->plane,
-                                        &g->frame, left, now_ms);
+                                        &g->frame, left, now_ms, &p->exec);
     }
     /* the start, the tracks and the floor under the view count the travel
      * only while they need it, as without pooling */

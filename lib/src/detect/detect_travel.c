@@ -197,6 +197,11 @@ static int32_t patch_cost(const uint8_t *stored, const negobs_image_u8_t *im,
 /* T steps either side of the coarse best scored on every patch: the coarse
  * and the fine minimum differ by a step now and then. */
 #define TRAVEL_FINE_K 2
+/* The coarse stage's turns as this many executor jobs of consecutive
+ * turns (fixed, so the work and the result do not depend on the thread
+ * count). Each job keeps its own pruning bound: it prunes less than one
+ * pass over all turns, about 10 % more work in all. */
+#define TRAVEL_TURN_JOBS 4
 
 /* Sine and cosine (Q30) of j turn steps of step_q30 rad: third and second
  * order terms, exact to 1e-6 within 3 deg. */
@@ -308,6 +313,87 @@ static int travel_clear(const turn_best_t *b)
            b->cost * TRAVEL_CLEAR_DEN <= b->still * TRAVEL_CLEAR_NUM;
 }
 
+/* The better of two stages' bests over consecutive turn ranges, a's
+ * turns before b's: the first strict minimum in turn order, as one scan
+ * over both ranges finds it (a range's best is exact, and its pruned
+ * candidates cost at least that range's best: none of them can be a
+ * strict minimum over both); standing still's least cost over both. */
+static turn_best_t turn_best_merge(turn_best_t a, const turn_best_t *b)
+{
+    if (b->cost >= 0 && (a.cost < 0 || b->cost < a.cost)) {
+        a.cost = b->cost;
+        a.j = b->j;
+        a.k = b->k;
+    }
+    if (b->still >= 0 && (a.still < 0 || b->still < a.still)) {
+        a.still = b->still;
+    }
+    return a;
+}
+
+/* The coarse stage of one frame's search, as executor jobs: job i scans
+ * the turns j_lo + i * n / TRAVEL_TURN_JOBS .. (its share of [j_lo,
+ * j_hi]) over every T and writes only res[i]. */
+typedef struct turn_pass {
+    const travel_track_t *t;
+    const negobs_rig_t *rig;
+    const floor_axes_t *a;
+    const negobs_image_u8_t *left;
+    const int32_t *idx;
+    int32_t n;
+    int32_t t_max;
+    int64_t step_q30;
+    int32_t j_lo;
+    int32_t j_hi;
+    turn_best_t res[TRAVEL_TURN_JOBS];
+    uint8_t done[TRAVEL_TURN_JOBS];
+} turn_pass_t;
+
+static void turn_job(void *arg, int32_t job, int32_t worker)
+{
+    turn_pass_t *tp = (turn_pass_t *)arg;
+    const int32_t span = tp->j_hi - tp->j_lo + 1;
+    int32_t lo;
+    int32_t hi;
+    (void)worker;
+    if (job < 0 || job >= TRAVEL_TURN_JOBS) {
+        return;
+    }
+    lo = tp->j_lo + span * job / TRAVEL_TURN_JOBS;
+    hi = tp->j_lo + span * (job + 1) / TRAVEL_TURN_JOBS - 1;
+    if (lo <= hi) {
+        tp->res[job] = scan_turns(tp->t, tp->rig, tp->a, tp->left, tp->idx,
+                                  tp->n, tp->t_max, tp->step_q30, lo, hi, 1,
+                                  TRAVEL_STEPS);
+    } else {
+        tp->res[job].cost = -1;
+        tp->res[job].still = -1;
+        tp->res[job].j = 0;
+        tp->res[job].k = 0;
+    }
+    tp->done[job] = 1;
+}
+
+static turn_best_t coarse_turns(turn_pass_t *tp, const negobs_executor_t *exec)
+{
+    turn_best_t b = {-1, -1, 0, 0};
+    int32_t i;
+    for (i = 0; i < TRAVEL_TURN_JOBS; i++) {
+        tp->done[i] = 0;
+    }
+    if (exec != NULL && exec->run != NULL) {
+        exec->run(exec->user, TRAVEL_TURN_JOBS, turn_job, tp);
+    }
+    /* without an executor, and any job a faulty executor skipped */
+    for (i = 0; i < TRAVEL_TURN_JOBS; i++) {
+        if (!tp->done[i]) {
+            turn_job(tp, i, 0);
+        }
+        b = turn_best_merge(b, &tp->res[i]);
+    }
+    return b;
+}
+
 /* The travel over the (T, turn) grid: the whole grid on every
  * TRAVEL_TURN_COARSE-th patch, then the best turn and its two neighbours
  * on every patch, within TRAVEL_FINE_K steps of the coarse best T.
@@ -319,7 +405,8 @@ static int travel_clear(const turn_best_t *b)
 static int32_t turn_search(const travel_track_t *t, const negobs_rig_t *rig,
                            const floor_axes_t *a,
                            const negobs_image_u8_t *left, const int32_t *use,
-                           int32_t n_use, int32_t t_max)
+                           int32_t n_use, int32_t t_max,
+                           const negobs_executor_t *exec)
 {
     int32_t coarse[TRAVEL_SAMPLES];
     /* positive: focal_q4 < 2^31 */
@@ -330,6 +417,7 @@ static int32_t turn_search(const travel_track_t *t, const negobs_rig_t *rig,
                                 step_q30);
     int32_t n_coarse = 0;
     int32_t i;
+    turn_pass_t tp;
     turn_best_t b;
     if (n_steps > TRAVEL_TURN_MAX_STEPS) {
         n_steps = TRAVEL_TURN_MAX_STEPS;
@@ -337,8 +425,17 @@ static int32_t turn_search(const travel_track_t *t, const negobs_rig_t *rig,
     for (i = 0; i < n_use; i += TRAVEL_TURN_COARSE) {
         coarse[n_coarse++] = use[i];
     }
-    b = scan_turns(t, rig, a, left, coarse, n_coarse, t_max, step_q30,
-                   -n_steps, n_steps, 1, TRAVEL_STEPS);
+    tp.t = t;
+    tp.rig = rig;
+    tp.a = a;
+    tp.left = left;
+    tp.idx = coarse;
+    tp.n = n_coarse;
+    tp.t_max = t_max;
+    tp.step_q30 = step_q30;
+    tp.j_lo = -n_steps;
+    tp.j_hi = n_steps;
+    b = coarse_turns(&tp, exec);
     if (!travel_clear(&b) || b.j <= -n_steps || b.j >= n_steps) {
         return 0;
     }
@@ -352,7 +449,7 @@ static int32_t turn_search(const travel_track_t *t, const negobs_rig_t *rig,
 /* The travel the held patches show on this frame, or 0. */
 static int32_t measure(const travel_track_t *t, const negobs_rig_t *rig,
                        const floor_axes_t *a, const negobs_image_u8_t *left,
-                       int32_t dt_ms)
+                       int32_t dt_ms, const negobs_executor_t *exec)
 {
     int32_t use[TRAVEL_SAMPLES];
     const int32_t t_max = TRAVEL_MAX_MM_PER_S * dt_ms / 1000;
@@ -377,7 +474,7 @@ static int32_t measure(const travel_track_t *t, const negobs_rig_t *rig,
     if (n_use < TRAVEL_MIN_PATCHES) {
         return 0;
     }
-    return turn_search(t, rig, a, left, use, n_use, t_max);
+    return turn_search(t, rig, a, left, use, n_use, t_max, exec);
 }
 
 /* Floor distance (forward, mm) of pixel (u, v) on the plane; -1: none. */
@@ -455,7 +552,8 @@ static void sample(travel_track_t *t, const negobs_rig_t *rig,
 int32_t travel_step(travel_track_t *t, const negobs_rig_t *rig,
                     const negobs_ground_plane_t *plane,
                     const negobs_ground_frame_t *frame,
-                    const negobs_image_u8_t *left, uint32_t now_ms)
+                    const negobs_image_u8_t *left, uint32_t now_ms,
+                    const negobs_executor_t *exec)
 {
     floor_axes_t a;
     int32_t walked = 0;
@@ -467,7 +565,7 @@ int32_t travel_step(travel_track_t *t, const negobs_rig_t *rig,
     }
     dt = (int32_t)(now_ms - t->t_ms);
     if (t->n > 0 && dt > 0 && dt <= TRAVEL_MAX_GAP_MS) {
-        walked = measure(t, rig, &a, left, dt);
+        walked = measure(t, rig, &a, left, dt, exec);
     }
     sample(t, rig, plane, frame, left);
     t->t_ms = now_ms;

@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "negobs/depth.h"
+#include "negobs/executor.h"
 #include "negobs/ground.h"
 #include "negobs/image.h"
 
@@ -68,6 +69,7 @@ static inline void travel_reset(travel_track_t *t)
 int32_t travel_step(travel_track_t *t, const negobs_rig_t *rig,
                     const negobs_ground_plane_t *plane,
                     const negobs_ground_frame_t *frame,
-                    const negobs_image_u8_t *left, uint32_t now_ms);
+                    const negobs_image_u8_t *left, uint32_t now_ms,
+                    const negobs_executor_t *exec);
 
 #endif
