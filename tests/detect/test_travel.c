@@ -226,11 +226,11 @@ static void run_skipping(void *user, int32_t n_jobs, negobs_job_fn fn,
     }
 }
 
-/* The turn search's coarse stage runs as jobs (each with its own pruning
- * bound, merged in turn order): in any order, or with a job the executor
- * skipped (run here), every frame reads what the search without an
- * executor reads, on a walk that turns both ways and on one that stands
- * turning. */
+/* With workers, the turn search's coarse stage runs as jobs (each with
+ * its own pruning bound, merged in turn order): in any order, or with a
+ * job the executor skipped (run here), every frame reads what one pass
+ * over all turns (no executor) reads, on a walk that turns both ways and
+ * on one that stands turning. */
 static void test_travel_jobs_in_any_order_read_the_same(void **state)
 {
     static travel_track_t t0;
@@ -239,7 +239,7 @@ static void test_travel_jobs_in_any_order_read_the_same(void **state)
     static const double yaw_deg[] = {0.0, 1.5,  0.0, -2.5, 0.0,  2.5,
                                      1.0, -1.0, 2.0, 0.5,  -2.0, 0.0};
     const negobs_executor_t rev = {2, run_reversed, NULL};
-    const negobs_executor_t skip = {1, run_skipping, NULL};
+    const negobs_executor_t skip = {2, run_skipping, NULL};
     const int n = (int)(sizeof yaw_deg / sizeof yaw_deg[0]);
     geo_t g;
     int moved = 0;
