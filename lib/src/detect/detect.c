@@ -232,7 +232,10 @@ static void scan_job(void *arg, int32_t job, int32_t worker)
     det_scan_strip(sp->s, u0, u0 + cfg->strip_px, &sp->p->hits[job]);
 }
 
-static void scan_strips(detect_priv_t *p, const scan_ctx_t *s)
+/* Out of line: the call through the caller's executor stays here, where
+ * the stack bound's check (tools/negobs, stack_bound) allows it. */
+static __attribute__((noinline)) void scan_strips(detect_priv_t *p,
+                                                  const scan_ctx_t *s)
 {
     scan_pass_t sp;
     int32_t i;

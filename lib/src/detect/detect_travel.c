@@ -376,7 +376,10 @@ static void turn_job(void *arg, int32_t job, int32_t worker)
     tp->done[job] = 1;
 }
 
-static turn_best_t coarse_turns(turn_pass_t *tp, const negobs_executor_t *exec)
+/* Out of line: the call through the caller's executor stays here, where
+ * the stack bound's check (tools/negobs, stack_bound) allows it. */
+static __attribute__((noinline)) turn_best_t coarse_turns(
+    turn_pass_t *tp, const negobs_executor_t *exec)
 {
     turn_best_t b = {-1, -1, 0, 0};
     const int parallel = exec != NULL && exec->run != NULL &&
