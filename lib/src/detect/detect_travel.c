@@ -278,42 +278,6 @@ typedef struct turn_best {
     int32_t k; /* T steps    */
 } turn_best_t;
 
-/* Turns j_lo .. j_hi, T steps k_lo .. k_hi (and 0), on the patches idx. */
-static turn_best_t scan_turns(const travel_track_t *t, const negobs_rig_t *rig,
-                              const floor_axes_t *a,
-                              const negobs_image_u8_t *left,
-                              const int32_t *idx, int32_t n, int32_t t_max,
-                              int64_t step_q30, int32_t j_lo, int32_t j_hi,
-                              int32_t k_lo, int32_t k_hi)
-{
-    int64_t cost[TRAVEL_STEPS + 1];
-    turn_best_t b = {-1, -1, 0, 0};
-    int32_t j;
-    for (j = j_lo; j <= j_hi; j++) {
-        const travel_turn_t turn = turn_of(j, step_q30);
-        const int32_t k = best_travel(t, rig, a, left, idx, n, t_max, &turn,
-                                      k_lo, k_hi, b.cost, cost);
-        if (b.cost < 0 || cost[k] < b.cost) {
-            b.cost = cost[k];
-            b.j = j;
-            b.k = k;
-        }
-        if (b.still < 0 || cost[0] < b.still) {
-            b.still = cost[0];
-        }
-    }
-    return b;
-}
-
-/* measure()'s conditions: the best T inside the grid and away from
- * standing still, at most TRAVEL_CLEAR_NUM / TRAVEL_CLEAR_DEN of standing
- * still's cost. */
-static int travel_clear(const turn_best_t *b)
-{
-    return b->k >= 2 && b->k < TRAVEL_STEPS &&
-           b->cost * TRAVEL_CLEAR_DEN <= b->still * TRAVEL_CLEAR_NUM;
-}
-
 /* The better of two stages' bests over consecutive turn ranges, a's
  * turns before b's: the first strict minimum in turn order, as one scan
  * over both ranges finds it (a range's best is exact, and its pruned
@@ -330,6 +294,36 @@ static turn_best_t turn_best_merge(turn_best_t a, const turn_best_t *b)
         a.still = b->still;
     }
     return a;
+}
+
+/* Turns j_lo .. j_hi, T steps k_lo .. k_hi (and 0), on the patches idx. */
+static turn_best_t scan_turns(const travel_track_t *t, const negobs_rig_t *rig,
+                              const floor_axes_t *a,
+                              const negobs_image_u8_t *left,
+                              const int32_t *idx, int32_t n, int32_t t_max,
+                              int64_t step_q30, int32_t j_lo, int32_t j_hi,
+                              int32_t k_lo, int32_t k_hi)
+{
+    int64_t cost[TRAVEL_STEPS + 1];
+    turn_best_t b = {-1, -1, 0, 0};
+    int32_t j;
+    for (j = j_lo; j <= j_hi; j++) {
+        const travel_turn_t turn = turn_of(j, step_q30);
+        const int32_t k = best_travel(t, rig, a, left, idx, n, t_max, &turn,
+                                      k_lo, k_hi, b.cost, cost);
+        const turn_best_t one = {cost[k], cost[0], j, k};
+        b = turn_best_merge(b, &one);
+    }
+    return b;
+}
+
+/* measure()'s conditions: the best T inside the grid and away from
+ * standing still, at most TRAVEL_CLEAR_NUM / TRAVEL_CLEAR_DEN of standing
+ * still's cost. */
+static int travel_clear(const turn_best_t *b)
+{
+    return b->k >= 2 && b->k < TRAVEL_STEPS &&
+           b->cost * TRAVEL_CLEAR_DEN <= b->still * TRAVEL_CLEAR_NUM;
 }
 
 /* The coarse stage of one frame's search, as executor jobs: job i of
