@@ -1684,6 +1684,52 @@ static int noisy_start_clear_over_drop(double noisy_px, int *n_unseen)
     return clear_over;
 }
 
+/* A camera pitched so shallow that its view starts beyond the rule's
+ * 5 cm reach (1.2 m at 5 deg: floor from 2.03 m; h_near_range_mm 2 m)
+ * never checks any floor for 5 cm drops, and the floor within 1.5 m of
+ * the feet must be free of them: vouched by the start check alone, then,
+ * once the walker may have come that far, not vouched from the feet
+ * (NO_INFO, NEAR_UNSEEN), even over a clean flat floor that it vouches
+ * for 10 cm drops out to range_max. Pitched 12 deg (floor from 1.56 m),
+ * the same camera checks 1.56-2 m for 5 cm and stays CLEAR. Returns the
+ * CLEAR frames of 30. */
+static int shallow_camera_clear_frames(double pitch_deg, int *n_unseen)
+{
+    synth_scene_t s;
+    negobs_detect_config_t c;
+    int clear = 0;
+    int i;
+    negobs_detect_config_default(&c, RIG_W, RIG_H);
+    c.cam_pitch_mdeg = (int32_t)(pitch_deg * 1000.0);
+    rig_setup(&rig, &c);
+    synth_flat(&s, 1.2, pitch_deg);
+    s.noise_px = 0.25;
+    *n_unseen = 0;
+    for (i = 0; i < 30; i++) {
+        s.seed = (uint32_t)i + 700u;
+        assert_int_equal(rig_frame(&rig, &s), NEGOBS_OK);
+        assert_int_equal(rig.res.n_hazards, 0u);
+        print_message("pitch %.0f deg, frame %d: state %d, reasons 0x%x, "
+                      "clear_to %d\n",
+                      pitch_deg, i, (int)rig.res.state,
+                      (unsigned)rig.res.reasons, (int)rig.res.clear_to_mm);
+        clear += rig.res.state == NEGOBS_DETECT_CLEAR;
+        *n_unseen += (rig.res.reasons & NEGOBS_DEGRADED_NEAR_UNSEEN) != 0u;
+    }
+    rig_teardown(&rig);
+    return clear;
+}
+
+static void test_detect_view_beyond_the_5cm_reach_is_not_clear(void **state)
+{
+    int unseen = 0;
+    (void)state;
+    assert_true(shallow_camera_clear_frames(5.0, &unseen) <= 5);
+    assert_true(unseen >= 25);
+    assert_int_equal(shallow_camera_clear_frames(12.0, &unseen), 30);
+    assert_int_equal(unseen, 0);
+}
+
 static void test_detect_noisy_start_is_not_clear_over_a_drop(void **state)
 {
     int unseen = 0;
@@ -1868,6 +1914,7 @@ int main(void)
         cmocka_unit_test(test_detect_start_near_drop_is_not_clear),
         cmocka_unit_test(test_detect_start_near_shallow_drop_is_not_clear),
         cmocka_unit_test(test_detect_noisy_start_is_not_clear_over_a_drop),
+        cmocka_unit_test(test_detect_view_beyond_the_5cm_reach_is_not_clear),
         cmocka_unit_test(test_detect_wrong_height_is_unverified_then_accepted),
         cmocka_unit_test(test_detect_camera_raised_becomes_the_reference),
         cmocka_unit_test(test_detect_near_rows_are_checked_too),

@@ -24,13 +24,23 @@ static void walk_setup(near_walk_t *w)
     w->now_ms = 1000u;
 }
 
-/* One frame; start_ok says its ground passed the start check. */
+/* One frame; start_ok says its ground passed the start check, and
+ * vouched_5cm_mm how far the frame vouched for 5 cm drops. */
+static int frame_5cm(near_walk_t *w, int32_t seen_mm, int32_t vouched_mm,
+                     int32_t vouched_5cm_mm, int32_t travel_mm, int start_ok)
+{
+    w->now_ms += 100u;
+    return det_near_follow(&w->p, &w->cfg, seen_mm, vouched_mm, vouched_5cm_mm,
+                           travel_mm, start_ok, w->now_ms);
+}
+
+/* A frame whose whole vouched range holds for 5 cm drops too (the cases
+ * below that are about the following itself, not the drop it vouches
+ * for). */
 static int frame_start(near_walk_t *w, int32_t seen_mm, int32_t vouched_mm,
                        int32_t travel_mm, int start_ok)
 {
-    w->now_ms += 100u;
-    return det_near_follow(&w->p, &w->cfg, seen_mm, vouched_mm, travel_mm,
-                           start_ok, w->now_ms);
+    return frame_5cm(w, seen_mm, vouched_mm, vouched_mm, travel_mm, start_ok);
 }
 
 static int frame(near_walk_t *w, int32_t seen_mm, int32_t vouched_mm,
@@ -168,7 +178,7 @@ static void test_near_second_gap_extends_the_first(void **state)
     for (i = 0; i < 5; i++) {
         assert_false(frame(&w, SEEN_MM, 4000, STEP_MM));
     }
-    assert_int_equal(w.p.near_gap_mm, SEEN_MM - 4 * STEP_MM);
+    assert_int_equal(w.p.near_any.gap_mm, SEEN_MM - 4 * STEP_MM);
 }
 
 /* A frame gap longer than hold_ms: the camera may be anywhere, and the
@@ -229,6 +239,79 @@ static void test_near_unverified_frames_leave_the_start_open(void **state)
     assert_false(det_near_gap(&w.p));
 }
 
+/* A camera whose view starts beyond 1.5 m (1.7 m here: a head-worn
+ * camera looking ahead). Every frame vouches 4.5 m for the minimum drop
+ * of each range, i.e. for 10 cm from its view on; the floor within 1.5 m
+ * of the feet is never in view, so only the floor checked for 5 cm while
+ * it lay at 1.7-2 m can be vouched from the feet. vouched_5cm_mm: how far
+ * each frame checked it (0: nowhere). Returns the frames vouched from the
+ * feet out of 40, and asserts that once one is not, none is after it. */
+static int shallow_view_walk(int32_t vouched_5cm_mm)
+{
+    near_walk_t w;
+    int n_ok = 0;
+    int lost = 0;
+    int i;
+    walk_setup(&w);
+    for (i = 0; i < 40; i++) {
+        const int ok = frame_5cm(&w, 1700, 4500, vouched_5cm_mm, STEP_MM, 1);
+        assert_false(ok && lost);
+        lost |= !ok;
+        n_ok += ok;
+    }
+    return n_ok;
+}
+
+static void test_near_shallow_view_needs_the_floor_checked_for_5cm(
+    void **state)
+{
+    (void)state;
+    /* never checked for 5 cm: vouched only while the start's floor (the
+     * start check's) still covers 1.5 m, then never again */
+    assert_int_equal(shallow_view_walk(0), 3);
+    /* checked for 5 cm out to 2 m (the rule's 5 cm reach): every frame */
+    assert_int_equal(shallow_view_walk(2000), 40);
+    /* one following for both, as before the 5 cm following: every frame,
+     * over floor within 1.5 m that was only checked for 10 cm */
+    assert_int_equal(shallow_view_walk(4500), 40);
+}
+
+/* A camera whose view starts at 1.2 m, walking over floor it vouches to
+ * 4 m (for 5 cm to 2 m), then 7 frames (0.7 s) that vouch nothing: the
+ * floor that passed through the near rows meanwhile was checked for 10 cm
+ * only, beyond 2 m. Not vouched from the feet until that floor has been
+ * walked over; the single following vouched straight on. */
+static void test_near_noisy_run_needs_the_floor_checked_for_5cm(void **state)
+{
+    near_walk_t w;
+    near_walk_t w1; /* the same walk, one following for both */
+    int i;
+    (void)state;
+    walk_setup(&w);
+    walk_setup(&w1);
+    for (i = 0; i < 10; i++) {
+        assert_true(frame_5cm(&w, SEEN_MM, 4000, 2000, STEP_MM, 1));
+        assert_true(frame(&w1, SEEN_MM, 4000, STEP_MM));
+    }
+    for (i = 0; i < 7; i++) {
+        (void)frame_5cm(&w, SEEN_MM, 0, 0, STEP_MM, 1);
+        assert_true(frame(&w1, SEEN_MM, 0, STEP_MM));
+    }
+    assert_true(det_near_gap(&w.p));
+    assert_false(det_near_gap(&w1.p));
+    assert_true(frame(&w1, SEEN_MM, 4000, STEP_MM));
+    /* the view's nearest floor and half a stride, as after any gap */
+    {
+        int32_t walked_mm = 0;
+        assert_false(frame_5cm(&w, SEEN_MM, 4000, 2000, STEP_MM, 1));
+        while (!frame_5cm(&w, SEEN_MM, 4000, 2000, STEP_MM, 1)) {
+            walked_mm += STEP_MM;
+            assert_true(walked_mm < SEEN_MM + 500);
+        }
+        assert_true(walked_mm + STEP_MM >= SEEN_MM + 500);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -241,6 +324,9 @@ int main(void)
         cmocka_unit_test(
             test_near_noisy_start_does_not_vouch_the_floor_walked_to),
         cmocka_unit_test(test_near_unverified_frames_leave_the_start_open),
+        cmocka_unit_test(
+            test_near_shallow_view_needs_the_floor_checked_for_5cm),
+        cmocka_unit_test(test_near_noisy_run_needs_the_floor_checked_for_5cm),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

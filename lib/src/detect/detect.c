@@ -10,6 +10,7 @@
 typedef struct frame_work {
     int unverified;      /* no reference yet, ground lower than set     */
     int32_t walk_to;     /* vouched by this frame's noise (mm)          */
+    int32_t walk_5cm_to; /* of it, vouched for 5 cm drops (mm)          */
     uint32_t walk_cause; /* why the walk stopped                        */
     int32_t barred;      /* the walk ended at obstacles barring the lanes */
     uint8_t trusted[NEGOBS_DETECT_MAX_HAZARDS];
@@ -316,6 +317,8 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
     fw->walk_to = det_vouch_walk(&s, p, frame->first_row,
                                  res->n_candidates > 0u, &fw->walk_cause,
                                  &fw->barred);
+    fw->walk_5cm_to = det_vouch_walk_5cm(&s, p, frame->first_row,
+                                         res->n_candidates > 0u, fw->walk_to);
     res->blocked_at_mm = fw->barred ? fw->walk_to : 0;
     warn_diagnostics(&s, res);
     /* A candidate is trusted (may start and confirm a track) when the
@@ -514,7 +517,7 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
      * in view: else nothing is vouched from the feet (a hazard is still
      * reported) */
     if (!det_near_follow(p, cfg, fw.seen_from, res->clear_to_mm,
-                         g.ok ? p->travel_mm : 0,
+                         fw.walk_5cm_to, g.ok ? p->travel_mm : 0,
                          g.ok && !fw.unverified &&
                              (res->reasons & NEAR_START_BLOCKING) == 0u,
                          frame->now_ms)) {

@@ -105,6 +105,27 @@ typedef struct strip_hit {
 #define ROW_E_UNSET (-32768)
 #define ROW_E_NONE (-32767)
 
+/*
+ * The minimum drop of the definitions: 5 cm within 1.5 m, 10 cm beyond.
+ * Fixed here, not configured: a preset may make the rule more sensitive,
+ * but never changes what counts as a false vouch (detect_vouch.c,
+ * detect_near.c).
+ */
+#define VOUCH_H_NEAR_MM 50
+#define VOUCH_H_FAR_MM 100
+#define VOUCH_NEAR_RANGE_MM 1500
+
+/* One following of the floor nearer than the view (detect_near.c): its
+ * state, the vouched floor ahead of the feet (lower bound), the far end of
+ * unvouched floor (upper bound) and the floor vouched beyond it (lower
+ * bound), in mm ahead of the feet. */
+typedef struct near_track {
+    int32_t state;
+    int32_t ahead_mm;
+    int32_t gap_mm;
+    int32_t beyond_mm;
+} near_track_t;
+
 #define NOISE_BANDS 8
 #define NOISE_BINS 64
 /* Signed strip-median residuals, 1/32 px bins centred on 0: +-2 px. */
@@ -207,11 +228,12 @@ typedef struct detect_priv {
      * the far end of unvouched floor (upper bound) and the floor vouched
      * beyond it (lower bound), in mm ahead of the feet */
     int32_t near_on;
-    int32_t near_state;
     uint32_t near_ms;
-    int32_t near_ahead_mm;
-    int32_t near_gap_mm;
-    int32_t near_beyond_mm;
+    /* followed twice: the floor vouched for the minimum drop of its range
+     * (near_any), and the floor vouched for 5 cm (near_5cm), which is
+     * what the floor within VOUCH_NEAR_RANGE_MM of the feet needs */
+    near_track_t near_any;
+    near_track_t near_5cm;
     /* frames pooled along the travel (detect_pool.c); pool_out NULL when
      * pool_frames is 1. Two histories, width x height each (rho Q14 with
      * the count in its low bits; pool_cur: this frame's), the pooled
@@ -255,6 +277,9 @@ typedef struct scan_ctx {
      * (det_strip_noise). */
     int32_t band_strip_q8[NOISE_BANDS];
     int32_t band_bias_q8[NOISE_BANDS];
+    /* 1: the vouched walk looks for 5 cm drops at every range and ends
+     * where the rule cannot see one (det_vouch_walk_5cm) */
+    int32_t vouch_5cm;
 } scan_ctx_t;
 
 /* detect_texture.c: whether a box holds texture above the image's noise
@@ -316,6 +341,13 @@ int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
                        int32_t first_row, int candidates, uint32_t *cause,
                        int32_t *barred);
 
+/* The vouched walk for 5 cm drops beyond VOUCH_NEAR_RANGE_MM too, as far
+ * as the rule can see one (h_near_range_mm): the floor distance it
+ * reaches, at most walk_to (det_vouch_walk's result, which it equals when
+ * that lies within VOUCH_NEAR_RANGE_MM). Leaves p->reach_v alone. */
+int32_t det_vouch_walk_5cm(const scan_ctx_t *s, detect_priv_t *p,
+                           int32_t first_row, int candidates, int32_t walk_to);
+
 int det_vouch_candidate(const scan_ctx_t *s, const detect_priv_t *p,
                         const negobs_hazard_t *hz);
 
@@ -334,13 +366,16 @@ void det_sight_note(detect_priv_t *p, const negobs_detect_result_t *res,
 
 /* Follow the floor nearer than the view (detect_near.c) with this
  * frame's nearest floor in view (seen_mm, 0: no ground model), its
- * vouched range, its measured travel, and whether its ground passed the
- * start check (start_ok: a model, verified, the image usable); 0 when
- * some of that floor was never vouched while in view and has not been
- * walked over. */
+ * vouched range, the part of it vouched for 5 cm drops (vouched_5cm_mm),
+ * its measured travel, and whether its ground passed the start check
+ * (start_ok: a model, verified, the image usable); 0 when some of that
+ * floor was never vouched while in view for the minimum drop it will
+ * have to be free of (5 cm within VOUCH_NEAR_RANGE_MM of the feet) and
+ * has not been walked over. */
 int det_near_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
-                    int32_t seen_mm, int32_t vouched_mm, int32_t travel_mm,
-                    int start_ok, uint32_t now_ms);
+                    int32_t seen_mm, int32_t vouched_mm,
+                    int32_t vouched_5cm_mm, int32_t travel_mm, int start_ok,
+                    uint32_t now_ms);
 
 /* 1 while det_near_follow holds unvouched floor ahead: the travel is
  * measured to know when it has been walked over. */

@@ -35,6 +35,15 @@
  *    concrete, never confirmed, was left under the view and the next
  *    vouching frame said CLEAR to 1.5 m, 0.3 m beyond it).
  *
+ * The floor is followed twice with these rules (near_track): for the
+ * minimum drop of the range it was vouched at (near_any, needed up to the
+ * view), and for 5 cm drops (near_5cm, needed up to the nearer of the
+ * view and VOUCH_NEAR_RANGE_MM): the floor within 1.5 m of the feet must
+ * be free of 5 cm drops, and floor seen beyond 1.5 m was checked for 10 cm
+ * only unless det_vouch_walk_5cm checked it (a 5 cm curb under a camera
+ * whose view started at 1.52 m passed below it unchecked, and the next
+ * frames said CLEAR to 1.5-2 m over it).
+ *
  * The walk is one-dimensional, along the heading, as the tracks' hold is.
  */
 enum { NEAR_START = 0, NEAR_OK = 1, NEAR_GAP = 2 };
@@ -69,69 +78,94 @@ static inline int near_extend(int32_t *to_mm, int32_t seen_mm,
     return 1;
 }
 
-int det_near_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
-                    int32_t seen_mm, int32_t vouched_mm, int32_t travel_mm,
-                    int start_ok, uint32_t now_ms)
+/* One following (the comment above) of the floor that must be vouched
+ * from the feet to need_mm: seen_mm for the minimum drop of each range,
+ * the nearer of seen_mm and VOUCH_NEAR_RANGE_MM for 5 cm. came_mm: the
+ * farthest the walker can have come since the last frame. */
+static int near_track(near_track_t *n, int32_t seen_mm, int32_t need_mm,
+                      int32_t vouched_mm, int32_t came_mm, int32_t travel_mm,
+                      int start_ok)
 {
     /* a frame vouches only a stretch that starts at its nearest floor */
     const int vouched = seen_mm > 0 && vouched_mm > seen_mm;
-    const int32_t dt = (int32_t)(now_ms - p->near_ms);
-    int32_t came_mm;
-    if (!p->near_on || dt < 0 || dt > cfg->hold_ms) {
-        p->near_state = NEAR_START;
-    }
-    p->near_on = 1;
-    p->near_ms = now_ms;
-    if (p->near_state == NEAR_START) {
+    if (n->state == NEAR_START) {
         if (vouched || (start_ok && seen_mm > 0)) {
-            p->near_state = NEAR_OK;
-            p->near_ahead_mm = vouched ? vouched_mm : seen_mm;
+            n->state = NEAR_OK;
+            n->ahead_mm = vouched ? vouched_mm : seen_mm;
         }
         return 1;
     }
-    /* dt <= hold_ms <= 60 s and hold_speed <= 5 m/s: at most 3e5 mm */
-    came_mm = (int32_t)(((int64_t)cfg->hold_speed_mm_s * dt) / 1000);
-    if (p->near_state == NEAR_GAP) {
-        if (p->near_beyond_mm == NEAR_NONE) {
+    if (n->state == NEAR_GAP) {
+        if (n->beyond_mm == NEAR_NONE) {
             /* nothing vouched since the gap opened: it reaches the first
              * view that vouches again */
             if (vouched) {
-                p->near_gap_mm = seen_mm;
-                p->near_beyond_mm = vouched_mm;
+                n->gap_mm = seen_mm;
+                n->beyond_mm = vouched_mm;
             }
             return 0;
         }
-        p->near_gap_mm -= geom_max_s32(travel_mm, 0);
-        p->near_beyond_mm = geom_max_s32(p->near_beyond_mm - came_mm, 0);
-        if (p->near_gap_mm + NEAR_MARGIN_MM > 0) {
-            if (vouched &&
-                !near_extend(&p->near_beyond_mm, seen_mm, vouched_mm)) {
+        n->gap_mm -= geom_max_s32(travel_mm, 0);
+        n->beyond_mm = geom_max_s32(n->beyond_mm - came_mm, 0);
+        if (n->gap_mm + NEAR_MARGIN_MM > 0) {
+            if (vouched && !near_extend(&n->beyond_mm, seen_mm, vouched_mm)) {
                 /* the unvouched floor reaches this frame's view */
-                p->near_gap_mm = geom_max_s32(p->near_gap_mm, seen_mm);
-                p->near_beyond_mm = vouched_mm;
+                n->gap_mm = geom_max_s32(n->gap_mm, seen_mm);
+                n->beyond_mm = vouched_mm;
             }
             return 0;
         }
         /* stepped over: the floor behind the gap was vouched up to
          * beyond_mm (0 if nothing was) */
-        p->near_state = NEAR_OK;
-        p->near_ahead_mm = geom_max_s32(p->near_beyond_mm, 0);
+        n->state = NEAR_OK;
+        n->ahead_mm = geom_max_s32(n->beyond_mm, 0);
         came_mm = 0; /* beyond_mm has aged this frame already */
     }
-    p->near_ahead_mm = geom_max_s32(p->near_ahead_mm - came_mm, 0);
+    n->ahead_mm = geom_max_s32(n->ahead_mm - came_mm, 0);
+    if (vouched) {
+        (void)near_extend(&n->ahead_mm, seen_mm, vouched_mm);
+    }
     /* a frame that vouches nothing says NO_INFO on its own; the floor
      * vouched earlier keeps shrinking until a frame does */
-    if (vouched ? near_extend(&p->near_ahead_mm, seen_mm, vouched_mm)
-                : (seen_mm <= 0 || near_reaches(p->near_ahead_mm, seen_mm))) {
+    if (seen_mm <= 0 || near_reaches(n->ahead_mm, need_mm)) {
         return 1;
     }
-    p->near_state = NEAR_GAP;
-    p->near_gap_mm = seen_mm;
-    p->near_beyond_mm = vouched ? vouched_mm : NEAR_NONE;
+    /* all of the floor up to the view is out of view by the time it is
+     * walked: it is the gap's far end */
+    n->state = NEAR_GAP;
+    n->gap_mm = seen_mm;
+    n->beyond_mm = vouched ? vouched_mm : NEAR_NONE;
     return 0;
+}
+
+int det_near_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
+                    int32_t seen_mm, int32_t vouched_mm,
+                    int32_t vouched_5cm_mm, int32_t travel_mm, int start_ok,
+                    uint32_t now_ms)
+{
+    const int32_t dt = (int32_t)(now_ms - p->near_ms);
+    /* dt <= hold_ms <= 60 s and hold_speed <= 5 m/s: at most 3e5 mm */
+    const int32_t came_mm = (int32_t)(((int64_t)cfg->hold_speed_mm_s *
+                                       geom_max_s32(dt, 0)) /
+                                      1000);
+    int ok_any;
+    int ok_5cm;
+    if (!p->near_on || dt < 0 || dt > cfg->hold_ms) {
+        p->near_any.state = NEAR_START;
+        p->near_5cm.state = NEAR_START;
+    }
+    p->near_on = 1;
+    p->near_ms = now_ms;
+    ok_any = near_track(&p->near_any, seen_mm, seen_mm, vouched_mm, came_mm,
+                        travel_mm, start_ok);
+    ok_5cm = near_track(&p->near_5cm, seen_mm,
+                        geom_min_s32(seen_mm, VOUCH_NEAR_RANGE_MM),
+                        geom_min_s32(vouched_5cm_mm, vouched_mm), came_mm,
+                        travel_mm, start_ok);
+    return ok_any && ok_5cm;
 }
 
 int det_near_gap(const detect_priv_t *p)
 {
-    return p->near_state == NEAR_GAP;
+    return p->near_any.state == NEAR_GAP || p->near_5cm.state == NEAR_GAP;
 }

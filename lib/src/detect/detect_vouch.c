@@ -3,15 +3,10 @@
 #include "detect_internal.h"
 
 /*
- * The vouched range (docs/DETECTION.md, "Verdicts and the vouched range").
- *
- * The minimum drop of the definitions: 5 cm within 1.5 m, 10 cm beyond.
- * Fixed here, not configured: a preset may make the rule more sensitive,
- * but never changes what counts as a false vouch.
+ * The vouched range (docs/DETECTION.md, "Verdicts and the vouched range"),
+ * for the minimum drop of the definitions (VOUCH_H_NEAR_MM within
+ * VOUCH_NEAR_RANGE_MM, VOUCH_H_FAR_MM beyond; detect_internal.h).
  */
-#define VOUCH_H_NEAR_MM 50
-#define VOUCH_H_FAR_MM 100
-#define VOUCH_NEAR_RANGE_MM 1500
 /* A run of rows whose strip median cannot vote (fewer than a quarter of
  * the strip's pixels matched) ends a strip's support when it spans at
  * least VOUCH_GAP_ROWS rows and VOUCH_GAP_MM of floor. The rule itself
@@ -24,10 +19,10 @@
  * few values for a spread of its own; the band's pooled values stand. */
 #define VOUCH_CELL_MIN 4
 
-static inline int32_t vouch_h_mm(int32_t range_mm)
+static inline int32_t vouch_h_mm(const scan_ctx_t *s, int32_t range_mm)
 {
-    return (range_mm <= VOUCH_NEAR_RANGE_MM) ? VOUCH_H_NEAR_MM
-                                             : VOUCH_H_FAR_MM;
+    return (range_mm <= VOUCH_NEAR_RANGE_MM || s->vouch_5cm) ? VOUCH_H_NEAR_MM
+                                                             : VOUCH_H_FAR_MM;
 }
 
 static inline int32_t band_of(const scan_ctx_t *s, int32_t v)
@@ -147,7 +142,7 @@ enum vouch_verdict { VOUCH_OK = 0, VOUCH_NOISE = 1, VOUCH_UNSEEN = 2 };
 static inline int vouch_in_scan(const scan_ctx_t *s, int32_t range_mm)
 {
     const int64_t hgt = s->frame->height_mm;
-    return (int64_t)range_mm * (hgt + vouch_h_mm(range_mm)) <=
+    return (int64_t)range_mm * (hgt + vouch_h_mm(s, range_mm)) <=
            (int64_t)s->cfg->range_max_mm * hgt;
 }
 
@@ -184,7 +179,7 @@ static enum vouch_verdict vouch_cell_sees(const scan_ctx_t *s,
     const int32_t bs = (s->band_strip_q8[b] <= 0 && b == NOISE_BANDS - 1)
                            ? b - 1
                            : b;
-    int32_t h = vouch_h_mm(range_mm);
+    int32_t h = vouch_h_mm(s, range_mm);
     int32_t h_t = det_h_t_at(cfg, range_mm);
     int32_t sig_q8 = s->band_strip_q8[bs];
     int32_t bias_q8 = geom_max_s32(s->band_bias_q8[bs], 0);
@@ -215,7 +210,7 @@ static enum vouch_verdict vouch_cell_ok(const scan_ctx_t *s,
 {
     const negobs_detect_config_t *cfg = s->cfg;
     int32_t uc = det_strip_u0(cfg, p->n_strips, si) + cfg->strip_px / 2;
-    int32_t h = vouch_h_mm(range_mm);
+    int32_t h = vouch_h_mm(s, range_mm);
     return vouch_cell_sees(s, p, si, v, range_mm,
                            negobs_ground_disp_q4(s->plane, uc, v), h,
                            (int64_t)s->frame->height_mm + h);
@@ -249,7 +244,7 @@ static void walk_tally(const scan_ctx_t *s, detect_priv_t *p,
             w->n_occl += v >= p->hits[si].occl_v;
             bad_run = 0;
             open_run = 0;
-            if (p->reach_v[si] == v + 1) {
+            if (!s->vouch_5cm && p->reach_v[si] == v + 1) {
                 p->reach_v[si] = v; /* outside: nothing to vouch */
             }
             continue;
@@ -273,7 +268,7 @@ static void walk_tally(const scan_ctx_t *s, detect_priv_t *p,
             w->n_ok++;
             bad_run = 0;
             open_run = 0;
-            if (p->reach_v[si] == v + 1) {
+            if (!s->vouch_5cm && p->reach_v[si] == v + 1) {
                 p->reach_v[si] = v;
             }
         } else {
@@ -325,13 +320,18 @@ int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
     int32_t v;
     *cause = 0;
     *barred = 0;
-    for (si = 0; si < p->n_strips; si++) {
+    for (si = 0; si < p->n_strips && !s->vouch_5cm; si++) {
         p->reach_v[si] = hgt;
     }
     for (v = hgt - 1; v >= s->band_v0; v--) {
         int32_t range = model_range_mm(s, cfg->rig.width / 2, v);
         int32_t n_corr;
         walk_row_t w;
+        if (s->vouch_5cm && range > cfg->h_near_range_mm) {
+            /* the rule looks for 5 cm no farther: the walk's end, not
+             * noise */
+            break;
+        }
         walk_tally(s, p, first_row, v, range, &w);
         n_corr = w.n_open + w.n_barred;
         if (walking && n_corr == 0 && w.n_occl > 0 && walk_v == hgt) {
@@ -371,8 +371,8 @@ int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
                              : NEGOBS_DEGRADED_FEW_GROUND;
             }
         }
-        if (!walking && !w.any_alive) {
-            break;
+        if (!walking && (s->vouch_5cm || !w.any_alive)) {
+            break; /* the 5 cm walk fills no strip's reach */
         }
     }
     /* Noise that stops the walk inside the ground fit's own rows (the
@@ -389,12 +389,39 @@ int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
      * wrong across the width, in the band's median; one stain or painted
      * patch the matcher reads off is not (a dark patch in two strips of a
      * 1.38 m / 11 deg camera's fit rows, 1.8-2.6 m ahead, zeroed a walk to
-     * 2.1 m). */
+     * 2.1 m). The 5 cm walk runs only where this one passed those rows
+     * for the minimum drop: its noise is about sensitivity, not the
+     * model. */
     if (*cause == NEGOBS_DEGRADED_NOISY && !candidates && !local &&
-        walk_v > hgt - 1 - (hgt * cfg->fit_rows_pct) / 100) {
+        !s->vouch_5cm && walk_v > hgt - 1 - (hgt * cfg->fit_rows_pct) / 100) {
         return 0;
     }
     return (walk_v < hgt) ? model_range_mm(s, cfg->rig.width / 2, walk_v) : 0;
+}
+
+/*
+ * The floor within VOUCH_NEAR_RANGE_MM of the feet must be free of 5 cm
+ * drops, and once it is below the view only earlier frames can have
+ * checked it (detect_near.c): floor seen beyond that range was checked
+ * by det_vouch_walk for 10 cm. This walk checks it for 5 cm, as far as
+ * the rule itself can report a 5 cm drop (h_near_range_mm; beyond, its
+ * threshold is h_min_far_mm's and a 5 cm drop cannot be vouched against).
+ * Within VOUCH_NEAR_RANGE_MM both walks are the same walk.
+ */
+int32_t det_vouch_walk_5cm(const scan_ctx_t *s, detect_priv_t *p,
+                           int32_t first_row, int candidates, int32_t walk_to)
+{
+    scan_ctx_t s5;
+    uint32_t cause = 0;
+    int32_t barred = 0;
+    if (walk_to <= VOUCH_NEAR_RANGE_MM) {
+        return walk_to;
+    }
+    s5 = *s;
+    s5.vouch_5cm = 1;
+    return geom_min_s32(
+        det_vouch_walk(&s5, p, first_row, candidates, &cause, &barred),
+        walk_to);
 }
 
 /* The band-pooled test of vouch_cell_ok at row v (no cell): the band's
@@ -415,7 +442,7 @@ static int vouch_band_sees(const scan_ctx_t *s, int32_t v, int32_t dg,
 
 static int vouch_band_ok(const scan_ctx_t *s, int32_t v, int32_t range_mm)
 {
-    int32_t h = vouch_h_mm(range_mm);
+    int32_t h = vouch_h_mm(s, range_mm);
     return vouch_band_sees(
         s, v, negobs_ground_disp_q4(s->plane, s->cfg->rig.width / 2, v), h,
         (int64_t)s->frame->height_mm + h);
