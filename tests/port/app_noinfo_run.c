@@ -2,12 +2,18 @@
  * End-to-end no-information latency of the real negobs_run on the host.
  *
  *   app_noinfo_run NEGOBS_RUN CONF FRAMES_DIR W H K STALLS [TOL_MS]
+ *                  [BATCH] [PACE_MS]
  *
  * FRAMES_DIR holds left.y / right.y: K raw W x H frames each (a flat walk
  * that negobs_run judges "clear"). The harness writes a recorded session
- * whose left.y is a FIFO and feeds it in batches; between batches it
+ * whose left.y is a FIFO and feeds it in batches of BATCH pairs (10), one
+ * pair every PACE_MS (0: as fast as they are read); between batches it
  * stops writing for STALL_MS, so negobs_run's main loop blocks in the
- * replay read, as with a camera driver that hangs. Every line negobs_run
+ * replay read, as with a camera driver that hangs. Paced at the frame
+ * rate of a walk whose K frames are one continuous walk (K at least
+ * BATCH x (STALLS + 1)), the detector measures the walk after a stall as
+ * on a camera: the floor the wearer may have reached during the stall
+ * is vouched again once walked over (docs/DETECTION.md 10.2). Every line negobs_run
  * prints (stdout: `--alert console` motor changes; stderr: logs with
  * `--log-level debug`, one "pair N verdict V" per pair) is stamped on
  * arrival with CLOCK_MONOTONIC. Latency = first motor-on line after the
@@ -186,6 +192,8 @@ int main(int argc, char **argv)
     unsigned char *frames_r;
     size_t fsz;
     long w, h, k, stalls, tol_ms = 50, wdog_ms = 300;
+    long batch = BATCH;
+    long pace_ms = 0;
     long total;
     long i;
     int po[2];
@@ -204,7 +212,7 @@ int main(int argc, char **argv)
     if (argc < 8) {
         fprintf(stderr,
                 "usage: %s NEGOBS_RUN CONF FRAMES_DIR W H K STALLS "
-                "[TOL_MS]\n",
+                "[TOL_MS] [BATCH] [PACE_MS]\n",
                 argv[0]);
         return 2;
     }
@@ -215,8 +223,15 @@ int main(int argc, char **argv)
     if (argc > 8) {
         tol_ms = atol(argv[8]);
     }
+    if (argc > 9) {
+        batch = atol(argv[9]);
+    }
+    if (argc > 10) {
+        pace_ms = atol(argv[10]);
+    }
     if (w < 16 || h < 16 || w * h > 4000000 || k < 1 || stalls < 1 ||
-        stalls > MAX_STALLS) {
+        stalls > MAX_STALLS || batch < 1 || batch > 1000 || pace_ms < 0 ||
+        pace_ms > 1000) {
         fprintf(stderr, "app_noinfo_run: bad arguments\n");
         return 2;
     }
@@ -251,7 +266,7 @@ int main(int argc, char **argv)
         perror("mkdtemp");
         return 1;
     }
-    total = BATCH * (stalls + 1);
+    total = batch * (stalls + 1);
     (void)snprintf(path, sizeof path, "%s/session.txt", dir);
     f = fopen(path, "w");
     fprintf(f, "negobs-session 1\nwidth %ld\nheight %ld\n", w, h);
@@ -311,24 +326,26 @@ int main(int argc, char **argv)
     }
     for (i = 0; i <= stalls; i++) {
         long j;
-        for (j = 0; j < BATCH; j++) {
-            long idx = i * BATCH + j;
+        /* set before the batch: a paced batch's last line may arrive
+         * while it is still being written */
+        wt.want_pair = (i + 1) * batch - 1;
+        wt.t_want_us = 0;
+        wt.first_on_us = 0;
+        for (j = 0; j < batch; j++) {
+            long idx = i * batch + j;
             if (write_all(fifo, frames_l + fsz * (size_t)(idx % k), fsz) !=
                 0) {
                 fprintf(stderr, "app_noinfo_run: FIFO write failed\n");
                 kill(pid, SIGTERM);
                 return 1;
             }
-            (void)drain(st, &wt, 0);
+            (void)drain(st, &wt, (int)pace_ms);
         }
         if (i == stalls) {
             break;
         }
         /* stall: nothing more until STALL_MS after the batch's last
          * pair was judged */
-        wt.want_pair = (i + 1) * BATCH - 1;
-        wt.t_want_us = 0;
-        wt.first_on_us = 0;
         while (wt.t_want_us == 0 && drain(st, &wt, 100) == 0) {
         }
         (void)drain(st, &wt, STALL_MS);

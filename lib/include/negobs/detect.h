@@ -88,8 +88,9 @@ typedef enum negobs_degraded_reason {
      *  the first ground model) */
     NEGOBS_DEGRADED_GROUND_UNVERIFIED = 1u << 9,
     /** Floor now nearer than the view was never vouched while it was in
-     *  view (an unconfirmed drop, a dark or untextured stretch) and has
-     *  not been walked over yet: nothing is vouched from the feet
+     *  view (an unconfirmed drop, a dark or untextured stretch; within
+     *  1.5 m of the feet, never vouched for 5 cm drops) and has not been
+     *  walked over yet: nothing is vouched from the feet
      *  (docs/DETECTION.md, "The floor under the view") */
     NEGOBS_DEGRADED_NEAR_UNSEEN = 1u << 10
 } negobs_degraded_reason_t;
@@ -398,7 +399,8 @@ typedef struct negobs_detect_result {
      *  corridor is vouched clear of a minimum drop (5 cm within 1.5 m,
      *  10 cm beyond) by this frame's measured noise. The vouched stretch
      *  starts at the nearest ground row in view; the floor nearer than
-     *  that must have been vouched by earlier frames, else it is 0
+     *  that must have been vouched by earlier frames (for 5 cm drops
+     *  within 1.5 m of the feet), else it is 0
      *  (NEGOBS_DEGRADED_NEAR_UNSEEN). In HAZARD it is at most the nearest
      *  hazard's range; in NO_INFO it is still reported: 0 after a gating
      *  or ground reason (unverified ground included), else what the noise

@@ -223,10 +223,8 @@ typedef struct detect_priv {
     uint32_t sight_ms[SIGHT_FRAMES];
     int32_t sight_head;
     int32_t sight_n;
-    /* the floor nearer than the view (detect_near.c): state, the last
-     * frame's time, the vouched floor ahead of the feet (lower bound),
-     * the far end of unvouched floor (upper bound) and the floor vouched
-     * beyond it (lower bound), in mm ahead of the feet */
+    /* the floor nearer than the view (detect_near.c): whether it is
+     * followed, the last frame's time, and its two followings */
     int32_t near_on;
     uint32_t near_ms;
     /* followed twice: the floor vouched for the minimum drop of its range
