@@ -368,7 +368,7 @@ void det_sight_note(detect_priv_t *p, const negobs_detect_result_t *res,
  * its measured travel, and whether its ground passed the start check
  * (start_ok: a model, verified, the image usable); 0 when some of that
  * floor was never vouched while in view for the minimum drop it will
- * have to be free of (5 cm within VOUCH_NEAR_RANGE_MM of the feet) and
+ * have to be clear of (5 cm within VOUCH_NEAR_RANGE_MM of the feet) and
  * has not been walked over. */
 int det_near_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
                     int32_t seen_mm, int32_t vouched_mm,

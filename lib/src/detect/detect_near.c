@@ -39,7 +39,7 @@
  * minimum drop of the range it was vouched at (near_any, needed up to the
  * view), and for 5 cm drops (near_5cm, needed up to the nearer of the
  * view and VOUCH_NEAR_RANGE_MM): the floor within 1.5 m of the feet must
- * be free of 5 cm drops, and floor seen beyond 1.5 m was checked for 10 cm
+ * be clear of 5 cm drops, and floor seen beyond 1.5 m was checked for 10 cm
  * only unless det_vouch_walk_5cm checked it (a 5 cm curb under a camera
  * whose view started at 1.52 m passed below it unchecked, and the next
  * frames said CLEAR to 1.5-2 m over it).

@@ -400,7 +400,7 @@ int32_t det_vouch_walk(const scan_ctx_t *s, detect_priv_t *p,
 }
 
 /*
- * The floor within VOUCH_NEAR_RANGE_MM of the feet must be free of 5 cm
+ * The floor within VOUCH_NEAR_RANGE_MM of the feet must be clear of 5 cm
  * drops, and once it is below the view only earlier frames can have
  * checked it (detect_near.c): floor seen beyond that range was checked
  * by det_vouch_walk for 10 cm. This walk checks it for 5 cm, as far as
