@@ -278,6 +278,9 @@ typedef struct turn_best {
     int32_t k; /* T steps    */
 } turn_best_t;
 
+/* No candidate scanned yet: no best, no standing still. */
+static const turn_best_t TURN_BEST_NONE = {-1, -1, 0, 0};
+
 /* The better of two stages' bests over consecutive turn ranges, a's
  * turns before b's: the first strict minimum in turn order, as one scan
  * over both ranges finds it (a range's best is exact, and its pruned
@@ -305,7 +308,7 @@ static turn_best_t scan_turns(const travel_track_t *t, const negobs_rig_t *rig,
                               int32_t k_lo, int32_t k_hi)
 {
     int64_t cost[TRAVEL_STEPS + 1];
-    turn_best_t b = {-1, -1, 0, 0};
+    turn_best_t b = TURN_BEST_NONE;
     int32_t j;
     for (j = j_lo; j <= j_hi; j++) {
         const travel_turn_t turn = turn_of(j, step_q30);
@@ -362,10 +365,7 @@ static void turn_job(void *arg, int32_t job, int32_t worker)
                                   tp->n, tp->t_max, tp->step_q30, lo, hi, 1,
                                   TRAVEL_STEPS);
     } else {
-        tp->res[job].cost = -1;
-        tp->res[job].still = -1;
-        tp->res[job].j = 0;
-        tp->res[job].k = 0;
+        tp->res[job] = TURN_BEST_NONE;
     }
     tp->done[job] = 1;
 }
@@ -375,7 +375,7 @@ static void turn_job(void *arg, int32_t job, int32_t worker)
 static __attribute__((noinline)) turn_best_t coarse_turns(
     turn_pass_t *tp, const negobs_executor_t *exec)
 {
-    turn_best_t b = {-1, -1, 0, 0};
+    turn_best_t b = TURN_BEST_NONE;
     const int parallel = exec != NULL && exec->run != NULL &&
                          exec->workers > 1;
     int32_t i;
