@@ -241,6 +241,91 @@ static void test_temporal_degraded_frames_never_confirm(void **state)
     assert_int_equal(report(out, 2300), 1);
 }
 
+/* Feed one sighting a frame at ranges r[0..n), trust t[0..n) (TMP_*;
+ * 'T' trusted, 'W' weak, 'U' untrusted, '-' none), on observed frames; the
+ * number of the first frame that reports a confirmed hazard, 0 if none. */
+static int first_confirmed_dt(const char *t, int32_t r0, int32_t step,
+                              uint32_t dt_ms)
+{
+    negobs_hazard_t c;
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    int i;
+    setup_cfg();
+    for (i = 0; t[i] != '\0'; i++) {
+        uint8_t trust = (t[i] == 'T')   ? (uint8_t)TMP_TRUSTED
+                        : (t[i] == 'W') ? (uint8_t)TMP_WEAK
+                                        : (uint8_t)TMP_UNTRUSTED;
+        const uint32_t now = dt_ms * (uint32_t)(i + 1);
+        c = cand(r0 - step * i, 0);
+        temporal_update_vouched(&tp, &c, &trust, t[i] == '-' ? 0u : 1u, 1, 0,
+                                INT32_MAX, 1000, now);
+        if (report(out, now) > 0u) {
+            return i + 1;
+        }
+    }
+    return 0;
+}
+
+/* first_confirmed_dt at 10 fps, where every frame is a tick */
+static int first_confirmed(const char *t, int32_t r0, int32_t step)
+{
+    return first_confirmed_dt(t, r0, step, 100u);
+}
+
+/* A weak sighting (a textured box whose strips failed the noise check)
+ * fills one gap between trusted sightings of the same approaching edge,
+ * as on smooth concrete seen by a 6 cm rig; an untrusted one does not,
+ * weak ones never start a track, and one trusted sighting with any
+ * number of weak ones never confirms. */
+static void test_temporal_weak_sighting_fills_one_gap(void **state)
+{
+    (void)state;
+    assert_int_equal(first_confirmed("TWT", 2455, 120), 3);
+    assert_int_equal(first_confirmed("TTW", 2455, 120), 3);
+    assert_int_equal(first_confirmed("TUT", 2455, 120), 0);
+    assert_int_equal(first_confirmed("TUTT", 2455, 120), 4);
+    assert_int_equal(first_confirmed("WWWWWWWW", 2455, 120), 0);
+    assert_int_equal(first_confirmed("TWWWWWWW", 2455, 120), 0);
+    assert_int_equal(first_confirmed("WWTWWT", 2455, 120), 6);
+    /* the window still moves: T and T four frames apart, W between */
+    assert_int_equal(first_confirmed("T-W--T", 2455, 120), 0);
+    assert_int_equal(first_confirmed("TTT", 2455, 120), 3);
+}
+
+/* A weak sighting confirms only with looks a tick apart (frame_interval_ms
+ * 100: at 33 ms frames 1, 4, 7, ... are ticks): the frames between see
+ * nearly the same images, so their noise is no fresh look. A window of
+ * five frames at 30 fps holds two ticks, so there a weak sighting never
+ * confirms, while three trusted ones still do. */
+static void test_temporal_weak_sighting_only_on_ticks(void **state)
+{
+    (void)state;
+    assert_int_equal(first_confirmed_dt("TWT", 2455, 40, 33u), 0);
+    assert_int_equal(first_confirmed_dt("T-TW", 2455, 40, 33u), 0);
+    assert_int_equal(first_confirmed_dt("TT-W", 2455, 40, 33u), 0);
+    assert_int_equal(first_confirmed_dt("TTT", 2455, 40, 33u), 3);
+    /* 10 fps: every frame a tick */
+    assert_int_equal(first_confirmed_dt("TT-W", 2455, 120, 100u), 4);
+}
+
+/* On a degraded frame a weak sighting counts no more than an untrusted
+ * one: it may not confirm a track. */
+static void test_temporal_weak_sighting_on_degraded_frame(void **state)
+{
+    negobs_hazard_t c = cand(3000, 0);
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    const uint8_t trusted = TMP_TRUSTED;
+    const uint8_t weak = TMP_WEAK;
+    (void)state;
+    setup_cfg();
+    temporal_update_vouched(&tp, &c, &trusted, 1, 1, 0, INT32_MAX, 1000, 100);
+    temporal_update_vouched(&tp, &c, &weak, 1, 0, 0, INT32_MAX, 1000, 200);
+    temporal_update_vouched(&tp, &c, &trusted, 1, 1, 0, INT32_MAX, 1000, 300);
+    assert_int_equal(report(out, 300), 0);
+    temporal_update_vouched(&tp, &c, &weak, 1, 1, 0, INT32_MAX, 1000, 400);
+    assert_int_equal(report(out, 400), 1);
+}
+
 static void test_temporal_degraded_frames_refresh_confirmed(void **state)
 {
     negobs_hazard_t c = cand(3500, 0);
@@ -524,6 +609,9 @@ int main(void)
         cmocka_unit_test(test_temporal_degraded_frames_do_not_clear),
         cmocka_unit_test(test_temporal_degraded_frames_never_confirm),
         cmocka_unit_test(test_temporal_degraded_frames_refresh_confirmed),
+        cmocka_unit_test(test_temporal_weak_sighting_fills_one_gap),
+        cmocka_unit_test(test_temporal_weak_sighting_on_degraded_frame),
+        cmocka_unit_test(test_temporal_weak_sighting_only_on_ticks),
         cmocka_unit_test(test_temporal_unseen_track_is_dead_reckoned),
         cmocka_unit_test(test_temporal_hold_when_edge_leaves_image),
         cmocka_unit_test(test_temporal_hold_ends_when_walked_past),

@@ -256,6 +256,31 @@ static __attribute__((noinline)) void scan_strips(detect_priv_t *p,
     }
 }
 
+/* Is candidate c's box textured? At full size; where a half-resolution
+ * pass supplied the box's values, also at its scale: its 5x5 windows span
+ * 10x10 pixels of a pair with half the noise (pipeline/coarse.c). Values
+ * the full-size matcher kept are judged at full size only. noise_half is
+ * measured once, on the first box that needs it. */
+static int det_box_textured_at(const negobs_detect_frame_t *frame,
+                               const negobs_image_u8_t *left,
+                               const int32_t *noise_med, int32_t *noise_half,
+                               const negobs_hazard_t *c)
+{
+    if (det_box_textured(left, *noise_med, c->u0, c->v0, c->u1, c->v1)) {
+        return 1;
+    }
+    if (frame->left_half == NULL || frame->disp_half_q4 == NULL ||
+        !det_box_from_half(frame->disp_q4, frame->disp_half_q4, c->u0, c->v0,
+                           c->u1, c->v1)) {
+        return 0;
+    }
+    if (*noise_half < 0) {
+        *noise_half = det_noise_median(frame->left_half);
+    }
+    return det_box_textured(frame->left_half, *noise_half, c->u0 / 2,
+                            c->v0 / 2, c->u1 / 2, c->v1 / 2);
+}
+
 static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
                        const negobs_detect_frame_t *frame, const gfit_out_t *g,
                        negobs_detect_result_t *res, frame_work_t *fw)
@@ -325,8 +350,10 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
      * frame vouches for the warning range, as every clean frame did, or
      * when its own strips pass the local check: a drop in clean strips is
      * reported whatever the noise elsewhere. A candidate in strips that
-     * fail it is as likely matching noise: it only refreshes a confirmed
-     * track (section 6). The ground-drop cue has no strips: it comes from
+     * fail it is as likely matching noise: alone it only refreshes a
+     * confirmed track (section 6), and in a textured box it may fill one
+     * gap between trusted sightings of the same place (TMP_WEAK). The
+     * ground-drop cue has no strips: it comes from
      * the plane of the fit rows, so it needs the frame to vouch for the
      * near zone and for the fit rows' floor: a plane those rows do not
      * follow as a floor is not a lower level (a wall standing in the fit
@@ -338,44 +365,38 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
         &fit_far_mm, NULL, NULL);
     for (i = 0; i < res->n_candidates && i < NEGOBS_DETECT_MAX_HAZARDS; i++) {
         const negobs_hazard_t *c = &res->candidates[i];
-        fw->trusted[i] =
-            (uint8_t)((c->flags & NEGOBS_HAZARD_F_GROUND_DROP) != 0u
-                          ? fw->walk_to >=
-                                geom_max_s32(cfg->near_min_mm, fit_far_mm)
-                          : (fw->walk_to >= cfg->range_warn_mm ||
-                             det_vouch_candidate(&s, p, c)));
+        int quiet;
+        if ((c->flags & NEGOBS_HAZARD_F_GROUND_DROP) != 0u) {
+            fw->trusted[i] = (uint8_t)(fw->walk_to >=
+                                               geom_max_s32(cfg->near_min_mm,
+                                                            fit_far_mm)
+                                           ? TMP_TRUSTED
+                                           : TMP_UNTRUSTED);
+            fw->n_trusted += fw->trusted[i] == TMP_TRUSTED;
+            continue;
+        }
+        quiet = fw->walk_to >= cfg->range_warn_mm ||
+                det_vouch_candidate(&s, p, c);
+        fw->trusted[i] = (uint8_t)(quiet ? TMP_TRUSTED : TMP_UNTRUSTED);
         /* A deficit read in a box without texture (flat paint, a smooth
          * slab) is the matcher wandering, not a drop: it may refresh a
-         * confirmed track but not start or confirm one. Missing ground
+         * confirmed track but not count towards one. Missing ground
          * (type UNKNOWN) is about matches that are absent, not wrong, and
-         * has its own texture policy (missing_policy). The noise is
-         * measured once, on the first candidate that needs it. */
-        if (fw->trusted[i] && s.left != NULL &&
-            (c->flags & NEGOBS_HAZARD_F_GROUND_DROP) == 0u &&
-            c->type != NEGOBS_HAZARD_UNKNOWN) {
+         * has its own texture policy (missing_policy). A textured box
+         * whose strips failed the noise check is a weak sighting
+         * (temporal.h, TMP_WEAK). The noise is measured once, on the
+         * first candidate that needs it. */
+        if (s.left != NULL && c->type != NEGOBS_HAZARD_UNKNOWN) {
             if (noise_med < 0) {
                 noise_med = det_noise_median(s.left);
             }
-            fw->trusted[i] = (uint8_t)det_box_textured(
-                s.left, noise_med, c->u0, c->v0, c->u1, c->v1);
-            /* Where a half-resolution pass supplied the box's values,
-             * the same test at its scale: its 5x5 windows span 10x10
-             * pixels of a pair with half the noise (pipeline/coarse.c).
-             * Values the full-size matcher kept are judged at full size
-             * only. */
-            if (!fw->trusted[i] && frame->left_half != NULL &&
-                frame->disp_half_q4 != NULL &&
-                det_box_from_half(frame->disp_q4, frame->disp_half_q4, c->u0,
-                                  c->v0, c->u1, c->v1)) {
-                if (noise_half < 0) {
-                    noise_half = det_noise_median(frame->left_half);
-                }
-                fw->trusted[i] = (uint8_t)det_box_textured(
-                    frame->left_half, noise_half, c->u0 / 2, c->v0 / 2,
-                    c->u1 / 2, c->v1 / 2);
-            }
+            fw->trusted[i] = (uint8_t)(det_box_textured_at(frame, s.left,
+                                                           &noise_med,
+                                                           &noise_half, c)
+                                           ? (quiet ? TMP_TRUSTED : TMP_WEAK)
+                                           : TMP_UNTRUSTED);
         }
-        fw->n_trusted += fw->trusted[i];
+        fw->n_trusted += fw->trusted[i] == TMP_TRUSTED;
     }
     canny_support(p, cfg, frame, res);
     det_model_point(

@@ -251,6 +251,35 @@ static int32_t new_track_slot(const temporal_t *t, const int32_t *used)
     return best;
 }
 
+/* The window moves on by a frame: trusted / weak say what this frame saw
+ * of the track, tick whether the frame is a tick. */
+static void track_shift(tmp_track_t *tr, int trusted, int weak, int tick)
+{
+    tr->hist = (tr->hist << 1) | (trusted ? 1u : 0u);
+    tr->weak = (tr->weak << 1) | (weak ? 1u : 0u);
+    tr->ticks = (tr->ticks << 1) | (tick ? 1u : 0u);
+}
+
+/* confirm_k trusted sightings in the window, or confirm_k - 1 and a weak
+ * one: a noisy sighting may fill the gap between trusted ones (a 10 cm
+ * curb on smooth concrete seen by a 6 cm rig: trusted, too noisy,
+ * trusted, three frames running), but never stand in for more than one
+ * of them, so noise alone still confirms nothing. */
+static int confirms(const negobs_detect_config_t *cfg, const tmp_track_t *tr)
+{
+    const uint32_t m = window_mask(cfg);
+    const uint32_t k = (uint32_t)cfg->confirm_k;
+    if (popcount32(tr->hist & m) >= k) {
+        return 1;
+    }
+    /* with a weak sighting (on a tick), the trusted ones count on ticks
+     * only: every look then is a tick apart, a fresh view of the place
+     * (at 30 fps a window of five frames holds two ticks, so a weak
+     * sighting never confirms there) */
+    return (tr->weak & m) != 0u &&
+           popcount32(tr->hist & tr->ticks & m) + 1u >= k;
+}
+
 static void track_start(temporal_t *t, tmp_track_t *tr,
                         const negobs_hazard_t *c, uint32_t now_ms)
 {
@@ -352,7 +381,7 @@ static void track_unseen(const temporal_t *t, tmp_track_t *tr, int observed,
          * "3 of 5" over any number of frames: matching noise that
          * recurs now and then would confirm. */
         if (!tr->confirmed) {
-            tr->hist <<= 1;
+            track_shift(tr, 0, 0, t->tick);
             if ((tr->hist & window_mask(cfg)) == 0u) {
                 tr->active = 0;
                 return;
@@ -363,7 +392,7 @@ static void track_unseen(const temporal_t *t, tmp_track_t *tr, int observed,
         }
         return;
     }
-    tr->hist <<= 1;
+    track_shift(tr, 0, 0, t->tick);
     if (t->tick) {
         tr->misses++; /* clean time, counted in ticks */
     }
@@ -403,7 +432,16 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
     for (i = 0; i < n; i++) {
         const negobs_hazard_t *c = &cands[order[i]];
         int32_t best = assoc_best(t, c, used, now_ms);
-        if ((!observed || (trusted != NULL && !trusted[order[i]])) &&
+        const uint8_t trust = (trusted != NULL) ? trusted[order[i]]
+                                                : (uint8_t)TMP_TRUSTED;
+        /* A weak sighting of an unconfirmed track on an observed frame:
+         * the same place again, a step too noisy to vouch by itself. Only
+         * on ticks: frames closer than that see nearly the same images,
+         * whose matching noise is not a fresh look (at 30 fps a phantom
+         * read on three frames within 0.1 s confirmed on a flat walk). */
+        const int weak = observed && trust == TMP_WEAK && best >= 0 &&
+                         !t->tracks[best].confirmed && t->tick;
+        if ((!observed || trust != TMP_TRUSTED) && !weak &&
             (best < 0 || !t->tracks[best].confirmed)) {
             /* A degraded frame's candidate may refresh a hazard that clean
              * frames confirmed, but never starts or confirms one: on such
@@ -421,13 +459,14 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
         }
         used[best] = 1;
         t->tracks[best].seen_odo_mm = t->odo_mm;
-        t->tracks[best].reached |= sighting_reaches(cfg, c);
-        t->tracks[best].hist = (t->tracks[best].hist << 1) | 1u;
+        if (!weak) {
+            /* a noisy drop estimate does not show the drop's depth */
+            t->tracks[best].reached |= sighting_reaches(cfg, c);
+        }
+        track_shift(&t->tracks[best], !weak, weak, t->tick);
         t->tracks[best].misses = 0;
         t->tracks[best].held = 0;
-        if (t->tracks[best].reached &&
-            popcount32(t->tracks[best].hist & window_mask(cfg)) >=
-                (uint32_t)cfg->confirm_k) {
+        if (t->tracks[best].reached && confirms(cfg, &t->tracks[best])) {
             t->tracks[best].confirmed = 1;
         }
     }

@@ -18,6 +18,8 @@ typedef struct tmp_track {
     int32_t confirmed;
     int32_t held;
     uint32_t hist;  /* bit 0 = this frame, 1 = seen            */
+    uint32_t weak;  /* as hist: seen by a weak sighting only   */
+    uint32_t ticks; /* as hist: the frame was a tick           */
     int32_t misses; /* consecutive observed frames without it  */
     uint32_t last_seen_ms;
     uint32_t hold_start_ms;
@@ -63,10 +65,25 @@ void temporal_clock(temporal_t *t, uint32_t now_ms);
 void temporal_update(temporal_t *t, const negobs_hazard_t *cands, uint32_t n,
                      int observed, int32_t hold_range_mm, uint32_t now_ms);
 
+/* How far a candidate may count (temporal_update_vouched's trusted[]). */
+enum {
+    TMP_UNTRUSTED = 0, /* refresh-only, as on a degraded frame          */
+    TMP_TRUSTED = 1,   /* may start and confirm a track                 */
+    TMP_WEAK = 2       /* textured, but its strips failed the noise
+                          check: on an observed frame that is a tick it
+                          counts for a track that trusted sightings
+                          started, but confirm_k - 1 of the window's
+                          sightings must still be trusted               */
+};
+
 /*
- * temporal_update with a vouched range: trusted[i] == 0 (trusted may be
- * NULL: all trusted) makes candidate i refresh-only, as on a degraded
- * frame (its own strips failed the local noise check); a track farther
+ * temporal_update with a vouched range: trusted[i] (TMP_*; trusted may be
+ * NULL: all trusted) says how far candidate i counts: TMP_UNTRUSTED makes
+ * it refresh-only, as on a degraded frame (its own strips failed the
+ * local noise check, or its box has no texture); TMP_WEAK lets it count
+ * as a sighting of an unconfirmed track it associates with on a tick, but
+ * not start one, and a track confirms only with confirm_k sightings of which at
+ * least confirm_k - 1 are trusted; a track farther
  * than seen_to_mm that this frame did not see is not counted as a clean
  * miss (the frame did not vouch for its place), unless it is confirmed
  * within hold_range_mm (then it is held as usual). A confirmed track
