@@ -308,6 +308,43 @@ static void test_temporal_weak_sighting_only_on_ticks(void **state)
     assert_int_equal(first_confirmed_dt("TT-W", 2455, 120, 100u), 4);
 }
 
+/* A weak sighting counts only where the track's edge can be by now (its
+ * last trusted range, nearer by at most the walk since at
+ * hold_speed_mm_s), and it does not move the track: a noise hole 0.53 m
+ * nearer than a curb seen at 1.97 and 1.83 m confirmed it at 1.31 m. */
+static void test_temporal_weak_sighting_must_fit_the_track(void **state)
+{
+    const int32_t near[2] = {1307, 1700};
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    const uint8_t trusted = TMP_TRUSTED;
+    const uint8_t weak = TMP_WEAK;
+    int j;
+    (void)state;
+    for (j = 0; j < 2; j++) {
+        negobs_hazard_t c = cand(1969, 0);
+        setup_cfg();
+        temporal_update_vouched(&tp, &c, &trusted, 1, 1, 0, INT32_MAX, 1000,
+                                100);
+        c.range_mm = 1833;
+        temporal_update_vouched(&tp, &c, &trusted, 1, 1, 0, INT32_MAX, 1000,
+                                200);
+        temporal_update_vouched(&tp, NULL, NULL, 0, 1, 0, INT32_MAX, 1000,
+                                300);
+        c.range_mm = near[j];
+        temporal_update_vouched(&tp, &c, &weak, 1, 1, 0, INT32_MAX, 1000, 400);
+        if (j == 0) {
+            assert_int_equal(report(out, 400), 0);
+        } else {
+            /* within 1833 - 100 - 1.4 m/s x 0.2 s: confirmed, at the
+             * trusted range (dead-reckoned as an unseen track's) */
+            assert_int_equal(report(out, 400), 1);
+            assert_true(out[0].range_mm >= 1833 - 300);
+            assert_true(out[0].range_mm <= 1833);
+            assert_true(out[0].range_mm != 1700);
+        }
+    }
+}
+
 /* On a degraded frame a weak sighting counts no more than an untrusted
  * one: it may not confirm a track. */
 static void test_temporal_weak_sighting_on_degraded_frame(void **state)
@@ -612,6 +649,7 @@ int main(void)
         cmocka_unit_test(test_temporal_weak_sighting_fills_one_gap),
         cmocka_unit_test(test_temporal_weak_sighting_on_degraded_frame),
         cmocka_unit_test(test_temporal_weak_sighting_only_on_ticks),
+        cmocka_unit_test(test_temporal_weak_sighting_must_fit_the_track),
         cmocka_unit_test(test_temporal_unseen_track_is_dead_reckoned),
         cmocka_unit_test(test_temporal_hold_when_edge_leaves_image),
         cmocka_unit_test(test_temporal_hold_ends_when_walked_past),

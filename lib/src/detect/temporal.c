@@ -251,6 +251,26 @@ static int32_t new_track_slot(const temporal_t *t, const int32_t *used)
     return best;
 }
 
+/* Does weak sighting c lie where track tr's edge can be now? Its last
+ * trusted range, nearer by at most the walk since (hold_speed_mm_s, the
+ * fastest wearer, as the hold) and a shoe's width (ASSOC_FARTHER_MIN_MM,
+ * the measurement's slack), farther by at most the farther gate. The
+ * association's own gate lets a sighting come nearer at max_speed_mm_s
+ * and assoc_range_mm more: right for a trusted sighting, which moves the
+ * track, too loose for a noisy one that only counts (a noise hole
+ * 0.53 m nearer than a 10 cm curb it joined confirmed, at its own range,
+ * on a 3 cm rig). */
+static int weak_fits(const negobs_detect_config_t *cfg, const tmp_track_t *tr,
+                     const negobs_hazard_t *c, uint32_t now_ms)
+{
+    const int32_t age = geom_max_s32(elapsed_ms(now_ms, tr->last_seen_ms), 0);
+    const int32_t pred = tr->hz.range_mm;
+    const int32_t lo = pred - ASSOC_FARTHER_MIN_MM -
+                       (int32_t)(((int64_t)cfg->hold_speed_mm_s * age) / 1000);
+    return c->range_mm >= lo &&
+           c->range_mm <= pred + farther_tol_mm(cfg, pred);
+}
+
 /* The window moves on by a frame: trusted / weak say what this frame saw
  * of the track, tick whether the frame is a tick. */
 static void track_shift(tmp_track_t *tr, int trusted, int weak, int tick)
@@ -440,7 +460,8 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
          * whose matching noise is not a fresh look (at 30 fps a phantom
          * read on three frames within 0.1 s confirmed on a flat walk). */
         const int weak = observed && trust == TMP_WEAK && best >= 0 &&
-                         !t->tracks[best].confirmed && t->tick;
+                         !t->tracks[best].confirmed && t->tick &&
+                         weak_fits(cfg, &t->tracks[best], c, now_ms);
         if ((!observed || trust != TMP_TRUSTED) && !weak &&
             (best < 0 || !t->tracks[best].confirmed)) {
             /* A degraded frame's candidate may refresh a hazard that clean
@@ -454,13 +475,15 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
                 continue; /* every slot holds a confirmed hazard */
             }
             track_start(t, &t->tracks[best], c, now_ms);
-        } else {
+        } else if (!weak) {
             track_refresh(cfg, &t->tracks[best], c, now_ms);
         }
         used[best] = 1;
-        t->tracks[best].seen_odo_mm = t->odo_mm;
         if (!weak) {
-            /* a noisy drop estimate does not show the drop's depth */
+            /* a weak sighting says the place is still there, not where
+             * it is nor how deep: the track keeps its trusted range,
+             * speed and depth */
+            t->tracks[best].seen_odo_mm = t->odo_mm;
             t->tracks[best].reached |= sighting_reaches(cfg, c);
         }
         track_shift(&t->tracks[best], !weak, weak, t->tick);
