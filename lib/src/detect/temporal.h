@@ -70,10 +70,12 @@ enum {
     TMP_UNTRUSTED = 0, /* refresh-only, as on a degraded frame          */
     TMP_TRUSTED = 1,   /* may start and confirm a track                 */
     TMP_WEAK = 2       /* textured, but its strips failed the noise
-                          check: on an observed frame that is a tick it
-                          counts for a track that trusted sightings
-                          started, but confirm_k - 1 of the window's
-                          sightings must still be trusted               */
+                          check: on an observed frame that is a tick, and
+                          where the track's edge can be by now, it counts
+                          for a track that trusted sightings started,
+                          without moving it; confirm_k - 1 of the
+                          window's sightings must still be trusted, on
+                          ticks                                         */
 };
 
 /*
@@ -81,8 +83,9 @@ enum {
  * NULL: all trusted) says how far candidate i counts: TMP_UNTRUSTED makes
  * it refresh-only, as on a degraded frame (its own strips failed the
  * local noise check, or its box has no texture); TMP_WEAK lets it count
- * as a sighting of an unconfirmed track it associates with on a tick, but
- * not start one, and a track confirms only with confirm_k sightings of which at
+ * as a sighting of an unconfirmed track it associates with on a tick,
+ * where the track's edge can be by now, but not start or move one, and a
+ * track confirms only with confirm_k sightings of which at
  * least confirm_k - 1 are trusted; a track farther
  * than seen_to_mm that this frame did not see is not counted as a clean
  * miss (the frame did not vouch for its place), unless it is confirmed
