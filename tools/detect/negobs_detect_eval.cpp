@@ -817,6 +817,9 @@ struct Fig {
     // (below the bottom row, or for a hole, beside the corridor)
     int under_frames = 0, fv_under = 0;
     std::vector<double> flat_clear;
+    // the same from each walk's first frame past the switch-on check (not
+    // GROUND_UNVERIFIED): the walking verdict once the start is verified
+    std::vector<double> flat_clear_started;
     std::pair<int, int> det{0, 0};
     std::map<std::string, std::pair<int, int>> by_type, by_tex;
     std::vector<double> rerr;
@@ -832,6 +835,7 @@ void accumulate(const Seq &q, const std::vector<Rec> &rs, Fig &f)
                                q.scene == "wall";
     int prev = NEGOBS_LEVEL_NONE;
     bool was_in_view = false; // the edge showed in the corridor before
+    bool started = false;     // a frame past the switch-on check was seen
     for (const Rec &r : rs) {
         ++f.frames;
         // Below the view: the edge showed in the corridor before and, still
@@ -849,6 +853,10 @@ void accumulate(const Seq &q, const std::vector<Rec> &rs, Fig &f)
         f.noinfo += r.state == NEGOBS_DETECT_NO_INFO;
         if (q.scene == "flat") {
             f.flat_clear.push_back(r.clear_to_mm);
+            started = started || (r.reasons & NEGOBS_DEGRADED_GROUND_UNVERIFIED) == 0u;
+            if (started) {
+                f.flat_clear_started.push_back(r.clear_to_mm);
+            }
         }
         if (neg && r.gt_range && r.in_view && r.gt_mm > 0) {
             const double d = corridor_dist_mm(q, r);
@@ -1000,6 +1008,13 @@ void report_generic(Report &rep, const std::vector<Seq> &suite,
     row("median clear_to_mm on flat walks", [](const Fig &f) {
         return f.flat_clear.empty() ? std::string("-")
                                     : fmtd("%.0f mm", percentile(f.flat_clear, 0.5));
+    });
+    row("... from each walk's first frame past the switch-on check", [](const Fig &f) {
+        return f.flat_clear_started.empty()
+                   ? std::string("-")
+                   : fmtd("%.0f mm", percentile(f.flat_clear_started, 0.5)) + " (" +
+                         std::to_string(f.flat_clear_started.size()) + " of " +
+                         std::to_string(f.flat_clear.size()) + " frames)";
     });
     row("detection 1.5-3 m, drops >= 10 cm", [](const Fig &f) { return ratio(f.det); });
     for (const char *t : {"drop-off", "stairs", "hole"}) {
