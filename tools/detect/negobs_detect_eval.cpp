@@ -826,6 +826,9 @@ struct Fig {
     int neg_frames = 0, caut = 0, imm = 0;
     int mount_frames = 0, est_frames = 0;
     std::vector<double> eh, ep, er;
+    // pitch error per texture on flat walks (elsewhere a ramp, a wall or a
+    // near drop moves the fit whatever the texture)
+    std::map<std::string, std::vector<double>> ep_by_tex;
 };
 
 void accumulate(const Seq &q, const std::vector<Rec> &rs, Fig &f)
@@ -892,6 +895,9 @@ void accumulate(const Seq &q, const std::vector<Rec> &rs, Fig &f)
                 f.eh.push_back(std::fabs(r.mount.height_mm - r.gt_H_mm));
                 f.ep.push_back(std::fabs(r.mount.pitch_mdeg / 1000.0 - r.gt_pitch));
                 f.er.push_back(std::fabs(r.mount.roll_mdeg / 1000.0 - r.gt_roll));
+                if (q.scene == "flat") {
+                    f.ep_by_tex[q.texture].push_back(f.ep.back());
+                }
             }
         }
     }
@@ -1055,6 +1061,22 @@ void report_generic(Report &rep, const std::vector<Seq> &suite,
             }
             return s;
         });
+    row("... p90 abs error H / pitch / roll (every walk: ramps, walls, near drops)",
+        [](const Fig &f) {
+            return f.eh.empty() ? std::string("-")
+                                : fmtd("%.0f mm", percentile(f.eh, 0.9)) + " / " +
+                                      fmtd("%.1f deg", percentile(f.ep, 0.9)) + " / " +
+                                      fmtd("%.1f deg", percentile(f.er, 0.9));
+        });
+    row("... pitch abs error median / p90 on flat walks, by texture", [](const Fig &f) {
+        std::string s;
+        for (const auto &kv : f.ep_by_tex) {
+            s += (s.empty() ? "" : ", ") + kv.first + " " +
+                 fmtd("%.1f", percentile(kv.second, 0.5)) + " / " +
+                 fmtd("%.1f deg", percentile(kv.second, 0.9));
+        }
+        return s.empty() ? std::string("-") : s;
+    });
     rep.both("");
 
     rep.both("15 cm approaches on the target rig (scored when the edge is in view from "
