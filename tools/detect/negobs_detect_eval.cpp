@@ -1253,6 +1253,12 @@ void report_rigs(Report &rep, const std::vector<Seq> &suite,
             " | " +
             (f.flat_clear.empty() ? std::string("-")
                                   : fmtd("%.0f mm", percentile(f.flat_clear, 0.5))) +
+            (f.flat_clear_started.empty()
+                 ? std::string()
+                 : fmtd("; past the switch-on check %.0f mm",
+                        percentile(f.flat_clear_started, 0.5)) +
+                       " (" + std::to_string(f.flat_clear_started.size()) + " of " +
+                       std::to_string(f.flat_clear.size()) + ")") +
             " | " + std::to_string(f.imm) + " (" + std::to_string(f.neg_frames) + ") |");
     }
     rep.both("");
