@@ -837,8 +837,9 @@ void accumulate(const Seq &q, const std::vector<Rec> &rs, Fig &f)
     const bool negative_walk = q.scene == "flat" || q.scene == "upstep" ||
                                q.scene == "wall";
     int prev = NEGOBS_LEVEL_NONE;
-    bool was_in_view = false; // the edge showed in the corridor before
-    bool started = false;     // a frame past the switch-on check was seen
+    bool was_in_view = false;       // the edge showed in the corridor before
+    bool started = false;           // a frame past the switch-on check was seen
+    std::vector<double> walk_clear; // this flat walk's clear_to_mm, every frame
     for (const Rec &r : rs) {
         ++f.frames;
         // Below the view: the edge showed in the corridor before and, still
@@ -856,6 +857,7 @@ void accumulate(const Seq &q, const std::vector<Rec> &rs, Fig &f)
         f.noinfo += r.state == NEGOBS_DETECT_NO_INFO;
         if (q.scene == "flat") {
             f.flat_clear.push_back(r.clear_to_mm);
+            walk_clear.push_back(r.clear_to_mm);
             started = started || (r.reasons & NEGOBS_DEGRADED_GROUND_UNVERIFIED) == 0u;
             if (started) {
                 f.flat_clear_started.push_back(r.clear_to_mm);
@@ -900,6 +902,12 @@ void accumulate(const Seq &q, const std::vector<Rec> &rs, Fig &f)
                 }
             }
         }
+    }
+    if (!started) {
+        // a walk that never passed the switch-on check counts whole: left
+        // out, it would raise the figure by what it failed to vouch
+        f.flat_clear_started.insert(f.flat_clear_started.end(), walk_clear.begin(),
+                                    walk_clear.end());
     }
 }
 
