@@ -837,9 +837,11 @@ void accumulate(const Seq &q, const std::vector<Rec> &rs, Fig &f)
     const bool negative_walk = q.scene == "flat" || q.scene == "upstep" ||
                                q.scene == "wall";
     int prev = NEGOBS_LEVEL_NONE;
-    bool was_in_view = false;       // the edge showed in the corridor before
-    bool started = false;           // a frame past the switch-on check was seen
-    std::vector<double> walk_clear; // this flat walk's clear_to_mm, every frame
+    bool was_in_view = false; // the edge showed in the corridor before
+    // this walk's flat frames in f.flat_clear start at walk_begin; the
+    // first past the switch-on check is at started_at (none: -1)
+    const size_t walk_begin = f.flat_clear.size();
+    long started_at = -1;
     for (const Rec &r : rs) {
         ++f.frames;
         // Below the view: the edge showed in the corridor before and, still
@@ -856,12 +858,10 @@ void accumulate(const Seq &q, const std::vector<Rec> &rs, Fig &f)
         was_in_view = was_in_view || r.in_view;
         f.noinfo += r.state == NEGOBS_DETECT_NO_INFO;
         if (q.scene == "flat") {
-            f.flat_clear.push_back(r.clear_to_mm);
-            walk_clear.push_back(r.clear_to_mm);
-            started = started || (r.reasons & NEGOBS_DEGRADED_GROUND_UNVERIFIED) == 0u;
-            if (started) {
-                f.flat_clear_started.push_back(r.clear_to_mm);
+            if (started_at < 0 && (r.reasons & NEGOBS_DEGRADED_GROUND_UNVERIFIED) == 0u) {
+                started_at = (long)f.flat_clear.size();
             }
+            f.flat_clear.push_back(r.clear_to_mm);
         }
         if (neg && r.gt_range && r.in_view && r.gt_mm > 0) {
             const double d = corridor_dist_mm(q, r);
@@ -903,12 +903,12 @@ void accumulate(const Seq &q, const std::vector<Rec> &rs, Fig &f)
             }
         }
     }
-    if (!started) {
-        // a walk that never passed the switch-on check counts whole: left
-        // out, it would raise the figure by what it failed to vouch
-        f.flat_clear_started.insert(f.flat_clear_started.end(), walk_clear.begin(),
-                                    walk_clear.end());
-    }
+    // a walk that never passed the switch-on check counts whole: left out,
+    // it would raise the figure by what it failed to vouch
+    f.flat_clear_started.insert(f.flat_clear_started.end(),
+                                f.flat_clear.begin() +
+                                    (long)(started_at < 0 ? walk_begin : started_at),
+                                f.flat_clear.end());
 }
 
 std::string ratio(const std::pair<int, int> &p)
