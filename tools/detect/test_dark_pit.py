@@ -41,10 +41,10 @@ def main():
         ["--scene", "hole", "--distractors", "0", "--drop-mm", "100",
          "--edge-mm", "3500", "--hole-width-mm", "1000", "--hole-length-mm",
          str(HOLE_LENGTH_MM), "--lower-shade", "0.03", "--frames", "36",
-         "--seed", "4", "--width", "320", "--height", "240", "--f", "250",
-         "--baseline-mm", "60", "--height-mm", "1100", "--pitch-deg", "25",
+         "--seed", "4"] + walk_test.SUITE_B6_RIG +
+        ["--height-mm", "1100", "--pitch-deg", "25",
          "--texture-kind", "asphalt"],
-        ["--height-mm", "1200", "--pitch-deg", "20"])
+        walk_test.GENERIC_HINT)
     bad = vouched_before = under_view = 0
     for r in rows:
         edge = r["gt"]["edge_range_mm"]

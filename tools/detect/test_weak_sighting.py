@@ -33,13 +33,12 @@ def main():
     rows = walk_test.render_and_run(
         synth, png, work, "concrete_curb",
         ["--scene", "curb", "--distractors", "0", "--drop-mm", "100",
-         "--edge-mm", "4000", "--frames", "24", "--seed", "355",
-         "--width", "320", "--height", "240", "--f", "250",
-         "--baseline-mm", "60", "--height-mm", "1222", "--pitch-deg", "16",
-         "--roll-deg", "7.6", "--texture-kind", "concrete",
-         "--gain-right", "0.928", "--offset-right", "1",
-         "--lower-shade", "1"],
-        ["--height-mm", "1200", "--pitch-deg", "20"])
+         "--edge-mm", "4000", "--frames", "24", "--seed", "355"] +
+        walk_test.SUITE_B6_RIG +
+        ["--height-mm", "1222", "--pitch-deg", "16", "--roll-deg", "7.6",
+         "--texture-kind", "concrete", "--gain-right", "0.928",
+         "--offset-right", "1", "--lower-shade", "1"],
+        walk_test.GENERIC_HINT)
     bad = found = 0
     for r in rows:
         edge = r["gt"]["edge_range_mm"]

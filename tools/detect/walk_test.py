@@ -6,6 +6,12 @@ import shutil
 import subprocess
 import sys
 
+# The evaluation suite's 6 cm rig (negobs_synth camera arguments) and the
+# generic mounting hint its added walks are told (negobs_png arguments).
+SUITE_B6_RIG = ["--width", "320", "--height", "240", "--f", "250",
+                "--baseline-mm", "60"]
+GENERIC_HINT = ["--height-mm", "1200", "--pitch-deg", "20"]
+
 
 def setup(doc):
     """(synth, png, work) from sys.argv with WORKDIR emptied, or None after
@@ -68,14 +74,13 @@ def generic_flat_walk(synth, png, work, name, frames, seed, mount, camera):
     texture, gain, offset = camera
     return render_and_run(
         synth, png, work, name,
-        ["--frames", str(frames), "--seed", str(seed), "--width", "320",
-         "--height", "240", "--f", "250", "--baseline-mm", "60",
-         "--height-mm", str(height_mm), "--pitch-deg", str(pitch_deg),
+        ["--frames", str(frames), "--seed", str(seed)] + SUITE_B6_RIG +
+        ["--height-mm", str(height_mm), "--pitch-deg", str(pitch_deg),
          "--roll-deg", str(roll_deg), "--texture-kind", texture,
          "--gain-right", str(gain), "--offset-right", str(offset),
          "--lower-shade", "1", "--exposure-pct", "25", "--exposure-every",
          "8", "--exposure-lag-right", "1"],
-        ["--height-mm", "1200", "--pitch-deg", "20"])
+        GENERIC_HINT)
 
 
 def check_flat_no_alarm(rows, frames, what):
