@@ -554,16 +554,95 @@ static void test_temporal_missing_ground_policy(void **state)
     (void)state;
     setup_cfg();
     c.type = NEGOBS_HAZARD_UNKNOWN;
+    /* six sightings coming nearer by the 120 mm walked each (the approach
+     * test below) */
+    for (t = 1; t <= 6; t++) {
+        c.range_mm = 1800 - (int32_t)t * 120;
+        temporal_walked(&tp, 120);
+        temporal_update(&tp, &c, 1, 1, 1000, t * 100u);
+    }
+    assert_int_equal(report(out, 600), 1);
+    assert_int_equal(out[0].level, NEGOBS_LEVEL_CAUTION); /* capped */
+    cfg.missing_policy = NEGOBS_MISSING_DANGER;
+    assert_int_equal(report(out, 600), 1);
+    assert_int_equal(out[0].level, NEGOBS_LEVEL_IMMINENT);
+    cfg.missing_policy = NEGOBS_MISSING_IGNORE;
+    assert_int_equal(report(out, 600), 0);
+}
+
+/* NEGOBS_MISSING_TEXTURED: a textured band may reach IMMINENT like a drop,
+ * a bland one stays at CAUTION; the default policy caps both. */
+static void test_temporal_missing_policy_textured(void **state)
+{
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    int textured;
+    int policy;
+    (void)state;
+    for (policy = 0; policy < 2; policy++) {
+        for (textured = 0; textured < 2; textured++) {
+            negobs_hazard_t c = cand(1200, 0);
+            uint32_t t;
+            setup_cfg();
+            cfg.missing_policy = policy ? NEGOBS_MISSING_TEXTURED
+                                        : NEGOBS_MISSING_CAUTION;
+            c.type = NEGOBS_HAZARD_UNKNOWN;
+            c.flags = textured ? NEGOBS_HAZARD_F_TEXTURED : 0u;
+            for (t = 1; t <= 6; t++) {
+                c.range_mm = 1800 - (int32_t)t * 120;
+                temporal_walked(&tp, 120);
+                temporal_update(&tp, &c, 1, 1, 1000, t * 100u);
+            }
+            assert_int_equal(report(out, 600), 1);
+            assert_int_equal(out[0].level, (policy && textured)
+                                               ? NEGOBS_LEVEL_IMMINENT
+                                               : NEGOBS_LEVEL_CAUTION);
+        }
+    }
+}
+
+/* Missing ground confirms only once it comes nearer by what the wearer
+ * walks (temporal.c, track_approaches). A band whose near end stays the
+ * same distance ahead, a sight limit where a floor's texture fades into
+ * the noise, never confirms however often it is seen; nor does one seen
+ * without measured travel; an approaching one does, on its sixth
+ * sighting (the first three and the last three apart) once 500 mm are
+ * walked between them; and a measured drop is not held to it. The
+ * ranges scatter by +-150 mm like a sight limit's do. */
+static void test_temporal_missing_ground_must_approach(void **state)
+{
+    static const int32_t jitter[8] = {0, 150, -120, 90, -150, 60, 130, -80};
+    negobs_hazard_t c = cand(3600, 0);
+    negobs_hazard_t out[NEGOBS_DETECT_MAX_HAZARDS];
+    uint32_t t;
+    (void)state;
+    setup_cfg();
+    c.type = NEGOBS_HAZARD_UNKNOWN;
+    for (t = 1; t <= 30; t++) { /* walks with the wearer */
+        c.range_mm = 3600 + jitter[t % 8u];
+        temporal_walked(&tp, 120);
+        temporal_update(&tp, &c, 1, 1, 1000, t * 100u);
+        assert_int_equal(report(out, t * 100u), 0);
+    }
+    setup_cfg();
+    for (t = 1; t <= 30; t++) { /* a place, but no travel measured */
+        c.range_mm = 3600 + jitter[t % 8u];
+        temporal_update(&tp, &c, 1, 1, 1000, t * 100u);
+        assert_int_equal(report(out, t * 100u), 0);
+    }
+    setup_cfg();
+    for (t = 1; t <= 6; t++) { /* a place, walked towards */
+        c.range_mm = 3600 - (int32_t)t * 120 + jitter[t % 8u];
+        temporal_walked(&tp, 120);
+        temporal_update(&tp, &c, 1, 1, 1000, t * 100u);
+        assert_int_equal(report(out, t * 100u), (t == 6u) ? 1 : 0);
+    }
+    assert_int_equal(out[0].type, NEGOBS_HAZARD_UNKNOWN);
+    setup_cfg();
+    c = cand(3600, 0); /* a measured drop, standing still */
     for (t = 1; t <= 3; t++) {
         temporal_update(&tp, &c, 1, 1, 1000, t * 100u);
     }
     assert_int_equal(report(out, 300), 1);
-    assert_int_equal(out[0].level, NEGOBS_LEVEL_CAUTION); /* capped */
-    cfg.missing_policy = NEGOBS_MISSING_DANGER;
-    assert_int_equal(report(out, 300), 1);
-    assert_int_equal(out[0].level, NEGOBS_LEVEL_IMMINENT);
-    cfg.missing_policy = NEGOBS_MISSING_IGNORE;
-    assert_int_equal(report(out, 300), 0);
 }
 
 static void test_temporal_bounded_tracks(void **state)
@@ -658,6 +737,8 @@ int main(void)
         cmocka_unit_test(test_temporal_near_sightings_may_not_hop_far),
         cmocka_unit_test(test_temporal_confirm_needs_a_sighting_at_h_t),
         cmocka_unit_test(test_temporal_missing_ground_policy),
+        cmocka_unit_test(test_temporal_missing_ground_must_approach),
+        cmocka_unit_test(test_temporal_missing_policy_textured),
         cmocka_unit_test(test_temporal_bounded_tracks),
         cmocka_unit_test(test_temporal_clears_after_ticks_not_frames),
         cmocka_unit_test(test_temporal_approach_sequence_end_to_end),

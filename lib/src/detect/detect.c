@@ -281,6 +281,33 @@ static int det_box_textured_at(const negobs_detect_frame_t *frame,
                             c->v0 / 2, c->u1 / 2, c->v1 / 2);
 }
 
+/* Missing ground (type UNKNOWN) whose band holds no texture above the
+ * image's noise, by the test of a candidate's box: the matcher had
+ * nothing there it could match (a floor whose grain has faded into the
+ * sensor's noise with distance, a bland or dark patch), so the absent
+ * matches are no evidence of a drop, and the band is not TEXTURED
+ * whatever its gradient next to the ground's (detect_scan.c's split,
+ * which sensor noise alone passes where the ground before the band is
+ * itself near the noise). It is unknown there: the vouched range ends
+ * before it. Under the default policy (CAUTION) such a candidate only
+ * refreshes a confirmed track; it neither starts nor confirms one.
+ * TEXTURED and DANGER keep reporting bland bands, as their names say
+ * (docs/DETECTION.md, "Missing ground"). */
+static void missing_texture(const negobs_detect_config_t *cfg,
+                            const negobs_detect_frame_t *frame,
+                            const negobs_image_u8_t *left,
+                            const int32_t *noise_med, int32_t *noise_half,
+                            negobs_hazard_t *c, uint8_t *trusted)
+{
+    if (det_box_textured_at(frame, left, noise_med, noise_half, c)) {
+        return;
+    }
+    c->flags &= ~(uint32_t)NEGOBS_HAZARD_F_TEXTURED;
+    if (cfg->missing_policy == NEGOBS_MISSING_CAUTION) {
+        *trusted = (uint8_t)TMP_UNTRUSTED;
+    }
+}
+
 static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
                        const negobs_detect_frame_t *frame, const gfit_out_t *g,
                        negobs_detect_result_t *res, frame_work_t *fw)
@@ -364,7 +391,7 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
         negobs_ground_disp_q4(s.plane, cfg->rig.width / 2, p->gfit.v_lo),
         &fit_far_mm, NULL, NULL);
     for (i = 0; i < res->n_candidates && i < NEGOBS_DETECT_MAX_HAZARDS; i++) {
-        const negobs_hazard_t *c = &res->candidates[i];
+        negobs_hazard_t *c = &res->candidates[i];
         int quiet;
         if ((c->flags & NEGOBS_HAZARD_F_GROUND_DROP) != 0u) {
             fw->trusted[i] = (uint8_t)(fw->walk_to >=
@@ -395,6 +422,13 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
                                                            &noise_half, c)
                                            ? (quiet ? TMP_TRUSTED : TMP_WEAK)
                                            : TMP_UNTRUSTED);
+        }
+        if (s.left != NULL && c->type == NEGOBS_HAZARD_UNKNOWN) {
+            if (noise_med < 0) {
+                noise_med = det_noise_median(s.left);
+            }
+            missing_texture(cfg, frame, s.left, &noise_med, &noise_half, c,
+                            &fw->trusted[i]);
         }
         fw->n_trusted += fw->trusted[i] == TMP_TRUSTED;
     }

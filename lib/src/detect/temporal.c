@@ -10,8 +10,10 @@
  *
  * A track is confirmed when it was seen in confirm_k of the last confirm_n
  * frames and one of its sightings' drops reached h_t (sighting_reaches),
- * and then stays confirmed until clear_m consecutive clean ticks (frames
- * at least 3/4 of frame_interval_ms apart: temporal_clock()).
+ * missing ground only once it came nearer as the wearer walked
+ * (track_approaches), and then stays confirmed until clear_m consecutive
+ * clean ticks (frames at least 3/4 of frame_interval_ms apart:
+ * temporal_clock()).
  * Frames that are not "observed" (degraded) never count as clean, and
  * their candidates only refresh tracks that are already confirmed. When a
  * confirmed track is lost close to the bottom of the image it is held: its
@@ -92,11 +94,93 @@ int temporal_needs_travel(const temporal_t *t)
 {
     int32_t k;
     for (k = 0; k < NEGOBS_DETECT_MAX_TRACKS; k++) {
-        if (t->tracks[k].active && t->tracks[k].confirmed) {
+        const tmp_track_t *tr = &t->tracks[k];
+        if (tr->active &&
+            (tr->confirmed || tr->hz.type == NEGOBS_HAZARD_UNKNOWN)) {
             return 1;
         }
     }
     return 0;
+}
+
+/*
+ * Missing ground must come nearer as the wearer walks before it confirms.
+ *
+ * A band without matches from some row to the end of the scan is what a
+ * drop whose lower level lies beyond the camera's sight looks like, but
+ * also what any floor looks like where its texture fades into the
+ * sensor's noise with distance (the pixel's footprint grows with range
+ * and averages the grain away): there the band's near end is the sight
+ * limit, tied to the camera, and stays the same distance ahead while the
+ * wearer walks. Confirmed, it was a caution that walked along with the
+ * wearer on every frame of a flat walk (docs/DETECTION.md, "Missing
+ * ground"). A drop is a place: its distance falls by what the wearer
+ * walks.
+ *
+ * So a track that only missing ground has seen confirms once the floor
+ * patches measured at least APPROACH_WALK_MM of travel between its first
+ * and its last sighting (section 6.2), and its place along the walk,
+ * range plus odometer, moved by at most half that travel: about 0 for an
+ * edge, all of it for a sight limit. The median of three sightings at
+ * each end (six sightings at least, so the two ends are apart), because
+ * the band's near end scatters by 100-300 mm from frame to frame; 500 mm
+ * walked (about four ticks at 1.2 m/s) puts the half-way mark, 250 mm,
+ * beyond that scatter of a median of three. A measured drop (a deficit)
+ * confirms as before, and a track a measured sighting joined is a drop
+ * (track_refresh keeps its type). Travel that is not measured (a
+ * standing wearer, a bland floor) confirms nothing: the band still ends
+ * the vouched range, so the verdict never says clear past it.
+ */
+enum { APPROACH_WALK_MM = 500, TMP_PLACES = 3 };
+
+static int32_t median3_s32(int32_t a, int32_t b, int32_t c)
+{
+    return geom_max_s32(geom_min_s32(a, b),
+                        geom_min_s32(geom_max_s32(a, b), c));
+}
+
+static void track_place(temporal_t *t, tmp_track_t *tr, int32_t range_mm)
+{
+    const uint32_t place = t->odo_mm + (uint32_t)geom_max_s32(range_mm, 0);
+    if (tr->n_places < TMP_PLACES) {
+        if (tr->n_places == 0) {
+            tr->first_odo_mm = t->odo_mm;
+        }
+        tr->first_place_mm[tr->n_places] = place;
+    }
+    if (tr->n_places < 2 * TMP_PLACES) {
+        tr->n_places++;
+    }
+    tr->last_place_mm[0] = tr->last_place_mm[1];
+    tr->last_place_mm[1] = tr->last_place_mm[2];
+    tr->last_place_mm[2] = place;
+    tr->last_odo_mm = t->odo_mm;
+}
+
+static int track_approaches(const tmp_track_t *tr)
+{
+    int32_t walked;
+    int32_t start;
+    int32_t end;
+    uint32_t base;
+    if (tr->hz.type != NEGOBS_HAZARD_UNKNOWN) {
+        return 1;
+    }
+    if (tr->n_places < 2 * TMP_PLACES) {
+        return 0; /* the first three and the last three are apart */
+    }
+    /* wrap-safe: every place and odometer reading relative to the first */
+    walked = (int32_t)(tr->last_odo_mm - tr->first_odo_mm);
+    if (walked < APPROACH_WALK_MM) {
+        return 0;
+    }
+    base = tr->first_place_mm[0];
+    start = median3_s32(0, (int32_t)(tr->first_place_mm[1] - base),
+                        (int32_t)(tr->first_place_mm[2] - base));
+    end = median3_s32((int32_t)(tr->last_place_mm[0] - base),
+                      (int32_t)(tr->last_place_mm[1] - base),
+                      (int32_t)(tr->last_place_mm[2] - base));
+    return end - start <= walked / 2;
 }
 
 void temporal_update(temporal_t *t, const negobs_hazard_t *cands, uint32_t n,
@@ -485,11 +569,13 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
              * speed and depth */
             t->tracks[best].seen_odo_mm = t->odo_mm;
             t->tracks[best].reached |= sighting_reaches(cfg, c);
+            track_place(t, &t->tracks[best], c->range_mm);
         }
         track_shift(&t->tracks[best], !weak, weak, t->tick);
         t->tracks[best].misses = 0;
         t->tracks[best].held = 0;
-        if (t->tracks[best].reached && confirms(cfg, &t->tracks[best])) {
+        if (t->tracks[best].reached && confirms(cfg, &t->tracks[best]) &&
+            track_approaches(&t->tracks[best])) {
             t->tracks[best].confirmed = 1;
         }
     }

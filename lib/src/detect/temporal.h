@@ -29,7 +29,16 @@ typedef struct tmp_track {
     int32_t reached;      /* a sighting's drop reached h_t (temporal.c,
                            sighting_reaches)                        */
     uint32_t seen_odo_mm; /* the odometer at the last sighting     */
-    negobs_hazard_t hz;   /* latest observation (range as observed)  */
+    /* Where the track's trusted sightings lay along the walk: range plus
+     * odometer (mm, wraps like it) of the first and of the last
+     * three, the odometer at the first and the last, and how many (up to
+     * six): temporal.c, track_approaches (missing ground). */
+    uint32_t first_place_mm[3];
+    uint32_t last_place_mm[3];
+    uint32_t first_odo_mm;
+    uint32_t last_odo_mm;
+    int32_t n_places;
+    negobs_hazard_t hz; /* latest observation (range as observed)  */
 } tmp_track_t;
 
 typedef struct temporal {
@@ -108,7 +117,9 @@ void temporal_update_vouched(temporal_t *t, const negobs_hazard_t *cands,
  */
 void temporal_walked(temporal_t *t, int32_t travel_mm);
 
-/* 1 when a confirmed or held track would use the travel (the hold). */
+/* 1 when a track would use the travel: a confirmed or held one (the
+ * hold), or missing ground waiting to show that it comes nearer as the
+ * wearer walks (its confirmation). */
 int temporal_needs_travel(const temporal_t *t);
 
 /*
