@@ -1592,17 +1592,20 @@ static void test_detect_start_near_shallow_drop_is_not_clear(void **state)
         assert_true(g_unverified >= 8);
         late_clear = walk_to_drop(start[k], 100, 100, 100, -1, &lv, &seen);
         print_message("  start check at 100 mm: %d late CLEAR frames, %d "
-                      "NEAR_UNSEEN\n",
-                      late_clear, g_near_unseen);
+                      "NEAR_UNSEEN, %d unverified\n",
+                      late_clear, g_near_unseen, g_unverified);
         if (k == 0) {
             /* the edge is below the first view: only the start check
              * stands between this walk and CLEAR */
             assert_true(late_clear >= 5);
         } else {
             /* the first frames see the edge and vouch nothing: the floor
-             * they walk towards is never vouched (detect_near.c) */
+             * they walk towards is never vouched (detect_near.c), or the
+             * start stays unverified, the hint agreeing only with fits
+             * that rose onto the lower floor (detect_cue.c,
+             * hint_agrees) */
             assert_int_equal(late_clear, 0);
-            assert_true(g_near_unseen > 0);
+            assert_true(g_near_unseen + g_unverified > 0);
         }
     }
 }

@@ -100,6 +100,31 @@ static int32_t nearest_floor_mm(const negobs_detect_config_t *cfg,
     return geom_max_s32(fwd, 0);
 }
 
+/*
+ * The hint verifies a start when this frame's fit agrees with it and so
+ * does the mean of the fits since the start (since the fit last rose):
+ * the hint is a claim about the camera's height over the floor the
+ * wearer stands on, and the floor seen on the way is the evidence for
+ * it. A single later fit that agrees is none: walking towards an edge,
+ * the lower floor comes to fill the fit rows and reads the camera the
+ * drop higher, which a hint set that much too high takes for the right
+ * floor, and the floor nearer than the view, the edge on it, was never
+ * vouched. The caller also wants no rise (ground_risen, 100 mm: a fit
+ * that dipped onto a blend of both levels first, then rose onto the
+ * lower one); the mean catches a rise smaller than that
+ * (docs/DETECTION.md 6.1, "The hint").
+ */
+static int hint_agrees(const detect_priv_t *p,
+                       const negobs_detect_config_t *cfg, const gfit_out_t *g)
+{
+    if (mount_height_unverified(cfg, g->pose.height_mm)) {
+        return 0;
+    }
+    return p->walk_fits == 0 ||
+           !mount_height_unverified(
+               cfg, (int32_t)(p->walk_height_sum / p->walk_fits));
+}
+
 /* The walk starts over: nothing walked, no fits taken. */
 static void walk_restart(detect_priv_t *p)
 {
@@ -114,7 +139,8 @@ static int ground_unverified(detect_priv_t *p,
                              const gfit_out_t *g, uint32_t now_ms)
 {
     /* looking at the feet verifies the start unless the floor in view
-     * rose meanwhile; agreeing with the hint always does. A fit of the
+     * rose meanwhile; so does agreeing with the hint, when the floor seen
+     * since the start agrees with it too (hint_agrees). A fit of the
      * wide band (ground_fit.c) never sees the feet: it exists because the
      * bottom rows showed no floor, so its plane there is extrapolated,
      * and the floor it rests on may lie beyond an edge. */
@@ -139,7 +165,7 @@ static int ground_unverified(detect_priv_t *p,
         p->walk_fits++;
     }
     p->walk_verified = 0;
-    if (!mount_height_unverified(cfg, g->pose.height_mm)) {
+    if (!risen && hint_agrees(p, cfg, g)) {
         p->unverified_on = 0;
         p->verify_by = NEGOBS_GROUND_REF_HINT;
         return 0;
