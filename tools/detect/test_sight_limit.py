@@ -59,6 +59,24 @@ def walk(render, png, work, name, args):
     return frames, rows
 
 
+def no_hazard_at_sight_limit(name, rows, fails):
+    """Appends to fails every frame of a flat walk with a hazard, and the
+    walk itself when no frame had a missing-ground candidate (it then
+    shows no sight limit and tests nothing); returns the frames with
+    one."""
+    seen = sum(any(c["type"] == "UNKNOWN" for c in r["candidates"])
+               for r in rows)
+    if seen == 0:
+        fails.append("%s: no missing-ground candidate: the walk shows no "
+                     "sight limit and tests nothing" % name)
+    for r in rows:
+        if r["hazards"]:
+            fails.append("%s frame %d: %s at %d mm" % (
+                name, r["frame"], r["hazards"][0]["type"],
+                r["hazards"][0]["range_mm"]))
+    return seen
+
+
 def main():
     if len(sys.argv) != 4:
         print(__doc__.strip().splitlines()[-1], file=sys.stderr)
@@ -76,16 +94,7 @@ def main():
         "--height-mm", "1417", "--pitch-deg", "25.4", "--roll-deg", "-5.8",
         "--gain-right", "0.956", "--offset-right", "-3.4", "--speed", "1.14",
         "--seed", "1016732395"])
-    seen = sum(any(c["type"] == "UNKNOWN" for c in r["candidates"])
-               for r in rows)
-    if seen == 0:
-        fails.append("flat: no missing-ground candidate: the walk no longer "
-                     "shows a sight limit and tests nothing")
-    for r in rows:
-        if r["hazards"]:
-            fails.append("flat frame %d: %s at %d mm" % (
-                r["frame"], r["hazards"][0]["type"],
-                r["hazards"][0]["range_mm"]))
+    seen = no_hazard_at_sight_limit("flat", rows, fails)
     clear = sum(r["state"] == "CLEAR" for r in rows)
     if clear == 0:
         fails.append("flat: no CLEAR frame")
@@ -97,15 +106,7 @@ def main():
         "--height-mm", "1067", "--pitch-deg", "39.0", "--roll-deg", "4.9",
         "--gain-right", "0.877", "--offset-right", "7.9", "--speed", "1.35",
         "--seed", "1071563876"])
-    seen = sum(any(c["type"] == "UNKNOWN" for c in r["candidates"])
-               for r in rows)
-    if seen == 0:
-        fails.append("worn: no missing-ground candidate: tests nothing")
-    for r in rows:
-        if r["hazards"]:
-            fails.append("worn frame %d: %s at %d mm" % (
-                r["frame"], r["hazards"][0]["type"],
-                r["hazards"][0]["range_mm"]))
+    seen = no_hazard_at_sight_limit("worn", rows, fails)
     print("worn: %d frames, missing-ground candidates on %d" %
           (len(rows), seen))
 
