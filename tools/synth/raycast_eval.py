@@ -70,10 +70,7 @@ def run_walk(png, work, w, hint, keep):
     for key in ("scene", "drop_mm", "edge_mm", "material", "height_mm",
                 "pitch_deg", "roll_deg", "baseline_mm", "gain_right",
                 "offset_right", "speed", "seed"):
-        val = w[key]
-        if key == "scene" and val == "flat":
-            val = "flat"
-        args += ["--" + key.replace("_", "-"), str(val)]
+        args += ["--" + key.replace("_", "-"), str(w[key])]
     subprocess.run(args, check=True)
     with open(os.path.join(seq, "scene.json")) as fh:
         meta = json.load(fh)

@@ -413,22 +413,20 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
          * whose strips failed the noise check is a weak sighting
          * (temporal.h, TMP_WEAK). The noise is measured once, on the
          * first candidate that needs it. */
-        if (s.left != NULL && c->type != NEGOBS_HAZARD_UNKNOWN) {
+        if (s.left != NULL) {
             if (noise_med < 0) {
                 noise_med = det_noise_median(s.left);
             }
-            fw->trusted[i] = (uint8_t)(det_box_textured_at(frame, s.left,
-                                                           &noise_med,
-                                                           &noise_half, c)
-                                           ? (quiet ? TMP_TRUSTED : TMP_WEAK)
-                                           : TMP_UNTRUSTED);
-        }
-        if (s.left != NULL && c->type == NEGOBS_HAZARD_UNKNOWN) {
-            if (noise_med < 0) {
-                noise_med = det_noise_median(s.left);
+            if (c->type == NEGOBS_HAZARD_UNKNOWN) {
+                missing_texture(cfg, frame, s.left, &noise_med, &noise_half, c,
+                                &fw->trusted[i]);
+            } else {
+                fw->trusted[i] =
+                    (uint8_t)(det_box_textured_at(frame, s.left, &noise_med,
+                                                  &noise_half, c)
+                                  ? (quiet ? TMP_TRUSTED : TMP_WEAK)
+                                  : TMP_UNTRUSTED);
             }
-            missing_texture(cfg, frame, s.left, &noise_med, &noise_half, c,
-                            &fw->trusted[i]);
         }
         fw->n_trusted += fw->trusted[i] == TMP_TRUSTED;
     }

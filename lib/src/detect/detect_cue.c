@@ -100,6 +100,12 @@ static int32_t nearest_floor_mm(const negobs_detect_config_t *cfg,
     return geom_max_s32(fwd, 0);
 }
 
+/* The mean fitted height of the walk so far (walk_fits > 0). */
+static inline int32_t walk_mean_height_mm(const detect_priv_t *p)
+{
+    return (int32_t)(p->walk_height_sum / p->walk_fits);
+}
+
 /*
  * The hint verifies a start when this frame's fit agrees with it and so
  * does the mean of the fits since the start (since the fit last rose):
@@ -121,8 +127,7 @@ static int hint_agrees(const detect_priv_t *p,
         return 0;
     }
     return p->walk_fits == 0 ||
-           !mount_height_unverified(
-               cfg, (int32_t)(p->walk_height_sum / p->walk_fits));
+           !mount_height_unverified(cfg, walk_mean_height_mm(p));
 }
 
 /* The walk starts over: nothing walked, no fits taken. */
@@ -328,8 +333,7 @@ void det_ground_ref_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
             if (p->walk_verified && p->walk_fits > 0) {
                 /* verified by walking: the walk's mean fit, not one
                  * frame's, is the floor under the feet (detect_travel.c) */
-                p->ref_height_mm = (int32_t)(p->walk_height_sum /
-                                             p->walk_fits);
+                p->ref_height_mm = walk_mean_height_mm(p);
                 p->ref_pitch_mdeg = (int32_t)(p->walk_pitch_sum /
                                               p->walk_fits);
             }

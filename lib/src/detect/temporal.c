@@ -131,7 +131,7 @@ int temporal_needs_travel(const temporal_t *t)
  * standing wearer, a bland floor) confirms nothing: the band still ends
  * the vouched range, so the verdict never says clear past it.
  */
-enum { APPROACH_WALK_MM = 500, TMP_PLACES = 3 };
+enum { APPROACH_WALK_MM = 500 };
 
 static int32_t median3_s32(int32_t a, int32_t b, int32_t c)
 {
@@ -154,7 +154,6 @@ static void track_place(temporal_t *t, tmp_track_t *tr, int32_t range_mm)
     tr->last_place_mm[0] = tr->last_place_mm[1];
     tr->last_place_mm[1] = tr->last_place_mm[2];
     tr->last_place_mm[2] = place;
-    tr->last_odo_mm = t->odo_mm;
 }
 
 static int track_approaches(const tmp_track_t *tr)
@@ -170,7 +169,7 @@ static int track_approaches(const tmp_track_t *tr)
         return 0; /* the first three and the last three are apart */
     }
     /* wrap-safe: every place and odometer reading relative to the first */
-    walked = (int32_t)(tr->last_odo_mm - tr->first_odo_mm);
+    walked = (int32_t)(tr->seen_odo_mm - tr->first_odo_mm);
     if (walked < APPROACH_WALK_MM) {
         return 0;
     }

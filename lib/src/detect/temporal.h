@@ -13,6 +13,9 @@
 
 #include "negobs/detect.h"
 
+/* Sightings kept at each end of a missing-ground track's approach. */
+#define TMP_PLACES 3
+
 typedef struct tmp_track {
     int32_t active;
     int32_t confirmed;
@@ -31,12 +34,12 @@ typedef struct tmp_track {
     uint32_t seen_odo_mm; /* the odometer at the last sighting     */
     /* Where the track's trusted sightings lay along the walk: range plus
      * odometer (mm, wraps like it) of the first and of the last
-     * three, the odometer at the first and the last, and how many (up to
-     * six): temporal.c, track_approaches (missing ground). */
-    uint32_t first_place_mm[3];
-    uint32_t last_place_mm[3];
+     * TMP_PLACES, the odometer at the first (at the last: seen_odo_mm),
+     * and how many (up to twice TMP_PLACES): temporal.c,
+     * track_approaches (missing ground). */
+    uint32_t first_place_mm[TMP_PLACES];
+    uint32_t last_place_mm[TMP_PLACES];
     uint32_t first_odo_mm;
-    uint32_t last_odo_mm;
     int32_t n_places;
     negobs_hazard_t hz; /* latest observation (range as observed)  */
 } tmp_track_t;
