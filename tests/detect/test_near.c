@@ -24,14 +24,24 @@ static void walk_setup(near_walk_t *w)
     w->now_ms = 1000u;
 }
 
-/* One frame; start_ok says its ground passed the start check, and
- * vouched_5cm_mm how far the frame vouched for 5 cm drops. */
-static int frame_5cm(near_walk_t *w, int32_t seen_mm, int32_t vouched_mm,
-                     int32_t vouched_5cm_mm, int32_t travel_mm, int start_ok)
+/* One frame; start_ok says its ground passed the start check,
+ * vouched_5cm_mm how far the frame vouched for 5 cm drops, and pending_mm
+ * what a frame whose usable ground awaits the start check would vouch
+ * once it passes (-1: not such a frame). */
+static int frame_pending(near_walk_t *w, int32_t seen_mm, int32_t vouched_mm,
+                         int32_t vouched_5cm_mm, int32_t pending_mm,
+                         int32_t travel_mm, int start_ok)
 {
     w->now_ms += 100u;
     return det_near_follow(&w->p, &w->cfg, seen_mm, vouched_mm, vouched_5cm_mm,
-                           travel_mm, start_ok, w->now_ms);
+                           pending_mm, travel_mm, start_ok, w->now_ms);
+}
+
+static int frame_5cm(near_walk_t *w, int32_t seen_mm, int32_t vouched_mm,
+                     int32_t vouched_5cm_mm, int32_t travel_mm, int start_ok)
+{
+    return frame_pending(w, seen_mm, vouched_mm, vouched_5cm_mm, -1, travel_mm,
+                         start_ok);
 }
 
 /* A frame whose whole vouched range holds for 5 cm drops too (the cases
@@ -218,10 +228,10 @@ static void test_near_noisy_start_does_not_vouch_the_floor_walked_to(
     assert_int_equal(walk_over_gap(&w, 1600), 1800);
 }
 
-/* Frames whose ground has not passed the start check (unverified, or no
- * usable fit) leave the floor under the view to that check: the first
- * verified frame starts the following with its own view, and a walk that
- * vouches from then on stays vouched. */
+/* Frames without a usable ground at switch-on leave the floor under the
+ * view to the start check: the first verified frame starts the following
+ * with its own view, and a walk that vouches from then on stays
+ * vouched. */
 static void test_near_unverified_frames_leave_the_start_open(void **state)
 {
     near_walk_t w;
@@ -236,6 +246,68 @@ static void test_near_unverified_frames_leave_the_start_open(void **state)
     for (i = 0; i < 10; i++) {
         assert_true(frame(&w, SEEN_MM, 4000, STEP_MM));
     }
+    assert_false(det_near_gap(&w.p));
+}
+
+/* The start verified by walking, 20 frames (2.4 m) after switch-on: the
+ * frames that awaited the check would each have vouched 4 m from a view
+ * at 1.2 m, so the floor walked towards meanwhile was vouched, by the
+ * plane the check has now verified. The first verified frame vouches from
+ * the feet, and so does the walk after it. */
+static void test_near_awaited_frames_that_vouch_carry_over(void **state)
+{
+    near_walk_t w;
+    int i;
+    (void)state;
+    walk_setup(&w);
+    for (i = 0; i < 20; i++) {
+        assert_true(frame_pending(&w, SEEN_MM, 0, 4000, 4000, STEP_MM, 0));
+    }
+    assert_true(frame(&w, SEEN_MM, 4000, STEP_MM));
+    for (i = 0; i < 10; i++) {
+        assert_true(frame(&w, SEEN_MM, 4000, STEP_MM));
+    }
+    assert_false(det_near_gap(&w.p));
+}
+
+/* The same walk, but the awaiting frames would have vouched nothing (a
+ * noisy floor, a drop never confirmed): the floor walked towards left the
+ * view unvouched before the check passed. The first verified frame must
+ * not speak for it, although its own view is clean: it vouches from the
+ * feet once that floor is walked over, as after any gap. Before the
+ * awaiting frames were followed it did at once (a 5 cm drop that passed
+ * below the view while the start was walked read CLEAR to 2.8 m with it
+ * 0.6-1.4 m ahead). */
+static void test_near_awaited_frames_that_vouch_nothing_leave_a_gap(
+    void **state)
+{
+    near_walk_t w;
+    int i;
+    (void)state;
+    walk_setup(&w);
+    for (i = 0; i < 20; i++) {
+        assert_true(frame_pending(&w, SEEN_MM, 0, 0, 0, STEP_MM, 0));
+    }
+    assert_int_equal(walk_over_gap(&w, 4000), SEEN_MM + 600);
+}
+
+/* A fit that rose while the check was awaited starts its following anew
+ * (det_near_pending_restart): the floor behind the rise is the restarted
+ * check's business, as at switch-on, and the frames after it vouch. */
+static void test_near_awaited_following_restarts_with_the_check(void **state)
+{
+    near_walk_t w;
+    int i;
+    (void)state;
+    walk_setup(&w);
+    for (i = 0; i < 10; i++) {
+        assert_true(frame_pending(&w, SEEN_MM, 0, 0, 0, STEP_MM, 0));
+    }
+    det_near_pending_restart(&w.p);
+    for (i = 0; i < 10; i++) {
+        assert_true(frame_pending(&w, SEEN_MM, 0, 4000, 4000, STEP_MM, 0));
+    }
+    assert_true(frame(&w, SEEN_MM, 4000, STEP_MM));
     assert_false(det_near_gap(&w.p));
 }
 
@@ -324,6 +396,10 @@ int main(void)
         cmocka_unit_test(
             test_near_noisy_start_does_not_vouch_the_floor_walked_to),
         cmocka_unit_test(test_near_unverified_frames_leave_the_start_open),
+        cmocka_unit_test(test_near_awaited_frames_that_vouch_carry_over),
+        cmocka_unit_test(
+            test_near_awaited_frames_that_vouch_nothing_leave_a_gap),
+        cmocka_unit_test(test_near_awaited_following_restarts_with_the_check),
         cmocka_unit_test(
             test_near_shallow_view_needs_the_floor_checked_for_5cm),
         cmocka_unit_test(test_near_noisy_run_needs_the_floor_checked_for_5cm),

@@ -24,7 +24,11 @@ asphalt, sensor noise 2:
    and a reference taken from the one frame that completed the walk
    (1660 mm) read the next fits (1731-1737 mm) as a ground drop, IMMINENT
    for 31 frames. The reference is now the mean fit of the walk: no
-   alert, and the walk verifies the start.
+   alert, and the walk verifies the start (the ground reference is taken
+   by walking). Whether a frame then says CLEAR is the floor under the
+   view's business (docs/DETECTION.md 10.2): this rig checks the floor at
+   1.5-2 m for 5 cm drops on some frames only, and the frames that
+   awaited the start check left it unchecked, so it stays NEAR_UNSEEN.
 5. Walking at 1.2 m/s from 3.5 m down a 1:12 ramp (1.2 m / 30 deg, told
    so): its start is held IMMINENT once it leaves the view, and the hold
    ends once the measured travel passed the last range by 500 mm
@@ -166,7 +170,7 @@ def main():
     if alarms:
         print("FAIL: %d frames with an alert on flat ground" % alarms)
         failed += 1
-    if not any(r["state"] == "CLEAR" for r in rows):
+    if not any(r["ground_ref"]["by"] == "walk" for r in rows):
         print("FAIL: the walk never verified the start")
         failed += 1
     # 5. the hold of a ramp's start ends once walked past

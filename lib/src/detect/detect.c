@@ -451,6 +451,9 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
     uint32_t reasons;
     frame_work_t fw;
     gfit_out_t g;
+    int32_t sight_mm;
+    int32_t vouch_bound;
+    int32_t pending_mm = -1; /* det_near_follow's */
     uint32_t i;
 
     if (res == NULL) {
@@ -559,18 +562,29 @@ negobs_status_t negobs_detect_process(negobs_detect_t *ctx,
         fw.walk_cause = NEGOBS_DEGRADED_GROUND_REJECTED;
         res->blocked_at_mm = 0;
     }
-    det_verdict(cfg, res, reasons, fw.walk_to, fw.walk_cause,
-                det_sight_bound(p, cfg, frame->now_ms));
+    sight_mm = det_sight_bound(p, cfg, frame->now_ms);
+    det_verdict(cfg, res, reasons, fw.walk_to, fw.walk_cause, sight_mm);
     det_sight_note(p, res, frame->now_ms);
     /* a hazard's range this frame may be too far (temporal.c): vouch
      * no farther than its track's own prediction either */
-    res->clear_to_mm = geom_min_s32(
-        res->clear_to_mm, temporal_vouch_bound(&p->temporal, frame->now_ms));
+    vouch_bound = temporal_vouch_bound(&p->temporal, frame->now_ms);
+    res->clear_to_mm = geom_min_s32(res->clear_to_mm, vouch_bound);
+    /* what a frame whose usable ground awaits only the start check would
+     * vouch once it passes (detect_near.c) */
+    if (g.ok && fw.unverified &&
+        (reasons & NEAR_START_BLOCKING &
+         ~(uint32_t)NEGOBS_DEGRADED_GROUND_UNVERIFIED) == 0u) {
+        pending_mm =
+            ((reasons & ~(uint32_t)NEGOBS_DEGRADED_GROUND_UNVERIFIED) == 0u)
+                ? geom_min_s32(det_vouch_cut(res, fw.walk_to, sight_mm),
+                               vouch_bound)
+                : 0;
+    }
     /* the floor nearer than the view must have been vouched while it was
      * in view: else nothing is vouched from the feet (a hazard is still
      * reported) */
     if (!det_near_follow(p, cfg, fw.seen_from, res->clear_to_mm,
-                         fw.walk_5cm_to, g.ok ? p->travel_mm : 0,
+                         fw.walk_5cm_to, pending_mm, g.ok ? p->travel_mm : 0,
                          g.ok && !fw.unverified &&
                              (res->reasons & NEAR_START_BLOCKING) == 0u,
                          frame->now_ms)) {

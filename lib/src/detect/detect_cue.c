@@ -137,6 +137,7 @@ static void walk_restart(detect_priv_t *p)
     p->walk_fits = 0;
     p->walk_height_sum = 0;
     p->walk_pitch_sum = 0;
+    det_near_pending_restart(p);
 }
 
 static int ground_unverified(detect_priv_t *p,

@@ -232,6 +232,11 @@ typedef struct detect_priv {
      * what the floor within VOUCH_NEAR_RANGE_MM of the feet needs */
     near_track_t near_any;
     near_track_t near_5cm;
+    /* the same two followings over the frames whose ground awaits the
+     * start check, with what each would vouch once it passes; the two
+     * above take them over on the frame they start (detect_near.c) */
+    near_track_t pend_any;
+    near_track_t pend_5cm;
     /* frames pooled along the travel (detect_pool.c); pool_out NULL when
      * pool_frames is 1. Two histories, width x height each (rho Q14 with
      * the count in its low bits; pool_cur: this frame's), the pooled
@@ -353,6 +358,12 @@ void det_verdict(const negobs_detect_config_t *cfg,
                  negobs_detect_result_t *res, uint32_t reasons,
                  int32_t walk_to, uint32_t walk_cause, int32_t sight_mm);
 
+/* The range det_verdict vouches on a frame without a degraded reason:
+ * the vouched walk cut at sight_mm, this frame's candidates and its
+ * reported hazards. */
+int32_t det_vouch_cut(const negobs_detect_result_t *res, int32_t walk_to,
+                      int32_t sight_mm);
+
 void det_merge_strips(const scan_ctx_t *s, detect_priv_t *p,
                       negobs_detect_result_t *res);
 
@@ -369,11 +380,18 @@ void det_sight_note(detect_priv_t *p, const negobs_detect_result_t *res,
  * (start_ok: a model, verified, the image usable); 0 when some of that
  * floor was never vouched while in view for the minimum drop it will
  * have to be clear of (5 cm within VOUCH_NEAR_RANGE_MM of the feet) and
- * has not been walked over. */
+ * has not been walked over. pending_mm: on a frame whose usable ground
+ * only awaits the start check, the range it would vouch once the check
+ * passes (0: nothing); -1 on any other frame. */
 int det_near_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
                     int32_t seen_mm, int32_t vouched_mm,
-                    int32_t vouched_5cm_mm, int32_t travel_mm, int start_ok,
-                    uint32_t now_ms);
+                    int32_t vouched_5cm_mm, int32_t pending_mm,
+                    int32_t travel_mm, int start_ok, uint32_t now_ms);
+
+/* The start check begins again (a fit that rose: the floor under the
+ * feet may have changed): the frames awaiting it are followed anew from
+ * the next one's view. */
+void det_near_pending_restart(detect_priv_t *p);
 
 /* 1 while det_near_follow holds unvouched floor ahead: the travel is
  * measured to know when it has been walked over. */

@@ -35,6 +35,20 @@
  *    concrete, never confirmed, was left under the view and the next
  *    vouching frame said CLEAR to 1.5 m, 0.3 m beyond it).
  *
+ * The start check itself may take many frames (a start verified by
+ * walking: the nearest floor in view plus half a metre), and the floor
+ * walked towards meanwhile leaves the view before the check passes. The
+ * check covers only the floor that was nearer than its first view, so
+ * the frames awaiting it are followed too (pend_any, pend_5cm), with the
+ * range each would vouch once its ground is verified: the check verifies
+ * the same plane they vouched from (a fit that rose restarts both,
+ * det_near_pending_restart). The frame that ends NEAR_START takes that
+ * following over instead of starting afresh with its own view; where the
+ * awaiting frames vouched nothing, a gap is open. Before, the floor under
+ * the view of such a frame was taken as vouched: a 5 cm drop that passed
+ * below the view while the start was being walked, unchecked, read CLEAR
+ * to 2.7-3.0 m with it 0.6-1.4 m ahead (docs/DETECTION.md 10.2).
+ *
  * The floor is followed twice with these rules (near_track): for the
  * minimum drop of the range it was vouched at (near_any, needed up to the
  * view), and for 5 cm drops (near_5cm, needed up to the nearer of the
@@ -138,10 +152,48 @@ static int near_track(near_track_t *n, int32_t seen_mm, int32_t need_mm,
     return 0;
 }
 
+void det_near_pending_restart(detect_priv_t *p)
+{
+    p->pend_any.state = NEAR_START;
+    p->pend_5cm.state = NEAR_START;
+}
+
+/* While the start check is pending: follow the awaiting frames with what
+ * they would vouch (a frame without usable ground vouches nothing and
+ * starts nothing), and hand that following over on the frame that starts
+ * the following proper (before it is followed with this frame). */
+static void near_pending(detect_priv_t *p, int32_t seen_mm, int32_t vouched_mm,
+                         int32_t vouched_5cm_mm, int32_t pending_mm,
+                         int32_t came_mm, int32_t travel_mm, int start_ok)
+{
+    const int vouched = seen_mm > 0 && vouched_mm > seen_mm;
+    const int usable = pending_mm >= 0;
+    if (p->near_any.state != NEAR_START && p->near_5cm.state != NEAR_START) {
+        return;
+    }
+    if (vouched || (start_ok && seen_mm > 0)) {
+        if (p->pend_any.state != NEAR_START) {
+            p->near_any = p->pend_any;
+            p->near_5cm = p->pend_5cm;
+        }
+        det_near_pending_restart(p);
+        return;
+    }
+    if (!usable && p->pend_any.state == NEAR_START) {
+        return;
+    }
+    (void)near_track(&p->pend_any, seen_mm, seen_mm, usable ? pending_mm : 0,
+                     came_mm, travel_mm, usable);
+    (void)near_track(&p->pend_5cm, seen_mm,
+                     geom_min_s32(seen_mm, VOUCH_NEAR_RANGE_MM),
+                     usable ? geom_min_s32(vouched_5cm_mm, pending_mm) : 0,
+                     came_mm, travel_mm, usable);
+}
+
 int det_near_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
                     int32_t seen_mm, int32_t vouched_mm,
-                    int32_t vouched_5cm_mm, int32_t travel_mm, int start_ok,
-                    uint32_t now_ms)
+                    int32_t vouched_5cm_mm, int32_t pending_mm,
+                    int32_t travel_mm, int start_ok, uint32_t now_ms)
 {
     const int32_t dt = (int32_t)(now_ms - p->near_ms);
     /* dt <= hold_ms <= 60 s and hold_speed <= 5 m/s: at most 3e5 mm */
@@ -153,9 +205,12 @@ int det_near_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
     if (!p->near_on || dt < 0 || dt > cfg->hold_ms) {
         p->near_any.state = NEAR_START;
         p->near_5cm.state = NEAR_START;
+        det_near_pending_restart(p);
     }
     p->near_on = 1;
     p->near_ms = now_ms;
+    near_pending(p, seen_mm, vouched_mm, vouched_5cm_mm, pending_mm, came_mm,
+                 travel_mm, start_ok);
     ok_any = near_track(&p->near_any, seen_mm, seen_mm, vouched_mm, came_mm,
                         travel_mm, start_ok);
     ok_5cm = near_track(&p->near_5cm, seen_mm,

@@ -521,9 +521,8 @@ int det_vouch_candidate(const scan_ctx_t *s, const detect_priv_t *p,
  * (res->blocked_at_mm > 0, set by the caller, kept only when nothing cut
  * the walk short of it); else CLEAR, short-sighted below range_warn_mm.
  */
-void det_verdict(const negobs_detect_config_t *cfg,
-                 negobs_detect_result_t *res, uint32_t reasons,
-                 int32_t walk_to, uint32_t walk_cause, int32_t sight_mm)
+int32_t det_vouch_cut(const negobs_detect_result_t *res, int32_t walk_to,
+                      int32_t sight_mm)
 {
     int32_t clear_to = geom_min_s32(walk_to, sight_mm);
     uint32_t i;
@@ -535,6 +534,14 @@ void det_verdict(const negobs_detect_config_t *cfg,
         clear_to = geom_min_s32(clear_to,
                                 geom_max_s32(res->hazards[i].range_mm, 0));
     }
+    return clear_to;
+}
+
+void det_verdict(const negobs_detect_config_t *cfg,
+                 negobs_detect_result_t *res, uint32_t reasons,
+                 int32_t walk_to, uint32_t walk_cause, int32_t sight_mm)
+{
+    int32_t clear_to = det_vouch_cut(res, walk_to, sight_mm);
     res->short_sight = 0;
     if (reasons != 0u || clear_to < walk_to) {
         res->blocked_at_mm = 0; /* not vouched up to the obstacle */
