@@ -428,6 +428,15 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
                                   : TMP_UNTRUSTED);
             }
         }
+        /* While the start is checked, a fit that stands ground_drop_mm
+         * above the lowest of the last ground_drop_max_ms is no floor to
+         * measure deficits against: either the wearer stepped down (the
+         * check restarts) or its rows hold something else, a riser or the
+         * lower floor of an edge, which tilts the plane (docs/DETECTION.md
+         * 6.1, "A fit that rose"). */
+        if (fw->unverified && p->fit_risen) {
+            fw->trusted[i] = (uint8_t)TMP_UNTRUSTED;
+        }
         fw->n_trusted += fw->trusted[i] == TMP_TRUSTED;
     }
     canny_support(p, cfg, frame, res);

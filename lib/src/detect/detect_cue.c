@@ -151,6 +151,7 @@ static int ground_unverified(detect_priv_t *p,
      * bottom rows showed no floor, so its plane there is extrapolated,
      * and the floor it rests on may lie beyond an edge. */
     const int risen = ground_risen(p, cfg, g, now_ms);
+    p->fit_risen = risen;
     /* So does walking over the floor that was nearer than the view on
      * the first unverified frame (docs/DETECTION.md 6.2): a drop there
      * has been stepped down by then, and the fit would have risen. Only
@@ -274,6 +275,7 @@ int det_ground_drop(detect_priv_t *p, const negobs_detect_config_t *cfg,
     int32_t dg;
     int32_t range = 0;
     int32_t depth = 0;
+    p->fit_risen = 0;
     if (cfg->ground_drop_mm <= 0) {
         return 0;
     }

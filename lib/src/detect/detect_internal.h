@@ -192,6 +192,9 @@ typedef struct detect_priv {
     uint32_t low_ms;
     int32_t risen_on;
     uint32_t risen_ms;
+    /* this frame's ground awaits the start check with a fit that rose
+     * (ground_risen): its candidates are not trusted (detect.c) */
+    int32_t fit_risen;
     /* last clean frame with a rule candidate within h_near_range_mm: it
      * corroborates a smaller ground-drop rise for hold_ms */
     uint32_t near_cand_ms;
