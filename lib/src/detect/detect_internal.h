@@ -115,6 +115,21 @@ typedef struct strip_hit {
 #define VOUCH_H_FAR_MM 100
 #define VOUCH_NEAR_RANGE_MM 1500
 
+/* The smallest deficit below the ground model (1/16 px) the rule counts
+ * and the vouch relies on. The matcher's sub-pixel parabola errs with the
+ * fraction of the disparity (pixel locking): a ripple fixed in the image,
+ * the same along each row, measured at -0.038 to +0.009 px on the
+ * full-size map and +-0.02-0.05 px where the half-size pass's values
+ * replace it, plus the 1/32 px of rounding to 1/16. Along a row that is
+ * a deficit of one sixteenth passed by every pixel at once, which is
+ * what the rule counts: on a 3 cm rig (f = 380 px, 1.7 m) the 40 mm near
+ * threshold at 2 m is 1.6/16 px, and flat asphalt read as 3-4 cm holes
+ * there, held IMMINENT. Two sixteenths (0.125 px) is 2.5 times the
+ * ripple. Where a drop's deficit is below it, the rule's threshold is
+ * this deficit's height (a higher one), and the vouch does not claim the
+ * drop would show (docs/DETECTION.md 5, "The rig's resolution"). */
+#define DEFICIT_MIN_Q4 2
+
 /* One following of the floor nearer than the view (detect_near.c): its
  * state, the vouched floor ahead of the feet (lower bound), the far end of
  * unvouched floor (upper bound) and the floor vouched beyond it (lower

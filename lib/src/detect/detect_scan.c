@@ -200,7 +200,7 @@ static enum row_class classify_row(const scan_ctx_t *s, int32_t u0, int32_t u1,
     tau_noise = (int32_t)(((int64_t)cfg->k_sigma_q4 * det_sigma_at(s, v) * 5) /
                           (4 * (int64_t)negobs_isqrt_u32(
                                    (uint32_t)(256 * st->n))));
-    st->tau = geom_max_s32(geom_max_s32(tau_geo, tau_noise), 1);
+    st->tau = geom_max_s32(geom_max_s32(tau_geo, tau_noise), DEFICIT_MIN_Q4);
     for (i = 0; i < st->n; i++) {
         int32_t r = rr[i];
         if (rho1_q15 > 0 &&

@@ -189,6 +189,10 @@ static enum vouch_verdict vouch_cell_sees(const scan_ctx_t *s,
     if (h_t >= h || det_sigma_at(s, v) > cfg->sigma_max_q4) {
         return VOUCH_NOISE;
     }
+    /* a deficit the rule does not count (DEFICIT_MIN_Q4) cannot show */
+    if ((int64_t)dg * rel_num < (int64_t)DEFICIT_MIN_Q4 * rel_den) {
+        return VOUCH_NOISE;
+    }
     if (c->n >= VOUCH_CELL_MIN) {
         /* 1/32 px -> 1/256 px: x 8; x 1.2533 = x 1283 / 1024. */
         int32_t sd_q8 = (int32_t)(((int64_t)c->sum_abs * 8 * 1283) /
