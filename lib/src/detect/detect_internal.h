@@ -123,7 +123,7 @@ typedef struct strip_hit {
  * replace it, plus the 1/32 px of rounding to 1/16. Along a row that is
  * a deficit of one sixteenth passed by every pixel at once, which is
  * what the rule counts: on a 3 cm rig (f = 380 px, 1.7 m) the 40 mm near
- * threshold at 2 m is 1.6/16 px, and flat asphalt read as 3-4 cm holes
+ * threshold at 2 m is 1.6/16 px, and flat asphalt read as 2-5 cm holes
  * there, held IMMINENT. Two sixteenths (0.125 px) is 2.5 times the
  * ripple. Where a drop's deficit is below it, the rule's threshold is
  * this deficit's height (a higher one), and the vouch does not claim the
