@@ -92,6 +92,20 @@ static inline int near_extend(int32_t *to_mm, int32_t seen_mm,
     return 1;
 }
 
+/* A frame vouches only a stretch that starts at its nearest floor. */
+static inline int near_vouches(int32_t seen_mm, int32_t vouched_mm)
+{
+    return seen_mm > 0 && vouched_mm > seen_mm;
+}
+
+/* Does this frame end NEAR_START: it vouches, or its ground passed the
+ * start check with a floor in view? */
+static inline int near_starts(int32_t seen_mm, int32_t vouched_mm,
+                              int start_ok)
+{
+    return near_vouches(seen_mm, vouched_mm) || (start_ok && seen_mm > 0);
+}
+
 /* One following (the comment above) of the floor that must be vouched
  * from the feet to need_mm: seen_mm for the minimum drop of each range,
  * the nearer of seen_mm and VOUCH_NEAR_RANGE_MM for 5 cm. came_mm: the
@@ -100,10 +114,9 @@ static int near_track(near_track_t *n, int32_t seen_mm, int32_t need_mm,
                       int32_t vouched_mm, int32_t came_mm, int32_t travel_mm,
                       int start_ok)
 {
-    /* a frame vouches only a stretch that starts at its nearest floor */
-    const int vouched = seen_mm > 0 && vouched_mm > seen_mm;
+    const int vouched = near_vouches(seen_mm, vouched_mm);
     if (n->state == NEAR_START) {
-        if (vouched || (start_ok && seen_mm > 0)) {
+        if (near_starts(seen_mm, vouched_mm, start_ok)) {
             n->state = NEAR_OK;
             n->ahead_mm = vouched ? vouched_mm : seen_mm;
         }
@@ -166,12 +179,11 @@ static void near_pending(detect_priv_t *p, int32_t seen_mm, int32_t vouched_mm,
                          int32_t vouched_5cm_mm, int32_t pending_mm,
                          int32_t came_mm, int32_t travel_mm, int start_ok)
 {
-    const int vouched = seen_mm > 0 && vouched_mm > seen_mm;
     const int usable = pending_mm >= 0;
     if (p->near_any.state != NEAR_START && p->near_5cm.state != NEAR_START) {
         return;
     }
-    if (vouched || (start_ok && seen_mm > 0)) {
+    if (near_starts(seen_mm, vouched_mm, start_ok)) {
         if (p->pend_any.state != NEAR_START) {
             p->near_any = p->pend_any;
             p->near_5cm = p->pend_5cm;
