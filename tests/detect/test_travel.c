@@ -94,37 +94,81 @@ static void geo_init(geo_t *g)
  * (200 mm / 24 = 8 mm) plus rounding. */
 static void assert_walk_reads(const double *yaw_deg, int frames)
 {
-    static travel_track_t t;
+    static travel_track_t t[TRAVEL_TRACKS];
+    int32_t pair = 0;
     geo_t g;
     int k;
     geo_init(&g);
-    travel_reset(&t);
+    travel_reset(t);
     for (k = 0; k < frames; k++) {
         int32_t mm;
         render_turned(120.0 * k, (yaw_deg != NULL) ? yaw_deg[k] : 0.0, 2.0);
-        mm = travel_step(&t, &g.rig, &g.plane, &g.frame, &img,
-                         1000u + 100u * (uint32_t)k, NULL);
+        mm = travel_step(t, &g.rig, &g.plane, &g.frame, &img,
+                         1000u + 100u * (uint32_t)k, NULL, &pair);
         if (k == 0) {
             assert_int_equal(mm, 0); /* nothing held yet */
         } else {
             assert_in_range(mm, 104, 136);
         }
+        assert_int_equal(pair, mm); /* measured from the last frame */
     }
+}
+
+/* Walking at 120 mm a frame, frame 3 shows a blank floor (a frame blown
+ * out by an exposure step, or one whose fit was off): frames 3 and 4
+ * cannot read their travel from the last frame, so frame 4 reads it from
+ * frame 2, both intervals at once, and the walk loses nothing; the
+ * pooling's travel (pair) stays that of the last frame alone. */
+static void test_travel_reads_across_a_frame_it_cannot_read(void **state)
+{
+    static travel_track_t t[TRAVEL_TRACKS];
+    int32_t pair = 0;
+    int32_t sum = 0;
+    geo_t g;
+    int k;
+    (void)state;
+    geo_init(&g);
+    travel_reset(t);
+    for (k = 0; k < 7; k++) {
+        int32_t mm;
+        int i;
+        render(120.0 * k, 2.0);
+        if (k == 3) {
+            for (i = 0; i < W * H; i++) {
+                px[i] = (uint8_t)(128 + (i % 3));
+            }
+        }
+        mm = travel_step(t, &g.rig, &g.plane, &g.frame, &img,
+                         1000u + 100u * (uint32_t)k, NULL, &pair);
+        if (k == 3) {
+            assert_int_equal(mm, 0);
+        } else if (k == 4) {
+            /* 240 mm on a grid of 400 / 24 mm */
+            assert_int_equal(pair, 0);
+            assert_in_range(mm, 216, 264);
+        } else if (k > 0) {
+            assert_in_range(mm, 104, 136);
+            assert_int_equal(pair, mm);
+        }
+        sum += mm;
+    }
+    assert_in_range(sum, 6 * 120 - 40, 6 * 120 + 40);
 }
 
 /* Standing still for six frames with fresh noise, the camera turning by
  * turn_deg and back on every other frame: no travel. */
 static void assert_standing_reads_nothing(double turn_deg)
 {
-    static travel_track_t t;
+    static travel_track_t t[TRAVEL_TRACKS];
+    int32_t pair = 0;
     geo_t g;
     int k;
     geo_init(&g);
-    travel_reset(&t);
+    travel_reset(t);
     for (k = 0; k < 6; k++) {
         render_turned(0.0, (k % 2 == 0) ? 0.0 : turn_deg, 3.0);
-        assert_int_equal(travel_step(&t, &g.rig, &g.plane, &g.frame, &img,
-                                     1000u + 100u * (uint32_t)k, NULL),
+        assert_int_equal(travel_step(t, &g.rig, &g.plane, &g.frame, &img,
+                                     1000u + 100u * (uint32_t)k, NULL, &pair),
                          0);
     }
 }
@@ -146,32 +190,38 @@ static void test_travel_standing_still_reads_nothing(void **state)
  * image of another size, a blank floor: nothing is counted. */
 static void test_travel_counts_nothing_it_cannot_see(void **state)
 {
-    static travel_track_t t;
+    static travel_track_t t[TRAVEL_TRACKS];
+    int32_t pair = 0;
     static uint8_t small_px[16 * 16];
     const negobs_image_u8_t small = {small_px, 16, 16, 16};
     geo_t g;
     int i;
     (void)state;
     geo_init(&g);
-    travel_reset(&t);
+    travel_reset(t);
     render(0.0, 2.0);
-    (void)travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 1000u, NULL);
+    (void)travel_step(t, &g.rig, &g.plane, &g.frame, &img, 1000u, NULL, &pair);
     render(350.0, 2.0);
     assert_int_equal(
-        travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 1100u, NULL), 0);
+        travel_step(t, &g.rig, &g.plane, &g.frame, &img, 1100u, NULL, &pair),
+        0);
     render(470.0, 2.0);
     assert_int_equal(
-        travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 1700u, NULL), 0);
+        travel_step(t, &g.rig, &g.plane, &g.frame, &img, 1700u, NULL, &pair),
+        0);
     assert_int_equal(
-        travel_step(&t, &g.rig, &g.plane, &g.frame, NULL, 1800u, NULL), 0);
+        travel_step(t, &g.rig, &g.plane, &g.frame, NULL, 1800u, NULL, &pair),
+        0);
     assert_int_equal(
-        travel_step(&t, &g.rig, &g.plane, &g.frame, &small, 1900u, NULL), 0);
+        travel_step(t, &g.rig, &g.plane, &g.frame, &small, 1900u, NULL, &pair),
+        0);
     for (i = 0; i < W * H; i++) {
         px[i] = 128;
     }
-    (void)travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 2000u, NULL);
+    (void)travel_step(t, &g.rig, &g.plane, &g.frame, &img, 2000u, NULL, &pair);
     assert_int_equal(
-        travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 2100u, NULL), 0);
+        travel_step(t, &g.rig, &g.plane, &g.frame, &img, 2100u, NULL, &pair),
+        0);
 }
 
 /* Walking 120 mm a frame while the camera turns to and fro by 1.5 and
@@ -189,17 +239,19 @@ static void test_travel_reads_a_walk_while_turning(void **state)
  * between frames, looking aside) counts nothing while walking. */
 static void test_travel_turning_in_place_reads_nothing(void **state)
 {
-    static travel_track_t t;
+    static travel_track_t t[TRAVEL_TRACKS];
+    int32_t pair = 0;
     geo_t g;
     (void)state;
     assert_standing_reads_nothing(2.0);
     geo_init(&g);
-    travel_reset(&t);
+    travel_reset(t);
     render_turned(0.0, 0.0, 2.0);
-    (void)travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 2000u, NULL);
+    (void)travel_step(t, &g.rig, &g.plane, &g.frame, &img, 2000u, NULL, &pair);
     render_turned(120.0, 5.0, 2.0);
     assert_int_equal(
-        travel_step(&t, &g.rig, &g.plane, &g.frame, &img, 2100u, NULL), 0);
+        travel_step(t, &g.rig, &g.plane, &g.frame, &img, 2100u, NULL, &pair),
+        0);
 }
 
 /* Executors for the search's jobs: the last job first, on two
@@ -233,9 +285,9 @@ static void run_skipping(void *user, int32_t n_jobs, negobs_job_fn fn,
  * on one that stands turning. */
 static void test_travel_jobs_in_any_order_read_the_same(void **state)
 {
-    static travel_track_t t0;
-    static travel_track_t t1;
-    static travel_track_t t2;
+    static travel_track_t t0[TRAVEL_TRACKS];
+    static travel_track_t t1[TRAVEL_TRACKS];
+    static travel_track_t t2[TRAVEL_TRACKS];
     static const double yaw_deg[] = {0.0, 1.5,  0.0, -2.5, 0.0,  2.5,
                                      1.0, -1.0, 2.0, 0.5,  -2.0, 0.0};
     const negobs_executor_t rev = {2, run_reversed, NULL};
@@ -243,25 +295,27 @@ static void test_travel_jobs_in_any_order_read_the_same(void **state)
     const int n = (int)(sizeof yaw_deg / sizeof yaw_deg[0]);
     geo_t g;
     int moved = 0;
+    int32_t pair = 0;
     int k;
     (void)state;
     geo_init(&g);
-    travel_reset(&t0);
-    travel_reset(&t1);
-    travel_reset(&t2);
+    travel_reset(t0);
+    travel_reset(t1);
+    travel_reset(t2);
     for (k = 0; k < 2 * n; k++) {
         /* walking for n frames, then standing while turning */
         const double walked = 120.0 * ((k < n) ? k : n);
         const uint32_t now = 1000u + 100u * (uint32_t)k;
         int32_t mm0;
         render_turned(walked, yaw_deg[k % n], 2.5);
-        mm0 = travel_step(&t0, &g.rig, &g.plane, &g.frame, &img, now, NULL);
-        assert_int_equal(
-            travel_step(&t1, &g.rig, &g.plane, &g.frame, &img, now, &rev),
-            mm0);
-        assert_int_equal(
-            travel_step(&t2, &g.rig, &g.plane, &g.frame, &img, now, &skip),
-            mm0);
+        mm0 = travel_step(t0, &g.rig, &g.plane, &g.frame, &img, now, NULL,
+                          &pair);
+        assert_int_equal(travel_step(t1, &g.rig, &g.plane, &g.frame, &img, now,
+                                     &rev, &pair),
+                         mm0);
+        assert_int_equal(travel_step(t2, &g.rig, &g.plane, &g.frame, &img, now,
+                                     &skip, &pair),
+                         mm0);
         moved += mm0 > 0;
     }
     assert_true(moved >= n - 2); /* the walk reads, so the search ran */
@@ -273,6 +327,7 @@ int main(void)
         cmocka_unit_test(test_travel_reads_a_walk),
         cmocka_unit_test(test_travel_standing_still_reads_nothing),
         cmocka_unit_test(test_travel_counts_nothing_it_cannot_see),
+        cmocka_unit_test(test_travel_reads_across_a_frame_it_cannot_read),
         cmocka_unit_test(test_travel_reads_a_walk_while_turning),
         cmocka_unit_test(test_travel_turning_in_place_reads_nothing),
         cmocka_unit_test(test_travel_jobs_in_any_order_read_the_same),

@@ -237,7 +237,7 @@ static negobs_status_t carve(negobs_arena_t *ar,
                                    (size_t)cfg->rig.height * sizeof(int16_t));
     p->fill_u1 = negobs_arena_take(ar,
                                    (size_t)cfg->rig.height * sizeof(int16_t));
-    p->travel = negobs_arena_take(ar, sizeof(travel_track_t));
+    p->travel = negobs_arena_take(ar, TRAVEL_TRACKS * sizeof(travel_track_t));
     p->row_prof = negobs_arena_take(ar,
                                     (size_t)cfg->rig.height * sizeof(int32_t));
     p->row_prof_cur = negobs_arena_take(ar, (size_t)cfg->rig.height *

@@ -248,6 +248,7 @@ void det_travel_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
      * nothing. */
     const int needed = !(p->ref_ok && !temporal_needs_travel(&p->temporal) &&
                          !det_near_gap(p));
+    int32_t walked = 0;
     if (g->wide || (!needed && cfg->pool_frames <= 1)) {
         travel_reset(p->travel);
         p->pool_travel_mm = 0;
@@ -256,12 +257,12 @@ void det_travel_follow(detect_priv_t *p, const negobs_detect_config_t *cfg,
          * a faster camera's floor moves less than the patches resolve */
         p->pool_travel_mm = 0;
     } else {
-        p->pool_travel_mm = travel_step(p->travel, &cfg->rig, &g->plane,
-                                        &g->frame, left, now_ms, &p->exec);
+        walked = travel_step(p->travel, &cfg->rig, &g->plane, &g->frame, left,
+                             now_ms, &p->exec, &p->pool_travel_mm);
     }
     /* the start, the tracks and the floor under the view count the travel
      * only while they need it, as without pooling */
-    p->travel_mm = (needed && !g->wide) ? p->pool_travel_mm : 0;
+    p->travel_mm = (needed && !g->wide) ? walked : 0;
     temporal_walked(&p->temporal, p->travel_mm);
 }
 

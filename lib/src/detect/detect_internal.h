@@ -188,10 +188,13 @@ typedef struct detect_priv {
      * frame (detect_travel.c), and the travel that verifies the start:
      * the nearest floor in view on that frame plus WALK_MARGIN_MM
      * (detect_cue.c) */
-    travel_track_t *travel; /* carved: it is 2 KiB, and the carve
+    travel_track_t *travel; /* TRAVEL_TRACKS; carved: 4 KiB, and the carve
                                measures on a descriptor on the stack */
-    int32_t travel_mm;      /* this frame's measured travel, 0: none  */
-    int32_t pool_travel_mm; /* the same, also measured for the pooling */
+    /* this frame's measured travel, 0: none; since the frame up to which
+     * it was last measured (travel_step) */
+    int32_t travel_mm;
+    /* since the last frame alone, the pooling's, also measured for it */
+    int32_t pool_travel_mm;
     int32_t walk_on;
     int32_t walk_verified; /* this frame was verified by the walk */
     int32_t walk_fits;     /* fits of the walk, and their sums          */

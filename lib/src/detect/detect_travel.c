@@ -551,25 +551,51 @@ static void sample(travel_track_t *t, const negobs_rig_t *rig,
     }
 }
 
+/* The travel since the frame whose patches t holds, or 0. */
+static int32_t measure_since(const travel_track_t *t, const negobs_rig_t *rig,
+                             const floor_axes_t *a,
+                             const negobs_image_u8_t *left, uint32_t now_ms,
+                             const negobs_executor_t *exec)
+{
+    const int32_t dt = (int32_t)(now_ms - t->t_ms);
+    if (t->n <= 0 || dt <= 0 || dt > TRAVEL_MAX_GAP_MS) {
+        return 0;
+    }
+    return measure(t, rig, a, left, dt, exec);
+}
+
 int32_t travel_step(travel_track_t *t, const negobs_rig_t *rig,
                     const negobs_ground_plane_t *plane,
                     const negobs_ground_frame_t *frame,
                     const negobs_image_u8_t *left, uint32_t now_ms,
-                    const negobs_executor_t *exec)
+                    const negobs_executor_t *exec, int32_t *pair_mm)
 {
     floor_axes_t a;
-    int32_t walked = 0;
-    int32_t dt;
+    int32_t walked;
+    *pair_mm = 0;
     if (left == NULL || left->width != rig->width ||
         left->height != rig->height || !travel_axes_of(frame, &a)) {
         travel_reset(t);
         return 0;
     }
-    dt = (int32_t)(now_ms - t->t_ms);
-    if (t->n > 0 && dt > 0 && dt <= TRAVEL_MAX_GAP_MS) {
-        walked = measure(t, rig, &a, left, dt, exec);
+    *pair_mm = measure_since(&t[0], rig, &a, left, now_ms, exec);
+    walked = *pair_mm;
+    if (t[1].n > 0) {
+        /* the last frame's travel was not measured: from the frame before
+         * it, the travel of both intervals, or of neither */
+        const int32_t held = measure_since(&t[1], rig, &a, left, now_ms, exec);
+        walked = (held > 0) ? held : walked;
     }
-    sample(t, rig, plane, frame, left);
-    t->t_ms = now_ms;
+    if (walked > 0) {
+        t[1].n = 0; /* measured up to this frame */
+    } else if (t[0].n > 0 && (t[1].n == 0 || (int32_t)(now_ms - t[1].t_ms) >=
+                                                 TRAVEL_MAX_GAP_MS)) {
+        /* measured up to the last frame at best: hold its patches (a held
+         * frame too old to measure from is given up, and its travel with
+         * it, as a frame that measures nothing always was) */
+        t[1] = t[0];
+    }
+    sample(&t[0], rig, plane, frame, left);
+    t[0].t_ms = now_ms;
     return walked;
 }

@@ -52,24 +52,34 @@ int travel_pixel_q4(const negobs_rig_t *rig, const floor_axes_t *a,
                     int32_t fwd_mm, int32_t lat_mm, int32_t *u_q4,
                     int32_t *v_q4);
 
+/* A travel follower holds TRAVEL_TRACKS tracks (t[0], t[1]): the last
+ * frame's patches, and those of the frame up to which the travel was last
+ * measured, while a later frame's was not (travel_step). */
+#define TRAVEL_TRACKS 2
+
 /* Forget the patches (the next frame measures nothing). */
 static inline void travel_reset(travel_track_t *t)
 {
-    t->n = 0;
+    t[0].n = 0;
+    t[1].n = 0;
 }
 
 /*
- * The forward travel (mm) of the camera along the floor since the frame
- * whose patches t holds, read on this frame's left image through this
- * frame's floor (rig, frame); then this frame's patches replace them.
- * Returns 0 when the travel is not measured clearly (no patches, too long
- * a gap, a flat or moving scene, standing still): nothing is ever counted
- * that the images do not show. Integer only.
+ * The forward travel (mm) of the camera along the floor, read on this
+ * frame's left image through this frame's floor (rig, frame), from the
+ * frame up to which it was last measured: the last frame's patches (t[0])
+ * or, when the last frame's travel was not measured, those of the frame
+ * before it (t[1], held for at most the longest gap measured). Then this
+ * frame's patches replace t[0]. *pair_mm: the travel since the last
+ * frame alone, as the pooling needs it (0: not measured). Returns 0 when
+ * the travel is not measured clearly (no patches, too long a gap, a flat
+ * or moving scene, standing still): nothing is ever counted that the
+ * images do not show. Integer only.
  */
 int32_t travel_step(travel_track_t *t, const negobs_rig_t *rig,
                     const negobs_ground_plane_t *plane,
                     const negobs_ground_frame_t *frame,
                     const negobs_image_u8_t *left, uint32_t now_ms,
-                    const negobs_executor_t *exec);
+                    const negobs_executor_t *exec, int32_t *pair_mm);
 
 #endif
