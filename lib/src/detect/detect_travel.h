@@ -68,8 +68,8 @@ static inline void travel_reset(travel_track_t *t)
  * The forward travel (mm) of the camera along the floor, read on this
  * frame's left image through this frame's floor (rig, frame), from the
  * frame up to which it was last measured: the last frame's patches (t[0])
- * or, when the last frame's travel was not measured, those of the frame
- * before it (t[1], held for at most the longest gap measured). Then this
+ * or, when the last frame's travel was not measured, those of that
+ * earlier frame (t[1], held for at most the longest gap measured). Then this
  * frame's patches replace t[0]. *pair_mm: the travel since the last
  * frame alone, as the pooling needs it (0: not measured). Returns 0 when
  * the travel is not measured clearly (no patches, too long a gap, a flat
