@@ -1241,6 +1241,113 @@ static void test_detect_row_correlated_noise_drop_never_clear(void **state)
     rig_teardown(&rig);
 }
 
+/* Pixel locking: the sub-pixel error as a function of the disparity's
+ * fraction f, in 1/16 px: -a over f = 0.1-0.4, +0.4 a over f = 0.6-0.9,
+ * linear in between (the shape read over paving tiles, where a 6 cm rig's
+ * strips ran -0.15 and +0.1 px). */
+static int32_t ripple_q4(int32_t d_q4, int32_t a_q4)
+{
+    const int32_t f = d_q4 & 15; /* fraction in 1/16 */
+    if (f <= 2) {
+        return -(a_q4 * f) / 2;
+    }
+    if (f <= 6) {
+        return -a_q4;
+    }
+    if (f <= 9) {
+        return -a_q4 + (7 * a_q4 * (f - 6)) / 15;
+    }
+    if (f <= 14) {
+        return (2 * a_q4) / 5;
+    }
+    return (2 * a_q4 * (16 - f)) / 10;
+}
+
+/* The locking ripple in four strips of a flat floor seen by a 6 cm rig
+ * (1.57 m / 28 deg): its negative half passes the rule as a 90 mm "drop"
+ * 2.2 m ahead on every frame. Over a whole pixel of floor disparity past
+ * that edge the ripple averages out, so every such candidate carries
+ * UNIT_SHALLOW and no hazard is confirmed. A real 6 cm drop under the same
+ * ripple is not flagged and confirms (a rendered paving walk whose ripple
+ * was held IMMINENT: tools/detect/test_paving_ripple.py). */
+static void test_detect_locking_ripple_confirms_nothing(void **state)
+{
+    negobs_detect_config_t cfg;
+    synth_scene_t s;
+    int i;
+    int cands = 0;
+    int shallow = 0;
+    int hazards = 0;
+    const int32_t a_q4 = 4; /* 0.25 px */
+    (void)state;
+    negobs_detect_config_default(&cfg, RIG_W, RIG_H);
+    cfg.rig.baseline_um = 60000;
+    cfg.cam_height_mm = 1570;
+    cfg.cam_pitch_mdeg = 28000;
+    rig_setup(&rig, &cfg);
+    for (i = 0; i < 10; i++) {
+        int32_t u;
+        int32_t v;
+        uint32_t k;
+        synth_flat(&s, 1.57, 28.0);
+        synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
+        for (v = 0; v < RIG_H; v++) {
+            for (u = 128; u < 192; u++) {
+                int16_t *d = &rig.disp[v * RIG_W + u];
+                if (*d > 0) {
+                    *d = (int16_t)(*d + ripple_q4(*d, a_q4));
+                }
+            }
+        }
+        assert_int_equal(rig_run(&rig), NEGOBS_OK);
+        for (k = 0; k < rig.res.n_candidates; k++) {
+            cands++;
+            shallow += (rig.res.candidates[k].flags &
+                        NEGOBS_HAZARD_F_UNIT_SHALLOW) != 0u;
+        }
+        hazards += rig.res.n_hazards > 0u;
+    }
+    print_message("locking ripple: %d candidates, %d UNIT_SHALLOW, %d frames "
+                  "with a hazard\n",
+                  cands, shallow, hazards);
+    assert_true(cands >= 5); /* the rule does see the "drop" */
+    assert_int_equal(shallow, cands);
+    assert_int_equal(hazards, 0);
+    rig_teardown(&rig);
+
+    rig_setup(&rig, &cfg);
+    hazards = 0;
+    shallow = 0;
+    for (i = 0; i < 10; i++) {
+        int32_t u;
+        int32_t v;
+        uint32_t k;
+        synth_flat(&s, 1.57, 28.0);
+        synth_step(&s, 1.8, -0.06);
+        synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
+        for (v = 0; v < RIG_H; v++) {
+            for (u = 128; u < 192; u++) {
+                int16_t *d = &rig.disp[v * RIG_W + u];
+                if (*d > 0) {
+                    *d = (int16_t)(*d + ripple_q4(*d, a_q4));
+                }
+            }
+        }
+        assert_int_equal(rig_run(&rig), NEGOBS_OK);
+        for (k = 0; k < rig.res.n_candidates; k++) {
+            shallow += (rig.res.candidates[k].flags &
+                        NEGOBS_HAZARD_F_UNIT_SHALLOW) != 0u;
+        }
+        hazards += rig.res.n_hazards > 0u;
+    }
+    print_message("6 cm drop at 1.8 m under the ripple: %d/10 frames with a "
+                  "hazard, %d candidates UNIT_SHALLOW\n",
+                  hazards, shallow);
+    assert_true(hazards >= 6);
+    assert_int_equal(shallow, 0);
+    rig_teardown(&rig);
+}
+
 /* The measured figure is not a blanket penalty: independent 0.25 px noise
  * (strip median ~0.08 px) and a little row-correlated noise stay clear,
  * and the measurement tracks the strip median's real spread. */
@@ -1876,6 +1983,7 @@ int main(void)
         cmocka_unit_test(test_detect_oblique_edge_angle),
         cmocka_unit_test(test_detect_row_correlated_noise_is_noisy),
         cmocka_unit_test(test_detect_row_correlated_noise_drop_never_clear),
+        cmocka_unit_test(test_detect_locking_ripple_confirms_nothing),
         cmocka_unit_test(test_detect_strip_noise_measured_not_assumed),
         cmocka_unit_test(test_detect_drop_first_seen_near_is_not_clear),
         cmocka_unit_test(

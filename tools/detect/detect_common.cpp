@@ -469,8 +469,8 @@ std::string reasons_string(uint32_t reasons, const char *sep)
 
 std::string flags_string(uint32_t flags, const char *sep)
 {
-    static const char *const names[] = {"CONFIRMED", "HELD",        "H_LOWER",
-                                        "CANNY",     "GROUND_DROP", "TEXTURED"};
+    static const char *const names[] = {"CONFIRMED",   "HELD",     "H_LOWER",     "CANNY",
+                                        "GROUND_DROP", "TEXTURED", "UNIT_SHALLOW"};
     std::string s;
     for (unsigned b = 0; b < sizeof names / sizeof names[0]; ++b) {
         if (flags & (1u << b)) {

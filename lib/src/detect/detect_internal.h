@@ -64,7 +64,11 @@ typedef struct strip_hit {
     int32_t textured;  /* missing ground: 1 textured band, 0 bland/unknown */
     int32_t margin_q8; /* mean deficit / tau, Q8                     */
     int32_t rho1_q15;  /* relative deficit of the first plateau       */
-    int32_t reported;  /* part of a candidate of this frame           */
+    /* the drop over one whole pixel of floor disparity past the edge
+     * (detect_scan.c, unit_drop_mm), mm; -1: not measured (missing
+     * ground, or the unit runs out of the scan) */
+    int32_t unit_drop_mm;
+    int32_t reported; /* part of a candidate of this frame           */
     /* det_strip_noise: where a wall or up-step closes the strip (the foot of
      * its rise; rows at or above it are not measured), or -1; the run of
      * rows far above the ground so far */

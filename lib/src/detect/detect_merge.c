@@ -17,6 +17,8 @@ void det_merge_strips(const scan_ctx_t *s, detect_priv_t *p,
         int32_t types[4] = {0, 0, 0, 0};
         int32_t margin = 0;
         int32_t n_textured = 0;
+        int64_t unit_sum = 0;
+        int64_t unit_plateau = 0;
         negobs_hazard_t h;
         if (!p->hits[i].found) {
             i++;
@@ -69,6 +71,10 @@ void det_merge_strips(const scan_ctx_t *s, detect_priv_t *p,
                 h.flags |= NEGOBS_HAZARD_F_H_LOWER;
             }
             n_textured += sh->textured;
+            if (sh->unit_drop_mm >= 0) {
+                unit_sum += sh->unit_drop_mm;
+                unit_plateau += sh->drop_mm;
+            }
         }
         if (2 * n_textured > cnt) {
             h.flags |= NEGOBS_HAZARD_F_TEXTURED;
@@ -87,6 +93,12 @@ void det_merge_strips(const scan_ctx_t *s, detect_priv_t *p,
         h.bearing_mdeg = negobs_bearing_mdeg(h.lateral_mm, h.range_mm);
         h.drop_mm = (int32_t)(drop_sum / cnt);
         h.strips = (int16_t)cnt;
+        /* the strips that measured a whole pixel of floor past the edge
+         * (detect_scan.c, unit_drop_mm): over it a lower surface keeps
+         * about its plateau, the ripple at most half of it */
+        if (h.type != NEGOBS_HAZARD_UNKNOWN && 2 * unit_sum < unit_plateau) {
+            h.flags |= NEGOBS_HAZARD_F_UNIT_SHALLOW;
+        }
         /* Edge orientation: least-squares line range = m * lateral + q
          * through the strips' edge points; angle = atan(m). */
         {

@@ -262,7 +262,8 @@ static int sighting_reaches(const negobs_detect_config_t *cfg,
         (c->flags & NEGOBS_HAZARD_F_GROUND_DROP) != 0u) {
         return 1;
     }
-    return c->drop_mm >= det_h_t_at(cfg, c->range_mm);
+    return c->drop_mm >= det_h_t_at(cfg, c->range_mm) &&
+           (c->flags & NEGOBS_HAZARD_F_UNIT_SHALLOW) == 0u;
 }
 
 /* The unassociated track whose gate (the walking geometry of the file
