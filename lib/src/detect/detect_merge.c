@@ -19,6 +19,7 @@ void det_merge_strips(const scan_ctx_t *s, detect_priv_t *p,
         int32_t n_textured = 0;
         int64_t unit_sum = 0;
         int64_t unit_plateau = 0;
+        int32_t n_unit = 0;
         negobs_hazard_t h;
         if (!p->hits[i].found) {
             i++;
@@ -74,6 +75,7 @@ void det_merge_strips(const scan_ctx_t *s, detect_priv_t *p,
             if (sh->unit_drop_mm >= 0) {
                 unit_sum += sh->unit_drop_mm;
                 unit_plateau += sh->drop_mm;
+                n_unit++;
             }
         }
         if (2 * n_textured > cnt) {
@@ -95,8 +97,10 @@ void det_merge_strips(const scan_ctx_t *s, detect_priv_t *p,
         h.strips = (int16_t)cnt;
         /* the strips that measured a whole pixel of floor past the edge
          * (detect_scan.c, unit_drop_mm): over it a lower surface keeps
-         * about its plateau, the ripple at most half of it */
-        if (h.type != NEGOBS_HAZARD_UNKNOWN && 2 * unit_sum < unit_plateau) {
+         * about its plateau, the ripple at most half of it; a mean that
+         * reaches h_t there is a drop whatever the plateau read */
+        if (h.type != NEGOBS_HAZARD_UNKNOWN && 2 * unit_sum < unit_plateau &&
+            unit_sum < (int64_t)n_unit * det_h_t_at(cfg, h.range_mm)) {
             h.flags |= NEGOBS_HAZARD_F_UNIT_SHALLOW;
         }
         /* Edge orientation: least-squares line range = m * lateral + q
