@@ -1263,6 +1263,21 @@ static int32_t ripple_q4(int32_t d_q4, int32_t a_q4)
     return (2 * a_q4 * (16 - f)) / 10;
 }
 
+/* The ripple on the rendered map, in the four strips of columns 128-191. */
+static void add_ripple(int32_t a_q4)
+{
+    int32_t u;
+    int32_t v;
+    for (v = 0; v < RIG_H; v++) {
+        for (u = 128; u < 192; u++) {
+            int16_t *d = &rig.disp[v * RIG_W + u];
+            if (*d > 0) {
+                *d = (int16_t)(*d + ripple_q4(*d, a_q4));
+            }
+        }
+    }
+}
+
 /* The locking ripple in four strips of a flat floor seen by a 6 cm rig
  * (1.57 m / 28 deg): its negative half passes the rule as a 90 mm "drop"
  * 2.2 m ahead on every frame. Over a whole pixel of floor disparity past
@@ -1286,19 +1301,10 @@ static void test_detect_locking_ripple_confirms_nothing(void **state)
     cfg.cam_pitch_mdeg = 28000;
     rig_setup(&rig, &cfg);
     for (i = 0; i < 10; i++) {
-        int32_t u;
-        int32_t v;
         uint32_t k;
         synth_flat(&s, 1.57, 28.0);
         synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
-        for (v = 0; v < RIG_H; v++) {
-            for (u = 128; u < 192; u++) {
-                int16_t *d = &rig.disp[v * RIG_W + u];
-                if (*d > 0) {
-                    *d = (int16_t)(*d + ripple_q4(*d, a_q4));
-                }
-            }
-        }
+        add_ripple(a_q4);
         assert_int_equal(rig_run(&rig), NEGOBS_OK);
         for (k = 0; k < rig.res.n_candidates; k++) {
             cands++;
@@ -1319,20 +1325,11 @@ static void test_detect_locking_ripple_confirms_nothing(void **state)
     hazards = 0;
     shallow = 0;
     for (i = 0; i < 10; i++) {
-        int32_t u;
-        int32_t v;
         uint32_t k;
         synth_flat(&s, 1.57, 28.0);
         synth_step(&s, 1.8, -0.06);
         synth_render(&s, &rig.cfg.rig, rig.disp, RIG_W);
-        for (v = 0; v < RIG_H; v++) {
-            for (u = 128; u < 192; u++) {
-                int16_t *d = &rig.disp[v * RIG_W + u];
-                if (*d > 0) {
-                    *d = (int16_t)(*d + ripple_q4(*d, a_q4));
-                }
-            }
-        }
+        add_ripple(a_q4);
         assert_int_equal(rig_run(&rig), NEGOBS_OK);
         for (k = 0; k < rig.res.n_candidates; k++) {
             shallow += (rig.res.candidates[k].flags &

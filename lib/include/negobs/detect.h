@@ -132,12 +132,12 @@ typedef enum negobs_sensitivity {
  *  where it should have matched, an occlusion / drop cue. Without it the
  *  band is bland (or no left image was given): "unknown". */
 #define NEGOBS_HAZARD_F_TEXTURED 32u
-/** A measured drop whose strips' mean deficit over one whole pixel of
- *  floor disparity past the edge stays below the rule's height there:
- *  its plateau may be the matcher's sub-pixel ripple, which alternates in
- *  sign over such a pixel. It cuts the vouched range as any candidate,
- *  but never confirms a track by its depth (docs/DETECTION.md 5, "One
- *  pixel of floor"). */
+/** A measured drop whose strips' mean depth over one whole pixel of
+ *  floor disparity past the edge stays below both the rule's height there
+ *  and half of the plateau they read: its plateau may be the matcher's
+ *  sub-pixel ripple, which alternates in sign over such a pixel. It cuts
+ *  the vouched range as any candidate, but never confirms a track by its
+ *  depth (docs/DETECTION.md 5, "One pixel of floor"). */
 #define NEGOBS_HAZARD_F_UNIT_SHALLOW 64u
 
 /** One hazard (a candidate of this frame or a temporal track). */

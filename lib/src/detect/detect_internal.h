@@ -66,7 +66,7 @@ typedef struct strip_hit {
     int32_t rho1_q15;  /* relative deficit of the first plateau       */
     /* the drop over one whole pixel of floor disparity past the edge
      * (detect_scan.c, unit_drop_mm), mm; -1: not measured (missing
-     * ground, or the unit runs out of the scan) */
+     * ground, or the pixel runs out of the scan) */
     int32_t unit_drop_mm;
     int32_t reported; /* part of a candidate of this frame           */
     /* det_strip_noise: where a wall or up-step closes the strip (the foot of

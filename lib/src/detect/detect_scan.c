@@ -748,13 +748,13 @@ static void scan_missing(const scan_ctx_t *s, int32_t u0, int32_t u1,
  * ripple is 0.04-0.07 px peak to peak, but over the smooth interiors of
  * paving tiles it reached -0.15 and +0.1 px within a strip on a 6 cm rig
  * (OpenCV's SGBM read the same wave at the same rows, larger), and its
- * negative half then passed the rule as a 40-50 mm "drop". A lower
+ * negative half then passed the rule as a 40-70 mm "drop". A lower
  * surface keeps its deficit over the whole cycle; the ripple averages
  * out over it. So the deficit is measured again as the mean of the
  * strip's row medians over the rows past the edge where the ground
  * disparity falls by one pixel (16 in Q4), as the same-ray height H (d_g
  * - d) / d. -1 when fewer than half of those rows can vote or the cycle
- * runs out of the scan (the far end of the matcher's range). A stair's
+ * runs out of the scan (past range_max_mm, or the image's top). A stair's
  * deeper tread or a hole's far rim inside the cycle move the mean as
  * they move the floor: deeper, or back up towards the ground.
  */
