@@ -809,8 +809,9 @@ static int32_t unit_drop_mm(const scan_ctx_t *s, int32_t u0, int32_t u1,
             continue;
         }
         i = n / 2;
-        sum_r += (n & 1) ? 2 * r[i] : r[i - 1] + r[i];
-        sum_g += 2 * dgc;
+        /* twice the median, so an even count needs no halving */
+        sum_r += (n & 1) ? 2 * (int64_t)r[i] : (int64_t)r[i - 1] + r[i];
+        sum_g += 2 * (int64_t)dgc;
         seen++;
     }
     if (v < 0 || rows == 0 || seen * 2 < rows || sum_g + sum_r <= 0) {
