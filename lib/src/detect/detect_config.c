@@ -325,3 +325,11 @@ negobs_status_t negobs_detect_set_executor(negobs_detect_t *ctx,
     p->exec = *exec;
     return NEGOBS_OK;
 }
+
+/* The drop the rule is set for at a floor range (detect_int.h). */
+int32_t det_h_t_at(const negobs_detect_config_t *cfg, int32_t range_mm)
+{
+    int32_t h_min = (range_mm <= cfg->h_near_range_mm) ? cfg->h_min_near_mm
+                                                       : cfg->h_min_far_mm;
+    return (h_min * cfg->h_thresh_pct) / 100;
+}

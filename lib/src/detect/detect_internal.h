@@ -7,6 +7,7 @@
  *   detect_gate.c    photometric image gate
  *   detect_fill.c    rectification fill: the columns out of view
  *   detect_scan.c    per-strip scan (the rule of docs/DETECTION.md 5)
+ *   detect_unit.c    a drop's depth over one pixel of floor (section 5)
  *   detect_noise.c   measured strip-median noise per band (step 6)
  *   detect_vouch.c   the vouched range and the verdict (section 10)
  *   detect_merge.c   strips -> hazards
@@ -65,7 +66,7 @@ typedef struct strip_hit {
     int32_t margin_q8; /* mean deficit / tau, Q8                     */
     int32_t rho1_q15;  /* relative deficit of the first plateau       */
     /* the drop over one whole pixel of floor disparity past the edge
-     * (detect_scan.c, unit_drop_mm), mm; -1: not measured (missing
+     * (detect_unit.c, det_unit_drop_mm), mm; -1: not measured (missing
      * ground, or the pixel runs out of the scan) */
     int32_t unit_drop_mm;
     int32_t reported; /* part of a candidate of this frame           */
@@ -349,6 +350,12 @@ int det_strip_in_walk(const scan_ctx_t *s, int32_t n_strips, int32_t si,
 
 void det_scan_strip(const scan_ctx_t *s, int32_t u0, int32_t u1,
                     strip_hit_t *hit);
+
+/* The drop (mm) past edge_v over the rows where the ground disparity falls
+ * by one whole pixel, from the strip's row medians (detect_unit.c); -1 when
+ * that pixel runs out of the scan or too few of its rows vote. */
+int32_t det_unit_drop_mm(const scan_ctx_t *s, int32_t u0, int32_t u1,
+                         int32_t edge_v);
 
 int32_t det_strip_occluder(const scan_ctx_t *s, int32_t u0, int32_t u1);
 

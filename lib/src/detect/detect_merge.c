@@ -96,7 +96,7 @@ void det_merge_strips(const scan_ctx_t *s, detect_priv_t *p,
         h.drop_mm = (int32_t)(drop_sum / cnt);
         h.strips = (int16_t)cnt;
         /* the strips that measured a whole pixel of floor past the edge
-         * (detect_scan.c, unit_drop_mm): over it a lower surface keeps
+         * (detect_unit.c, det_unit_drop_mm): over it a lower surface keeps
          * about its plateau, the ripple at most half of it; a mean that
          * reaches h_t there is a drop whatever the plateau read */
         if (h.type != NEGOBS_HAZARD_UNKNOWN && 2 * unit_sum < unit_plateau &&
