@@ -67,6 +67,9 @@ static void fake_run(void *user, int32_t n_jobs, negobs_job_fn fn, void *arg)
     f->runs++;
 }
 
+/* 1: the runs use Canny's fixed thresholds (canny_top_permille 0) */
+static int g_fixed_canny;
+
 static void init_run(run_t *r, int32_t bands, int32_t workers,
                      int32_t strip_rows)
 {
@@ -74,6 +77,9 @@ static void init_run(run_t *r, int32_t bands, int32_t workers,
     size_t bytes = 0;
     negobs_stereo_config_default(&cfg, W, H);
     cfg.max_disp = 47;
+    if (g_fixed_canny) {
+        cfg.canny_top_permille = 0;
+    }
     cfg.strip_rows = strip_rows;
     cfg.bands = bands;
     cfg.band_workers = workers;
@@ -259,12 +265,13 @@ static uint32_t rnd(uint32_t *x)
 /*
  * The seam rule. A fronto-parallel plane at 12 px: full-contrast random
  * texture in rows 0-31 (the first band), below a texture of 6 grey levels,
- * whose Sobel magnitude (at most 48) stays under canny_low (60): no edges,
- * so the lower bands have no seed of their own, yet their windows
- * correlate perfectly. Growth from the first band carries down strip by
- * strip in a sequential run; with bands, the seam rule must grow the
- * seedless bands again from the rows above their borders, or they stay
- * empty.
+ * whose Sobel magnitude (at most 48) stays under canny_low (60): with the
+ * fixed thresholds (canny_top_permille 0) no edges, so the lower bands
+ * have no seed of their own, yet their windows correlate perfectly.
+ * Growth from the first band carries down strip by strip in a sequential
+ * run; with bands, the seam rule must grow the seedless bands again from
+ * the rows above their borders, or they stay empty. With the strips' own
+ * strongest share (the default) the lower bands seed themselves.
  */
 static void test_seam_rule_fills_seedless_bands(void **state)
 {
@@ -272,6 +279,8 @@ static void test_seam_rule_fills_seedless_bands(void **state)
     int32_t x;
     int32_t y;
     int i;
+    uint32_t regrown[3];
+    uint32_t seeds[3];
     (void)state;
     for (y = 0; y < H; y++) {
         for (x = 0; x < W; x++) {
@@ -285,29 +294,36 @@ static void test_seam_rule_fills_seedless_bands(void **state)
             right[y * W + x] = left[y * W + (x + 12 < W ? x + 12 : W - 1)];
         }
     }
-    for (i = 0; i < 2; i++) {
+    for (i = 0; i < 3; i++) {
         negobs_image_u8_t li = {left, W, H, W};
         negobs_image_u8_t ri = {right, W, H, W};
-        negobs_image_s16_t di = {g_run[i].disp, W, H, W};
+        run_t *r = &g_run[i == 1];
+        negobs_image_s16_t di = {r->disp, W, H, W};
         int32_t good = 0;
-        init_run(&g_run[i], i == 0 ? 1 : 4, 1, 16);
-        assert_int_equal(negobs_stereo_process(&g_run[i].ctx, &li, &ri, &di,
-                                               NULL, &g_run[i].st),
-                         NEGOBS_OK);
+        g_fixed_canny = i < 2;
+        init_run(r, i == 0 ? 1 : 4, 1, 16);
+        g_fixed_canny = 0;
+        assert_int_equal(
+            negobs_stereo_process(&r->ctx, &li, &ri, &di, NULL, &r->st),
+            NEGOBS_OK);
+        regrown[i] = r->st.seam_regrown;
+        seeds[i] = r->st.seeds;
         /* rows 64.. (bands 2 and 3 of 4): the plane, nearly everywhere */
         for (y = 64; y < H - 4; y++) {
             for (x = 20; x < W - 4; x++) {
-                int32_t d = g_run[i].disp[y * W + x];
+                int32_t d = r->disp[y * W + x];
                 good += (d != NEGOBS_DISP_INVALID && d >= 11 * 16 &&
                          d <= 13 * 16);
             }
         }
         assert_true(good * 10 >= (H - 68) * (W - 24) * 9);
     }
-    assert_int_equal(g_run[0].st.seam_regrown, 0);
+    assert_int_equal(regrown[0], 0);
     /* bands 2 and 3; band 1 has seeds on its first rows, whose Sobel
      * window reaches the textured band above */
-    assert_int_equal(g_run[1].st.seam_regrown, 2);
+    assert_int_equal(regrown[1], 2);
+    assert_int_equal(regrown[2], 0);
+    assert_true(seeds[2] > seeds[1]);
 }
 
 /* Runs the jobs in index order, job j on worker j % workers: the

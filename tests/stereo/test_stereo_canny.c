@@ -135,6 +135,67 @@ static void test_canny_hysteresis_keeps_weak_pixels_next_to_strong(
     assert_int_equal(stx_canny_strip(&s, 0, H), 0);
 }
 
+/* A strip whose strongest gradients stay below canny_high takes its own
+ * strongest share as the strong threshold: the 10-level step that the
+ * fixed thresholds miss (above) is found, one pixel a row. */
+static void test_canny_top_share_finds_a_weak_step(void **state)
+{
+    negobs_image_u8_t img;
+    stx_t s = make(&img);
+    int32_t x;
+    int32_t y;
+    (void)state;
+    for (y = 0; y < H; y++) {
+        for (x = 0; x < W; x++) {
+            pix[y * W + x] = (uint8_t)((x < 32) ? 90 : 100);
+        }
+    }
+    assert_int_equal(stx_canny_strip(&s, 0, H), 0);
+    s.cfg.canny_top_permille = 3;
+    assert_int_equal(stx_canny_strip(&s, 0, H), H - 2);
+    for (y = 1; y < H - 1; y++) {
+        assert_true(edge[y * W + 31] || edge[y * W + 32]);
+    }
+    /* a flat strip stays without edges: the threshold's floor */
+    memset(pix, 90, sizeof pix);
+    assert_int_equal(stx_canny_strip(&s, 0, H), 0);
+    /* two grey levels of step (magnitude 8) lie below that floor */
+    for (y = 0; y < H; y++) {
+        for (x = 0; x < W; x++) {
+            pix[y * W + x] = (uint8_t)((x < 32) ? 90 : 92);
+        }
+    }
+    assert_int_equal(stx_canny_strip(&s, 0, H), 0);
+}
+
+/* Where the strongest share reaches canny_high the fixed thresholds hold
+ * exactly: beside a strong step, a weak one stays unmarked. */
+static void test_canny_top_share_keeps_textured_strips(void **state)
+{
+    negobs_image_u8_t img;
+    stx_t s = make(&img);
+    static uint8_t fixed[H * W];
+    int32_t x;
+    int32_t y;
+    uint32_t n;
+    (void)state;
+    for (y = 0; y < H; y++) {
+        for (x = 0; x < W; x++) {
+            int32_t v = (x < 16) ? 40 : 200; /* magnitude 640 at 15-16 */
+            v += (x >= 48) ? 10 : 0;         /* magnitude 40 at 47-48 */
+            pix[y * W + x] = (uint8_t)v;
+        }
+    }
+    n = stx_canny_strip(&s, 0, H);
+    memcpy(fixed, edge, sizeof fixed);
+    s.cfg.canny_top_permille = 3;
+    assert_int_equal(stx_canny_strip(&s, 0, H), n);
+    assert_memory_equal(edge, fixed, sizeof fixed);
+    for (y = 1; y < H - 1; y++) {
+        assert_false(edge[y * W + 47] || edge[y * W + 48]);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -143,6 +204,8 @@ int main(void)
         cmocka_unit_test(test_canny_flat_and_weak_edges_give_nothing),
         cmocka_unit_test(
             test_canny_hysteresis_keeps_weak_pixels_next_to_strong),
+        cmocka_unit_test(test_canny_top_share_finds_a_weak_step),
+        cmocka_unit_test(test_canny_top_share_keeps_textured_strips),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -41,6 +41,11 @@ typedef struct result {
 static int g_flat_scene;
 static int g_near_scene;    /* floor 8 .. 44 px, bottom 48 rows flat at 1/4 */
 static int32_t g_first_row; /* negobs_stereo_set_first_row before a run */
+/* > 1: both images' contrast about grey 128 divided by this (a dim or
+ * low-contrast camera); the texture keeps its shape, its gradients shrink */
+static int32_t g_contrast_div;
+/* >= 0: cfg.canny_top_permille for the run (else the default) */
+static int32_t g_top_permille = -1;
 /* negobs_stereo_hold_vertical_offset before the run (NO_HOLD: none); the
  * same pair is then matched once more without a hold (next_offset) */
 #define NO_HOLD (-100)
@@ -101,11 +106,23 @@ static result_t run(int32_t voff, int32_t vsearch, int32_t fixed_off)
         sc.box_q8 = 0;
     }
     synth_render_fine(&sc, g_near_scene ? 48 : 0, left, right, gt, occ, tex);
+    if (g_contrast_div > 1) {
+        int32_t i;
+        for (i = 0; i < W * H; i++) {
+            left[i] = (uint8_t)(128 +
+                                ((int32_t)left[i] - 128) / g_contrast_div);
+            right[i] = (uint8_t)(128 +
+                                 ((int32_t)right[i] - 128) / g_contrast_div);
+        }
+    }
 
     negobs_stereo_config_default(&cfg, W, H);
     cfg.max_disp = 47;
     cfg.vertical_search = vsearch;
     cfg.vertical_offset = fixed_off;
+    if (g_top_permille >= 0) {
+        cfg.canny_top_permille = g_top_permille;
+    }
     assert_int_equal(negobs_stereo_workspace_size(&cfg, &need), NEGOBS_OK);
     assert_true(need <= sizeof ws);
     assert_int_equal(negobs_stereo_init(&ctx, &cfg, ws, sizeof ws), NEGOBS_OK);
@@ -357,6 +374,33 @@ static void test_regress_range_covers_floor_unseen_at_quarter_scale(
     assert_true(r.st.range_max >= 44);
 }
 
+/* A low-contrast pair (the texture at a sixth of its contrast): no
+ * gradient reaches the fixed strong threshold, so without the strips'
+ * own strongest share (canny_top_permille 0) there is no seed and
+ * nothing is matched; with it the pair is matched almost as well as at
+ * full contrast. On the full-contrast pair the share changes nothing. */
+static void test_regress_low_contrast_pair_gets_seeds(void **state)
+{
+    static int16_t full[W * H];
+    result_t r;
+    (void)state;
+    r = run(0, 4, 0);
+    memcpy(full, disp, sizeof full);
+    g_top_permille = 0;
+    r = run(0, 4, 0);
+    assert_memory_equal(disp, full, sizeof full);
+    g_contrast_div = 6;
+    r = run(0, 4, 0);
+    assert_int_equal(r.st.seeds, 0);
+    assert_true(r.dens < 100);
+    g_top_permille = -1;
+    r = run(0, 4, 0);
+    g_contrast_div = 0;
+    assert_true(r.st.seeds > 0);
+    assert_true(r.bad1 <= 2 * BAD1_MAX_PERMILLE);
+    assert_true(r.dens >= DENS_MIN_PERMILLE - 20);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -371,6 +415,7 @@ int main(void)
         cmocka_unit_test(test_regress_first_row_crop),
         cmocka_unit_test(
             test_regress_range_covers_floor_unseen_at_quarter_scale),
+        cmocka_unit_test(test_regress_low_contrast_pair_gets_seeds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -57,6 +57,11 @@ typedef struct negobs_stereo_config {
                                   left row y matches right row y + offset */
 
     /* seeds (stage 2) */
+    /** A strip whose strongest canny_top_permille of gradients lie below
+     *  canny_high takes that share's magnitude as its strong threshold
+     *  and the weak one in proportion (low-contrast floors still get
+     *  seeds); 0 = the fixed thresholds. Per mille (3). */
+    int32_t canny_top_permille;
     int32_t canny_low;       /**< L1 Sobel magnitude of a weak edge (60)    */
     int32_t canny_high;      /**< L1 Sobel magnitude of a strong edge (120) */
     int32_t seed_step;       /**< try every n-th edge pixel of a row (4)    */

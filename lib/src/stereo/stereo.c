@@ -23,6 +23,7 @@ void negobs_stereo_config_default(negobs_stereo_config_t *cfg, int32_t width,
     cfg->vertical_offset = 0;
     cfg->canny_low = 60;
     cfg->canny_high = 120;
+    cfg->canny_top_permille = 3;
     cfg->seed_step = 4;
     cfg->seed_tau_q14 = 13107;  /* 0.8 */
     cfg->seed_margin_q14 = 819; /* 0.05 */
@@ -72,7 +73,9 @@ static negobs_status_t check_config(const negobs_stereo_config_t *c)
         return NEGOBS_ERR_INVAL;
     }
     if (c->canny_low < 0 || c->canny_high < c->canny_low ||
-        c->canny_high > 4096 || c->seed_step < 1 || c->seed_step > 64) {
+        c->canny_high > 4096 || c->canny_top_permille < 0 ||
+        c->canny_top_permille > 1000 || c->seed_step < 1 ||
+        c->seed_step > 64) {
         return NEGOBS_ERR_INVAL;
     }
     if (c->seed_tau_q14 < 0 || c->seed_tau_q14 > STX_ONE_Q14 ||
