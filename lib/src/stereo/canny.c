@@ -48,12 +48,12 @@ static void sobel(const negobs_image_u8_t *img, int32_t x, int32_t y,
  * the lower edge of the histogram bin that reaches it. Textured strips,
  * where the share reaches canny_high, keep the fixed thresholds exactly.
  */
-static int32_t strip_high(const stx_t *s, int32_t y0, int32_t n)
+static int32_t strip_high(const stx_t *s, int32_t y0, int32_t n,
+                          uint32_t strong, uint32_t total)
 {
     const int32_t high = s->cfg.canny_high;
     const int32_t w = s->w;
     uint32_t hist[CANNY_BINS + 2];
-    uint32_t total = 0;
     uint32_t need;
     uint32_t acc = 0;
     int32_t shift = 0;
@@ -61,7 +61,11 @@ static int32_t strip_high(const stx_t *s, int32_t y0, int32_t n)
     int32_t b;
     int32_t r;
     int32_t x;
-    if (s->cfg.canny_top_permille <= 0 || high <= CANNY_HIGH_FLOOR) {
+    /* total <= 255 x 4096 rows x columns: x 1000 fits 32 bits */
+    need = (total * (uint32_t)s->cfg.canny_top_permille + 999u) / 1000u;
+    /* the usual case, a textured strip: no histogram */
+    if (s->cfg.canny_top_permille <= 0 || high <= CANNY_HIGH_FLOOR ||
+        total == 0u || strong >= need) {
         return high;
     }
     while ((high >> shift) > CANNY_BINS) {
@@ -79,17 +83,14 @@ static int32_t strip_high(const stx_t *s, int32_t y0, int32_t n)
             int32_t v = m[x];
             hist[(v >= high) ? top : (v >> shift)]++;
         }
-        total += (uint32_t)(w - 2);
     }
-    /* total <= 255 x 4096 rows x columns: x 1000 fits 32 bits */
-    need = (total * (uint32_t)s->cfg.canny_top_permille + 999u) / 1000u;
     for (b = top; b >= 0; b--) {
         acc += hist[b];
         if (acc >= need) {
             break;
         }
     }
-    if (b >= top || total == 0u) {
+    if (b >= top) {
         return high;
     }
     b = (b < 0) ? 0 : b;
@@ -106,11 +107,14 @@ uint32_t stx_canny_strip(stx_t *s, int32_t y0, int32_t y1)
     int32_t r;
     int32_t x;
     uint32_t count = 0;
+    uint32_t strong = 0; /* the strip's own rows' magnitudes >= canny_high */
+    uint32_t total = 0;
 
     /* magnitude rows y0-1 .. y1 (index r+1 holds row y0+r) */
     for (r = -1; r <= n; r++) {
         int32_t y = y0 + r;
         uint16_t *m = s->mag + (ptrdiff_t)(r + 1) * w;
+        const int own = r >= 0 && r < n;
         memset(m, 0, (size_t)w * sizeof *m);
         if (y < 1 || y >= s->h - 1) {
             continue;
@@ -121,8 +125,15 @@ uint32_t stx_canny_strip(stx_t *s, int32_t y0, int32_t y1)
             sobel(img, x, y, &gx, &gy);
             m[x] = (uint16_t)(negobs_abs_s32(gx) + negobs_abs_s32(gy));
         }
+        if (own) {
+            const int32_t high = s->cfg.canny_high;
+            for (x = 1; x < w - 1; x++) {
+                strong += (m[x] >= high) ? 1u : 0u;
+            }
+            total += (uint32_t)(w - 2);
+        }
     }
-    hi = strip_high(s, y0, n);
+    hi = strip_high(s, y0, n, strong, total);
     /* the weak threshold in proportion; exactly canny_low at canny_high */
     lo = (hi == s->cfg.canny_high)
              ? s->cfg.canny_low
