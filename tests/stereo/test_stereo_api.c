@@ -156,6 +156,15 @@ static void test_bad_configs_are_rejected(void **state)
     c.strip_rows = 4;
     assert_int_equal(negobs_stereo_workspace_size(&c, &need),
                      NEGOBS_ERR_INVAL);
+    config(&c);
+    c.canny_top_permille = -1;
+    assert_int_equal(negobs_stereo_workspace_size(&c, &need),
+                     NEGOBS_ERR_INVAL);
+    c.canny_top_permille = 1001;
+    assert_int_equal(negobs_stereo_workspace_size(&c, &need),
+                     NEGOBS_ERR_INVAL);
+    c.canny_top_permille = 1000;
+    assert_int_equal(negobs_stereo_workspace_size(&c, &need), NEGOBS_OK);
     negobs_stereo_config_default(&c, 2000, 100);
     c.max_disp = 300; /* more than 256 levels */
     assert_int_equal(negobs_stereo_workspace_size(&c, &need),

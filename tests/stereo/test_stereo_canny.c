@@ -29,6 +29,18 @@ static stx_t make(negobs_image_u8_t *img)
     return s;
 }
 
+/* A vertical step between columns 31 and 32: `a` left of it, `b` right. */
+static void fill_vertical_step(uint8_t a, uint8_t b)
+{
+    int32_t x;
+    int32_t y;
+    for (y = 0; y < H; y++) {
+        for (x = 0; x < W; x++) {
+            pix[y * W + x] = (x < 32) ? a : b;
+        }
+    }
+}
+
 static void test_canny_vertical_step_gives_one_column(void **state)
 {
     negobs_image_u8_t img;
@@ -37,11 +49,7 @@ static void test_canny_vertical_step_gives_one_column(void **state)
     int32_t y;
     uint32_t n;
     (void)state;
-    for (y = 0; y < H; y++) {
-        for (x = 0; x < W; x++) {
-            pix[y * W + x] = (uint8_t)((x < 32) ? 50 : 200);
-        }
-    }
+    fill_vertical_step(50, 200);
     n = stx_canny_strip(&s, 0, H);
     /* rows 1..H-2 have a full Sobel; exactly one edge pixel each */
     assert_int_equal(n, H - 2);
@@ -90,17 +98,11 @@ static void test_canny_flat_and_weak_edges_give_nothing(void **state)
 {
     negobs_image_u8_t img;
     stx_t s = make(&img);
-    int32_t x;
-    int32_t y;
     (void)state;
     memset(pix, 90, sizeof pix);
     assert_int_equal(stx_canny_strip(&s, 0, H), 0);
     /* step of 10 grey levels: L1 magnitude 40 < low threshold */
-    for (y = 0; y < H; y++) {
-        for (x = 0; x < W; x++) {
-            pix[y * W + x] = (uint8_t)((x < 32) ? 90 : 100);
-        }
-    }
+    fill_vertical_step(90, 100);
     assert_int_equal(stx_canny_strip(&s, 0, H), 0);
 }
 
@@ -142,14 +144,9 @@ static void test_canny_top_share_finds_a_weak_step(void **state)
 {
     negobs_image_u8_t img;
     stx_t s = make(&img);
-    int32_t x;
     int32_t y;
     (void)state;
-    for (y = 0; y < H; y++) {
-        for (x = 0; x < W; x++) {
-            pix[y * W + x] = (uint8_t)((x < 32) ? 90 : 100);
-        }
-    }
+    fill_vertical_step(90, 100);
     assert_int_equal(stx_canny_strip(&s, 0, H), 0);
     s.cfg.canny_top_permille = 3;
     assert_int_equal(stx_canny_strip(&s, 0, H), H - 2);
@@ -160,11 +157,7 @@ static void test_canny_top_share_finds_a_weak_step(void **state)
     memset(pix, 90, sizeof pix);
     assert_int_equal(stx_canny_strip(&s, 0, H), 0);
     /* two grey levels of step (magnitude 8) lie below that floor */
-    for (y = 0; y < H; y++) {
-        for (x = 0; x < W; x++) {
-            pix[y * W + x] = (uint8_t)((x < 32) ? 90 : 92);
-        }
-    }
+    fill_vertical_step(90, 92);
     assert_int_equal(stx_canny_strip(&s, 0, H), 0);
 }
 
