@@ -38,6 +38,24 @@
 #define DETECT_MAGIC 0x4E474454u /* "NGDT" */
 #define MAX_STRIP_PX 64
 
+/* Median of n (1..MAX_STRIP_PX) values, times 2 (the two middle values
+ * summed for even n), so no precision is lost: a strip row's vote. Sorts
+ * x in place (insertion sort: n is small). */
+static inline int32_t det_median2_s32(int32_t *x, int32_t n)
+{
+    int32_t i;
+    for (i = 1; i < n; i++) {
+        int32_t t = x[i];
+        int32_t j = i - 1;
+        while (j >= 0 && x[j] > t) {
+            x[j + 1] = x[j];
+            j--;
+        }
+        x[j + 1] = t;
+    }
+    return (n & 1) ? 2 * x[n / 2] : x[n / 2 - 1] + x[n / 2];
+}
+
 /* Frames of candidate sightings kept (detect_sight.c): confirm_n is at
  * most 31, and a sighting counts for confirm_n - 1 frames after its own. */
 #define SIGHT_FRAMES 32

@@ -11,23 +11,6 @@
  */
 enum { MAD_X256_TO_SIGMA_Q8_Q14 = 759 };
 
-/* Median of n (1..MAX_STRIP_PX) values, times 2 (the two middle values
- * summed for even n), so no precision is lost. Sorts x in place. */
-static int32_t median2_s32(int32_t *x, int32_t n)
-{
-    int32_t i;
-    for (i = 1; i < n; i++) {
-        int32_t t = x[i];
-        int32_t j = i - 1;
-        while (j >= 0 && x[j] > t) {
-            x[j + 1] = x[j];
-            j--;
-        }
-        x[j + 1] = t;
-    }
-    return (n & 1) ? 2 * x[n / 2] : x[n / 2 - 1] + x[n / 2];
-}
-
 /* Count of bin i of one or two pooled strip histograms. */
 static uint32_t pooled(const uint16_t *ha, const uint16_t *hb, int32_t i)
 {
@@ -167,7 +150,7 @@ static int strip_row_e(const scan_ctx_t *s, const detect_priv_t *p, int32_t v,
     if (n * 4 < cfg->strip_px || n < 3) {
         return 0; /* an INVALID row for the scan as well */
     }
-    e = median2_s32(rr, n);
+    e = det_median2_s32(rr, n);
     if (hit->reported && hit->type != NEGOBS_HAZARD_UNKNOWN &&
         v < hit->edge_v) {
         /* Past the edge of a candidate: compare with the nearer of the
@@ -262,7 +245,7 @@ static int closure_bars(const scan_ctx_t *s, const detect_priv_t *p,
         if (n * 4 < cfg->strip_px || n < 3) {
             continue;
         }
-        d_q4 = median2_s32(rr, n) / 2;
+        d_q4 = det_median2_s32(rr, n) / 2;
         dg_q4 = negobs_ground_disp_q4(s->plane, uc, v);
         if (d_q4 <= 0) {
             continue;

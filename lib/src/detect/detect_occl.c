@@ -32,24 +32,18 @@ static int32_t strip_median2_q4(const scan_ctx_t *s, int32_t u0, int32_t u1,
     int32_t rr[MAX_STRIP_PX];
     int32_t n = 0;
     int32_t u;
-    int32_t i;
     for (u = u0; u < u1; u++) {
         int32_t d = row[u];
         if (d == NEGOBS_DISP_INVALID || d <= 0 ||
             (crow != NULL && (int32_t)crow[u] < s->cfg->min_confidence)) {
             continue;
         }
-        /* insertion sort: at most MAX_STRIP_PX values */
-        for (i = n; i > 0 && rr[i - 1] > d; i--) {
-            rr[i] = rr[i - 1];
-        }
-        rr[i] = d;
-        n++;
+        rr[n++] = d;
     }
     if (n * 4 < (u1 - u0) || n < 3) {
         return 0;
     }
-    return (n & 1) ? 2 * rr[n / 2] : rr[n / 2 - 1] + rr[n / 2];
+    return det_median2_s32(rr, n);
 }
 
 /*

@@ -43,7 +43,6 @@ int32_t det_unit_drop_mm(const scan_ctx_t *s, int32_t u0, int32_t u1,
         int32_t r[MAX_STRIP_PX];
         int32_t n = 0;
         int32_t u;
-        int32_t i;
         if (dg0 - dgc >= NEGOBS_DISP_ONE) {
             break; /* a whole cycle */
         }
@@ -53,29 +52,21 @@ int32_t det_unit_drop_mm(const scan_ctx_t *s, int32_t u0, int32_t u1,
         rows++;
         for (u = u0; u < u1; u++) {
             const int32_t d = row[u];
-            int32_t x;
-            int32_t j;
             if (d == NEGOBS_DISP_INVALID || d < 0 ||
                 (crow != NULL && crow[u] < min_conf)) {
                 continue;
             }
             /* a lower surface reads down to d = 0; a wild match above
              * the floor weighs as 2 px, as in the band noise */
-            x = negobs_clamp_s32(d - negobs_ground_disp_q4(s->plane, u, v),
-                                 -dgc, 2 * NEGOBS_DISP_ONE);
-            /* insertion sort: n <= MAX_STRIP_PX */
-            for (j = n; j > 0 && r[j - 1] > x; j--) {
-                r[j] = r[j - 1];
-            }
-            r[j] = x;
-            n++;
+            r[n++] = negobs_clamp_s32(
+                d - negobs_ground_disp_q4(s->plane, u, v), -dgc,
+                2 * NEGOBS_DISP_ONE);
         }
         if (n * 4 < (u1 - u0) || n < 3) {
             continue;
         }
-        i = n / 2;
         /* twice the median, so an even count needs no halving */
-        sum_r += (n & 1) ? 2 * (int64_t)r[i] : (int64_t)r[i - 1] + r[i];
+        sum_r += det_median2_s32(r, n);
         sum_g += 2 * (int64_t)dgc;
         seen++;
     }
