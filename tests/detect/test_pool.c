@@ -134,7 +134,7 @@ static const negobs_image_s16_t *walk_ticks(pool_rig_t *r, int n,
         render(r, (drop0_m > 0.0) ? drop0_m - 0.12 * i : 0.0, noise_px,
                seed0 + (uint32_t)i);
         m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1,
-                           (i > 0) ? STEP_MM : 0, &r->pooled);
+                           (i > 0) ? STEP_MM : 0, 0u, &r->pooled);
     }
     return m;
 }
@@ -191,36 +191,155 @@ static int same_as_frame(const pool_rig_t *r, const negobs_image_s16_t *m)
     return 1;
 }
 
-/* No measured travel (standing, or a floor the patches cannot follow), a
- * fit that jumped by more than a head moves in a tick, and a fit found
- * wrong after the scan: each next map is the frame's own. */
+/* No measured travel over a gap longer than a tick or two (the walk
+ * since is unknown), a fit that jumped by more than a head moves in a
+ * tick, and a fit found wrong after the scan: each next map is the
+ * frame's own. */
 static void test_pool_needs_travel_and_steady_fits(void **state)
 {
     pool_rig_t *r = rig_new();
     const negobs_image_s16_t *m;
     (void)state;
     render(r, 0.0, 0.3, 31u);
-    (void)det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, 0, &r->pooled);
+    (void)det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, 0, 1000u,
+                         &r->pooled);
     render(r, 0.0, 0.3, 32u);
-    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, 0, &r->pooled);
+    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, 0, 1600u,
+                       &r->pooled);
     assert_true(same_as_frame(r, m));
     assert_int_equal(r->pooled, 0);
 
     render(r, 0.0, 0.3, 33u);
     fit_of(r, 1280, 20.0); /* 80 mm higher than the last tick's */
-    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM, &r->pooled);
+    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM, 1700u,
+                       &r->pooled);
     assert_true(same_as_frame(r, m));
     assert_int_equal(r->pooled, 0);
 
     render(r, 0.0, 0.3, 34u);
     fit_of(r, 1280, 20.0); /* the same fit again: steady */
-    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM, &r->pooled);
+    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM, 1800u,
+                       &r->pooled);
     assert_false(same_as_frame(r, m)); /* steady again: pooled */
     det_pool_distrust(&r->p);
     render(r, 0.0, 0.3, 35u);
-    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM, &r->pooled);
+    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM, 1900u,
+                       &r->pooled);
     assert_true(same_as_frame(r, m));
     assert_int_equal(r->pooled, 0);
+
+    /* without a measured travel the fits must agree more closely: 40 mm
+     * pools along a measured travel, not along the assumed one */
+    render(r, 0.0, 0.3, 36u);
+    (void)det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM, 2000u,
+                         &r->pooled);
+    render(r, 0.0, 0.3, 37u);
+    fit_of(r, 1240, 20.0);
+    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, 0, 2100u,
+                       &r->pooled);
+    assert_true(same_as_frame(r, m));
+    render(r, 0.0, 0.3, 38u);
+    fit_of(r, 1200, 20.0);
+    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM, 2200u,
+                       &r->pooled);
+    assert_false(same_as_frame(r, m));
+    free(r);
+}
+
+/* n ticks 100 ms apart, toward a 15 cm drop drop0_m ahead at the first,
+ * fresh noise each: the camera comes 120 mm nearer on the second tick,
+ * where that travel is measured (or not, with measured_1 0), and step_m on
+ * each later one, where the patches measure nothing (a floor they cannot
+ * follow). *ahead_m: the drop's distance at the last tick. The last
+ * pooled map. */
+static const negobs_image_s16_t *walk_paced(pool_rig_t *r, int n,
+                                            double drop0_m, double step_m,
+                                            uint32_t seed0, int measured_1,
+                                            double *ahead_m)
+{
+    const negobs_image_s16_t *m = NULL;
+    double ahead = drop0_m;
+    int i;
+    for (i = 0; i < n; i++) {
+        int32_t travel = 0;
+        if (i == 1) {
+            ahead -= 0.12;
+            travel = measured_1 ? STEP_MM : 0;
+        } else if (i > 1) {
+            ahead -= step_m;
+        }
+        render(r, ahead, 0.2, seed0 + (uint32_t)i);
+        m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, travel,
+                           500u + 100u * (uint32_t)i, &r->pooled);
+    }
+    *ahead_m = ahead;
+    return m;
+}
+
+/* After a pace measured at 1.2 m/s, ticks the patches cannot measure are
+ * pooled along that pace plus what a walker gains in half a second (at
+ * most 1.4 m/s): walking on at 1.2 m/s, or stopped dead, the pooled
+ * map's edge of a drop is where the frame sees it or nearer, never
+ * farther. Without a measured pace nothing is pooled: a camera that may
+ * be standing still has no travel to align along. */
+static void test_pool_unmeasured_travel_errs_nearer(void **state)
+{
+    const double steps[2] = {0.12, 0.0};
+    int s;
+    (void)state;
+    for (s = 0; s < 2; s++) {
+        pool_rig_t *r = rig_new();
+        double ahead = 0.0;
+        const negobs_image_s16_t *m = walk_paced(
+            r, 5, 3.0, steps[s], 71u + 10u * (uint32_t)s, 1, &ahead);
+        int truth[3];
+        int k;
+        assert_true(r->pooled > 900);
+        render(r, ahead, 0.0, 1u);
+        for (k = 0; k < 3; k++) {
+            truth[k] = edge_row(r, r->disp, 100 + 60 * k);
+            assert_true(truth[k] > 0);
+        }
+        for (k = 0; k < 3; k++) {
+            /* rows grow toward the feet: never above the frame's edge */
+            assert_true(edge_row(r, m->data, 100 + 60 * k) >= truth[k] - 1);
+        }
+        free(r);
+    }
+    {
+        pool_rig_t *r = rig_new();
+        double ahead = 0.0;
+        const negobs_image_s16_t *m = walk_paced(r, 5, 0.0, 0.12, 91u, 1,
+                                                 &ahead);
+        assert_true(scatter_px(r, m->data, 140, 230) <
+                    0.65 * scatter_px(r, r->disp, 140, 230));
+        free(r);
+    }
+    {
+        pool_rig_t *r = rig_new();
+        double ahead = 0.0;
+        const negobs_image_s16_t *m = walk_paced(r, 5, 3.0, 0.12, 95u, 0,
+                                                 &ahead);
+        assert_true(same_as_frame(r, m));
+        assert_int_equal(r->pooled, 0);
+        free(r);
+    }
+}
+
+/* The pace is kept for 500 ms: on the sixth unmeasured tick after it
+ * (600 ms) the map is the frame's own again. */
+static void test_pool_pace_expires(void **state)
+{
+    pool_rig_t *r = rig_new();
+    double ahead = 0.0;
+    const negobs_image_s16_t *m = walk_paced(r, 8, 3.0, 0.12, 97u, 1, &ahead);
+    (void)state;
+    assert_true(same_as_frame(r, m));
+    assert_int_equal(r->pooled, 0);
+    free(r);
+    r = rig_new();
+    m = walk_paced(r, 7, 3.0, 0.12, 97u, 1, &ahead); /* the fifth: 500 ms */
+    assert_false(same_as_frame(r, m));
     free(r);
 }
 
@@ -232,12 +351,12 @@ static void test_pool_off_between_ticks(void **state)
     (void)state;
     render(r, 0.0, 0.3, 41u);
     assert_ptr_equal(
-        det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 0, 0, &r->pooled),
+        det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 0, 0, 0u, &r->pooled),
         &r->img);
     r->p.pool_out = NULL;
-    assert_ptr_equal(
-        det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM, &r->pooled),
-        &r->img);
+    assert_ptr_equal(det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM,
+                                    0u, &r->pooled),
+                     &r->img);
     free(r);
 }
 
@@ -252,7 +371,8 @@ static void test_pool_gate_keeps_another_surface(void **state)
     render(r, 0.0, 0.1, 54u);
     r->disp[200 * W + 160] = (int16_t)(r->disp[200 * W + 160] +
                                        3 * NEGOBS_DISP_ONE);
-    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM, &r->pooled);
+    m = det_pool_frame(&r->p, &r->cfg, &r->img, &r->g, 1, STEP_MM, 0u,
+                       &r->pooled);
     assert_int_equal(m->data[200 * W + 160], r->disp[200 * W + 160]);
     free(r);
 }
@@ -288,9 +408,9 @@ static void assert_pooled_alike(pool_rig_t *a, pool_rig_t *b, int n,
         render(a, drop0_m - 0.12 * i, 0.2, seed0 + (uint32_t)i);
         render(b, drop0_m - 0.12 * i, 0.2, seed0 + (uint32_t)i);
         ma = det_pool_frame(&a->p, &a->cfg, &a->img, &a->g, 1,
-                            (i > 0) ? STEP_MM : 0, &a->pooled);
+                            (i > 0) ? STEP_MM : 0, 0u, &a->pooled);
         mb = det_pool_frame(&b->p, &b->cfg, &b->img, &b->g, 1,
-                            (i > 0) ? STEP_MM : 0, &b->pooled);
+                            (i > 0) ? STEP_MM : 0, 0u, &b->pooled);
         assert_memory_equal(ma->data, mb->data, sizeof(int16_t) * W * H);
         assert_memory_equal(a->hist, b->hist, sizeof a->hist);
         assert_int_equal(a->pooled, b->pooled);
@@ -372,6 +492,8 @@ int main(void)
         cmocka_unit_test(test_pool_halves_floor_noise),
         cmocka_unit_test(test_pool_keeps_the_edge_in_place),
         cmocka_unit_test(test_pool_needs_travel_and_steady_fits),
+        cmocka_unit_test(test_pool_unmeasured_travel_errs_nearer),
+        cmocka_unit_test(test_pool_pace_expires),
         cmocka_unit_test(test_pool_off_between_ticks),
         cmocka_unit_test(test_pool_gate_keeps_another_surface),
         cmocka_unit_test(test_pool_config_and_workspace),

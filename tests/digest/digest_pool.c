@@ -72,7 +72,7 @@ uint64_t digest_pool(int perturb)
             return 0;
         }
         g.sigma_q4 = 4;
-        m = det_pool_frame(&p_priv, &cfg, &img, &g, 1, (f > 0) ? 120 : 0,
+        m = det_pool_frame(&p_priv, &cfg, &img, &g, 1, (f > 0) ? 120 : 0, 0u,
                            &pooled);
         for (i = 0; i < PW * PH; i++) {
             const uint16_t v = (uint16_t)m->data[i];

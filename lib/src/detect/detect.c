@@ -325,7 +325,8 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
     s.left = same_size(cfg, frame->left) ? frame->left : NULL;
     det_travel_follow(p, cfg, g, s.left, frame->now_ms);
     s.disp = det_pool_frame(p, cfg, frame->disp_q4, g, p->temporal.tick,
-                            p->pool_travel_mm, &res->pooled_permille);
+                            p->pool_travel_mm, frame->now_ms,
+                            &res->pooled_permille);
     s.conf = frame->confidence;
     if (p->view_l_held) {
         s.view_l_u0 = p->view_l_u0;

@@ -295,6 +295,9 @@ typedef struct detect_priv {
     negobs_image_s16_t pool_img;
     int32_t pool_cur;
     int32_t pool_have;
+    uint32_t pool_ms;       /* the last pooled frame's time */
+    int32_t pool_pace_mm_s; /* the last measured travel's speed, 0: none */
+    uint32_t pool_pace_ms;  /* when it was measured */
     negobs_ground_frame_t pool_frame;
     negobs_ground_pose_t pool_pose;
 } detect_priv_t;
@@ -471,7 +474,7 @@ const negobs_image_s16_t *det_pool_frame(detect_priv_t *p,
                                          const negobs_detect_config_t *cfg,
                                          const negobs_image_s16_t *disp,
                                          const gfit_out_t *g, int tick,
-                                         int32_t travel_mm,
+                                         int32_t travel_mm, uint32_t now_ms,
                                          int32_t *pooled_permille);
 
 /* This frame's fit was found wrong after the scan (no fit, or one that

@@ -1,16 +1,17 @@
-/* Frames pooled along the measured travel (docs/DETECTION.md, "Pooled
- * frames"). */
+/* Frames pooled along the measured travel, or an upper bound of it
+ * (docs/DETECTION.md, "Pooled frames"). */
 #include "detect_internal.h"
 
 /*
  * Each pixel's value is pooled with the same floor point's value of the
- * last pooled frame, found through the travel measured between the two
- * (detect_travel.c). The quantity pooled is the relative residual
- * rho = (d - d_g) / d_g against each frame's own ground model: a drop of
- * h below a floor seen from height H gives rho = -h / (H + h) wherever
- * the ray meets its lower level, the same number in every frame, while
- * the disparity itself grows as the wearer comes nearer. Each frame's
- * own fit (the bob of the head) is taken out the same way.
+ * last pooled frame, found through the travel between the two (measured
+ * by detect_travel.c, or assumed: below). The quantity pooled is the
+ * relative residual rho = (d - d_g) / d_g against each frame's own ground
+ * model: a drop of h below a floor seen from height H gives
+ * rho = -h / (H + h) wherever the ray meets its lower level, the same
+ * number in every frame, while the disparity itself grows as the wearer
+ * comes nearer. Each frame's own fit (the bob of the head) is taken out
+ * the same way.
  *
  * Why: a floor patch's matching error is nearly independent from one
  * frame to the next (docs/journal/2026-12-03-pooling-frames.md measured
@@ -20,12 +21,24 @@
  * deficit. The detector measures its noise on the pooled map as on any
  * other: nothing assumes the 1 / sqrt(n).
  *
+ * The alignment: the travel measured this tick, or else, when the
+ * patches measured nothing this tick but a pace within the last 500 ms
+ * (a floor they follow only now and then), an upper bound of the walk
+ * since: that pace plus what a walker gains in that time, at most
+ * hold_speed_mm_s (the walking speeds' upper end). Aligned along more
+ * travel than was walked, a sample of the lower level beyond an edge is
+ * pooled onto the floor before it, so the edge errs toward the walker;
+ * along less, it would err away from the walker, past the true edge,
+ * which is why an unmeasured travel is never taken as 0. Without a recent
+ * pace nothing is pooled: the wearer may be standing, and pooling a
+ * standing camera's frames along a walk it did not make moved drops more
+ * than 10 % nearer and let one noisy strip, the same in every frame, be
+ * confirmed as a drop (tests/detect's static scenes).
+ *
  * A pixel is pooled only when
- * - the travel was measured this tick (a standing wearer or a floor the
- *   patches cannot follow measures nothing: a wrong alignment would pull
- *   the edge of a drop by the unmeasured travel, away from the walker);
  * - the two frames' fits agree within what a walking head moves between
- *   two ticks (POOL_FIT_MM, POOL_FIT_MDEG), and the last one was not
+ *   two ticks (POOL_FIT_MM, POOL_FIT_MDEG; without a measured travel
+ *   POOL_ASSUME_FIT_MM, POOL_ASSUME_FIT_MDEG), and the last one was not
  *   rejected afterwards (det_pool_distrust): a fit that jumped may have
  *   moved onto a lower level or a blend of two, and each frame's floor is
  *   what places its samples; misplaced, they would smooth away the very
@@ -68,6 +81,27 @@
  * are of different surfaces whatever the noise. */
 #define POOL_GATE_MIN_Q4 8
 #define POOL_GATE_MAX_Q4 32
+/* An assumed travel only across a gap the patches would measure across
+ * (detect_travel.c, 500 ms): after a longer one the walk since is
+ * unknown. */
+#define POOL_ASSUME_GAP_MS 500
+/* A measured travel also shows that both fits place the floor alike (the
+ * patches matched through them); an assumed one shows nothing, and a fit
+ * off by 3 deg (a worn floor at a 40 deg pitch) moves the relative
+ * residual of the image's upper half by 10-20 %, more than a 10 cm
+ * drop's (6 % under a 1.55 m camera). So the fits must agree within the
+ * head's own motion in a tick (the suite's gait: 27 mm and 1.1 deg,
+ * rounded up), not the generous bound above. */
+#define POOL_ASSUME_FIT_MM 30
+#define POOL_ASSUME_FIT_MDEG 1500
+/* A pace measured within POOL_PACE_MS bounds the walk: a walker starting
+ * off reaches walking speed in about a second (about 1 m/s^2), so in
+ * 500 ms gains at most POOL_PACE_MARGIN_MM_S. On the real wearable walk
+ * (0.3-0.4 m/s where measured) the bare upper end instead overshot by
+ * 100 mm a tick, and its steps were confirmed on no frame instead of 20
+ * of 82. */
+#define POOL_PACE_MS 500
+#define POOL_PACE_MARGIN_MM_S 500
 
 static inline int32_t hist_rho(int16_t h)
 {
@@ -244,14 +278,35 @@ static void pool_band(void *arg, int32_t job, int32_t worker)
     p->pool_done[job] = 1;
 }
 
+/* The travel to align with when none was measured since the last pooled
+ * frame: an upper bound of the walk from the recent pace (file comment);
+ * 0 (no pooling) without one, or after a gap the patches would not
+ * measure across either. */
+static inline int32_t assumed_travel_mm(const detect_priv_t *p,
+                                        const negobs_detect_config_t *cfg,
+                                        uint32_t now_ms)
+{
+    const uint32_t dt_ms = now_ms - p->pool_ms;
+    int32_t speed;
+    if (dt_ms == 0u || dt_ms > POOL_ASSUME_GAP_MS || p->pool_pace_mm_s <= 0 ||
+        now_ms - p->pool_pace_ms > POOL_PACE_MS) {
+        return 0;
+    }
+    speed = geom_min_s32(cfg->hold_speed_mm_s,
+                         p->pool_pace_mm_s + POOL_PACE_MARGIN_MM_S);
+    return (int32_t)(((int64_t)speed * dt_ms) / 1000);
+}
+
 const negobs_image_s16_t *det_pool_frame(detect_priv_t *p,
                                          const negobs_detect_config_t *cfg,
                                          const negobs_image_s16_t *disp,
                                          const gfit_out_t *g, int tick,
-                                         int32_t travel_mm,
+                                         int32_t travel_mm, uint32_t now_ms,
                                          int32_t *pooled_permille)
 {
     int32_t cnt[2] = {0, 0};
+    int32_t fit_mm;
+    int32_t fit_mdeg;
     pool_pass_t pp;
     int32_t j;
     *pooled_permille = 0;
@@ -267,12 +322,24 @@ const negobs_image_s16_t *det_pool_frame(detect_priv_t *p,
     pp.cfg = cfg;
     pp.disp = disp;
     pp.g = g;
+    fit_mm = POOL_FIT_MM;
+    fit_mdeg = POOL_FIT_MDEG;
+    if (travel_mm > 0 && p->pool_have && now_ms != p->pool_ms) {
+        p->pool_pace_mm_s = (int32_t)((int64_t)travel_mm * 1000 /
+                                      (int64_t)(now_ms - p->pool_ms));
+        p->pool_pace_ms = now_ms;
+    }
+    if (travel_mm <= 0 && p->pool_have) {
+        travel_mm = assumed_travel_mm(p, cfg, now_ms);
+        fit_mm = POOL_ASSUME_FIT_MM;
+        fit_mdeg = POOL_ASSUME_FIT_MDEG;
+    }
     pp.travel_mm = travel_mm;
     pp.use_prev = p->pool_have && travel_mm > 0 &&
                   negobs_abs_s32(g->pose.height_mm - p->pool_pose.height_mm) <=
-                      POOL_FIT_MM &&
+                      fit_mm &&
                   negobs_abs_s32(g->pose.pitch_mdeg -
-                                 p->pool_pose.pitch_mdeg) <= POOL_FIT_MDEG &&
+                                 p->pool_pose.pitch_mdeg) <= fit_mdeg &&
                   travel_axes_of(&p->pool_frame, &pp.prev);
     pp.gate_q4 = negobs_clamp_s32(POOL_GATE_NUM * g->sigma_q4 / POOL_GATE_DEN,
                                   POOL_GATE_MIN_Q4, POOL_GATE_MAX_Q4);
@@ -298,6 +365,7 @@ const negobs_image_s16_t *det_pool_frame(detect_priv_t *p,
     p->pool_frame = g->frame;
     p->pool_pose = g->pose;
     p->pool_have = 1;
+    p->pool_ms = now_ms;
     p->pool_img.data = p->pool_out;
     p->pool_img.width = cfg->rig.width;
     p->pool_img.height = cfg->rig.height;
