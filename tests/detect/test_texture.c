@@ -5,6 +5,7 @@
  * numbers that made the image.
  */
 #include <math.h>
+#include <string.h>
 
 #include "cmocka_all.h"
 #include "detect/detect_internal.h"
@@ -96,6 +97,38 @@ static void test_box_texture_against_the_noise(void **state)
     /* a box at the image border is clipped, not read outside */
     render(2.0, 5.0, 0, 0, W, H);
     assert_true(det_box_textured(&img, m, -10, -10, W + 10, H + 10));
+}
+
+/* A hazard merged from four 16-px strips over columns 64-127 whose box
+ * spans rows 20-99, textured (sigma 5) only in columns 96-127 and rows
+ * 60-99, where the two right strips read their deficit: the whole box is
+ * a quarter textured and fails, the two strips over their own rows pass.
+ * With texture in only one strip (columns 112-127) no two adjacent
+ * strips hold it and the run fails; with a run of one it passes. */
+static void test_run_of_strips_textured(void **state)
+{
+    strip_hit_t hits[4];
+    int32_t m;
+    int k;
+    (void)state;
+    memset(hits, 0, sizeof hits);
+    for (k = 0; k < 4; k++) {
+        hits[k].found = 1;
+        hits[k].u0 = 64 + 16 * k;
+        hits[k].u1 = 80 + 16 * k;
+        hits[k].top_v = (k < 2) ? 20 : 60;
+        hits[k].edge_v = 99;
+    }
+    render(2.0, 5.0, 96, 60, 128, 100);
+    m = det_noise_median(&img);
+    assert_false(det_box_textured(&img, m, 64, 20, 127, 99));
+    assert_true(det_run_textured(&img, m, hits, 0, 4, 2));
+    assert_false(det_run_textured(&img, m, hits, 0, 2, 2));
+    assert_false(det_run_textured(&img, m, hits, 0, 4, 5));
+    render(2.0, 5.0, 112, 60, 128, 100);
+    m = det_noise_median(&img);
+    assert_false(det_run_textured(&img, m, hits, 0, 4, 2));
+    assert_true(det_run_textured(&img, m, hits, 0, 4, 1));
 }
 
 /* Texture as fine as the pixels cannot be told from noise: an image
@@ -198,6 +231,7 @@ int main(void)
         cmocka_unit_test(test_noise_median_is_capped),
         cmocka_unit_test(test_box_horizontal_edges_fail),
         cmocka_unit_test(test_box_foreshortened_texture_passes),
+        cmocka_unit_test(test_run_of_strips_textured),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -281,6 +281,35 @@ static int det_box_textured_at(const negobs_detect_frame_t *frame,
                             c->v0 / 2, c->u1 / 2, c->v1 / 2);
 }
 
+/* Is candidate c's deficit read on texture? Its box by
+ * det_box_textured_at, or else some min_strips adjacent strips of it,
+ * each over its own rows (det_run_textured): the strips it was merged
+ * from, found by their columns. */
+static int cand_textured(const detect_priv_t *p,
+                         const negobs_detect_config_t *cfg,
+                         const negobs_detect_frame_t *frame,
+                         const negobs_image_u8_t *left,
+                         const int32_t *noise_med, int32_t *noise_half,
+                         const negobs_hazard_t *c)
+{
+    int32_t k0 = 0;
+    int32_t k1;
+    if (det_box_textured_at(frame, left, noise_med, noise_half, c)) {
+        return 1;
+    }
+    while (k0 < p->n_strips &&
+           !(p->hits[k0].found && p->hits[k0].u0 >= c->u0)) {
+        k0++;
+    }
+    k1 = k0;
+    while (k1 < p->n_strips && p->hits[k1].found &&
+           p->hits[k1].u1 - 1 <= c->u1) {
+        k1++;
+    }
+    return det_run_textured(left, *noise_med, p->hits, k0, k1,
+                            cfg->min_strips);
+}
+
 /* Missing ground (type UNKNOWN) whose band holds no texture above the
  * image's noise, by the test of a candidate's box: the matcher had
  * nothing there it could match (a floor whose grain has faded into the
@@ -423,8 +452,8 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
                                 &fw->trusted[i]);
             } else {
                 fw->trusted[i] =
-                    (uint8_t)(det_box_textured_at(frame, s.left, &noise_med,
-                                                  &noise_half, c)
+                    (uint8_t)(cand_textured(p, cfg, frame, s.left, &noise_med,
+                                            &noise_half, c)
                                   ? (quiet ? TMP_TRUSTED : TMP_WEAK)
                                   : TMP_UNTRUSTED);
             }

@@ -336,6 +336,14 @@ typedef struct scan_ctx {
  * (det_noise_median, det_window_textured in detect_int.h). */
 int det_box_textured(const negobs_image_u8_t *img, int32_t noise_med,
                      int32_t u0, int32_t v0, int32_t u1, int32_t v1);
+/* 1 when some run of `run` adjacent strips among hits[k0..k1-1] holds
+ * texture by det_box_textured's test, each strip over its own rows: a
+ * hazard merged from strips at several ranges spans the rows of all of
+ * them, and its box may be bland where a part of it that alone would be
+ * a hazard is not. */
+int det_run_textured(const negobs_image_u8_t *img, int32_t noise_med,
+                     const strip_hit_t *hits, int32_t k0, int32_t k1,
+                     int32_t run);
 /* 1 when at least half of the box's pixels with a value carry the value of
  * the half-size map (doubled): the map there is the half-resolution
  * pass's measurement, so its texture is judged at that scale. */

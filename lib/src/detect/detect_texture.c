@@ -163,6 +163,46 @@ int det_box_textured(const negobs_image_u8_t *img, int32_t noise_med,
     return n == 0 || 2 * ok >= n;
 }
 
+/* Windows of the box (every second pixel and row, inside the image) and
+ * how many of them are textured: det_box_textured's count. */
+static void box_counts(const negobs_image_u8_t *img, int32_t noise_med,
+                       int32_t u0, int32_t v0, int32_t u1, int32_t v1,
+                       int32_t *ok, int32_t *n)
+{
+    int32_t x;
+    int32_t y;
+    u0 = geom_max_s32(u0, 2);
+    v0 = geom_max_s32(v0, 2);
+    u1 = geom_min_s32(u1, img->width - 3);
+    v1 = geom_min_s32(v1, img->height - 3);
+    for (y = v0; y <= v1; y += 2) {
+        for (x = u0; x <= u1; x += 2) {
+            (*n)++;
+            *ok += det_window_textured(img, noise_med, x, y);
+        }
+    }
+}
+
+int det_run_textured(const negobs_image_u8_t *img, int32_t noise_med,
+                     const strip_hit_t *hits, int32_t k0, int32_t k1,
+                     int32_t run)
+{
+    int32_t k;
+    for (k = k0; run >= 1 && k + run <= k1; k++) {
+        int32_t ok = 0;
+        int32_t n = 0;
+        int32_t j;
+        for (j = k; j < k + run; j++) {
+            box_counts(img, noise_med, hits[j].u0, hits[j].top_v,
+                       hits[j].u1 - 1, hits[j].edge_v, &ok, &n);
+        }
+        if (n > 0 && 2 * ok >= n) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
 int det_box_from_half(const negobs_image_s16_t *disp,
                       const negobs_image_s16_t *disp_half, int32_t u0,
                       int32_t v0, int32_t u1, int32_t v1)
