@@ -143,28 +143,8 @@ int det_window_textured(const negobs_image_u8_t *img, int32_t noise_med,
            window_sees_columns(img, x, y);
 }
 
-int det_box_textured(const negobs_image_u8_t *img, int32_t noise_med,
-                     int32_t u0, int32_t v0, int32_t u1, int32_t v1)
-{
-    int32_t n = 0;
-    int32_t ok = 0;
-    int32_t x;
-    int32_t y;
-    u0 = geom_max_s32(u0, 2);
-    v0 = geom_max_s32(v0, 2);
-    u1 = geom_min_s32(u1, img->width - 3);
-    v1 = geom_min_s32(v1, img->height - 3);
-    for (y = v0; y <= v1; y += 2) {
-        for (x = u0; x <= u1; x += 2) {
-            n++;
-            ok += det_window_textured(img, noise_med, x, y);
-        }
-    }
-    return n == 0 || 2 * ok >= n;
-}
-
 /* Windows of the box (every second pixel and row, inside the image) and
- * how many of them are textured: det_box_textured's count. */
+ * how many of them are textured, added to *ok and *n. */
 static void box_counts(const negobs_image_u8_t *img, int32_t noise_med,
                        int32_t u0, int32_t v0, int32_t u1, int32_t v1,
                        int32_t *ok, int32_t *n)
@@ -181,6 +161,15 @@ static void box_counts(const negobs_image_u8_t *img, int32_t noise_med,
             *ok += det_window_textured(img, noise_med, x, y);
         }
     }
+}
+
+int det_box_textured(const negobs_image_u8_t *img, int32_t noise_med,
+                     int32_t u0, int32_t v0, int32_t u1, int32_t v1)
+{
+    int32_t n = 0;
+    int32_t ok = 0;
+    box_counts(img, noise_med, u0, v0, u1, v1, &ok, &n);
+    return n == 0 || 2 * ok >= n;
 }
 
 int det_run_textured(const negobs_image_u8_t *img, int32_t noise_med,
