@@ -131,6 +131,28 @@ static void test_run_of_strips_textured(void **state)
     assert_true(det_run_textured(&img, m, hits, 0, 4, 1));
 }
 
+/* Grain weaker than the noise: noise of sigma 4 everywhere, and in the
+ * right quarter also a texture of sigma 4 (each window's variance about
+ * twice the noise's, half of what det_box_textured asks). The box there
+ * fails det_box_textured and passes det_box_weak_textured (most windows
+ * above 1.5 x the noise's variance); a box of noise alone fails both
+ * (about 5 % of its windows above), and so does grain of sigma 1.5 (1.14
+ * x the noise's variance). An empty box holds no grain. */
+static void test_box_weak_grain(void **state)
+{
+    int32_t m;
+    (void)state;
+    render(4.0, 4.0, 120, 0, W, H);
+    m = det_noise_median(&img);
+    print_message("sigma 4, a quarter with grain 4: median %d\n", (int)m);
+    assert_false(det_box_textured(&img, m, 124, 20, 155, 100));
+    assert_true(det_box_weak_textured(&img, m, 124, 20, 155, 100));
+    assert_false(det_box_weak_textured(&img, m, 10, 20, 100, 100));
+    render(4.0, 1.5, 120, 0, W, H);
+    assert_false(det_box_weak_textured(&img, m, 124, 20, 155, 100));
+    assert_false(det_box_weak_textured(&img, m, 60, 20, 50, 100));
+}
+
 /* Texture as fine as the pixels cannot be told from noise: an image
  * covered by it reads the cap (24, a noise of 6 grey levels), and a box of
  * that texture with a deviation of 20 grey levels still passes, where an
@@ -232,6 +254,7 @@ int main(void)
         cmocka_unit_test(test_box_horizontal_edges_fail),
         cmocka_unit_test(test_box_foreshortened_texture_passes),
         cmocka_unit_test(test_run_of_strips_textured),
+        cmocka_unit_test(test_box_weak_grain),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -281,11 +281,38 @@ static int det_box_textured_at(const negobs_detect_frame_t *frame,
                             c->v0 / 2, c->u1 / 2, c->v1 / 2);
 }
 
+/* A deficit of at least this (Q4, 1 px) stands out of the wander of a
+ * weakly textured match: below a texture-to-noise power of 3 a 5x5
+ * window's match wanders by tenths of a pixel (det_box_textured), so a
+ * whole pixel is several times that wander. */
+enum { WEAK_TEXTURE_DEFICIT_Q4 = 16 };
+
+/* Do at least min_strips of the strips hits[k0..k1-1] read a first
+ * plateau a whole pixel or more below the ground at their edge? */
+static int cand_deep(const scan_ctx_t *s, const detect_priv_t *p,
+                     const negobs_detect_config_t *cfg, int32_t k0, int32_t k1)
+{
+    int32_t deep = 0;
+    int32_t k;
+    for (k = k0; k < k1; k++) {
+        const strip_hit_t *sh = &p->hits[k];
+        int32_t dg_q4 = negobs_ground_disp_q4(s->plane, (sh->u0 + sh->u1) / 2,
+                                              sh->edge_v);
+        /* dg_q4 < 2^15, rho1_q15 <= 2^15: the product needs 64 bits */
+        deep += sh->rho1_q15 > 0 && ((int64_t)dg_q4 * sh->rho1_q15 >> 15) >=
+                                        WEAK_TEXTURE_DEFICIT_Q4;
+    }
+    return deep >= cfg->min_strips;
+}
+
 /* Is candidate c's deficit read on texture? Its box by
  * det_box_textured_at, or else some min_strips adjacent strips of it,
  * each over its own rows (det_run_textured): the strips it was merged
- * from, found by their columns. */
-static int cand_textured(const detect_priv_t *p,
+ * from, found by their columns. Or, for a deficit of a whole pixel or more
+ * on min_strips strips (cand_deep), weak grain (det_box_weak_textured):
+ * sensor noise as strong as the floor's grain makes a window's match
+ * wander by tenths of a pixel, not by pixels. */
+static int cand_textured(const scan_ctx_t *s, const detect_priv_t *p,
                          const negobs_detect_config_t *cfg,
                          const negobs_detect_frame_t *frame,
                          const negobs_image_u8_t *left,
@@ -307,7 +334,10 @@ static int cand_textured(const detect_priv_t *p,
         k1++;
     }
     return det_run_textured(left, *noise_med, p->hits, k0, k1,
-                            cfg->min_strips);
+                            cfg->min_strips) ||
+           (cand_deep(s, p, cfg, k0, k1) &&
+            det_box_weak_textured(left, *noise_med, c->u0, c->v0, c->u1,
+                                  c->v1));
 }
 
 /* Missing ground (type UNKNOWN) whose band holds no texture above the
@@ -452,8 +482,8 @@ static void scan_frame(detect_priv_t *p, const negobs_detect_config_t *cfg,
                                 &fw->trusted[i]);
             } else {
                 fw->trusted[i] =
-                    (uint8_t)(cand_textured(p, cfg, frame, s.left, &noise_med,
-                                            &noise_half, c)
+                    (uint8_t)(cand_textured(&s, p, cfg, frame, s.left,
+                                            &noise_med, &noise_half, c)
                                   ? (quiet ? TMP_TRUSTED : TMP_WEAK)
                                   : TMP_UNTRUSTED);
             }

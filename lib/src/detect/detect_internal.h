@@ -336,6 +336,11 @@ typedef struct scan_ctx {
  * (det_noise_median, det_window_textured in detect_int.h). */
 int det_box_textured(const negobs_image_u8_t *img, int32_t noise_med,
                      int32_t u0, int32_t v0, int32_t u1, int32_t v1);
+/* 1 when at least half of the box's windows hold one and a half times
+ * the noise variance (and horizontal structure): grain below
+ * det_box_textured's signal-to-noise of 3, but grain, not a bland box. */
+int det_box_weak_textured(const negobs_image_u8_t *img, int32_t noise_med,
+                          int32_t u0, int32_t v0, int32_t u1, int32_t v1);
 /* 1 when some run of `run` adjacent strips among hits[k0..k1-1] holds
  * texture by det_box_textured's test, each strip over its own rows: a
  * hazard merged from strips at several ranges spans the rows of all of

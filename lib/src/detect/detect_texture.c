@@ -122,11 +122,15 @@ static inline int window_sees_columns(const negobs_image_u8_t *img, int32_t x,
     return APERTURE_RATIO_INV * gxx >= gyy;
 }
 
-/* The window must lie inside the image: 2 <= x < width - 2, the same for y. */
-int det_window_textured(const negobs_image_u8_t *img, int32_t noise_med,
-                        int32_t x, int32_t y)
+/* 1 when the 5x5 window at (x, y) holds a variance of at least
+ * ratio_q2 / 4 times the noise variance (sigma = noise_med / 4.047) and
+ * horizontal structure. v = 625 * var; ratio_q2 <= 16: v * 4095 * 16 is
+ * at most 6.7e11 and ratio_q2 * 625000 * noise_med^2 at most 5.8e9, in
+ * 64 bits. */
+static int window_holds(const negobs_image_u8_t *img, int32_t noise_med,
+                        int32_t x, int32_t y, int32_t ratio_q2)
 {
-    const int64_t need = 625000 * (int64_t)noise_med * noise_med;
+    const int64_t need = (int64_t)ratio_q2 * 625000 * noise_med * noise_med;
     int32_t s = 0;
     int32_t q = 0;
     int32_t j;
@@ -139,15 +143,31 @@ int det_window_textured(const negobs_image_u8_t *img, int32_t noise_med,
             q += p * p;
         }
     }
-    return (int64_t)(25 * q - s * s) * 4095 >= need &&
+    return (int64_t)(25 * q - s * s) * 4095 * 16 >= need &&
            window_sees_columns(img, x, y);
 }
 
+/* Four times the noise variance, in quarters (the test above). Weak
+ * texture: one and a half times. A window of sensor noise alone holds a
+ * sample variance of chi-square with 24 degrees of freedom over 24, whose
+ * 95th percentile is 1.52: a bland box (flat paint, a smooth slab) has
+ * about 5 % of its windows above it, never half, while a floor whose grain
+ * holds a third of the noise's variance or more has most of them. */
+enum { TEXTURE_RATIO_Q2 = 16, WEAK_TEXTURE_RATIO_Q2 = 6 };
+
+/* The window must lie inside the image: 2 <= x < width - 2, the same for y. */
+int det_window_textured(const negobs_image_u8_t *img, int32_t noise_med,
+                        int32_t x, int32_t y)
+{
+    return window_holds(img, noise_med, x, y, TEXTURE_RATIO_Q2);
+}
+
 /* Windows of the box (every second pixel and row, inside the image) and
- * how many of them are textured, added to *ok and *n. */
+ * how many of them hold ratio_q2 / 4 times the noise variance, added to
+ * *ok and *n. */
 static void box_counts(const negobs_image_u8_t *img, int32_t noise_med,
                        int32_t u0, int32_t v0, int32_t u1, int32_t v1,
-                       int32_t *ok, int32_t *n)
+                       int32_t ratio_q2, int32_t *ok, int32_t *n)
 {
     int32_t x;
     int32_t y;
@@ -158,7 +178,7 @@ static void box_counts(const negobs_image_u8_t *img, int32_t noise_med,
     for (y = v0; y <= v1; y += 2) {
         for (x = u0; x <= u1; x += 2) {
             (*n)++;
-            *ok += det_window_textured(img, noise_med, x, y);
+            *ok += window_holds(img, noise_med, x, y, ratio_q2);
         }
     }
 }
@@ -168,8 +188,17 @@ int det_box_textured(const negobs_image_u8_t *img, int32_t noise_med,
 {
     int32_t n = 0;
     int32_t ok = 0;
-    box_counts(img, noise_med, u0, v0, u1, v1, &ok, &n);
+    box_counts(img, noise_med, u0, v0, u1, v1, TEXTURE_RATIO_Q2, &ok, &n);
     return n == 0 || 2 * ok >= n;
+}
+
+int det_box_weak_textured(const negobs_image_u8_t *img, int32_t noise_med,
+                          int32_t u0, int32_t v0, int32_t u1, int32_t v1)
+{
+    int32_t n = 0;
+    int32_t ok = 0;
+    box_counts(img, noise_med, u0, v0, u1, v1, WEAK_TEXTURE_RATIO_Q2, &ok, &n);
+    return n > 0 && 2 * ok >= n;
 }
 
 int det_run_textured(const negobs_image_u8_t *img, int32_t noise_med,
@@ -183,7 +212,8 @@ int det_run_textured(const negobs_image_u8_t *img, int32_t noise_med,
         int32_t j;
         for (j = k; j < k + run; j++) {
             box_counts(img, noise_med, hits[j].u0, hits[j].top_v,
-                       hits[j].u1 - 1, hits[j].edge_v, &ok, &n);
+                       hits[j].u1 - 1, hits[j].edge_v, TEXTURE_RATIO_Q2, &ok,
+                       &n);
         }
         if (n > 0 && 2 * ok >= n) {
             return 1;
