@@ -14,7 +14,11 @@ with its definitions (docs/DETECTION.md 10.1):
 * NO_INFO share; detection of drops >= 10 cm whose edge is in view at
   1.5-3 m (a hazard at CAUTION or IMMINENT whose range is within 30 % of
   the edge's, a held one included); false IMMINENT / CAUTION frames on
-  flat and up-step walks; the median clear_to_mm on flat walks.
+  flat and up-step walks; the median clear_to_mm on flat walks;
+* false alerts before an edge: frames of drop and stairs walks whose
+  edge is still ahead with a hazard at CAUTION or IMMINENT nearer than
+  0.7 x the edge's distance (the detection tolerance's other side) less
+  AHEAD_SLACK_MM: a phantom before the real drop.
 
 A frame vouches clear_to_mm, and a CLEAR frame at least the warning range
 (4 m) or, short-sighted, the near-zone minimum (1.5 m), as the suite
@@ -40,6 +44,10 @@ WARN_MM = 4000.0
 # the detector's range error reaches 12 % at p95 on the suite, so this
 # only refuses a hazard reported somewhere else
 DETECT_TOL = 0.3
+# a confirmed edge lost below the view is held, dead-reckoned at the
+# detector's hold speed (1.4 m/s), which runs ahead of a slower walker by
+# up to about 0.3 m over the last metre: not a phantom
+AHEAD_SLACK_MM = 300.0
 
 
 def draw_walk(rng, k):
@@ -108,6 +116,7 @@ class Fig:
         self.under_frames = self.fv_under = 0
         self.det = [0, 0]
         self.neg_frames = self.imm = self.caut = 0
+        self.ahead_frames = self.ahead_false = 0
         self.flat_clear = []
         self.fv_list = []
 
@@ -141,6 +150,11 @@ def score(w, meta, rows, fig):
                                         "below view " + r["state"],
                                         r["clear_to_mm"]))
         was_in_view = was_in_view or bool(in_view)
+        if negative and edge is not None and edge > 0:
+            fig.ahead_frames += 1
+            fig.ahead_false += any(
+                h["range_mm"] < (1.0 - DETECT_TOL) * edge - AHEAD_SLACK_MM and
+                h["level"] != "NONE" for h in r["hazards"])
         if negative and w["drop_mm"] >= 100 and in_view and edge and \
                 1500 <= edge <= 3000 and r["frame"] >= 4:
             fig.det[1] += 1
@@ -207,6 +221,9 @@ def main():
     row("detection >= 10 cm at 1.5-3 m", lambda f: "%d/%d" % tuple(f.det))
     row("IMMINENT / CAUTION frames on flat and up-step walks",
         lambda f: "%d / %d of %d" % (f.imm, f.caut, f.neg_frames))
+    row("alerts nearer than 0.7 x the edge ahead less 0.3 m (drop and "
+        "stairs frames)",
+        lambda f: "%d of %d" % (f.ahead_false, f.ahead_frames))
     row("median clear_to_mm on flat walks", lambda f: (
         "%.0f mm" % statistics.median(f.flat_clear)) if f.flat_clear
         else "-")
