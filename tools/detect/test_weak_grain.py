@@ -20,41 +20,13 @@ Skipped (77) when numpy is missing (the renderer needs it).
 
 usage: test_weak_grain.py RAYCAST_WALK NEGOBS_PNG WORKDIR
 """
-import json
-import os
-import shutil
-import subprocess
 import sys
 
-try:
-    import numpy  # noqa: F401  (the renderer's)
-except ImportError:
-    numpy = None
+from walk_test import have_numpy, raycast_walk, setup
 
-CAMERA = ["--f", "250", "--baseline-mm", "120", "--cx", "159.5", "--cy",
-          "119.5"]
 MOUNT = ["--material", "tiles", "--height-mm", "963", "--pitch-deg", "15.5",
-         "--roll-deg", "-7.7", "--baseline-mm", "120", "--gain-right",
-         "1.006", "--offset-right", "-0.4", "--speed", "1.36", "--seed",
-         "779538643"]
-
-
-def walk(render, png, work, name, args):
-    seq = os.path.join(work, name)
-    subprocess.run([sys.executable, render, "--out", seq] + MOUNT + args,
-                   check=True)
-    jsonl = seq + ".jsonl"
-    subprocess.run([png, "--seq", seq, "--out", seq + "_out", "--json", jsonl,
-                    "--no-overlay", "--quiet", "--height-mm", "0"] + CAMERA,
-                   check=True)
-    with open(os.path.join(seq, "scene.json")) as fh:
-        frames = json.load(fh)["frames"]
-    with open(jsonl) as fh:
-        rows = [json.loads(line) for line in fh]
-    if len(rows) != len(frames):
-        raise SystemExit("%s: %d results for %d frames" %
-                         (name, len(rows), len(frames)))
-    return frames, rows
+         "--roll-deg", "-7.7", "--gain-right", "1.006", "--offset-right",
+         "-0.4", "--speed", "1.36", "--seed", "779538643"]
 
 
 def vouched(r):
@@ -65,21 +37,18 @@ def vouched(r):
 
 
 def main():
-    if len(sys.argv) != 4:
-        print(__doc__, file=sys.stderr)
-        return 2
-    if numpy is None:
-        print("test_weak_grain: skipped, python3 has no numpy (the "
-              "renderer needs it)")
+    if not have_numpy():
+        print("test_weak_grain: numpy is missing; skipped")
         return 77
-    render, png, work = sys.argv[1:]
-    shutil.rmtree(work, ignore_errors=True)
-    os.makedirs(work)
+    args = setup(__doc__)
+    if args is None:
+        return 2
+    render, png, work = args
     fails = []
 
-    frames, rows = walk(render, png, work, "stairs",
-                        ["--scene", "stairs", "--drop-mm", "170",
-                         "--edge-mm", "4897"])
+    frames, rows = raycast_walk(render, png, work, "stairs",
+                                MOUNT + ["--scene", "stairs", "--drop-mm",
+                                         "170", "--edge-mm", "4897"])
     found = 0
     scored = 0
     for fr, r in zip(frames, rows):
@@ -100,7 +69,8 @@ def main():
     elif found == 0:
         fails.append("stairs: never reported at 1.5-3 m")
 
-    frames, rows = walk(render, png, work, "flat", ["--scene", "flat"])
+    frames, rows = raycast_walk(render, png, work, "flat",
+                                MOUNT + ["--scene", "flat"])
     for r in rows:
         if r["hazards"]:
             fails.append("flat frame %d: %s at %d mm" % (

@@ -110,3 +110,41 @@ def check_flat_no_alarm(rows, frames, what):
         print("FAIL: %d frames with a hazard on flat ground" % alarms)
         return 1
     return 0
+
+
+# The 12 cm rig of the independent renderer's tests (negobs_png arguments:
+# told only f, B and the image centre, no mounting hint).
+RAYCAST_B12_CAMERA = ["--f", "250", "--baseline-mm", "120", "--cx", "159.5",
+                      "--cy", "119.5", "--height-mm", "0"]
+
+
+def have_numpy():
+    """The independent renderer (tools/synth/raycast_walk.py) needs numpy;
+    its tests skip (77) without it."""
+    try:
+        import numpy  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def raycast_walk(render, png, work, name, render_args):
+    """Render a walk with the independent renderer (render_args: its
+    scene, material and mounting), run negobs_png on it told only the 12 cm
+    rig's f, B and image centre, and return (the renderer's frames, the
+    JSON lines), one dict per frame each."""
+    seq = os.path.join(work, name)
+    subprocess.run([sys.executable, render, "--out", seq,
+                    "--baseline-mm", "120"] + render_args, check=True)
+    jsonl = seq + ".jsonl"
+    subprocess.run([png, "--seq", seq, "--out", seq + "_out", "--json",
+                    jsonl, "--no-overlay", "--quiet"] + RAYCAST_B12_CAMERA,
+                   check=True)
+    with open(os.path.join(seq, "scene.json")) as fh:
+        frames = json.load(fh)["frames"]
+    with open(jsonl) as fh:
+        rows = [json.loads(line) for line in fh]
+    if len(rows) != len(frames):
+        raise SystemExit("%s: %d results for %d frames" %
+                         (name, len(rows), len(frames)))
+    return frames, rows
