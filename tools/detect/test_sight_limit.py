@@ -36,7 +36,7 @@ usage: test_sight_limit.py RAYCAST_WALK NEGOBS_PNG WORKDIR
 """
 import sys
 
-from walk_test import have_numpy, raycast_walk, setup
+from walk_test import raycast_setup, raycast_walk
 
 
 def no_hazard_at_sight_limit(name, rows, fails):
@@ -58,12 +58,9 @@ def no_hazard_at_sight_limit(name, rows, fails):
 
 
 def main():
-    if not have_numpy():
-        print("test_sight_limit: numpy is missing; skipped")
-        return 77
-    args = setup(__doc__)
-    if args is None:
-        return 2
+    args = raycast_setup("test_sight_limit", __doc__)
+    if isinstance(args, int):
+        return args
     render, png, work = args
     fails = []
 

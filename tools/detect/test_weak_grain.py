@@ -22,7 +22,7 @@ usage: test_weak_grain.py RAYCAST_WALK NEGOBS_PNG WORKDIR
 """
 import sys
 
-from walk_test import have_numpy, raycast_walk, setup
+from walk_test import raycast_setup, raycast_walk
 
 MOUNT = ["--material", "tiles", "--height-mm", "963", "--pitch-deg", "15.5",
          "--roll-deg", "-7.7", "--gain-right", "1.006", "--offset-right",
@@ -37,12 +37,9 @@ def vouched(r):
 
 
 def main():
-    if not have_numpy():
-        print("test_weak_grain: numpy is missing; skipped")
-        return 77
-    args = setup(__doc__)
-    if args is None:
-        return 2
+    args = raycast_setup("test_weak_grain", __doc__)
+    if isinstance(args, int):
+        return args
     render, png, work = args
     fails = []
 

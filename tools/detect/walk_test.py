@@ -128,6 +128,17 @@ def have_numpy():
     return True
 
 
+def raycast_setup(name, doc):
+    """The start of an independent-renderer test: (render, png, work) with
+    WORKDIR emptied, or the exit code (77 without numpy, 2 after printing
+    the usage line)."""
+    if not have_numpy():
+        print("%s: numpy is missing; skipped" % name)
+        return 77
+    args = setup(doc)
+    return 2 if args is None else args
+
+
 def raycast_walk(render, png, work, name, render_args):
     """Render a walk with the independent renderer (render_args: its
     scene, material and mounting), run negobs_png on it told only the 12 cm
